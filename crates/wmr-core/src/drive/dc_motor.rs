@@ -1,0 +1,73 @@
+//! Permanent-magnet DC motor with a quasi-static armature (inductance neglected), through the gear.
+//!
+//! i = (u - k_e omega_motor) / R_a with omega_motor = omega_wheel / k_t;
+//! tau_wheel = k_tau i / k_t; u clamped to +-u_max.
+
+use crate::Real;
+use crate::error::{ParamError, check};
+
+/// `[drive] kind = "dc_motor"` parameters, SI units.
+///
+/// Defaults: maxon RE 40 (40 mm, graphite brushes, 150 W), catalogue part 148867,
+/// 24 V winding: torque constant 30.2 mN m/A, speed constant 317 rpm/V
+/// (k_e = 30.2 mV s/rad, the same number in SI), terminal resistance 0.299 Ohm.
+/// With the paper's gear k_t = 0.1 it stalls at about 24 N m at the wheel and runs
+/// free at about 79 rad/s at the wheel (7,600 rpm at the motor) on 24 V.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DcMotorParams<T> {
+    /// u_max, supply voltage limit, V (`voltage_max`).
+    pub voltage_max: T,
+    /// k_tau, torque constant, N m/A (`torque_constant`).
+    pub torque_constant: T,
+    /// k_e, back-EMF constant, V s/rad at the motor shaft (`back_emf_constant`).
+    pub back_emf_constant: T,
+    /// R_a, armature (terminal) resistance, Ohm (`armature_resistance`).
+    pub armature_resistance: T,
+}
+
+impl<T: Real> Default for DcMotorParams<T> {
+    fn default() -> Self {
+        Self {
+            voltage_max: T::lit(24.0),
+            torque_constant: T::lit(0.0302),
+            back_emf_constant: T::lit(0.0302),
+            armature_resistance: T::lit(0.299),
+        }
+    }
+}
+
+impl<T: Real> DcMotorParams<T> {
+    pub(crate) fn validate(self, gear_ratio: T) -> Result<DcMotor<T>, ParamError> {
+        check::positive("drive.voltage_max", self.voltage_max)?;
+        check::positive("drive.torque_constant", self.torque_constant)?;
+        check::non_negative("drive.back_emf_constant", self.back_emf_constant)?;
+        check::positive("drive.armature_resistance", self.armature_resistance)?;
+        let torque_per_volt = self.torque_constant / (self.armature_resistance * gear_ratio);
+        let emf_per_wheel_speed = self.back_emf_constant / gear_ratio;
+        Ok(DcMotor { params: self, torque_per_volt, emf_per_wheel_speed })
+    }
+}
+
+/// Validated DC motor drive; the servo command is the voltage, V.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DcMotor<T> {
+    params: DcMotorParams<T>,
+    /// k_tau / (R_a k_t), N m/V at the wheel.
+    torque_per_volt: T,
+    /// k_e / k_t, V per rad/s of wheel speed.
+    emf_per_wheel_speed: T,
+}
+
+impl<T: Real> DcMotor<T> {
+    /// The parameters.
+    pub fn params(&self) -> &DcMotorParams<T> {
+        &self.params
+    }
+
+    /// Wheel torque (N m) for a voltage command (V, clamped) at wheel speed (rad/s).
+    #[inline(always)]
+    pub fn wheel_torque(&self, voltage: T, omega_wheel: T) -> T {
+        let u = voltage.max(-self.params.voltage_max).min(self.params.voltage_max);
+        (u - self.emf_per_wheel_speed * omega_wheel) * self.torque_per_volt
+    }
+}

@@ -1,0 +1,56 @@
+//! Ideal torque drive: the motor makes the demanded torque up to a limit, through the gear.
+
+use crate::Real;
+use crate::error::{ParamError, check};
+
+/// `[drive] kind = "torque"` parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TorqueDriveParams<T> {
+    /// |tau_motor| limit at the motor shaft, N m (`motor_torque_max`); infinity allowed.
+    pub motor_torque_max: T,
+}
+
+impl<T: Real> Default for TorqueDriveParams<T> {
+    /// 0.2 N m at the motor, i.e. 2 N m at the wheel with k_t = 0.1 (SPEC section 3).
+    fn default() -> Self {
+        Self { motor_torque_max: T::lit(0.2) }
+    }
+}
+
+impl<T: Real> TorqueDriveParams<T> {
+    pub(crate) fn validate(self, gear_ratio: T) -> Result<TorqueDrive<T>, ParamError> {
+        check::positive_or_inf("drive.motor_torque_max", self.motor_torque_max)?;
+        Ok(TorqueDrive { params: self, gear_ratio, wheel_torque_max: self.motor_torque_max / gear_ratio })
+    }
+}
+
+/// Validated torque drive.
+///
+/// A wheel-torque demand tau_d becomes the motor torque k_t tau_d, clamped to
+/// +-motor_torque_max; the wheel receives the clamped motor torque / k_t.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TorqueDrive<T> {
+    params: TorqueDriveParams<T>,
+    gear_ratio: T,
+    wheel_torque_max: T,
+}
+
+impl<T: Real> TorqueDrive<T> {
+    /// The parameters.
+    pub fn params(&self) -> &TorqueDriveParams<T> {
+        &self.params
+    }
+
+    /// Largest wheel torque, N m: motor_torque_max / k_t.
+    pub fn wheel_torque_max(&self) -> T {
+        self.wheel_torque_max
+    }
+
+    /// Wheel torque (N m) for a wheel-torque demand (N m).
+    #[inline(always)]
+    pub fn wheel_torque(&self, demand: T) -> T {
+        let k_t = self.gear_ratio;
+        let motor = (demand * k_t).max(-self.params.motor_torque_max).min(self.params.motor_torque_max);
+        motor / k_t
+    }
+}

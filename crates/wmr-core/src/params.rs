@@ -1,0 +1,134 @@
+//! Robot parameters (SPEC section 1): the paper's defaults and their validation.
+
+use crate::Real;
+use crate::error::{ParamError, check};
+
+/// Physical parameters of the differential-drive robot, SI units.
+///
+/// Field names match the `[robot]` keys of a scenario file. Build a checked [`Robot`]
+/// with [`RobotParams::validate`]; the raw struct is never used by the models.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RobotParams<T> {
+    /// m, total mass, kg.
+    pub mass: T,
+    /// r, wheel radius, m.
+    pub wheel_radius: T,
+    /// R, half the distance between the wheels (axle midpoint C to each wheel), m.
+    pub half_track: T,
+    /// d, distance from C forward to the centre of mass G, m (may be negative: G behind C).
+    pub com_offset: T,
+    /// I_m, inertia of one wheel plus its motor rotor about the wheel axis, kg m^2.
+    pub wheel_inertia: T,
+    /// I_p, platform inertia about G, kg m^2.
+    pub platform_inertia: T,
+    /// k_t, gear reduction: wheel speed = k_t * motor speed (dimensionless).
+    pub gear_ratio: T,
+    /// b_v, viscous friction at each wheel, N m s: tau_f = b_v * omega_wheel.
+    pub viscous_friction: T,
+    /// tau_c, Coulomb friction at each wheel, N m, smoothed by `coulomb_speed`.
+    pub coulomb_friction: T,
+    /// omega_eps, rad/s: Coulomb friction is tau_c * tanh(omega_wheel / omega_eps).
+    pub coulomb_speed: T,
+}
+
+impl<T: Real> RobotParams<T> {
+    /// The paper's robot (section 4): m = 5 kg, r = 0.1 m, R = 0.2 m, d = 0.25 m,
+    /// J_m = 0.002 kg m^2, J_p = 0.005 kg m^2, k_t = 0.1, no friction.
+    pub fn paper() -> Self {
+        Self {
+            mass: T::lit(5.0),
+            wheel_radius: T::lit(0.1),
+            half_track: T::lit(0.2),
+            com_offset: T::lit(0.25),
+            wheel_inertia: T::lit(0.002),
+            platform_inertia: T::lit(0.005),
+            gear_ratio: T::lit(0.1),
+            viscous_friction: T::zero(),
+            coulomb_friction: T::zero(),
+            coulomb_speed: T::lit(1e-3),
+        }
+    }
+
+    /// Checks every field and precomputes the model's constant matrices.
+    ///
+    /// Rejects NaN and infinity everywhere; m, r, R, k_t, omega_eps and
+    /// I_p + m d^2 must be > 0; I_m, I_p, b_v and tau_c must be >= 0.
+    pub fn validate(self) -> Result<Robot<T>, ParamError> {
+        let m = check::positive("robot.mass", self.mass)?;
+        let r = check::positive("robot.wheel_radius", self.wheel_radius)?;
+        let big_r = check::positive("robot.half_track", self.half_track)?;
+        let d = check::finite("robot.com_offset", self.com_offset)?;
+        let i_m = check::non_negative("robot.wheel_inertia", self.wheel_inertia)?;
+        let i_p = check::non_negative("robot.platform_inertia", self.platform_inertia)?;
+        check::positive("robot.gear_ratio", self.gear_ratio)?;
+        check::non_negative("robot.viscous_friction", self.viscous_friction)?;
+        check::non_negative("robot.coulomb_friction", self.coulomb_friction)?;
+        check::positive("robot.coulomb_speed", self.coulomb_speed)?;
+        let yaw_inertia_g = i_p + m * d * d;
+        if !(yaw_inertia_g > T::zero()) {
+            return Err(check::out_of_range(
+                "robot.platform_inertia",
+                "platform_inertia + mass * com_offset^2 must be > 0",
+                i_p,
+            ));
+        }
+        let two = T::lit(2.0);
+        // Reduced inertia of (15): wheel/rotor inertia reflected to (v, omega).
+        let m11 = m + two * i_m / (r * r);
+        let m22 = yaw_inertia_g + two * big_r * big_r * i_m / (r * r);
+        Ok(Robot { params: self, m11, m22, inv_m11: m11.recip(), inv_m22: m22.recip(), md: m * d })
+    }
+}
+
+impl<T: Real> Default for RobotParams<T> {
+    fn default() -> Self {
+        Self::paper()
+    }
+}
+
+/// Validated robot parameters with the reduced inertia matrix M_r of (15) precomputed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Robot<T> {
+    params: RobotParams<T>,
+    /// M_r11 = m + 2 I_m / r^2, kg.
+    m11: T,
+    /// M_r22 = I_p + 2 R^2 I_m / r^2 + m d^2, kg m^2.
+    m22: T,
+    inv_m11: T,
+    inv_m22: T,
+    /// m d, kg m: the Coriolis coefficient of C(v).
+    md: T,
+}
+
+impl<T: Real> Robot<T> {
+    /// The validated parameters.
+    pub fn params(&self) -> &RobotParams<T> {
+        &self.params
+    }
+
+    /// Diagonal of the reduced inertia matrix M_r of (15): (kg, kg m^2).
+    pub fn reduced_inertia(&self) -> (T, T) {
+        (self.m11, self.m22)
+    }
+
+    /// Inverse diagonal of M_r, precomputed: (1/kg, 1/(kg m^2)).
+    #[inline(always)]
+    pub(crate) fn inv_reduced_inertia(&self) -> (T, T) {
+        (self.inv_m11, self.inv_m22)
+    }
+
+    /// m d, kg m.
+    #[inline(always)]
+    pub(crate) fn mass_offset(&self) -> T {
+        self.md
+    }
+
+    /// The paper's robot, already validated.
+    pub fn paper() -> Self {
+        match RobotParams::paper().validate() {
+            Ok(robot) => robot,
+            // The paper's constants are positive and finite.
+            Err(_) => unreachable!("paper defaults are valid"),
+        }
+    }
+}
