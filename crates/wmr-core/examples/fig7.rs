@@ -9,7 +9,7 @@ fn main() {
     let ctrl = PaperController::new(PaperParams::paper(), &robot, &drive, goal).expect("paper gains are valid");
     let mut sim = ClosedLoop::new(robot, drive, ctrl, Pose2::default(), 1e-3).expect("dt divides control_dt");
     let mut peak = 0.0f64;
-    let out = sim.run(60_000, 1000, |s| {
+    let out = sim.run(60_000, 5000, |s| {
         peak = peak.max(s.wheel_speeds.right.abs()).max(s.wheel_speeds.left.abs());
         println!(
             "t={:5.1}s  x={:+.4} y={:+.4} theta={:+7.2}deg  dl={:.4} e_theta={:+7.2}deg  w_r={:+.3} w_l={:+.3} tau_r={:+.3} tau_l={:+.3}",

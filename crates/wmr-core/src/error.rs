@@ -108,7 +108,7 @@ pub(crate) mod check {
     pub fn whole_multiple<T: Real>(field: &'static str, period: T, dt: T) -> Result<u32, ParamError> {
         let ratio = (period / dt).round();
         let tol = T::lit(1e-9) * period.abs().max(T::min_positive_value());
-        if !(ratio >= T::one()) || (ratio * dt - period).abs() > tol || ratio > T::lit(u32::MAX as f64) {
+        if ratio.is_nan() || ratio < T::one() || (ratio * dt - period).abs() > tol || ratio > T::lit(u32::MAX as f64) {
             return Err(err(field, Reason::NotMultipleOfDt, period));
         }
         ratio.to_u32().ok_or_else(|| err(field, Reason::NotMultipleOfDt, period))

@@ -54,11 +54,7 @@ pub fn wheel_to_g_jacobian<T: Real>(p: &RobotParams<T>, theta: T) -> [[T; 2]; 3]
     let (r, big_r, d) = (p.wheel_radius, p.half_track, p.com_offset);
     let a = r / two;
     let b = r * d / (two * big_r);
-    [
-        [a * c - b * s, a * c + b * s],
-        [a * s + b * c, a * s - b * c],
-        [r / (two * big_r), -r / (two * big_r)],
-    ]
+    [[a * c - b * s, a * c + b * s], [a * s + b * c, a * s - b * c], [r / (two * big_r), -r / (two * big_r)]]
 }
 
 /// Residual of the nonholonomic constraint (6), m/s:

@@ -76,7 +76,8 @@ mod tests {
     #[test]
     fn wrap_angle_range() {
         let pi = core::f64::consts::PI;
-        for &(a, w) in &[(0.0, 0.0), (pi, pi), (-pi, pi), (3.0 * pi, pi), (2.5 * pi, 0.5 * pi), (-0.5 * pi, -0.5 * pi)] {
+        for &(a, w) in &[(0.0, 0.0), (pi, pi), (-pi, pi), (3.0 * pi, pi), (2.5 * pi, 0.5 * pi), (-0.5 * pi, -0.5 * pi)]
+        {
             assert!((wrap_angle(a) - w).abs() < 1e-12, "{a} -> {} not {w}", wrap_angle(a));
         }
     }

@@ -1,8 +1,8 @@
 //! Per-run outcome figures, accumulated step by step without allocating.
 
+use crate::Real;
 use crate::math::{Pose2, wrap_angle};
 use crate::sim::Sample;
-use crate::Real;
 
 /// Distance to the goal (m) below which a run counts as arrived: 1 cm (SPEC section 6).
 pub const ARRIVAL_RADIUS_M: f64 = 0.01;
@@ -63,7 +63,14 @@ impl<T: Real> Metrics<T> {
     /// Starts accumulating for a run towards `goal`.
     pub fn new(goal: Pose2<T>) -> Self {
         let z = T::zero();
-        Self { goal, arrival_radius: T::lit(ARRIVAL_RADIUS_M), arrived_since: None, peak_wheel_speed: z, path_length: z, energy: z }
+        Self {
+            goal,
+            arrival_radius: T::lit(ARRIVAL_RADIUS_M),
+            arrived_since: None,
+            peak_wheel_speed: z,
+            path_length: z,
+            energy: z,
+        }
     }
 
     /// Adds the sample at the start of a plant step of length `dt`.

@@ -65,7 +65,7 @@ impl<T: Real> RobotParams<T> {
         check::non_negative("robot.coulomb_friction", self.coulomb_friction)?;
         check::positive("robot.coulomb_speed", self.coulomb_speed)?;
         let yaw_inertia_g = i_p + m * d * d;
-        if !(yaw_inertia_g > T::zero()) {
+        if yaw_inertia_g <= T::zero() {
             return Err(check::out_of_range(
                 "robot.platform_inertia",
                 "platform_inertia + mass * com_offset^2 must be > 0",
