@@ -18,30 +18,16 @@ impl<T: Real> Robot<T> {
     /// Friction torque at one wheel, N m: b_v omega + tau_c tanh(omega / omega_eps).
     #[inline(always)]
     pub fn friction_torque(&self, omega_wheel: T) -> T {
-        let p = self.params();
-        p.viscous_friction * omega_wheel + p.coulomb_friction * (omega_wheel / p.coulomb_speed).tanh()
+        Model::new(self).friction_torque(omega_wheel)
     }
 
     /// Time derivative of the state under wheel torques `tau_wheel` (N m, drive on wheel).
+    ///
+    /// For many calls with the same robot, [`crate::ClosedLoop`] keeps a precomputed
+    /// model instead; both give the same bits.
     #[inline(always)]
     pub fn derivative(&self, s: &State<T>, tau_wheel: Wheels<T>) -> State<T> {
-        let p = self.params();
-        let (inv_m11, inv_m22) = self.inv_reduced_inertia();
-        let md = self.mass_offset();
-        let w = s.wheel_speeds(p);
-        let net_r = tau_wheel.right - self.friction_torque(w.right);
-        let net_l = tau_wheel.left - self.friction_torque(w.left);
-        let (sin, cos) = s.theta.sin_cos();
-        let r = p.wheel_radius;
-        State {
-            x: s.v * cos,
-            y: s.v * sin,
-            theta: s.omega,
-            v: ((net_r + net_l) / r + md * s.omega * s.omega) * inv_m11,
-            omega: (p.half_track / r * (net_r - net_l) - md * s.v * s.omega) * inv_m22,
-            phi_r: w.right,
-            phi_l: w.left,
-        }
+        Model::new(self).derivative(s, tau_wheel)
     }
 
     /// Kinetic energy, J: T = 1/2 M_r11 v^2 + 1/2 M_r22 omega^2 (platform, wheels, rotors).
@@ -49,5 +35,84 @@ impl<T: Real> Robot<T> {
         let (m11, m22) = self.reduced_inertia();
         let half = T::lit(0.5);
         half * m11 * s.v * s.v + half * m22 * s.omega * s.omega
+    }
+}
+
+/// The constants of (15) gathered for the hot path: built once per [`crate::ClosedLoop`],
+/// so a step reloads no parameter struct and divides only where the equations divide.
+///
+/// Every field is a value [`Robot::derivative`] would otherwise compute on each call
+/// (`R / r` was a division per call), computed by the same operations, so the results
+/// are bit-identical to computing them inline.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Model<T> {
+    /// r, m.
+    r: T,
+    /// R, m.
+    big_r: T,
+    /// R / r.
+    big_r_over_r: T,
+    /// 1 / M_r11, 1/kg.
+    inv_m11: T,
+    /// 1 / M_r22, 1/(kg m^2).
+    inv_m22: T,
+    /// m d, kg m.
+    md: T,
+    /// b_v, N m s.
+    b_v: T,
+    /// tau_c, N m.
+    tau_c: T,
+    /// omega_eps, rad/s.
+    omega_eps: T,
+}
+
+impl<T: Real> Model<T> {
+    #[inline(always)]
+    pub(crate) fn new(robot: &Robot<T>) -> Self {
+        let p = robot.params();
+        let (inv_m11, inv_m22) = robot.inv_reduced_inertia();
+        Self {
+            r: p.wheel_radius,
+            big_r: p.half_track,
+            big_r_over_r: p.half_track / p.wheel_radius,
+            inv_m11,
+            inv_m22,
+            md: robot.mass_offset(),
+            b_v: p.viscous_friction,
+            tau_c: p.coulomb_friction,
+            omega_eps: p.coulomb_speed,
+        }
+    }
+
+    /// See [`Robot::friction_torque`].
+    #[inline(always)]
+    pub(crate) fn friction_torque(&self, omega_wheel: T) -> T {
+        let viscous = self.b_v * omega_wheel;
+        // Why the branch: tanh is the dearest call of the model (a third of a closed-loop
+        // step when it was always evaluated), and without Coulomb friction (the default)
+        // tau_c tanh(.) is a zero. Skipping it changes at most the sign of a zero result;
+        // a NaN or infinite omega still gives NaN through b_v omega (0 * inf = NaN).
+        if self.tau_c > T::zero() { viscous + self.tau_c * (omega_wheel / self.omega_eps).tanh() } else { viscous }
+    }
+
+    /// See [`Robot::derivative`].
+    #[inline(always)]
+    pub(crate) fn derivative(&self, s: &State<T>, tau_wheel: Wheels<T>) -> State<T> {
+        let r = self.r;
+        // Wheel speeds by the inverse of (1), as `kinematics::wheel_speeds`.
+        let w_r = (s.v + self.big_r * s.omega) / r;
+        let w_l = (s.v - self.big_r * s.omega) / r;
+        let net_r = tau_wheel.right - self.friction_torque(w_r);
+        let net_l = tau_wheel.left - self.friction_torque(w_l);
+        let (sin, cos) = s.theta.sin_cos();
+        State {
+            x: s.v * cos,
+            y: s.v * sin,
+            theta: s.omega,
+            v: ((net_r + net_l) / r + self.md * s.omega * s.omega) * self.inv_m11,
+            omega: (self.big_r_over_r * (net_r - net_l) - self.md * s.v * s.omega) * self.inv_m22,
+            phi_r: w_r,
+            phi_l: w_l,
+        }
     }
 }

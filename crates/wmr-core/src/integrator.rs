@@ -6,12 +6,7 @@ use crate::Real;
 ///
 /// Local error O(h^5), global error O(h^4). `f` is called four times.
 #[inline(always)]
-pub fn rk4_step<T: Real, const N: usize>(
-    mut f: impl FnMut(T, &[T; N]) -> [T; N],
-    t: T,
-    y: &[T; N],
-    h: T,
-) -> [T; N] {
+pub fn rk4_step<T: Real, const N: usize>(mut f: impl FnMut(T, &[T; N]) -> [T; N], t: T, y: &[T; N], h: T) -> [T; N] {
     let two = T::lit(2.0);
     let half_h = h / two;
     let sixth_h = h / T::lit(6.0);

@@ -1,14 +1,15 @@
 //! The closed-loop stepper: plant by RK4 at `dt`, controller every `control_dt` with a
 //! zero-order hold, samples handed to a caller's sink without allocating.
 
+use crate::controller::ControlErrors;
 use crate::controller::{ControlOutput, Controller, Measurement};
 use crate::drive::Drive;
+use crate::dynamics::Model;
 use crate::error::{ParamError, check};
 use crate::integrator::rk4_step;
 use crate::math::{Pose2, Wheels};
 use crate::metrics::{Metrics, Outcome, Termination};
 use crate::state::State;
-use crate::controller::ControlErrors;
 use crate::{Real, Robot};
 
 /// Half-width of the box (m) point C must stay in; outside it the run has diverged.
@@ -42,12 +43,16 @@ pub struct Diverged<T> {
 #[derive(Clone, Debug)]
 pub struct ClosedLoop<T, C> {
     robot: Robot<T>,
+    /// The robot's equations with their constants precomputed once.
+    model: Model<T>,
     drive: Drive<T>,
     controller: C,
     state: State<T>,
     dt: T,
     step_index: u64,
     control_every: u32,
+    /// Plant steps left until the next control tick (a countdown instead of a `%` per step).
+    steps_to_control: u32,
     output: ControlOutput<T>,
     /// Wheel torques for the current hold when they do not depend on speed.
     held_torque: Wheels<T>,
@@ -66,12 +71,14 @@ impl<T: Real, C: Controller<T>> ClosedLoop<T, C> {
         let control_every = check::whole_multiple("controller.control_dt", controller.control_dt(), dt)?;
         let mut lp = Self {
             robot,
+            model: Model::new(&robot),
             drive,
             controller,
             state: State::at_rest(start),
             dt,
             step_index: 0,
             control_every,
+            steps_to_control: control_every,
             output: ControlOutput::default(),
             held_torque: Wheels::default(),
             diverged: None,
@@ -163,18 +170,26 @@ impl<T: Real, C: Controller<T>> ClosedLoop<T, C> {
             return Err(d);
         }
         let y = self.state.to_array();
-        let next = rk4_step(
-            |_, y| {
-                let s = State::from_array(*y);
-                self.robot.derivative(&s, self.wheel_torque(&s)).to_array()
-            },
-            self.time(),
-            &y,
-            self.dt,
-        );
+        let model = self.model;
+        let next = if self.drive.is_speed_independent() {
+            // The torques are held over the whole step: pass them by value so the four
+            // RK4 stages neither branch on the drive nor reload them.
+            let tau = self.held_torque;
+            rk4_step(|_, y| model.derivative(&State::from_array(*y), tau).to_array(), self.time(), &y, self.dt)
+        } else {
+            rk4_step(
+                |_, y| {
+                    let s = State::from_array(*y);
+                    model.derivative(&s, self.wheel_torque(&s)).to_array()
+                },
+                self.time(),
+                &y,
+                self.dt,
+            )
+        };
         let next = State::from_array(next);
         let bound = T::lit(DIVERGENCE_BOX_M);
-        let termination = if !next.is_finite() {
+        let termination = if !all_finite(&next) {
             Some(Termination::NonFinite)
         } else if next.x.abs() > bound || next.y.abs() > bound {
             Some(Termination::LeftBox)
@@ -188,7 +203,9 @@ impl<T: Real, C: Controller<T>> ClosedLoop<T, C> {
         }
         self.state = next;
         self.step_index += 1;
-        if self.step_index % u64::from(self.control_every) == 0 {
+        self.steps_to_control -= 1;
+        if self.steps_to_control == 0 {
+            self.steps_to_control = self.control_every;
             self.control_tick();
         }
         Ok(())
@@ -204,7 +221,7 @@ impl<T: Real, C: Controller<T>> ClosedLoop<T, C> {
         let mut last_logged = None;
         for _ in 0..n_steps {
             let s = self.sample();
-            if self.step_index % log_every == 0 {
+            if self.step_index.is_multiple_of(log_every) {
                 sink(&s);
                 last_logged = Some(self.step_index);
             }
@@ -221,4 +238,15 @@ impl<T: Real, C: Controller<T>> ClosedLoop<T, C> {
         }
         metrics.finish(&last, termination)
     }
+}
+
+/// True when every component of `s` is finite: the same test as [`State::is_finite`],
+/// written branch-free for the hot path. 0 c is a zero for a finite c and NaN for an
+/// infinite or NaN one, and a sum of zeros cannot overflow, so the sum is zero exactly
+/// when all seven components are finite.
+#[inline(always)]
+fn all_finite<T: Real>(s: &State<T>) -> bool {
+    let z = T::zero();
+    let sum = s.x * z + s.y * z + s.theta * z + s.v * z + s.omega * z + s.phi_r * z + s.phi_l * z;
+    sum == z
 }
