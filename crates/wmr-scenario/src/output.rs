@@ -1,0 +1,159 @@
+//! What a run produces: the sample columns (one definition for CSV, MCAP and Python),
+//! the [`Sink`] trait and the per-run [`RunResult`] with its summary line.
+
+use std::error::Error;
+
+use wmr_core::metrics::ARRIVAL_RADIUS_M;
+use wmr_core::{Outcome, Sample};
+
+use crate::{RunSpec, Scenario};
+
+/// The CSV header of SPEC section 6, in order: `run`, then [`SAMPLE_COLUMNS`].
+pub const CSV_COLUMNS: [&str; 16] = [
+    "run", "t", "x", "y", "theta", "v", "omega", "phi_r", "phi_l", "omega_r", "omega_l", "tau_r", "tau_l", "e_s",
+    "e_theta", "dl",
+];
+
+/// The columns of one sample, the values of [`sample_values`] (CSV columns after `run`).
+pub const SAMPLE_COLUMNS: [&str; 15] = [
+    "t", "x", "y", "theta", "v", "omega", "phi_r", "phi_l", "omega_r", "omega_l", "tau_r", "tau_l", "e_s", "e_theta",
+    "dl",
+];
+
+/// A sample's values in [`SAMPLE_COLUMNS`] order: t (s), x, y (m), theta (rad),
+/// v (m/s), omega (rad/s), phi_r, phi_l (rad), omega_r, omega_l (rad/s),
+/// tau_r, tau_l (N m), e_s (m), e_theta (rad), dl (m).
+#[inline]
+pub fn sample_values(s: &Sample<f64>) -> [f64; 15] {
+    let st = &s.state;
+    [
+        s.t,
+        st.x,
+        st.y,
+        st.theta,
+        st.v,
+        st.omega,
+        st.phi_r,
+        st.phi_l,
+        s.wheel_speeds.right,
+        s.wheel_speeds.left,
+        s.torque.right,
+        s.torque.left,
+        s.errors.e_s,
+        s.errors.e_theta,
+        s.errors.dl,
+    ]
+}
+
+/// The error a sink reports (I/O, encoding, ...).
+pub type SinkError = Box<dyn Error + Send + Sync + 'static>;
+
+/// An output format: takes the samples of each run in order, then finishes.
+///
+/// Runs arrive one after the other, in run order, each as `begin_run`, its samples,
+/// `end_run`. A new format is a new sink; nothing else changes.
+pub trait Sink {
+    /// Called before the first sample of run `index`.
+    fn begin_run(&mut self, index: usize, run: &RunSpec) -> Result<(), SinkError> {
+        let _ = (index, run);
+        Ok(())
+    }
+
+    /// One logged sample of run `index`.
+    fn sample(&mut self, index: usize, sample: &Sample<f64>) -> Result<(), SinkError>;
+
+    /// Called after the last sample of a run.
+    fn end_run(&mut self, result: &RunResult) -> Result<(), SinkError> {
+        let _ = result;
+        Ok(())
+    }
+
+    /// Completes the output (flush, write indexes) after the last run.
+    fn finish(&mut self) -> Result<(), SinkError>;
+}
+
+/// Summary of one run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunResult {
+    /// 0-based index of the `[[run]]`.
+    pub index: usize,
+    /// The run's label.
+    pub label: String,
+    /// The core's outcome (final pose, final dl, heading error, time to arrival, ...).
+    pub outcome: Outcome<f64>,
+}
+
+impl RunResult {
+    /// Wraps a core outcome.
+    pub fn new(index: usize, label: String, outcome: Outcome<f64>) -> Self {
+        Self { index, label, outcome }
+    }
+
+    /// The state stopped being finite or C left the 1 km box.
+    pub fn diverged(&self) -> bool {
+        self.outcome.termination.diverged()
+    }
+
+    /// Not diverged and the final dl is below 1 cm ([`ARRIVAL_RADIUS_M`]). The heading
+    /// error is not part of it: the paper's law leaves several degrees (SPEC section 4).
+    pub fn converged(&self) -> bool {
+        !self.diverged() && self.outcome.final_dl < ARRIVAL_RADIUS_M
+    }
+
+    /// `"converged"`, `"diverged"` or `"not converged"`.
+    pub fn status(&self) -> &'static str {
+        if self.diverged() {
+            "diverged"
+        } else if self.converged() {
+            "converged"
+        } else {
+            "not converged"
+        }
+    }
+
+    /// The SPEC section 6 summary line: label, final dl (m), final heading error (deg),
+    /// time to dl < 1 cm (s or "never"), status.
+    pub fn summary_line(&self) -> String {
+        let o = &self.outcome;
+        let arrival = match o.time_to_arrival {
+            Some(t) => format!("{t:.3} s"),
+            None => "never".to_owned(),
+        };
+        let stop = if self.diverged() { format!(" at t = {:.3} s", o.t_final) } else { String::new() };
+        format!(
+            "run {} [{}]: final dl {:.6} m, heading error {:.3} deg, dl < 1 cm at {}, {}{}",
+            self.index,
+            self.label,
+            o.final_dl,
+            o.final_heading_error.to_degrees(),
+            arrival,
+            self.status(),
+            stop
+        )
+    }
+}
+
+impl Scenario {
+    /// Runs every run in order on this thread into `sink`, then finishes it.
+    pub fn run_all(&self, sink: &mut dyn Sink) -> Result<Vec<RunResult>, SinkError> {
+        let mut results = Vec::with_capacity(self.runs.len());
+        for (i, spec) in self.runs.iter().enumerate() {
+            sink.begin_run(i, spec)?;
+            let mut failed: Option<SinkError> = None;
+            let result = self.run(i, |s| {
+                if failed.is_none()
+                    && let Err(e) = sink.sample(i, s)
+                {
+                    failed = Some(e);
+                }
+            })?;
+            if let Some(e) = failed {
+                return Err(e);
+            }
+            sink.end_run(&result)?;
+            results.push(result);
+        }
+        sink.finish()?;
+        Ok(results)
+    }
+}

@@ -1,0 +1,161 @@
+//! Parsing, defaults, validation and running of scenarios.
+
+use wmr_core::{ClosedLoop, DcMotorParams, DriveParams, PaperController, PaperParams, Pose2, Robot, ServoGains};
+use wmr_scenario::{CSV_COLUMNS, ControllerSpec, SAMPLE_COLUMNS, Scenario, sample_values};
+
+const FIG7: &str = r#"
+name = "fig7"
+[sim]
+t_end = 2.0
+[[run]]
+label = "to (1, 1, 120 deg)"
+start = { x = 0.0, y = 0.0, theta_deg = 0.0 }
+goal = { x = 1.0, y = 1.0, theta_deg = 120.0 }
+"#;
+
+#[test]
+fn defaults_are_the_spec_values() {
+    let s = Scenario::from_toml_str("[[run]]\ngoal = { x = 1.0 }\n", "stem").unwrap();
+    assert_eq!(s.name, "stem");
+    assert_eq!(s.robot, wmr_core::RobotParams::paper());
+    assert_eq!(s.drive, DriveParams::default());
+    assert_eq!(s.controller, ControllerSpec::Paper(PaperParams::paper()));
+    assert_eq!((s.sim.t_end(), s.sim.dt(), s.sim.log_dt()), (60.0, 1e-3, 0.01));
+    assert_eq!((s.sim.n_steps(), s.sim.log_every(), s.sim.n_samples()), (60_000, 10, 6001));
+    assert_eq!(s.runs[0].start, Pose2::new(0.0, 0.0, 0.0));
+    assert_eq!(s.runs[0].goal, Pose2::new(1.0, 0.0, 0.0));
+}
+
+#[test]
+fn dc_motor_takes_its_own_servo_defaults() {
+    let s = Scenario::from_toml_str("[drive]\nkind = \"dc_motor\"\n[[run]]\ngoal = {}\n", "x").unwrap();
+    assert_eq!(s.drive, DriveParams::DcMotor(DcMotorParams::default()));
+    let ControllerSpec::Paper(p) = s.controller;
+    assert_eq!(p.servo, ServoGains::dc_motor_default());
+    let s =
+        Scenario::from_toml_str("[drive]\nkind = \"dc_motor\"\n[controller]\nservo_kd = 2\n[[run]]\ngoal = {}\n", "x")
+            .unwrap();
+    let ControllerSpec::Paper(p) = s.controller;
+    assert_eq!(p.servo.kd, 2.0);
+    assert_eq!(p.servo.kp, ServoGains::<f64>::dc_motor_default().kp);
+}
+
+#[test]
+fn to_toml_reads_back_to_the_same_scenario() {
+    let texts = [
+        FIG7,
+        "[drive]\nkind = \"dc_motor\"\nvoltage_max = 12\n[controller]\nmode = \"position\"\nhold_radius = 0\n[sim]\ndt = 5e-4\nt_end = 1.5\n[[run]]\nstart = { x = 0.1, y = -0.3, theta = 3.0 }\ngoal = { x = 1e-7 }\n[[run]]\ngoal = { y = 2.0, theta_deg = -33.3 }\n",
+        "[drive]\nmotor_torque_max = inf\n[[run]]\ngoal = {}\n",
+    ];
+    for text in texts {
+        let s = Scenario::from_toml_str(text, "n").unwrap();
+        let dumped = s.to_toml();
+        let back = Scenario::from_toml_str(&dumped, "other").unwrap_or_else(|e| panic!("{e}\n{dumped}"));
+        assert_eq!(back, s, "{dumped}");
+    }
+}
+
+#[test]
+fn json_and_toml_agree() {
+    let json = r#"{"name": "fig7", "sim": {"t_end": 2}, "run": [{"label": "to (1, 1, 120 deg)",
+        "start": {"x": 0, "y": 0, "theta_deg": 0}, "goal": {"x": 1, "y": 1, "theta_deg": 120}}]}"#;
+    assert_eq!(Scenario::from_json_str(json, "x").unwrap(), Scenario::from_toml_str(FIG7, "y").unwrap());
+}
+
+/// The scenario's run hands over exactly what the core's loop produces when built by hand.
+#[test]
+fn run_equals_the_core_sample_for_sample() {
+    let s = Scenario::from_toml_str(FIG7, "x").unwrap();
+    let mut ours = Vec::new();
+    let result = s.run(0, |x| ours.push(*x)).unwrap();
+
+    let robot = Robot::<f64>::paper();
+    let drive = DriveParams::default().validate(&robot).unwrap();
+    let goal = Pose2::new(1.0, 1.0, 120f64.to_radians());
+    let ctrl = PaperController::new(PaperParams::paper(), &robot, &drive, goal).unwrap();
+    let mut lp = ClosedLoop::new(robot, drive, ctrl, Pose2::default(), 1e-3).unwrap();
+    let mut core = Vec::new();
+    let outcome = lp.run(2000, 10, |x| core.push(*x));
+    assert_eq!(ours, core);
+    assert_eq!(result.outcome, outcome);
+    assert_eq!(ours.len(), 201);
+    assert_eq!(ours.last().unwrap().t, 2.0);
+}
+
+#[test]
+fn columns_match_spec() {
+    assert_eq!(CSV_COLUMNS.join(","), "run,t,x,y,theta,v,omega,phi_r,phi_l,omega_r,omega_l,tau_r,tau_l,e_s,e_theta,dl");
+    assert_eq!(&CSV_COLUMNS[1..], &SAMPLE_COLUMNS[..]);
+    let s = Scenario::from_toml_str(FIG7, "x").unwrap();
+    let mut last = None;
+    s.run(0, |x| last = Some(*x)).unwrap();
+    let x = last.unwrap();
+    let v = sample_values(&x);
+    assert_eq!(v[0], x.t);
+    assert_eq!(v[1], x.state.x);
+    assert_eq!(v[9], x.wheel_speeds.left);
+    assert_eq!(v[14], x.errors.dl);
+}
+
+#[test]
+fn samples_count_off_grid_t_end() {
+    let s = Scenario::from_toml_str("[sim]\nt_end = 0.105\n[[run]]\ngoal = {x = 1}\n", "x").unwrap();
+    let mut n = 0;
+    s.run(0, |_| n += 1).unwrap();
+    assert_eq!(n as u64, s.sim.n_samples());
+    assert_eq!(n, 12);
+}
+
+/// Each bad scenario: (text, key named, line named).
+#[test]
+fn errors_name_the_key_and_line() {
+    let cases: &[(&str, &str, Option<usize>)] = &[
+        ("[robot]\nmass = -1.0\n[[run]]\ngoal = {}\n", "robot.mass", Some(2)),
+        ("[robot]\nmasss = 1.0\n[[run]]\ngoal = {}\n", "robot.masss", Some(2)),
+        ("[robot]\nmass = \"x\"\n[[run]]\ngoal = {}\n", "robot.mass", Some(2)),
+        ("[robot\nmass = 1\n", "", Some(1)),
+        ("[controller]\nkp_thetaa = 1.0\n[[run]]\ngoal = {}\n", "controller.kp_thetaa", Some(2)),
+        ("[controller]\nkind = \"polar\"\n[[run]]\ngoal = {}\n", "controller.kind", Some(2)),
+        ("[controller]\nmode = \"posy\"\n[[run]]\ngoal = {}\n", "controller.mode", Some(2)),
+        ("[drive]\nvoltage_max = 3.0\n[[run]]\ngoal = {}\n", "drive.voltage_max", Some(2)),
+        ("[drive]\nkind = \"dc_motor\"\nvoltage_max = -3.0\n[[run]]\ngoal = {}\n", "drive.voltage_max", Some(3)),
+        ("[[run]]\ngoal = {}\n[[run]]\nstart = { x = 1.0, y = nan }\ngoal = {x=1}\n", "run[1].start.y", Some(4)),
+        (
+            "[[run]]\ngoal = {}\n[[run]]\nstart = { theta = 1, theta_deg = 3 }\ngoal = {}\n",
+            "run[1].start.theta_deg",
+            Some(4),
+        ),
+        ("[[run]]\ngoal = {}\n[[run]]\nstart = { x = 1.0 }\n", "run[1].goal", None),
+        ("[sim]\nt_end = 1e7\n[[run]]\ngoal = {}\n", "sim.t_end", Some(2)),
+        ("[sim]\nt_end = 1.0005\n[[run]]\ngoal = {}\n", "sim.t_end", Some(2)),
+        ("[sim]\ndt = 3e-4\nlog_dt = 3e-3\n[[run]]\ngoal = {}\n", "controller.control_dt", None),
+        ("[sim]\n", "run", None),
+        ("[[run]]\ngoal = { x = inf }\n", "run[0].goal.x", Some(2)),
+    ];
+    for (text, key, line) in cases {
+        let e = Scenario::from_toml_str(text, "x").unwrap_err();
+        assert_eq!(&e.key, key, "{text:?}: {e}");
+        if line.is_some() {
+            assert_eq!(&e.line, line, "{text:?}: {e}");
+        }
+        assert!(!e.to_string().contains('\n'), "one line: {e}");
+    }
+}
+
+#[test]
+fn json_errors_name_the_key() {
+    for (j, key) in [
+        (r#"{"robot": {"mass": "x"}, "run": [{"goal": {}}]}"#, "robot.mass"),
+        (r#"{"controller": {"kp_x": 1}, "run": [{"goal": {}}]}"#, "controller.kp_x"),
+        (r#"{"run": [{"goal": {"x": 1}}, {"start": {"z": 1}, "goal": {}}]}"#, "run[1].start.z"),
+        (r#"{"robot": {"mass": 0}, "run": [{"goal": {}}]}"#, "robot.mass"),
+    ] {
+        assert_eq!(Scenario::from_json_str(j, "x").unwrap_err().key, key, "{j}");
+    }
+}
+
+#[test]
+fn run_index_out_of_range_is_an_error() {
+    let s = Scenario::from_toml_str(FIG7, "x").unwrap();
+    assert_eq!(s.run(3, |_| {}).unwrap_err().key, "run");
+}
