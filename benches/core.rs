@@ -1,0 +1,120 @@
+//! Criterion benches of the core's hot paths (issue 6), at both precisions where it matters:
+//! one closed-loop step, the controller update alone, one RK4 step of the model, and a
+//! whole 60 s Fig. 7 run. `cargo bench --bench core`; the C comparison is `benches/compare`.
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use wmr_core::integrator::rk4_step;
+use wmr_core::{
+    ClosedLoop, Controller, DriveParams, Measurement, PaperController, PaperParams, Pose2, Real, Robot, State, Wheels,
+};
+
+/// Fig. 7: (0, 0, 0) -> (1, 1, 120 deg), SPEC defaults, dt = control_dt = 1 ms.
+const FIG7_STEPS: u64 = 60_000;
+/// Steps into the run where the per-step benches start: the robot is moving, not holding.
+const WARM_STEPS: u64 = 5_000;
+
+fn fig7_loop<T: Real>() -> ClosedLoop<T, PaperController<T>> {
+    let robot = Robot::<T>::paper();
+    let drive = DriveParams::default().validate(&robot).expect("default drive is valid");
+    let goal = Pose2::new(T::lit(1.0), T::lit(1.0), T::lit(120f64.to_radians()));
+    let ctrl = PaperController::new(PaperParams::paper(), &robot, &drive, goal).expect("paper gains are valid");
+    ClosedLoop::new(robot, drive, ctrl, Pose2::default(), T::lit(1e-3)).expect("dt divides control_dt")
+}
+
+/// The Fig. 7 loop `WARM_STEPS` into the run.
+fn warm_loop<T: Real>() -> ClosedLoop<T, PaperController<T>> {
+    let mut sim = fig7_loop::<T>();
+    for _ in 0..WARM_STEPS {
+        sim.step().expect("Fig. 7 does not diverge");
+    }
+    sim
+}
+
+fn closed_loop_step<T: Real>(c: &mut Criterion, name: &str) {
+    let start = warm_loop::<T>();
+    let mut sim = start.clone();
+    c.bench_function(&format!("closed_loop_step/{name}"), |b| {
+        b.iter(|| {
+            // Stay inside the 60 s run: restart from the snapshot (one copy per 55 000 steps).
+            if sim.steps() >= FIG7_STEPS {
+                sim = start.clone();
+            }
+            black_box(sim.step()).ok();
+        })
+    });
+}
+
+fn controller_update(c: &mut Criterion) {
+    let mut group = c.benchmark_group("controller_update");
+    let sim = warm_loop::<f64>();
+    let s = *sim.state();
+    let robot = *sim.robot();
+    let m =
+        Measurement { pose: s.pose(), wheel_angles: s.wheel_angles(), wheel_speeds: s.wheel_speeds(robot.params()) };
+    let mut ctrl = *sim.controller();
+    group.bench_function(BenchmarkId::from_parameter("f64"), |b| b.iter(|| ctrl.update(black_box(&m))));
+    let sim = warm_loop::<f32>();
+    let s = *sim.state();
+    let robot = *sim.robot();
+    let m =
+        Measurement { pose: s.pose(), wheel_angles: s.wheel_angles(), wheel_speeds: s.wheel_speeds(robot.params()) };
+    let mut ctrl = *sim.controller();
+    group.bench_function(BenchmarkId::from_parameter("f32"), |b| b.iter(|| ctrl.update(black_box(&m))));
+    group.finish();
+}
+
+fn rk4_model<T: Real>(c: &mut Criterion, name: &str) {
+    let robot = Robot::<T>::paper();
+    let s = *warm_loop::<T>().state();
+    let y = s.to_array();
+    let tau = Wheels::new(T::lit(0.7), T::lit(-0.3));
+    let dt = T::lit(1e-3);
+    c.bench_function(&format!("rk4_step_model/{name}"), |b| {
+        b.iter(|| {
+            rk4_step(
+                |_, y| robot.derivative(&State::from_array(*y), black_box(tau)).to_array(),
+                T::zero(),
+                black_box(&y),
+                dt,
+            )
+        })
+    });
+}
+
+fn fig7_run(c: &mut Criterion) {
+    let mut group = c.benchmark_group("fig7_run_60s");
+    group.sample_size(20).measurement_time(Duration::from_secs(4));
+    group.bench_function("f64", |b| {
+        b.iter(|| {
+            fig7_loop::<f64>().run(black_box(FIG7_STEPS), u32::MAX, |s| {
+                black_box(s);
+            })
+        })
+    });
+    group.bench_function("f32", |b| {
+        b.iter(|| {
+            fig7_loop::<f32>().run(black_box(FIG7_STEPS), u32::MAX, |s| {
+                black_box(s);
+            })
+        })
+    });
+    group.finish();
+}
+
+fn per_step(c: &mut Criterion) {
+    closed_loop_step::<f64>(c, "f64");
+    closed_loop_step::<f32>(c, "f32");
+    controller_update(c);
+    rk4_model::<f64>(c, "f64");
+    rk4_model::<f32>(c, "f32");
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(2));
+    targets = per_step, fig7_run
+}
+criterion_main!(benches);
