@@ -37,7 +37,13 @@ mod real;
 pub mod sim;
 pub mod state;
 
-pub use controller::{ControlErrors, ControlOutput, Controller, Measurement, PaperController, PaperMode, PaperParams, ServoGains};
+pub use controller::{
+    AnyController, ControllerKind, ControllerParams, LyapunovController, LyapunovParams, PaperSaturated,
+    PolarController, PolarParams,
+};
+pub use controller::{
+    ControlErrors, ControlOutput, Controller, Measurement, PaperController, PaperMode, PaperParams, ServoGains,
+};
 pub use drive::{DcMotorParams, Drive, DriveParams, TorqueDriveParams};
 pub use error::{ParamError, Reason};
 pub use math::{Pose2, Twist2, Wheels, wrap_angle};

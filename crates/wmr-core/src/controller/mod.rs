@@ -6,6 +6,23 @@ mod servo;
 pub use paper::{PaperController, PaperMode, PaperParams};
 pub use servo::{ServoGains, WheelServo};
 
+// More stabilization laws (issue 7), their wheel-speed path and run-time selection.
+mod any;
+mod lyapunov;
+mod paper_saturated;
+mod polar;
+pub mod polar_frame;
+pub mod saturation;
+mod speed_servo;
+
+pub use any::{AnyController, ControllerKind, ControllerParams};
+pub use lyapunov::{LyapunovController, LyapunovParams};
+pub use paper_saturated::PaperSaturated;
+pub use polar::{PolarController, PolarParams};
+pub use polar_frame::{Direction, DirectionSelector, PolarCoords};
+pub use saturation::{WheelRateLimiter, limit_twist, limit_wheel_speeds, wheel_speed_scale};
+pub use speed_servo::{SpeedServo, TwistServo};
+
 use crate::Real;
 use crate::math::{Pose2, Wheels};
 

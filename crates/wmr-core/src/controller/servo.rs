@@ -75,6 +75,34 @@ impl<T: Real> WheelServo<T> {
         self.gains.kp * e + i_term - self.gains.kd * omega
     }
 
+    /// Speed-tracking form (for laws that command wheel speeds): command for angle
+    /// reference `phi_ref` (rad) moving at `omega_ref` (rad/s), measured angle `phi` (rad)
+    /// and speed `omega` (rad/s), advancing the integral by `dt` (s):
+    ///
+    /// ```text
+    /// command = Kp (phi_ref - phi) + Ki int(phi_ref - phi) + Kd (omega_ref - omega)
+    /// ```
+    ///
+    /// The derivative acts on the speed error, so a reference ramp is followed without the
+    /// steady lag Kd omega / Kp that [`WheelServo::update`] (derivative on the measured
+    /// speed) would leave. With `omega_ref = 0` it equals [`WheelServo::update`].
+    #[inline(always)]
+    pub fn update_tracking(&mut self, phi_ref: T, omega_ref: T, phi: T, omega: T, dt: T) -> T {
+        let e = phi_ref - phi;
+        let mut i_term = T::zero();
+        if self.gains.ki > T::zero() {
+            let bound = self.limit / self.gains.ki;
+            self.integral = (self.integral + e * dt).max(-bound).min(bound);
+            i_term = self.gains.ki * self.integral;
+        }
+        self.gains.kp * e + i_term + self.gains.kd * (omega_ref - omega)
+    }
+
+    /// Largest useful |command| (N m or V), the drive's limit given at construction.
+    pub fn limit(&self) -> T {
+        self.limit
+    }
+
     /// Clears the integral.
     pub fn reset(&mut self) {
         self.integral = T::zero();

@@ -1,0 +1,149 @@
+//! Polar coordinates of the goal seen from the robot, and the choice of driving direction.
+//!
+//! Shared by the polar-coordinate laws ([`super::PolarController`],
+//! [`super::LyapunovController`]). With (x, y, theta) the pose of C and
+//! (x_d, y_d, theta_d) the goal, all in the world frame:
+//!
+//! ```text
+//! phi   = atan2(y_d - y, x_d - x)        direction from C to the goal, rad (world frame)
+//! rho   = hypot(x_d - x, y_d - y)        distance from C to the goal, m
+//! alpha = wrap(phi - theta)              goal direction seen from the heading, rad
+//! beta  = wrap(theta_d - phi)            goal heading seen from the goal direction, rad
+//! ```
+//!
+//! so that alpha + beta = theta_d - theta (mod 2 pi) is the heading error. These are the
+//! (rho, alpha, beta) of Siegwart, Nourbakhsh and Scaramuzza, "Introduction to Autonomous
+//! Mobile Robots", 2nd ed., section 3.6.2.4 (after Astolfi 1999), written for a goal that
+//! need not be at the origin; Aicardi et al. (1995) use the same e = rho and alpha, and
+//! their goal-frame angle is theta_A = -beta.
+//!
+//! # Backward driving
+//!
+//! The laws converge only for alpha in I1 = (-pi/2, pi/2] (goal ahead). When the goal
+//! lies behind (alpha in I2 = (-pi, -pi/2] or (pi/2, pi]) the robot drives backwards:
+//! the "front" is redefined as the rear, i.e. both the heading and the goal heading are
+//! turned by pi,
+//!
+//! ```text
+//! alpha_b = wrap(phi - (theta + pi)),  beta_b = wrap((theta_d + pi) - phi),  v = -v_law
+//! ```
+//!
+//! while omega is unchanged (turning the body frame by pi does not change theta-dot).
+//! The goal is then reached rear first, with the true heading theta_d.
+//!
+//! The direction is decided once, at the first tick after construction or reset, from
+//! the sign of cos(alpha) (Siegwart: "by redefining the forward direction of the robot
+//! at t = 0"). Under the strong-stability gain condition the kinematic closed loop keeps
+//! alpha in I1, so no switch is needed; on the dynamic robot alpha can overshoot
+//! slightly, so a later switch happens only when |alpha| in the current direction
+//! exceeds pi/2 + `hysteresis`. Just after a switch |alpha| < pi/2 - hysteresis in the
+//! new direction, so the decision cannot chatter.
+
+use crate::Real;
+use crate::math::{Pose2, wrap_angle};
+
+/// Which end of the robot leads.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Direction {
+    /// The heading theta points the way the robot drives (v >= 0 while approaching).
+    #[default]
+    Forward,
+    /// The rear leads: heading and goal heading are turned by pi, v = -v_law.
+    Backward,
+}
+
+impl Direction {
+    /// +1 forward, -1 backward: the factor from the law's forward speed to v.
+    #[inline]
+    pub fn sign<T: Real>(self) -> T {
+        match self {
+            Direction::Forward => T::one(),
+            Direction::Backward => -T::one(),
+        }
+    }
+
+    /// The other direction.
+    #[inline]
+    pub fn flipped(self) -> Self {
+        match self {
+            Direction::Forward => Direction::Backward,
+            Direction::Backward => Direction::Forward,
+        }
+    }
+}
+
+/// The goal in polar coordinates, in the driving frame of a [`Direction`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PolarCoords<T> {
+    /// rho, distance from C to the goal position, m.
+    pub rho: T,
+    /// alpha, direction to the goal relative to the (driving-frame) heading, rad, in (-pi, pi].
+    pub alpha: T,
+    /// beta, goal heading relative to the direction to the goal, rad, in (-pi, pi].
+    pub beta: T,
+}
+
+impl<T: Real> PolarCoords<T> {
+    /// Polar coordinates of `goal` seen from `pose` (both in the world frame) in driving
+    /// direction `dir`. At rho = 0 the direction phi is taken as atan2(0, 0) = 0.
+    #[inline]
+    pub fn new(pose: Pose2<T>, goal: Pose2<T>, dir: Direction) -> Self {
+        let dx = goal.x - pose.x;
+        let dy = goal.y - pose.y;
+        let phi = dy.atan2(dx);
+        let (theta, theta_d) = match dir {
+            Direction::Forward => (pose.theta, goal.theta),
+            Direction::Backward => (pose.theta + T::PI(), goal.theta + T::PI()),
+        };
+        Self { rho: dx.hypot(dy), alpha: wrap_angle(phi - theta), beta: wrap_angle(theta_d - phi) }
+    }
+
+    /// True for alpha in I1 = (-pi/2, pi/2]: the goal is ahead in this frame.
+    #[inline]
+    pub fn goal_ahead(&self) -> bool {
+        let half_pi = T::FRAC_PI_2();
+        self.alpha > -half_pi && self.alpha <= half_pi
+    }
+}
+
+/// Chooses the driving direction once and switches it only with hysteresis (module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DirectionSelector<T> {
+    allow_reverse: bool,
+    hysteresis: T,
+    current: Option<Direction>,
+}
+
+impl<T: Real> DirectionSelector<T> {
+    /// A selector; `allow_reverse = false` always drives forward. `hysteresis` (rad, >= 0)
+    /// is the overshoot of |alpha| past pi/2 that triggers a later switch.
+    pub fn new(allow_reverse: bool, hysteresis: T) -> Self {
+        Self { allow_reverse, hysteresis, current: None }
+    }
+
+    /// The direction in use, if one has been chosen since construction or reset.
+    pub fn current(&self) -> Option<Direction> {
+        self.current
+    }
+
+    /// The direction for this tick and the polar coordinates in its frame.
+    #[inline]
+    pub fn select(&mut self, pose: Pose2<T>, goal: Pose2<T>) -> (Direction, PolarCoords<T>) {
+        let dir = self.current.unwrap_or(Direction::Forward);
+        let c = PolarCoords::new(pose, goal, dir);
+        let switch = self.allow_reverse
+            && match self.current {
+                // First tick: decide from the sign of cos(alpha), I1 = (-pi/2, pi/2].
+                None => !c.goal_ahead(),
+                Some(_) => c.alpha.abs() > T::FRAC_PI_2() + self.hysteresis,
+            };
+        let (dir, c) = if switch { (dir.flipped(), PolarCoords::new(pose, goal, dir.flipped())) } else { (dir, c) };
+        self.current = Some(dir);
+        (dir, c)
+    }
+
+    /// Forgets the direction: the next tick decides afresh.
+    pub fn reset(&mut self) {
+        self.current = None;
+    }
+}
