@@ -554,3 +554,57 @@ fn polar_laws_log_errors() {
     });
     assert!(n > 10);
 }
+
+/// The new laws' closed loops allocate nothing (the core is alloc-free; this guards the
+/// enum dispatch and the wheel-speed path), at both precisions.
+#[test]
+fn laws_allocate_nothing() {
+    fn count<T: Real>(kind: ControllerKind) -> u64 {
+        let goal = pose::<T>(1.0, 1.0, 120.0);
+        let mut p = kind.default_params::<T>();
+        if let ControllerParams::Paper { wheel_speed_max, .. } = &mut p {
+            *wheel_speed_max = T::lit(10.0);
+        }
+        let mut sim = closed(build(p, goal), pose::<T>(0.0, 0.0, 0.0));
+        let mut checksum = T::zero();
+        let info = allocation_counter::measure(|| {
+            let o = sim.run(20_000, 10, |s| checksum = checksum + s.state.x);
+            checksum = checksum + o.final_dl;
+        });
+        assert!(checksum.is_finite());
+        info.count_total
+    }
+    for kind in ControllerKind::ALL {
+        assert_eq!(count::<f64>(kind), 0, "{}", kind.name());
+        assert_eq!(count::<f32>(kind), 0, "{}", kind.name());
+    }
+}
+
+/// The direction rule on its own: decided from the sign of cos(alpha) at the first tick;
+/// later, alpha wobbling around pi/2 does not switch it, only an overshoot past
+/// pi/2 + hysteresis does, and then the new frame sees |alpha| < pi/2 - hysteresis.
+#[test]
+fn direction_switches_only_with_hysteresis() {
+    use wmr_core::controller::DirectionSelector;
+    let h = deg(30.0);
+    let goal = pose::<f64>(0.0, 0.0, 0.0);
+    // The robot 1 m east of the goal with heading psi: phi = pi, alpha = wrap(pi - psi).
+    let at = |alpha: f64| Pose2::new(1.0, 0.0, PI - alpha);
+    let mut sel = DirectionSelector::new(true, h);
+    assert_eq!(sel.select(at(deg(80.0)), goal).0, Direction::Forward);
+    for a in [85.0, 95.0, 100.0, 119.0, 91.0, 110.0] {
+        let (d, c) = sel.select(at(deg(a)), goal);
+        assert_eq!(d, Direction::Forward, "switched at alpha = {a} deg");
+        assert!((c.alpha - deg(a)).abs() < 1e-12);
+    }
+    let (d, c) = sel.select(at(deg(121.0)), goal);
+    assert_eq!(d, Direction::Backward);
+    assert!((c.alpha - deg(121.0 - 180.0)).abs() < 1e-12 && c.alpha.abs() < FRAC_PI_2 - h);
+    // Goal behind at the first tick: backwards at once; forward-only never reverses.
+    let mut sel = DirectionSelector::new(true, h);
+    assert_eq!(sel.select(at(deg(100.0)), goal).0, Direction::Backward);
+    let mut fwd = DirectionSelector::new(false, h);
+    assert_eq!(fwd.select(at(deg(179.0)), goal).0, Direction::Forward);
+    sel.reset();
+    assert_eq!(sel.current(), None);
+}

@@ -37,18 +37,21 @@
 //! guarantees that alpha never leaves I1 = (-pi/2, pi/2] once in it, so the robot never
 //! reverses its direction of motion on the way. All four are checked at construction
 //! (errors name `controller.k_rho`, `controller.k_beta` or `controller.k_alpha`).
-//! Unlike PythonRobotics' `move_to_pose`, which negates v when the goal is behind but
-//! keeps alpha and beta of the forward frame (so omega steers the wrong way), the
-//! backward case here redefines the polar coordinates in the reversed frame
-//! ([`super::polar_frame`]); the direction is decided at the first tick and later
-//! switched only with hysteresis (`reverse_hysteresis`).
+//! PythonRobotics' `move_to_pose` negates v when the goal is behind but keeps alpha and
+//! beta of the forward frame, so alpha stays near +-pi, outside the region the stability
+//! argument covers. Here the backward case redefines the polar coordinates in the
+//! reversed frame ([`super::polar_frame`]); the direction is decided at the first tick
+//! and later switched only with hysteresis (`reverse_hysteresis`).
 //!
 //! Near the goal: alpha + beta = theta_d - theta, so the heading converges with alpha and
-//! beta; the slower of the two angular modes, whose rate is the smaller root of
-//! s^2 + (k_alpha - k_rho) s - k_rho k_beta, is below k_rho under the strong condition,
-//! so the heading settles more slowly than the distance. The defaults make that root
-//! 0.54 k_rho, so a robot stopped at 1 mm keeps a heading error of a few degrees. Within `goal_radius` of the goal the law stops (v = omega = 0, the wheels
-//! hold their angles) until the robot is pushed out to twice that distance.
+//! beta, at the rate of the slower angular mode (the smaller root of
+//! s^2 + (k_alpha - k_rho) s - k_rho k_beta). Gains that satisfy the strong condition
+//! tend to make it slower than k_rho (with the defaults it is 0.27 1/s = 0.54 k_rho), so
+//! the heading settles more slowly than the distance and a robot stopped at 1 mm keeps a
+//! heading error of up to a few degrees (measured 0.4 to 5 deg); use
+//! [`super::LyapunovController`] when the heading matters. Within `goal_radius` of the
+//! goal the law stops (v = omega = 0, the wheels hold their angles) until the robot is
+//! pushed out to twice that distance.
 //!
 //! The twist goes to the wheels through [`super::TwistServo`]: wheel speed references
 //! by the inverse of (1), the curvature-keeping `wheel_speed_max` limit, and the wheel
