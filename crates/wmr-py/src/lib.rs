@@ -1,1 +1,25 @@
-//! Placeholder: filled by its issue.
+//! # wmr-py
+//!
+//! Python bindings of wmr, import name `wmr_py` (the native part is `wmr_py._native`;
+//! the pure-Python package in `python/wmr_py` re-exports it with `.pyi` stubs).
+//! One `PyX` wrapper per core type, errors converted in [`error`] only, the scenario
+//! parsing and running left to `wmr-scenario`. See the crate's README.md.
+
+pub mod controller;
+pub mod convert;
+pub mod error;
+pub mod robot;
+pub mod scenario;
+
+/// Native part of wmr_py: models, controller and scenario runner of a differential-drive robot.
+#[pyo3::pymodule]
+mod _native {
+    #[pymodule_export]
+    use crate::controller::PyPaperController;
+    #[pymodule_export]
+    use crate::error::{ParameterError, ScenarioError};
+    #[pymodule_export]
+    use crate::robot::PyRobot;
+    #[pymodule_export]
+    use crate::scenario::{PyRunResult, run_batch_native, run_scenario, time_run_rust};
+}

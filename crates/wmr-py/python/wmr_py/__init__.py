@@ -1,0 +1,165 @@
+"""wmr_py: simulate and control two-wheeled differential-drive robots, with numpy.
+
+The models, the paper's controller and the scenario runner are the Rust crates of wmr
+(wmr-core, wmr-scenario); this package is a thin layer over them (``wmr_py._native``).
+SI units and radians everywhere; keys ending in ``_deg`` take degrees.
+
+- ``run_scenario(path_or_toml_or_dict)``: every run of a scenario (SPEC section 6) as
+  numpy columns plus its summary.
+- ``simulate(start, goal, ...)``: one run with keyword overrides.
+- ``run_batch(starts, goal, ...)``: many starts in parallel, the GIL released.
+- ``Robot``, ``PaperController``: building blocks for loops closed in Python.
+- ``ParameterError`` / ``ScenarioError`` (both ``ValueError``): bad input, ``err.key`` names it.
+
+Example::
+
+    import wmr_py
+    r = wmr_py.simulate(start=(0, 0, 0), goal={"x": 1, "y": 1, "theta_deg": 120})
+    print(r.summary)
+    r.x, r.y, r.omega_r          # float64 ndarrays, one value per 10 ms sample
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any, Optional, Sequence, Union
+
+import numpy as np
+
+from ._native import (
+    PaperController,
+    ParameterError,
+    Robot,
+    RunResult,
+    ScenarioError,
+    run_scenario,
+)
+from . import _native
+
+__all__ = [
+    "PaperController",
+    "ParameterError",
+    "Robot",
+    "RunResult",
+    "ScenarioError",
+    "run_batch",
+    "run_scenario",
+    "simulate",
+]
+
+Pose = Union[Sequence[float], Mapping[str, float]]
+
+
+def _pose(value: Any, arg: str) -> Any:
+    """A pose as the scenario's pose table: a mapping is passed on as is (the scenario
+    parser checks its keys), a sequence must be (x_m, y_m, theta_rad)."""
+    if isinstance(value, Mapping):
+        return dict(value)
+    try:
+        items = [float(v) for v in value]
+    except (TypeError, ValueError):
+        err = ParameterError(f"{arg}: expected (x, y, theta_rad) or a dict with x, y, theta or theta_deg, got {value!r}")
+        err.key = arg
+        raise err from None
+    if len(items) != 3:
+        err = ParameterError(f"{arg}: expected 3 numbers (x, y, theta_rad), got {len(items)}")
+        err.key = arg
+        raise err
+    return {"x": items[0], "y": items[1], "theta": items[2]}
+
+
+def _table(value: Any, arg: str) -> Optional[dict]:
+    if value is None:
+        return None
+    if isinstance(value, Robot):
+        return value.to_dict()
+    if isinstance(value, Mapping):
+        return dict(value)
+    err = ParameterError(f"{arg}: expected a dict of scenario keys, got {type(value).__name__}")
+    err.key = arg
+    raise err
+
+
+def _scenario(
+    runs: list,
+    robot: Any,
+    drive: Any,
+    controller: Any,
+    t_end: float,
+    dt: Optional[float],
+    log_dt: Optional[float],
+) -> dict:
+    sc: dict = {"name": "simulate", "run": runs, "sim": {"t_end": t_end, "dt": dt, "log_dt": log_dt}}
+    for key, value in (("robot", robot), ("drive", drive), ("controller", controller)):
+        table = _table(value, key)
+        if table is not None:
+            sc[key] = table
+    return sc
+
+
+def simulate(
+    start: Pose,
+    goal: Pose,
+    robot: Union[None, Robot, Mapping[str, float]] = None,
+    drive: Optional[Mapping[str, Any]] = None,
+    controller: Optional[Mapping[str, Any]] = None,
+    t_end: float = 60.0,
+    dt: Optional[float] = None,
+    log_dt: float = 0.01,
+    label: Optional[str] = None,
+) -> RunResult:
+    """Simulate one run of the closed loop and return its RunResult.
+
+    start, goal: poses of point C, as ``(x_m, y_m, theta_rad)`` or a dict with ``x``,
+    ``y`` and ``theta`` (rad) or ``theta_deg`` (degrees).
+    robot, drive, controller: overrides with the scenario's ``[robot]``, ``[drive]`` and
+    ``[controller]`` keys (SPEC section 6); ``robot`` may also be a ``Robot``.
+    t_end: simulated time, s. dt: RK4 step, s (default: the controller's control_dt,
+    1 ms). log_dt: output sample period, s (a whole multiple of dt).
+
+    The same as ``run_scenario`` on a one-run scenario: same parser, checks and loop.
+    Raises ScenarioError naming the key (e.g. ``robot.mass``, ``run[0].start.x``).
+    """
+    run: dict = {"start": _pose(start, "start"), "goal": _pose(goal, "goal")}
+    if label is not None:
+        run["label"] = label
+    return run_scenario(_scenario([run], robot, drive, controller, t_end, dt, log_dt))[0]
+
+
+def run_batch(
+    starts: Any,
+    goal: Pose,
+    robot: Union[None, Robot, Mapping[str, float]] = None,
+    drive: Optional[Mapping[str, Any]] = None,
+    controller: Optional[Mapping[str, Any]] = None,
+    t_end: float = 60.0,
+    dt: Optional[float] = None,
+) -> dict:
+    """Run the closed loop from many starts to one goal in parallel (rayon, the GIL
+    released) and return a dict of 1-D arrays, one entry per start, in order:
+
+    ``final_x``, ``final_y`` (m), ``final_theta`` (rad), ``final_dl`` (m),
+    ``final_heading_error`` (rad, wrap(theta_d - theta)), ``time_to_1cm`` (s; NaN if
+    dl never stays below 1 cm), ``t_final`` (s), ``peak_wheel_speed`` (rad/s),
+    ``path_length`` (m), ``energy`` (J) as float64; ``converged`` and ``diverged`` as
+    bool. Plus ``arrival_radius`` (m), the 1 cm threshold.
+
+    starts: array-like of shape (N, 3): rows (x_m, y_m, theta_rad).
+    goal, robot, drive, controller, t_end, dt: as for ``simulate``.
+    """
+    arr = np.ascontiguousarray(starts, dtype=np.float64)
+    if arr.ndim != 2 or arr.shape[1] != 3 or arr.shape[0] == 0:
+        err = ParameterError(f"starts: expected an array of shape (N, 3), N >= 1, got shape {arr.shape}")
+        err.key = "starts"
+        raise err
+    # The base scenario carries the goal and every setting; the scenario parser checks it
+    # with the first start, then each start becomes a run. Logging is not needed, so
+    # log_dt = t_end (a whole multiple of dt whenever t_end is).
+    first = arr[0]
+    base_start = {"x": float(first[0]), "y": float(first[1]), "theta": float(first[2])}
+    if not all(math.isfinite(v) for v in base_start.values()):
+        base_start = None
+    runs = [{"start": base_start, "goal": _pose(goal, "goal")}]
+    base = _scenario(runs, robot, drive, controller, t_end, dt, t_end)
+    return _native._run_batch(base, arr)

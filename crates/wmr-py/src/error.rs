@@ -1,0 +1,57 @@
+//! The one place where Rust errors become Python exceptions.
+//!
+//! Two exception types, both `ValueError` subclasses so `except ValueError` catches them:
+//!
+//! - `ParameterError(ValueError)`: a bad argument or parameter value (a NaN state, a
+//!   negative mass, a tuple of the wrong length). `err.key` names the argument or the
+//!   scenario key (`"robot.mass"`, `"state[3]"`).
+//! - `ScenarioError(ParameterError)`: a bad scenario (file, TOML text or dict): an unknown
+//!   key, a wrong type, a missing `run`. `err.key` is the dotted key (`"run[0].start.x"`),
+//!   `err.line` the 1-based TOML line when known, else `None`.
+//!
+//! Every message starts with the key, e.g. `robot.mass: must be > 0 (got -1)`.
+
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use wmr_core::ParamError;
+
+pyo3::create_exception!(
+    wmr_py,
+    ParameterError,
+    PyValueError,
+    "A bad argument or parameter value; `key` names it (e.g. `robot.mass`, `state[3]`)."
+);
+pyo3::create_exception!(
+    wmr_py,
+    ScenarioError,
+    ParameterError,
+    "A bad scenario (file, TOML text or dict); `key` is the dotted key, `line` the TOML line or None."
+);
+
+/// A `ParameterError` about `key`: the message is `"{key}: {message}"`.
+pub fn parameter_error(key: &str, message: impl std::fmt::Display) -> PyErr {
+    with_attrs(ParameterError::new_err(format!("{key}: {message}")), key, None)
+}
+
+/// A `ScenarioError` about `key` (may be empty for an unreadable file) at `line`.
+pub fn scenario_error(key: &str, line: Option<usize>, display: String) -> PyErr {
+    with_attrs(ScenarioError::new_err(display), key, line)
+}
+
+/// Sets `key` and `line` on the exception instance (plain attributes, read by tests
+/// and by callers that want to point at the offending key).
+fn with_attrs(err: PyErr, key: &str, line: Option<usize>) -> PyErr {
+    Python::attach(|py| {
+        let value = err.value(py);
+        // Setting an attribute on a fresh exception instance cannot fail in practice; if
+        // it ever did, the message still names the key, so the error is kept either way.
+        let _ = value.setattr("key", key);
+        let _ = value.setattr("line", line);
+    });
+    err
+}
+
+/// A core parameter error, e.g. `robot.mass: must be > 0 (got -1)`.
+pub fn from_param(e: ParamError) -> PyErr {
+    parameter_error(e.field, format_args!("{} (got {})", e.reason, e.value))
+}

@@ -1,0 +1,466 @@
+//! `run_scenario` and `run_batch`: scenarios parsed, checked and run by `wmr-scenario`,
+//! columns handed to numpy without a copy, the GIL released while Rust runs.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use numpy::{PyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+use rayon::prelude::*;
+use wmr_core::Pose2;
+use wmr_core::metrics::ARRIVAL_RADIUS_M;
+use wmr_scenario::{RunResult, RunSpec, SAMPLE_COLUMNS, Scenario, ScenarioError, sample_values};
+
+use crate::convert::type_name;
+use crate::error::{parameter_error, scenario_error};
+
+/// Number of sample columns (the CSV columns after `run`).
+const N_COLS: usize = SAMPLE_COLUMNS.len();
+
+/// A `wmr_scenario::ScenarioError` as a Python `ScenarioError`.
+fn to_py(e: ScenarioError) -> PyErr {
+    scenario_error(&e.key, e.line, e.to_string())
+}
+
+/// A Python value as TOML, for the scenario parser. `None` values are left out (the key
+/// takes its default); keys must be strings; numbers, strings, bools, lists, tuples and
+/// dicts are accepted. `key` is the dotted path for error messages.
+fn to_toml(obj: &Bound<'_, PyAny>, key: &str) -> PyResult<Option<toml::Value>> {
+    if obj.is_none() {
+        return Ok(None);
+    }
+    let bad = |what: String| scenario_error(key, None, format!("{key}: {what}"));
+    let v = if obj.is_instance_of::<PyBool>() {
+        toml::Value::Boolean(obj.extract::<bool>()?)
+    } else if obj.is_instance_of::<PyInt>() {
+        match obj.extract::<i64>() {
+            Ok(i) => toml::Value::Integer(i),
+            Err(_) => toml::Value::Float(obj.extract::<f64>()?),
+        }
+    } else if obj.is_instance_of::<PyFloat>() {
+        toml::Value::Float(obj.extract::<f64>()?)
+    } else if obj.is_instance_of::<PyString>() {
+        toml::Value::String(obj.extract::<String>()?)
+    } else if let Ok(d) = obj.cast::<PyDict>() {
+        let mut table = toml::Table::new();
+        for (k, v) in d.iter() {
+            let Ok(k) = k.extract::<String>() else {
+                return Err(bad(format!("keys must be strings, got {}", type_name(&k))));
+            };
+            let sub = if key.is_empty() { k.clone() } else { format!("{key}.{k}") };
+            if let Some(v) = to_toml(&v, &sub)? {
+                table.insert(k, v);
+            }
+        }
+        toml::Value::Table(table)
+    } else if obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>() {
+        let mut items = Vec::new();
+        for (i, item) in obj.try_iter()?.enumerate() {
+            if let Some(v) = to_toml(&item?, &format!("{key}[{i}]"))? {
+                items.push(v);
+            }
+        }
+        toml::Value::Array(items)
+    } else if let Ok(f) = obj.extract::<f64>() {
+        // numpy scalars and other objects with __float__.
+        toml::Value::Float(f)
+    } else {
+        return Err(bad(format!("unsupported value of type {}", type_name(obj))));
+    };
+    Ok(Some(v))
+}
+
+/// Where a scenario comes from.
+enum Source {
+    /// A TOML file.
+    Path(PathBuf),
+    /// TOML text given by the caller (its line numbers mean something to them).
+    Text(String),
+    /// TOML text made here from a dict (line numbers dropped from errors).
+    Dict(String),
+}
+
+impl Source {
+    /// A path (str or os.PathLike), TOML text, or a dict. A str is a path if such a file
+    /// exists or it cannot be TOML text (no '=' and no newline); otherwise TOML text.
+    fn from_py(obj: &Bound<'_, PyAny>) -> PyResult<Self> {
+        if obj.is_instance_of::<PyDict>() {
+            let Some(toml::Value::Table(table)) = to_toml(obj, "")? else {
+                return Err(scenario_error("", None, "expected a dict".to_owned()));
+            };
+            let text = toml::to_string(&table)
+                .map_err(|e| scenario_error("", None, format!("cannot express the dict as a scenario: {e}")))?;
+            return Ok(Source::Dict(text));
+        }
+        if obj.is_instance_of::<PyString>() {
+            let s: String = obj.extract()?;
+            let s = s.as_str();
+            let is_path = std::path::Path::new(s).is_file() || !(s.contains('=') || s.contains('\n'));
+            return Ok(if is_path { Source::Path(s.into()) } else { Source::Text(s.to_owned()) });
+        }
+        obj.extract::<PathBuf>().map(Source::Path).map_err(|_| {
+            scenario_error("", None, format!("expected a path, TOML text or a dict, got {}", type_name(obj)))
+        })
+    }
+
+    /// Parses and checks the scenario (no Python involved: may run without the GIL).
+    fn parse(&self) -> Result<Scenario, ScenarioError> {
+        match self {
+            Source::Path(p) => Scenario::from_path(p),
+            Source::Text(t) => Scenario::from_toml_str(t, "scenario"),
+            Source::Dict(t) => Scenario::from_toml_str(t, "scenario").map_err(|e| e.at_line(None)),
+        }
+    }
+}
+
+/// Parses a scenario from a path (str or os.PathLike), TOML text, or a dict.
+pub fn scenario_arg(obj: &Bound<'_, PyAny>) -> PyResult<Scenario> {
+    Source::from_py(obj)?.parse().map_err(to_py)
+}
+
+/// One run's columns, built once in Rust.
+struct Columns {
+    cols: [Vec<f64>; N_COLS],
+}
+
+impl Columns {
+    fn with_capacity(n: usize) -> Self {
+        Self { cols: std::array::from_fn(|_| Vec::with_capacity(n)) }
+    }
+
+    fn push(&mut self, s: &wmr_core::Sample<f64>) {
+        for (col, v) in self.cols.iter_mut().zip(sample_values(s)) {
+            col.push(v);
+        }
+    }
+}
+
+/// Runs run `i` of `sc`, collecting its columns.
+fn run_one(sc: &Scenario, i: usize) -> Result<(RunResult, Columns), ScenarioError> {
+    let n = usize::try_from(sc.sim.n_samples()).unwrap_or(0).min(1 << 24);
+    let mut cols = Columns::with_capacity(n);
+    let result = sc.run(i, |s| cols.push(s))?;
+    Ok((result, cols))
+}
+
+/// One run of a scenario: every column of SPEC section 6 as a float64 ndarray, plus the
+/// run's summary.
+///
+/// Columns (one value per logged sample): t (s), x, y (m, point C, world frame),
+/// theta (rad), v (m/s), omega (rad/s), phi_r, phi_l (rad), omega_r, omega_l (rad/s),
+/// tau_r, tau_l (N m, wheel torques applied from this sample on), e_s (m),
+/// e_theta (rad), dl (m). `result["x"]` reads a column by name; `columns()` gives a dict
+/// of all CSV columns (with `run`).
+#[pyclass(name = "RunResult", module = "wmr_py", frozen)]
+pub struct PyRunResult {
+    /// 0-based index of the `[[run]]` (the CSV `run` column).
+    #[pyo3(get)]
+    run: usize,
+    /// The run's label.
+    #[pyo3(get)]
+    label: String,
+    /// `"converged"` (final dl < 1 cm, not diverged), `"diverged"` or `"not converged"`.
+    #[pyo3(get)]
+    status: &'static str,
+    /// True when not diverged and the final dl < 1 cm.
+    #[pyo3(get)]
+    converged: bool,
+    /// True when the state stopped being finite or C left the 1 km box.
+    #[pyo3(get)]
+    diverged: bool,
+    /// First time (s) from which dl stays below 1 cm to the end; None if never.
+    #[pyo3(get)]
+    time_to_1cm: Option<f64>,
+    /// Final distance from C to the goal position, m.
+    #[pyo3(get)]
+    final_dl: f64,
+    /// Final heading error wrap(theta_d - theta), rad.
+    #[pyo3(get)]
+    final_heading_error: f64,
+    /// Final heading error, degrees.
+    #[pyo3(get)]
+    final_heading_error_deg: f64,
+    /// Time of the last state, s (t_end unless diverged).
+    #[pyo3(get)]
+    t_final: f64,
+    /// Largest |wheel speed| seen, rad/s.
+    #[pyo3(get)]
+    peak_wheel_speed: f64,
+    /// Path length of C, m.
+    #[pyo3(get)]
+    path_length: f64,
+    /// Mechanical energy the drives put into the wheels, J.
+    #[pyo3(get)]
+    energy: f64,
+    /// The summary line the CLI prints.
+    #[pyo3(get)]
+    summary: String,
+    #[pyo3(get)]
+    t: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    x: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    y: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    theta: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    v: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    omega: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    phi_r: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    phi_l: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    omega_r: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    omega_l: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    tau_r: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    tau_l: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    e_s: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    e_theta: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    dl: Py<PyArray1<f64>>,
+}
+
+impl PyRunResult {
+    fn new(py: Python<'_>, r: RunResult, cols: Columns) -> Self {
+        // from_vec hands each Vec's buffer to numpy: no copy.
+        let [t, x, y, theta, v, omega, phi_r, phi_l, omega_r, omega_l, tau_r, tau_l, e_s, e_theta, dl] =
+            cols.cols.map(|c| PyArray1::from_vec(py, c).unbind());
+        let o = &r.outcome;
+        Self {
+            run: r.index,
+            status: r.status(),
+            converged: r.converged(),
+            diverged: r.diverged(),
+            time_to_1cm: o.time_to_arrival,
+            final_dl: o.final_dl,
+            final_heading_error: o.final_heading_error,
+            final_heading_error_deg: o.final_heading_error.to_degrees(),
+            t_final: o.t_final,
+            peak_wheel_speed: o.peak_wheel_speed,
+            path_length: o.path_length,
+            energy: o.energy,
+            summary: r.summary_line(),
+            label: r.label,
+            t,
+            x,
+            y,
+            theta,
+            v,
+            omega,
+            phi_r,
+            phi_l,
+            omega_r,
+            omega_l,
+            tau_r,
+            tau_l,
+            e_s,
+            e_theta,
+            dl,
+        }
+    }
+
+    fn column(&self, name: &str) -> Option<&Py<PyArray1<f64>>> {
+        Some(match name {
+            "t" => &self.t,
+            "x" => &self.x,
+            "y" => &self.y,
+            "theta" => &self.theta,
+            "v" => &self.v,
+            "omega" => &self.omega,
+            "phi_r" => &self.phi_r,
+            "phi_l" => &self.phi_l,
+            "omega_r" => &self.omega_r,
+            "omega_l" => &self.omega_l,
+            "tau_r" => &self.tau_r,
+            "tau_l" => &self.tau_l,
+            "e_s" => &self.e_s,
+            "e_theta" => &self.e_theta,
+            "dl" => &self.dl,
+            _ => return None,
+        })
+    }
+}
+
+#[pymethods]
+impl PyRunResult {
+    /// A column by its CSV name, e.g. result["omega_r"].
+    fn __getitem__(&self, py: Python<'_>, name: &str) -> PyResult<Py<PyArray1<f64>>> {
+        self.column(name).map(|c| c.clone_ref(py)).ok_or_else(|| {
+            pyo3::exceptions::PyKeyError::new_err(format!("no column {name:?}; columns are {:?}", SAMPLE_COLUMNS))
+        })
+    }
+
+    /// Every CSV column of SPEC section 6 (`run` first, as float64 like the others), in order.
+    fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        let n = self.t.bind(py).len();
+        d.set_item("run", PyArray1::from_vec(py, vec![self.run as f64; n]))?;
+        for name in SAMPLE_COLUMNS {
+            if let Some(c) = self.column(name) {
+                d.set_item(name, c.bind(py))?;
+            }
+        }
+        Ok(d)
+    }
+
+    /// Number of logged samples.
+    fn __len__(&self, py: Python<'_>) -> usize {
+        self.t.bind(py).len()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("RunResult({})", self.summary)
+    }
+}
+
+/// Runs every `[[run]]` of a scenario and returns one RunResult per run, in run order.
+///
+/// `scenario`: a path (str or os.PathLike) to a TOML file, TOML text, or a dict with the
+/// same keys (SPEC section 6; None values take the default). Runs go in parallel with the
+/// GIL released. Raises ScenarioError (a ValueError) naming the bad key.
+#[pyfunction]
+pub fn run_scenario(py: Python<'_>, scenario: &Bound<'_, PyAny>) -> PyResult<Vec<PyRunResult>> {
+    let sc = scenario_arg(scenario)?;
+    let runs: Result<Vec<_>, ScenarioError> =
+        py.detach(|| (0..sc.runs.len()).into_par_iter().map(|i| run_one(&sc, i)).collect());
+    let runs = runs.map_err(to_py)?;
+    Ok(runs.into_iter().map(|(r, cols)| PyRunResult::new(py, r, cols)).collect())
+}
+
+/// Names of the run_batch outputs, in order.
+const BATCH_FIELDS: [&str; 12] = [
+    "final_x",
+    "final_y",
+    "final_theta",
+    "final_dl",
+    "final_heading_error",
+    "time_to_1cm",
+    "t_final",
+    "peak_wheel_speed",
+    "path_length",
+    "energy",
+    "converged",
+    "diverged",
+];
+
+/// Runs the scenario `base` (a dict or path, validated like `run_scenario`; its runs give
+/// the goal if `goals` is None) from every start in `starts` in parallel, GIL released.
+#[pyfunction(name = "_run_batch")]
+#[pyo3(signature = (base, starts, goals=None))]
+pub fn run_batch_native<'py>(
+    py: Python<'py>,
+    base: &Bound<'py, PyAny>,
+    starts: PyReadonlyArray2<'py, f64>,
+    goals: Option<PyReadonlyArray2<'py, f64>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let mut sc = scenario_arg(base)?;
+    let poses = |a: &PyReadonlyArray2<'py, f64>, arg: &str| -> PyResult<Vec<Pose2<f64>>> {
+        let shape = a.shape();
+        if shape.len() != 2 || shape[1] != 3 {
+            return Err(parameter_error(
+                arg,
+                format_args!("expected shape (N, 3) of (x, y, theta_rad), got {shape:?}"),
+            ));
+        }
+        let arr = a.as_array();
+        let names = ["x", "y", "theta"];
+        let mut out = Vec::with_capacity(shape[0]);
+        for (i, row) in arr.rows().into_iter().enumerate() {
+            for (j, v) in row.iter().enumerate() {
+                if !v.is_finite() {
+                    return Err(parameter_error(
+                        &format!("{arg}[{i}, {j}]"),
+                        format_args!("{} must be a finite number (got {v})", names[j]),
+                    ));
+                }
+            }
+            out.push(Pose2::new(row[0], row[1], row[2]));
+        }
+        Ok(out)
+    };
+    let starts = poses(&starts, "starts")?;
+    let default_goal = sc.runs.first().map(|r| r.goal).unwrap_or_default();
+    let goals = match goals {
+        Some(g) => {
+            let g = poses(&g, "goals")?;
+            if g.len() != starts.len() && g.len() != 1 {
+                return Err(parameter_error(
+                    "goals",
+                    format_args!("expected 1 or {} rows (one per start), got {}", starts.len(), g.len()),
+                ));
+            }
+            g
+        }
+        None => vec![default_goal],
+    };
+    sc.runs = starts
+        .iter()
+        .enumerate()
+        .map(|(i, &start)| RunSpec { label: format!("start {i}"), start, goal: goals[i % goals.len()] })
+        .collect();
+    let results: Result<Vec<RunResult>, ScenarioError> =
+        py.detach(|| (0..sc.runs.len()).into_par_iter().map(|i| sc.run(i, |_| {})).collect());
+    let results = results.map_err(to_py)?;
+
+    let n = results.len();
+    let mut cols: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(n));
+    let mut converged = Vec::with_capacity(n);
+    let mut diverged = Vec::with_capacity(n);
+    for r in &results {
+        let o = &r.outcome;
+        let vals = [
+            o.final_pose.x,
+            o.final_pose.y,
+            o.final_pose.theta,
+            o.final_dl,
+            o.final_heading_error,
+            o.time_to_arrival.unwrap_or(f64::NAN),
+            o.t_final,
+            o.peak_wheel_speed,
+            o.path_length,
+            o.energy,
+        ];
+        for (c, v) in cols.iter_mut().zip(vals) {
+            c.push(v);
+        }
+        converged.push(r.converged());
+        diverged.push(r.diverged());
+    }
+    let d = PyDict::new(py);
+    for (name, c) in BATCH_FIELDS.iter().zip(cols) {
+        d.set_item(name, PyArray1::from_vec(py, c))?;
+    }
+    d.set_item(BATCH_FIELDS[10], PyArray1::from_vec(py, converged))?;
+    d.set_item(BATCH_FIELDS[11], PyArray1::from_vec(py, diverged))?;
+    d.set_item("arrival_radius", ARRIVAL_RADIUS_M)?;
+    Ok(d)
+}
+
+/// Times run 0 of a scenario inside Rust, GIL released, `n` times; returns the best
+/// wall time in seconds. The work is what `run_scenario` does in Rust (parse, run,
+/// build the columns) without the numpy hand-over: the in-process Rust baseline of
+/// bench_fig7.py.
+#[pyfunction(name = "_time_run_rust")]
+pub fn time_run_rust(py: Python<'_>, scenario: &Bound<'_, PyAny>, n: usize) -> PyResult<f64> {
+    let source = Source::from_py(scenario)?;
+    let best: Result<f64, ScenarioError> = py.detach(|| {
+        let mut best = f64::INFINITY;
+        for _ in 0..n.max(1) {
+            let t0 = Instant::now();
+            let sc = source.parse()?;
+            let (_r, cols) = run_one(&sc, 0)?;
+            std::hint::black_box(&cols.cols);
+            best = best.min(t0.elapsed().as_secs_f64());
+        }
+        Ok(best)
+    });
+    best.map_err(to_py)
+}
