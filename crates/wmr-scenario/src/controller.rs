@@ -1,11 +1,12 @@
-//! `[controller]`, tagged by `kind`. Adding a kind touches only this file: a variant in
-//! [`ControllerFile`], [`ControllerSpec`] and [`BuiltController`], and one arm in each match.
+//! `[controller]`, tagged by `kind` ("paper", "polar", "lyapunov"). Adding a kind touches
+//! only this file and the core's `ControllerParams`: a variant in [`ControllerFile`] and
+//! one arm in each match.
 
 use std::fmt::Write as _;
 
 use serde::{Deserialize, Deserializer};
-use wmr_core::controller::{ControlOutput, Controller, Measurement};
-use wmr_core::{Drive, DriveParams, PaperController, PaperMode, PaperParams, ParamError, Pose2, Robot, ServoGains};
+use wmr_core::controller::{AnyController, ControllerParams, LyapunovParams, PolarParams};
+use wmr_core::{Drive, DriveParams, PaperMode, PaperParams, ParamError, Pose2, Robot, ServoGains};
 
 use crate::file::tagged;
 
@@ -14,7 +15,14 @@ use crate::file::tagged;
 pub enum ControllerFile {
     /// `kind = "paper"`: the paper's law (SPEC section 4).
     Paper(PaperFile),
+    /// `kind = "polar"`: Astolfi's polar-coordinates law.
+    Polar(PolarFile),
+    /// `kind = "lyapunov"`: Aicardi et al.'s law, which also reaches the goal heading.
+    Lyapunov(LyapunovFile),
 }
+
+/// The `kind` names, in documentation order.
+pub const CONTROLLER_KINDS: [&str; 3] = ["paper", "polar", "lyapunov"];
 
 impl Default for ControllerFile {
     fn default() -> Self {
@@ -27,7 +35,9 @@ impl<'de> Deserialize<'de> for ControllerFile {
         let (kind, rest) = tagged::split::<D>(d, "paper")?;
         match kind.as_str() {
             "paper" => tagged::inner::<D, _>(rest).map(ControllerFile::Paper),
-            other => Err(tagged::unknown_kind::<D>(other, &["paper"])),
+            "polar" => tagged::inner::<D, _>(rest).map(ControllerFile::Polar),
+            "lyapunov" => tagged::inner::<D, _>(rest).map(ControllerFile::Lyapunov),
+            other => Err(tagged::unknown_kind::<D>(other, &CONTROLLER_KINDS)),
         }
     }
 }
@@ -59,13 +69,59 @@ pub struct PaperFile {
     pub goal_radius: Option<f64>,
     pub hold_radius: Option<f64>,
     pub control_dt: Option<f64>,
+    /// rad/s: limit on the speed of the wheel angle references; absent = off.
+    pub wheel_speed_max: Option<f64>,
 }
 
-/// A resolved controller: every parameter filled in.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ControllerSpec {
-    /// The paper's law.
-    Paper(PaperParams<f64>),
+/// `[controller] kind = "polar"` keys (see `wmr_core::controller::PolarParams`).
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+#[allow(missing_docs)] // each key is documented on `wmr_core::controller::PolarParams` and in docs/scenario.md
+pub struct PolarFile {
+    pub k_rho: Option<f64>,
+    pub k_alpha: Option<f64>,
+    pub k_beta: Option<f64>,
+    pub reverse: Option<bool>,
+    pub reverse_hysteresis: Option<f64>,
+    pub goal_radius: Option<f64>,
+    pub wheel_speed_max: Option<f64>,
+    pub servo_kp: Option<f64>,
+    pub servo_kd: Option<f64>,
+    pub servo_ki: Option<f64>,
+    pub control_dt: Option<f64>,
+}
+
+/// `[controller] kind = "lyapunov"` keys (see `wmr_core::controller::LyapunovParams`).
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+#[allow(missing_docs)] // each key is documented on `wmr_core::controller::LyapunovParams` and in docs/scenario.md
+pub struct LyapunovFile {
+    pub gamma: Option<f64>,
+    pub k: Option<f64>,
+    pub h: Option<f64>,
+    pub reverse: Option<bool>,
+    pub reverse_hysteresis: Option<f64>,
+    pub goal_radius: Option<f64>,
+    pub wheel_speed_max: Option<f64>,
+    pub servo_kp: Option<f64>,
+    pub servo_kd: Option<f64>,
+    pub servo_ki: Option<f64>,
+    pub control_dt: Option<f64>,
+}
+
+/// A resolved controller, every parameter filled in: the core's parameters of any kind.
+pub type ControllerSpec = ControllerParams<f64>;
+
+/// A built controller of any kind; implements `Controller` by dispatch.
+pub type BuiltController = AnyController<f64>;
+
+/// Servo gains: the keys given, the drive's defaults for the rest.
+fn servo(kp: Option<f64>, kd: Option<f64>, ki: Option<f64>, drive: &DriveParams<f64>) -> ServoGains<f64> {
+    let d = match drive {
+        DriveParams::Torque(_) => ServoGains::torque_default(),
+        DriveParams::DcMotor(_) => ServoGains::dc_motor_default(),
+    };
+    ServoGains { kp: kp.unwrap_or(d.kp), kd: kd.unwrap_or(d.kd), ki: ki.unwrap_or(d.ki) }
 }
 
 impl ControllerFile {
@@ -74,11 +130,7 @@ impl ControllerFile {
         match self {
             ControllerFile::Paper(f) => {
                 let d = PaperParams::<f64>::paper();
-                let servo_default = match drive {
-                    DriveParams::Torque(_) => ServoGains::torque_default(),
-                    DriveParams::DcMotor(_) => ServoGains::dc_motor_default(),
-                };
-                ControllerSpec::Paper(PaperParams {
+                let params = PaperParams {
                     mode: match f.mode {
                         None => d.mode,
                         Some(ModeFile::Pose) => PaperMode::Pose,
@@ -88,13 +140,38 @@ impl ControllerFile {
                     ki_theta: f.ki_theta.unwrap_or(d.ki_theta),
                     kp_s: f.kp_s.unwrap_or(d.kp_s),
                     ki_s: f.ki_s.unwrap_or(d.ki_s),
-                    servo: ServoGains {
-                        kp: f.servo_kp.unwrap_or(servo_default.kp),
-                        kd: f.servo_kd.unwrap_or(servo_default.kd),
-                        ki: f.servo_ki.unwrap_or(servo_default.ki),
-                    },
+                    servo: servo(f.servo_kp, f.servo_kd, f.servo_ki, drive),
                     goal_radius: f.goal_radius.unwrap_or(d.goal_radius),
                     hold_radius: f.hold_radius.unwrap_or(d.hold_radius),
+                    control_dt: f.control_dt.unwrap_or(d.control_dt),
+                };
+                ControllerParams::Paper { params, wheel_speed_max: f.wheel_speed_max.unwrap_or(f64::INFINITY) }
+            }
+            ControllerFile::Polar(f) => {
+                let d = PolarParams::<f64>::default();
+                ControllerParams::Polar(PolarParams {
+                    k_rho: f.k_rho.unwrap_or(d.k_rho),
+                    k_alpha: f.k_alpha.unwrap_or(d.k_alpha),
+                    k_beta: f.k_beta.unwrap_or(d.k_beta),
+                    reverse: f.reverse.unwrap_or(d.reverse),
+                    reverse_hysteresis: f.reverse_hysteresis.unwrap_or(d.reverse_hysteresis),
+                    goal_radius: f.goal_radius.unwrap_or(d.goal_radius),
+                    wheel_speed_max: f.wheel_speed_max.unwrap_or(d.wheel_speed_max),
+                    servo: servo(f.servo_kp, f.servo_kd, f.servo_ki, drive),
+                    control_dt: f.control_dt.unwrap_or(d.control_dt),
+                })
+            }
+            ControllerFile::Lyapunov(f) => {
+                let d = LyapunovParams::<f64>::default();
+                ControllerParams::Lyapunov(LyapunovParams {
+                    gamma: f.gamma.unwrap_or(d.gamma),
+                    k: f.k.unwrap_or(d.k),
+                    h: f.h.unwrap_or(d.h),
+                    reverse: f.reverse.unwrap_or(d.reverse),
+                    reverse_hysteresis: f.reverse_hysteresis.unwrap_or(d.reverse_hysteresis),
+                    goal_radius: f.goal_radius.unwrap_or(d.goal_radius),
+                    wheel_speed_max: f.wheel_speed_max.unwrap_or(d.wheel_speed_max),
+                    servo: servo(f.servo_kp, f.servo_kd, f.servo_ki, drive),
                     control_dt: f.control_dt.unwrap_or(d.control_dt),
                 })
             }
@@ -102,92 +179,72 @@ impl ControllerFile {
     }
 }
 
-impl ControllerSpec {
-    /// The `kind` key.
-    pub fn kind(&self) -> &'static str {
-        match self {
-            ControllerSpec::Paper(_) => "paper",
-        }
-    }
-
-    /// Control period, s.
-    pub fn control_dt(&self) -> f64 {
-        match self {
-            ControllerSpec::Paper(p) => p.control_dt,
-        }
-    }
-
-    /// Builds (and so validates) the controller for a robot, drive and goal.
-    pub fn build(
-        &self,
-        robot: &Robot<f64>,
-        drive: &Drive<f64>,
-        goal: Pose2<f64>,
-    ) -> Result<BuiltController, ParamError> {
-        match self {
-            ControllerSpec::Paper(p) => PaperController::new(*p, robot, drive, goal).map(BuiltController::Paper),
-        }
-    }
-
-    /// The `[controller]` table in TOML, every key written.
-    pub(crate) fn write_toml(&self, out: &mut String) {
-        match self {
-            ControllerSpec::Paper(p) => {
-                let mode = match p.mode {
-                    PaperMode::Pose => "pose",
-                    PaperMode::Position => "position",
-                };
-                let _ = writeln!(out, "kind = \"paper\"");
-                let _ = writeln!(out, "mode = \"{mode}\"");
-                for (k, v) in [
-                    ("kp_theta", p.kp_theta),
-                    ("ki_theta", p.ki_theta),
-                    ("kp_s", p.kp_s),
-                    ("ki_s", p.ki_s),
-                    ("servo_kp", p.servo.kp),
-                    ("servo_kd", p.servo.kd),
-                    ("servo_ki", p.servo.ki),
-                    ("goal_radius", p.goal_radius),
-                    ("hold_radius", p.hold_radius),
-                    ("control_dt", p.control_dt),
-                ] {
-                    let _ = writeln!(out, "{k} = {}", crate::scenario::toml_f64(v));
-                }
-            }
-        }
-    }
+/// Builds (and so validates) a controller for a robot, drive and goal (m, m, rad).
+pub fn build_controller(
+    spec: &ControllerSpec,
+    robot: &Robot<f64>,
+    drive: &Drive<f64>,
+    goal: Pose2<f64>,
+) -> Result<BuiltController, ParamError> {
+    spec.build(robot, drive, goal)
 }
 
-/// A built controller of any kind; implements [`Controller`] by dispatch.
-#[derive(Clone, Debug)]
-pub enum BuiltController {
-    /// The paper's law.
-    Paper(PaperController<f64>),
-}
-
-impl Controller<f64> for BuiltController {
-    #[inline]
-    fn update(&mut self, m: &Measurement<f64>) -> ControlOutput<f64> {
-        match self {
-            BuiltController::Paper(c) => c.update(m),
+/// Writes the `[controller]` table in TOML, every key written.
+pub(crate) fn write_toml(spec: &ControllerSpec, out: &mut String) {
+    let _ = writeln!(out, "kind = \"{}\"", spec.kind().name());
+    let body: Vec<(&str, f64)> = match spec {
+        ControllerParams::Paper { params: p, wheel_speed_max } => {
+            let mode = match p.mode {
+                PaperMode::Pose => "pose",
+                PaperMode::Position => "position",
+            };
+            let _ = writeln!(out, "mode = \"{mode}\"");
+            vec![
+                ("kp_theta", p.kp_theta),
+                ("ki_theta", p.ki_theta),
+                ("kp_s", p.kp_s),
+                ("ki_s", p.ki_s),
+                ("servo_kp", p.servo.kp),
+                ("servo_kd", p.servo.kd),
+                ("servo_ki", p.servo.ki),
+                ("goal_radius", p.goal_radius),
+                ("hold_radius", p.hold_radius),
+                ("control_dt", p.control_dt),
+                ("wheel_speed_max", *wheel_speed_max),
+            ]
         }
-    }
-
-    fn reset(&mut self) {
-        match self {
-            BuiltController::Paper(c) => c.reset(),
+        ControllerParams::Polar(p) => {
+            let _ = writeln!(out, "reverse = {}", p.reverse);
+            vec![
+                ("k_rho", p.k_rho),
+                ("k_alpha", p.k_alpha),
+                ("k_beta", p.k_beta),
+                ("reverse_hysteresis", p.reverse_hysteresis),
+                ("goal_radius", p.goal_radius),
+                ("wheel_speed_max", p.wheel_speed_max),
+                ("servo_kp", p.servo.kp),
+                ("servo_kd", p.servo.kd),
+                ("servo_ki", p.servo.ki),
+                ("control_dt", p.control_dt),
+            ]
         }
-    }
-
-    fn control_dt(&self) -> f64 {
-        match self {
-            BuiltController::Paper(c) => c.control_dt(),
+        ControllerParams::Lyapunov(p) => {
+            let _ = writeln!(out, "reverse = {}", p.reverse);
+            vec![
+                ("gamma", p.gamma),
+                ("k", p.k),
+                ("h", p.h),
+                ("reverse_hysteresis", p.reverse_hysteresis),
+                ("goal_radius", p.goal_radius),
+                ("wheel_speed_max", p.wheel_speed_max),
+                ("servo_kp", p.servo.kp),
+                ("servo_kd", p.servo.kd),
+                ("servo_ki", p.servo.ki),
+                ("control_dt", p.control_dt),
+            ]
         }
-    }
-
-    fn goal(&self) -> Pose2<f64> {
-        match self {
-            BuiltController::Paper(c) => c.goal(),
-        }
+    };
+    for (k, v) in body {
+        let _ = writeln!(out, "{k} = {}", crate::scenario::toml_f64(v));
     }
 }

@@ -32,7 +32,10 @@ mod locate;
 mod output;
 mod scenario;
 
-pub use controller::{BuiltController, ControllerFile, ControllerSpec, ModeFile, PaperFile};
+pub use controller::{
+    BuiltController, CONTROLLER_KINDS, ControllerFile, ControllerSpec, LyapunovFile, ModeFile, PaperFile, PolarFile,
+    build_controller,
+};
 pub use error::ScenarioError;
 pub use file::{DcMotorFile, DriveFile, PoseFile, RobotFile, RunFile, ScenarioFile, SimFile, TorqueDriveFile};
 pub use output::{CSV_COLUMNS, RunResult, SAMPLE_COLUMNS, Sink, SinkError, sample_values};

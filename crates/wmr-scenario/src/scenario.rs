@@ -255,7 +255,16 @@ impl Scenario {
     /// Errors name the key and, where it can be found, the line.
     pub fn from_toml_str(text: &str, default_name: &str) -> Result<Self, ScenarioError> {
         let de = toml::de::Deserializer::parse(text).map_err(|e| {
-            ScenarioError::new("", e.message().trim()).at_line(e.span().map(|s| locate::line_of(text, s.start)))
+            // A syntax error: toml gives the place; quote the line so the key shows.
+            let line = e.span().map(|s| locate::line_of(text, s.start));
+            let source = line.and_then(|l| text.lines().nth(l - 1)).map(str::trim).unwrap_or("");
+            let quoted: String = source.chars().take(60).collect();
+            let msg = if quoted.is_empty() {
+                format!("bad TOML: {}", e.message().trim())
+            } else {
+                format!("bad TOML: {} (in `{quoted}`)", e.message().trim())
+            };
+            ScenarioError::new("", msg).at_line(line)
         })?;
         let file: ScenarioFile = serde_path_to_error::deserialize(de).map_err(|e| {
             let path = e.path().to_string();
@@ -360,7 +369,7 @@ impl Scenario {
             }
         }
         let _ = writeln!(o, "\n[controller]");
-        self.controller.write_toml(&mut o);
+        crate::controller::write_toml(&self.controller, &mut o);
         let s = &self.sim;
         let _ = writeln!(o, "\n[sim]\nt_end = {}\ndt = {}\nlog_dt = {}", f(s.t_end), f(s.dt), f(s.log_dt));
         let _ = writeln!(o, "# {} steps and {} samples per run", s.n_steps, s.n_samples());

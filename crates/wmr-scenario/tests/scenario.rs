@@ -19,7 +19,7 @@ fn defaults_are_the_spec_values() {
     assert_eq!(s.name, "stem");
     assert_eq!(s.robot, wmr_core::RobotParams::paper());
     assert_eq!(s.drive, DriveParams::default());
-    assert_eq!(s.controller, ControllerSpec::Paper(PaperParams::paper()));
+    assert_eq!(s.controller, ControllerSpec::Paper { params: PaperParams::paper(), wheel_speed_max: f64::INFINITY });
     assert_eq!((s.sim.t_end(), s.sim.dt(), s.sim.log_dt()), (60.0, 1e-3, 0.01));
     assert_eq!((s.sim.n_steps(), s.sim.log_every(), s.sim.n_samples()), (60_000, 10, 6001));
     assert_eq!(s.runs[0].start, Pose2::new(0.0, 0.0, 0.0));
@@ -30,12 +30,12 @@ fn defaults_are_the_spec_values() {
 fn dc_motor_takes_its_own_servo_defaults() {
     let s = Scenario::from_toml_str("[drive]\nkind = \"dc_motor\"\n[[run]]\ngoal = {}\n", "x").unwrap();
     assert_eq!(s.drive, DriveParams::DcMotor(DcMotorParams::default()));
-    let ControllerSpec::Paper(p) = s.controller;
+    let ControllerSpec::Paper { params: p, .. } = s.controller else { panic!("paper") };
     assert_eq!(p.servo, ServoGains::dc_motor_default());
     let s =
         Scenario::from_toml_str("[drive]\nkind = \"dc_motor\"\n[controller]\nservo_kd = 2\n[[run]]\ngoal = {}\n", "x")
             .unwrap();
-    let ControllerSpec::Paper(p) = s.controller;
+    let ControllerSpec::Paper { params: p, .. } = s.controller else { panic!("paper") };
     assert_eq!(p.servo.kd, 2.0);
     assert_eq!(p.servo.kp, ServoGains::<f64>::dc_motor_default().kp);
 }
@@ -115,7 +115,7 @@ fn errors_name_the_key_and_line() {
         ("[robot]\nmass = \"x\"\n[[run]]\ngoal = {}\n", "robot.mass", Some(2)),
         ("[robot\nmass = 1\n", "", Some(1)),
         ("[controller]\nkp_thetaa = 1.0\n[[run]]\ngoal = {}\n", "controller.kp_thetaa", Some(2)),
-        ("[controller]\nkind = \"polar\"\n[[run]]\ngoal = {}\n", "controller.kind", Some(2)),
+        ("[controller]\nkind = \"pid\"\n[[run]]\ngoal = {}\n", "controller.kind", Some(2)),
         ("[controller]\nmode = \"posy\"\n[[run]]\ngoal = {}\n", "controller.mode", Some(2)),
         ("[drive]\nvoltage_max = 3.0\n[[run]]\ngoal = {}\n", "drive.voltage_max", Some(2)),
         ("[drive]\nkind = \"dc_motor\"\nvoltage_max = -3.0\n[[run]]\ngoal = {}\n", "drive.voltage_max", Some(3)),
