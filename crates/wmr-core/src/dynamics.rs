@@ -84,26 +84,56 @@ impl<T: Real> Model<T> {
         }
     }
 
+    /// True when the Coulomb term tau_c tanh(omega / omega_eps) is present (tau_c > 0).
+    #[inline(always)]
+    pub(crate) fn has_coulomb(&self) -> bool {
+        self.tau_c > T::zero()
+    }
+
     /// See [`Robot::friction_torque`].
     #[inline(always)]
     pub(crate) fn friction_torque(&self, omega_wheel: T) -> T {
+        if self.has_coulomb() {
+            self.friction_torque_with::<true>(omega_wheel)
+        } else {
+            self.friction_torque_with::<false>(omega_wheel)
+        }
+    }
+
+    /// Friction with the Coulomb term switched at compile time; `COULOMB` must equal
+    /// [`Model::has_coulomb`].
+    ///
+    /// Why: tanh is the dearest call of the model (a third of a closed-loop step when it
+    /// was always evaluated), and without Coulomb friction (the default) tau_c tanh(.) is
+    /// a zero. Skipping it changes at most the sign of a zero result; a NaN or infinite
+    /// omega still gives NaN through b_v omega (0 * inf = NaN). Deciding it once per step
+    /// rather than per call keeps the four RK4 stages free of branches.
+    #[inline(always)]
+    fn friction_torque_with<const COULOMB: bool>(&self, omega_wheel: T) -> T {
         let viscous = self.b_v * omega_wheel;
-        // Why the branch: tanh is the dearest call of the model (a third of a closed-loop
-        // step when it was always evaluated), and without Coulomb friction (the default)
-        // tau_c tanh(.) is a zero. Skipping it changes at most the sign of a zero result;
-        // a NaN or infinite omega still gives NaN through b_v omega (0 * inf = NaN).
-        if self.tau_c > T::zero() { viscous + self.tau_c * (omega_wheel / self.omega_eps).tanh() } else { viscous }
+        if COULOMB { viscous + self.tau_c * (omega_wheel / self.omega_eps).tanh() } else { viscous }
     }
 
     /// See [`Robot::derivative`].
     #[inline(always)]
     pub(crate) fn derivative(&self, s: &State<T>, tau_wheel: Wheels<T>) -> State<T> {
+        if self.has_coulomb() {
+            self.derivative_with::<true>(s, tau_wheel)
+        } else {
+            self.derivative_with::<false>(s, tau_wheel)
+        }
+    }
+
+    /// [`Model::derivative`] with the Coulomb term decided by the caller; `COULOMB` must
+    /// equal [`Model::has_coulomb`].
+    #[inline(always)]
+    pub(crate) fn derivative_with<const COULOMB: bool>(&self, s: &State<T>, tau_wheel: Wheels<T>) -> State<T> {
         let r = self.r;
         // Wheel speeds by the inverse of (1), as `kinematics::wheel_speeds`.
         let w_r = (s.v + self.big_r * s.omega) / r;
         let w_l = (s.v - self.big_r * s.omega) / r;
-        let net_r = tau_wheel.right - self.friction_torque(w_r);
-        let net_l = tau_wheel.left - self.friction_torque(w_l);
+        let net_r = tau_wheel.right - self.friction_torque_with::<COULOMB>(w_r);
+        let net_l = tau_wheel.left - self.friction_torque_with::<COULOMB>(w_l);
         let (sin, cos) = s.theta.sin_cos();
         State {
             x: s.v * cos,

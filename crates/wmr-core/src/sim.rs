@@ -9,7 +9,7 @@ use crate::error::{ParamError, check};
 use crate::integrator::rk4_step;
 use crate::math::{Pose2, Wheels};
 use crate::metrics::{Metrics, Outcome, Termination};
-use crate::state::State;
+use crate::state::{STATE_LEN, State};
 use crate::{Real, Robot};
 
 /// Half-width of the box (m) point C must stay in; outside it the run has diverged.
@@ -170,12 +170,14 @@ impl<T: Real, C: Controller<T>> ClosedLoop<T, C> {
             return Err(d);
         }
         let y = self.state.to_array();
-        let model = self.model;
-        let next = if self.drive.is_speed_independent() {
-            // The torques are held over the whole step: pass them by value so the four
-            // RK4 stages neither branch on the drive nor reload them.
+        let model = &self.model;
+        let next = if self.drive.is_speed_independent() && !model.has_coulomb() {
+            // The hot case (torque drive, no Coulomb friction: the defaults). The torques
+            // are held over the whole step: pass them by value, and decide the friction
+            // once, so the four RK4 stages neither branch nor reload them.
             let tau = self.held_torque;
-            rk4_step(|_, y| model.derivative(&State::from_array(*y), tau).to_array(), self.time(), &y, self.dt)
+            let f = |_, y: &[T; STATE_LEN]| model.derivative_with::<false>(&State::from_array(*y), tau).to_array();
+            rk4_step(f, self.time(), &y, self.dt)
         } else {
             rk4_step(
                 |_, y| {
