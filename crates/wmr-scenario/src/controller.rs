@@ -125,6 +125,16 @@ fn servo(kp: Option<f64>, kd: Option<f64>, ki: Option<f64>, drive: &DriveParams<
 }
 
 impl ControllerFile {
+    /// The file of a kind with every key absent (its defaults), if `kind` is known.
+    pub fn default_of(kind: &str) -> Option<Self> {
+        match kind {
+            "paper" => Some(ControllerFile::Paper(PaperFile::default())),
+            "polar" => Some(ControllerFile::Polar(PolarFile::default())),
+            "lyapunov" => Some(ControllerFile::Lyapunov(LyapunovFile::default())),
+            _ => None,
+        }
+    }
+
     /// Fills the defaults; the servo defaults depend on the drive kind.
     pub fn to_spec(&self, drive: &DriveParams<f64>) -> ControllerSpec {
         match self {

@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 use wmr_core::{DcMotorParams, DriveParams, TorqueDriveParams};
 
 use crate::controller::ControllerFile;
+use crate::sweep::SweepFile;
 
 /// A scenario file, parsed but not yet checked. Keys exactly as SPEC section 6.
 #[derive(Clone, Debug, Default, Deserialize, PartialEq)]
@@ -26,9 +27,12 @@ pub struct ScenarioFile {
     /// `[sim]`.
     #[serde(default)]
     pub sim: SimFile,
-    /// `[[run]]`: one or more (an empty or missing list is an error at resolve time).
+    /// `[[run]]`: one or more (an empty or missing list is an error at resolve time,
+    /// unless the file has a `[sweep]`).
     #[serde(default)]
     pub run: Vec<RunFile>,
+    /// `[sweep]`: many starts and several laws (`wmr-cli sweep`).
+    pub sweep: Option<SweepFile>,
 }
 
 /// `[robot]` (SPEC section 1), SI units. A missing key takes the paper's value.

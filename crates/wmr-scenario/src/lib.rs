@@ -31,6 +31,7 @@ mod file;
 mod locate;
 mod output;
 mod scenario;
+mod sweep;
 
 pub use controller::{
     BuiltController, CONTROLLER_KINDS, ControllerFile, ControllerSpec, LyapunovFile, ModeFile, PaperFile, PolarFile,
@@ -40,3 +41,7 @@ pub use error::ScenarioError;
 pub use file::{DcMotorFile, DriveFile, PoseFile, RobotFile, RunFile, ScenarioFile, SimFile, TorqueDriveFile};
 pub use output::{CSV_COLUMNS, RunResult, SAMPLE_COLUMNS, Sink, SinkError, sample_values};
 pub use scenario::{DEFAULT_LOG_DT_S, DEFAULT_T_END_S, MAX_STEPS, MAX_T_END_S, RunSpec, Scenario, SimSpec};
+pub use sweep::{
+    GridFile, LawSummary, MAX_SWEEP_RUNS, RandomFile, SWEEP_COLUMNS, Spread, SweepFile, SweepOutcome, SweepSpec,
+    summarize, summary_table, sweep_row,
+};

@@ -8,6 +8,7 @@ use wmr_core::{ClosedLoop, DriveParams, Pose2, RobotParams};
 use crate::controller::{BuiltController, ControllerSpec};
 use crate::file::{PoseFile, RunFile, ScenarioFile, SimFile};
 use crate::locate;
+use crate::sweep::SweepSpec;
 use crate::{RunResult, ScenarioError};
 
 /// Largest `sim.t_end` accepted, s (about 11.6 days of simulated time).
@@ -130,8 +131,10 @@ pub struct Scenario {
     pub controller: ControllerSpec,
     /// `[sim]`.
     pub sim: SimSpec,
-    /// `[[run]]`, at least one.
+    /// `[[run]]`: at least one, unless the file is a sweep.
     pub runs: Vec<RunSpec>,
+    /// `[sweep]`, when the file has one (`wmr-cli sweep`).
+    pub sweep: Option<SweepSpec>,
 }
 
 /// A float as TOML: the shortest representation that reads back to the same f64.
@@ -165,7 +168,7 @@ fn default_label(start: &Pose2<f64>, goal: &Pose2<f64>) -> String {
     )
 }
 
-fn resolve_pose(prefix: &str, p: &PoseFile) -> Result<Pose2<f64>, ScenarioError> {
+pub(crate) fn resolve_pose(prefix: &str, p: &PoseFile) -> Result<Pose2<f64>, ScenarioError> {
     let finite = |k: &str, v: Option<f64>| -> Result<f64, ScenarioError> {
         match v {
             None => Ok(0.0),
@@ -219,7 +222,11 @@ impl ScenarioFile {
             log_dt.unwrap_or(DEFAULT_LOG_DT_S),
         )?;
 
-        if self.run.is_empty() {
+        let sweep = match &self.sweep {
+            Some(sw) => Some(sw.resolve(&drive, &robot, &sim)?),
+            None => None,
+        };
+        if self.run.is_empty() && sweep.is_none() {
             return Err(ScenarioError::new("run", "at least one [[run]] with a goal is required"));
         }
         let mut runs = Vec::with_capacity(self.run.len());
@@ -246,7 +253,7 @@ impl ScenarioFile {
             runs.push(RunSpec { label, start, goal });
         }
         let name = self.name.unwrap_or_else(|| default_name.to_owned());
-        Ok(Scenario { name, robot, drive, controller, sim, runs })
+        Ok(Scenario { name, robot, drive, controller, sim, runs, sweep })
     }
 }
 

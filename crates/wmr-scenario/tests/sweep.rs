@@ -1,0 +1,101 @@
+//! Sweeps: starts, laws, errors, and agreement with single runs (issue 7).
+
+use wmr_scenario::{Scenario, SweepSpec, summarize, summary_table};
+
+fn sweep_of(text: &str) -> (Scenario, SweepSpec) {
+    let s = Scenario::from_toml_str(text, "sweep").unwrap();
+    let sw = s.sweep.clone().expect("a sweep");
+    (s, sw)
+}
+
+#[test]
+fn grid_has_nx_ny_nheadings_starts_and_all_laws_by_default() {
+    let (_, sw) = sweep_of(
+        "[sweep]\ngrid = { x_min = -1.0, x_max = 1.0, nx = 5, y_min = 0.0, y_max = 2.0, ny = 3, theta_deg = [0.0, 90.0] }\n",
+    );
+    assert_eq!(sw.starts.len(), 5 * 3 * 2);
+    let names: Vec<&str> = sw.laws.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names, ["paper", "polar", "lyapunov"]);
+    assert_eq!(sw.starts[0].x, -1.0);
+    assert_eq!(sw.starts.last().unwrap().y, 2.0);
+}
+
+#[test]
+fn random_starts_are_reproducible_and_inside_the_annulus() {
+    let text =
+        "[sweep]\ngoal = { x = 1.0, y = -1.0 }\nrandom = { n = 200, seed = 7, radius = 2.0, min_radius = 0.5 }\n";
+    let (_, a) = sweep_of(text);
+    let (_, b) = sweep_of(text);
+    assert_eq!(a.starts, b.starts);
+    for p in &a.starts {
+        let r = (p.x - 1.0).hypot(p.y + 1.0);
+        assert!((0.5..=2.0).contains(&r), "radius {r}");
+        assert!((-std::f64::consts::PI..std::f64::consts::PI).contains(&p.theta));
+    }
+    let (_, c) = sweep_of(&text.replace("seed = 7", "seed = 8"));
+    assert_ne!(a.starts, c.starts);
+}
+
+/// The sweep's outcome for the paper law from a seeded set of starts equals direct
+/// single runs of the same starts through `Scenario::run`.
+#[test]
+fn sweep_outcomes_match_single_runs() {
+    let text = "[sim]\nt_end = 20.0\n[sweep]\ncontrollers = [{ kind = \"paper\" }]\nrandom = { n = 12, seed = 3, radius = 2.0 }\n";
+    let (s, sw) = sweep_of(text);
+    let outcomes = sw.run(&s.robot, &s.drive, &s.sim, &|| {}).unwrap();
+    assert_eq!(outcomes.len(), 12);
+    let mut runs = String::from("[sim]\nt_end = 20.0\n");
+    for p in &sw.starts {
+        runs.push_str(&format!(
+            "[[run]]\nstart = {{ x = {:?}, y = {:?}, theta = {:?} }}\ngoal = {{}}\n",
+            p.x, p.y, p.theta
+        ));
+    }
+    let single = Scenario::from_toml_str(&runs, "single").unwrap();
+    let mut diverged = 0;
+    for (i, o) in outcomes.iter().enumerate() {
+        assert_eq!(o.start_index, i);
+        let r = single.run(i, |_| {}).unwrap();
+        assert_eq!(r.outcome, o.outcome, "start {i}");
+        diverged += usize::from(r.diverged());
+    }
+    println!("{diverged} of 12 diverged");
+}
+
+#[test]
+fn bad_sweeps_name_their_key() {
+    let cases = [
+        ("[sweep]\n", "sweep"),
+        ("[sweep]\ngrid = { x_min = 0.0, x_max = 1.0, nx = 0, y_min = 0.0, y_max = 1.0, ny = 2 }\n", "sweep.grid.nx"),
+        ("[sweep]\nrandom = { n = 5, radius = -1.0 }\n", "sweep.random.radius"),
+        ("[sweep]\nrandom = { n = 5, radius = 1.0, min_radius = 2.0 }\n", "sweep.random.min_radius"),
+        (
+            "[sweep]\nrandom = { n = 5, radius = 1.0 }\ngrid = { x_min = 0.0, x_max = 1.0, nx = 2, y_min = 0.0, y_max = 1.0, ny = 2 }\n",
+            "sweep.random",
+        ),
+        ("[sweep]\ncontrollers = []\nrandom = { n = 5, radius = 1.0 }\n", "sweep.controllers"),
+        (
+            "[sweep]\ncontrollers = [{ kind = \"paper\" }, { kind = \"polar\", k_rho = -1.0 }]\nrandom = { n = 5, radius = 1.0 }\n",
+            "sweep.controllers[1].k_rho",
+        ),
+        ("[sweep]\nrandom = { n = 5, radius = 1.0, colour = 3 }\n", "colour"),
+    ];
+    for (text, key) in cases {
+        let e = Scenario::from_toml_str(text, "bad").expect_err(text);
+        assert!(e.key.contains(key) || e.to_string().contains(key), "{text:?}: {e} does not name {key}");
+    }
+}
+
+#[test]
+fn summary_table_lists_every_law() {
+    let text = "[sim]\nt_end = 5.0\n[sweep]\nrandom = { n = 4, seed = 1, radius = 1.0 }\n";
+    let (s, sw) = sweep_of(text);
+    let out = sw.run(&s.robot, &s.drive, &s.sim, &|| {}).unwrap();
+    let rows = summarize(&sw, &out);
+    assert_eq!(rows.len(), 3);
+    assert!(rows.iter().all(|r| r.n == 4));
+    let table = summary_table(&rows);
+    for name in ["paper", "polar", "lyapunov"] {
+        assert!(table.contains(name));
+    }
+}
