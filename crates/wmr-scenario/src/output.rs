@@ -121,7 +121,7 @@ impl RunResult {
         };
         let stop = if self.diverged() { format!(" at t = {:.3} s", o.t_final) } else { String::new() };
         format!(
-            "run {} [{}]: final dl {:.6} m, heading error {:.3} deg, dl < 1 cm at {}, {}{}",
+            "run {} [{}]: final dl {:.6} m, final heading error {:.3} deg, time to dl < 1 cm {}, {}{}",
             self.index,
             self.label,
             o.final_dl,

@@ -1,0 +1,57 @@
+//! CSV output of SPEC section 6: one header line, one row per run and logged sample.
+
+use std::fmt::Write as _;
+use std::fs::File;
+use std::io::BufWriter;
+
+use wmr_core::Sample;
+use wmr_scenario::{CSV_COLUMNS, Sink, SinkError, sample_values};
+
+/// Writes `run,t,x,...,dl` rows; every number reads back to the same f64.
+pub struct CsvSink {
+    writer: csv::Writer<BufWriter<File>>,
+    field: String,
+}
+
+/// The shortest text that reads back to `v`: plain decimals in the usual range,
+/// exponent form (`3.4e-17`) for the very small and very large.
+pub fn format_f64(v: f64, out: &mut String) {
+    out.clear();
+    let a = v.abs();
+    if v == 0.0 {
+        out.push('0');
+    } else if (1e-5..1e16).contains(&a) {
+        let _ = write!(out, "{v}");
+    } else {
+        let _ = write!(out, "{v:e}");
+    }
+}
+
+impl CsvSink {
+    /// Writes the header to `file`.
+    pub fn new(file: File) -> Result<Self, SinkError> {
+        let mut writer =
+            csv::WriterBuilder::new().buffer_capacity(1 << 16).from_writer(BufWriter::with_capacity(1 << 16, file));
+        writer.write_record(CSV_COLUMNS)?;
+        Ok(Self { writer, field: String::with_capacity(32) })
+    }
+}
+
+impl Sink for CsvSink {
+    fn sample(&mut self, index: usize, sample: &Sample<f64>) -> Result<(), SinkError> {
+        self.field.clear();
+        let _ = write!(self.field, "{index}");
+        self.writer.write_field(&self.field)?;
+        for v in sample_values(sample) {
+            format_f64(v, &mut self.field);
+            self.writer.write_field(&self.field)?;
+        }
+        self.writer.write_record(None::<&[u8]>)?;
+        Ok(())
+    }
+
+    fn finish(&mut self) -> Result<(), SinkError> {
+        self.writer.flush()?;
+        Ok(())
+    }
+}

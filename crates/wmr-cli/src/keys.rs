@@ -1,0 +1,71 @@
+//! The long help: every scenario key with its unit and default (docs/scenario.md has more).
+
+/// Shown by `wmr-cli --help`, `wmr-cli run --help` and `wmr-cli check --help`.
+pub const KEYS_HELP: &str = r#"SCENARIO FILE (TOML; every key optional except [[run]]; unknown keys are errors)
+
+name = "fig7"                  scenario name (default: the file's stem)
+
+[robot]                        SI units (SPEC section 1)
+  mass = 5.0                   m, total mass, kg (> 0)
+  wheel_radius = 0.1           r, m (> 0)
+  half_track = 0.2             R, axle midpoint C to each wheel, m (> 0)
+  com_offset = 0.25            d, C forward to the centre of mass G, m (any sign)
+  wheel_inertia = 0.002        I_m, one wheel plus its motor rotor, kg m^2 (>= 0)
+  platform_inertia = 0.005     I_p, platform about G, kg m^2 (>= 0; I_p + m d^2 > 0)
+  gear_ratio = 0.1             k_t, wheel speed = k_t * motor speed (> 0)
+  viscous_friction = 0.0       b_v, N m s per wheel (>= 0)
+  coulomb_friction = 0.0       tau_c, N m per wheel (>= 0)
+  coulomb_speed = 1e-3         omega_eps, rad/s, tanh smoothing of Coulomb friction (> 0)
+
+[drive]
+  kind = "torque"              "torque" (default) or "dc_motor"
+  kind = "torque":
+    motor_torque_max = 0.2     |motor torque| limit, N m at the motor (> 0, inf allowed)
+  kind = "dc_motor" (defaults: maxon RE 40 148867, 24 V winding):
+    voltage_max = 24.0         u_max, V (> 0)
+    torque_constant = 0.0302   k_tau, N m/A (> 0)
+    back_emf_constant = 0.0302 k_e, V s/rad at the motor shaft (>= 0)
+    armature_resistance = 0.299  R_a, Ohm (> 0)
+
+[controller]
+  kind = "paper"               "paper" (SPEC section 4), "polar" or "lyapunov" (their keys:
+                               docs/scenario.md); each kind accepts only its own keys
+  kind = "paper":
+  mode = "pose"                "pose" (reach x, y, theta) or "position" (heading free)
+  kp_theta = 2.0               Kp_theta (>= 0)
+  ki_theta = 0.1               Ki_theta, 1/s (>= 0)
+  kp_s = 1.0                   Kp_s (>= 0)
+  ki_s = 0.25                  Ki_s, 1/s (>= 0)
+  servo_kp = 14.0              wheel servo Kp: N m/rad (torque), V/rad (dc_motor) (> 0)
+  servo_kd = 1.4               wheel servo Kd: N m s/rad; dc_motor default 1.1 V s/rad (>= 0)
+  servo_ki = 0.0               wheel servo Ki: N m/(rad s) or V/(rad s) (>= 0)
+  goal_radius = 1e-3           m: inside it alpha keeps its last value (>= 0)
+  hold_radius = 5e-3           m: inside it the outer loop holds; 0 = off (>= 0)
+  control_dt = 1e-3            s, control period; a whole multiple of sim.dt (> 0)
+  wheel_speed_max = inf        rad/s, limit on the wheel reference speeds; absent = off
+
+[sim]
+  t_end = 60.0                 s per run; a whole multiple of dt; <= 1e6 s and <= 1e9 steps
+  dt = 1e-3                    s, RK4 step (default: controller.control_dt)
+  log_dt = 0.01                s, output sample period; a whole multiple of dt
+
+[[run]]                        one or more
+  label = "..."                text for the summary (default: built from start and goal)
+  start = { x = 0.0, y = 0.0, theta_deg = 0.0 }   m, m, and theta (rad) or theta_deg, not both; default 0
+  goal = { x = 1.0, y = 1.0, theta_deg = 120.0 }  required; missing x, y, theta are 0
+
+OUTPUTS
+  CSV:  run,t,x,y,theta,v,omega,phi_r,phi_l,omega_r,omega_l,tau_r,tau_l,e_s,e_theta,dl
+        one row per run and sample (t = 0, every log_dt, and the last); SI units, radians.
+  MCAP: per run N: /runN/tf (foxglove.FrameTransform world -> runN/base_link),
+        /runN/pose (foxglove.PoseInFrame), /runN/path (foxglove.SceneUpdate),
+        /runN/sample (JSON wmr.Sample, every CSV column), /runN/goal (foxglove.PoseInFrame, once),
+        /runN/robot (foxglove.SceneUpdate, once); log time = simulation time.
+  Summary (stdout, one line per run): label, final dl (m), final heading error (deg),
+        time from which dl < 1 cm (s or "never"), converged / not converged / diverged.
+        Converged = not diverged and final dl < 1 cm.
+
+A diverged run (state not finite, or C outside a 1 km box) keeps its rows up to that
+point, is reported as diverged, and the exit code stays 0. Bad input exits with 2 and
+one message naming the key; no output file is written. Full reference: docs/scenario.md
+"#;
