@@ -1,29 +1,32 @@
 //! `wmr_py.PaperController`: the core's [`PaperController`] for loops closed in Python.
 
 use pyo3::prelude::*;
-use wmr_core::{
-    ControlOutput, Controller, DriveParams, Measurement, PaperController, PaperMode, PaperParams, Pose2, Robot,
-};
+use pyo3::types::PyDict;
+use wmr_core::{ControlOutput, Controller, Measurement, PaperController, Pose2};
+use wmr_scenario::BuiltController;
 
-use crate::convert::finite_array;
+use crate::convert::{finite_array, pose_table, type_name};
 use crate::error::{from_param, parameter_error};
-use crate::robot::{PyRobot, wheels_arg};
+use crate::robot::{PyRobot, one_run_scenario, wheels_arg};
+use crate::scenario::scenario_arg;
 
 /// The paper's point-stabilization controller (SPEC section 4) with its two wheel servos.
 ///
-/// PaperController(goal, robot=None, *, mode="pose", kp_theta=2.0, ki_theta=0.1,
-///                 kp_s=1.0, ki_s=0.25, servo_kp=14.0, servo_kd=1.4, servo_ki=0.0,
-///                 goal_radius=1e-3, hold_radius=5e-3, control_dt=1e-3,
-///                 motor_torque_max=0.2)
+/// PaperController(goal, robot=None, drive=None, **gains)
 ///
-/// goal: (x_m, y_m, theta_rad) of point C. robot: a Robot (default: the paper's).
-/// Gains as the scenario's `[controller]` keys: kp_theta (rad/rad), ki_theta (1/s),
-/// kp_s (m/m), ki_s (1/s), servo_kp (N m/rad), servo_kd (N m s/rad), servo_ki
-/// (N m/(rad s)); goal_radius and hold_radius in m (0 turns the hold off); control_dt in s.
-/// motor_torque_max (N m at the motor, inf allowed) is the torque drive's limit, used only
-/// as the servo's anti-windup bound: update() returns the unclamped demand.
+/// goal: the goal pose of C, (x_m, y_m, theta_rad) or a dict with x, y and theta (rad)
+/// or theta_deg (degrees). robot: a Robot or a dict of `[robot]` keys (default: the
+/// paper's). drive: a dict of `[drive]` keys (default: the torque drive); it sets the
+/// servo's defaults and anti-windup bound. gains: the scenario's `[controller]` keys:
+/// mode ("pose" or "position"), kp_theta (rad/rad, 2), ki_theta (1/s, 0.1), kp_s (m/m, 1),
+/// ki_s (1/s, 0.25), servo_kp (N m/rad, 14), servo_kd (N m s/rad, 1.4), servo_ki
+/// (N m/(rad s), 0), goal_radius (m, 1e-3), hold_radius (m, 5e-3; 0 = off), control_dt
+/// (s, 1e-3). Parsed and checked by the scenario code: a bad or unknown key raises
+/// ScenarioError naming it (``controller.kp_s``).
 ///
-/// Call update() once every control_dt seconds and hold its output in between.
+/// Call update() once every control_dt seconds and hold its output in between. With
+/// the torque drive the output is the wheel torque demand (N m) before the drive's clamp
+/// (|tau| <= motor_torque_max / gear_ratio, 2 N m by default); with dc_motor, volts.
 #[pyclass(name = "PaperController", module = "wmr_py")]
 pub struct PyPaperController {
     inner: PaperController<f64>,
@@ -33,61 +36,41 @@ pub struct PyPaperController {
 #[pymethods]
 impl PyPaperController {
     #[new]
-    #[pyo3(signature = (goal, robot=None, *, mode=None, kp_theta=None, ki_theta=None, kp_s=None,
-        ki_s=None, servo_kp=None, servo_kd=None, servo_ki=None, goal_radius=None, hold_radius=None,
-        control_dt=None, motor_torque_max=None))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (goal, robot=None, drive=None, **gains))]
     fn new(
         goal: &Bound<'_, PyAny>,
-        robot: Option<PyRef<'_, PyRobot>>,
-        mode: Option<&str>,
-        kp_theta: Option<f64>,
-        ki_theta: Option<f64>,
-        kp_s: Option<f64>,
-        ki_s: Option<f64>,
-        servo_kp: Option<f64>,
-        servo_kd: Option<f64>,
-        servo_ki: Option<f64>,
-        goal_radius: Option<f64>,
-        hold_radius: Option<f64>,
-        control_dt: Option<f64>,
-        motor_torque_max: Option<f64>,
+        robot: Option<&Bound<'_, PyAny>>,
+        drive: Option<&Bound<'_, PyAny>>,
+        gains: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
-        let [x, y, theta] = finite_array(goal, "goal", ["x", "y", "theta"])?;
-        let robot: Robot<f64> = robot.map(|r| r.inner).unwrap_or_else(Robot::paper);
-        let mut drive = wmr_core::TorqueDriveParams::<f64>::default();
-        if let Some(m) = motor_torque_max {
-            drive.motor_torque_max = m;
-        }
-        let drive = DriveParams::Torque(drive).validate(&robot).map_err(from_param)?;
-        let d = PaperParams::<f64>::paper();
-        let mode = match mode {
-            None | Some("pose") => PaperMode::Pose,
-            Some("position") => PaperMode::Position,
-            Some(other) => {
-                return Err(parameter_error(
-                    "controller.mode",
-                    format_args!("expected \"pose\" or \"position\", got {other:?}"),
-                ));
-            }
-        };
-        let params = PaperParams {
-            mode,
-            kp_theta: kp_theta.unwrap_or(d.kp_theta),
-            ki_theta: ki_theta.unwrap_or(d.ki_theta),
-            kp_s: kp_s.unwrap_or(d.kp_s),
-            ki_s: ki_s.unwrap_or(d.ki_s),
-            servo: wmr_core::ServoGains {
-                kp: servo_kp.unwrap_or(d.servo.kp),
-                kd: servo_kd.unwrap_or(d.servo.kd),
-                ki: servo_ki.unwrap_or(d.servo.ki),
+        let py = goal.py();
+        let robot = match robot {
+            None => None,
+            Some(r) => match r.cast::<PyRobot>() {
+                Ok(r) => Some(r.call_method0("to_dict")?.cast_into::<PyDict>()?),
+                Err(_) => Some(
+                    r.cast::<PyDict>()
+                        .map_err(|_| {
+                            parameter_error("robot", format_args!("expected a Robot or a dict, got {}", type_name(r)))
+                        })?
+                        .clone(),
+                ),
             },
-            goal_radius: goal_radius.unwrap_or(d.goal_radius),
-            hold_radius: hold_radius.unwrap_or(d.hold_radius),
-            control_dt: control_dt.unwrap_or(d.control_dt),
         };
-        let inner = PaperController::new(params, &robot, &drive, Pose2::new(x, y, theta)).map_err(from_param)?;
-        Ok(Self { inner, last: ControlOutput::default() })
+        let goal = pose_table(goal, "goal")?;
+        // A one-run scenario: the scenario code parses the keys, fills the defaults
+        // (servo gains by drive kind) and checks everything, as for a file.
+        let table = one_run_scenario(py, robot.as_ref(), drive, gains, Some(&goal))?;
+        let sc = scenario_arg(table.as_any())?;
+        let robot = sc.robot.validate().map_err(from_param)?;
+        let drive = sc.drive.validate(&robot).map_err(from_param)?;
+        let goal = sc.runs.first().map(|r| r.goal).unwrap_or_default();
+        let built = sc.controller.build(&robot, &drive, goal).map_err(from_param)?;
+        match built {
+            BuiltController::Paper(inner) => Ok(Self { inner, last: ControlOutput::default() }),
+            #[allow(unreachable_patterns)]
+            _ => Err(parameter_error("controller.kind", "PaperController needs kind = \"paper\"")),
+        }
     }
 
     /// One control tick: the wheel commands (tau_r, tau_l) in N m (the servos' wheel

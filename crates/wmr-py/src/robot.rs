@@ -16,9 +16,10 @@ pub const STATE_NAMES: [&str; STATE_LEN] = ["x", "y", "theta", "v", "omega", "ph
 
 /// A differential-drive robot (SPEC section 1): physical parameters, SI units.
 ///
-/// Robot(*, mass=5.0, wheel_radius=0.1, half_track=0.2, com_offset=0.25,
-///       wheel_inertia=0.002, platform_inertia=0.005, gear_ratio=0.1,
-///       viscous_friction=0.0, coulomb_friction=0.0, coulomb_speed=1e-3)
+/// Robot(**params), params being the scenario's `[robot]` keys: mass=5.0,
+/// wheel_radius=0.1, half_track=0.2, com_offset=0.25, wheel_inertia=0.002,
+/// platform_inertia=0.005, gear_ratio=0.1, viscous_friction=0.0, coulomb_friction=0.0,
+/// coulomb_speed=1e-3.
 ///
 /// Every keyword is optional and defaults to the paper's robot: mass m (kg), wheel
 /// radius r (m), half track R (m, axle midpoint C to each wheel), com_offset d (m, C
@@ -30,7 +31,8 @@ pub const STATE_NAMES: [&str; STATE_LEN] = ["x", "y", "theta", "v", "omega", "ph
 /// The state is the 7-vector [x, y, theta, v, omega, phi_r, phi_l]: point C (m, world
 /// frame), heading (rad), forward speed of C (m/s), yaw rate (rad/s), wheel angles (rad).
 ///
-/// Raises ParameterError (a ValueError) naming the key, e.g. ``robot.mass``.
+/// Raises ScenarioError (a ValueError) naming the key, e.g. ``robot.mass``, also for an
+/// unknown keyword (``robot.mas``): the keys are parsed and checked by the scenario code.
 #[pyclass(name = "Robot", module = "wmr_py", frozen)]
 #[derive(Clone)]
 pub struct PyRobot {
@@ -40,6 +42,36 @@ pub struct PyRobot {
 impl From<Robot<f64>> for PyRobot {
     fn from(inner: Robot<f64>) -> Self {
         Self { inner }
+    }
+}
+
+/// A one-run scenario dict `{robot, drive, controller, run = [{goal}]}` (tables left out
+/// when None): how the building blocks reuse the scenario's parsing and checks.
+pub fn one_run_scenario<'py>(
+    py: Python<'py>,
+    robot: Option<&Bound<'py, PyDict>>,
+    drive: Option<&Bound<'py, PyAny>>,
+    controller: Option<&Bound<'py, PyDict>>,
+    goal: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    {
+        let sc = PyDict::new(py);
+        if let Some(r) = robot {
+            sc.set_item("robot", r)?;
+        }
+        if let Some(d) = drive {
+            sc.set_item("drive", d)?;
+        }
+        if let Some(c) = controller {
+            sc.set_item("controller", c)?;
+        }
+        let run = PyDict::new(py);
+        match goal {
+            Some(g) => run.set_item("goal", g)?,
+            None => run.set_item("goal", PyDict::new(py))?,
+        }
+        sc.set_item("run", vec![run])?;
+        Ok(sc)
     }
 }
 
@@ -67,37 +99,11 @@ fn state_out<'py>(py: Python<'py>, s: &State<f64>, what: &str) -> PyResult<Bound
 #[pymethods]
 impl PyRobot {
     #[new]
-    #[pyo3(signature = (*, mass=None, wheel_radius=None, half_track=None, com_offset=None,
-        wheel_inertia=None, platform_inertia=None, gear_ratio=None, viscous_friction=None,
-        coulomb_friction=None, coulomb_speed=None))]
-    #[allow(clippy::too_many_arguments)]
-    fn new(
-        mass: Option<f64>,
-        wheel_radius: Option<f64>,
-        half_track: Option<f64>,
-        com_offset: Option<f64>,
-        wheel_inertia: Option<f64>,
-        platform_inertia: Option<f64>,
-        gear_ratio: Option<f64>,
-        viscous_friction: Option<f64>,
-        coulomb_friction: Option<f64>,
-        coulomb_speed: Option<f64>,
-    ) -> PyResult<Self> {
-        // Defaults are the core's (RobotParams::paper); validation is the core's.
-        let d = RobotParams::<f64>::paper();
-        let params = RobotParams {
-            mass: mass.unwrap_or(d.mass),
-            wheel_radius: wheel_radius.unwrap_or(d.wheel_radius),
-            half_track: half_track.unwrap_or(d.half_track),
-            com_offset: com_offset.unwrap_or(d.com_offset),
-            wheel_inertia: wheel_inertia.unwrap_or(d.wheel_inertia),
-            platform_inertia: platform_inertia.unwrap_or(d.platform_inertia),
-            gear_ratio: gear_ratio.unwrap_or(d.gear_ratio),
-            viscous_friction: viscous_friction.unwrap_or(d.viscous_friction),
-            coulomb_friction: coulomb_friction.unwrap_or(d.coulomb_friction),
-            coulomb_speed: coulomb_speed.unwrap_or(d.coulomb_speed),
-        };
-        Ok(params.validate().map_err(from_param)?.into())
+    #[pyo3(signature = (**params))]
+    fn new(py: Python<'_>, params: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        // The scenario's `[robot]` table: same keys, defaults and checks as a file.
+        let sc = crate::scenario::scenario_arg(one_run_scenario(py, params, None, None, None)?.as_any())?;
+        Ok(sc.robot.validate().map_err(from_param)?.into())
     }
 
     /// Time derivative of the state, ndarray (7,): [x', y', theta', v', omega', phi_r', phi_l']
