@@ -14,6 +14,12 @@ use wmr_scenario::{RunResult, Scenario, Sink, SinkError};
 /// the sink on one thread.
 const BUFFER_BUDGET_BYTES: u64 = 256 << 20;
 
+/// The buffer budget: [`BUFFER_BUDGET_BYTES`], or `WMR_CLI_BUFFER_BYTES` when set (the
+/// tests use it to exercise streaming and batching on small scenarios).
+fn buffer_budget() -> u64 {
+    std::env::var("WMR_CLI_BUFFER_BYTES").ok().and_then(|v| v.parse().ok()).unwrap_or(BUFFER_BUDGET_BYTES)
+}
+
 /// Plant steps (all runs) above which the work counts as long and gets a progress bar.
 const LONG_WORK_STEPS: u64 = 2_000_000;
 
@@ -44,8 +50,9 @@ pub fn execute(scenario: &Scenario, sink: &mut dyn Sink, show_progress: bool) ->
     let per_run = scenario.sim.n_samples().saturating_mul(size_of::<Sample<f64>>() as u64);
     let n = scenario.runs.len();
     let mut results = Vec::with_capacity(n);
+    let budget = buffer_budget();
 
-    if per_run > BUFFER_BUDGET_BYTES {
+    if per_run > budget {
         // Streaming: one run at a time on this thread, bounded memory.
         for (i, spec) in scenario.runs.iter().enumerate() {
             sink.begin_run(i, spec).map_err(sink_err)?;
@@ -65,7 +72,7 @@ pub fn execute(scenario: &Scenario, sink: &mut dyn Sink, show_progress: bool) ->
             results.push(result);
         }
     } else {
-        let batch = usize::try_from((BUFFER_BUDGET_BYTES / per_run.max(1)).max(1)).unwrap_or(usize::MAX).min(n.max(1));
+        let batch = usize::try_from((budget / per_run.max(1)).max(1)).unwrap_or(usize::MAX).min(n.max(1));
         let capacity = usize::try_from(scenario.sim.n_samples()).unwrap_or(0);
         for first in (0..n).step_by(batch) {
             let last = (first + batch).min(n);

@@ -156,8 +156,25 @@ fn mcap_round_trip() {
         assert_eq!(enc, want, "{topic}");
     }
 
-    // The JSON samples carry every CSV column with the core's numbers.
+    // The protobuf messages decode and carry the core's pose.
+    use foxglove::Decode as _;
+    use foxglove::messages::{FrameTransform, PoseInFrame, SceneUpdate};
     let core = core_samples(Pose2::new(0.0, 0.0, 0.0), Pose2::new(1.0, 1.0, 120f64.to_radians()), 2000, 10);
+    let last = core.last().unwrap();
+    let tf = FrameTransform::decode(&topics["/run0/tf"].3[200][..]).unwrap();
+    assert_eq!((tf.parent_frame_id.as_str(), tf.child_frame_id.as_str()), ("world", "run0/base_link"));
+    let t = tf.translation.unwrap();
+    assert_eq!((t.x, t.y), (last.state.x, last.state.y));
+    let q = tf.rotation.unwrap();
+    assert!((2.0 * q.z.atan2(q.w) - last.state.theta).abs() < 1e-12);
+    let goal = PoseInFrame::decode(&topics["/run0/goal"].3[0][..]).unwrap();
+    assert_eq!(goal.pose.unwrap().position.unwrap().x, 1.0);
+    let path = SceneUpdate::decode(&topics["/run0/path"].3[200][..]).unwrap();
+    let line = &path.entities[0].lines[0];
+    let end = line.points.last().unwrap();
+    assert_eq!((end.x, end.y), (last.state.x, last.state.y));
+
+    // The JSON samples carry every CSV column with the core's numbers.
     let (_, _, _, msgs) = &topics["/run0/sample"];
     for (msg, s) in msgs.iter().zip(&core) {
         let v: serde_json::Value = serde_json::from_slice(msg).unwrap();
@@ -179,13 +196,16 @@ fn bad_inputs_exit_nonzero_name_the_key_and_write_nothing() {
     let kept = write(dir.path(), "kept.csv", "precious\n");
     for f in &files {
         let body = fs::read_to_string(f).unwrap();
-        let expect =
-            body.lines().find_map(|l| l.strip_prefix("# expect: ")).unwrap_or_else(|| panic!("{f:?}: no # expect"));
+        // Every `# expect: <substring>` line must appear in the message.
+        let expects: Vec<&str> = body.lines().filter_map(|l| l.strip_prefix("# expect: ")).collect();
+        assert!(!expects.is_empty(), "{f:?}: no # expect");
         for out in [dir.path().join("out.csv"), dir.path().join("out.mcap"), kept.clone()] {
             let o = run(&["run", f.to_str().unwrap(), "-o", out.to_str().unwrap()]);
             let err = text(&o.stderr);
             assert_eq!(o.status.code(), Some(2), "{f:?}: {err}");
-            assert!(err.contains(expect), "{f:?}: stderr {err:?} lacks {expect:?}");
+            for expect in &expects {
+                assert!(err.contains(expect), "{f:?}: stderr {err:?} lacks {expect:?}");
+            }
             assert!(!err.contains("panicked"), "{f:?}: {err}");
             assert_eq!(err.trim_end().lines().count(), 1, "{f:?}: one line: {err}");
             assert!(o.stdout.is_empty(), "{f:?}");
@@ -193,7 +213,7 @@ fn bad_inputs_exit_nonzero_name_the_key_and_write_nothing() {
         }
         let o = run(&["check", f.to_str().unwrap()]);
         assert_eq!(o.status.code(), Some(2), "{f:?}");
-        assert!(text(&o.stderr).contains(expect), "{f:?}");
+        assert!(expects.iter().all(|e| text(&o.stderr).contains(e)), "{f:?}");
     }
     assert_eq!(fs::read_to_string(&kept).unwrap(), "precious\n");
 }
@@ -341,4 +361,35 @@ fn ctrl_c_mid_write_removes_the_temporary_and_keeps_out() {
     let (_dir, out, left) = interrupt_mid_write("-INT");
     assert_eq!(fs::read_to_string(&out).unwrap(), "old contents\n");
     assert_eq!(left, ["long.csv", "long.toml"]);
+}
+
+/// The output does not depend on the thread count nor on how runs are buffered:
+/// streaming (budget below one run), batches of one run, and all runs at once.
+#[test]
+fn output_is_the_same_streamed_batched_and_single_threaded() {
+    let dir = tempfile::tempdir().unwrap();
+    let scen = write(dir.path(), "two.toml", TWO_RUNS);
+    let mut outputs = Vec::new();
+    for (i, (budget, threads)) in
+        [("1", "2"), ("40000", "2"), ("1000000000", "2"), ("1000000000", "1")].iter().enumerate()
+    {
+        for ext in ["csv", "mcap"] {
+            let out = dir.path().join(format!("out{i}.{ext}"));
+            let o = bin()
+                .args(["run", scen.to_str().unwrap(), "-o", out.to_str().unwrap()])
+                .env("WMR_CLI_BUFFER_BYTES", budget)
+                .env("RAYON_NUM_THREADS", threads)
+                .output()
+                .unwrap();
+            assert!(o.status.success(), "{}", text(&o.stderr));
+            outputs.push((ext, fs::read(&out).unwrap(), o.stdout));
+        }
+    }
+    for w in outputs.chunks(2).collect::<Vec<_>>().windows(2) {
+        for (a, b) in w[0].iter().zip(w[1]) {
+            assert_eq!(a.0, b.0);
+            assert!(a.1 == b.1, "{} output differs", a.0);
+            assert_eq!(a.2, b.2, "summary differs");
+        }
+    }
 }
