@@ -60,8 +60,13 @@ impl<T: Copy> Wheels<T> {
 #[inline]
 pub fn wrap_angle<T: Real>(a: T) -> T {
     let pi = T::PI();
+    // Fast path, bit-identical to the reduction below for these inputs: most angles a
+    // controller wraps are already in range, and `floor` is a library call on some targets.
+    if a > -pi && a <= pi {
+        return a;
+    }
     let two_pi = pi + pi;
-    // rem_euclid-style reduction into [0, 2 pi), then shift; keeps +pi as +pi.
+    // rem_euclid-style reduction into [-pi, pi), then -pi -> +pi.
     let mut w = a - two_pi * ((a + pi) / two_pi).floor();
     if w <= -pi {
         w = w + two_pi;
