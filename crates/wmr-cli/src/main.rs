@@ -6,6 +6,8 @@ mod csv_sink;
 mod exec;
 mod keys;
 mod mcap_sink;
+mod plot_cmd;
+mod sweep_cmd;
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -40,6 +42,28 @@ enum Command {
         /// Output format; overrides the extension of OUT.
         #[arg(long, value_enum)]
         format: Option<Format>,
+    },
+    /// Run a scenario's [sweep]: every law from every start, in parallel; write one CSV
+    /// row per (law, start) and print a comparison table (median / worst per law).
+    #[command(after_long_help = keys::KEYS_HELP)]
+    Sweep {
+        /// The scenario file (TOML) with a [sweep] table.
+        file: PathBuf,
+        /// Outcome CSV; default: <scenario name>-sweep.csv in the current folder.
+        #[arg(short, long, value_name = "OUT")]
+        output: Option<PathBuf>,
+        /// Also write one region-of-attraction map per law (region-<law>.svg) into DIR.
+        #[arg(long, value_name = "DIR")]
+        plots: Option<PathBuf>,
+    },
+    /// Plot a scenario's runs as SVG into DIR: paths.svg (all runs, the paper's Figs. 4-7),
+    /// and per run run<i>-wheel-speeds.svg (Fig. 8) and run<i>-errors.svg (Fig. 9).
+    Plot {
+        /// The scenario file (TOML).
+        file: PathBuf,
+        /// Output folder (created if missing).
+        #[arg(short, long, value_name = "DIR")]
+        output: PathBuf,
     },
     /// Validate a scenario and print it with every default filled in (TOML).
     #[command(after_long_help = keys::KEYS_HELP)]
@@ -98,9 +122,25 @@ fn run(cli: Cli) -> Result<()> {
             print!("{}", scenario.to_toml());
             Ok(())
         }
+        Command::Sweep { file, output, plots } => {
+            let scenario = load(&file)?;
+            let output = output.unwrap_or_else(|| PathBuf::from(format!("{}-sweep.csv", scenario.name)));
+            atomic::install_interrupt_handler()?;
+            sweep_cmd::sweep(&scenario, &output, plots.as_deref(), std::io::stderr().is_terminal())
+        }
+        Command::Plot { file, output } => {
+            let scenario = load(&file)?;
+            atomic::install_interrupt_handler()?;
+            let written = plot_cmd::plot(&scenario, &output)?;
+            eprintln!("wmr-cli: wrote {} SVG file(s) into {}", written.len(), output.display());
+            Ok(())
+        }
         Command::Run { file, output, format } => {
             let format = format_of(&output, format)?;
             let scenario = load(&file)?;
+            if scenario.runs.is_empty() {
+                bail!("{} has no [[run]] (a [sweep] file runs with `wmr-cli sweep`)", file.display());
+            }
             if output.is_dir() {
                 bail!("{} is a directory", output.display());
             }

@@ -1,0 +1,95 @@
+//! `wmr-cli sweep`: every (law, start) of a `[sweep]` in parallel, outcomes to CSV, a
+//! comparison table on stdout, and optionally one region-of-attraction SVG per law.
+
+use std::io::Write as _;
+use std::path::Path;
+
+use anyhow::{Context as _, Result, bail};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use wmr_plot::{CellOutcome, SweepCell, region_svg};
+use wmr_scenario::{SWEEP_COLUMNS, Scenario, SweepOutcome, SweepSpec, summarize, summary_table, sweep_row};
+
+use crate::atomic::AtomicOut;
+
+/// Runs the sweep of `scenario`, writes the outcome CSV to `out` and, with `plots`, one
+/// `region-<law>.svg` per law into that folder; prints the comparison table.
+pub fn sweep(scenario: &Scenario, out: &Path, plots: Option<&Path>, show_progress: bool) -> Result<()> {
+    let Some(spec) = &scenario.sweep else {
+        bail!("the scenario has no [sweep] table (see `wmr-cli --help` for its keys)");
+    };
+    let bar = if show_progress && spec.len() > 50 {
+        let bar = ProgressBar::with_draw_target(Some(spec.len() as u64), ProgressDrawTarget::stderr());
+        if let Ok(style) = ProgressStyle::with_template("{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} (eta {eta})")
+        {
+            bar.set_style(style);
+        }
+        bar.set_message(format!("{} laws x {} starts", spec.laws.len(), spec.starts.len()));
+        bar
+    } else {
+        ProgressBar::hidden()
+    };
+    let started = std::time::Instant::now();
+    let outcomes = spec.run(&scenario.robot, &scenario.drive, &scenario.sim, &|| bar.inc(1))?;
+    bar.finish_and_clear();
+    let wall = started.elapsed().as_secs_f64();
+
+    write_csv(spec, &outcomes, out)?;
+    if let Some(dir) = plots {
+        write_regions(spec, &outcomes, dir)?;
+    }
+    print!("{}", summary_table(&summarize(spec, &outcomes)));
+    eprintln!(
+        "wmr-cli: {} runs ({} laws x {} starts, {} s each) in {wall:.2} s; outcomes in {}",
+        spec.len(),
+        spec.laws.len(),
+        spec.starts.len(),
+        scenario.sim.t_end(),
+        out.display()
+    );
+    Ok(())
+}
+
+fn write_csv(spec: &SweepSpec, outcomes: &[SweepOutcome], out: &Path) -> Result<()> {
+    let tmp = AtomicOut::create(out)?;
+    {
+        let mut w = csv::Writer::from_writer(std::io::BufWriter::new(tmp.file()?));
+        w.write_record(SWEEP_COLUMNS)?;
+        for o in outcomes {
+            w.write_record(sweep_row(spec, o))?;
+        }
+        w.flush().with_context(|| format!("cannot write {}", out.display()))?;
+    }
+    tmp.persist()
+}
+
+/// The outcome of a sweep run as a map cell.
+fn cell(o: &SweepOutcome) -> SweepCell {
+    let outcome = if o.outcome.termination.diverged() {
+        CellOutcome::Diverged
+    } else if o.converged() {
+        CellOutcome::Converged
+    } else {
+        CellOutcome::NotConverged
+    };
+    SweepCell { x: o.start.x, y: o.start.y, outcome }
+}
+
+fn write_regions(spec: &SweepSpec, outcomes: &[SweepOutcome], dir: &Path) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    for (i, (name, _)) in spec.laws.iter().enumerate() {
+        let cells: Vec<SweepCell> = outcomes.iter().filter(|o| o.law == i).map(cell).collect();
+        let title = format!("{name}: outcome by start (goal at the cross)");
+        let svg = region_svg(&title, &cells, spec.goal)?;
+        write_text(&dir.join(format!("region-{}.svg", name.replace('#', "-"))), &svg)?;
+    }
+    Ok(())
+}
+
+/// Writes a text file atomically.
+pub fn write_text(path: &Path, text: &str) -> Result<()> {
+    let tmp = AtomicOut::create(path)?;
+    let mut f = tmp.file()?;
+    f.write_all(text.as_bytes()).with_context(|| format!("cannot write {}", path.display()))?;
+    drop(f);
+    tmp.persist()
+}

@@ -1,0 +1,88 @@
+//! `wmr-cli sweep` and `wmr-cli plot` end to end (issue 7).
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wmr-cli")).args(args).output().expect("wmr-cli starts")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+fn repo(p: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(p).display().to_string()
+}
+
+/// Polylines with more than `min_points` points: plotted data, not axis ticks or legend swatches.
+fn long_polylines(svg: &str, min_points: usize) -> usize {
+    let doc = roxmltree::Document::parse(svg).expect("SVG is XML");
+    doc.descendants()
+        .filter(|n| n.has_tag_name("polyline"))
+        .filter(|n| n.attribute("points").is_some_and(|p| p.split_whitespace().count() > min_points))
+        .count()
+}
+
+#[test]
+fn sweep_writes_one_row_per_law_and_start_and_a_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("s.toml");
+    std::fs::write(
+        &file,
+        "[sim]\nt_end = 8.0\n[sweep]\ncontrollers = [{ kind = \"paper\" }, { kind = \"lyapunov\" }]\n\
+         grid = { x_min = -1.0, x_max = 1.0, nx = 3, y_min = -1.0, y_max = 1.0, ny = 2 }\n",
+    )
+    .unwrap();
+    let csv = dir.path().join("out.csv");
+    let plots = dir.path().join("plots");
+    let out = run(&["sweep", file.to_str().unwrap(), "-o", csv.to_str().unwrap(), "--plots", plots.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(stdout.contains("paper") && stdout.contains("lyapunov"), "{stdout}");
+    let body = std::fs::read_to_string(&csv).unwrap();
+    let lines: Vec<&str> = body.lines().collect();
+    assert!(lines[0].starts_with("law,start,x0,y0,theta0_deg,status,time_to_1cm_s"));
+    assert_eq!(lines.len(), 1 + 2 * 6);
+    for law in ["paper", "lyapunov"] {
+        let svg = std::fs::read_to_string(plots.join(format!("region-{law}.svg"))).unwrap();
+        let doc = roxmltree::Document::parse(&svg).expect("SVG is XML");
+        let colours = ["#2CA02C", "#FFA500", "#D62728"];
+        let cells = doc
+            .descendants()
+            .filter(|n| n.has_tag_name("rect"))
+            .filter(|n| n.attribute("fill").is_some_and(|f| colours.iter().any(|c| f.eq_ignore_ascii_case(c))))
+            .count();
+        assert_eq!(cells, 6 + 3, "one cell per start plus three legend swatches");
+    }
+}
+
+#[test]
+fn sweep_without_a_sweep_table_fails_and_run_without_runs_fails() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("out.csv");
+    let out = run(&["sweep", &repo("examples/paper/fig7.toml"), "-o", csv.to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("[sweep]"));
+    assert!(!csv.exists());
+    let out = run(&["run", &repo("examples/compare.toml"), "-o", csv.to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(text(&out.stderr).contains("[[run]]"));
+    assert!(!csv.exists());
+}
+
+#[test]
+fn plot_writes_the_paper_figures_with_one_path_per_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = run(&["plot", &repo("examples/paper/fig4.toml"), "-o", dir.path().to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let paths = std::fs::read_to_string(dir.path().join("paths.svg")).unwrap();
+    let n_runs = std::fs::read_to_string(repo("examples/paper/fig4.toml")).unwrap().matches("[[run]]").count();
+    assert_eq!(long_polylines(&paths, 50), n_runs);
+    for i in 0..n_runs {
+        let w = std::fs::read_to_string(dir.path().join(format!("run{i}-wheel-speeds.svg"))).unwrap();
+        assert_eq!(long_polylines(&w, 50), 2, "omega_r and omega_l");
+        let e = std::fs::read_to_string(dir.path().join(format!("run{i}-errors.svg"))).unwrap();
+        assert_eq!(long_polylines(&e, 50), 3, "dl, e_s and e_theta");
+    }
+}
