@@ -54,6 +54,14 @@ name = "fig7"                  scenario name (default: the file's stem)
   start = { x = 0.0, y = 0.0, theta_deg = 0.0 }   m, m, and theta (rad) or theta_deg, not both; default 0
   goal = { x = 1.0, y = 1.0, theta_deg = 120.0 }  required; missing x, y, theta are 0
 
+[sweep]                        wmr-cli sweep: every law from every start ([[run]] optional)
+  goal = { x = 0.0, y = 0.0, theta_deg = 0.0 }    goal pose of C (default origin, 0)
+  controllers = [{ kind = "paper" }, { kind = "polar" }, { kind = "lyapunov" }]
+                               laws to compare, each with its [controller] keys (default: these)
+  grid = { x_min = -2.0, x_max = 2.0, nx = 21, y_min = -2.0, y_max = 2.0, ny = 21, theta_deg = [0.0] }
+  random = { n = 1000, seed = 1, radius = 2.0, min_radius = 0.1 }
+                               exactly one of grid (m, deg) and random (m; heading uniform)
+
 OUTPUTS
   CSV:  run,t,x,y,theta,v,omega,phi_r,phi_l,omega_r,omega_l,tau_r,tau_l,e_s,e_theta,dl
         one row per run and sample (t = 0, every log_dt, and the last); SI units, radians.
@@ -64,6 +72,10 @@ OUTPUTS
   Summary (stdout, one line per run): label, final dl (m), final heading error (deg),
         time from which dl < 1 cm (s or "never"), converged / not converged / diverged.
         Converged = not diverged and final dl < 1 cm.
+  sweep: CSV law,start,x0,y0,theta0_deg,status,time_to_1cm_s,final_dl_m,
+        final_heading_error_deg,peak_wheel_speed_rad_s,path_length_m,energy_j; a comparison
+        table on stdout; --plots DIR: region-<law>.svg per law.
+  plot:  DIR/paths.svg, DIR/run<i>-wheel-speeds.svg, DIR/run<i>-errors.svg.
 
 A diverged run (state not finite, or C outside a 1 km box) keeps its rows up to that
 point, is reported as diverged, and the exit code stays 0. Bad input exits with 2 and
