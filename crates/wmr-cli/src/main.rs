@@ -43,21 +43,21 @@ enum Command {
         #[arg(long, value_enum)]
         format: Option<Format>,
     },
-    /// Run a scenario's [sweep]: every law from every start, in parallel; write one CSV
+    /// Run the sweep table of a scenario: every law from every start, in parallel; write one CSV
     /// row per (law, start) and print a comparison table (median / worst per law).
     #[command(after_long_help = keys::KEYS_HELP)]
     Sweep {
-        /// The scenario file (TOML) with a [sweep] table.
+        /// The scenario file (TOML) with a sweep table.
         file: PathBuf,
-        /// Outcome CSV; default: <scenario name>-sweep.csv in the current folder.
+        /// Outcome CSV; default: NAME-sweep.csv (NAME: the scenario name) in the current folder.
         #[arg(short, long, value_name = "OUT")]
         output: Option<PathBuf>,
-        /// Also write one region-of-attraction map per law (region-<law>.svg) into DIR.
+        /// Also write one region-of-attraction map per law (region-LAW.svg) into DIR.
         #[arg(long, value_name = "DIR")]
         plots: Option<PathBuf>,
     },
     /// Plot a scenario's runs as SVG into DIR: paths.svg (all runs, the paper's Figs. 4-7),
-    /// and per run run<i>-wheel-speeds.svg (Fig. 8) and run<i>-errors.svg (Fig. 9).
+    /// and per run I runI-wheel-speeds.svg (Fig. 8) and runI-errors.svg (Fig. 9).
     Plot {
         /// The scenario file (TOML).
         file: PathBuf,

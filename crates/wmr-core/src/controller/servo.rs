@@ -61,18 +61,23 @@ impl<T: Real> WheelServo<T> {
         &self.gains
     }
 
-    /// Command for angle reference `phi_ref` (rad), measured angle `phi` (rad) and speed
-    /// `omega` (rad/s), advancing the integral by `dt` (s).
+    /// Kp e + Ki int(e), advancing the clamped integral of the angle error `e` (rad) by `dt` (s).
     #[inline(always)]
-    pub fn update(&mut self, phi_ref: T, phi: T, omega: T, dt: T) -> T {
-        let e = phi_ref - phi;
+    fn proportional_integral(&mut self, e: T, dt: T) -> T {
         let mut i_term = T::zero();
         if self.gains.ki > T::zero() {
             let bound = self.limit / self.gains.ki;
             self.integral = (self.integral + e * dt).max(-bound).min(bound);
             i_term = self.gains.ki * self.integral;
         }
-        self.gains.kp * e + i_term - self.gains.kd * omega
+        self.gains.kp * e + i_term
+    }
+
+    /// Command for angle reference `phi_ref` (rad), measured angle `phi` (rad) and speed
+    /// `omega` (rad/s), advancing the integral by `dt` (s).
+    #[inline(always)]
+    pub fn update(&mut self, phi_ref: T, phi: T, omega: T, dt: T) -> T {
+        self.proportional_integral(phi_ref - phi, dt) - self.gains.kd * omega
     }
 
     /// Speed-tracking form (for laws that command wheel speeds): command for angle
@@ -88,14 +93,7 @@ impl<T: Real> WheelServo<T> {
     /// speed) would leave. With `omega_ref = 0` it equals [`WheelServo::update`].
     #[inline(always)]
     pub fn update_tracking(&mut self, phi_ref: T, omega_ref: T, phi: T, omega: T, dt: T) -> T {
-        let e = phi_ref - phi;
-        let mut i_term = T::zero();
-        if self.gains.ki > T::zero() {
-            let bound = self.limit / self.gains.ki;
-            self.integral = (self.integral + e * dt).max(-bound).min(bound);
-            i_term = self.gains.ki * self.integral;
-        }
-        self.gains.kp * e + i_term + self.gains.kd * (omega_ref - omega)
+        self.proportional_integral(phi_ref - phi, dt) + self.gains.kd * (omega_ref - omega)
     }
 
     /// Largest useful |command| (N m or V), the drive's limit given at construction.
