@@ -111,7 +111,7 @@ impl<T: Real> Model<T> {
     #[inline(always)]
     fn friction_torque_with<const COULOMB: bool>(&self, omega_wheel: T) -> T {
         let viscous = self.b_v * omega_wheel;
-        if COULOMB { viscous + self.tau_c * (omega_wheel / self.omega_eps).tanh() } else { viscous }
+        if COULOMB { viscous + self.tau_c * (omega_wheel / self.omega_eps).tanh_libm() } else { viscous }
     }
 
     /// See [`Robot::derivative`].
@@ -134,7 +134,7 @@ impl<T: Real> Model<T> {
         let w_l = (s.v - self.big_r * s.omega) / r;
         let net_r = tau_wheel.right - self.friction_torque_with::<COULOMB>(w_r);
         let net_l = tau_wheel.left - self.friction_torque_with::<COULOMB>(w_l);
-        let (sin, cos) = s.theta.sin_cos();
+        let (sin, cos) = s.theta.sin_cos_libm();
         State {
             x: s.v * cos,
             y: s.v * sin,

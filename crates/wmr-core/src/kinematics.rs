@@ -24,19 +24,19 @@ pub fn twist_from_wheels<T: Real>(p: &RobotParams<T>, w: Wheels<T>) -> Twist2<T>
 
 /// Pose of the centre of mass G from the pose of C, relation (2): OG = OC + d e^{j theta}.
 pub fn g_from_c<T: Real>(p: &RobotParams<T>, c_world: Pose2<T>) -> Pose2<T> {
-    let (s, c) = c_world.theta.sin_cos();
+    let (s, c) = c_world.theta.sin_cos_libm();
     Pose2::new(c_world.x + p.com_offset * c, c_world.y + p.com_offset * s, c_world.theta)
 }
 
 /// Pose of C from the pose of G, the inverse of (2).
 pub fn c_from_g<T: Real>(p: &RobotParams<T>, g_world: Pose2<T>) -> Pose2<T> {
-    let (s, c) = g_world.theta.sin_cos();
+    let (s, c) = g_world.theta.sin_cos_libm();
     Pose2::new(g_world.x - p.com_offset * c, g_world.y - p.com_offset * s, g_world.theta)
 }
 
 /// The Jacobian S(q_g) of (7), 3x2 row-major: q_g' = S(q_g) [v, omega]^T (8).
 pub fn jacobian_s<T: Real>(p: &RobotParams<T>, theta: T) -> [[T; 2]; 3] {
-    let (s, c) = theta.sin_cos();
+    let (s, c) = theta.sin_cos_libm();
     let d = p.com_offset;
     [[c, -d * s], [s, d * c], [T::zero(), T::one()]]
 }
@@ -49,7 +49,7 @@ pub fn g_velocity_world<T: Real>(p: &RobotParams<T>, theta: T, twist: Twist2<T>)
 
 /// The explicit wheel-to-G map of (9), 3x2 row-major: q_g' = J [omega_r, omega_l]^T.
 pub fn wheel_to_g_jacobian<T: Real>(p: &RobotParams<T>, theta: T) -> [[T; 2]; 3] {
-    let (s, c) = theta.sin_cos();
+    let (s, c) = theta.sin_cos_libm();
     let two = T::lit(2.0);
     let (r, big_r, d) = (p.wheel_radius, p.half_track, p.com_offset);
     let a = r / two;
@@ -60,7 +60,7 @@ pub fn wheel_to_g_jacobian<T: Real>(p: &RobotParams<T>, theta: T) -> [[T; 2]; 3]
 /// Residual of the nonholonomic constraint (6), m/s:
 /// x_g' sin(theta) - y_g' cos(theta) + d theta'. Zero for pure rolling without slip.
 pub fn constraint_residual<T: Real>(p: &RobotParams<T>, theta: T, q_g_dot: [T; 3]) -> T {
-    let (s, c) = theta.sin_cos();
+    let (s, c) = theta.sin_cos_libm();
     q_g_dot[0] * s - q_g_dot[1] * c + p.com_offset * q_g_dot[2]
 }
 

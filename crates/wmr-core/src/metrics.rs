@@ -103,7 +103,7 @@ impl<T: Real> Metrics<T> {
             termination,
             t_final: last.t,
             final_pose: pose,
-            final_dl: (self.goal.x - pose.x).hypot(self.goal.y - pose.y),
+            final_dl: (self.goal.x - pose.x).hypot_libm(self.goal.y - pose.y),
             final_heading_error: wrap_angle(self.goal.theta - pose.theta),
             time_to_arrival: self.arrived_since,
             peak_wheel_speed: self.peak_wheel_speed,

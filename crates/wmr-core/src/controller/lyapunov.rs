@@ -187,7 +187,7 @@ impl<T: Real> LyapunovController<T> {
         let p = &self.params;
         let (dir, c) = self.direction.select(pose, self.goal);
         let (e, alpha, theta_a) = (c.rho, c.alpha, -c.beta);
-        let (sin_a, cos_a) = alpha.sin_cos();
+        let (sin_a, cos_a) = alpha.sin_cos_libm();
         let sinc = if alpha.abs() < T::epsilon() { T::one() } else { sin_a / alpha };
         let u = p.gamma * cos_a * e;
         let omega = p.k * alpha + p.gamma * cos_a * sinc * (alpha + p.h * theta_a);

@@ -136,9 +136,9 @@ impl<T: Real> PaperController<T> {
         let p = &self.params;
         let dx = self.goal.x - pose.x;
         let dy = self.goal.y - pose.y;
-        let dl = dx.hypot(dy);
+        let dl = dx.hypot_libm(dy);
         let alpha = if dl > p.goal_radius {
-            let a = dy.atan2(dx);
+            let a = dy.atan2_libm(dx);
             self.last_alpha = Some(a);
             a
         } else {
@@ -160,7 +160,7 @@ impl<T: Real> PaperController<T> {
             (T::zero(), T::zero())
         } else {
             let diff = theta_ref - pose.theta;
-            let e_s = dl * diff.cos();
+            let e_s = dl * diff.cos_libm();
             let e_theta = wrap_angle(diff);
             // Forward-Euler sums that include the current error.
             self.int_e_s = self.int_e_s + e_s * p.control_dt;

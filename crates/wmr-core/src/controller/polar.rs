@@ -160,8 +160,8 @@ pub(crate) fn check_goal<T: Real>(goal: Pose2<T>) -> Result<(), ParamError> {
 pub(crate) fn polar_errors<T: Real>(pose: Pose2<T>, goal: Pose2<T>) -> ControlErrors<T> {
     let dx = goal.x - pose.x;
     let dy = goal.y - pose.y;
-    let (s, c) = pose.theta.sin_cos();
-    ControlErrors { e_s: dx * c + dy * s, e_theta: wrap_angle(goal.theta - pose.theta), dl: dx.hypot(dy) }
+    let (s, c) = pose.theta.sin_cos_libm();
+    ControlErrors { e_s: dx * c + dy * s, e_theta: wrap_angle(goal.theta - pose.theta), dl: dx.hypot_libm(dy) }
 }
 
 /// Stop inside `radius`, resume beyond twice that: returns the new "held" flag.

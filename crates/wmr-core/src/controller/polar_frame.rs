@@ -97,12 +97,12 @@ impl<T: Real> PolarCoords<T> {
     pub fn new(pose: Pose2<T>, goal: Pose2<T>, dir: Direction) -> Self {
         let dx = goal.x - pose.x;
         let dy = goal.y - pose.y;
-        let phi = dy.atan2(dx);
+        let phi = dy.atan2_libm(dx);
         let (theta, theta_d) = match dir {
             Direction::Forward => (pose.theta, goal.theta),
             Direction::Backward => (pose.theta + T::PI(), goal.theta + T::PI()),
         };
-        Self { rho: dx.hypot(dy), alpha: wrap_angle(phi - theta), beta: wrap_angle(theta_d - phi) }
+        Self { rho: dx.hypot_libm(dy), alpha: wrap_angle(phi - theta), beta: wrap_angle(theta_d - phi) }
     }
 
     /// True for alpha in I1 = (-pi/2, pi/2]: the goal is ahead in this frame.
