@@ -42,6 +42,6 @@ pub use file::{DcMotorFile, DriveFile, PoseFile, RobotFile, RunFile, ScenarioFil
 pub use output::{CSV_COLUMNS, RunResult, SAMPLE_COLUMNS, Sink, SinkError, sample_values};
 pub use scenario::{DEFAULT_LOG_DT_S, DEFAULT_T_END_S, MAX_STEPS, MAX_T_END_S, RunSpec, Scenario, SimSpec};
 pub use sweep::{
-    GridFile, LawSummary, MAX_SWEEP_RUNS, RandomFile, SWEEP_COLUMNS, Spread, SweepFile, SweepOutcome, SweepSpec,
-    summarize, summary_table, sweep_row,
+    GridFile, LawSummary, MAX_SWEEP_RUNS, RandomFile, SWEEP_COLUMNS, Spread, StartsSource, SweepFile, SweepOutcome,
+    SweepSpec, summarize, summary_table, sweep_row,
 };

@@ -394,6 +394,9 @@ impl Scenario {
             let _ = writeln!(o, "start = {}", pose(&run.start));
             let _ = writeln!(o, "goal = {}", pose(&run.goal));
         }
+        if let Some(sweep) = &self.sweep {
+            sweep.write_toml(&mut o);
+        }
         o
     }
 }

@@ -79,6 +79,17 @@ pub struct SweepSpec {
     pub laws: Vec<(String, ControllerSpec)>,
     /// Start poses of C: m, m, rad.
     pub starts: Vec<Pose2<f64>>,
+    /// Where the starts come from, every default filled in (written back by `to_toml`).
+    pub source: StartsSource,
+}
+
+/// The `grid` or `random` table a sweep's starts were drawn from, defaults filled in.
+#[derive(Clone, Debug, PartialEq)]
+pub enum StartsSource {
+    /// `grid = { ... }`.
+    Grid(GridFile),
+    /// `random = { ... }`.
+    Random(RandomFile),
 }
 
 fn finite_key(key: &str, v: f64) -> Result<f64, ScenarioError> {
@@ -122,9 +133,12 @@ impl SweepFile {
             let name = if same == 0 { kind.to_owned() } else { format!("{kind}#{}", same + 1) };
             laws.push((name, spec));
         }
-        let starts = match (&self.grid, &self.random) {
-            (Some(g), None) => grid_starts(g)?,
-            (None, Some(r)) => random_starts(r, goal)?,
+        let (starts, source) = match (&self.grid, &self.random) {
+            (Some(g), None) => {
+                let g = GridFile { theta_deg: Some(g.theta_deg.clone().unwrap_or_else(|| vec![0.0])), ..g.clone() };
+                (grid_starts(&g)?, StartsSource::Grid(g))
+            }
+            (None, Some(r)) => (random_starts(r, goal)?, StartsSource::Random(r.clone())),
             (Some(_), Some(_)) => {
                 return Err(ScenarioError::new("sweep.random", "give either grid or random, not both"));
             }
@@ -138,7 +152,7 @@ impl SweepFile {
                 format!("{} starts x {} laws is more than {MAX_SWEEP_RUNS} runs", starts.len(), laws.len()),
             ));
         }
-        Ok(SweepSpec { goal, laws, starts })
+        Ok(SweepSpec { goal, laws, starts, source })
     }
 }
 
@@ -211,6 +225,50 @@ fn random_starts(r: &RandomFile, goal: Pose2<f64>) -> Result<Vec<Pose2<f64>>, Sc
             Pose2::new(goal.x + rho * phi.cos(), goal.y + rho * phi.sin(), theta)
         })
         .collect())
+}
+
+impl SweepSpec {
+    /// The `[sweep]` table in TOML, every key written; reads back to the same sweep.
+    pub(crate) fn write_toml(&self, out: &mut String) {
+        use std::fmt::Write as _;
+        let f = crate::scenario::toml_f64;
+        let g = &self.goal;
+        let _ = writeln!(out, "\n[sweep]\ngoal = {{ x = {}, y = {}, theta = {} }}", f(g.x), f(g.y), f(g.theta));
+        let _ = writeln!(out, "controllers = [");
+        for (_, spec) in &self.laws {
+            let mut table = String::new();
+            crate::controller::write_toml(spec, &mut table);
+            let _ = writeln!(out, "  {{ {} }},", table.lines().collect::<Vec<_>>().join(", "));
+        }
+        let _ = writeln!(out, "]");
+        match &self.source {
+            StartsSource::Grid(g) => {
+                let thetas: Vec<String> = g.theta_deg.iter().flatten().map(|t| f(*t)).collect();
+                let _ = writeln!(
+                    out,
+                    "grid = {{ x_min = {}, x_max = {}, nx = {}, y_min = {}, y_max = {}, ny = {}, theta_deg = [{}] }}",
+                    f(g.x_min),
+                    f(g.x_max),
+                    g.nx,
+                    f(g.y_min),
+                    f(g.y_max),
+                    g.ny,
+                    thetas.join(", ")
+                );
+            }
+            StartsSource::Random(r) => {
+                let _ = writeln!(
+                    out,
+                    "random = {{ n = {}, seed = {}, radius = {}, min_radius = {} }}",
+                    r.n,
+                    r.seed,
+                    f(r.radius),
+                    f(r.min_radius)
+                );
+            }
+        }
+        let _ = writeln!(out, "# {} laws x {} starts = {} runs", self.laws.len(), self.starts.len(), self.len());
+    }
 }
 
 /// The outcome of one (law, start) run.

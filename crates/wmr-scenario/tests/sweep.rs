@@ -99,3 +99,18 @@ fn summary_table_lists_every_law() {
         assert!(table.contains(name));
     }
 }
+
+/// `wmr-cli check` prints the resolved sweep; it reads back to the same scenario.
+#[test]
+fn to_toml_of_a_sweep_reads_back_to_the_same_scenario() {
+    for text in [
+        "[sweep]\ncontrollers = [{ kind = \"polar\", k_rho = 0.6 }, { kind = \"paper\", mode = \"position\" }]\n\
+         random = { n = 20, seed = 5, radius = 1.5 }\n",
+        "[sweep]\ngoal = { x = 1.0, theta_deg = 90.0 }\n\
+         grid = { x_min = -1.0, x_max = 1.0, nx = 3, y_min = 0.0, y_max = 2.0, ny = 2 }\n",
+    ] {
+        let s = Scenario::from_toml_str(text, "sw").unwrap();
+        let back = Scenario::from_toml_str(&s.to_toml(), "other").unwrap_or_else(|e| panic!("{e}\n{}", s.to_toml()));
+        assert_eq!(back, s);
+    }
+}
