@@ -21,5 +21,5 @@ mod _native {
     #[pymodule_export]
     use crate::robot::PyRobot;
     #[pymodule_export]
-    use crate::scenario::{PyRunResult, run_batch_native, run_scenario, time_run_rust};
+    use crate::scenario::{PyRunResult, run_batch_native, run_scenario, sweep, time_run_rust};
 }

@@ -1,4 +1,4 @@
-//! `run_scenario` and `run_batch`: scenarios parsed, checked and run by `wmr-scenario`,
+//! `run_scenario`, `run_batch` and `sweep`: scenarios parsed, checked and run by `wmr-scenario`,
 //! columns handed to numpy without a copy, the GIL released while Rust runs.
 
 use std::path::PathBuf;
@@ -463,4 +463,67 @@ pub fn time_run_rust(py: Python<'_>, scenario: &Bound<'_, PyAny>, n: usize) -> P
         Ok(best)
     });
     best.map_err(to_py)
+}
+
+/// Runs a scenario's `[sweep]` (every law from every start, rayon, GIL released) and
+/// returns one entry per (law, start), in law then start order: `law` (list of names),
+/// `start` (int64), `x0`, `y0` (m), `theta0` (rad), `time_to_1cm` (s, NaN = never),
+/// `final_dl` (m), `final_heading_error` (rad), `peak_wheel_speed` (rad/s),
+/// `path_length` (m), `energy` (J) as float64; `converged`, `diverged` (bool); and
+/// `table`, the comparison `wmr-cli sweep` prints.
+#[pyfunction]
+pub fn sweep<'py>(py: Python<'py>, scenario: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+    let sc = scenario_arg(scenario)?;
+    let Some(spec) = &sc.sweep else {
+        return Err(scenario_error("sweep", None, "sweep: the scenario has no [sweep] table".to_owned()));
+    };
+    let outcomes = py.detach(|| spec.run(&sc.robot, &sc.drive, &sc.sim, &|| {})).map_err(to_py)?;
+    let n = outcomes.len();
+    let mut cols: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(n));
+    let (mut law, mut start, mut converged, mut diverged) =
+        (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
+    for o in &outcomes {
+        let out = &o.outcome;
+        let vals = [
+            o.start.x,
+            o.start.y,
+            o.start.theta,
+            out.time_to_arrival.unwrap_or(f64::NAN),
+            out.final_dl,
+            out.final_heading_error,
+            out.peak_wheel_speed,
+            out.path_length,
+            out.energy,
+            out.t_final,
+        ];
+        for (c, v) in cols.iter_mut().zip(vals) {
+            c.push(v);
+        }
+        law.push(spec.laws[o.law].0.clone());
+        start.push(o.start_index as i64);
+        converged.push(o.converged());
+        diverged.push(o.outcome.termination.diverged());
+    }
+    let d = PyDict::new(py);
+    d.set_item("law", law)?;
+    d.set_item("start", PyArray1::from_vec(py, start))?;
+    let names = [
+        "x0",
+        "y0",
+        "theta0",
+        "time_to_1cm",
+        "final_dl",
+        "final_heading_error",
+        "peak_wheel_speed",
+        "path_length",
+        "energy",
+        "t_final",
+    ];
+    for (name, c) in names.iter().zip(cols) {
+        d.set_item(name, PyArray1::from_vec(py, c))?;
+    }
+    d.set_item("converged", PyArray1::from_vec(py, converged))?;
+    d.set_item("diverged", PyArray1::from_vec(py, diverged))?;
+    d.set_item("table", wmr_scenario::summary_table(&wmr_scenario::summarize(spec, &outcomes)))?;
+    Ok(d)
 }

@@ -34,6 +34,7 @@ from ._native import (
     RunResult,
     ScenarioError,
     run_scenario,
+    sweep,
 )
 from . import _native
 
@@ -46,6 +47,7 @@ __all__ = [
     "run_batch",
     "run_scenario",
     "simulate",
+    "sweep",
 ]
 
 Pose = Union[Sequence[float], Mapping[str, float]]

@@ -14,6 +14,7 @@ from ._native import (
     RunResult as RunResult,
     ScenarioError as ScenarioError,
     run_scenario as run_scenario,
+    sweep as sweep,
 )
 
 __all__: list[str]
