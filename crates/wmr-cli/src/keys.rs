@@ -41,6 +41,8 @@ name = "fig7"                  scenario name (default: the file's stem)
   servo_ki = 0.0               wheel servo Ki: N m/(rad s) or V/(rad s) (>= 0)
   goal_radius = 1e-3           m: inside it alpha keeps its last value (>= 0)
   hold_radius = 5e-3           m: inside it the outer loop holds; 0 = off (>= 0)
+  hold = "zero_errors"         "zero_errors" (SPEC: errors zeroed, references step on entry)
+                               or "freeze" (bumpless: keep the last wheel references)
   control_dt = 1e-3            s, control period; a whole multiple of sim.dt (> 0)
   wheel_speed_max = inf        rad/s, limit on the wheel reference speeds; absent = off
 

@@ -42,7 +42,8 @@ pub use controller::{
     PolarController, PolarParams,
 };
 pub use controller::{
-    ControlErrors, ControlOutput, Controller, Measurement, PaperController, PaperMode, PaperParams, ServoGains,
+    ControlErrors, ControlOutput, Controller, HoldMode, Measurement, PaperController, PaperMode, PaperParams,
+    ServoGains,
 };
 pub use drive::{DcMotorParams, Drive, DriveParams, TorqueDriveParams};
 pub use error::{ParamError, Reason};

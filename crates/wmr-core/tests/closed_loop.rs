@@ -147,3 +147,38 @@ fn divergent_runs_stop_with_finite_samples() {
     }
     assert!(found, "none of the starts diverged");
 }
+
+/// `HoldMode::Freeze` is bumpless: the wheel references do not step on entering the hold
+/// radius, so position mode stays at the goal (with the SPEC's zero-error hold it is
+/// kicked out again, see `position_mode_reaches_the_goal_position`).
+#[test]
+fn freeze_hold_is_bumpless_and_keeps_position_mode_at_the_goal() {
+    use wmr_core::HoldMode;
+    let params = PaperParams { mode: PaperMode::Position, hold: HoldMode::Freeze, ..PaperParams::paper() };
+    let goal = Pose2::new(1.0, 1.0, 0.0);
+    let mut sim = paper_loop_with(RobotParams::paper(), params, Pose2::new(0.0, 0.0, 0.0), goal, 1e-3);
+    let mut entered = None;
+    let out = sim.run(60_000, 1, |s| {
+        if entered.is_none() && s.errors.dl < 5e-3 {
+            entered = Some(s.t);
+        }
+    });
+    println!("freeze, position mode: entered the hold at {entered:?} s, final dl {:.4} m", out.final_dl);
+    assert!(entered.is_some());
+    assert_eq!(out.termination, Termination::Completed);
+    assert!(out.final_dl < 5e-3, "stays inside the hold radius: {}", out.final_dl);
+    assert!(out.time_to_arrival.is_some_and(|t| t < 50.0));
+
+    // Bumpless: the references at the entry tick are those of the tick before.
+    let mut ctrl = wmr_core::PaperController::new(
+        PaperParams { hold: HoldMode::Freeze, ..PaperParams::paper() },
+        &wmr_core::Robot::paper(),
+        &wmr_core::DriveParams::default().validate(&wmr_core::Robot::paper()).unwrap(),
+        goal,
+    )
+    .unwrap();
+    let (outside, _) = ctrl.references(Pose2::new(0.99, 1.0, 0.3));
+    let (inside, e) = ctrl.references(Pose2::new(0.998, 1.0, 0.3));
+    assert_eq!((e.e_s, e.e_theta), (0.0, 0.0));
+    assert_eq!(inside, outside);
+}

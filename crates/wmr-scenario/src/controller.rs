@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 
 use serde::{Deserialize, Deserializer};
 use wmr_core::controller::{AnyController, ControllerParams, LyapunovParams, PolarParams};
-use wmr_core::{Drive, DriveParams, PaperMode, PaperParams, ParamError, Pose2, Robot, ServoGains};
+use wmr_core::{Drive, DriveParams, HoldMode, PaperMode, PaperParams, ParamError, Pose2, Robot, ServoGains};
 
 use crate::file::tagged;
 
@@ -52,6 +52,16 @@ pub enum ModeFile {
     Position,
 }
 
+/// `hold` of the paper controller.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum HoldFile {
+    /// SPEC section 4: errors taken as zero inside hold_radius (the default).
+    ZeroErrors,
+    /// Bumpless: keep the last wheel references.
+    Freeze,
+}
+
 /// `[controller] kind = "paper"` keys (SPEC section 4). Missing keys take the SPEC defaults;
 /// the servo defaults follow the drive (`ServoGains::torque_default` or `dc_motor_default`).
 #[derive(Clone, Debug, Default, Deserialize, PartialEq)]
@@ -71,6 +81,7 @@ pub struct PaperFile {
     pub control_dt: Option<f64>,
     /// rad/s: limit on the speed of the wheel angle references; absent = off.
     pub wheel_speed_max: Option<f64>,
+    pub hold: Option<HoldFile>,
 }
 
 /// `[controller] kind = "polar"` keys (see `wmr_core::controller::PolarParams`).
@@ -153,6 +164,11 @@ impl ControllerFile {
                     servo: servo(f.servo_kp, f.servo_kd, f.servo_ki, drive),
                     goal_radius: f.goal_radius.unwrap_or(d.goal_radius),
                     hold_radius: f.hold_radius.unwrap_or(d.hold_radius),
+                    hold: match f.hold {
+                        None => d.hold,
+                        Some(HoldFile::ZeroErrors) => HoldMode::ZeroErrors,
+                        Some(HoldFile::Freeze) => HoldMode::Freeze,
+                    },
                     control_dt: f.control_dt.unwrap_or(d.control_dt),
                 };
                 ControllerParams::Paper { params, wheel_speed_max: f.wheel_speed_max.unwrap_or(f64::INFINITY) }
@@ -208,7 +224,12 @@ pub(crate) fn write_toml(spec: &ControllerSpec, out: &mut String) {
                 PaperMode::Pose => "pose",
                 PaperMode::Position => "position",
             };
+            let hold = match p.hold {
+                HoldMode::ZeroErrors => "zero_errors",
+                HoldMode::Freeze => "freeze",
+            };
             let _ = writeln!(out, "mode = \"{mode}\"");
+            let _ = writeln!(out, "hold = \"{hold}\"");
             vec![
                 ("kp_theta", p.kp_theta),
                 ("ki_theta", p.ki_theta),

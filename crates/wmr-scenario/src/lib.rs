@@ -34,8 +34,8 @@ mod scenario;
 mod sweep;
 
 pub use controller::{
-    BuiltController, CONTROLLER_KINDS, ControllerFile, ControllerSpec, LyapunovFile, ModeFile, PaperFile, PolarFile,
-    build_controller,
+    BuiltController, CONTROLLER_KINDS, ControllerFile, ControllerSpec, HoldFile, LyapunovFile, ModeFile, PaperFile,
+    PolarFile, build_controller,
 };
 pub use error::ScenarioError;
 pub use file::{DcMotorFile, DriveFile, PoseFile, RobotFile, RunFile, ScenarioFile, SimFile, TorqueDriveFile};

@@ -159,3 +159,13 @@ fn run_index_out_of_range_is_an_error() {
     let s = Scenario::from_toml_str(FIG7, "x").unwrap();
     assert_eq!(s.run(3, |_| {}).unwrap_err().key, "run");
 }
+
+#[test]
+fn hold_mode_is_a_paper_key() {
+    let s = Scenario::from_toml_str("[controller]\nhold = \"freeze\"\n[[run]]\ngoal = {}\n", "x").unwrap();
+    let ControllerSpec::Paper { params: p, .. } = s.controller else { panic!("paper") };
+    assert_eq!(p.hold, wmr_core::HoldMode::Freeze);
+    assert_eq!(Scenario::from_toml_str(&s.to_toml(), "x").unwrap(), s);
+    let e = Scenario::from_toml_str("[controller]\nhold = \"stop\"\n[[run]]\ngoal = {}\n", "x").unwrap_err();
+    assert_eq!(e.key, "controller.hold");
+}

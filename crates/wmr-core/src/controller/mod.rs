@@ -3,7 +3,7 @@
 mod paper;
 mod servo;
 
-pub use paper::{PaperController, PaperMode, PaperParams};
+pub use paper::{HoldMode, PaperController, PaperMode, PaperParams};
 pub use servo::{ServoGains, WheelServo};
 
 // More stabilization laws (issue 7), their wheel-speed path and run-time selection.

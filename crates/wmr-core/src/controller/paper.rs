@@ -30,6 +30,20 @@ pub enum PaperMode {
     Position,
 }
 
+/// What the law does inside `hold_radius`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum HoldMode {
+    /// SPEC section 4, step 7: the outer errors are taken as zero and the integrators
+    /// stop, so u = Ki int. The wheel references step on entry (the Kp e parts drop
+    /// out); on Fig. 7 that kick is what brings the heading error from 28 to 5 deg.
+    #[default]
+    ZeroErrors,
+    /// Bumpless: the wheel references of the last tick outside the radius are kept and
+    /// the integrators stop. The robot stays where it entered the radius (position mode
+    /// then converges; pose mode keeps the heading error it had at entry).
+    Freeze,
+}
+
 /// `[controller] kind = "paper"` parameters (SPEC section 4).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PaperParams<T> {
@@ -50,6 +64,8 @@ pub struct PaperParams<T> {
     /// Within this distance of the goal (m) the outer errors are zero and the outer
     /// integrators stop; 0 turns the hold off.
     pub hold_radius: T,
+    /// How the hold behaves (`hold`): [`HoldMode::ZeroErrors`] (SPEC) or [`HoldMode::Freeze`].
+    pub hold: HoldMode,
     /// Control period, s.
     pub control_dt: T,
 }
@@ -66,6 +82,7 @@ impl<T: Real> PaperParams<T> {
             servo: ServoGains::torque_default(),
             goal_radius: T::lit(1e-3),
             hold_radius: T::lit(5e-3),
+            hold: HoldMode::ZeroErrors,
             control_dt: T::lit(1e-3),
         }
     }
@@ -93,6 +110,8 @@ pub struct PaperController<T> {
     int_e_s: T,
     /// alpha of the last tick outside `goal_radius`, rad.
     last_alpha: Option<T>,
+    /// Wheel references of the last tick, rad ([`HoldMode::Freeze`] keeps them).
+    last_refs: Option<Wheels<T>>,
 }
 
 impl<T: Real> PaperController<T> {
@@ -121,6 +140,7 @@ impl<T: Real> PaperController<T> {
             int_e_theta: T::zero(),
             int_e_s: T::zero(),
             last_alpha: None,
+            last_refs: None,
         })
     }
 
@@ -156,7 +176,14 @@ impl<T: Real> PaperController<T> {
         // Hold (SPEC section 4, step 7): inside hold_radius the outer errors are taken
         // as zero and the integrators stop, so u = Ki * int and the references stay put.
         // Note the step on entry: the proportional parts Kp e drop out at once.
-        let (e_s, e_theta) = if p.hold_radius > T::zero() && dl < p.hold_radius {
+        let in_hold = p.hold_radius > T::zero() && dl < p.hold_radius;
+        if in_hold
+            && p.hold == HoldMode::Freeze
+            && let Some(refs) = self.last_refs
+        {
+            return (refs, ControlErrors { e_s: T::zero(), e_theta: T::zero(), dl });
+        }
+        let (e_s, e_theta) = if in_hold {
             (T::zero(), T::zero())
         } else {
             let diff = theta_ref - pose.theta;
@@ -171,6 +198,7 @@ impl<T: Real> PaperController<T> {
         let u_theta = p.kp_theta * e_theta + p.ki_theta * self.int_e_theta;
         let turn = self.half_track * u_theta;
         let refs = Wheels::new((u_s + turn) / self.wheel_radius, (u_s - turn) / self.wheel_radius);
+        self.last_refs = Some(refs);
         (refs, ControlErrors { e_s, e_theta, dl })
     }
 }
@@ -193,6 +221,7 @@ impl<T: Real> Controller<T> for PaperController<T> {
         self.int_e_theta = T::zero();
         self.int_e_s = T::zero();
         self.last_alpha = None;
+        self.last_refs = None;
     }
 
     fn control_dt(&self) -> T {
