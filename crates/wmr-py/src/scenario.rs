@@ -351,6 +351,44 @@ const BATCH_FIELDS: [&str; 12] = [
     "diverged",
 ];
 
+/// The per-run outcome arrays of `run_batch` and `sweep` ([`BATCH_FIELDS`]), one entry
+/// per (outcome, converged) pair, in order.
+fn outcome_dict<'py, 'a>(
+    py: Python<'py>,
+    outcomes: impl ExactSizeIterator<Item = (&'a wmr_core::Outcome<f64>, bool)>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let n = outcomes.len();
+    let mut cols: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(n));
+    let mut converged = Vec::with_capacity(n);
+    let mut diverged = Vec::with_capacity(n);
+    for (o, conv) in outcomes {
+        let vals = [
+            o.final_pose.x,
+            o.final_pose.y,
+            o.final_pose.theta,
+            o.final_dl,
+            o.final_heading_error,
+            o.time_to_arrival.unwrap_or(f64::NAN),
+            o.t_final,
+            o.peak_wheel_speed,
+            o.path_length,
+            o.energy,
+        ];
+        for (c, v) in cols.iter_mut().zip(vals) {
+            c.push(v);
+        }
+        converged.push(conv);
+        diverged.push(o.termination.diverged());
+    }
+    let d = PyDict::new(py);
+    for (name, c) in BATCH_FIELDS.iter().zip(cols) {
+        d.set_item(name, PyArray1::from_vec(py, c))?;
+    }
+    d.set_item(BATCH_FIELDS[10], PyArray1::from_vec(py, converged))?;
+    d.set_item(BATCH_FIELDS[11], PyArray1::from_vec(py, diverged))?;
+    Ok(d)
+}
+
 /// Runs the scenario `base` (a dict or path, validated like `run_scenario`; its runs give
 /// the goal if `goals` is None) from every start in `starts` in parallel, GIL released.
 #[pyfunction(name = "_run_batch")]
@@ -410,36 +448,7 @@ pub fn run_batch_native<'py>(
         py.detach(|| (0..sc.runs.len()).into_par_iter().map(|i| sc.run(i, |_| {})).collect());
     let results = results.map_err(to_py)?;
 
-    let n = results.len();
-    let mut cols: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(n));
-    let mut converged = Vec::with_capacity(n);
-    let mut diverged = Vec::with_capacity(n);
-    for r in &results {
-        let o = &r.outcome;
-        let vals = [
-            o.final_pose.x,
-            o.final_pose.y,
-            o.final_pose.theta,
-            o.final_dl,
-            o.final_heading_error,
-            o.time_to_arrival.unwrap_or(f64::NAN),
-            o.t_final,
-            o.peak_wheel_speed,
-            o.path_length,
-            o.energy,
-        ];
-        for (c, v) in cols.iter_mut().zip(vals) {
-            c.push(v);
-        }
-        converged.push(r.converged());
-        diverged.push(r.diverged());
-    }
-    let d = PyDict::new(py);
-    for (name, c) in BATCH_FIELDS.iter().zip(cols) {
-        d.set_item(name, PyArray1::from_vec(py, c))?;
-    }
-    d.set_item(BATCH_FIELDS[10], PyArray1::from_vec(py, converged))?;
-    d.set_item(BATCH_FIELDS[11], PyArray1::from_vec(py, diverged))?;
+    let d = outcome_dict(py, results.iter().map(|r| (&r.outcome, r.converged())))?;
     d.set_item("arrival_radius", ARRIVAL_RADIUS_M)?;
     Ok(d)
 }
@@ -467,10 +476,9 @@ pub fn time_run_rust(py: Python<'_>, scenario: &Bound<'_, PyAny>, n: usize) -> P
 
 /// Runs a scenario's `[sweep]` (every law from every start, rayon, GIL released) and
 /// returns one entry per (law, start), in law then start order: `law` (list of names),
-/// `start` (int64), `x0`, `y0` (m), `theta0` (rad), `time_to_1cm` (s, NaN = never),
-/// `final_dl` (m), `final_heading_error` (rad), `peak_wheel_speed` (rad/s),
-/// `path_length` (m), `energy` (J) as float64; `converged`, `diverged` (bool); and
-/// `table`, the comparison `wmr-cli sweep` prints.
+/// `start` (int64), `x0`, `y0` (m), `theta0` (rad), the outcome arrays of `run_batch`
+/// (`final_x` ... `energy`, `converged`, `diverged`), and `table`, the comparison
+/// `wmr-cli sweep` prints.
 #[pyfunction]
 pub fn sweep<'py>(py: Python<'py>, scenario: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
     let sc = scenario_arg(scenario)?;
@@ -478,52 +486,13 @@ pub fn sweep<'py>(py: Python<'py>, scenario: &Bound<'py, PyAny>) -> PyResult<Bou
         return Err(scenario_error("sweep", None, "sweep: the scenario has no [sweep] table".to_owned()));
     };
     let outcomes = py.detach(|| spec.run(&sc.robot, &sc.drive, &sc.sim, &|| {})).map_err(to_py)?;
-    let n = outcomes.len();
-    let mut cols: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(n));
-    let (mut law, mut start, mut converged, mut diverged) =
-        (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
-    for o in &outcomes {
-        let out = &o.outcome;
-        let vals = [
-            o.start.x,
-            o.start.y,
-            o.start.theta,
-            out.time_to_arrival.unwrap_or(f64::NAN),
-            out.final_dl,
-            out.final_heading_error,
-            out.peak_wheel_speed,
-            out.path_length,
-            out.energy,
-            out.t_final,
-        ];
-        for (c, v) in cols.iter_mut().zip(vals) {
-            c.push(v);
-        }
-        law.push(spec.laws[o.law].0.clone());
-        start.push(o.start_index as i64);
-        converged.push(o.converged());
-        diverged.push(o.outcome.termination.diverged());
-    }
-    let d = PyDict::new(py);
+    let d = outcome_dict(py, outcomes.iter().map(|o| (&o.outcome, o.converged())))?;
+    let law: Vec<String> = outcomes.iter().map(|o| spec.laws[o.law].0.clone()).collect();
     d.set_item("law", law)?;
-    d.set_item("start", PyArray1::from_vec(py, start))?;
-    let names = [
-        "x0",
-        "y0",
-        "theta0",
-        "time_to_1cm",
-        "final_dl",
-        "final_heading_error",
-        "peak_wheel_speed",
-        "path_length",
-        "energy",
-        "t_final",
-    ];
-    for (name, c) in names.iter().zip(cols) {
-        d.set_item(name, PyArray1::from_vec(py, c))?;
-    }
-    d.set_item("converged", PyArray1::from_vec(py, converged))?;
-    d.set_item("diverged", PyArray1::from_vec(py, diverged))?;
+    d.set_item("start", PyArray1::from_vec(py, outcomes.iter().map(|o| o.start_index as i64).collect()))?;
+    d.set_item("x0", PyArray1::from_vec(py, outcomes.iter().map(|o| o.start.x).collect()))?;
+    d.set_item("y0", PyArray1::from_vec(py, outcomes.iter().map(|o| o.start.y).collect()))?;
+    d.set_item("theta0", PyArray1::from_vec(py, outcomes.iter().map(|o| o.start.theta).collect()))?;
     d.set_item("table", wmr_scenario::summary_table(&wmr_scenario::summarize(spec, &outcomes)))?;
     Ok(d)
 }

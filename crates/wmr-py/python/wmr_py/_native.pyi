@@ -147,10 +147,9 @@ def run_scenario(scenario: ScenarioLike) -> list[RunResult]:
 
 def sweep(scenario: ScenarioLike) -> dict[str, Any]:
     """Every law from every start of the scenario's [sweep], in parallel (GIL released):
-    ``law`` (list[str]), ``start`` (int64), ``x0``, ``y0`` (m), ``theta0`` (rad),
-    ``time_to_1cm`` (s, NaN = never), ``final_dl`` (m), ``final_heading_error`` (rad),
-    ``peak_wheel_speed`` (rad/s), ``path_length`` (m), ``energy`` (J), ``t_final`` (s),
-    ``converged``, ``diverged`` (bool), and ``table`` (the CLI's comparison table)."""
+    ``law`` (list[str]), ``start`` (int64), ``x0``, ``y0`` (m), ``theta0`` (rad), the
+    outcome arrays of ``run_batch`` (``final_x`` ... ``energy``, ``converged``,
+    ``diverged``), and ``table`` (the CLI's comparison table)."""
 
 def _run_batch(base: Mapping[str, Any], starts: FloatArray, goals: Optional[FloatArray] = None) -> dict[str, Any]: ...
 def _time_run_rust(scenario: ScenarioLike, n: int) -> float:
