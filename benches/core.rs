@@ -8,7 +8,8 @@ use std::time::Duration;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use wmr_core::integrator::rk4_step;
 use wmr_core::{
-    ClosedLoop, Controller, DriveParams, Measurement, PaperController, PaperParams, Pose2, Real, Robot, State, Wheels,
+    ClosedLoop, Controller, DriveParams, FixedGoal, Measurement, PaperLaw, PaperParams, Plant, Pose2, Real, Robot,
+    State, WheelStage, WheelStageParams, Wheels,
 };
 
 /// Fig. 7: (0, 0, 0) -> (1, 1, 120 deg), SPEC defaults, dt = control_dt = 1 ms.
@@ -16,16 +17,25 @@ const FIG7_STEPS: u64 = 60_000;
 /// Steps into the run where the per-step benches start: the robot is moving, not holding.
 const WARM_STEPS: u64 = 5_000;
 
-fn fig7_loop<T: Real>() -> ClosedLoop<T, PaperController<T>> {
+/// Fig. 7's goal: (1, 1, 120 deg).
+fn fig7_goal<T: Real>() -> Pose2<T> {
+    Pose2::new(T::lit(1.0), T::lit(1.0), T::lit(120f64.to_radians()))
+}
+
+/// The paper's law and the default wheel stage, composed directly (no `AnyLaw` dispatch).
+fn fig7_loop<T: Real>() -> ClosedLoop<T, PaperLaw<T>> {
     let robot = Robot::<T>::paper();
     let drive = DriveParams::default().validate(&robot).expect("default drive is valid");
-    let goal = Pose2::new(T::lit(1.0), T::lit(1.0), T::lit(120f64.to_radians()));
-    let ctrl = PaperController::new(PaperParams::paper(), &robot, &drive, goal).expect("paper gains are valid");
-    ClosedLoop::new(robot, drive, ctrl, Pose2::default(), T::lit(1e-3)).expect("dt divides control_dt")
+    let dt = T::lit(1e-3);
+    let law = PaperLaw::new(PaperParams::paper(), robot.params(), dt).expect("paper gains are valid");
+    let wheels = WheelStage::new(&WheelStageParams::default(), robot.params(), &drive, dt).expect("valid servos");
+    let ctrl = Controller::new(law, wheels);
+    let plant = Plant::new(robot, drive, Pose2::default()).expect("finite start");
+    ClosedLoop::new(plant, ctrl, FixedGoal::new(fig7_goal()).expect("finite goal"), dt).expect("dt divides control_dt")
 }
 
 /// The Fig. 7 loop `WARM_STEPS` into the run.
-fn warm_loop<T: Real>() -> ClosedLoop<T, PaperController<T>> {
+fn warm_loop<T: Real>() -> ClosedLoop<T, PaperLaw<T>> {
     let mut sim = fig7_loop::<T>();
     for _ in 0..WARM_STEPS {
         sim.step().expect("Fig. 7 does not diverge");
@@ -47,22 +57,28 @@ fn closed_loop_step<T: Real>(c: &mut Criterion, name: &str) {
     });
 }
 
+/// One controller tick (law + wheel stage) on the measurement of the warm Fig. 7 state.
+fn controller_update_at<T: Real>(
+    group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    name: &str,
+) {
+    let sim = warm_loop::<T>();
+    let s = *sim.state();
+    let robot = *sim.plant().robot();
+    let t = sim.time();
+    let m =
+        Measurement { t, pose: s.pose(), wheel_angles: s.wheel_angles(), wheel_speeds: s.wheel_speeds(robot.params()) };
+    let goal = fig7_goal::<T>();
+    let mut ctrl = *sim.controller();
+    group.bench_function(BenchmarkId::from_parameter(name), |b| {
+        b.iter(|| ctrl.update(black_box(t), black_box(&m), black_box(goal)))
+    });
+}
+
 fn controller_update(c: &mut Criterion) {
     let mut group = c.benchmark_group("controller_update");
-    let sim = warm_loop::<f64>();
-    let s = *sim.state();
-    let robot = *sim.robot();
-    let m =
-        Measurement { pose: s.pose(), wheel_angles: s.wheel_angles(), wheel_speeds: s.wheel_speeds(robot.params()) };
-    let mut ctrl = *sim.controller();
-    group.bench_function(BenchmarkId::from_parameter("f64"), |b| b.iter(|| ctrl.update(black_box(&m))));
-    let sim = warm_loop::<f32>();
-    let s = *sim.state();
-    let robot = *sim.robot();
-    let m =
-        Measurement { pose: s.pose(), wheel_angles: s.wheel_angles(), wheel_speeds: s.wheel_speeds(robot.params()) };
-    let mut ctrl = *sim.controller();
-    group.bench_function(BenchmarkId::from_parameter("f32"), |b| b.iter(|| ctrl.update(black_box(&m))));
+    controller_update_at::<f64>(&mut group, "f64");
+    controller_update_at::<f32>(&mut group, "f32");
     group.finish();
 }
 

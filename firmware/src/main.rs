@@ -1,4 +1,4 @@
-//! wmr on a Cortex-M4F: the paper's controller, the wheel servos, the torque drive and the
+//! wmr on a Cortex-M4F: the paper's law, the wheel servos, the torque drive and the
 //! dynamic model, in f32, closed by RK4 for the Fig. 7 run (0, 0, 0) -> (1, 1, 120 deg),
 //! 60 s at dt = control_dt = 1 ms, with every SPEC default. No allocator, no formatting:
 //! the plain build only computes; `--features qemu` prints the final pose through
@@ -8,7 +8,10 @@
 
 use cortex_m_rt::entry;
 use panic_halt as _;
-use wmr_core::{ClosedLoop, DriveParams, PaperController, PaperParams, Pose2, Robot};
+use wmr_core::{
+    ClosedLoop, Controller, DriveParams, FixedGoal, PaperLaw, PaperParams, Plant, Pose2, Robot, WheelStage,
+    WheelStageParams,
+};
 
 /// 60 s at 1 ms.
 const STEPS: u32 = 60_000;
@@ -16,11 +19,19 @@ const STEPS: u32 = 60_000;
 #[entry]
 fn main() -> ! {
     let robot = Robot::<f32>::paper();
-    // `match`, not `expect`: keeps the panic message formatting out of flash.
-    let Ok(drive) = DriveParams::default().validate(&robot) else { halt() };
-    let goal = Pose2::new(1.0, 1.0, 120f64.to_radians() as f32);
-    let Ok(ctrl) = PaperController::new(PaperParams::paper(), &robot, &drive, goal) else { halt() };
-    let Ok(mut sim) = ClosedLoop::new(robot, drive, ctrl, Pose2::default(), 1e-3) else { halt() };
+    let dt = 1e-3;
+    // `let else`, not `expect`: keeps the panic message formatting out of flash.
+    let drive_params = DriveParams::default();
+    let Ok(drive) = drive_params.validate(&robot) else { halt() };
+    let Ok(goal) = FixedGoal::new(Pose2::new(1.0, 1.0, 120f64.to_radians() as f32)) else { halt() };
+    // The paper's law and its wheel servos, composed directly: no `AnyLaw`, so the other
+    // laws are not linked in.
+    let Ok(law) = PaperLaw::new(PaperParams::paper(), robot.params(), dt) else { halt() };
+    let wheel_params = WheelStageParams::for_drive(&drive_params);
+    let Ok(wheels) = WheelStage::new(&wheel_params, robot.params(), &drive, dt) else { halt() };
+    let ctrl = Controller::new(law, wheels);
+    let Ok(plant) = Plant::new(robot, drive, Pose2::default()) else { halt() };
+    let Ok(mut sim) = ClosedLoop::new(plant, ctrl, goal, dt) else { halt() };
     for _ in 0..core::hint::black_box(STEPS) {
         if sim.step().is_err() {
             break;

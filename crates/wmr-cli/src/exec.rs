@@ -1,13 +1,12 @@
-//! Runs a scenario's runs in parallel (rayon, one run per task) and hands them to a
+//! Runs a scenario's runs through the scenario's ordered executor and hands them to a
 //! sink in run order, so the output does not depend on the thread count.
 
 use std::mem::size_of;
 
 use anyhow::{Result, anyhow};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use rayon::prelude::*;
 use wmr_core::Sample;
-use wmr_scenario::{RunResult, Scenario, Sink, SinkError};
+use wmr_scenario::{RunResult, Scenario, Sink, SinkError, executor};
 
 /// Memory for buffered samples at once (bytes). Runs whose samples fit are simulated in
 /// parallel batches and written in order; a run larger than this streams straight to
@@ -24,7 +23,7 @@ fn buffer_budget() -> u64 {
 const LONG_WORK_STEPS: u64 = 2_000_000;
 
 fn progress(scenario: &Scenario, show: bool) -> ProgressBar {
-    let total = scenario.sim.n_steps().saturating_mul(scenario.runs.len() as u64);
+    let total = scenario.sim().n_steps().saturating_mul(scenario.runs().len() as u64);
     if !show || total < LONG_WORK_STEPS {
         return ProgressBar::hidden();
     }
@@ -34,7 +33,7 @@ fn progress(scenario: &Scenario, show: bool) -> ProgressBar {
     {
         bar.set_style(style);
     }
-    bar.set_message(format!("{} run(s)", scenario.runs.len()));
+    bar.set_message(format!("{} run(s)", scenario.runs().len()));
     bar
 }
 
@@ -46,15 +45,15 @@ fn sink_err(e: SinkError) -> anyhow::Error {
 /// terminal, so a bar may be drawn when the work is long.
 pub fn execute(scenario: &Scenario, sink: &mut dyn Sink, show_progress: bool) -> Result<Vec<RunResult>> {
     let bar = progress(scenario, show_progress);
-    let step = u64::from(scenario.sim.log_every());
-    let per_run = scenario.sim.n_samples().saturating_mul(size_of::<Sample<f64>>() as u64);
-    let n = scenario.runs.len();
+    let step = u64::from(scenario.sim().log_every());
+    let per_run = scenario.sim().n_samples().saturating_mul(size_of::<Sample<f64>>() as u64);
+    let n = scenario.runs().len();
     let mut results = Vec::with_capacity(n);
     let budget = buffer_budget();
 
     if per_run > budget {
         // Streaming: one run at a time on this thread, bounded memory.
-        for (i, spec) in scenario.runs.iter().enumerate() {
+        for (i, spec) in scenario.runs().iter().enumerate() {
             sink.begin_run(i, spec).map_err(sink_err)?;
             let mut failed: Option<SinkError> = None;
             let result = scenario.run(i, |s| {
@@ -72,31 +71,27 @@ pub fn execute(scenario: &Scenario, sink: &mut dyn Sink, show_progress: bool) ->
             results.push(result);
         }
     } else {
-        let batch = usize::try_from((budget / per_run.max(1)).max(1)).unwrap_or(usize::MAX).min(n.max(1));
-        let capacity = usize::try_from(scenario.sim.n_samples()).unwrap_or(0);
-        for first in (0..n).step_by(batch) {
-            let last = (first + batch).min(n);
-            let done: Vec<_> = (first..last)
-                .into_par_iter()
-                .map(|i| {
-                    let mut samples = Vec::with_capacity(capacity);
-                    let result = scenario.run(i, |s| {
-                        samples.push(*s);
-                        bar.inc(step);
-                    });
-                    result.map(|r| (samples, r))
-                })
-                .collect();
-            for (i, item) in (first..last).zip(done) {
-                let (samples, result) = item?;
-                sink.begin_run(i, &scenario.runs[i]).map_err(sink_err)?;
-                for s in &samples {
-                    sink.sample(i, s).map_err(sink_err)?;
-                }
-                sink.end_run(&result).map_err(sink_err)?;
-                results.push(result);
+        // Batches of runs in parallel, their samples buffered, handed on in run order.
+        let batch = usize::try_from((budget / per_run.max(1)).max(1)).unwrap_or(usize::MAX);
+        let capacity = usize::try_from(scenario.sim().n_samples()).unwrap_or(0);
+        let job = |i: usize| {
+            let mut samples = Vec::with_capacity(capacity);
+            let result = scenario.run(i, |s| {
+                samples.push(*s);
+                bar.inc(step);
+            });
+            result.map(|r| (samples, r))
+        };
+        executor::for_each_ordered(n, batch, job, |i, item| -> Result<()> {
+            let (samples, result) = item?;
+            sink.begin_run(i, &scenario.runs()[i]).map_err(sink_err)?;
+            for s in &samples {
+                sink.sample(i, s).map_err(sink_err)?;
             }
-        }
+            sink.end_run(&result).map_err(sink_err)?;
+            results.push(result);
+            Ok(())
+        })?;
     }
     sink.finish().map_err(sink_err)?;
     bar.finish_and_clear();

@@ -5,7 +5,7 @@ pub const KEYS_HELP: &str = r#"SCENARIO FILE (TOML; every key optional except [[
 
 name = "fig7"                  scenario name (default: the file's stem)
 
-[robot]                        SI units (SPEC section 1)
+[robot]                        SI units
   mass = 5.0                   m, total mass, kg (> 0)
   wheel_radius = 0.1           r, m (> 0)
   half_track = 0.2             R, axle midpoint C to each wheel, m (> 0)
@@ -15,36 +15,53 @@ name = "fig7"                  scenario name (default: the file's stem)
   gear_ratio = 0.1             k_t, wheel speed = k_t * motor speed (> 0)
   viscous_friction = 0.0       b_v, N m s per wheel (>= 0)
   coulomb_friction = 0.0       tau_c, N m per wheel (>= 0)
-  coulomb_speed = 1e-3         omega_eps, rad/s, tanh smoothing of Coulomb friction (> 0)
+  coulomb_speed = 0.001        omega_eps, rad/s, tanh smoothing of Coulomb friction (> 0)
 
 [drive]
   kind = "torque"              "torque" (default) or "dc_motor"
   kind = "torque":
     motor_torque_max = 0.2     |motor torque| limit, N m at the motor (> 0, inf allowed)
-  kind = "dc_motor" (defaults: maxon RE 40 148867, 24 V winding):
+  kind = "dc_motor":           defaults: maxon RE 40 148867, 24 V winding
     voltage_max = 24.0         u_max, V (> 0)
     torque_constant = 0.0302   k_tau, N m/A (> 0)
     back_emf_constant = 0.0302 k_e, V s/rad at the motor shaft (>= 0)
     armature_resistance = 0.299  R_a, Ohm (> 0)
 
-[controller]
-  kind = "paper"               "paper" (SPEC section 4), "polar" or "lyapunov" (their keys:
-                               docs/scenario.md); each kind accepts only its own keys
+[controller]                   an outer law (kind) and a wheel stage; each kind accepts only its
+                               own law keys plus the wheel-stage keys and control_dt
+  kind = "paper"               "paper" (the paper's law), "polar" (Astolfi) or "lyapunov" (Aicardi)
   kind = "paper":
-  mode = "pose"                "pose" (reach x, y, theta) or "position" (heading free)
-  kp_theta = 2.0               Kp_theta (>= 0)
-  ki_theta = 0.1               Ki_theta, 1/s (>= 0)
-  kp_s = 1.0                   Kp_s (>= 0)
-  ki_s = 0.25                  Ki_s, 1/s (>= 0)
-  servo_kp = 14.0              wheel servo Kp: N m/rad (torque), V/rad (dc_motor) (> 0)
-  servo_kd = 1.4               wheel servo Kd: N m s/rad; dc_motor default 1.1 V s/rad (>= 0)
-  servo_ki = 0.0               wheel servo Ki: N m/(rad s) or V/(rad s) (>= 0)
-  goal_radius = 1e-3           m: inside it alpha keeps its last value (>= 0)
-  hold_radius = 5e-3           m: inside it the outer loop holds; 0 = off (>= 0)
-  hold = "zero_errors"         "zero_errors" (SPEC: errors zeroed, references step on entry)
+    mode = "pose"              "pose" (reach x, y, theta) or "position" (heading free)
+    kp_theta = 2.0             Kp_theta, rad/rad (>= 0)
+    ki_theta = 0.1             Ki_theta, 1/s (>= 0)
+    kp_s = 1.0                 Kp_s, m/m (>= 0)
+    ki_s = 0.25                Ki_s, 1/s (>= 0)
+    goal_radius = 0.001        m: inside it alpha keeps its last value (>= 0)
+    hold_radius = 0.005        m: inside it the outer loop holds; 0 = off (>= 0)
+    hold = "zero_errors"       "zero_errors" (errors zeroed, references step on entry)
                                or "freeze" (bumpless: keep the last wheel references)
-  control_dt = 1e-3            s, control period; a whole multiple of sim.dt (> 0)
-  wheel_speed_max = inf        rad/s, limit on the wheel reference speeds; absent = off
+  kind = "polar":              v = k_rho rho, omega = k_alpha alpha + k_beta beta
+    k_rho = 0.5                1/s (> 0)
+    k_alpha = 3.0              1/s (> k_rho; k_alpha + 5/3 k_beta - 2/pi k_rho > 0)
+    k_beta = -1.2              1/s (< 0)
+    reverse = true             back up when the goal is behind
+    reverse_hysteresis = 0.5235987755982989
+                               rad, overshoot of |alpha| past pi/2 before a switch ([0, pi/2))
+    goal_radius = 0.001        m: inside it the law stops, resumes beyond twice that (>= 0)
+  kind = "lyapunov":           Aicardi et al. 1995; also reaches the goal heading
+    gamma = 0.5                1/s (> 0)
+    k = 3.0                    1/s (> 0)
+    h = 9.0                    weight of theta_A against alpha (> 0)
+    reverse = true             back up when the goal is behind
+    reverse_hysteresis = 0.5235987755982989
+                               rad ([0, pi/2))
+    goal_radius = 0.001        m (>= 0)
+  every kind (the wheel stage):
+    servo_kp = 14.0            wheel servo Kp: N m/rad (torque), V/rad (dc_motor) (> 0)
+    servo_kd = 1.4             wheel servo Kd: N m s/rad; dc_motor default 1.1 V s/rad (>= 0)
+    servo_ki = 0.0             wheel servo Ki: N m/(rad s) or V/(rad s) (>= 0)
+    wheel_speed_max = inf      rad/s, limit on the wheel reference speeds, curvature kept (> 0)
+    control_dt = 0.001         s, control period; a whole multiple of sim.dt (> 0)
 
 [sim]
   t_end = 60.0                 s per run; a whole multiple of dt; <= 1e6 s and <= 1e9 steps

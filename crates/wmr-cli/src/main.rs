@@ -124,7 +124,7 @@ fn run(cli: Cli) -> Result<()> {
         }
         Command::Sweep { file, output, plots } => {
             let scenario = load(&file)?;
-            let output = output.unwrap_or_else(|| PathBuf::from(format!("{}-sweep.csv", scenario.name)));
+            let output = output.unwrap_or_else(|| PathBuf::from(format!("{}-sweep.csv", scenario.name())));
             atomic::install_interrupt_handler()?;
             sweep_cmd::sweep(&scenario, &output, plots.as_deref(), std::io::stderr().is_terminal())
         }
@@ -138,7 +138,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Run { file, output, format } => {
             let format = format_of(&output, format)?;
             let scenario = load(&file)?;
-            if scenario.runs.is_empty() {
+            if scenario.runs().is_empty() {
                 bail!("{} has no [[run]] (a [sweep] file runs with `wmr-cli sweep`)", file.display());
             }
             if output.is_dir() {
@@ -150,9 +150,9 @@ fn run(cli: Cli) -> Result<()> {
             let file = out.file()?;
             let mut sink: Box<dyn Sink> = match format {
                 Format::Csv => Box::new(csv_sink::CsvSink::new(file).map_err(|e| anyhow::anyhow!(e))?),
-                Format::Mcap => {
-                    Box::new(mcap_sink::McapSink::new(file, scenario.robot).map_err(|e| anyhow::anyhow!(e))?)
-                }
+                Format::Mcap => Box::new(
+                    mcap_sink::McapSink::new(file, *scenario.robot().params()).map_err(|e| anyhow::anyhow!(e))?,
+                ),
             };
             let results = exec::execute(&scenario, sink.as_mut(), std::io::stderr().is_terminal())
                 .with_context(|| format!("cannot write {}", output.display()))?;
@@ -165,7 +165,7 @@ fn run(cli: Cli) -> Result<()> {
                 "wmr-cli: wrote {} ({} run(s), {} samples each, {:.2} s)",
                 output.display(),
                 results.len(),
-                scenario.sim.n_samples(),
+                scenario.sim().n_samples(),
                 started.elapsed().as_secs_f64()
             );
             Ok(())

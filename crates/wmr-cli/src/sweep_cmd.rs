@@ -6,6 +6,7 @@ use std::path::Path;
 
 use anyhow::{Context as _, Result, bail};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use wmr_core::Status;
 use wmr_plot::{CellOutcome, SweepCell, region_svg};
 use wmr_scenario::{SWEEP_COLUMNS, Scenario, SweepOutcome, SweepSpec, summarize, summary_table, sweep_row};
 
@@ -14,7 +15,7 @@ use crate::atomic::AtomicOut;
 /// Runs the sweep of `scenario`, writes the outcome CSV to `out` and, with `plots`, one
 /// `region-<law>.svg` per law into that folder; prints the comparison table.
 pub fn sweep(scenario: &Scenario, out: &Path, plots: Option<&Path>, show_progress: bool) -> Result<()> {
-    let Some(spec) = &scenario.sweep else {
+    let Some(spec) = &scenario.sweep() else {
         bail!("the scenario has no [sweep] table (see `wmr-cli --help` for its keys)");
     };
     let bar = if show_progress && spec.len() > 50 {
@@ -29,7 +30,7 @@ pub fn sweep(scenario: &Scenario, out: &Path, plots: Option<&Path>, show_progres
         ProgressBar::hidden()
     };
     let started = std::time::Instant::now();
-    let outcomes = spec.run(&scenario.robot, &scenario.drive, &scenario.sim, &|| bar.inc(1))?;
+    let outcomes = spec.run(scenario.robot(), scenario.drive(), scenario.sim(), &|| bar.inc(1))?;
     bar.finish_and_clear();
     let wall = started.elapsed().as_secs_f64();
 
@@ -43,7 +44,7 @@ pub fn sweep(scenario: &Scenario, out: &Path, plots: Option<&Path>, show_progres
         spec.len(),
         spec.laws.len(),
         spec.starts.len(),
-        scenario.sim.t_end(),
+        scenario.sim().t_end(),
         out.display()
     );
     Ok(())
@@ -64,12 +65,10 @@ fn write_csv(spec: &SweepSpec, outcomes: &[SweepOutcome], out: &Path) -> Result<
 
 /// The outcome of a sweep run as a map cell.
 fn cell(o: &SweepOutcome) -> SweepCell {
-    let outcome = if o.outcome.termination.diverged() {
-        CellOutcome::Diverged
-    } else if o.converged() {
-        CellOutcome::Converged
-    } else {
-        CellOutcome::NotConverged
+    let outcome = match o.status() {
+        Status::Diverged => CellOutcome::Diverged,
+        Status::Converged => CellOutcome::Converged,
+        Status::NotConverged => CellOutcome::NotConverged,
     };
     SweepCell { x: o.start.x, y: o.start.y, outcome }
 }

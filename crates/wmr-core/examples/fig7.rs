@@ -1,13 +1,14 @@
 //! The paper's Fig. 7 run, (0, 0, 0) -> (1, 1, 120 deg), with every SPEC default; prints the summary.
 
-use wmr_core::{ClosedLoop, DriveParams, PaperController, PaperParams, Pose2, Robot};
+use wmr_core::{ClosedLoop, ControllerParams, DriveParams, FixedGoal, Plant, Pose2, Robot};
 
 fn main() {
     let robot = Robot::<f64>::paper();
     let drive = DriveParams::default().validate(&robot).expect("default drive is valid");
-    let goal = Pose2::new(1.0, 1.0, 120f64.to_radians());
-    let ctrl = PaperController::new(PaperParams::paper(), &robot, &drive, goal).expect("paper gains are valid");
-    let mut sim = ClosedLoop::new(robot, drive, ctrl, Pose2::default(), 1e-3).expect("dt divides control_dt");
+    let goal = FixedGoal::new(Pose2::new(1.0, 1.0, 120f64.to_radians())).expect("finite goal");
+    let ctrl = ControllerParams::paper().build(robot.params(), &drive).expect("paper gains are valid");
+    let plant = Plant::new(robot, drive, Pose2::default()).expect("finite start");
+    let mut sim = ClosedLoop::new(plant, ctrl, goal, 1e-3).expect("dt divides control_dt");
     let mut peak = 0.0f64;
     let out = sim.run(60_000, 5000, |s| {
         peak = peak.max(s.wheel_speeds.right.abs()).max(s.wheel_speeds.left.abs());
@@ -18,5 +19,5 @@ fn main() {
         );
     });
     println!("{out:#?}");
-    println!("final heading error {:.2} deg", out.final_heading_error.to_degrees());
+    println!("{}: final heading error {:.2} deg", out.status().name(), out.final_heading_error.to_degrees());
 }

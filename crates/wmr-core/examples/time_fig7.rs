@@ -15,17 +15,25 @@ use std::hint::black_box;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-use wmr_core::{ClosedLoop, DriveParams, PaperController, PaperParams, Pose2, Real, Robot};
+use wmr_core::{
+    ClosedLoop, Controller, DriveParams, FixedGoal, PaperLaw, PaperParams, Plant, Pose2, Real, Robot, WheelStage,
+    WheelStageParams,
+};
 
 /// Fig. 7: (0, 0, 0) -> (1, 1, 120 deg), SPEC defaults, 60 s at dt = control_dt = 1 ms.
 const FIG7_STEPS: u64 = 60_000;
 
-fn fig7_loop<T: Real>(goal_theta_deg: f64) -> ClosedLoop<T, PaperController<T>> {
+/// The paper's law and the default wheel stage, composed directly (no `AnyLaw` dispatch).
+fn fig7_loop<T: Real>(goal_theta_deg: f64) -> ClosedLoop<T, PaperLaw<T>> {
     let robot = Robot::<T>::paper();
     let drive = DriveParams::default().validate(&robot).expect("default drive is valid");
     let goal = Pose2::new(T::lit(1.0), T::lit(1.0), T::lit(goal_theta_deg.to_radians()));
-    let ctrl = PaperController::new(PaperParams::paper(), &robot, &drive, goal).expect("paper gains are valid");
-    ClosedLoop::new(robot, drive, ctrl, Pose2::default(), T::lit(1e-3)).expect("dt divides control_dt")
+    let dt = T::lit(1e-3);
+    let law = PaperLaw::new(PaperParams::paper(), robot.params(), dt).expect("paper gains are valid");
+    let wheels = WheelStage::new(&WheelStageParams::default(), robot.params(), &drive, dt).expect("valid servos");
+    let ctrl = Controller::new(law, wheels);
+    let plant = Plant::new(robot, drive, Pose2::default()).expect("finite start");
+    ClosedLoop::new(plant, ctrl, FixedGoal::new(goal).expect("finite goal"), dt).expect("dt divides control_dt")
 }
 
 /// The closed-loop step alone, `FIG7_STEPS` times; returns the final pose and steps taken.

@@ -23,7 +23,7 @@ impl<T: Real> Robot<T> {
 
     /// Time derivative of the state under wheel torques `tau_wheel` (N m, drive on wheel).
     ///
-    /// For many calls with the same robot, [`crate::ClosedLoop`] keeps a precomputed
+    /// For many calls with the same robot, [`crate::Plant`] keeps a precomputed
     /// model instead; both give the same bits.
     #[inline(always)]
     pub fn derivative(&self, s: &State<T>, tau_wheel: Wheels<T>) -> State<T> {
@@ -38,7 +38,7 @@ impl<T: Real> Robot<T> {
     }
 }
 
-/// The constants of (15) gathered for the hot path: built once per [`crate::ClosedLoop`],
+/// The constants of (15) gathered for the hot path: built once per [`crate::Plant`],
 /// so a step reloads no parameter struct and divides only where the equations divide.
 ///
 /// Every field is a value [`Robot::derivative`] would otherwise compute on each call

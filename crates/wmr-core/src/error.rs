@@ -25,18 +25,20 @@ impl fmt::Display for Reason {
             Reason::NotFinite => f.write_str("must be a finite number"),
             Reason::NotPositive => f.write_str("must be > 0"),
             Reason::Negative => f.write_str("must be >= 0"),
-            Reason::NotMultipleOfDt => f.write_str("must be a whole multiple of sim.dt"),
+            Reason::NotMultipleOfDt => f.write_str("must be a whole multiple of the plant step dt"),
             Reason::NaN => f.write_str("must not be NaN"),
             Reason::OutOfRange(why) => f.write_str(why),
         }
     }
 }
 
-/// An invalid parameter: the field (named as the scenario key, e.g. `robot.mass`), the
-/// reason and the offending value. `Copy` and alloc-free, so firmware can use it too.
+/// An invalid parameter: the field (the core's own name, e.g. `mass`, `goal.x`,
+/// `control_dt`), the reason and the offending value. `Copy` and alloc-free, so firmware
+/// can use it too. Whoever knows where the value came from (a scenario file, a C struct)
+/// adds the path: `robot.mass`, `run[2].goal.x`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ParamError {
-    /// The scenario key of the parameter, e.g. `"robot.wheel_radius"`.
+    /// The field of the struct or argument that was checked, e.g. `"wheel_radius"`.
     pub field: &'static str,
     /// Why it was rejected.
     pub reason: Reason,

@@ -11,19 +11,26 @@
 //! throughout; frames are named where they matter (world frame XOY, body frame of C).
 //!
 //! ```
-//! use wmr_core::{ClosedLoop, PaperController, PaperParams, Pose2, DriveParams, Robot};
+//! use wmr_core::{ClosedLoop, ControllerParams, DriveParams, FixedGoal, Plant, Pose2, Robot};
 //!
 //! let robot = Robot::<f64>::paper();
 //! let drive = DriveParams::default().validate(&robot).unwrap();
-//! let goal = Pose2::new(1.0, 1.0, 120f64.to_radians());
-//! let ctrl = PaperController::new(PaperParams::paper(), &robot, &drive, goal).unwrap();
-//! let mut sim = ClosedLoop::new(robot, drive, ctrl, Pose2::default(), 1e-3).unwrap();
+//! let plant = Plant::new(robot, drive, Pose2::default()).unwrap();
+//! let controller = ControllerParams::paper().build(robot.params(), &drive).unwrap();
+//! let goal = FixedGoal::new(Pose2::new(1.0, 1.0, 120f64.to_radians())).unwrap();
+//! let mut sim = ClosedLoop::new(plant, controller, goal, 1e-3).unwrap();
 //! let outcome = sim.run(60_000, 10, |_sample| {});
 //! assert!(outcome.final_dl < 0.01);
 //! ```
+//!
+//! The loop is made of parts, each its own module: [`plant`] (the truth: robot, drive,
+//! RK4), [`sensor`] (what the controller sees), [`reference`](mod@reference) (the goal over time),
+//! [`controller`] (an outer law and a wheel stage), [`closed_loop`] (ties them together
+//! and logs [`Sample`]s) and [`outcome`] (how the run went, from the true state).
 #![no_std]
 #![warn(missing_docs)]
 
+pub mod closed_loop;
 pub mod controller;
 pub mod drive;
 mod dynamics;
@@ -31,25 +38,29 @@ pub mod error;
 pub mod integrator;
 pub mod kinematics;
 pub mod math;
-pub mod metrics;
+pub mod outcome;
 mod params;
+pub mod plant;
 mod real;
-pub mod sim;
+pub mod reference;
+pub mod sample;
+pub mod sensor;
 pub mod state;
 
+pub use closed_loop::{ClosedLoop, Diverged};
 pub use controller::{
-    AnyController, ControllerKind, ControllerParams, LyapunovController, LyapunovParams, PaperSaturated,
-    PolarController, PolarParams,
-};
-pub use controller::{
-    ControlErrors, ControlOutput, Controller, HoldMode, Measurement, PaperController, PaperMode, PaperParams,
-    ServoGains,
+    AnyLaw, ControlErrors, ControlOutput, Controller, ControllerParams, HoldMode, Law, LawParams, LyapunovLaw,
+    LyapunovParams, PaperLaw, PaperMode, PaperParams, PolarLaw, PolarParams, ServoGains, WheelDemand, WheelStage,
+    WheelStageParams,
 };
 pub use drive::{DcMotorParams, Drive, DriveParams, TorqueDriveParams};
 pub use error::{ParamError, Reason};
 pub use math::{Pose2, Twist2, Wheels, wrap_angle};
-pub use metrics::{Outcome, Termination};
+pub use outcome::{ARRIVAL_RADIUS_M, Outcome, Status, Termination};
 pub use params::{Robot, RobotParams};
+pub use plant::Plant;
 pub use real::Real;
-pub use sim::{ClosedLoop, Sample};
+pub use reference::{FixedGoal, Reference};
+pub use sample::Sample;
+pub use sensor::{Measurement, PerfectSensor, Sensor};
 pub use state::State;

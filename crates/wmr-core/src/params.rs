@@ -8,6 +8,7 @@ use crate::error::{ParamError, check};
 /// Field names match the `[robot]` keys of a scenario file. Build a checked [`Robot`]
 /// with [`RobotParams::validate`]; the raw struct is never used by the models.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct RobotParams<T> {
     /// m, total mass, kg.
     pub mass: T,
@@ -54,20 +55,20 @@ impl<T: Real> RobotParams<T> {
     /// Rejects NaN and infinity everywhere; m, r, R, k_t, omega_eps and
     /// I_p + m d^2 must be > 0; I_m, I_p, b_v and tau_c must be >= 0.
     pub fn validate(self) -> Result<Robot<T>, ParamError> {
-        let m = check::positive("robot.mass", self.mass)?;
-        let r = check::positive("robot.wheel_radius", self.wheel_radius)?;
-        let big_r = check::positive("robot.half_track", self.half_track)?;
-        let d = check::finite("robot.com_offset", self.com_offset)?;
-        let i_m = check::non_negative("robot.wheel_inertia", self.wheel_inertia)?;
-        let i_p = check::non_negative("robot.platform_inertia", self.platform_inertia)?;
-        check::positive("robot.gear_ratio", self.gear_ratio)?;
-        check::non_negative("robot.viscous_friction", self.viscous_friction)?;
-        check::non_negative("robot.coulomb_friction", self.coulomb_friction)?;
-        check::positive("robot.coulomb_speed", self.coulomb_speed)?;
+        let m = check::positive("mass", self.mass)?;
+        let r = check::positive("wheel_radius", self.wheel_radius)?;
+        let big_r = check::positive("half_track", self.half_track)?;
+        let d = check::finite("com_offset", self.com_offset)?;
+        let i_m = check::non_negative("wheel_inertia", self.wheel_inertia)?;
+        let i_p = check::non_negative("platform_inertia", self.platform_inertia)?;
+        check::positive("gear_ratio", self.gear_ratio)?;
+        check::non_negative("viscous_friction", self.viscous_friction)?;
+        check::non_negative("coulomb_friction", self.coulomb_friction)?;
+        check::positive("coulomb_speed", self.coulomb_speed)?;
         let yaw_inertia_g = i_p + m * d * d;
         if yaw_inertia_g <= T::zero() {
             return Err(check::out_of_range(
-                "robot.platform_inertia",
+                "platform_inertia",
                 "platform_inertia + mass * com_offset^2 must be > 0",
                 i_p,
             ));

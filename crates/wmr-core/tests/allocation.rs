@@ -4,15 +4,22 @@
 mod common;
 
 use common::fig7;
-use wmr_core::{ClosedLoop, DcMotorParams, DriveParams, PaperController, PaperParams, Real, Robot, ServoGains};
+use wmr_core::{
+    ClosedLoop, Controller, DcMotorParams, DriveParams, FixedGoal, PaperLaw, PaperParams, Plant, Real, Robot,
+    ServoGains, WheelStage, WheelStageParams,
+};
 
 fn steps_allocate<T: Real>(drive: DriveParams<T>, servo: ServoGains<T>) -> u64 {
     let robot = Robot::<T>::paper();
     let drive = drive.validate(&robot).unwrap();
     let (start, goal) = fig7::<T>();
-    let params = PaperParams { servo, ..PaperParams::paper() };
-    let ctrl = PaperController::new(params, &robot, &drive, goal).unwrap();
-    let mut sim = ClosedLoop::new(robot, drive, ctrl, start, T::lit(1e-3)).unwrap();
+    let dt = T::lit(1e-3);
+    let wheels =
+        WheelStageParams { servo_kp: servo.kp, servo_kd: servo.kd, servo_ki: servo.ki, ..WheelStageParams::default() };
+    let law = PaperLaw::new(PaperParams::paper(), robot.params(), dt).unwrap();
+    let ctrl = Controller::new(law, WheelStage::new(&wheels, robot.params(), &drive, dt).unwrap());
+    let plant = Plant::new(robot, drive, start).unwrap();
+    let mut sim = ClosedLoop::new(plant, ctrl, FixedGoal::new(goal).unwrap(), dt).unwrap();
     let mut checksum = T::zero();
     let info = allocation_counter::measure(|| {
         let out = sim.run(100_000, 10, |s| checksum = checksum + s.state.x);

@@ -9,11 +9,14 @@ use core::f64::consts::{FRAC_PI_2, PI};
 
 use proptest::prelude::*;
 use wmr_core::controller::polar_frame::Direction;
-use wmr_core::controller::{limit_twist, limit_wheel_speeds};
+use wmr_core::controller::{ServoGains, WheelServo, limit_wheel_speeds};
+use wmr_core::kinematics::{twist_from_wheels, wheel_speeds};
+use wmr_core::sensor::{PerfectSensor, Sensor};
 use wmr_core::{
-    AnyController, ClosedLoop, Controller, ControllerKind, ControllerParams, DriveParams, LyapunovController,
-    LyapunovParams, Outcome, PaperController, PaperParams, PaperSaturated, ParamError, PolarController, PolarParams,
-    Pose2, Real, Reason, Robot, RobotParams, Twist2, Wheels,
+    ARRIVAL_RADIUS_M, AnyLaw, ClosedLoop, Controller, ControllerParams, DriveParams, FixedGoal, Law, LawParams,
+    LyapunovLaw, LyapunovParams, Outcome, PaperLaw, PaperParams, ParamError, Plant, PolarLaw, PolarParams, Pose2, Real,
+    Reason, Robot, RobotParams, Sample, Status, Termination, Twist2, WheelDemand, WheelStage, WheelStageParams, Wheels,
+    wrap_angle,
 };
 
 const DT: f64 = 1e-3;
@@ -26,29 +29,45 @@ fn pose<T: Real>(x: f64, y: f64, theta_deg: f64) -> Pose2<T> {
     Pose2::new(T::lit(x), T::lit(y), T::lit(theta_deg.to_radians()))
 }
 
-/// A loop with the paper's robot and default drive around `ctrl`.
-fn closed<T: Real, C: Controller<T>>(ctrl: C, start: Pose2<T>) -> ClosedLoop<T, C> {
+/// A loop with the paper's robot and default drive around `ctrl`, from `start` to a fixed `goal`.
+fn closed<T: Real, L: Law<T>>(ctrl: Controller<T, L>, start: Pose2<T>, goal: Pose2<T>) -> ClosedLoop<T, L> {
     let robot = Robot::<T>::paper();
     let drive = DriveParams::default().validate(&robot).unwrap();
-    ClosedLoop::new(robot, drive, ctrl, start, T::lit(DT)).unwrap()
+    let plant = Plant::new(robot, drive, start).unwrap();
+    ClosedLoop::new(plant, ctrl, FixedGoal::new(goal).unwrap(), T::lit(DT)).unwrap()
 }
 
-fn build<T: Real>(params: ControllerParams<T>, goal: Pose2<T>) -> AnyController<T> {
-    let robot = Robot::<T>::paper();
-    let drive = DriveParams::default().validate(&robot).unwrap();
-    params.build(&robot, &drive, goal).unwrap()
+/// Any law by its keys, with the default wheel stage and control period.
+fn build<T: Real>(law: LawParams<T>) -> Controller<T, AnyLaw<T>> {
+    build_with(ControllerParams::with_law(law))
 }
 
-fn polar<T: Real>(p: PolarParams<T>, goal: Pose2<T>) -> PolarController<T> {
+fn build_with<T: Real>(params: ControllerParams<T>) -> Controller<T, AnyLaw<T>> {
     let robot = Robot::<T>::paper();
     let drive = DriveParams::default().validate(&robot).unwrap();
-    PolarController::new(p, &robot, &drive, goal).unwrap()
+    params.build(robot.params(), &drive).unwrap()
 }
 
-fn lyapunov<T: Real>(p: LyapunovParams<T>, goal: Pose2<T>) -> LyapunovController<T> {
+/// `law` with the torque-drive wheel stage, limited to `wheel_speed_max` rad/s (inf = off).
+fn with_wheels<T: Real, L: Law<T>>(law: L, wheel_speed_max: T) -> Controller<T, L> {
     let robot = Robot::<T>::paper();
     let drive = DriveParams::default().validate(&robot).unwrap();
-    LyapunovController::new(p, &robot, &drive, goal).unwrap()
+    let dt = T::lit(DT);
+    let wheels = WheelStageParams { wheel_speed_max, ..WheelStageParams::default() };
+    Controller::new(law, WheelStage::new(&wheels, robot.params(), &drive, dt).unwrap())
+}
+
+fn polar<T: Real>(p: PolarParams<T>) -> Controller<T, PolarLaw<T>> {
+    with_wheels(PolarLaw::new(p).unwrap(), T::infinity())
+}
+
+fn lyapunov<T: Real>(p: LyapunovParams<T>) -> Controller<T, LyapunovLaw<T>> {
+    with_wheels(LyapunovLaw::new(p).unwrap(), T::infinity())
+}
+
+/// The two polar-coordinate laws with their default keys.
+fn polar_laws<T: Real>() -> [LawParams<T>; 2] {
+    [LawParams::Polar(PolarParams::default()), LawParams::Lyapunov(LyapunovParams::default())]
 }
 
 /// Tracks the first time from which dl stays below 1 cm (as `Outcome::time_to_arrival`).
@@ -81,6 +100,7 @@ fn assert_converged(what: &str, o: &Outcome<f64>, goal: Pose2<f64>, t_max_s: f64
     assert!(t < t_max_s, "{what}: arrival at {t} s, not before {t_max_s} s");
     assert!(dl <= dl_max, "{what}: final dl {dl} m > {dl_max} m");
     assert!(head.abs() < deg(head_max_deg), "{what}: heading error {} deg", head.to_degrees());
+    assert_eq!((o.status(), o.goal), (Status::Converged, goal), "{what}");
 }
 
 // The anchors' scenarios (Corke's RVC drive-to-pose and PythonRobotics move_to_pose).
@@ -99,11 +119,11 @@ fn anchor_2() -> (Pose2<f64>, Pose2<f64>) {
 #[test]
 fn polar_anchor_1_converges() {
     let (start, goal) = anchor_1();
-    let mut sim = closed(polar(PolarParams::default(), goal), start);
+    let mut sim = closed(polar(PolarParams::default()), start, goal);
     let o = sim.run(steps(30.0), 10, |_| {});
     assert_converged("polar (5,5,0)->(1,4,0)", &o, goal, 15.0, 1.01e-3, 1.0);
     // The goal direction (-4, -1) is behind the heading (1, 0): the robot reverses.
-    assert_eq!(sim.controller().direction(), Some(Direction::Backward));
+    assert_eq!(sim.controller().law().direction(), Some(Direction::Backward));
 }
 
 /// Polar law, (5, 9, 0) -> (5, 5, 90 deg): measured arrival 15.1 s, heading error 2.5 deg.
@@ -113,13 +133,13 @@ fn polar_anchor_1_converges() {
 #[test]
 fn polar_anchor_2_converges() {
     let (start, goal) = anchor_2();
-    let mut sim = closed(polar(PolarParams::default(), goal), start);
+    let mut sim = closed(polar(PolarParams::default()), start, goal);
     let mut switches = 0;
-    let mut last = sim.controller().direction();
+    let mut last = sim.controller().law().direction();
     let mut arrived = None;
     for _ in 0..steps(30.0) {
         sim.step().unwrap();
-        let d = sim.controller().direction();
+        let d = sim.controller().law().direction();
         if d != last {
             switches += 1;
             last = d;
@@ -136,7 +156,7 @@ fn polar_anchor_2_converges() {
 #[test]
 fn lyapunov_anchor_1_reaches_heading() {
     let (start, goal) = anchor_1();
-    let mut sim = closed(lyapunov(LyapunovParams::default(), goal), start);
+    let mut sim = closed(lyapunov(LyapunovParams::default()), start, goal);
     let o = sim.run(steps(30.0), 10, |_| {});
     assert_converged("lyapunov (5,5,0)->(1,4,0)", &o, goal, 15.0, 1.01e-3, 1.0);
 }
@@ -145,7 +165,7 @@ fn lyapunov_anchor_1_reaches_heading() {
 #[test]
 fn lyapunov_anchor_2_reaches_heading() {
     let (start, goal) = anchor_2();
-    let mut sim = closed(lyapunov(LyapunovParams::default(), goal), start);
+    let mut sim = closed(lyapunov(LyapunovParams::default()), start, goal);
     let o = sim.run(steps(30.0), 10, |_| {});
     assert_converged("lyapunov (5,9,0)->(5,5,90)", &o, goal, 15.0, 1.01e-3, 1.0);
 }
@@ -155,7 +175,7 @@ fn lyapunov_anchor_2_reaches_heading() {
 #[test]
 fn lyapunov_fig7_reaches_heading() {
     let (start, goal) = (pose(0.0, 0.0, 0.0), pose(1.0, 1.0, 120.0));
-    let mut sim = closed(lyapunov(LyapunovParams::default(), goal), start);
+    let mut sim = closed(lyapunov(LyapunovParams::default()), start, goal);
     let o = sim.run(steps(30.0), 10, |_| {});
     assert_converged("lyapunov (0,0,0)->(1,1,120)", &o, goal, 15.0, 1.01e-3, 0.1);
 }
@@ -165,15 +185,15 @@ fn lyapunov_fig7_reaches_heading() {
 #[test]
 fn goal_behind_backs_up_straight() {
     let (start, goal) = (pose(0.0, 0.0, 0.0), pose(-1.0, 0.0, 0.0));
-    for kind in [ControllerKind::Polar, ControllerKind::Lyapunov] {
-        let mut sim = closed(build(kind.default_params(), goal), start);
+    for law in polar_laws() {
+        let mut sim = closed(build(law), start, goal);
         let (mut max_v, mut max_lateral, mut max_turn) = (0.0_f64, 0.0_f64, 0.0_f64);
         let o = sim.run(steps(20.0), 1, |s| {
             max_v = max_v.max(s.state.v);
             max_lateral = max_lateral.max(s.state.y.abs());
             max_turn = max_turn.max(s.state.theta.abs());
         });
-        let what = kind.name();
+        let what = law.kind();
         // Measured: arrival 9.2 s for both.
         assert_converged(what, &o, goal, 12.0, 1.01e-3, 1e-6);
         // Up to the stop's settling (measured 6e-5 m/s once held at the goal).
@@ -187,12 +207,12 @@ fn goal_behind_backs_up_straight() {
 #[test]
 fn goal_ahead_drives_forward() {
     let (start, goal) = (pose(0.0, 0.0, 0.0), pose(1.0, 1.0, 120.0));
-    for kind in [ControllerKind::Polar, ControllerKind::Lyapunov] {
-        let mut sim = closed(build(kind.default_params(), goal), start);
+    for law in polar_laws() {
+        let mut sim = closed(build(law), start, goal);
         let mut min_v = 0.0_f64;
         let o = sim.run(steps(20.0), 1, |s| min_v = min_v.min(s.state.v));
-        assert!(o.time_to_arrival.is_some(), "{}: {o:?}", kind.name());
-        assert!(min_v > -1e-3, "{}: backed up at {min_v} m/s", kind.name());
+        assert!(o.time_to_arrival.is_some(), "{}: {o:?}", law.kind());
+        assert!(min_v > -1e-3, "{}: backed up at {min_v} m/s", law.kind());
     }
 }
 
@@ -205,9 +225,9 @@ fn goal_ahead_drives_forward() {
 fn lyapunov_function_decreases_on_dynamic_robot() {
     let h = LyapunovParams::<f64>::default().h;
     for (start, goal) in [anchor_1(), anchor_2(), (pose(0.0, 0.0, 0.0), pose(1.0, 1.0, 120.0))] {
-        let mut sim = closed(lyapunov(LyapunovParams::default(), goal), start);
+        let mut sim = closed(lyapunov(LyapunovParams::default()), start, goal);
         sim.step().unwrap();
-        let dir = sim.controller().direction().unwrap();
+        let dir = sim.controller().law().direction().unwrap();
         // W recomputed here from the pose: in the driving frame, alpha = wrap(phi - theta)
         // and theta_A = wrap(phi - theta_d), with both headings turned by pi when reversing.
         let flip = if dir == Direction::Backward { PI } else { 0.0 };
@@ -231,6 +251,9 @@ fn lyapunov_function_decreases_on_dynamic_robot() {
             }
             if i % 10 == 0 {
                 let w = w_of(p);
+                // The law's own W agrees with the one written out here.
+                let w_law = sim.controller().law().angular_lyapunov(p, goal, dir);
+                assert!((w_law - w).abs() <= 1e-9 * w0, "W {w} here, {w_law} by the law");
                 let rise = (w - w_prev) / w0;
                 if sim.time() < 2.0 {
                     early_rise = early_rise.max(rise);
@@ -255,15 +278,16 @@ fn lyapunov_function_decreases_on_dynamic_robot() {
 #[test]
 fn reset_repeats_the_run() {
     let (start, goal) = anchor_1();
-    for kind in [ControllerKind::Polar, ControllerKind::Lyapunov] {
-        let fresh = build(kind.default_params(), goal);
-        let mut sim = closed(fresh, start);
+    for law in polar_laws() {
+        let fresh = build(law);
+        let mut sim = closed(fresh, start, goal);
         let first = sim.run(steps(5.0), 10, |_| {});
         let mut used = *sim.controller();
+        assert_ne!(used, fresh, "{}: the run left no memory to reset", law.kind());
         used.reset();
-        let mut again = closed(used, start);
+        let mut again = closed(used, start, goal);
         let second = again.run(steps(5.0), 10, |_| {});
-        assert_eq!(first, second, "{}", kind.name());
+        assert_eq!(first, second, "{}", law.kind());
     }
 }
 
@@ -280,8 +304,8 @@ fn reset_repeats_the_run() {
 fn laws_converge_in_f32() {
     let start = pose::<f32>(4.0, 1.0, 0.0);
     let goal = pose::<f32>(0.0, 0.0, 0.0);
-    for kind in [ControllerKind::Polar, ControllerKind::Lyapunov] {
-        let mut sim = closed(build::<f32>(kind.default_params(), goal), start);
+    for law in polar_laws::<f32>() {
+        let mut sim = closed(build::<f32>(law), start, goal);
         let o = sim.run(steps(30.0), 10, |_| {});
         let p = o.final_pose;
         let p64 = Pose2::new(f64::from(p.x), f64::from(p.y), f64::from(p.theta));
@@ -289,14 +313,14 @@ fn laws_converge_in_f32() {
         let (dl, head) = miss(p64, g64);
         eprintln!(
             "f32 {}: arrival {:?} s, dl {dl:.2e} m, heading {:.4} deg",
-            kind.name(),
+            law.kind(),
             o.time_to_arrival,
             head.to_degrees()
         );
-        assert!(o.time_to_arrival.is_some_and(|t| t < 16.0), "{}: {o:?}", kind.name());
-        assert!(dl < 2.5e-3, "{}: dl {dl}", kind.name());
-        let head_max = if kind == ControllerKind::Lyapunov { 1.0 } else { 3.0 };
-        assert!(head.abs() < deg(head_max), "{}: heading error {} deg", kind.name(), head.to_degrees());
+        assert!(o.time_to_arrival.is_some_and(|t| t < 16.0), "{}: {o:?}", law.kind());
+        assert!(dl < 2.5e-3, "{}: dl {dl}", law.kind());
+        let head_max = if matches!(law, LawParams::Lyapunov(_)) { 1.0 } else { 3.0 };
+        assert!(head.abs() < deg(head_max), "{}: heading error {} deg", law.kind(), head.to_degrees());
     }
 }
 
@@ -308,26 +332,34 @@ fn wheels_by_hand(p: &RobotParams<f64>, t: Twist2<f64>) -> (f64, f64) {
     ((t.v + p.half_track * t.omega) / p.wheel_radius, (t.v - p.half_track * t.omega) / p.wheel_radius)
 }
 
+/// The controller's wheel stage limited to `w_max` rad/s, around `law`.
+fn limited(law: LawParams<f64>, w_max: f64) -> Controller<f64, AnyLaw<f64>> {
+    let wheels = WheelStageParams { wheel_speed_max: w_max, ..WheelStageParams::default() };
+    build_with(ControllerParams { wheels, ..ControllerParams::with_law(law) })
+}
+
 proptest! {
-    /// omega / v is kept (as the cross product v_s omega - omega_s v = 0), the faster wheel
-    /// ends exactly at the limit, and nothing changes within the limit.
+    /// A twist limited through its wheel speeds (the inverse of (1), `limit_wheel_speeds`,
+    /// then (1) back): omega / v is kept (as the cross product v_s omega - omega_s v = 0),
+    /// the faster wheel ends exactly at the limit, and nothing changes within the limit.
     #[test]
-    fn limit_twist_keeps_curvature(v in -5.0f64..5.0, omega in -20.0f64..20.0, w_max in 0.5f64..50.0) {
+    fn limited_wheel_speeds_keep_the_twist_curvature(v in -5.0f64..5.0, omega in -20.0f64..20.0, w_max in 0.5f64..50.0) {
         let p = RobotParams::<f64>::paper();
         let t = Twist2 { v, omega };
-        let s = limit_twist(&p, t, w_max);
+        let w = limit_wheel_speeds(wheel_speeds(&p, t), w_max);
+        let s = twist_from_wheels(&p, w);
         let (wr, wl) = wheels_by_hand(&p, t);
         let (sr, sl) = wheels_by_hand(&p, s);
         let peak = wr.abs().max(wl.abs());
         if peak <= w_max {
-            prop_assert_eq!(s, t);
+            prop_assert_eq!(w, Wheels::new(wr, wl));
+            prop_assert!((s.v - v).abs() <= 1e-12 * (v.abs() + 1.0) && (s.omega - omega).abs() <= 1e-12 * (omega.abs() + 1.0));
         } else {
             prop_assert!((sr.abs().max(sl.abs()) - w_max).abs() <= 1e-12 * w_max);
             prop_assert!((s.v * omega - s.omega * v).abs() <= 1e-12 * (v.abs() + 1.0) * (omega.abs() + 1.0));
             prop_assert!(s.v * v >= 0.0 && s.omega * omega >= 0.0);
         }
-        // The wheel-level function agrees: same ratio r/l, same peak.
-        let w = limit_wheel_speeds(Wheels::new(wr, wl), w_max);
+        // At the wheels: same ratio r/l, peak within the limit.
         prop_assert!((w.right * wl - w.left * wr).abs() <= 1e-9 * (wr.abs() + 1.0) * (wl.abs() + 1.0));
         prop_assert!(w.right.abs().max(w.left.abs()) <= w_max * (1.0 + 1e-12));
     }
@@ -336,35 +368,38 @@ proptest! {
 #[test]
 fn infinite_limit_passes_everything_through() {
     let p = RobotParams::<f64>::paper();
-    let t = Twist2 { v: 1e6, omega: -3e7 };
-    assert_eq!(limit_twist(&p, t, f64::INFINITY), t);
+    let w = wheel_speeds(&p, Twist2 { v: 1e6, omega: -3e7 });
+    assert_eq!(limit_wheel_speeds(w, f64::INFINITY), w);
+    let huge = Wheels::new(f64::MAX, -f64::INFINITY);
+    assert_eq!(limit_wheel_speeds(huge, f64::INFINITY), huge);
 }
 
 /// Along a run with the limit active: at every control tick the wheel speed references
 /// give the same omega / v as the law's unsaturated twist, and neither exceeds the limit.
+/// The law's twist is recomputed here by a copy of the law from the measurement it saw.
 #[test]
 fn saturation_keeps_curvature_along_runs() {
     let w_max = 10.0;
-    let p = RobotParams::<f64>::paper();
+    let robot = Robot::<f64>::paper();
+    let p = *robot.params();
     let (start, goal) = anchor_1();
-    let pp = PolarParams { wheel_speed_max: w_max, ..PolarParams::default() };
-    let lp = LyapunovParams { wheel_speed_max: w_max, ..LyapunovParams::default() };
-    let runs: [(&str, AnyController<f64>); 2] =
-        [("polar", AnyController::Polar(polar(pp, goal))), ("lyapunov", AnyController::Lyapunov(lyapunov(lp, goal)))];
-    for (what, ctrl) in runs {
-        let mut sim = closed(ctrl, start);
+    for law in polar_laws() {
+        let what = law.kind();
+        let mut sim = closed(limited(law, w_max), start, goal);
+        assert_eq!(sim.controller().wheels().wheel_speed_max(), w_max);
         let (mut limited_ticks, mut peak_wheel, mut arrived) = (0, 0.0_f64, None);
         for _ in 0..steps(30.0) {
+            let mut replay = *sim.controller().law();
             sim.step().unwrap();
             track_arrival(&mut arrived, sim.time(), miss(sim.state().pose(), goal).0);
-            let wheels = match sim.controller() {
-                AnyController::Polar(c) => *c.wheels(),
-                AnyController::Lyapunov(c) => *c.wheels(),
-                _ => unreachable!(),
-            };
-            let law = wheels.last_twist();
-            let refs = wheels.last_wheel_speed_refs();
-            let (wr, wl) = wheels_by_hand(&p, law);
+            // dt = control_dt: every step ends with a control tick on the new state.
+            let m = PerfectSensor.measure(sim.time(), sim.state(), robot.params());
+            let out = replay.update(sim.time(), &m, goal);
+            let s = sim.sample();
+            assert_eq!(out.errors, s.errors, "{what}: the replay is out of step");
+            let WheelDemand::Twist(asked) = out.demand else { panic!("{what}: not a twist demand") };
+            let refs = sim.controller().wheels().last_refs();
+            let (wr, wl) = wheels_by_hand(&p, asked);
             if wr.abs().max(wl.abs()) > w_max {
                 limited_ticks += 1;
             }
@@ -372,9 +407,8 @@ fn saturation_keeps_curvature_along_runs() {
             // Twist of the references by (1), by hand; curvature equal as a cross product.
             let v = p.wheel_radius * (refs.right + refs.left) / 2.0;
             let omega = p.wheel_radius * (refs.right - refs.left) / (2.0 * p.half_track);
-            let scale = (law.v.abs() + law.omega.abs()) * (v.abs() + omega.abs());
-            assert!((v * law.omega - omega * law.v).abs() <= 1e-12 * scale.max(1e-300), "{what}: ratio changed");
-            let s = sim.sample();
+            let scale = (asked.v.abs() + asked.omega.abs()) * (v.abs() + omega.abs());
+            assert!((v * asked.omega - omega * asked.v).abs() <= 1e-12 * scale.max(1e-300), "{what}: ratio changed");
             peak_wheel = peak_wheel.max(s.wheel_speeds.right.abs().max(s.wheel_speeds.left.abs()));
         }
         assert!(limited_ticks > 100, "{what}: the limit was active for only {limited_ticks} ticks");
@@ -393,21 +427,20 @@ fn saturation_keeps_curvature_along_runs() {
 fn paper_saturation_limits_reference_speed() {
     let w_max = 10.0;
     let (start, goal) = (pose(0.0, 0.0, 0.0), pose(1.0, 1.0, 120.0));
-    let params = ControllerParams::Paper { params: PaperParams::paper(), wheel_speed_max: w_max };
-    let AnyController::PaperSaturated(ctrl) = build(params, goal) else { panic!("expected PaperSaturated") };
-    let mut sim = closed::<f64, PaperSaturated<f64>>(ctrl, start);
-    let mut prev = sim.controller().last_angle_refs();
+    let mut sim = closed(limited(LawParams::Paper(PaperParams::paper()), w_max), start, goal);
+    assert_eq!(sim.controller().wheels().wheel_speed_max(), w_max);
+    let mut prev = sim.controller().wheels().last_refs();
     let (mut limited_ticks, mut arrived) = (0, None);
     for _ in 0..steps(60.0) {
-        // The law's own target for the next tick, from a copy of its outer loop.
-        let mut law = *sim.controller().law();
+        // The law's own target for the next tick, from a copy of it.
+        let AnyLaw::Paper(mut law) = *sim.controller().law() else { panic!("expected the paper law") };
         let before = sim.steps();
         sim.step().unwrap();
         if sim.steps() == before {
             continue;
         }
-        let (target, _) = law.references(sim.state().pose());
-        let now = sim.controller().last_angle_refs();
+        let (target, _) = law.references(sim.state().pose(), goal);
+        let now = sim.controller().wheels().last_refs();
         let step = (now.right - prev.right, now.left - prev.left);
         let want = (target.right - prev.right, target.left - prev.left);
         assert!(step.0.abs().max(step.1.abs()) <= w_max * DT * (1.0 + 1e-9), "step {step:?}");
@@ -425,114 +458,197 @@ fn paper_saturation_limits_reference_speed() {
     assert!(arrived.is_some_and(|t| t < 50.0), "arrival {arrived:?}");
 }
 
-/// With the limit off (the default), `kind = "paper"` builds the paper's own controller
-/// and runs bit for bit like it.
+/// With the limit off (the default), `kind = "paper"` runs the paper's law bit for bit: the
+/// same samples and outcome as the loop written out here from a bare `PaperLaw`, two
+/// `WheelServo::update` calls (the paper's PD servos) and the plant, without the wheel
+/// stage (whose rate limiter must pass the references through unchanged) or `ClosedLoop`.
 #[test]
 fn paper_default_is_unchanged() {
     let (start, goal) = (pose(0.0, 0.0, 0.0), pose(1.0, 1.0, 120.0));
-    let any = build(ControllerParams::default(), goal);
-    assert!(matches!(any, AnyController::Paper(_)));
+    let n = steps(10.0);
+    let any = build_with(ControllerParams::<f64>::default());
+    assert!(matches!(any.law(), AnyLaw::Paper(_)));
+    assert_eq!(any.wheels().wheel_speed_max(), f64::INFINITY);
+    let mut a = closed(any, start, goal);
+    let mut la = Vec::new();
+    let oa = a.run(n, 1, |s| la.push(*s));
+
+    // The same run by hand: measure, law, servos, hold, RK4 step; the outcome's sums too.
     let robot = Robot::<f64>::paper();
     let drive = DriveParams::default().validate(&robot).unwrap();
-    let direct = PaperController::new(PaperParams::paper(), &robot, &drive, goal).unwrap();
-    let mut a = closed(any, start);
-    let mut b = closed(direct, start);
-    let (mut la, mut lb) = (Vec::new(), Vec::new());
-    let oa = a.run(steps(10.0), 100, |s| la.push(*s));
-    let ob = b.run(steps(10.0), 100, |s| lb.push(*s));
-    assert_eq!(oa, ob);
-    assert_eq!(la, lb);
+    let mut law = PaperLaw::new(PaperParams::paper(), robot.params(), DT).unwrap();
+    let servo = WheelServo::new(ServoGains::torque_default(), drive.command_limit()).unwrap();
+    let (mut servo_r, mut servo_l) = (servo, servo);
+    let mut plant = Plant::new(robot, drive, start).unwrap();
+    let mut lb = Vec::new();
+    let (mut path, mut energy, mut peak, mut arrived) = (0.0_f64, 0.0_f64, 0.0_f64, None);
+    for k in 0..=n {
+        let t = k as f64 * DT;
+        let s = *plant.state();
+        let w = s.wheel_speeds(robot.params());
+        let (refs, errors) = law.references(s.pose(), goal);
+        let command = Wheels::new(
+            servo_r.update(refs.right, s.phi_r, w.right, DT),
+            servo_l.update(refs.left, s.phi_l, w.left, DT),
+        );
+        plant.apply(command);
+        let torque = plant.wheel_torque();
+        lb.push(Sample { t, state: s, wheel_speeds: w, torque, errors });
+        let dl = (goal.x - s.x).hypot_libm(goal.y - s.y);
+        if dl < ARRIVAL_RADIUS_M {
+            arrived.get_or_insert(t);
+        } else {
+            arrived = None;
+        }
+        peak = peak.max(w.right.abs().max(w.left.abs()));
+        if k == n {
+            break;
+        }
+        path += s.v.abs() * DT;
+        energy += ((torque.right * w.right).abs() + (torque.left * w.left).abs()) * DT;
+        plant.step(t, DT).unwrap();
+    }
+    assert_eq!(la.len(), lb.len());
+    for (sa, sb) in la.iter().zip(&lb) {
+        assert_eq!(sa, sb, "at t = {}", sb.t);
+    }
+    let last = lb.last().unwrap();
+    let expected = Outcome {
+        termination: Termination::Completed,
+        t_final: last.t,
+        final_pose: last.state.pose(),
+        goal,
+        final_dl: (goal.x - last.state.x).hypot_libm(goal.y - last.state.y),
+        final_heading_error: wrap_angle(goal.theta - last.state.theta),
+        time_to_arrival: arrived,
+        peak_wheel_speed: peak,
+        path_length: path,
+        energy,
+    };
+    assert_eq!(oa, expected);
+
+    // The law composed directly (no AnyLaw) runs the same.
+    let direct = with_wheels(PaperLaw::new(PaperParams::paper(), robot.params(), DT).unwrap(), f64::INFINITY);
+    let mut b = closed(direct, start, goal);
+    let mut lc = Vec::new();
+    assert_eq!(b.run(n, 1, |s| lc.push(*s)), oa);
+    assert_eq!(lc, la);
 }
 
 // ---------------------------------------------------------------------------------------
 // Validation and selection.
 
-fn polar_err(p: PolarParams<f64>) -> ParamError {
+fn robot_and_drive() -> (Robot<f64>, wmr_core::Drive<f64>) {
     let robot = Robot::<f64>::paper();
     let drive = DriveParams::default().validate(&robot).unwrap();
-    ControllerParams::Polar(p).build(&robot, &drive, pose(1.0, 0.0, 0.0)).unwrap_err()
+    (robot, drive)
+}
+
+/// The error of building a controller around the polar law with keys `p`; the law alone
+/// gives the same one.
+fn polar_err(p: PolarParams<f64>) -> ParamError {
+    let (robot, drive) = robot_and_drive();
+    let e = ControllerParams::with_law(LawParams::Polar(p)).build(robot.params(), &drive).unwrap_err();
+    let alone = PolarLaw::new(p).unwrap_err();
+    assert_eq!((alone.field, alone.reason), (e.field, e.reason));
+    e
 }
 
 fn lyapunov_err(p: LyapunovParams<f64>) -> ParamError {
-    let robot = Robot::<f64>::paper();
-    let drive = DriveParams::default().validate(&robot).unwrap();
-    ControllerParams::Lyapunov(p).build(&robot, &drive, pose(1.0, 0.0, 0.0)).unwrap_err()
+    let (robot, drive) = robot_and_drive();
+    let e = ControllerParams::with_law(LawParams::Lyapunov(p)).build(robot.params(), &drive).unwrap_err();
+    let alone = LyapunovLaw::new(p).unwrap_err();
+    assert_eq!((alone.field, alone.reason), (e.field, e.reason));
+    e
 }
 
 #[test]
 fn polar_rejects_bad_gains_naming_the_key() {
     let d = PolarParams::<f64>::default();
-    assert_eq!(polar_err(PolarParams { k_rho: 0.0, ..d }).field, "controller.k_rho");
-    assert_eq!(polar_err(PolarParams { k_rho: f64::NAN, ..d }).field, "controller.k_rho");
-    assert_eq!(polar_err(PolarParams { k_beta: 0.0, ..d }).field, "controller.k_beta");
-    assert_eq!(polar_err(PolarParams { k_beta: 0.3, ..d }).field, "controller.k_beta");
+    assert_eq!(polar_err(PolarParams { k_rho: 0.0, ..d }).field, "k_rho");
+    assert_eq!(polar_err(PolarParams { k_rho: f64::NAN, ..d }).field, "k_rho");
+    assert_eq!(polar_err(PolarParams { k_beta: 0.0, ..d }).field, "k_beta");
+    assert_eq!(polar_err(PolarParams { k_beta: 0.3, ..d }).field, "k_beta");
     // k_alpha - k_rho must be > 0.
     let e = polar_err(PolarParams { k_rho: 3.0, k_alpha: 3.0, k_beta: -0.1, ..d });
-    assert_eq!((e.field, e.reason), ("controller.k_alpha", Reason::OutOfRange("must be > k_rho")));
+    assert_eq!((e.field, e.reason), ("k_alpha", Reason::OutOfRange("must be > k_rho")));
     // Locally stable (k_alpha > k_rho, k_beta < 0) but not strongly: 1 - 5/3 1.2 - 2/pi 0.5 < 0.
     let e = polar_err(PolarParams { k_rho: 0.5, k_alpha: 1.0, k_beta: -1.2, ..d });
-    assert_eq!(e.field, "controller.k_alpha");
+    assert_eq!(e.field, "k_alpha");
     assert!(e.to_string().contains("strong stability"), "{e}");
     // Siegwart's example gains pass: k = (3, 8, -1.5).
-    let robot = Robot::<f64>::paper();
-    let drive = DriveParams::default().validate(&robot).unwrap();
+    let (robot, drive) = robot_and_drive();
     let ok = PolarParams { k_rho: 3.0, k_alpha: 8.0, k_beta: -1.5, ..d };
-    assert!(PolarController::new(ok, &robot, &drive, pose(1.0, 0.0, 0.0)).is_ok());
-    assert_eq!(polar_err(PolarParams { reverse_hysteresis: FRAC_PI_2, ..d }).field, "controller.reverse_hysteresis");
-    assert_eq!(polar_err(PolarParams { goal_radius: -1.0, ..d }).field, "controller.goal_radius");
-    assert_eq!(polar_err(PolarParams { control_dt: 0.0, ..d }).field, "controller.control_dt");
+    assert!(PolarLaw::new(ok).is_ok());
+    assert!(ControllerParams::with_law(LawParams::Polar(ok)).build(robot.params(), &drive).is_ok());
+    assert_eq!(polar_err(PolarParams { reverse_hysteresis: FRAC_PI_2, ..d }).field, "reverse_hysteresis");
+    assert_eq!(polar_err(PolarParams { goal_radius: -1.0, ..d }).field, "goal_radius");
+    let bad_period = ControllerParams { control_dt: 0.0, ..ControllerParams::with_law(LawParams::Polar(d)) };
+    assert_eq!(bad_period.build(robot.params(), &drive).unwrap_err().field, "control_dt");
 }
 
 #[test]
 fn lyapunov_rejects_bad_gains_naming_the_key() {
     let d = LyapunovParams::<f64>::default();
-    assert_eq!(lyapunov_err(LyapunovParams { gamma: 0.0, ..d }).field, "controller.gamma");
-    assert_eq!(lyapunov_err(LyapunovParams { k: -1.0, ..d }).field, "controller.k");
-    assert_eq!(lyapunov_err(LyapunovParams { h: 0.0, ..d }).field, "controller.h");
-    assert_eq!(lyapunov_err(LyapunovParams { h: f64::INFINITY, ..d }).field, "controller.h");
+    assert_eq!(lyapunov_err(LyapunovParams { gamma: 0.0, ..d }).field, "gamma");
+    assert_eq!(lyapunov_err(LyapunovParams { k: -1.0, ..d }).field, "k");
+    assert_eq!(lyapunov_err(LyapunovParams { h: 0.0, ..d }).field, "h");
+    assert_eq!(lyapunov_err(LyapunovParams { h: f64::INFINITY, ..d }).field, "h");
 }
 
 #[test]
 fn wheel_speed_max_validation() {
-    let robot = Robot::<f64>::paper();
-    let drive = DriveParams::default().validate(&robot).unwrap();
-    let goal = pose(1.0, 0.0, 0.0);
+    let (robot, drive) = robot_and_drive();
     for bad in [0.0, -1.0, f64::NAN] {
-        let all = [
-            ControllerParams::Paper { params: PaperParams::paper(), wheel_speed_max: bad },
-            ControllerParams::Polar(PolarParams { wheel_speed_max: bad, ..PolarParams::default() }),
-            ControllerParams::Lyapunov(LyapunovParams { wheel_speed_max: bad, ..LyapunovParams::default() }),
-        ];
-        for p in all {
-            let e = p.build(&robot, &drive, goal).unwrap_err();
-            assert_eq!(e.field, "controller.wheel_speed_max", "{bad} for {:?}", p.kind());
+        for law in LawParams::<f64>::defaults() {
+            let wheels = WheelStageParams { wheel_speed_max: bad, ..WheelStageParams::default() };
+            let p = ControllerParams { wheels, ..ControllerParams::with_law(law) };
+            let e = p.build(robot.params(), &drive).unwrap_err();
+            assert_eq!(e.field, "wheel_speed_max", "{bad} for {:?}", law.kind());
         }
     }
-    for kind in ControllerKind::ALL {
-        assert_eq!(kind.default_params::<f64>().wheel_speed_max(), f64::INFINITY);
-        assert!(kind.default_params::<f64>().build(&robot, &drive, goal).is_ok());
+    for law in LawParams::<f64>::defaults() {
+        let p = ControllerParams::with_law(law);
+        assert_eq!(p.wheels.wheel_speed_max, f64::INFINITY);
+        let ctrl = p.build(robot.params(), &drive).unwrap();
+        assert_eq!(ctrl.wheels().wheel_speed_max(), f64::INFINITY);
     }
+    // The defaults follow the drive: torque or DC motor servo gains, no limit.
+    let dc = WheelStageParams::<f64>::for_drive(&DriveParams::DcMotor(wmr_core::DcMotorParams::default()));
+    assert_eq!((dc.servo(), dc.wheel_speed_max), (ServoGains::dc_motor_default(), f64::INFINITY));
+    assert_eq!(WheelStageParams::<f64>::default().servo(), ServoGains::torque_default());
     let bad_goal = Pose2::new(f64::NAN, 0.0, 0.0);
-    let e = ControllerKind::Polar.default_params::<f64>().build(&robot, &drive, bad_goal).unwrap_err();
-    assert_eq!(e.field, "run.goal.x");
+    assert_eq!(FixedGoal::new(bad_goal).unwrap_err().field, "goal.x");
 }
 
+/// Every law's `kind` name, in documentation order; the built law and controller keep it.
+/// (Choosing a law by its name is the scenario reader's job: it matches these names.)
 #[test]
 fn kinds_by_name() {
-    for kind in ControllerKind::ALL {
-        assert_eq!(ControllerKind::from_name(kind.name()), Some(kind));
-        assert_eq!(kind.default_params::<f64>().kind(), kind);
+    let (robot, drive) = robot_and_drive();
+    assert_eq!(LawParams::<f64>::defaults().map(|p| p.kind()), ["paper", "polar", "lyapunov"]);
+    for p in LawParams::<f64>::defaults() {
+        assert_eq!(p.build(robot.params(), DT).unwrap().kind(), p.kind());
+        assert_eq!(ControllerParams::with_law(p).build(robot.params(), &drive).unwrap().law().kind(), p.kind());
     }
-    assert_eq!(ControllerKind::from_name("Polar"), None);
-    assert_eq!(ControllerKind::from_name("pd"), None);
+    assert_eq!(LawParams::<f64>::default().kind(), "paper");
+    assert_eq!(ControllerParams::<f64>::default().law.kind(), "paper");
 }
 
-/// AnyController dispatches to the same numbers as the law it holds.
+/// AnyLaw dispatches to the same numbers as the law it holds.
 #[test]
-fn any_controller_matches_direct() {
+fn any_law_matches_direct() {
     let (start, goal) = anchor_2();
-    let mut a = closed(build(ControllerKind::Lyapunov.default_params(), goal), start);
-    let mut b = closed(lyapunov(LyapunovParams::default(), goal), start);
+    let model = RobotParams::<f64>::paper();
+    let mut a = closed(build(LawParams::Lyapunov(LyapunovParams::default())), start, goal);
+    let mut b = closed(lyapunov(LyapunovParams::default()), start, goal);
+    assert_eq!(a.run(steps(3.0), 10, |_| {}), b.run(steps(3.0), 10, |_| {}));
+    let mut a = closed(build(LawParams::Polar(PolarParams::default())), start, goal);
+    let mut b = closed(polar(PolarParams::default()), start, goal);
+    assert_eq!(a.run(steps(3.0), 10, |_| {}), b.run(steps(3.0), 10, |_| {}));
+    let mut a = closed(build(LawParams::Paper(PaperParams::paper())), start, goal);
+    let mut b =
+        closed(with_wheels(PaperLaw::new(PaperParams::paper(), &model, DT).unwrap(), f64::INFINITY), start, goal);
     assert_eq!(a.run(steps(3.0), 10, |_| {}), b.run(steps(3.0), 10, |_| {}));
 }
 
@@ -541,7 +657,7 @@ fn any_controller_matches_direct() {
 #[test]
 fn polar_laws_log_errors() {
     let (start, goal) = anchor_1();
-    let mut sim = closed(build(ControllerKind::Polar.default_params(), goal), start);
+    let mut sim = closed(build(LawParams::Polar(PolarParams::default())), start, goal);
     let mut n = 0;
     sim.run(steps(5.0), 100, |s| {
         let p = s.state.pose();
@@ -555,17 +671,18 @@ fn polar_laws_log_errors() {
     assert!(n > 10);
 }
 
-/// The new laws' closed loops allocate nothing (the core is alloc-free; this guards the
-/// enum dispatch and the wheel-speed path), at both precisions.
+/// The laws' closed loops allocate nothing (the core is alloc-free; this guards the enum
+/// dispatch, the wheel stage's twist path and, for the paper law limited to 10 rad/s,
+/// its rate limiter), at both precisions.
 #[test]
 fn laws_allocate_nothing() {
-    fn count<T: Real>(kind: ControllerKind) -> u64 {
+    fn count<T: Real>(law: LawParams<T>) -> u64 {
         let goal = pose::<T>(1.0, 1.0, 120.0);
-        let mut p = kind.default_params::<T>();
-        if let ControllerParams::Paper { wheel_speed_max, .. } = &mut p {
-            *wheel_speed_max = T::lit(10.0);
+        let mut p = ControllerParams::with_law(law);
+        if let LawParams::Paper(_) = law {
+            p.wheels.wheel_speed_max = T::lit(10.0);
         }
-        let mut sim = closed(build(p, goal), pose::<T>(0.0, 0.0, 0.0));
+        let mut sim = closed(build_with(p), pose::<T>(0.0, 0.0, 0.0), goal);
         let mut checksum = T::zero();
         let info = allocation_counter::measure(|| {
             let o = sim.run(20_000, 10, |s| checksum = checksum + s.state.x);
@@ -574,9 +691,9 @@ fn laws_allocate_nothing() {
         assert!(checksum.is_finite());
         info.count_total
     }
-    for kind in ControllerKind::ALL {
-        assert_eq!(count::<f64>(kind), 0, "{}", kind.name());
-        assert_eq!(count::<f32>(kind), 0, "{}", kind.name());
+    for (l64, l32) in LawParams::<f64>::defaults().into_iter().zip(LawParams::<f32>::defaults()) {
+        assert_eq!(count::<f64>(l64), 0, "{}", l64.kind());
+        assert_eq!(count::<f32>(l32), 0, "{}", l32.kind());
     }
 }
 

@@ -1,14 +1,15 @@
 //! Writes the Fig. 7-9 SVGs of the core's Fig. 7 run to the current folder.
 
-use wmr_core::{ClosedLoop, DriveParams, PaperController, PaperParams, Pose2, Robot};
+use wmr_core::{ClosedLoop, ControllerParams, DriveParams, FixedGoal, Plant, Pose2, Robot};
 use wmr_plot::{Trace, errors_svg, paths_svg, wheel_speeds_svg};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let robot = Robot::<f64>::paper();
     let drive = DriveParams::default().validate(&robot)?;
     let goal = Pose2::new(1.0, 1.0, 120f64.to_radians());
-    let ctrl = PaperController::new(PaperParams::paper(), &robot, &drive, goal)?;
-    let mut sim = ClosedLoop::new(robot, drive, ctrl, Pose2::default(), 1e-3)?;
+    let ctrl = ControllerParams::paper().build(robot.params(), &drive)?;
+    let plant = Plant::new(robot, drive, Pose2::default())?;
+    let mut sim = ClosedLoop::new(plant, ctrl, FixedGoal::new(goal)?, 1e-3)?;
     let mut samples = Vec::new();
     sim.run(60_000, 10, |s| samples.push(*s));
     let trace = Trace { label: "(0,0,0) -> (1,1,120 deg)", goal, samples: &samples };

@@ -2,6 +2,7 @@
 
 use plotters::prelude::*;
 
+use crate::chart::{Frame, draw_goal, svg_chart};
 use crate::{PlotError, SIZE, Trace, err, padded_range, palette};
 
 /// Paths of C in the plane, one line per run, with start and goal markers and the goal
@@ -21,18 +22,17 @@ pub fn paths_svg(title: &str, traces: &[Trace<'_>]) -> Result<String, PlotError>
         let extra = (h * aspect - w) / 2.0;
         (x0 - extra, x1 + extra, y0, y1)
     };
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 22))
-            .margin(15)
-            .x_label_area_size(40)
-            .y_label_area_size(55)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(err)?;
-        chart.configure_mesh().x_desc("x (m)").y_desc("y (m)").draw().map_err(err)?;
+    let arrow = 0.06 * (x1 - x0);
+    let frame = Frame {
+        title,
+        size: SIZE,
+        x: x0..x1,
+        y: y0..y1,
+        desc: ("x (m)", "y (m)"),
+        y_label_area: 55,
+        legend: Some(SeriesLabelPosition::UpperLeft),
+    };
+    svg_chart(frame, |chart| {
         for (i, t) in traces.iter().enumerate() {
             let color = palette(i);
             chart
@@ -43,49 +43,26 @@ pub fn paths_svg(title: &str, traces: &[Trace<'_>]) -> Result<String, PlotError>
             if let Some(s0) = t.samples.first() {
                 chart.draw_series([Circle::new((s0.state.x, s0.state.y), 4, color.filled())]).map_err(err)?;
             }
-            let g = t.goal;
-            let arrow = 0.06 * (x1 - x0);
-            chart
-                .draw_series([
-                    Cross::new((g.x, g.y), 6, BLACK.stroke_width(2)),
-                    Cross::new((g.x + arrow * g.theta.cos(), g.y + arrow * g.theta.sin()), 0, BLACK),
-                ])
-                .map_err(err)?;
-            chart
-                .draw_series([PathElement::new(
-                    [(g.x, g.y), (g.x + arrow * g.theta.cos(), g.y + arrow * g.theta.sin())],
-                    BLACK.stroke_width(1),
-                )])
-                .map_err(err)?;
+            draw_goal(chart, t.goal, arrow, 6, 2)?;
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperLeft)
-            .draw()
-            .map_err(err)?;
-        root.present().map_err(err)?;
-    }
-    Ok(svg)
+        Ok(())
+    })
 }
 
 /// Several named series over time in one panel.
 fn time_series_svg(title: &str, y_desc: &str, t: &[f64], series: &[(&str, Vec<f64>)]) -> Result<String, PlotError> {
     let t_end = t.last().copied().unwrap_or(1.0).max(1e-9);
     let (y0, y1) = padded_range(series.iter().flat_map(|(_, v)| v.iter().copied()), 0.05, 1e-3);
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (SIZE.0, SIZE.1 * 3 / 4)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 22))
-            .margin(15)
-            .x_label_area_size(40)
-            .y_label_area_size(60)
-            .build_cartesian_2d(0.0..t_end, y0..y1)
-            .map_err(err)?;
-        chart.configure_mesh().x_desc("t (s)").y_desc(y_desc).draw().map_err(err)?;
+    let frame = Frame {
+        title,
+        size: (SIZE.0, SIZE.1 * 3 / 4),
+        x: 0.0..t_end,
+        y: y0..y1,
+        desc: ("t (s)", y_desc),
+        y_label_area: 60,
+        legend: None,
+    };
+    svg_chart(frame, |chart| {
         for (i, (name, v)) in series.iter().enumerate() {
             let color = palette(i);
             chart
@@ -94,10 +71,8 @@ fn time_series_svg(title: &str, y_desc: &str, t: &[f64], series: &[(&str, Vec<f6
                 .label(*name)
                 .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2)));
         }
-        chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(err)?;
-        root.present().map_err(err)?;
-    }
-    Ok(svg)
+        Ok(())
+    })
 }
 
 /// Right and left wheel speeds over time, rad/s (the paper's Fig. 8).

@@ -5,6 +5,7 @@
 //! caller's job, so this crate does no file I/O. Text is emitted as SVG `<text>`, rendered
 //! by the viewer: no font library is needed.
 
+mod chart;
 mod figures;
 mod region;
 

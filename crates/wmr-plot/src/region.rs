@@ -2,6 +2,7 @@
 
 use plotters::prelude::*;
 
+use crate::chart::{Frame, draw_goal, svg_chart};
 use crate::{PlotError, SIZE, err, padded_range};
 use wmr_core::Pose2;
 
@@ -50,18 +51,16 @@ pub struct SweepCell {
 pub fn region_svg(title: &str, cells: &[SweepCell], goal: Pose2<f64>) -> Result<String, PlotError> {
     let (x0, x1) = padded_range(cells.iter().map(|c| c.x).chain([goal.x]), 0.05, 0.5);
     let (y0, y1) = padded_range(cells.iter().map(|c| c.y).chain([goal.y]), 0.05, 0.5);
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 22))
-            .margin(15)
-            .x_label_area_size(40)
-            .y_label_area_size(55)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(err)?;
-        chart.configure_mesh().x_desc("start x (m)").y_desc("start y (m)").draw().map_err(err)?;
+    let frame = Frame {
+        title,
+        size: SIZE,
+        x: x0..x1,
+        y: y0..y1,
+        desc: ("start x (m)", "start y (m)"),
+        y_label_area: 55,
+        legend: None,
+    };
+    svg_chart(frame, |chart| {
         for kind in [CellOutcome::Converged, CellOutcome::NotConverged, CellOutcome::Diverged] {
             let color = kind.color();
             let n = cells.iter().filter(|c| c.outcome == kind).count();
@@ -76,18 +75,8 @@ pub fn region_svg(title: &str, cells: &[SweepCell], goal: Pose2<f64>) -> Result<
                 .label(format!("{} ({n})", kind.label()))
                 .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 10, y + 5)], color.filled()));
         }
-        let arrow = 0.06 * (x1 - x0);
-        chart.draw_series([Cross::new((goal.x, goal.y), 8, BLACK.stroke_width(3))]).map_err(err)?;
-        chart
-            .draw_series([PathElement::new(
-                [(goal.x, goal.y), (goal.x + arrow * goal.theta.cos(), goal.y + arrow * goal.theta.sin())],
-                BLACK.stroke_width(2),
-            )])
-            .map_err(err)?;
-        chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(err)?;
-        root.present().map_err(err)?;
-    }
-    Ok(svg)
+        draw_goal(chart, goal, 0.06 * (x1 - x0), 8, 3)
+    })
 }
 
 /// A small square around (x, y), 0.8% of the plot span.

@@ -1,13 +1,14 @@
 //! The SVGs parse as XML and hold one line per run and one marker per sweep start.
 
-use wmr_core::{ClosedLoop, DriveParams, PaperController, PaperParams, Pose2, Robot, Sample};
+use wmr_core::{ClosedLoop, ControllerParams, DriveParams, FixedGoal, Plant, Pose2, Robot, Sample};
 use wmr_plot::{CellOutcome, SweepCell, Trace, errors_svg, paths_svg, region_svg, wheel_speeds_svg};
 
 fn run(start: Pose2<f64>, goal: Pose2<f64>, secs: u64) -> Vec<Sample<f64>> {
     let robot = Robot::<f64>::paper();
     let drive = DriveParams::default().validate(&robot).unwrap();
-    let ctrl = PaperController::new(PaperParams::paper(), &robot, &drive, goal).unwrap();
-    let mut sim = ClosedLoop::new(robot, drive, ctrl, start, 1e-3).unwrap();
+    let ctrl = ControllerParams::paper().build(robot.params(), &drive).unwrap();
+    let plant = Plant::new(robot, drive, start).unwrap();
+    let mut sim = ClosedLoop::new(plant, ctrl, FixedGoal::new(goal).unwrap(), 1e-3).unwrap();
     let mut out = Vec::new();
     sim.run(secs * 1000, 50, |s| out.push(*s));
     out

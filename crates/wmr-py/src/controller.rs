@@ -1,12 +1,13 @@
-//! `wmr_py.PaperController`: the core's [`PaperController`] for loops closed in Python.
+//! `wmr_py.PaperController`: the paper's law and its wheel stage (the core's
+//! [`wmr_core::Controller`]) for loops closed in Python.
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use wmr_core::{ControlOutput, Controller, Measurement, PaperController, Pose2};
+use wmr_core::{ControlOutput, Measurement, Pose2};
 use wmr_scenario::BuiltController;
 
 use crate::convert::{finite_array, pose_table, type_name};
-use crate::error::{from_param, parameter_error};
+use crate::error::parameter_error;
 use crate::robot::{PyRobot, one_run_scenario, wheels_arg};
 use crate::scenario::scenario_arg;
 
@@ -17,19 +18,24 @@ use crate::scenario::scenario_arg;
 /// goal: the goal pose of C, (x_m, y_m, theta_rad) or a dict with x, y and theta (rad)
 /// or theta_deg (degrees). robot: a Robot or a dict of `[robot]` keys (default: the
 /// paper's). drive: a dict of `[drive]` keys (default: the torque drive); it sets the
-/// servo's defaults and anti-windup bound. gains: the scenario's `[controller]` keys:
-/// mode ("pose" or "position"), kp_theta (rad/rad, 2), ki_theta (1/s, 0.1), kp_s (m/m, 1),
-/// ki_s (1/s, 0.25), servo_kp (N m/rad, 14), servo_kd (N m s/rad, 1.4), servo_ki
-/// (N m/(rad s), 0), goal_radius (m, 1e-3), hold_radius (m, 5e-3; 0 = off), control_dt
-/// (s, 1e-3). Parsed and checked by the scenario code: a bad or unknown key raises
-/// ScenarioError naming it (``controller.kp_s``).
+/// servo's defaults and anti-windup bound. gains: the scenario's `[controller]` keys of
+/// kind "paper": the law's mode ("pose" or "position"), kp_theta (rad/rad, 2), ki_theta
+/// (1/s, 0.1), kp_s (m/m, 1), ki_s (1/s, 0.25), goal_radius (m, 0.001), hold_radius (m,
+/// 0.005; 0 = off), hold ("zero_errors" or "freeze"); the wheel stage's servo_kp
+/// (N m/rad, 14), servo_kd (N m s/rad, 1.4), servo_ki (N m/(rad s), 0), wheel_speed_max
+/// (rad/s, inf); control_dt (s, 0.001). Parsed and checked by the scenario code: a bad or
+/// unknown key raises ScenarioError naming it (``controller.kp_s``).
 ///
 /// Call update() once every control_dt seconds and hold its output in between. With
 /// the torque drive the output is the wheel torque demand (N m) before the drive's clamp
 /// (|tau| <= motor_torque_max / gear_ratio, 2 N m by default); with dc_motor, volts.
 #[pyclass(name = "PaperController", module = "wmr_py")]
 pub struct PyPaperController {
-    inner: PaperController<f64>,
+    /// The paper's law with its wheel stage, as the scenario builds it.
+    inner: BuiltController,
+    goal: Pose2<f64>,
+    /// Control ticks since construction or reset: the time of a tick is ticks * control_dt.
+    ticks: u64,
     last: ControlOutput<f64>,
 }
 
@@ -62,15 +68,12 @@ impl PyPaperController {
         // (servo gains by drive kind) and checks everything, as for a file.
         let table = one_run_scenario(py, robot.as_ref(), drive, gains, Some(&goal))?;
         let sc = scenario_arg(table.as_any())?;
-        let robot = sc.robot.validate().map_err(from_param)?;
-        let drive = sc.drive.validate(&robot).map_err(from_param)?;
-        let goal = sc.runs.first().map(|r| r.goal).unwrap_or_default();
-        let built = sc.controller.build(&robot, &drive, goal).map_err(from_param)?;
-        match built {
-            BuiltController::Paper(inner) => Ok(Self { inner, last: ControlOutput::default() }),
-            #[allow(unreachable_patterns)]
-            _ => Err(parameter_error("controller.kind", "PaperController needs kind = \"paper\"")),
+        let goal = sc.runs().first().map(|r| r.goal).unwrap_or_default();
+        let inner = *sc.built_controller();
+        if inner.law().kind() != "paper" {
+            return Err(parameter_error("controller.kind", "PaperController needs kind = \"paper\""));
         }
+        Ok(Self { inner, goal, ticks: 0, last: ControlOutput::default() })
     }
 
     /// One control tick: the wheel commands (tau_r, tau_l) in N m (the servos' wheel
@@ -85,12 +88,15 @@ impl PyPaperController {
         wheel_speeds: &Bound<'_, PyAny>,
     ) -> PyResult<(f64, f64)> {
         let [x, y, theta] = finite_array(pose, "pose", ["x", "y", "theta"])?;
+        let t = self.ticks as f64 * self.inner.control_dt();
         let m = Measurement {
+            t,
             pose: Pose2::new(x, y, theta),
             wheel_angles: wheels_arg(wheel_angles, "wheel_angles", ["phi_r", "phi_l"])?,
             wheel_speeds: wheels_arg(wheel_speeds, "wheel_speeds", ["omega_r", "omega_l"])?,
         };
-        self.last = self.inner.update(&m);
+        self.last = self.inner.update(t, &m, self.goal);
+        self.ticks += 1;
         Ok((self.last.command.right, self.last.command.left))
     }
 
@@ -104,6 +110,7 @@ impl PyPaperController {
     /// Clears the integrators and memories, as at t = 0.
     fn reset(&mut self) {
         self.inner.reset();
+        self.ticks = 0;
         self.last = ControlOutput::default();
     }
 
@@ -116,12 +123,12 @@ impl PyPaperController {
     /// The goal (x_m, y_m, theta_rad) of C.
     #[getter]
     fn goal(&self) -> (f64, f64, f64) {
-        let g = self.inner.goal();
+        let g = self.goal;
         (g.x, g.y, g.theta)
     }
 
     fn __repr__(&self) -> String {
-        let g = self.inner.goal();
+        let g = self.goal;
         format!("PaperController(goal=({}, {}, {}))", g.x, g.y, g.theta)
     }
 }

@@ -13,7 +13,6 @@
 
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use wmr_core::ParamError;
 
 pyo3::create_exception!(
     wmr_py,
@@ -49,9 +48,4 @@ fn with_attrs(err: PyErr, key: &str, line: Option<usize>) -> PyErr {
         let _ = value.setattr("line", line);
     });
     err
-}
-
-/// A core parameter error, e.g. `robot.mass: must be > 0 (got -1)`.
-pub fn from_param(e: ParamError) -> PyErr {
-    parameter_error(e.field, format_args!("{} (got {})", e.reason, e.value))
 }

@@ -9,7 +9,7 @@ use wmr_core::state::STATE_LEN;
 use wmr_core::{Robot, RobotParams, State, Wheels};
 
 use crate::convert::{finite_array, finite_scalar};
-use crate::error::{from_param, parameter_error};
+use crate::error::parameter_error;
 
 /// Names of the state components, in order, for messages.
 pub const STATE_NAMES: [&str; STATE_LEN] = ["x", "y", "theta", "v", "omega", "phi_r", "phi_l"];
@@ -103,7 +103,7 @@ impl PyRobot {
     fn new(py: Python<'_>, params: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
         // The scenario's `[robot]` table: same keys, defaults and checks as a file.
         let sc = crate::scenario::scenario_arg(one_run_scenario(py, params, None, None, None)?.as_any())?;
-        Ok(sc.robot.validate().map_err(from_param)?.into())
+        Ok((*sc.robot()).into())
     }
 
     /// Time derivative of the state, ndarray (7,): [x', y', theta', v', omega', phi_r', phi_l']

@@ -7,10 +7,9 @@ use std::time::Instant;
 use numpy::{PyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
-use rayon::prelude::*;
 use wmr_core::Pose2;
-use wmr_core::metrics::ARRIVAL_RADIUS_M;
-use wmr_scenario::{RunResult, RunSpec, SAMPLE_COLUMNS, Scenario, ScenarioError, sample_values};
+use wmr_core::{ARRIVAL_RADIUS_M, Status};
+use wmr_scenario::{RunResult, RunSpec, SAMPLE_COLUMNS, Scenario, ScenarioError, executor, sample_values};
 
 use crate::convert::type_name;
 use crate::error::{parameter_error, scenario_error};
@@ -138,7 +137,7 @@ impl Columns {
 
 /// Runs run `i` of `sc`, collecting its columns.
 fn run_one(sc: &Scenario, i: usize) -> Result<(RunResult, Columns), ScenarioError> {
-    let n = usize::try_from(sc.sim.n_samples()).unwrap_or(0).min(1 << 24);
+    let n = usize::try_from(sc.sim().n_samples()).unwrap_or(0).min(1 << 24);
     let mut cols = Columns::with_capacity(n);
     let result = sc.run(i, |s| cols.push(s))?;
     Ok((result, cols))
@@ -236,7 +235,7 @@ impl PyRunResult {
         let o = &r.outcome;
         Self {
             run: r.index,
-            status: r.status(),
+            status: r.status().name(),
             converged: r.converged(),
             diverged: r.diverged(),
             time_to_1cm: o.time_to_arrival,
@@ -330,7 +329,7 @@ impl PyRunResult {
 pub fn run_scenario(py: Python<'_>, scenario: &Bound<'_, PyAny>) -> PyResult<Vec<PyRunResult>> {
     let sc = scenario_arg(scenario)?;
     let runs: Result<Vec<_>, ScenarioError> =
-        py.detach(|| (0..sc.runs.len()).into_par_iter().map(|i| run_one(&sc, i)).collect());
+        py.detach(|| executor::map_ordered(sc.runs().len(), |i| run_one(&sc, i)).into_iter().collect());
     let runs = runs.map_err(to_py)?;
     Ok(runs.into_iter().map(|(r, cols)| PyRunResult::new(py, r, cols)).collect())
 }
@@ -352,16 +351,16 @@ const BATCH_FIELDS: [&str; 12] = [
 ];
 
 /// The per-run outcome arrays of `run_batch` and `sweep` ([`BATCH_FIELDS`]), one entry
-/// per (outcome, converged) pair, in order.
+/// per outcome, in order.
 fn outcome_dict<'py, 'a>(
     py: Python<'py>,
-    outcomes: impl ExactSizeIterator<Item = (&'a wmr_core::Outcome<f64>, bool)>,
+    outcomes: impl ExactSizeIterator<Item = &'a wmr_core::Outcome<f64>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let n = outcomes.len();
     let mut cols: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(n));
     let mut converged = Vec::with_capacity(n);
     let mut diverged = Vec::with_capacity(n);
-    for (o, conv) in outcomes {
+    for o in outcomes {
         let vals = [
             o.final_pose.x,
             o.final_pose.y,
@@ -377,8 +376,8 @@ fn outcome_dict<'py, 'a>(
         for (c, v) in cols.iter_mut().zip(vals) {
             c.push(v);
         }
-        converged.push(conv);
-        diverged.push(o.termination.diverged());
+        converged.push(o.status() == Status::Converged);
+        diverged.push(o.status() == Status::Diverged);
     }
     let d = PyDict::new(py);
     for (name, c) in BATCH_FIELDS.iter().zip(cols) {
@@ -399,7 +398,7 @@ pub fn run_batch_native<'py>(
     starts: PyReadonlyArray2<'py, f64>,
     goals: Option<PyReadonlyArray2<'py, f64>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let mut sc = scenario_arg(base)?;
+    let sc = scenario_arg(base)?;
     let poses = |a: &PyReadonlyArray2<'py, f64>, arg: &str| -> PyResult<Vec<Pose2<f64>>> {
         let shape = a.shape();
         if shape.len() != 2 || shape[1] != 3 {
@@ -425,7 +424,7 @@ pub fn run_batch_native<'py>(
         Ok(out)
     };
     let starts = poses(&starts, "starts")?;
-    let default_goal = sc.runs.first().map(|r| r.goal).unwrap_or_default();
+    let default_goal = sc.runs().first().map(|r| r.goal).unwrap_or_default();
     let goals = match goals {
         Some(g) => {
             let g = poses(&g, "goals")?;
@@ -439,16 +438,17 @@ pub fn run_batch_native<'py>(
         }
         None => vec![default_goal],
     };
-    sc.runs = starts
+    let runs = starts
         .iter()
         .enumerate()
         .map(|(i, &start)| RunSpec { label: format!("start {i}"), start, goal: goals[i % goals.len()] })
         .collect();
+    let sc = sc.with_runs(runs).map_err(to_py)?;
     let results: Result<Vec<RunResult>, ScenarioError> =
-        py.detach(|| (0..sc.runs.len()).into_par_iter().map(|i| sc.run(i, |_| {})).collect());
+        py.detach(|| executor::map_ordered(sc.runs().len(), |i| sc.run(i, |_| {})).into_iter().collect());
     let results = results.map_err(to_py)?;
 
-    let d = outcome_dict(py, results.iter().map(|r| (&r.outcome, r.converged())))?;
+    let d = outcome_dict(py, results.iter().map(|r| &r.outcome))?;
     d.set_item("arrival_radius", ARRIVAL_RADIUS_M)?;
     Ok(d)
 }
@@ -482,11 +482,11 @@ pub fn time_run_rust(py: Python<'_>, scenario: &Bound<'_, PyAny>, n: usize) -> P
 #[pyfunction]
 pub fn sweep<'py>(py: Python<'py>, scenario: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
     let sc = scenario_arg(scenario)?;
-    let Some(spec) = &sc.sweep else {
+    let Some(spec) = sc.sweep() else {
         return Err(scenario_error("sweep", None, "sweep: the scenario has no [sweep] table".to_owned()));
     };
-    let outcomes = py.detach(|| spec.run(&sc.robot, &sc.drive, &sc.sim, &|| {})).map_err(to_py)?;
-    let d = outcome_dict(py, outcomes.iter().map(|o| (&o.outcome, o.converged())))?;
+    let outcomes = py.detach(|| spec.run(sc.robot(), sc.drive(), sc.sim(), &|| {})).map_err(to_py)?;
+    let d = outcome_dict(py, outcomes.iter().map(|o| &o.outcome))?;
     let law: Vec<String> = outcomes.iter().map(|o| spec.laws[o.law].0.clone()).collect();
     d.set_item("law", law)?;
     d.set_item("start", PyArray1::from_vec(py, outcomes.iter().map(|o| o.start_index as i64).collect()))?;

@@ -1,281 +1,86 @@
-//! `[controller]`, tagged by `kind` ("paper", "polar", "lyapunov"). Adding a kind touches
-//! only this file and the core's `ControllerParams`: a variant in [`ControllerFile`] and
-//! one arm in each match.
+//! `[controller]`: `kind` picks the law; the table holds, flat, the law's keys, the wheel
+//! stage's keys and `control_dt`. Which key belongs to which part is read from the
+//! core's types ([`LawParams`], [`WheelStageParams`]), so a new law or wheel-stage key
+//! needs no change here.
 
-use std::fmt::Write as _;
+use serde::Deserialize;
+use toml::{Table, Value};
+use wmr_core::{ControllerParams, DriveParams, LawParams, WheelStageParams};
 
-use serde::{Deserialize, Deserializer};
-use wmr_core::controller::{AnyController, ControllerParams, LyapunovParams, PolarParams};
-use wmr_core::{Drive, DriveParams, HoldMode, PaperMode, PaperParams, ParamError, Pose2, Robot, ServoGains};
+use crate::error::ScenarioError;
+use crate::keys::{
+    fields_of, fields_read_by, join, kind_of, overlay, overlay_table, read_with, to_table, unknown_key, write_keys,
+};
 
-use crate::file::tagged;
-
-/// `[controller]` as written. `kind` defaults to `"paper"`.
-#[derive(Clone, Debug, PartialEq)]
-pub enum ControllerFile {
-    /// `kind = "paper"`: the paper's law (SPEC section 4).
-    Paper(PaperFile),
-    /// `kind = "polar"`: Astolfi's polar-coordinates law.
-    Polar(PolarFile),
-    /// `kind = "lyapunov"`: Aicardi et al.'s law, which also reaches the goal heading.
-    Lyapunov(LyapunovFile),
+/// The `kind` names of every law, in documentation order.
+pub fn law_kinds() -> Vec<&'static str> {
+    LawParams::<f64>::defaults().iter().map(LawParams::kind).collect()
 }
 
-/// The `kind` names, in documentation order.
-pub const CONTROLLER_KINDS: [&str; 3] = ["paper", "polar", "lyapunov"];
-
-impl Default for ControllerFile {
-    fn default() -> Self {
-        ControllerFile::Paper(PaperFile::default())
-    }
+/// The keys of law `kind` (without `kind`), the wheel stage's keys and `control_dt`:
+/// everything a `[controller]` table of that kind accepts besides `kind`.
+pub fn controller_keys(kind: &str, drive: &DriveParams<f64>) -> Vec<String> {
+    let law = LawParams::<f64>::defaults().into_iter().find(|d| d.kind() == kind);
+    let mut keys: Vec<String> = law.map(|l| law_table(&l).keys().cloned().collect()).unwrap_or_default();
+    keys.extend(to_table(&WheelStageParams::for_drive(drive)).keys().cloned());
+    keys.push("control_dt".to_owned());
+    keys
 }
 
-impl<'de> Deserialize<'de> for ControllerFile {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        let (kind, rest) = tagged::split::<D>(d, "paper")?;
-        match kind.as_str() {
-            "paper" => tagged::inner::<D, _>(rest).map(ControllerFile::Paper),
-            "polar" => tagged::inner::<D, _>(rest).map(ControllerFile::Polar),
-            "lyapunov" => tagged::inner::<D, _>(rest).map(ControllerFile::Lyapunov),
-            other => Err(tagged::unknown_kind::<D>(other, &CONTROLLER_KINDS)),
+/// A law's keys and defaults as a table, without `kind`.
+fn law_table(law: &LawParams<f64>) -> Table {
+    let mut t = to_table(law);
+    t.remove("kind");
+    t
+}
+
+/// Reads a `[controller]` table at `path` (`controller`, `sweep.controllers[1]`); the
+/// wheel stage's defaults follow the drive.
+pub fn resolve(given: &Table, path: &str, drive: &DriveParams<f64>) -> Result<ControllerParams<f64>, ScenarioError> {
+    let kinds = law_kinds();
+    let kind = kind_of(given, path, "paper", &kinds)?;
+    let law_default = LawParams::<f64>::defaults()
+        .into_iter()
+        .find(|d| d.kind() == kind)
+        .ok_or_else(|| ScenarioError::new(join(path, "kind"), "unknown kind"))?;
+    let law_defaults = law_table(&law_default);
+    let wheels_default = WheelStageParams::for_drive(drive);
+    let wheel_defaults = to_table(&wheels_default);
+    let (mut law_given, mut wheels_given, mut control_dt) = (Table::new(), Table::new(), None);
+    for (k, v) in given {
+        if k == "kind" {
+            continue;
+        } else if law_defaults.contains_key(k) {
+            law_given.insert(k.clone(), v.clone());
+        } else if wheel_defaults.contains_key(k) {
+            wheels_given.insert(k.clone(), v.clone());
+        } else if k == "control_dt" {
+            control_dt = Some(v.clone());
+        } else {
+            let accepted = controller_keys(kind, drive);
+            return Err(unknown_key(path, k, accepted.iter().map(String::as_str)));
         }
     }
-}
-
-/// `mode` of the paper controller.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
-#[serde(rename_all = "snake_case")]
-pub enum ModeFile {
-    /// Orientating control: reach (x_d, y_d, theta_d).
-    Pose,
-    /// Positioning control: reach (x_d, y_d), heading free.
-    Position,
-}
-
-/// `hold` of the paper controller.
-#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
-#[serde(rename_all = "snake_case")]
-pub enum HoldFile {
-    /// SPEC section 4: errors taken as zero inside hold_radius (the default).
-    ZeroErrors,
-    /// Bumpless: keep the last wheel references.
-    Freeze,
-}
-
-/// `[controller] kind = "paper"` keys (SPEC section 4). Missing keys take the SPEC defaults;
-/// the servo defaults follow the drive (`ServoGains::torque_default` or `dc_motor_default`).
-#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-#[allow(missing_docs)] // each key is documented on `wmr_core::PaperParams` and in docs/scenario.md
-pub struct PaperFile {
-    pub mode: Option<ModeFile>,
-    pub kp_theta: Option<f64>,
-    pub ki_theta: Option<f64>,
-    pub kp_s: Option<f64>,
-    pub ki_s: Option<f64>,
-    pub servo_kp: Option<f64>,
-    pub servo_kd: Option<f64>,
-    pub servo_ki: Option<f64>,
-    pub goal_radius: Option<f64>,
-    pub hold_radius: Option<f64>,
-    pub control_dt: Option<f64>,
-    /// rad/s: limit on the speed of the wheel angle references; absent = off.
-    pub wheel_speed_max: Option<f64>,
-    pub hold: Option<HoldFile>,
-}
-
-/// `[controller] kind = "polar"` keys (see `wmr_core::controller::PolarParams`).
-#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-#[allow(missing_docs)] // each key is documented on `wmr_core::controller::PolarParams` and in docs/scenario.md
-pub struct PolarFile {
-    pub k_rho: Option<f64>,
-    pub k_alpha: Option<f64>,
-    pub k_beta: Option<f64>,
-    pub reverse: Option<bool>,
-    pub reverse_hysteresis: Option<f64>,
-    pub goal_radius: Option<f64>,
-    pub wheel_speed_max: Option<f64>,
-    pub servo_kp: Option<f64>,
-    pub servo_kd: Option<f64>,
-    pub servo_ki: Option<f64>,
-    pub control_dt: Option<f64>,
-}
-
-/// `[controller] kind = "lyapunov"` keys (see `wmr_core::controller::LyapunovParams`).
-#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-#[allow(missing_docs)] // each key is documented on `wmr_core::controller::LyapunovParams` and in docs/scenario.md
-pub struct LyapunovFile {
-    pub gamma: Option<f64>,
-    pub k: Option<f64>,
-    pub h: Option<f64>,
-    pub reverse: Option<bool>,
-    pub reverse_hysteresis: Option<f64>,
-    pub goal_radius: Option<f64>,
-    pub wheel_speed_max: Option<f64>,
-    pub servo_kp: Option<f64>,
-    pub servo_kd: Option<f64>,
-    pub servo_ki: Option<f64>,
-    pub control_dt: Option<f64>,
-}
-
-/// A resolved controller, every parameter filled in: the core's parameters of any kind.
-pub type ControllerSpec = ControllerParams<f64>;
-
-/// A built controller of any kind; implements `Controller` by dispatch.
-pub type BuiltController = AnyController<f64>;
-
-/// Servo gains: the keys given, the drive's defaults for the rest.
-fn servo(kp: Option<f64>, kd: Option<f64>, ki: Option<f64>, drive: &DriveParams<f64>) -> ServoGains<f64> {
-    let d = match drive {
-        DriveParams::Torque(_) => ServoGains::torque_default(),
-        DriveParams::DcMotor(_) => ServoGains::dc_motor_default(),
+    let law_merged = overlay_table(&law_defaults, &law_given, path)?;
+    let law = read_with(path, Value::Table(law_merged), |d| law_default.deserialize_variant(d))?;
+    let wheels = overlay(&wheels_default, &wheels_given, path)?;
+    let control_dt = match control_dt {
+        None => ControllerParams::<f64>::default_control_dt(),
+        Some(v) => read_with(&join(path, "control_dt"), v, |d| f64::deserialize(d))?,
     };
-    ServoGains { kp: kp.unwrap_or(d.kp), kd: kd.unwrap_or(d.kd), ki: ki.unwrap_or(d.ki) }
+    Ok(ControllerParams { law, wheels, control_dt })
 }
 
-impl ControllerFile {
-    /// The file of a kind with every key absent (its defaults), if `kind` is known.
-    pub fn default_of(kind: &str) -> Option<Self> {
-        match kind {
-            "paper" => Some(ControllerFile::Paper(PaperFile::default())),
-            "polar" => Some(ControllerFile::Polar(PolarFile::default())),
-            "lyapunov" => Some(ControllerFile::Lyapunov(LyapunovFile::default())),
-            _ => None,
-        }
-    }
-
-    /// Fills the defaults; the servo defaults depend on the drive kind.
-    pub fn to_spec(&self, drive: &DriveParams<f64>) -> ControllerSpec {
-        match self {
-            ControllerFile::Paper(f) => {
-                let d = PaperParams::<f64>::paper();
-                let params = PaperParams {
-                    mode: match f.mode {
-                        None => d.mode,
-                        Some(ModeFile::Pose) => PaperMode::Pose,
-                        Some(ModeFile::Position) => PaperMode::Position,
-                    },
-                    kp_theta: f.kp_theta.unwrap_or(d.kp_theta),
-                    ki_theta: f.ki_theta.unwrap_or(d.ki_theta),
-                    kp_s: f.kp_s.unwrap_or(d.kp_s),
-                    ki_s: f.ki_s.unwrap_or(d.ki_s),
-                    servo: servo(f.servo_kp, f.servo_kd, f.servo_ki, drive),
-                    goal_radius: f.goal_radius.unwrap_or(d.goal_radius),
-                    hold_radius: f.hold_radius.unwrap_or(d.hold_radius),
-                    hold: match f.hold {
-                        None => d.hold,
-                        Some(HoldFile::ZeroErrors) => HoldMode::ZeroErrors,
-                        Some(HoldFile::Freeze) => HoldMode::Freeze,
-                    },
-                    control_dt: f.control_dt.unwrap_or(d.control_dt),
-                };
-                ControllerParams::Paper { params, wheel_speed_max: f.wheel_speed_max.unwrap_or(f64::INFINITY) }
-            }
-            ControllerFile::Polar(f) => {
-                let d = PolarParams::<f64>::default();
-                ControllerParams::Polar(PolarParams {
-                    k_rho: f.k_rho.unwrap_or(d.k_rho),
-                    k_alpha: f.k_alpha.unwrap_or(d.k_alpha),
-                    k_beta: f.k_beta.unwrap_or(d.k_beta),
-                    reverse: f.reverse.unwrap_or(d.reverse),
-                    reverse_hysteresis: f.reverse_hysteresis.unwrap_or(d.reverse_hysteresis),
-                    goal_radius: f.goal_radius.unwrap_or(d.goal_radius),
-                    wheel_speed_max: f.wheel_speed_max.unwrap_or(d.wheel_speed_max),
-                    servo: servo(f.servo_kp, f.servo_kd, f.servo_ki, drive),
-                    control_dt: f.control_dt.unwrap_or(d.control_dt),
-                })
-            }
-            ControllerFile::Lyapunov(f) => {
-                let d = LyapunovParams::<f64>::default();
-                ControllerParams::Lyapunov(LyapunovParams {
-                    gamma: f.gamma.unwrap_or(d.gamma),
-                    k: f.k.unwrap_or(d.k),
-                    h: f.h.unwrap_or(d.h),
-                    reverse: f.reverse.unwrap_or(d.reverse),
-                    reverse_hysteresis: f.reverse_hysteresis.unwrap_or(d.reverse_hysteresis),
-                    goal_radius: f.goal_radius.unwrap_or(d.goal_radius),
-                    wheel_speed_max: f.wheel_speed_max.unwrap_or(d.wheel_speed_max),
-                    servo: servo(f.servo_kp, f.servo_kd, f.servo_ki, drive),
-                    control_dt: f.control_dt.unwrap_or(d.control_dt),
-                })
-            }
-        }
-    }
-}
-
-/// Builds (and so validates) a controller for a robot, drive and goal (m, m, rad).
-pub fn build_controller(
-    spec: &ControllerSpec,
-    robot: &Robot<f64>,
-    drive: &Drive<f64>,
-    goal: Pose2<f64>,
-) -> Result<BuiltController, ParamError> {
-    spec.build(robot, drive, goal)
-}
-
-/// Writes the `[controller]` table in TOML, every key written.
-pub(crate) fn write_toml(spec: &ControllerSpec, out: &mut String) {
-    let _ = writeln!(out, "kind = \"{}\"", spec.kind().name());
-    let body: Vec<(&str, f64)> = match spec {
-        ControllerParams::Paper { params: p, wheel_speed_max } => {
-            let mode = match p.mode {
-                PaperMode::Pose => "pose",
-                PaperMode::Position => "position",
-            };
-            let hold = match p.hold {
-                HoldMode::ZeroErrors => "zero_errors",
-                HoldMode::Freeze => "freeze",
-            };
-            let _ = writeln!(out, "mode = \"{mode}\"");
-            let _ = writeln!(out, "hold = \"{hold}\"");
-            vec![
-                ("kp_theta", p.kp_theta),
-                ("ki_theta", p.ki_theta),
-                ("kp_s", p.kp_s),
-                ("ki_s", p.ki_s),
-                ("servo_kp", p.servo.kp),
-                ("servo_kd", p.servo.kd),
-                ("servo_ki", p.servo.ki),
-                ("goal_radius", p.goal_radius),
-                ("hold_radius", p.hold_radius),
-                ("control_dt", p.control_dt),
-                ("wheel_speed_max", *wheel_speed_max),
-            ]
-        }
-        ControllerParams::Polar(p) => {
-            let _ = writeln!(out, "reverse = {}", p.reverse);
-            vec![
-                ("k_rho", p.k_rho),
-                ("k_alpha", p.k_alpha),
-                ("k_beta", p.k_beta),
-                ("reverse_hysteresis", p.reverse_hysteresis),
-                ("goal_radius", p.goal_radius),
-                ("wheel_speed_max", p.wheel_speed_max),
-                ("servo_kp", p.servo.kp),
-                ("servo_kd", p.servo.kd),
-                ("servo_ki", p.servo.ki),
-                ("control_dt", p.control_dt),
-            ]
-        }
-        ControllerParams::Lyapunov(p) => {
-            let _ = writeln!(out, "reverse = {}", p.reverse);
-            vec![
-                ("gamma", p.gamma),
-                ("k", p.k),
-                ("h", p.h),
-                ("reverse_hysteresis", p.reverse_hysteresis),
-                ("goal_radius", p.goal_radius),
-                ("wheel_speed_max", p.wheel_speed_max),
-                ("servo_kp", p.servo.kp),
-                ("servo_kd", p.servo.kd),
-                ("servo_ki", p.servo.ki),
-                ("control_dt", p.control_dt),
-            ]
-        }
-    };
-    for (k, v) in body {
-        let _ = writeln!(out, "{k} = {}", crate::scenario::toml_f64(v));
-    }
+/// The `[controller]` table's lines, every key written: `kind`, the law's keys, the
+/// wheel stage's keys, `control_dt`.
+pub fn write(params: &ControllerParams<f64>, out: &mut String) {
+    let mut t = Table::new();
+    t.insert("kind".to_owned(), Value::String(params.law.kind().to_owned()));
+    write_keys(out, &t, &[]);
+    let law_order = fields_read_by(|probe| params.law.deserialize_variant(probe).map(|_| ()));
+    write_keys(out, &law_table(&params.law), law_order);
+    write_keys(out, &to_table(&params.wheels), fields_of::<WheelStageParams<f64>>());
+    t.clear();
+    t.insert("control_dt".to_owned(), Value::Float(params.control_dt));
+    write_keys(out, &t, &[]);
 }

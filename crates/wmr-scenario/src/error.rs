@@ -31,9 +31,10 @@ impl ScenarioError {
         self
     }
 
-    /// A core parameter error, its field renamed by `rename` (e.g. `run.` to `run[2].`).
-    pub(crate) fn from_param(e: ParamError, rename: impl Fn(&str) -> String) -> Self {
-        Self::new(rename(e.field), format!("{} (got {})", e.reason, e.value))
+    /// A core parameter error about the value the scenario holds at `key` (the core
+    /// names only its own field; the caller knows the path, e.g. `run[2].goal.x`).
+    pub fn from_param(e: &ParamError, key: &str) -> Self {
+        Self::new(key, format!("{} (got {})", e.reason, e.value))
     }
 }
 

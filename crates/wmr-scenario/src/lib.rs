@@ -1,8 +1,14 @@
 //! # wmr-scenario
 //!
-//! The scenario file of SPEC section 6, in one place for the CLI and the Python
-//! bindings: parse (TOML, or JSON for a Python dict), fill the defaults, check every
-//! key by building the core types once, then run.
+//! The scenario file (`docs/scenario.md`), in one place for the CLI and the Python
+//! bindings: parse TOML, fill the defaults, check every key by building the core types
+//! once, then run.
+//!
+//! - [`keys`]: how `[robot]`, `[drive]` and `[controller]` are read through the core's
+//!   own parameter types (every key a field name there, spelled once).
+//! - `file`: the raw tables; `scenario`: the validated [`Scenario`]; `sweep`: `[sweep]`.
+//! - [`executor`]: the one ordered parallel runner (CLI, sweeps, Python).
+//! - `output`: sample columns, the [`Sink`] trait and [`RunResult`].
 //!
 //! ```
 //! let text = r#"
@@ -25,23 +31,30 @@
 //! Every error is a [`ScenarioError`] naming the key (`robot.mass`, `run[2].start.x`)
 //! and, for TOML, the line.
 
+mod assemble;
 mod controller;
 mod error;
+pub mod executor;
 mod file;
+pub mod keys;
 mod locate;
 mod output;
+mod run;
 mod scenario;
+pub mod schema;
+mod sim;
 mod sweep;
 
-pub use controller::{
-    BuiltController, CONTROLLER_KINDS, ControllerFile, ControllerSpec, HoldFile, LyapunovFile, ModeFile, PaperFile,
-    PolarFile, build_controller,
-};
+pub use assemble::{BuiltController, RunLoop};
+pub use controller::{controller_keys, law_kinds};
 pub use error::ScenarioError;
-pub use file::{DcMotorFile, DriveFile, PoseFile, RobotFile, RunFile, ScenarioFile, SimFile, TorqueDriveFile};
+pub use file::{GridFile, PoseFile, RandomFile, RunFile, ScenarioFile, SimFile, SweepFile};
 pub use output::{CSV_COLUMNS, RunResult, SAMPLE_COLUMNS, Sink, SinkError, sample_values};
-pub use scenario::{DEFAULT_LOG_DT_S, DEFAULT_T_END_S, MAX_STEPS, MAX_T_END_S, RunSpec, Scenario, SimSpec};
+pub use run::RunSpec;
+pub use scenario::Scenario;
+pub use schema::{SchemaKey, schema};
+pub use sim::{DEFAULT_LOG_DT_S, DEFAULT_T_END_S, MAX_STEPS, MAX_T_END_S, SimSpec};
 pub use sweep::{
-    GridFile, LawSummary, MAX_SWEEP_RUNS, RandomFile, SWEEP_COLUMNS, Spread, StartsSource, SweepFile, SweepOutcome,
-    SweepSpec, summarize, summary_table, sweep_row,
+    LawSummary, MAX_SWEEP_RUNS, SWEEP_COLUMNS, Spread, StartsSource, SweepOutcome, SweepSpec, summarize, summary_table,
+    sweep_row,
 };

@@ -6,8 +6,7 @@ use std::ops::Range;
 use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
-use crate::ScenarioError;
-use crate::file::tagged::{KEY_MARK, unknown_field};
+use crate::error::ScenarioError;
 
 /// 1-based line of a byte offset.
 pub(crate) fn line_of(text: &str, offset: usize) -> usize {
@@ -131,35 +130,22 @@ pub(crate) fn key_at(text: &str, offset: usize) -> Option<String> {
     (!path.is_empty()).then_some(path)
 }
 
-/// Turns a deserialization error (with its serde path) into a [`ScenarioError`].
-pub(crate) fn deser_error(path: &str, message: &str, span: Option<Range<usize>>, text: Option<&str>) -> ScenarioError {
+/// Turns a deserialization error of the file's own tables into a [`ScenarioError`]:
+/// the key is serde's path (for an unknown key it ends with that key), the message is
+/// serde's, passed on as the reason.
+pub(crate) fn deser_error(path: &str, message: &str, span: Option<Range<usize>>, text: &str) -> ScenarioError {
     let mut key = if path == "." { String::new() } else { path.to_owned() };
     // The first line only: toml's own message may carry a snippet we replace by the key.
-    let mut message = message.trim().to_owned();
-    // Keys marked by the `kind`-tagged tables: `\x1fkey\x1fmessage`.
-    if let Some(rest) = message.strip_prefix(KEY_MARK)
-        && let Some((inner, msg)) = rest.split_once(KEY_MARK)
-    {
-        key = if key.is_empty() { inner.to_owned() } else { format!("{key}.{inner}") };
-        message = msg.to_owned();
-    } else if let Some(field) = unknown_field(&message) {
-        // serde_path_to_error already ends the path with the unknown key itself.
-        if !(key == field || key.ends_with(&format!(".{field}"))) {
-            key = if key.is_empty() { field.to_owned() } else { format!("{key}.{field}") };
-        }
-        message = format!("unknown key; {message}");
-    }
-    let line = match (text, span.clone()) {
-        (Some(text), _) if !key.is_empty() => span_of_key(text, &key).or(span).map(|s| line_of(text, s.start)),
-        (Some(text), Some(s)) => {
-            if key.is_empty()
-                && let Some(k) = key_at(text, s.start)
-            {
+    let message = message.trim().lines().next().unwrap_or("").to_owned();
+    let line = if key.is_empty() {
+        span.map(|s| {
+            if let Some(k) = key_at(text, s.start) {
                 key = k;
             }
-            Some(line_of(text, s.start))
-        }
-        _ => None,
+            line_of(text, s.start)
+        })
+    } else {
+        span_of_key(text, &key).or(span).map(|s| line_of(text, s.start))
     };
     ScenarioError::new(key, message).at_line(line)
 }

@@ -3,12 +3,11 @@
 
 use std::error::Error;
 
-use wmr_core::metrics::ARRIVAL_RADIUS_M;
-use wmr_core::{Outcome, Sample};
+use wmr_core::{Outcome, Sample, Status};
 
-use crate::{RunSpec, Scenario};
+use crate::run::RunSpec;
 
-/// The CSV header of SPEC section 6, in order: `run`, then [`SAMPLE_COLUMNS`].
+/// The CSV header, in order: `run`, then [`SAMPLE_COLUMNS`].
 pub const CSV_COLUMNS: [&str; 16] = [
     "run", "t", "x", "y", "theta", "v", "omega", "phi_r", "phi_l", "omega_r", "omega_l", "tau_r", "tau_l", "e_s",
     "e_theta", "dl",
@@ -89,29 +88,22 @@ impl RunResult {
         Self { index, label, outcome }
     }
 
+    /// Converged, not converged or diverged (decided by the core, from the true state).
+    pub fn status(&self) -> Status {
+        self.outcome.status()
+    }
+
     /// The state stopped being finite or C left the 1 km box.
     pub fn diverged(&self) -> bool {
-        self.outcome.termination.diverged()
+        self.status() == Status::Diverged
     }
 
-    /// Not diverged and the final dl is below 1 cm ([`ARRIVAL_RADIUS_M`]). The heading
-    /// error is not part of it: the paper's law leaves several degrees (SPEC section 4).
+    /// Not diverged and the final distance to the goal is below 1 cm.
     pub fn converged(&self) -> bool {
-        !self.diverged() && self.outcome.final_dl < ARRIVAL_RADIUS_M
+        self.status() == Status::Converged
     }
 
-    /// `"converged"`, `"diverged"` or `"not converged"`.
-    pub fn status(&self) -> &'static str {
-        if self.diverged() {
-            "diverged"
-        } else if self.converged() {
-            "converged"
-        } else {
-            "not converged"
-        }
-    }
-
-    /// The SPEC section 6 summary line: label, final dl (m), final heading error (deg),
+    /// The summary line: label, final dl (m), final heading error (deg),
     /// time to dl < 1 cm (s or "never"), status.
     pub fn summary_line(&self) -> String {
         let o = &self.outcome;
@@ -127,33 +119,8 @@ impl RunResult {
             o.final_dl,
             o.final_heading_error.to_degrees(),
             arrival,
-            self.status(),
+            self.status().name(),
             stop
         )
-    }
-}
-
-impl Scenario {
-    /// Runs every run in order on this thread into `sink`, then finishes it.
-    pub fn run_all(&self, sink: &mut dyn Sink) -> Result<Vec<RunResult>, SinkError> {
-        let mut results = Vec::with_capacity(self.runs.len());
-        for (i, spec) in self.runs.iter().enumerate() {
-            sink.begin_run(i, spec)?;
-            let mut failed: Option<SinkError> = None;
-            let result = self.run(i, |s| {
-                if failed.is_none()
-                    && let Err(e) = sink.sample(i, s)
-                {
-                    failed = Some(e);
-                }
-            })?;
-            if let Some(e) = failed {
-                return Err(e);
-            }
-            sink.end_run(&result)?;
-            results.push(result);
-        }
-        sink.finish()?;
-        Ok(results)
     }
 }

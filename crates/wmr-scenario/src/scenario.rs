@@ -1,229 +1,81 @@
-//! The resolved, checked scenario: parsing entry points, validation and the TOML dump.
+//! The resolved, checked scenario: parsing entry points, validation once, running and
+//! the TOML dump. Its parts are stored validated and read through accessors.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
-use wmr_core::{ClosedLoop, DriveParams, Pose2, RobotParams};
+use toml::{Table, Value};
+use wmr_core::{ControllerParams, Drive, DriveParams, Pose2, Robot, RobotParams, Sample};
 
-use crate::controller::{BuiltController, ControllerSpec};
-use crate::file::{PoseFile, RunFile, ScenarioFile, SimFile};
-use crate::locate;
+use crate::assemble::{self, BuiltController, Origin, RunLoop};
+use crate::error::ScenarioError;
+use crate::file::{RunFile, ScenarioFile, SimFile};
+use crate::keys::{
+    fields_of, fields_read_by, join, kind_of, overlay, overlay_table, read_with, to_table, toml_f64, write_keys,
+};
+use crate::output::RunResult;
+use crate::run::{RunSpec, short};
+use crate::sim::{DEFAULT_LOG_DT_S, DEFAULT_T_END_S, SimSpec};
 use crate::sweep::SweepSpec;
-use crate::{RunResult, ScenarioError};
+use crate::{controller, locate};
 
-/// Largest `sim.t_end` accepted, s (about 11.6 days of simulated time).
-pub const MAX_T_END_S: f64 = 1e6;
-/// Largest number of plant steps per run accepted (`t_end / dt`): about 15 min of CPU
-/// per run at the core's ~1 us per step, so a typo like `dt = 1e-9` is caught.
-pub const MAX_STEPS: u64 = 1_000_000_000;
-/// Default `sim.t_end`, s.
-pub const DEFAULT_T_END_S: f64 = 60.0;
-/// Default `sim.log_dt`, s.
-pub const DEFAULT_LOG_DT_S: f64 = 0.01;
-
-/// `[sim]`, checked: t_end and log_dt are whole multiples of dt.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SimSpec {
-    t_end: f64,
-    dt: f64,
-    log_dt: f64,
-    n_steps: u64,
-    log_every: u32,
-}
-
-/// How many `dt` fit in `period` if it is a whole multiple (relative tolerance 1e-9, as
-/// the core's own check).
-fn whole_multiple(period: f64, dt: f64) -> Option<u64> {
-    let ratio = (period / dt).round();
-    let tol = 1e-9 * period.abs();
-    // ratio <= 2^53 keeps the u64 exact; `as` saturates and the range is checked first.
-    ((1.0..=9.0e15).contains(&ratio) && (ratio * dt - period).abs() <= tol).then_some(ratio as u64)
-}
-
-fn positive(key: &str, v: f64) -> Result<f64, ScenarioError> {
-    if !v.is_finite() {
-        Err(ScenarioError::new(key, format!("must be a finite number (got {v})")))
-    } else if v <= 0.0 {
-        Err(ScenarioError::new(key, format!("must be > 0 (got {v})")))
-    } else {
-        Ok(v)
-    }
-}
-
-impl SimSpec {
-    /// Checks t_end (s), dt (s) and log_dt (s); errors name `sim.*`.
-    pub fn new(t_end: f64, dt: f64, log_dt: f64) -> Result<Self, ScenarioError> {
-        let dt = positive("sim.dt", dt)?;
-        let t_end = positive("sim.t_end", t_end)?;
-        let log_dt = positive("sim.log_dt", log_dt)?;
-        if t_end > MAX_T_END_S {
-            return Err(ScenarioError::new("sim.t_end", format!("must be <= {MAX_T_END_S:e} s (got {t_end})")));
-        }
-        let n_steps = whole_multiple(t_end, dt).ok_or_else(|| {
-            ScenarioError::new("sim.t_end", format!("must be a whole multiple of sim.dt = {dt} (got {t_end})"))
-        })?;
-        if n_steps > MAX_STEPS {
-            return Err(ScenarioError::new(
-                "sim.t_end",
-                format!("t_end / dt = {n_steps} steps per run, more than the limit of {MAX_STEPS}"),
-            ));
-        }
-        let log_every = whole_multiple(log_dt, dt).and_then(|n| u32::try_from(n).ok()).ok_or_else(|| {
-            ScenarioError::new("sim.log_dt", format!("must be a whole multiple of sim.dt = {dt} (got {log_dt})"))
-        })?;
-        Ok(Self { t_end, dt, log_dt, n_steps, log_every })
-    }
-
-    /// Simulated time per run, s.
-    pub fn t_end(&self) -> f64 {
-        self.t_end
-    }
-
-    /// RK4 step, s.
-    pub fn dt(&self) -> f64 {
-        self.dt
-    }
-
-    /// Output sample period, s.
-    pub fn log_dt(&self) -> f64 {
-        self.log_dt
-    }
-
-    /// Plant steps per run, t_end / dt.
-    pub fn n_steps(&self) -> u64 {
-        self.n_steps
-    }
-
-    /// Plant steps per logged sample, log_dt / dt.
-    pub fn log_every(&self) -> u32 {
-        self.log_every
-    }
-
-    /// Samples a run that does not diverge hands to its sink: t = 0, every log_dt, and
-    /// t_end when it is not on the log grid.
-    pub fn n_samples(&self) -> u64 {
-        let every = u64::from(self.log_every);
-        self.n_steps / every + 1 + u64::from(!self.n_steps.is_multiple_of(every))
-    }
-}
-
-/// One `[[run]]`, checked.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RunSpec {
-    /// Label for the summary (given, or built from start and goal).
-    pub label: String,
-    /// Start pose of C: m, m, rad.
-    pub start: Pose2<f64>,
-    /// Goal pose of C: m, m, rad.
-    pub goal: Pose2<f64>,
-}
-
-/// A complete, validated scenario: every default filled in, every key checked.
+/// A complete, validated scenario: every default filled in, every key checked once.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scenario {
-    /// Name (the `name` key, or the file's stem).
-    pub name: String,
-    /// `[robot]`.
-    pub robot: RobotParams<f64>,
-    /// `[drive]`.
-    pub drive: DriveParams<f64>,
-    /// `[controller]`.
-    pub controller: ControllerSpec,
-    /// `[sim]`.
-    pub sim: SimSpec,
-    /// `[[run]]`: at least one, unless the file is a sweep.
-    pub runs: Vec<RunSpec>,
-    /// `[sweep]`, when the file has one (`wmr-cli sweep`).
-    pub sweep: Option<SweepSpec>,
+    name: String,
+    robot: Robot<f64>,
+    drive: Drive<f64>,
+    controller: ControllerParams<f64>,
+    /// The controller built from `controller` for this robot and drive, at t = 0.
+    built: BuiltController,
+    sim: SimSpec,
+    runs: Vec<RunSpec>,
+    sweep: Option<SweepSpec>,
 }
 
-/// A float as TOML: the shortest representation that reads back to the same f64.
-pub(crate) fn toml_f64(v: f64) -> String {
-    if v.is_nan() {
-        "nan".to_owned()
-    } else if v.is_infinite() {
-        if v > 0.0 { "inf".to_owned() } else { "-inf".to_owned() }
-    } else {
-        // Debug always has a '.' or an exponent, so TOML reads it as a float.
-        format!("{v:?}")
-    }
+/// `[robot]`: the paper's robot with the given keys, validated.
+fn resolve_robot(given: &Table) -> Result<Robot<f64>, ScenarioError> {
+    let params = overlay(&RobotParams::<f64>::paper(), given, "robot")?;
+    params.validate().map_err(|e| ScenarioError::from_param(&e, &join("robot", e.field)))
 }
 
-/// A short human number for labels: at most 4 decimals, trailing zeros dropped.
-fn short(v: f64) -> String {
-    let s = format!("{v:.4}");
-    let s = if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.') } else { &s };
-    if s == "-0" { "0".to_owned() } else { s.to_owned() }
-}
-
-fn default_label(start: &Pose2<f64>, goal: &Pose2<f64>) -> String {
-    format!(
-        "({}, {}, {} deg) -> ({}, {}, {} deg)",
-        short(start.x),
-        short(start.y),
-        short(start.theta.to_degrees()),
-        short(goal.x),
-        short(goal.y),
-        short(goal.theta.to_degrees())
-    )
-}
-
-pub(crate) fn resolve_pose(prefix: &str, p: &PoseFile) -> Result<Pose2<f64>, ScenarioError> {
-    let finite = |k: &str, v: Option<f64>| -> Result<f64, ScenarioError> {
-        match v {
-            None => Ok(0.0),
-            Some(v) if v.is_finite() => Ok(v),
-            Some(v) => Err(ScenarioError::new(format!("{prefix}.{k}"), format!("must be a finite number (got {v})"))),
-        }
-    };
-    let x = finite("x", p.x)?;
-    let y = finite("y", p.y)?;
-    let theta = match (p.theta, p.theta_deg) {
-        (Some(_), Some(_)) => {
-            return Err(ScenarioError::new(
-                format!("{prefix}.theta_deg"),
-                "give the heading as theta (rad) or theta_deg (degrees), not both",
-            ));
-        }
-        (_, Some(_)) => finite("theta_deg", p.theta_deg)?.to_radians(),
-        (theta, None) => finite("theta", theta)?,
-    };
-    Ok(Pose2::new(x, y, theta))
+/// `[drive]`: `kind` (default `torque`) and its keys.
+fn resolve_drive(given: &Table) -> Result<DriveParams<f64>, ScenarioError> {
+    let defaults = DriveParams::<f64>::defaults();
+    let kinds: Vec<&str> = defaults.iter().map(DriveParams::kind).collect();
+    let kind = kind_of(given, "drive", "torque", &kinds)?;
+    let default = defaults.into_iter().find(|d| d.kind() == kind).unwrap_or_default();
+    let mut keys = to_table(&default);
+    keys.remove("kind");
+    let mut given = given.clone();
+    given.remove("kind");
+    let merged = overlay_table(&keys, &given, "drive")?;
+    read_with("drive", Value::Table(merged), |d| default.deserialize_variant(d))
 }
 
 impl ScenarioFile {
     /// Fills the defaults and checks everything by building the core types once.
     /// `default_name` is used when the file has no `name`.
     pub fn resolve(self, default_name: &str) -> Result<Scenario, ScenarioError> {
-        let r = &self.robot;
-        let d = RobotParams::<f64>::paper();
-        let robot = RobotParams {
-            mass: r.mass.unwrap_or(d.mass),
-            wheel_radius: r.wheel_radius.unwrap_or(d.wheel_radius),
-            half_track: r.half_track.unwrap_or(d.half_track),
-            com_offset: r.com_offset.unwrap_or(d.com_offset),
-            wheel_inertia: r.wheel_inertia.unwrap_or(d.wheel_inertia),
-            platform_inertia: r.platform_inertia.unwrap_or(d.platform_inertia),
-            gear_ratio: r.gear_ratio.unwrap_or(d.gear_ratio),
-            viscous_friction: r.viscous_friction.unwrap_or(d.viscous_friction),
-            coulomb_friction: r.coulomb_friction.unwrap_or(d.coulomb_friction),
-            coulomb_speed: r.coulomb_speed.unwrap_or(d.coulomb_speed),
-        };
-        let same = |f: &str| f.to_owned();
-        let checked_robot = robot.validate().map_err(|e| ScenarioError::from_param(e, same))?;
-        let drive = self.drive.to_params();
-        let checked_drive = drive.validate(&checked_robot).map_err(|e| ScenarioError::from_param(e, same))?;
-        let controller = self.controller.to_spec(&drive);
+        let empty = Table::new();
+        let robot = resolve_robot(self.robot.as_ref().unwrap_or(&empty))?;
+        let drive_params = resolve_drive(self.drive.as_ref().unwrap_or(&empty))?;
+        let drive =
+            drive_params.validate(&robot).map_err(|e| ScenarioError::from_param(&e, &join("drive", e.field)))?;
+        let controller = controller::resolve(self.controller.as_ref().unwrap_or(&empty), "controller", &drive_params)?;
+        let built = controller
+            .build(robot.params(), &drive)
+            .map_err(|e| ScenarioError::from_param(&e, &join("controller", e.field)))?;
 
-        let SimFile { t_end, dt, log_dt } = self.sim;
+        let SimFile { t_end, dt, log_dt } = self.sim.unwrap_or_default();
         let sim = SimSpec::new(
             t_end.unwrap_or(DEFAULT_T_END_S),
-            dt.unwrap_or(controller.control_dt()),
+            dt.unwrap_or(controller.control_dt),
             log_dt.unwrap_or(DEFAULT_LOG_DT_S),
         )?;
 
         let sweep = match &self.sweep {
-            Some(sw) => Some(sw.resolve(&drive, &robot, &sim)?),
+            Some(sw) => Some(SweepSpec::resolve(sw, &robot, &drive, &sim)?),
             None => None,
         };
         if self.run.is_empty() && sweep.is_none() {
@@ -231,29 +83,22 @@ impl ScenarioFile {
         }
         let mut runs = Vec::with_capacity(self.run.len());
         for (i, RunFile { label, start, goal }) in self.run.into_iter().enumerate() {
-            let prefix = format!("run[{i}]");
-            let start = resolve_pose(&format!("{prefix}.start"), &start.unwrap_or_default())?;
+            let path = format!("run[{i}]");
+            let start = start.unwrap_or_default().resolve(&join(&path, "start"))?;
             let goal = match goal {
-                Some(g) => resolve_pose(&format!("{prefix}.goal"), &g)?,
-                None => {
-                    return Err(ScenarioError::new(format!("{prefix}.goal"), "missing: every [[run]] needs a goal"));
-                }
+                Some(g) => g.resolve(&join(&path, "goal"))?,
+                None => return Err(ScenarioError::new(join(&path, "goal"), "missing: every [[run]] needs a goal")),
             };
-            let rename = |f: &str| match f.strip_prefix("run.") {
-                Some(rest) => format!("{prefix}.{rest}"),
-                None => f.to_owned(),
-            };
-            // Build the controller and the loop once: the core's own checks are the truth.
-            let ctrl = controller
-                .build(&checked_robot, &checked_drive, goal)
-                .map_err(|e| ScenarioError::from_param(e, rename))?;
-            ClosedLoop::new(checked_robot, checked_drive, ctrl, start, sim.dt)
-                .map_err(|e| ScenarioError::from_param(e, rename))?;
-            let label = label.unwrap_or_else(|| default_label(&start, &goal));
-            runs.push(RunSpec { label, start, goal });
+            let mut run = RunSpec::new(start, goal);
+            if let Some(label) = label {
+                run.label = label;
+            }
+            runs.push(run);
         }
         let name = self.name.unwrap_or_else(|| default_name.to_owned());
-        Ok(Scenario { name, robot, drive, controller, sim, runs, sweep })
+        let scenario = Scenario { name, robot, drive, controller, built, sim, runs, sweep };
+        scenario.check_runs()?;
+        Ok(scenario)
     }
 }
 
@@ -276,30 +121,12 @@ impl Scenario {
         let file: ScenarioFile = serde_path_to_error::deserialize(de).map_err(|e| {
             let path = e.path().to_string();
             let inner = e.into_inner();
-            locate::deser_error(&path, inner.message(), inner.span(), Some(text))
+            locate::deser_error(&path, inner.message(), inner.span(), text)
         })?;
         file.resolve(default_name).map_err(|e| {
             let line = locate::span_of_key(text, &e.key).map(|s| locate::line_of(text, s.start));
             e.at_line(line)
         })
-    }
-
-    /// Parses and checks JSON text (e.g. a Python dict), same keys as the TOML file.
-    pub fn from_json_str(text: &str, default_name: &str) -> Result<Self, ScenarioError> {
-        let mut de = serde_json::Deserializer::from_str(text);
-        let file: ScenarioFile = serde_path_to_error::deserialize(&mut de).map_err(|e| {
-            let path = e.path().to_string();
-            let inner = e.into_inner();
-            // serde_json appends " at line L column C"; keep the message, drop the place.
-            let msg = inner.to_string();
-            let msg = msg.rsplit_once(" at line ").map_or(msg.as_str(), |(m, _)| m).to_owned();
-            let mut err = locate::deser_error(&path, &msg, None, None);
-            if inner.line() > 0 {
-                err.line = Some(inner.line());
-            }
-            err
-        })?;
-        file.resolve(default_name)
     }
 
     /// Reads a TOML file; the name defaults to the file's stem. Read errors name the path.
@@ -311,25 +138,71 @@ impl Scenario {
         Self::from_toml_str(&text, &stem)
     }
 
+    /// The same scenario with other runs, each checked (Python's batches of starts).
+    pub fn with_runs(mut self, runs: Vec<RunSpec>) -> Result<Self, ScenarioError> {
+        self.runs = runs;
+        self.check_runs()?;
+        Ok(self)
+    }
+
+    /// Builds every run's loop once: the core's own checks are the truth.
+    fn check_runs(&self) -> Result<(), ScenarioError> {
+        (0..self.runs.len()).try_for_each(|i| self.closed_loop(i).map(|_| ()))
+    }
+
+    /// Name (the `name` key, or the file's stem).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The validated robot (`[robot]`).
+    pub fn robot(&self) -> &Robot<f64> {
+        &self.robot
+    }
+
+    /// The validated drive (`[drive]`).
+    pub fn drive(&self) -> &Drive<f64> {
+        &self.drive
+    }
+
+    /// The controller's parameters (`[controller]`), every default filled in.
+    pub fn controller(&self) -> &ControllerParams<f64> {
+        &self.controller
+    }
+
+    /// The controller built from them, at t = 0 (copy it to run it).
+    pub fn built_controller(&self) -> &BuiltController {
+        &self.built
+    }
+
+    /// `[sim]`.
+    pub fn sim(&self) -> &SimSpec {
+        &self.sim
+    }
+
+    /// `[[run]]`: at least one, unless the file is a sweep.
+    pub fn runs(&self) -> &[RunSpec] {
+        &self.runs
+    }
+
+    /// `[sweep]`, when the file has one (`wmr-cli sweep`).
+    pub fn sweep(&self) -> Option<&SweepSpec> {
+        self.sweep.as_ref()
+    }
+
     /// The closed loop of run `run_index`, at t = 0.
-    pub fn closed_loop(&self, run_index: usize) -> Result<ClosedLoop<f64, BuiltController>, ScenarioError> {
+    pub fn closed_loop(&self, run_index: usize) -> Result<RunLoop, ScenarioError> {
         let run = self.runs.get(run_index).ok_or_else(|| {
             ScenarioError::new("run", format!("no run {run_index}: the scenario has {}", self.runs.len()))
         })?;
-        let same = |f: &str| f.to_owned();
-        let robot = self.robot.validate().map_err(|e| ScenarioError::from_param(e, same))?;
-        let drive = self.drive.validate(&robot).map_err(|e| ScenarioError::from_param(e, same))?;
-        let rename = |f: &str| match f.strip_prefix("run.") {
-            Some(rest) => format!("run[{run_index}].{rest}"),
-            None => f.to_owned(),
-        };
-        let ctrl = self.controller.build(&robot, &drive, run.goal).map_err(|e| ScenarioError::from_param(e, rename))?;
-        ClosedLoop::new(robot, drive, ctrl, run.start, self.sim.dt()).map_err(|e| ScenarioError::from_param(e, rename))
+        let path = format!("run[{run_index}]");
+        let origin = Origin { run: &path, controller: "controller" };
+        assemble::closed_loop(&self.robot, &self.drive, &self.built, run.start, run.goal, self.sim.dt(), origin)
     }
 
     /// Simulates run `run_index` from t = 0 to t_end (or divergence), handing `sink`
     /// the sample at t = 0, every log_dt and the last one. The physics is the core's.
-    pub fn run(&self, run_index: usize, sink: impl FnMut(&wmr_core::Sample<f64>)) -> Result<RunResult, ScenarioError> {
+    pub fn run(&self, run_index: usize, sink: impl FnMut(&Sample<f64>)) -> Result<RunResult, ScenarioError> {
         let mut lp = self.closed_loop(run_index)?;
         let outcome = lp.run(self.sim.n_steps(), self.sim.log_every(), sink);
         let label = self.runs.get(run_index).map(|r| r.label.clone()).unwrap_or_default();
@@ -342,44 +215,19 @@ impl Scenario {
         let mut o = String::new();
         let f = toml_f64;
         let _ = writeln!(o, "# Resolved scenario: every key with its value, defaults filled in.");
-        let _ = writeln!(o, "name = {}", toml::Value::String(self.name.clone()));
-        let r = &self.robot;
+        let _ = writeln!(o, "name = {}", Value::String(self.name.clone()));
         let _ = writeln!(o, "\n[robot]");
-        for (k, v) in [
-            ("mass", r.mass),
-            ("wheel_radius", r.wheel_radius),
-            ("half_track", r.half_track),
-            ("com_offset", r.com_offset),
-            ("wheel_inertia", r.wheel_inertia),
-            ("platform_inertia", r.platform_inertia),
-            ("gear_ratio", r.gear_ratio),
-            ("viscous_friction", r.viscous_friction),
-            ("coulomb_friction", r.coulomb_friction),
-            ("coulomb_speed", r.coulomb_speed),
-        ] {
-            let _ = writeln!(o, "{k} = {}", f(v));
-        }
+        write_keys(&mut o, &to_table(self.robot.params()), fields_of::<RobotParams<f64>>());
         let _ = writeln!(o, "\n[drive]");
-        match &self.drive {
-            DriveParams::Torque(p) => {
-                let _ = writeln!(o, "kind = \"torque\"\nmotor_torque_max = {}", f(p.motor_torque_max));
-            }
-            DriveParams::DcMotor(p) => {
-                let _ = writeln!(
-                    o,
-                    "kind = \"dc_motor\"\nvoltage_max = {}\ntorque_constant = {}\nback_emf_constant = {}\narmature_resistance = {}",
-                    f(p.voltage_max),
-                    f(p.torque_constant),
-                    f(p.back_emf_constant),
-                    f(p.armature_resistance)
-                );
-            }
-        }
+        let drive = self.drive.params();
+        let mut order = vec!["kind"];
+        order.extend(fields_read_by(|probe| drive.deserialize_variant(probe).map(|_| ())));
+        write_keys(&mut o, &to_table(&drive), &order);
         let _ = writeln!(o, "\n[controller]");
-        crate::controller::write_toml(&self.controller, &mut o);
+        controller::write(&self.controller, &mut o);
         let s = &self.sim;
-        let _ = writeln!(o, "\n[sim]\nt_end = {}\ndt = {}\nlog_dt = {}", f(s.t_end), f(s.dt), f(s.log_dt));
-        let _ = writeln!(o, "# {} steps and {} samples per run", s.n_steps, s.n_samples());
+        let _ = writeln!(o, "\n[sim]\nt_end = {}\ndt = {}\nlog_dt = {}", f(s.t_end()), f(s.dt()), f(s.log_dt()));
+        let _ = writeln!(o, "# {} steps and {} samples per run", s.n_steps(), s.n_samples());
         for run in &self.runs {
             let pose = |p: &Pose2<f64>| {
                 format!(
@@ -390,7 +238,7 @@ impl Scenario {
                     short(p.theta.to_degrees())
                 )
             };
-            let _ = writeln!(o, "\n[[run]]\nlabel = {}", toml::Value::String(run.label.clone()));
+            let _ = writeln!(o, "\n[[run]]\nlabel = {}", Value::String(run.label.clone()));
             let _ = writeln!(o, "start = {}", pose(&run.start));
             let _ = writeln!(o, "goal = {}", pose(&run.goal));
         }

@@ -15,60 +15,18 @@
 //! `min_radius <= |C - goal| <= radius` with a uniform heading in [-180, 180) deg, drawn
 //! from `fastrand`'s generator seeded with `seed` (the same file gives the same starts).
 
-use rayon::prelude::*;
-use serde::Deserialize;
-use wmr_core::metrics::ARRIVAL_RADIUS_M;
-use wmr_core::{ClosedLoop, DriveParams, Outcome, Pose2, Robot, RobotParams};
+use toml::Table;
+use wmr_core::{ControllerParams, Drive, Outcome, Pose2, Robot, Status};
 
-use crate::controller::{ControllerFile, ControllerSpec};
+use crate::assemble::{self, BuiltController, Origin};
+use crate::controller::{self as controller_table, law_kinds};
 use crate::error::ScenarioError;
-use crate::file::PoseFile;
-use crate::scenario::{SimSpec, resolve_pose};
+use crate::executor::map_ordered;
+use crate::file::{GridFile, RandomFile, SweepFile};
+use crate::sim::SimSpec;
 
 /// Most (law, start) runs one sweep may hold.
 pub const MAX_SWEEP_RUNS: usize = 1_000_000;
-
-/// `[sweep]` as written.
-#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct SweepFile {
-    /// Goal pose of C; default (0, 0, 0).
-    pub goal: Option<PoseFile>,
-    /// The laws to compare; default: paper, polar and lyapunov with their defaults.
-    pub controllers: Option<Vec<ControllerFile>>,
-    /// A grid of starts.
-    pub grid: Option<GridFile>,
-    /// Seeded random starts.
-    pub random: Option<RandomFile>,
-}
-
-/// `grid = { ... }`: starts on a rectangular grid, every heading in `theta_deg`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-#[allow(missing_docs)] // documented in the module docs and docs/scenario.md
-pub struct GridFile {
-    pub x_min: f64,
-    pub x_max: f64,
-    pub nx: u32,
-    pub y_min: f64,
-    pub y_max: f64,
-    pub ny: u32,
-    #[serde(default)]
-    pub theta_deg: Option<Vec<f64>>,
-}
-
-/// `random = { ... }`: seeded random starts around the goal.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-#[allow(missing_docs)] // documented in the module docs and docs/scenario.md
-pub struct RandomFile {
-    pub n: u32,
-    #[serde(default)]
-    pub seed: u64,
-    pub radius: f64,
-    #[serde(default)]
-    pub min_radius: f64,
-}
 
 /// A checked sweep: the goal, the laws (with their names) and every start.
 #[derive(Clone, Debug, PartialEq)]
@@ -76,7 +34,9 @@ pub struct SweepSpec {
     /// Goal pose of C: m, m, rad.
     pub goal: Pose2<f64>,
     /// The laws, in file order, and a unique name for each (`kind`, or `kind#2` ...).
-    pub laws: Vec<(String, ControllerSpec)>,
+    pub laws: Vec<(String, ControllerParams<f64>)>,
+    /// Each law's controller, built for the scenario's robot and drive, at t = 0.
+    pub built: Vec<BuiltController>,
     /// Start poses of C: m, m, rad.
     pub starts: Vec<Pose2<f64>>,
     /// Where the starts come from, every default filled in (written back by `to_toml`).
@@ -96,44 +56,41 @@ fn finite_key(key: &str, v: f64) -> Result<f64, ScenarioError> {
     if v.is_finite() { Ok(v) } else { Err(ScenarioError::new(key, format!("must be a finite number (got {v})"))) }
 }
 
-impl SweepFile {
-    /// Checks the table and draws the starts; controllers are validated for the goal.
+impl SweepSpec {
+    /// Checks a `[sweep]` table and draws the starts; each law is built once for the
+    /// scenario's validated robot and drive, and its loop assembled towards the goal.
     pub(crate) fn resolve(
-        &self,
-        drive: &DriveParams<f64>,
-        robot: &RobotParams<f64>,
+        sw: &SweepFile,
+        robot: &Robot<f64>,
+        drive: &Drive<f64>,
         sim: &SimSpec,
-    ) -> Result<SweepSpec, ScenarioError> {
-        let goal = resolve_pose("sweep.goal", &self.goal.clone().unwrap_or_default())?;
-        let files = match &self.controllers {
+    ) -> Result<Self, ScenarioError> {
+        let goal = sw.goal.clone().unwrap_or_default().resolve("sweep.goal")?;
+        let tables: Vec<Table> = match &sw.controllers {
             Some(v) if v.is_empty() => return Err(ScenarioError::new("sweep.controllers", "name at least one law")),
             Some(v) => v.clone(),
-            None => crate::controller::CONTROLLER_KINDS
-                .iter()
-                .map(|k| ControllerFile::default_of(k))
-                .collect::<Option<Vec<_>>>()
-                .ok_or_else(|| ScenarioError::new("sweep.controllers", "internal: unknown default kind"))?,
+            None => law_kinds()
+                .into_iter()
+                .map(|k| Table::from_iter([("kind".to_owned(), toml::Value::String(k.to_owned()))]))
+                .collect(),
         };
-        let checked_robot = robot.validate().map_err(|e| ScenarioError::from_param(e, |f| f.to_owned()))?;
-        let checked_drive =
-            drive.validate(&checked_robot).map_err(|e| ScenarioError::from_param(e, |f| f.to_owned()))?;
-        let mut laws: Vec<(String, ControllerSpec)> = Vec::with_capacity(files.len());
-        for (i, f) in files.iter().enumerate() {
-            let spec = f.to_spec(drive);
-            let rename = |field: &str| match field.strip_prefix("controller.") {
-                Some(rest) => format!("sweep.controllers[{i}].{rest}"),
-                None => field.replacen("run.goal", "sweep.goal", 1),
-            };
-            let ctrl =
-                spec.build(&checked_robot, &checked_drive, goal).map_err(|e| ScenarioError::from_param(e, rename))?;
-            ClosedLoop::new(checked_robot, checked_drive, ctrl, goal, sim.dt())
-                .map_err(|e| ScenarioError::from_param(e, rename))?;
-            let kind = spec.kind().name();
-            let same = laws.iter().filter(|(_, s)| s.kind().name() == kind).count();
+        let mut laws: Vec<(String, ControllerParams<f64>)> = Vec::with_capacity(tables.len());
+        let mut built = Vec::with_capacity(tables.len());
+        for (i, table) in tables.iter().enumerate() {
+            let path = format!("sweep.controllers[{i}]");
+            let params = controller_table::resolve(table, &path, &drive.params())?;
+            let ctrl = params
+                .build(robot.params(), drive)
+                .map_err(|e| ScenarioError::from_param(&e, &crate::keys::join(&path, e.field)))?;
+            let origin = Origin { run: "sweep", controller: &path };
+            assemble::closed_loop(robot, drive, &ctrl, goal, goal, sim.dt(), origin)?;
+            let kind = params.law.kind();
+            let same = laws.iter().filter(|(_, p)| p.law.kind() == kind).count();
             let name = if same == 0 { kind.to_owned() } else { format!("{kind}#{}", same + 1) };
-            laws.push((name, spec));
+            laws.push((name, params));
+            built.push(ctrl);
         }
-        let (starts, source) = match (&self.grid, &self.random) {
+        let (starts, source) = match (&sw.grid, &sw.random) {
             (Some(g), None) => {
                 let g = GridFile { theta_deg: Some(g.theta_deg.clone().unwrap_or_else(|| vec![0.0])), ..g.clone() };
                 (grid_starts(&g)?, StartsSource::Grid(g))
@@ -152,7 +109,7 @@ impl SweepFile {
                 format!("{} starts x {} laws is more than {MAX_SWEEP_RUNS} runs", starts.len(), laws.len()),
             ));
         }
-        Ok(SweepSpec { goal, laws, starts, source })
+        Ok(SweepSpec { goal, laws, built, starts, source })
     }
 }
 
@@ -231,13 +188,13 @@ impl SweepSpec {
     /// The `[sweep]` table in TOML, every key written; reads back to the same sweep.
     pub(crate) fn write_toml(&self, out: &mut String) {
         use std::fmt::Write as _;
-        let f = crate::scenario::toml_f64;
+        let f = crate::keys::toml_f64;
         let g = &self.goal;
         let _ = writeln!(out, "\n[sweep]\ngoal = {{ x = {}, y = {}, theta = {} }}", f(g.x), f(g.y), f(g.theta));
         let _ = writeln!(out, "controllers = [");
         for (_, spec) in &self.laws {
             let mut table = String::new();
-            crate::controller::write_toml(spec, &mut table);
+            controller_table::write(spec, &mut table);
             let _ = writeln!(out, "  {{ {} }},", table.lines().collect::<Vec<_>>().join(", "));
         }
         let _ = writeln!(out, "]");
@@ -285,20 +242,9 @@ pub struct SweepOutcome {
 }
 
 impl SweepOutcome {
-    /// Not diverged and final dl below 1 cm (as [`crate::RunResult::converged`]).
-    pub fn converged(&self) -> bool {
-        !self.outcome.termination.diverged() && self.outcome.final_dl < ARRIVAL_RADIUS_M
-    }
-
-    /// `"converged"`, `"diverged"` or `"not converged"`.
-    pub fn status(&self) -> &'static str {
-        if self.outcome.termination.diverged() {
-            "diverged"
-        } else if self.converged() {
-            "converged"
-        } else {
-            "not converged"
-        }
+    /// Converged, not converged or diverged (decided by the core).
+    pub fn status(&self) -> Status {
+        self.outcome.status()
     }
 }
 
@@ -329,36 +275,28 @@ impl SweepSpec {
         self.len() == 0
     }
 
-    /// Runs every (law, start) pair in parallel; `done` is called once per finished run
-    /// (from worker threads). Results are ordered by law, then start.
+    /// Runs every (law, start) pair in parallel for the scenario's validated robot,
+    /// drive and `[sim]`; `done` is called once per finished run (from worker threads).
+    /// Results are ordered by law, then start.
     pub fn run(
         &self,
-        robot: &RobotParams<f64>,
-        drive: &DriveParams<f64>,
+        robot: &Robot<f64>,
+        drive: &Drive<f64>,
         sim: &SimSpec,
         done: &(dyn Fn() + Sync),
     ) -> Result<Vec<SweepOutcome>, ScenarioError> {
-        let same = |f: &str| f.to_owned();
-        let robot: Robot<f64> = robot.validate().map_err(|e| ScenarioError::from_param(e, same))?;
-        let drive = drive.validate(&robot).map_err(|e| ScenarioError::from_param(e, same))?;
         let n_starts = self.starts.len();
-        (0..self.len())
-            .into_par_iter()
-            .map(|k| {
-                let (law, start_index) = (k / n_starts, k % n_starts);
-                let start = self.starts[start_index];
-                let rename = |f: &str| f.to_owned();
-                let ctrl = self.laws[law]
-                    .1
-                    .build(&robot, &drive, self.goal)
-                    .map_err(|e| ScenarioError::from_param(e, rename))?;
-                let mut sim_loop = ClosedLoop::new(robot, drive, ctrl, start, sim.dt())
-                    .map_err(|e| ScenarioError::from_param(e, rename))?;
-                let outcome = sim_loop.run(sim.n_steps(), u32::MAX, |_| {});
-                done();
-                Ok(SweepOutcome { law, start_index, start, outcome })
-            })
-            .collect()
+        map_ordered(self.len(), |k| {
+            let (law, start_index) = (k / n_starts, k % n_starts);
+            let start = self.starts[start_index];
+            let origin = Origin { run: "sweep", controller: "sweep.controllers" };
+            let mut lp = assemble::closed_loop(robot, drive, &self.built[law], start, self.goal, sim.dt(), origin)?;
+            let outcome = lp.run(sim.n_steps(), u32::MAX, |_| {});
+            done();
+            Ok(SweepOutcome { law, start_index, start, outcome })
+        })
+        .into_iter()
+        .collect()
     }
 }
 
@@ -371,7 +309,7 @@ pub fn sweep_row(spec: &SweepSpec, o: &SweepOutcome) -> [String; 12] {
         o.start.x.to_string(),
         o.start.y.to_string(),
         o.start.theta.to_degrees().to_string(),
-        o.status().to_owned(),
+        o.status().name().to_owned(),
         out.time_to_arrival.map(|t| t.to_string()).unwrap_or_default(),
         out.final_dl.to_string(),
         out.final_heading_error.to_degrees().to_string(),
@@ -432,14 +370,14 @@ pub fn summarize(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<LawSummary>
         .enumerate()
         .map(|(i, (name, _))| {
             let runs: Vec<&SweepOutcome> = outcomes.iter().filter(|o| o.law == i).collect();
-            let ok: Vec<&SweepOutcome> = runs.iter().copied().filter(|o| o.converged()).collect();
+            let ok: Vec<&SweepOutcome> = runs.iter().copied().filter(|o| o.status() == Status::Converged).collect();
             let n = runs.len().max(1) as f64;
             let over = |f: fn(&Outcome<f64>) -> f64| spread(ok.iter().map(|o| f(&o.outcome)).collect());
             LawSummary {
                 name: name.clone(),
                 n: runs.len(),
                 converged: ok.len() as f64 / n,
-                diverged: runs.iter().filter(|o| o.outcome.termination.diverged()).count() as f64 / n,
+                diverged: runs.iter().filter(|o| o.status() == Status::Diverged).count() as f64 / n,
                 time_to_1cm: over(|o| o.time_to_arrival.unwrap_or(f64::NAN)),
                 heading_error_deg: over(|o| o.final_heading_error.to_degrees().abs()),
                 peak_wheel_speed: over(|o| o.peak_wheel_speed),

@@ -1,6 +1,6 @@
-//! The paper's point-stabilization law (section 3, SPEC section 4): a "moving false
-//! target" R, two PI loops on (e_s, e_theta), the inverse of (20) to wheel angle
-//! references, and two wheel position servos.
+//! The paper's point-stabilization law (section 3): a "moving false target" R, two PI
+//! loops on (e_s, e_theta) and the inverse of (20) to wheel angle references, which the
+//! wheel stage's position servos follow.
 //!
 //! ```text
 //! dl = hypot(x_d - x, y_d - y)                      (16)
@@ -14,14 +14,15 @@
 //! The references are absolute wheel angles (the integration constant of (20) is
 //! neglected, as the paper says, because the encoders start at zero).
 
-use super::{ControlErrors, ControlOutput, Controller, Measurement, ServoGains, WheelServo};
-use crate::drive::Drive;
+use super::law::{ControlErrors, Law, LawOutput, WheelDemand};
 use crate::error::{ParamError, check};
 use crate::math::{Pose2, Wheels, wrap_angle};
-use crate::{Real, Robot};
+use crate::sensor::Measurement;
+use crate::{Real, RobotParams};
 
 /// Which of the paper's two problems to solve (section 2.3).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize), serde(rename_all = "snake_case"))]
 pub enum PaperMode {
     /// Orientating control: reach (x_d, y_d, theta_d); theta_R = 2 alpha - theta_d.
     #[default]
@@ -32,8 +33,9 @@ pub enum PaperMode {
 
 /// What the law does inside `hold_radius`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize), serde(rename_all = "snake_case"))]
 pub enum HoldMode {
-    /// SPEC section 4, step 7: the outer errors are taken as zero and the integrators
+    /// The paper's hold: the outer errors are taken as zero and the integrators
     /// stop, so u = Ki int. The wheel references step on entry (the Kp e parts drop
     /// out); on Fig. 7 that kick is what brings the heading error from 28 to 5 deg.
     #[default]
@@ -44,8 +46,9 @@ pub enum HoldMode {
     Freeze,
 }
 
-/// `[controller] kind = "paper"` parameters (SPEC section 4).
+/// `[controller] kind = "paper"`: the law's own keys.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PaperParams<T> {
     /// Pose or position mode.
     pub mode: PaperMode,
@@ -57,21 +60,17 @@ pub struct PaperParams<T> {
     pub kp_s: T,
     /// Ki_s, 1/s (paper: 0.25).
     pub ki_s: T,
-    /// Wheel servo gains (units follow the drive).
-    pub servo: ServoGains<T>,
     /// Within this distance of the goal (m) alpha keeps its last value.
     pub goal_radius: T,
     /// Within this distance of the goal (m) the outer errors are zero and the outer
     /// integrators stop; 0 turns the hold off.
     pub hold_radius: T,
-    /// How the hold behaves (`hold`): [`HoldMode::ZeroErrors`] (SPEC) or [`HoldMode::Freeze`].
+    /// How the hold behaves (`hold`): [`HoldMode::ZeroErrors`] (the default) or [`HoldMode::Freeze`].
     pub hold: HoldMode,
-    /// Control period, s.
-    pub control_dt: T,
 }
 
 impl<T: Real> PaperParams<T> {
-    /// The paper's gains with the SPEC's servo, radii and period, for the torque drive.
+    /// The paper's gains (section 4) and the default radii and hold.
     pub fn paper() -> Self {
         Self {
             mode: PaperMode::Pose,
@@ -79,11 +78,9 @@ impl<T: Real> PaperParams<T> {
             ki_theta: T::lit(0.1),
             kp_s: T::lit(1.0),
             ki_s: T::lit(0.25),
-            servo: ServoGains::torque_default(),
             goal_radius: T::lit(1e-3),
             hold_radius: T::lit(5e-3),
             hold: HoldMode::ZeroErrors,
-            control_dt: T::lit(1e-3),
         }
     }
 }
@@ -94,16 +91,15 @@ impl<T: Real> Default for PaperParams<T> {
     }
 }
 
-/// The paper's controller with its two wheel servos. Implements [`Controller`].
+/// The paper's outer law. Implements [`Law`] with [`WheelDemand::Angles`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PaperController<T> {
+pub struct PaperLaw<T> {
     params: PaperParams<T>,
-    goal: Pose2<T>,
-    /// r, m and R, m, for the inverse of (20).
+    /// r, m and R, m (the controller's model), for the inverse of (20).
     wheel_radius: T,
     half_track: T,
-    servo_r: WheelServo<T>,
-    servo_l: WheelServo<T>,
+    /// Control period, s: the PI integrators' step.
+    control_dt: T,
     /// int e_theta dt, rad s.
     int_e_theta: T,
     /// int e_s dt, m s.
@@ -114,29 +110,23 @@ pub struct PaperController<T> {
     last_refs: Option<Wheels<T>>,
 }
 
-impl<T: Real> PaperController<T> {
-    /// Validates `params` and the goal pose (m, m, rad) for this robot and drive.
-    pub fn new(params: PaperParams<T>, robot: &Robot<T>, drive: &Drive<T>, goal: Pose2<T>) -> Result<Self, ParamError> {
-        check::non_negative("controller.kp_theta", params.kp_theta)?;
-        check::non_negative("controller.ki_theta", params.ki_theta)?;
-        check::non_negative("controller.kp_s", params.kp_s)?;
-        check::non_negative("controller.ki_s", params.ki_s)?;
-        check::non_negative("controller.goal_radius", params.goal_radius)?;
-        check::non_negative("controller.hold_radius", params.hold_radius)?;
-        check::positive("controller.control_dt", params.control_dt)?;
-        check::finite("run.goal.x", goal.x)?;
-        check::finite("run.goal.y", goal.y)?;
-        check::finite("run.goal.theta", goal.theta)?;
-        let limit = drive.command_limit();
-        let servo = WheelServo::new(params.servo, limit)?;
-        let p = robot.params();
+impl<T: Real> PaperLaw<T> {
+    /// Validates `params` (errors name `kp_theta`, `ki_theta`, `kp_s`, `ki_s`,
+    /// `goal_radius`, `hold_radius`) for the controller's robot model (r and R) and the
+    /// control period (s, `control_dt`).
+    pub fn new(params: PaperParams<T>, model: &RobotParams<T>, control_dt: T) -> Result<Self, ParamError> {
+        check::non_negative("kp_theta", params.kp_theta)?;
+        check::non_negative("ki_theta", params.ki_theta)?;
+        check::non_negative("kp_s", params.kp_s)?;
+        check::non_negative("ki_s", params.ki_s)?;
+        check::non_negative("goal_radius", params.goal_radius)?;
+        check::non_negative("hold_radius", params.hold_radius)?;
+        check::positive("control_dt", control_dt)?;
         Ok(Self {
             params,
-            goal,
-            wheel_radius: p.wheel_radius,
-            half_track: p.half_track,
-            servo_r: servo,
-            servo_l: servo,
+            wheel_radius: model.wheel_radius,
+            half_track: model.half_track,
+            control_dt,
             int_e_theta: T::zero(),
             int_e_s: T::zero(),
             last_alpha: None,
@@ -149,13 +139,13 @@ impl<T: Real> PaperController<T> {
         &self.params
     }
 
-    /// The outer loop alone: errors and wheel angle references (rad), advancing the PI
-    /// integrators by one control period.
+    /// The law itself: errors and wheel angle references (rad) for the measured `pose`
+    /// and the `goal` (m, m, rad), advancing the PI integrators by one control period.
     #[inline]
-    pub fn references(&mut self, pose: Pose2<T>) -> (Wheels<T>, ControlErrors<T>) {
+    pub fn references(&mut self, pose: Pose2<T>, goal: Pose2<T>) -> (Wheels<T>, ControlErrors<T>) {
         let p = &self.params;
-        let dx = self.goal.x - pose.x;
-        let dy = self.goal.y - pose.y;
+        let dx = goal.x - pose.x;
+        let dy = goal.y - pose.y;
         let dl = dx.hypot_libm(dy);
         let alpha = if dl > p.goal_radius {
             let a = dy.atan2_libm(dx);
@@ -165,17 +155,17 @@ impl<T: Real> PaperController<T> {
             // At the goal alpha is undefined: keep the last one, or start from the
             // value that makes theta_R the goal heading (pose) or the current one.
             self.last_alpha.unwrap_or(match p.mode {
-                PaperMode::Pose => self.goal.theta,
+                PaperMode::Pose => goal.theta,
                 PaperMode::Position => pose.theta,
             })
         };
         let theta_ref = match p.mode {
-            PaperMode::Pose => alpha + alpha - self.goal.theta,
+            PaperMode::Pose => alpha + alpha - goal.theta,
             PaperMode::Position => alpha,
         };
-        // Hold (SPEC section 4, step 7): inside hold_radius the outer errors are taken
-        // as zero and the integrators stop, so u = Ki * int and the references stay put.
-        // Note the step on entry: the proportional parts Kp e drop out at once.
+        // Hold: inside hold_radius the outer errors are taken as zero and the integrators
+        // stop, so u = Ki * int and the references stay put. Note the step on entry: the
+        // proportional parts Kp e drop out at once.
         let in_hold = p.hold_radius > T::zero() && dl < p.hold_radius;
         if in_hold
             && p.hold == HoldMode::Freeze
@@ -190,8 +180,8 @@ impl<T: Real> PaperController<T> {
             let e_s = dl * diff.cos_libm();
             let e_theta = wrap_angle(diff);
             // Forward-Euler sums that include the current error.
-            self.int_e_s = self.int_e_s + e_s * p.control_dt;
-            self.int_e_theta = self.int_e_theta + e_theta * p.control_dt;
+            self.int_e_s = self.int_e_s + e_s * self.control_dt;
+            self.int_e_theta = self.int_e_theta + e_theta * self.control_dt;
             (e_s, e_theta)
         };
         let u_s = p.kp_s * e_s + p.ki_s * self.int_e_s;
@@ -203,32 +193,17 @@ impl<T: Real> PaperController<T> {
     }
 }
 
-impl<T: Real> Controller<T> for PaperController<T> {
+impl<T: Real> Law<T> for PaperLaw<T> {
     #[inline]
-    fn update(&mut self, m: &Measurement<T>) -> ControlOutput<T> {
-        let (refs, errors) = self.references(m.pose);
-        let dt = self.params.control_dt;
-        let command = Wheels::new(
-            self.servo_r.update(refs.right, m.wheel_angles.right, m.wheel_speeds.right, dt),
-            self.servo_l.update(refs.left, m.wheel_angles.left, m.wheel_speeds.left, dt),
-        );
-        ControlOutput { command, errors }
+    fn update(&mut self, _t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
+        let (refs, errors) = self.references(m.pose, goal);
+        LawOutput { demand: WheelDemand::Angles(refs), errors }
     }
 
     fn reset(&mut self) {
-        self.servo_r.reset();
-        self.servo_l.reset();
         self.int_e_theta = T::zero();
         self.int_e_s = T::zero();
         self.last_alpha = None;
         self.last_refs = None;
-    }
-
-    fn control_dt(&self) -> T {
-        self.params.control_dt
-    }
-
-    fn goal(&self) -> Pose2<T> {
-        self.goal
     }
 }

@@ -1,7 +1,9 @@
-//! Polar coordinates of the goal seen from the robot, and the choice of driving direction.
+//! Polar coordinates of the goal seen from the robot, the choice of driving direction,
+//! and [`PolarCoordinateLaw`], the shell every law in these coordinates shares (stop at
+//! the goal, pick the direction, log the errors): such a law is its gains and a twist.
 //!
-//! Shared by the polar-coordinate laws ([`super::PolarController`],
-//! [`super::LyapunovController`]). With (x, y, theta) the pose of C and
+//! Shared by the polar-coordinate laws ([`super::PolarLaw`],
+//! [`super::LyapunovLaw`]). With (x, y, theta) the pose of C and
 //! (x_d, y_d, theta_d) the goal, all in the world frame:
 //!
 //! ```text
@@ -46,8 +48,11 @@
 //! past pi/2 + pi/6 and the direction switches once, at 0.92 s, then never again. With
 //! `wheel_speed_max = 20` rad/s there is no switch.
 
+use super::law::{ControlErrors, Law, LawOutput, WheelDemand};
 use crate::Real;
-use crate::math::{Pose2, wrap_angle};
+use crate::error::{ParamError, check};
+use crate::math::{Pose2, Twist2, wrap_angle};
+use crate::sensor::Measurement;
 
 /// Which end of the robot leads.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -152,5 +157,106 @@ impl<T: Real> DirectionSelector<T> {
     /// Forgets the direction: the next tick decides afresh.
     pub fn reset(&mut self) {
         self.current = None;
+    }
+}
+
+/// The errors every polar-coordinate law logs: dl = rho; e_theta = wrap(theta_d - theta);
+/// e_s = (x_d - x) cos(theta) + (y_d - y) sin(theta), the signed distance to the goal
+/// along the heading.
+#[inline]
+pub fn polar_errors<T: Real>(pose: Pose2<T>, goal: Pose2<T>) -> ControlErrors<T> {
+    let dx = goal.x - pose.x;
+    let dy = goal.y - pose.y;
+    let (s, c) = pose.theta.sin_cos_libm();
+    ControlErrors { e_s: dx * c + dy * s, e_theta: wrap_angle(goal.theta - pose.theta), dl: dx.hypot_libm(dy) }
+}
+
+/// Stop inside `radius`, resume beyond twice that: returns the new "held" flag.
+#[inline]
+fn goal_hold<T: Real>(held: bool, dl: T, radius: T) -> bool {
+    if held { dl <= radius + radius } else { dl <= radius }
+}
+
+/// Checks the keys the polar-coordinate laws share: `reverse_hysteresis` in [0, pi/2)
+/// and `goal_radius` >= 0.
+pub(crate) fn check_direction_keys<T: Real>(reverse_hysteresis: T, goal_radius: T) -> Result<(), ParamError> {
+    check::non_negative("reverse_hysteresis", reverse_hysteresis)?;
+    if reverse_hysteresis >= T::FRAC_PI_2() {
+        return Err(check::out_of_range("reverse_hysteresis", "must be < pi/2", reverse_hysteresis));
+    }
+    check::non_negative("goal_radius", goal_radius)?;
+    Ok(())
+}
+
+/// What distinguishes one law in polar coordinates from another: its gains and its twist.
+pub trait PolarGains<T: Real>: Copy {
+    /// Checks every gain; errors name the key and the violated condition.
+    fn validate(&self) -> Result<(), ParamError>;
+    /// Drive backwards when the goal is behind (`reverse`).
+    fn reverse(&self) -> bool;
+    /// Overshoot of |alpha| past pi/2, rad, before a later direction switch.
+    fn reverse_hysteresis(&self) -> T;
+    /// Within this distance of the goal, m, the law stops (`goal_radius`).
+    fn goal_radius(&self) -> T;
+    /// The twist (v in m/s, omega in rad/s) for the goal at `c` in driving direction `dir`.
+    fn twist(&self, dir: Direction, c: &PolarCoords<T>) -> Twist2<T>;
+}
+
+/// A law in polar coordinates with gains `G`: stops within `goal_radius` of the goal
+/// (resuming beyond twice that), chooses the driving direction ([`DirectionSelector`]),
+/// logs [`polar_errors`]. Implements [`Law`] with [`WheelDemand::Twist`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PolarCoordinateLaw<T, G> {
+    gains: G,
+    direction: DirectionSelector<T>,
+    held: bool,
+}
+
+impl<T: Real, G: PolarGains<T>> PolarCoordinateLaw<T, G> {
+    /// Validates the gains.
+    pub fn new(gains: G) -> Result<Self, ParamError> {
+        gains.validate()?;
+        let direction = DirectionSelector::new(gains.reverse(), gains.reverse_hysteresis());
+        Ok(Self { gains, direction, held: false })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &G {
+        &self.gains
+    }
+
+    /// The driving direction in use (None before the first tick).
+    pub fn direction(&self) -> Option<Direction> {
+        self.direction.current()
+    }
+
+    /// The twist (v in m/s, omega in rad/s) for the measured `pose` and the `goal`.
+    pub fn twist(&mut self, pose: Pose2<T>, goal: Pose2<T>) -> Twist2<T> {
+        self.twist_at(pose, goal, (goal.x - pose.x).hypot_libm(goal.y - pose.y))
+    }
+
+    /// [`PolarCoordinateLaw::twist`] with the distance `dl` (m) from `pose` to `goal` known.
+    #[inline]
+    fn twist_at(&mut self, pose: Pose2<T>, goal: Pose2<T>, dl: T) -> Twist2<T> {
+        self.held = goal_hold(self.held, dl, self.gains.goal_radius());
+        if self.held {
+            return Twist2::default();
+        }
+        let (dir, c) = self.direction.select(pose, goal);
+        self.gains.twist(dir, &c)
+    }
+}
+
+impl<T: Real, G: PolarGains<T>> Law<T> for PolarCoordinateLaw<T, G> {
+    #[inline]
+    fn update(&mut self, _t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
+        let errors = polar_errors(m.pose, goal);
+        let twist = self.twist_at(m.pose, goal, errors.dl);
+        LawOutput { demand: WheelDemand::Twist(twist), errors }
+    }
+
+    fn reset(&mut self) {
+        self.direction.reset();
+        self.held = false;
     }
 }

@@ -16,20 +16,18 @@
 //! `omega_max` is the scenario key `controller.wheel_speed_max` (rad/s at the wheel;
 //! infinity turns it off, and then every value passes through bit for bit).
 //!
-//! For laws that command (v, omega) ([`super::PolarController`],
-//! [`super::LyapunovController`]) it limits the wheel speed references. The paper's law
-//! commands wheel *angles*; for it, [`WheelRateLimiter`] limits the speed at which the
-//! angle references move (see [`super::PaperSaturated`]).
+//! For laws that command (v, omega) ([`super::PolarLaw`], [`super::LyapunovLaw`]) it
+//! limits the wheel speed references. The paper's law commands wheel *angles*; for it,
+//! [`WheelRateLimiter`] limits the speed at which the angle references move. Both are
+//! applied by [`super::WheelStage`].
 
 use crate::Real;
 use crate::error::{ParamError, check};
-use crate::kinematics::wheel_speeds;
-use crate::math::{Twist2, Wheels};
-use crate::params::RobotParams;
+use crate::math::Wheels;
 
 /// Validates a wheel speed limit (rad/s): > 0, infinity allowed (off), not NaN.
 pub(crate) fn check_wheel_speed_max<T: Real>(w_max: T) -> Result<T, ParamError> {
-    check::positive_or_inf("controller.wheel_speed_max", w_max)
+    check::positive_or_inf("wheel_speed_max", w_max)
 }
 
 /// The common factor s in (0, 1] that brings max(|w.right|, |w.left|) down to `w_max`
@@ -46,20 +44,6 @@ pub fn wheel_speed_scale<T: Real>(w: Wheels<T>, w_max: T) -> T {
 pub fn limit_wheel_speeds<T: Real>(w: Wheels<T>, w_max: T) -> Wheels<T> {
     let s = wheel_speed_scale(w, w_max);
     if s < T::one() { w.map(|x| x * s) } else { w }
-}
-
-/// The body twist (v in m/s, omega in rad/s) limited so that neither wheel of robot `p`
-/// exceeds `w_max` (rad/s), by scaling v and omega together (omega / v kept).
-#[inline]
-pub fn limit_twist<T: Real>(p: &RobotParams<T>, twist: Twist2<T>, w_max: T) -> Twist2<T> {
-    let w = wheel_speeds(p, twist);
-    let s = wheel_speed_scale(w, w_max);
-    if s < T::one() {
-        // Scale the twist directly rather than mapping back, so omega / v is exact.
-        Twist2 { v: twist.v * s, omega: twist.omega * s }
-    } else {
-        twist
-    }
 }
 
 /// Rate limiter for a pair of wheel angle references (rad): each control tick the
@@ -84,7 +68,7 @@ impl<T: Real> WheelRateLimiter<T> {
     /// A limiter for speed `w_max` (rad/s, > 0, infinity allowed) and tick `dt` (s, > 0).
     pub fn new(w_max: T, dt: T) -> Result<Self, ParamError> {
         check_wheel_speed_max(w_max)?;
-        check::positive("controller.control_dt", dt)?;
+        check::positive("control_dt", dt)?;
         Ok(Self { w_max, dt, phi_lim: None })
     }
 

@@ -3,7 +3,7 @@
 use crate::Real;
 use crate::error::{ParamError, check};
 
-/// Servo gains (SPEC section 4, step 6). Units follow the drive's command:
+/// Wheel position servo gains. Units follow the drive's command:
 /// N m/rad, N m s/rad and N m/(rad s) for the torque drive; V/rad, V s/rad and V/(rad s)
 /// for the DC motor drive.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,9 +31,9 @@ impl<T: Real> ServoGains<T> {
     }
 
     pub(crate) fn validate(self) -> Result<Self, ParamError> {
-        check::positive("controller.servo_kp", self.kp)?;
-        check::non_negative("controller.servo_kd", self.kd)?;
-        check::non_negative("controller.servo_ki", self.ki)?;
+        check::positive("servo_kp", self.kp)?;
+        check::non_negative("servo_kd", self.kd)?;
+        check::non_negative("servo_ki", self.ki)?;
         Ok(self)
     }
 }

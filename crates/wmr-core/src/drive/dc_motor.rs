@@ -14,6 +14,7 @@ use crate::error::{ParamError, check};
 /// With the paper's gear k_t = 0.1 it stalls at about 24 N m at the wheel and runs
 /// free at about 79 rad/s at the wheel (7,600 rpm at the motor) on 24 V.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DcMotorParams<T> {
     /// u_max, supply voltage limit, V (`voltage_max`).
     pub voltage_max: T,
@@ -38,10 +39,10 @@ impl<T: Real> Default for DcMotorParams<T> {
 
 impl<T: Real> DcMotorParams<T> {
     pub(crate) fn validate(self, gear_ratio: T) -> Result<DcMotor<T>, ParamError> {
-        check::positive("drive.voltage_max", self.voltage_max)?;
-        check::positive("drive.torque_constant", self.torque_constant)?;
-        check::non_negative("drive.back_emf_constant", self.back_emf_constant)?;
-        check::positive("drive.armature_resistance", self.armature_resistance)?;
+        check::positive("voltage_max", self.voltage_max)?;
+        check::positive("torque_constant", self.torque_constant)?;
+        check::non_negative("back_emf_constant", self.back_emf_constant)?;
+        check::positive("armature_resistance", self.armature_resistance)?;
         let torque_per_volt = self.torque_constant / (self.armature_resistance * gear_ratio);
         let emf_per_wheel_speed = self.back_emf_constant / gear_ratio;
         Ok(DcMotor { params: self, torque_per_volt, emf_per_wheel_speed })

@@ -11,6 +11,10 @@ use crate::{Real, Robot};
 
 /// Drive parameters as written in a scenario (`[drive]`), before validation.
 #[derive(Clone, Copy, Debug, PartialEq)]
+/// Serialized with a `kind` key; read with [`DriveParams::deserialize_variant`] (serde's
+/// tagged-enum reader needs an allocator).
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "snake_case"))]
 pub enum DriveParams<T> {
     /// Ideal torque source with a motor torque limit (SPEC default).
     Torque(TorqueDriveParams<T>),
@@ -25,6 +29,33 @@ impl<T: Real> Default for DriveParams<T> {
 }
 
 impl<T: Real> DriveParams<T> {
+    /// Every kind with its default parameters, in documentation order: what the
+    /// scenario file's `[drive] kind = ...` can name and what its missing keys take.
+    pub fn defaults() -> [Self; 2] {
+        [DriveParams::Torque(TorqueDriveParams::default()), DriveParams::DcMotor(DcMotorParams::default())]
+    }
+
+    /// The kind's name in a scenario file: `"torque"` or `"dc_motor"`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            DriveParams::Torque(_) => "torque",
+            DriveParams::DcMotor(_) => "dc_motor",
+        }
+    }
+
+    /// Reads the keys of the same kind as `self` (without `kind`) from `d`.
+    #[cfg(feature = "serde")]
+    pub fn deserialize_variant<'de, D: serde::Deserializer<'de>>(&self, d: D) -> Result<Self, D::Error>
+    where
+        T: serde::Deserialize<'de>,
+    {
+        use serde::Deserialize as _;
+        Ok(match self {
+            DriveParams::Torque(_) => DriveParams::Torque(TorqueDriveParams::deserialize(d)?),
+            DriveParams::DcMotor(_) => DriveParams::DcMotor(DcMotorParams::deserialize(d)?),
+        })
+    }
+
     /// Validates against the robot (the gear ratio lives in [`crate::RobotParams`]).
     pub fn validate(self, robot: &Robot<T>) -> Result<Drive<T>, ParamError> {
         let k_t = robot.params().gear_ratio;
@@ -54,6 +85,14 @@ impl<T: Real> Drive<T> {
         match self {
             Drive::Torque(d) => d.wheel_torque(command),
             Drive::DcMotor(d) => d.wheel_torque(command, omega_wheel),
+        }
+    }
+
+    /// The parameters it was built from.
+    pub fn params(&self) -> DriveParams<T> {
+        match self {
+            Drive::Torque(d) => DriveParams::Torque(*d.params()),
+            Drive::DcMotor(d) => DriveParams::DcMotor(*d.params()),
         }
     }
 

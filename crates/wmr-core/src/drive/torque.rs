@@ -5,6 +5,7 @@ use crate::error::{ParamError, check};
 
 /// `[drive] kind = "torque"` parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct TorqueDriveParams<T> {
     /// |tau_motor| limit at the motor shaft, N m (`motor_torque_max`); infinity allowed.
     pub motor_torque_max: T,
@@ -19,7 +20,7 @@ impl<T: Real> Default for TorqueDriveParams<T> {
 
 impl<T: Real> TorqueDriveParams<T> {
     pub(crate) fn validate(self, gear_ratio: T) -> Result<TorqueDrive<T>, ParamError> {
-        check::positive_or_inf("drive.motor_torque_max", self.motor_torque_max)?;
+        check::positive_or_inf("motor_torque_max", self.motor_torque_max)?;
         Ok(TorqueDrive { params: self, gear_ratio, wheel_torque_max: self.motor_torque_max / gear_ratio })
     }
 }

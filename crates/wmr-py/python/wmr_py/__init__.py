@@ -116,7 +116,7 @@ def simulate(
     start, goal: poses of point C, as ``(x_m, y_m, theta_rad)`` or a dict with ``x``,
     ``y`` and ``theta`` (rad) or ``theta_deg`` (degrees).
     robot, drive, controller: overrides with the scenario's ``[robot]``, ``[drive]`` and
-    ``[controller]`` keys (SPEC section 6); ``robot`` may also be a ``Robot``.
+    ``[controller]`` keys (docs/scenario.md); ``robot`` may also be a ``Robot``.
     t_end: simulated time, s. dt: RK4 step, s (default: the controller's control_dt,
     1 ms). log_dt: output sample period, s (a whole multiple of dt).
 

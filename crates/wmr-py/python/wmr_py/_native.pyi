@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 from typing import Any, Mapping, Optional, Sequence, Tuple, Union
 
@@ -38,7 +39,7 @@ class Robot:
         gear_ratio: float = 0.1,
         viscous_friction: float = 0.0,
         coulomb_friction: float = 0.0,
-        coulomb_speed: float = 1e-3,
+        coulomb_speed: float = 0.001,
     ) -> None: ...
     def derivative(self, state: ArrayLike, tau: ArrayLike) -> FloatArray:
         """d/dt of [x, y, theta, v, omega, phi_r, phi_l] under wheel torques (tau_r, tau_l), N m."""
@@ -87,12 +88,14 @@ class PaperController:
         ki_theta: float = 0.1,
         kp_s: float = 1.0,
         ki_s: float = 0.25,
+        goal_radius: float = 0.001,
+        hold_radius: float = 0.005,
+        hold: str = "zero_errors",
         servo_kp: float = 14.0,
         servo_kd: float = 1.4,
         servo_ki: float = 0.0,
-        goal_radius: float = 1e-3,
-        hold_radius: float = 5e-3,
-        control_dt: float = 1e-3,
+        wheel_speed_max: float = math.inf,
+        control_dt: float = 0.001,
     ) -> None: ...
     def update(self, pose: ArrayLike, wheel_angles: ArrayLike, wheel_speeds: ArrayLike) -> Tuple[float, float]:
         """(tau_r, tau_l): wheel torque demands, N m, before the drive's clamp."""

@@ -1,0 +1,203 @@
+//! The closed loop: plant stepped by RK4 at `dt`; every `control_dt` the sensor measures,
+//! the reference gives the goal, the controller updates and its command is held
+//! (zero-order hold). Samples go to a caller's sink; the outcome is judged from the
+//! true state against the reference. Nothing here allocates.
+//!
+//! ```text
+//!   reference.goal_at(t) ─────────────┐
+//!                                     v
+//!   plant.state ─> sensor.measure ─> controller.update(t, m, goal) ─> plant.apply(command)
+//!        ^                                                                  │
+//!        └──────────────────── plant.step(t, dt) (RK4) <────────────────────┘
+//! ```
+
+use crate::Real;
+use crate::controller::{ControlOutput, Controller, Law};
+use crate::error::{ParamError, check};
+use crate::outcome::{Metrics, Outcome, Termination};
+use crate::plant::Plant;
+use crate::reference::{FixedGoal, Reference};
+use crate::sample::Sample;
+use crate::sensor::{PerfectSensor, Sensor};
+
+/// Why a step was refused: the run has diverged.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Diverged<T> {
+    /// Time of the last good state, s.
+    pub t: T,
+    /// Non-finite or out of the box.
+    pub termination: Termination,
+}
+
+/// A plant, a sensor, a controller (law `L` and wheel stage) and a reference, closed
+/// into one loop.
+#[derive(Clone, Debug)]
+pub struct ClosedLoop<T, L, S = PerfectSensor, R = FixedGoal<T>> {
+    plant: Plant<T>,
+    sensor: S,
+    controller: Controller<T, L>,
+    reference: R,
+    dt: T,
+    step_index: u64,
+    control_every: u32,
+    /// Plant steps left until the next control tick (a countdown instead of a `%` per step).
+    steps_to_control: u32,
+    output: ControlOutput<T>,
+    diverged: Option<Diverged<T>>,
+}
+
+impl<T: Real, L: Law<T>, R: Reference<T>> ClosedLoop<T, L, PerfectSensor, R> {
+    /// A loop whose controller sees the true state ([`PerfectSensor`]); see
+    /// [`ClosedLoop::with_sensor`].
+    pub fn new(plant: Plant<T>, controller: Controller<T, L>, reference: R, dt: T) -> Result<Self, ParamError> {
+        Self::with_sensor(plant, PerfectSensor, controller, reference, dt)
+    }
+}
+
+impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
+    /// A loop with plant step `dt` (s); the controller's `control_dt` must be a whole
+    /// multiple of it (errors name `dt` and `control_dt`). Runs the first control tick
+    /// at t = 0.
+    pub fn with_sensor(
+        plant: Plant<T>,
+        sensor: S,
+        controller: Controller<T, L>,
+        reference: R,
+        dt: T,
+    ) -> Result<Self, ParamError> {
+        check::positive("dt", dt)?;
+        let control_every = check::whole_multiple("control_dt", controller.control_dt(), dt)?;
+        let mut lp = Self {
+            plant,
+            sensor,
+            controller,
+            reference,
+            dt,
+            step_index: 0,
+            control_every,
+            steps_to_control: control_every,
+            output: ControlOutput::default(),
+            diverged: None,
+        };
+        lp.control_tick();
+        Ok(lp)
+    }
+
+    /// The plant (the truth).
+    pub fn plant(&self) -> &Plant<T> {
+        &self.plant
+    }
+
+    /// The controller.
+    pub fn controller(&self) -> &Controller<T, L> {
+        &self.controller
+    }
+
+    /// The sensor.
+    pub fn sensor(&self) -> &S {
+        &self.sensor
+    }
+
+    /// The reference.
+    pub fn reference(&self) -> &R {
+        &self.reference
+    }
+
+    /// The current true state.
+    pub fn state(&self) -> &crate::State<T> {
+        self.plant.state()
+    }
+
+    /// Plant steps taken.
+    pub fn steps(&self) -> u64 {
+        self.step_index
+    }
+
+    /// Current time, s (step count times dt, so it does not drift).
+    #[inline(always)]
+    pub fn time(&self) -> T {
+        T::lit(self.step_index as f64) * self.dt
+    }
+
+    /// Plant step, s.
+    pub fn dt(&self) -> T {
+        self.dt
+    }
+
+    /// Set once a step has been refused.
+    pub fn divergence(&self) -> Option<Diverged<T>> {
+        self.diverged
+    }
+
+    fn control_tick(&mut self) {
+        let t = self.time();
+        let m = self.sensor.measure(t, self.plant.state(), self.plant.robot().params());
+        let goal = self.reference.goal_at(t);
+        self.output = self.controller.update(t, &m, goal);
+        self.plant.apply(self.output.command);
+    }
+
+    /// The sample at the current time.
+    #[inline(always)]
+    pub fn sample(&self) -> Sample<T> {
+        Sample {
+            t: self.time(),
+            state: *self.plant.state(),
+            wheel_speeds: self.plant.wheel_speeds(),
+            torque: self.plant.wheel_torque(),
+            errors: self.output.errors,
+        }
+    }
+
+    /// Advances one plant step `dt`, then runs the controller if a control tick is due.
+    ///
+    /// A step whose result is not finite or leaves the 1 km box is refused: the state
+    /// stays at the last good one and this and every later call return [`Diverged`].
+    #[inline]
+    pub fn step(&mut self) -> Result<(), Diverged<T>> {
+        if let Some(d) = self.diverged {
+            return Err(d);
+        }
+        if let Err(termination) = self.plant.step(self.time(), self.dt) {
+            let d = Diverged { t: self.time(), termination };
+            self.diverged = Some(d);
+            return Err(d);
+        }
+        self.step_index += 1;
+        self.steps_to_control -= 1;
+        if self.steps_to_control == 0 {
+            self.steps_to_control = self.control_every;
+            self.control_tick();
+        }
+        Ok(())
+    }
+
+    /// Runs `n_steps` plant steps, handing `sink` the sample at t = 0, every `log_every`
+    /// steps, and the last one (at the end, or the last good state of a diverged run).
+    /// Returns the run's [`Outcome`], judged from the true state against the reference.
+    pub fn run(&mut self, n_steps: u64, log_every: u32, mut sink: impl FnMut(&Sample<T>)) -> Outcome<T> {
+        let log_every = u64::from(log_every.max(1));
+        let mut metrics = Metrics::default();
+        let mut termination = Termination::Completed;
+        let mut last_logged = None;
+        for _ in 0..n_steps {
+            let s = self.sample();
+            if self.step_index.is_multiple_of(log_every) {
+                sink(&s);
+                last_logged = Some(self.step_index);
+            }
+            metrics.add_step(s.t, &s.state, s.wheel_speeds, s.torque, self.reference.goal_at(s.t), self.dt);
+            if let Err(d) = self.step() {
+                termination = d.termination;
+                break;
+            }
+        }
+        let last = self.sample();
+        let goal = self.reference.goal_at(last.t);
+        metrics.observe(last.t, &last.state, last.wheel_speeds, goal);
+        if last_logged != Some(self.step_index) {
+            sink(&last);
+        }
+        metrics.finish(last.t, &last.state, goal, termination)
+    }
+}

@@ -1,0 +1,113 @@
+//! The controller: an outer law composed with a wheel stage, run every `control_dt`.
+//!
+//! `update(t, measurement, goal)`: the law turns the measurement and the goal into a
+//! [`super::WheelDemand`]; the wheel stage turns that into one drive command per wheel,
+//! which the plant holds until the next tick.
+
+use super::any::{AnyLaw, LawParams};
+use super::law::{ControlErrors, Law};
+use super::paper::PaperParams;
+use super::wheel_stage::{WheelStage, WheelStageParams};
+use crate::drive::Drive;
+use crate::error::{ParamError, check};
+use crate::math::{Pose2, Wheels};
+use crate::sensor::Measurement;
+use crate::{Real, RobotParams};
+
+/// One control tick's result: the drive commands, held until the next tick, and the errors.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ControlOutput<T> {
+    /// Per-wheel drive command: wheel torque demand (N m) or voltage (V), by drive kind.
+    pub command: Wheels<T>,
+    /// The law's errors, for logging.
+    pub errors: ControlErrors<T>,
+}
+
+/// A law, a wheel stage and the control period: everything a `[controller]` table says.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ControllerParams<T> {
+    /// The outer law and its keys.
+    pub law: LawParams<T>,
+    /// The wheel servos and the speed limit.
+    pub wheels: WheelStageParams<T>,
+    /// Control period, s (`control_dt`); a whole multiple of the plant step.
+    pub control_dt: T,
+}
+
+impl<T: Real> ControllerParams<T> {
+    /// Default control period, s: 1 ms.
+    pub fn default_control_dt() -> T {
+        T::lit(1e-3)
+    }
+
+    /// The paper's law with the torque drive's wheel stage, 1 ms. For a DC-motor drive,
+    /// set `wheels` to [`WheelStageParams::for_drive`] of it.
+    pub fn paper() -> Self {
+        Self::with_law(LawParams::Paper(PaperParams::paper()))
+    }
+
+    /// `law` with the torque drive's wheel stage defaults and the default period.
+    pub fn with_law(law: LawParams<T>) -> Self {
+        Self { law, wheels: WheelStageParams::default(), control_dt: Self::default_control_dt() }
+    }
+
+    /// Validates everything and builds the controller for the controller's idea of the
+    /// robot (`model`: r and R) and the drive it commands.
+    pub fn build(&self, model: &RobotParams<T>, drive: &Drive<T>) -> Result<Controller<T, AnyLaw<T>>, ParamError> {
+        let control_dt = check::positive("control_dt", self.control_dt)?;
+        let law = self.law.build(model, control_dt)?;
+        Ok(Controller::new(law, WheelStage::new(&self.wheels, model, drive, control_dt)?))
+    }
+}
+
+impl<T: Real> Default for ControllerParams<T> {
+    fn default() -> Self {
+        Self::paper()
+    }
+}
+
+/// An outer law `L` and a wheel stage, run every `control_dt`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Controller<T, L> {
+    law: L,
+    wheels: WheelStage<T>,
+    control_dt: T,
+}
+
+impl<T: Real, L: Law<T>> Controller<T, L> {
+    /// Composes a law and a wheel stage; the controller runs at the wheel stage's
+    /// control period (build a law that integrates, like [`super::PaperLaw`], for the same).
+    pub fn new(law: L, wheels: WheelStage<T>) -> Self {
+        Self { law, control_dt: wheels.control_dt(), wheels }
+    }
+
+    /// One control tick at time `t` (s): drive commands (N m or V per wheel) from the
+    /// measurement and the goal pose (m, m, rad), and the law's errors. `t` is now; the
+    /// measurement's own time `m.t` is when it was taken (earlier, for a late sensor).
+    #[inline]
+    pub fn update(&mut self, t: T, m: &Measurement<T>, goal: Pose2<T>) -> ControlOutput<T> {
+        let out = self.law.update(t, m, goal);
+        ControlOutput { command: self.wheels.command(out.demand, m), errors: out.errors }
+    }
+
+    /// Clears every integrator and memory, as at t = 0.
+    pub fn reset(&mut self) {
+        self.law.reset();
+        self.wheels.reset();
+    }
+
+    /// Control period, s.
+    pub fn control_dt(&self) -> T {
+        self.control_dt
+    }
+
+    /// The outer law.
+    pub fn law(&self) -> &L {
+        &self.law
+    }
+
+    /// The wheel stage.
+    pub fn wheels(&self) -> &WheelStage<T> {
+        &self.wheels
+    }
+}

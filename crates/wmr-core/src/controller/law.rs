@@ -1,0 +1,61 @@
+//! The contract of an outer law: from (time, measurement, goal) to a demand on the
+//! wheels and the errors it logs. A new law is one file implementing [`Law`] plus one
+//! arm in [`super::any`].
+
+use crate::Real;
+use crate::math::{Pose2, Twist2, Wheels};
+use crate::sensor::Measurement;
+
+/// What a law asks of the wheel stage.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum WheelDemand<T> {
+    /// Absolute wheel angle references (right, left), rad: the paper's law, (20)^-1.
+    Angles(Wheels<T>),
+    /// A body twist: v in m/s, omega in rad/s (laws in polar coordinates).
+    Twist(Twist2<T>),
+}
+
+impl<T: Real> Default for WheelDemand<T> {
+    fn default() -> Self {
+        WheelDemand::Twist(Twist2::default())
+    }
+}
+
+/// Each law's diagnostic errors, logged with every sample (CSV columns `e_s`, `e_theta`,
+/// `dl`). What they mean depends on the law:
+///
+/// | law | dl | e_theta | e_s |
+/// |---|---|---|---|
+/// | paper | distance to the goal (16) | wrap(theta_R - theta) (21), towards the false target | dl cos(theta_R - theta) (18) |
+/// | polar, lyapunov | distance to the goal | wrap(theta_d - theta), the final heading error | (x_d - x) cos(theta) + (y_d - y) sin(theta) |
+///
+/// All are computed from the measurement the law saw. How a run went is judged
+/// elsewhere, from the true state ([`crate::outcome`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ControlErrors<T> {
+    /// e_s, m: the law's along-track error.
+    pub e_s: T,
+    /// e_theta, rad, wrapped into (-pi, pi]: the law's heading error.
+    pub e_theta: T,
+    /// dl, m: the measured distance from C to the goal position.
+    pub dl: T,
+}
+
+/// One law update: the wheel demand and the errors.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LawOutput<T> {
+    /// What the wheels should do until the next tick.
+    pub demand: WheelDemand<T>,
+    /// The law's errors, for logging.
+    pub errors: ControlErrors<T>,
+}
+
+/// An outer stabilization law, run once per control period.
+pub trait Law<T: Real> {
+    /// The demand on the wheels at time `t` (s) from measurement `m` and the goal pose
+    /// (x, y in m, theta in rad, world frame); advances the law's memories by one period.
+    fn update(&mut self, t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T>;
+
+    /// Clears integrators and memories, as at t = 0.
+    fn reset(&mut self);
+}

@@ -1,0 +1,182 @@
+//! The wheel stage: turns a law's [`WheelDemand`] into drive commands with two wheel
+//! position servos, limiting the wheel speeds without changing the path's curvature.
+//!
+//! **Angle demands** (the paper's law: absolute wheel angle references, which jump at the
+//! first tick and then move as the PI outputs do): a [`WheelRateLimiter`] lets the
+//! references the servos see move by at most `wheel_speed_max * control_dt` per tick on
+//! the faster wheel, both increments scaled by one factor (the ratio of the increments,
+//! the curvature of the commanded motion, is kept). Each servo is the paper's PD with the
+//! derivative on the measured speed ([`WheelServo::update`]). With an infinite limit the
+//! references pass through bit for bit.
+//!
+//! **Twist demands** (v, omega): wheel speed references by the inverse of (1), scaled
+//! together by [`limit_wheel_speeds`], integrated into moving angle references that the
+//! servos track with the derivative on the speed error ([`WheelServo::update_tracking`]):
+//!
+//! ```text
+//! phi_ref  <- clamp(phi_ref, phi - e_max, phi + e_max)                 (anti-windup)
+//! command   = Kp (phi_ref - phi) + Ki int(phi_ref - phi) + Kd (omega_ref - omega)
+//! phi_ref  <- phi_ref + omega_ref * control_dt                          (forward Euler)
+//! ```
+//!
+//! After construction or [`WheelStage::reset`] the first tick starts the references at
+//! the measured wheel angles, so a restart never sees a stale angle gap. When the drive
+//! saturates the wheel falls behind; the gap is clamped to e_max = command_limit / Kp (the
+//! angle error that alone saturates the drive; no clamp when the limit is infinite), so
+//! no lunge follows. Unlike a pure speed loop this keeps the position servo's stiffness.
+//!
+//! What `wheel_speed_max` bounds, precisely: the wheel *references*. A wheel following a
+//! reference ramp at the limit lags it and can briefly overshoot it when the ramp ends.
+
+use super::law::WheelDemand;
+use super::saturation::{WheelRateLimiter, check_wheel_speed_max, limit_wheel_speeds};
+use super::servo::{ServoGains, WheelServo};
+use crate::drive::{Drive, DriveParams};
+use crate::error::{ParamError, check};
+use crate::kinematics::wheel_speeds;
+use crate::math::Wheels;
+use crate::sensor::Measurement;
+use crate::{Real, RobotParams};
+
+/// The wheel stage's keys (flat in a scenario's `[controller]` table).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct WheelStageParams<T> {
+    /// Servo Kp: N m/rad (torque drive) or V/rad (DC motor). > 0.
+    pub servo_kp: T,
+    /// Servo Kd: N m s/rad or V s/rad. >= 0.
+    pub servo_kd: T,
+    /// Servo Ki: N m/(rad s) or V/(rad s). >= 0.
+    pub servo_ki: T,
+    /// Per-wheel limit on the reference speeds, rad/s, curvature kept; infinity = off.
+    pub wheel_speed_max: T,
+}
+
+impl<T: Real> WheelStageParams<T> {
+    /// The defaults for a drive: the servo gains of [`ServoGains::torque_default`] or
+    /// [`ServoGains::dc_motor_default`], no speed limit.
+    pub fn for_drive(drive: &DriveParams<T>) -> Self {
+        let g = match drive {
+            DriveParams::Torque(_) => ServoGains::torque_default(),
+            DriveParams::DcMotor(_) => ServoGains::dc_motor_default(),
+        };
+        Self { servo_kp: g.kp, servo_kd: g.kd, servo_ki: g.ki, wheel_speed_max: T::infinity() }
+    }
+
+    /// The servo gains.
+    pub fn servo(&self) -> ServoGains<T> {
+        ServoGains { kp: self.servo_kp, kd: self.servo_kd, ki: self.servo_ki }
+    }
+}
+
+impl<T: Real> Default for WheelStageParams<T> {
+    /// The torque drive's defaults.
+    fn default() -> Self {
+        Self::for_drive(&DriveParams::default())
+    }
+}
+
+/// Two wheel servos with the curvature-keeping speed limit (module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WheelStage<T> {
+    right: WheelServo<T>,
+    left: WheelServo<T>,
+    /// The controller's idea of the robot (r, R for twist to wheel speeds).
+    model: RobotParams<T>,
+    wheel_speed_max: T,
+    /// Angle demands: the rate-limited references.
+    limiter: WheelRateLimiter<T>,
+    /// Twist demands: the integrated angle references, rad; `None` until the first tick.
+    phi_ref: Option<Wheels<T>>,
+    /// Largest |phi_ref - phi|, rad (may be infinite).
+    max_gap: T,
+    /// Control period, s.
+    dt: T,
+    /// The wheel references of the last tick: angles (rad) or speeds (rad/s) by demand.
+    last_refs: Wheels<T>,
+}
+
+impl<T: Real> WheelStage<T> {
+    /// Validates `params` for the controller's robot model `model`, the drive (its
+    /// command limit bounds the servos' integrals) and the control period (s).
+    pub fn new(
+        params: &WheelStageParams<T>,
+        model: &RobotParams<T>,
+        drive: &Drive<T>,
+        control_dt: T,
+    ) -> Result<Self, ParamError> {
+        check::positive("control_dt", control_dt)?;
+        let wheel_speed_max = check_wheel_speed_max(params.wheel_speed_max)?;
+        let limit = drive.command_limit();
+        let servo = WheelServo::new(params.servo(), limit)?;
+        Ok(Self {
+            right: servo,
+            left: servo,
+            model: *model,
+            wheel_speed_max,
+            limiter: WheelRateLimiter::new(wheel_speed_max, control_dt)?,
+            phi_ref: None,
+            max_gap: limit / servo.gains().kp,
+            dt: control_dt,
+            last_refs: Wheels::default(),
+        })
+    }
+
+    /// Control period, s.
+    pub fn control_dt(&self) -> T {
+        self.dt
+    }
+
+    /// The wheel speed limit, rad/s (infinite when off).
+    pub fn wheel_speed_max(&self) -> T {
+        self.wheel_speed_max
+    }
+
+    /// The wheel references of the last tick, after the limit: angles in rad for an angle
+    /// demand, speeds in rad/s for a twist demand.
+    pub fn last_refs(&self) -> Wheels<T> {
+        self.last_refs
+    }
+
+    /// Drive commands (N m or V per wheel) for `demand`, given the measurement.
+    #[inline]
+    pub fn command(&mut self, demand: WheelDemand<T>, m: &Measurement<T>) -> Wheels<T> {
+        let phi = m.wheel_angles;
+        let w = m.wheel_speeds;
+        let dt = self.dt;
+        match demand {
+            WheelDemand::Angles(target) => {
+                // Without a limit the limiter would return the targets unchanged: skip it.
+                let refs = if self.wheel_speed_max.is_finite() { self.limiter.limit(target, phi) } else { target };
+                self.last_refs = refs;
+                Wheels::new(
+                    self.right.update(refs.right, phi.right, w.right, dt),
+                    self.left.update(refs.left, phi.left, w.left, dt),
+                )
+            }
+            WheelDemand::Twist(twist) => {
+                let omega_ref = limit_wheel_speeds(wheel_speeds(&self.model, twist), self.wheel_speed_max);
+                self.last_refs = omega_ref;
+                let prev = self.phi_ref.unwrap_or(phi);
+                let g = self.max_gap;
+                let clamp = |r: T, p: T| r.max(p - g).min(p + g);
+                let r = Wheels::new(clamp(prev.right, phi.right), clamp(prev.left, phi.left));
+                let command = Wheels::new(
+                    self.right.update_tracking(r.right, omega_ref.right, phi.right, w.right, dt),
+                    self.left.update_tracking(r.left, omega_ref.left, phi.left, w.left, dt),
+                );
+                self.phi_ref = Some(Wheels::new(r.right + omega_ref.right * dt, r.left + omega_ref.left * dt));
+                command
+            }
+        }
+    }
+
+    /// Clears the servo integrals and the references.
+    pub fn reset(&mut self) {
+        self.right.reset();
+        self.left.reset();
+        self.limiter.reset();
+        self.phi_ref = None;
+        self.last_refs = Wheels::default();
+    }
+}

@@ -1,0 +1,161 @@
+//! How a run went, judged once, from the true state against the reference: arrival,
+//! final errors, peaks and integrals, accumulated step by step without allocating.
+
+use crate::Real;
+use crate::math::{Pose2, Wheels, wrap_angle};
+use crate::state::State;
+
+/// Distance to the goal (m) below which a run counts as arrived: 1 cm.
+pub const ARRIVAL_RADIUS_M: f64 = 0.01;
+
+/// How a run ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Termination {
+    /// Reached t_end with a finite state inside the box.
+    Completed,
+    /// The next state was not finite; the run stopped at the last finite one.
+    NonFinite,
+    /// Point C left the 1 km box around the origin.
+    LeftBox,
+}
+
+impl Termination {
+    /// True for the two divergence cases.
+    pub fn diverged(self) -> bool {
+        !matches!(self, Termination::Completed)
+    }
+}
+
+/// The verdict on a run: decided here and nowhere else.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Status {
+    /// Not diverged, and the final distance to the goal is below [`ARRIVAL_RADIUS_M`].
+    /// The heading is not part of it: the paper's law leaves several degrees.
+    Converged,
+    /// Finite and inside the box, but not within [`ARRIVAL_RADIUS_M`] at the end.
+    NotConverged,
+    /// The state stopped being finite or C left the 1 km box.
+    Diverged,
+}
+
+impl Status {
+    /// `"converged"`, `"not converged"` or `"diverged"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Status::Converged => "converged",
+            Status::NotConverged => "not converged",
+            Status::Diverged => "diverged",
+        }
+    }
+}
+
+/// Outcome of one run. Integrals are left Riemann sums over the plant steps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Outcome<T> {
+    /// How the run ended.
+    pub termination: Termination,
+    /// Time of the last state, s (t_end unless diverged).
+    pub t_final: T,
+    /// Final true pose of C (world frame).
+    pub final_pose: Pose2<T>,
+    /// The reference's goal at `t_final`.
+    pub goal: Pose2<T>,
+    /// Final distance from C to the goal position, m.
+    pub final_dl: T,
+    /// Final heading error wrap(theta_d - theta), rad.
+    pub final_heading_error: T,
+    /// First time from which the true distance to the goal stays below
+    /// [`ARRIVAL_RADIUS_M`] to the end, s; `None` if never.
+    pub time_to_arrival: Option<T>,
+    /// Largest |wheel speed| seen, rad/s.
+    pub peak_wheel_speed: T,
+    /// Path length of C, m: int |v| dt.
+    pub path_length: T,
+    /// Mechanical energy the drives put into the wheels, J: int (|tau_r omega_r| + |tau_l omega_l|) dt.
+    pub energy: T,
+}
+
+impl<T: Real> Outcome<T> {
+    /// Converged, not converged or diverged.
+    pub fn status(&self) -> Status {
+        if self.termination.diverged() {
+            Status::Diverged
+        } else if self.final_dl < T::lit(ARRIVAL_RADIUS_M) {
+            Status::Converged
+        } else {
+            Status::NotConverged
+        }
+    }
+}
+
+/// Accumulates an [`Outcome`] from the true state at every plant step.
+#[derive(Clone, Copy, Debug)]
+pub struct Metrics<T> {
+    /// ARRIVAL_RADIUS_M^2, m^2: arrival is decided on the squared distance (no root per step).
+    arrival_radius_sq: T,
+    arrived_since: Option<T>,
+    peak_wheel_speed: T,
+    path_length: T,
+    energy: T,
+}
+
+impl<T: Real> Default for Metrics<T> {
+    fn default() -> Self {
+        let z = T::zero();
+        let r = T::lit(ARRIVAL_RADIUS_M);
+        Self { arrival_radius_sq: r * r, arrived_since: None, peak_wheel_speed: z, path_length: z, energy: z }
+    }
+}
+
+impl<T: Real> Metrics<T> {
+    /// Adds the instant `t` (s) at the start of a plant step of length `dt` (s): the true
+    /// state, the wheel speeds (rad/s) and torques (N m) held over the step, the goal.
+    #[inline(always)]
+    pub fn add_step(
+        &mut self,
+        t: T,
+        state: &State<T>,
+        wheel_speeds: Wheels<T>,
+        torque: Wheels<T>,
+        goal: Pose2<T>,
+        dt: T,
+    ) {
+        self.observe(t, state, wheel_speeds, goal);
+        self.path_length = self.path_length + state.v.abs() * dt;
+        let power = (torque.right * wheel_speeds.right).abs() + (torque.left * wheel_speeds.left).abs();
+        self.energy = self.energy + power * dt;
+    }
+
+    /// Sees the distance to the goal and the wheel speeds at `t` (also for the final state).
+    #[inline(always)]
+    pub fn observe(&mut self, t: T, state: &State<T>, wheel_speeds: Wheels<T>, goal: Pose2<T>) {
+        let dx = goal.x - state.x;
+        let dy = goal.y - state.y;
+        if dx * dx + dy * dy < self.arrival_radius_sq {
+            if self.arrived_since.is_none() {
+                self.arrived_since = Some(t);
+            }
+        } else {
+            self.arrived_since = None;
+        }
+        let w = wheel_speeds.right.abs().max(wheel_speeds.left.abs());
+        self.peak_wheel_speed = self.peak_wheel_speed.max(w);
+    }
+
+    /// The outcome, given the last time (s), true state and goal, and how the run ended.
+    pub fn finish(&self, t: T, state: &State<T>, goal: Pose2<T>, termination: Termination) -> Outcome<T> {
+        let pose = state.pose();
+        Outcome {
+            termination,
+            t_final: t,
+            final_pose: pose,
+            goal,
+            final_dl: (goal.x - pose.x).hypot_libm(goal.y - pose.y),
+            final_heading_error: wrap_angle(goal.theta - pose.theta),
+            time_to_arrival: self.arrived_since,
+            peak_wheel_speed: self.peak_wheel_speed,
+            path_length: self.path_length,
+            energy: self.energy,
+        }
+    }
+}

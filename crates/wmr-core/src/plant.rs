@@ -1,0 +1,151 @@
+//! The plant: the true robot and its drives, stepped by RK4 under held drive commands.
+//!
+//! This is the truth of a simulation; the controller never reads it directly (it sees a
+//! [`crate::sensor::Measurement`]). Used on its own it is the model for
+//! hardware-in-the-loop: apply a command, step, read the state.
+
+use crate::drive::Drive;
+use crate::dynamics::Model;
+use crate::error::{ParamError, check};
+use crate::integrator::rk4_step;
+use crate::math::{Pose2, Wheels};
+use crate::outcome::Termination;
+use crate::state::{STATE_LEN, State};
+use crate::{Real, Robot};
+
+/// Half-width of the box (m) point C must stay in; outside it the run has diverged.
+pub const DIVERGENCE_BOX_M: f64 = 1000.0;
+
+/// The robot, its drive and its state, with a drive command held between control ticks.
+#[derive(Clone, Copy, Debug)]
+pub struct Plant<T> {
+    robot: Robot<T>,
+    /// The robot's equations with their constants precomputed once.
+    model: Model<T>,
+    drive: Drive<T>,
+    state: State<T>,
+    /// Per-wheel drive command held since the last [`Plant::apply`]: N m or V by drive.
+    command: Wheels<T>,
+    /// Wheel torques of the held command when they do not depend on speed, N m.
+    held_torque: Wheels<T>,
+}
+
+impl<T: Real> Plant<T> {
+    /// At rest at `start` (x, y in m, theta in rad, world frame), encoders at zero, no
+    /// command. Errors name `start.x`, `start.y` or `start.theta`.
+    pub fn new(robot: Robot<T>, drive: Drive<T>, start: Pose2<T>) -> Result<Self, ParamError> {
+        check::finite("start.x", start.x)?;
+        check::finite("start.y", start.y)?;
+        check::finite("start.theta", start.theta)?;
+        Ok(Self {
+            robot,
+            model: Model::new(&robot),
+            drive,
+            state: State::at_rest(start),
+            command: Wheels::default(),
+            held_torque: Wheels::default(),
+        })
+    }
+
+    /// The robot (the truth, which a controller's model may differ from).
+    pub fn robot(&self) -> &Robot<T> {
+        &self.robot
+    }
+
+    /// The drive.
+    pub fn drive(&self) -> &Drive<T> {
+        &self.drive
+    }
+
+    /// The current state.
+    pub fn state(&self) -> &State<T> {
+        &self.state
+    }
+
+    /// The held drive command (N m or V per wheel).
+    pub fn command(&self) -> Wheels<T> {
+        self.command
+    }
+
+    /// Holds `command` (per wheel: wheel-torque demand in N m, or volts, by drive) until
+    /// the next call: the zero-order hold of a digital controller.
+    #[inline(always)]
+    pub fn apply(&mut self, command: Wheels<T>) {
+        self.command = command;
+        if self.drive.is_speed_independent() {
+            let d = self.drive;
+            self.held_torque = command.map(|c| d.wheel_torque(c, T::zero()));
+        }
+    }
+
+    /// True wheel speeds, rad/s.
+    #[inline(always)]
+    pub fn wheel_speeds(&self) -> Wheels<T> {
+        self.state.wheel_speeds(self.robot.params())
+    }
+
+    /// Wheel torques (N m) the held command gives at the current state.
+    #[inline(always)]
+    pub fn wheel_torque(&self) -> Wheels<T> {
+        self.wheel_torque_at(&self.state)
+    }
+
+    #[inline(always)]
+    fn wheel_torque_at(&self, s: &State<T>) -> Wheels<T> {
+        if self.drive.is_speed_independent() {
+            self.held_torque
+        } else {
+            let w = s.wheel_speeds(self.robot.params());
+            let c = self.command;
+            Wheels::new(self.drive.wheel_torque(c.right, w.right), self.drive.wheel_torque(c.left, w.left))
+        }
+    }
+
+    /// Advances the state by one RK4 step of `dt` (s) from time `t` (s) under the held
+    /// command. A result that is not finite or leaves the 1 km box is refused: the state
+    /// stays at the last good one and the reason is returned.
+    #[inline]
+    pub fn step(&mut self, t: T, dt: T) -> Result<(), Termination> {
+        let y = self.state.to_array();
+        let model = &self.model;
+        let next = if self.drive.is_speed_independent() && !model.has_coulomb() {
+            // The hot case (torque drive, no Coulomb friction: the defaults). The torques
+            // are held over the whole step: pass them by value, and decide the friction
+            // once, so the four RK4 stages neither branch nor reload them.
+            let tau = self.held_torque;
+            let f = |_, y: &[T; STATE_LEN]| model.derivative_with::<false>(&State::from_array(*y), tau).to_array();
+            rk4_step(f, t, &y, dt)
+        } else {
+            rk4_step(
+                |_, y| {
+                    let s = State::from_array(*y);
+                    model.derivative(&s, self.wheel_torque_at(&s)).to_array()
+                },
+                t,
+                &y,
+                dt,
+            )
+        };
+        let next = State::from_array(next);
+        let bound = T::lit(DIVERGENCE_BOX_M);
+        if !all_finite(&next) {
+            return Err(Termination::NonFinite);
+        }
+        if next.x.abs() > bound || next.y.abs() > bound {
+            return Err(Termination::LeftBox);
+        }
+        self.state = next;
+        Ok(())
+    }
+}
+
+/// True when every component of `s` is finite: the same test as [`State::is_finite`],
+/// written branch-free for the hot path. 0 c is a zero for a finite c and NaN for an
+/// infinite or NaN one, and a sum of zeros cannot overflow, so the sum is zero exactly
+/// when all seven components are finite.
+#[inline(always)]
+fn all_finite<T: Real>(s: &State<T>) -> bool {
+    let z = T::zero();
+    let sum = s.x * z + s.y * z + s.theta * z + s.v * z + s.omega * z + s.phi_r * z + s.phi_l * z;
+    sum == z
+}

@@ -1,0 +1,22 @@
+//! What the loop logs at one instant: the true state, the wheel torques and the
+//! controller's diagnostic errors.
+
+use crate::controller::ControlErrors;
+use crate::math::Wheels;
+use crate::state::State;
+
+/// Everything logged at one instant (the CSV columns of `docs/scenario.md`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Sample<T> {
+    /// Time, s.
+    pub t: T,
+    /// The true state of the plant at `t`.
+    pub state: State<T>,
+    /// True wheel speeds at `t`, rad/s.
+    pub wheel_speeds: Wheels<T>,
+    /// Wheel torques applied from `t` on, N m.
+    pub torque: Wheels<T>,
+    /// The controller's errors of the last control tick at or before `t` (what each law
+    /// logs is in [`crate::controller::ControlErrors`]).
+    pub errors: ControlErrors<T>,
+}

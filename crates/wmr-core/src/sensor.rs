@@ -1,0 +1,49 @@
+//! What the controller sees of the plant: a [`Measurement`] made by a [`Sensor`].
+//!
+//! The paper assumes "a global positioning system that measures the Cartesian
+//! coordinates and the orientating angle" and wheel encoders: [`PerfectSensor`] gives
+//! exactly that, the true pose and wheel state at the instant of the control tick.
+//! Rate, latency, noise and encoder quantisation are further sensors of the same shape.
+
+use crate::math::{Pose2, Wheels};
+use crate::state::State;
+use crate::{Real, RobotParams};
+
+/// What a controller measures at one control tick.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Measurement<T> {
+    /// When the measurement was taken, s (simulation time).
+    pub t: T,
+    /// Pose of C in the world frame: x, y in m, theta in rad.
+    pub pose: Pose2<T>,
+    /// Wheel angles from the encoders, rad (zero at start).
+    pub wheel_angles: Wheels<T>,
+    /// Wheel speeds, rad/s.
+    pub wheel_speeds: Wheels<T>,
+}
+
+/// Turns the true state into what the controller sees.
+pub trait Sensor<T: Real> {
+    /// The measurement handed to the controller at time `t` (s), given the plant's true
+    /// `state` and the true robot (for the wheel speeds).
+    fn measure(&mut self, t: T, state: &State<T>, robot: &RobotParams<T>) -> Measurement<T>;
+
+    /// Forgets any memory (buffers, filters), as at t = 0.
+    fn reset(&mut self) {}
+}
+
+/// The true pose and wheel state, instantly: the paper's assumption.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PerfectSensor;
+
+impl<T: Real> Sensor<T> for PerfectSensor {
+    #[inline(always)]
+    fn measure(&mut self, t: T, state: &State<T>, robot: &RobotParams<T>) -> Measurement<T> {
+        Measurement {
+            t,
+            pose: state.pose(),
+            wheel_angles: state.wheel_angles(),
+            wheel_speeds: state.wheel_speeds(robot),
+        }
+    }
+}

@@ -1,0 +1,50 @@
+//! One run's closed loop from validated parts: the plant (robot, drive, start pose), a
+//! fresh copy of a built controller, a fixed goal and the plant step.
+
+use wmr_core::{AnyLaw, ClosedLoop, Controller, Drive, FixedGoal, ParamError, Plant, Pose2, Robot};
+
+use crate::error::ScenarioError;
+use crate::keys::join;
+
+/// A built controller of any law, at t = 0.
+pub type BuiltController = Controller<f64, AnyLaw<f64>>;
+
+/// The closed loop of one run.
+pub type RunLoop = ClosedLoop<f64, AnyLaw<f64>>;
+
+/// Where a run's values came from, to name them in errors: the table holding its start
+/// and goal (`run[2]`, `sweep`) and its controller (`controller`, `sweep.controllers[1]`).
+#[derive(Clone, Copy, Debug)]
+pub struct Origin<'a> {
+    /// Path of the table with `start` and `goal`.
+    pub run: &'a str,
+    /// Path of the controller table.
+    pub controller: &'a str,
+}
+
+impl Origin<'_> {
+    /// The scenario key of a core error raised while assembling the loop.
+    pub fn key_of(&self, e: &ParamError) -> ScenarioError {
+        let key = match e.field {
+            "dt" => "sim.dt".to_owned(),
+            "control_dt" => join(self.controller, "control_dt"),
+            field => join(self.run, field),
+        };
+        ScenarioError::from_param(e, &key)
+    }
+}
+
+/// The loop from `start` to `goal` (m, m, rad) with plant step `dt` (s).
+pub fn closed_loop(
+    robot: &Robot<f64>,
+    drive: &Drive<f64>,
+    controller: &BuiltController,
+    start: Pose2<f64>,
+    goal: Pose2<f64>,
+    dt: f64,
+    origin: Origin<'_>,
+) -> Result<RunLoop, ScenarioError> {
+    let plant = Plant::new(*robot, *drive, start).map_err(|e| origin.key_of(&e))?;
+    let goal = FixedGoal::new(goal).map_err(|e| origin.key_of(&e))?;
+    ClosedLoop::new(plant, *controller, goal, dt).map_err(|e| origin.key_of(&e))
+}

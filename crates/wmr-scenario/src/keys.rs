@@ -1,0 +1,168 @@
+//! Keys, read through the core's own parameter types: a table given in a file is laid
+//! over the serialized defaults, every key checked against the type's fields, and read
+//! back with serde. Nothing here spells a key; the types do.
+
+use serde::de::{self, DeserializeOwned, Deserializer, Visitor};
+use serde::{Deserialize, Serialize};
+use toml::{Table, Value};
+
+use crate::error::ScenarioError;
+
+/// The field names a serde struct declares, in declaration order (what its derived
+/// `Deserialize` asks the format for).
+pub fn fields_of<'de, T: Deserialize<'de>>() -> &'static [&'static str] {
+    fields_read_by(|probe| T::deserialize(probe).map(|_| ()))
+}
+
+/// The field names of the first struct that `read` asks a deserializer for (e.g. the
+/// variant a tagged enum's `deserialize_variant` picks).
+pub fn fields_read_by(read: impl FnOnce(&mut FieldProbe) -> Result<(), Probed>) -> &'static [&'static str] {
+    let mut probe = FieldProbe(None);
+    let _ = read(&mut probe);
+    probe.0.unwrap_or(&[])
+}
+
+/// A deserializer that records the fields of the first struct asked for, then stops.
+pub struct FieldProbe(Option<&'static [&'static str]>);
+
+/// The probe's "error": it has seen what it needed.
+#[derive(Debug)]
+pub struct Probed;
+
+impl std::fmt::Display for Probed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("probed")
+    }
+}
+
+impl std::error::Error for Probed {}
+
+impl de::Error for Probed {
+    fn custom<M: std::fmt::Display>(_msg: M) -> Self {
+        Probed
+    }
+}
+
+impl<'de> Deserializer<'de> for &mut FieldProbe {
+    type Error = Probed;
+
+    fn deserialize_any<V: Visitor<'de>>(self, _visitor: V) -> Result<V::Value, Probed> {
+        Err(Probed)
+    }
+
+    fn deserialize_struct<V: Visitor<'de>>(
+        self,
+        _name: &'static str,
+        fields: &'static [&'static str],
+        _visitor: V,
+    ) -> Result<V::Value, Probed> {
+        self.0 = Some(fields);
+        Err(Probed)
+    }
+
+    serde::forward_to_deserialize_any! {
+        bool i8 i16 i32 i64 i128 u8 u16 u32 u64 u128 f32 f64 char str string bytes byte_buf
+        option unit unit_struct newtype_struct seq tuple tuple_struct map enum identifier ignored_any
+    }
+}
+
+/// The keys and values of `value` serialized as a table (e.g. a parameter struct's defaults).
+pub fn to_table<P: Serialize>(value: &P) -> Table {
+    // Parameter structs are flat tables of numbers, strings and bools, which TOML always holds.
+    Table::try_from(value).unwrap_or_default()
+}
+
+/// `path.key`, or `key` at the top.
+pub fn join(path: &str, key: &str) -> String {
+    if path.is_empty() { key.to_owned() } else { format!("{path}.{key}") }
+}
+
+/// The error for a key that `accepted` does not list.
+pub fn unknown_key<'a>(path: &str, key: &str, accepted: impl IntoIterator<Item = &'a str>) -> ScenarioError {
+    let list: Vec<&str> = accepted.into_iter().collect();
+    ScenarioError::new(join(path, key), format!("unknown key; the keys here are {}", list.join(", ")))
+}
+
+/// Reads `value` with `read`, naming the key of a type error by its path under `path`.
+pub fn read_with<T>(
+    path: &str,
+    value: Value,
+    read: impl for<'a, 'b> FnOnce(serde_path_to_error::Deserializer<'a, 'b, Value>) -> Result<T, toml::de::Error>,
+) -> Result<T, ScenarioError> {
+    let mut track = serde_path_to_error::Track::new();
+    let out = read(serde_path_to_error::Deserializer::new(value, &mut track));
+    out.map_err(|e| {
+        let inner = track.path().to_string();
+        let key = if inner == "." { path.to_owned() } else { join(path, &inner) };
+        ScenarioError::new(key, e.message().trim().to_owned())
+    })
+}
+
+/// `given` laid over `defaults` (both tables): every given key must be a default key.
+pub fn overlay_table(defaults: &Table, given: &Table, path: &str) -> Result<Table, ScenarioError> {
+    let mut merged = defaults.clone();
+    for (k, v) in given {
+        if !defaults.contains_key(k) {
+            return Err(unknown_key(path, k, defaults.keys().map(String::as_str)));
+        }
+        merged.insert(k.clone(), v.clone());
+    }
+    Ok(merged)
+}
+
+/// A parameter struct read from `given` over `default`: missing keys keep the default,
+/// unknown keys and wrong types are errors naming `path.key`.
+pub fn overlay<P: Serialize + DeserializeOwned>(default: &P, given: &Table, path: &str) -> Result<P, ScenarioError> {
+    let merged = overlay_table(&to_table(default), given, path)?;
+    read_with(path, Value::Table(merged), |d| P::deserialize(d))
+}
+
+/// The `kind` of a tagged table (`default_kind` when absent), checked against `kinds`.
+pub fn kind_of<'a>(
+    given: &Table,
+    path: &str,
+    default_kind: &'a str,
+    kinds: &[&'a str],
+) -> Result<&'a str, ScenarioError> {
+    let key = join(path, "kind");
+    match given.get("kind") {
+        None => Ok(default_kind),
+        Some(Value::String(s)) => kinds
+            .iter()
+            .copied()
+            .find(|k| k == s)
+            .ok_or_else(|| ScenarioError::new(key, format!("unknown kind \"{s}\", expected one of {kinds:?}"))),
+        Some(other) => Err(ScenarioError::new(key, format!("expected a string, got {}", other.type_str()))),
+    }
+}
+
+/// A float as TOML: the shortest representation that reads back to the same f64.
+pub fn toml_f64(v: f64) -> String {
+    if v.is_nan() {
+        "nan".to_owned()
+    } else if v.is_infinite() {
+        if v > 0.0 { "inf".to_owned() } else { "-inf".to_owned() }
+    } else {
+        // Debug always has a '.' or an exponent, so TOML reads it as a float.
+        format!("{v:?}")
+    }
+}
+
+/// A scalar TOML value as text (floats exact, strings quoted).
+pub fn toml_scalar(v: &Value) -> String {
+    match v {
+        Value::Float(f) => toml_f64(*f),
+        other => other.to_string(),
+    }
+}
+
+/// `key = value` lines for `table`, in the order of `order` (then any other key).
+pub fn write_keys(out: &mut String, table: &Table, order: &[&str]) {
+    use std::fmt::Write as _;
+    let rest = table.keys().map(String::as_str).filter(|k| !order.contains(k));
+    for k in order.iter().copied().chain(rest) {
+        if let Some(v) = table.get(k) {
+            let _ = writeln!(out, "{k} = {}", toml_scalar(v));
+        }
+    }
+}

@@ -1,0 +1,99 @@
+//! `[sim]`, checked: run length, plant step and log period, whole multiples of each other.
+
+use crate::error::ScenarioError;
+
+/// Largest `sim.t_end` accepted, s (about 11.6 days of simulated time).
+pub const MAX_T_END_S: f64 = 1e6;
+/// Largest number of plant steps per run accepted (`t_end / dt`): about 15 min of CPU
+/// per run at the core's ~1 us per step, so a typo like `dt = 1e-9` is caught.
+pub const MAX_STEPS: u64 = 1_000_000_000;
+/// Default `sim.t_end`, s.
+pub const DEFAULT_T_END_S: f64 = 60.0;
+/// Default `sim.log_dt`, s.
+pub const DEFAULT_LOG_DT_S: f64 = 0.01;
+
+/// `[sim]`, checked: t_end and log_dt are whole multiples of dt.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SimSpec {
+    t_end: f64,
+    dt: f64,
+    log_dt: f64,
+    n_steps: u64,
+    log_every: u32,
+}
+
+/// How many `dt` fit in `period` if it is a whole multiple (relative tolerance 1e-9, as
+/// the core's own check).
+fn whole_multiple(period: f64, dt: f64) -> Option<u64> {
+    let ratio = (period / dt).round();
+    let tol = 1e-9 * period.abs();
+    // ratio <= 2^53 keeps the u64 exact; `as` saturates and the range is checked first.
+    ((1.0..=9.0e15).contains(&ratio) && (ratio * dt - period).abs() <= tol).then_some(ratio as u64)
+}
+
+fn positive(key: &str, v: f64) -> Result<f64, ScenarioError> {
+    if !v.is_finite() {
+        Err(ScenarioError::new(key, format!("must be a finite number (got {v})")))
+    } else if v <= 0.0 {
+        Err(ScenarioError::new(key, format!("must be > 0 (got {v})")))
+    } else {
+        Ok(v)
+    }
+}
+
+impl SimSpec {
+    /// Checks t_end (s), dt (s) and log_dt (s); errors name `sim.*`.
+    pub fn new(t_end: f64, dt: f64, log_dt: f64) -> Result<Self, ScenarioError> {
+        let dt = positive("sim.dt", dt)?;
+        let t_end = positive("sim.t_end", t_end)?;
+        let log_dt = positive("sim.log_dt", log_dt)?;
+        if t_end > MAX_T_END_S {
+            return Err(ScenarioError::new("sim.t_end", format!("must be <= {MAX_T_END_S:e} s (got {t_end})")));
+        }
+        let n_steps = whole_multiple(t_end, dt).ok_or_else(|| {
+            ScenarioError::new("sim.t_end", format!("must be a whole multiple of sim.dt = {dt} (got {t_end})"))
+        })?;
+        if n_steps > MAX_STEPS {
+            return Err(ScenarioError::new(
+                "sim.t_end",
+                format!("t_end / dt = {n_steps} steps per run, more than the limit of {MAX_STEPS}"),
+            ));
+        }
+        let log_every = whole_multiple(log_dt, dt).and_then(|n| u32::try_from(n).ok()).ok_or_else(|| {
+            ScenarioError::new("sim.log_dt", format!("must be a whole multiple of sim.dt = {dt} (got {log_dt})"))
+        })?;
+        Ok(Self { t_end, dt, log_dt, n_steps, log_every })
+    }
+
+    /// Simulated time per run, s.
+    pub fn t_end(&self) -> f64 {
+        self.t_end
+    }
+
+    /// RK4 step, s.
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    /// Output sample period, s.
+    pub fn log_dt(&self) -> f64 {
+        self.log_dt
+    }
+
+    /// Plant steps per run, t_end / dt.
+    pub fn n_steps(&self) -> u64 {
+        self.n_steps
+    }
+
+    /// Plant steps per logged sample, log_dt / dt.
+    pub fn log_every(&self) -> u32 {
+        self.log_every
+    }
+
+    /// Samples a run that does not diverge hands to its sink: t = 0, every log_dt, and
+    /// t_end when it is not on the log grid.
+    pub fn n_samples(&self) -> u64 {
+        let every = u64::from(self.log_every);
+        self.n_steps / every + 1 + u64::from(!self.n_steps.is_multiple_of(every))
+    }
+}
