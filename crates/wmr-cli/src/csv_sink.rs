@@ -5,12 +5,14 @@ use std::fs::File;
 use std::io::BufWriter;
 
 use wmr_core::Sample;
-use wmr_scenario::{CSV_COLUMNS, Sink, SinkError, sample_values};
+use wmr_scenario::{CSV_COLUMNS, MEASURED_COLUMNS, Sink, SinkError, measured_values, sample_values};
 
 /// Writes `run,t,x,...,dl` rows; every number reads back to the same f64.
 pub struct CsvSink {
     writer: csv::Writer<BufWriter<File>>,
     field: String,
+    /// Also write the measured pose (`x_meas, y_meas, theta_meas`): the run has a `[sensor]`.
+    measured: bool,
 }
 
 /// The shortest text that reads back to `v`: plain decimals in the usual range,
@@ -28,12 +30,13 @@ pub fn format_f64(v: f64, out: &mut String) {
 }
 
 impl CsvSink {
-    /// Writes the header to `file`.
-    pub fn new(file: File) -> Result<Self, SinkError> {
+    /// Writes the header to `file`; with `measured`, the measured pose's columns too.
+    pub fn new(file: File, measured: bool) -> Result<Self, SinkError> {
         let mut writer =
             csv::WriterBuilder::new().buffer_capacity(1 << 16).from_writer(BufWriter::with_capacity(1 << 16, file));
-        writer.write_record(CSV_COLUMNS)?;
-        Ok(Self { writer, field: String::with_capacity(32) })
+        let extra: &[&str] = if measured { &MEASURED_COLUMNS } else { &[] };
+        writer.write_record(CSV_COLUMNS.iter().chain(extra))?;
+        Ok(Self { writer, field: String::with_capacity(32), measured })
     }
 }
 
@@ -45,6 +48,12 @@ impl Sink for CsvSink {
         for v in sample_values(sample) {
             format_f64(v, &mut self.field);
             self.writer.write_field(&self.field)?;
+        }
+        if self.measured {
+            for v in measured_values(sample) {
+                format_f64(v, &mut self.field);
+                self.writer.write_field(&self.field)?;
+            }
         }
         self.writer.write_record(None::<&[u8]>)?;
         Ok(())

@@ -26,6 +26,7 @@ name = "fig7"                  scenario name (default: the file's stem)
     torque_constant = 0.0302   k_tau, N m/A (> 0)
     back_emf_constant = 0.0302 k_e, V s/rad at the motor shaft (>= 0)
     armature_resistance = 0.299  R_a, Ohm (> 0)
+    current_max = inf          A, armature current limit of the driver (> 0, inf = none)
 
 [controller]                   an outer law (kind) and a wheel stage; each kind accepts only its
                                own law keys plus the wheel-stage keys and control_dt
@@ -63,6 +64,23 @@ name = "fig7"                  scenario name (default: the file's stem)
     wheel_speed_max = inf      rad/s, limit on the wheel reference speeds, curvature kept (> 0)
     control_dt = 0.001         s, control period; a whole multiple of sim.dt (> 0)
 
+[controller.model]             what the controller believes about the robot: any [robot] key;
+                               a key not given takes the [robot] value (e.g. wheel_radius = 0.105)
+
+[sensor]                       what the controller sees; no table = perfect and instant
+  rate_hz = inf                pose samples per second; 1/rate_hz a whole multiple of control_dt
+                               (inf: every control tick)
+  latency = 0.0                s, a sample taken at t is used from t + latency on; a whole
+                               multiple of control_dt (>= 0)
+  position_noise = 0.0         m, std. dev. of Gaussian noise on x and on y of each sample (>= 0)
+  heading_noise_deg = 0.0      deg, std. dev. of Gaussian noise on theta of each sample (>= 0)
+  encoder_counts = 0           counts per wheel revolution (0 = ideal encoders)
+  seed = 0                     the noise is a function of (seed, run index)
+
+[world]
+  slope_deg = 0.0              deg, tilt of the ground plane (|slope| < 90); x, y lie in the plane
+  slope_direction_deg = 0.0    deg, world direction in which the ground descends
+
 [sim]
   t_end = 60.0                 s per run; a whole multiple of dt; <= 1e6 s and <= 1e9 steps
   dt = 1e-3                    s, RK4 step (default: controller.control_dt)
@@ -79,6 +97,12 @@ name = "fig7"                  scenario name (default: the file's stem)
                                laws to compare, each with its [controller] keys (default: these)
   grid = { x_min = -2.0, x_max = 2.0, nx = 21, y_min = -2.0, y_max = 2.0, ny = 21, theta_deg = [0.0] }
   random = { n = 1000, seed = 1, radius = 2.0, min_radius = 0.1 }
+  vary = [{ key = "sensor.latency", values = [0.0, 0.05] }, { key = "world.slope_deg", uniform = [0, 5] }]
+                               robustness: vary keys of [robot], [drive], [controller] (and
+                               controller.model), [sensor], [world]: values one at a time, or
+                               uniform = [low, high] / normal = [mean, std] drawn per run
+  trials = 1                   runs per (law, start, value), each with its own noise and draws
+  seed = 0                     seed of the per-run draws
                                exactly one of grid (m, deg) and random (m; heading uniform)
 
 OUTPUTS

@@ -30,7 +30,7 @@ pub fn sweep(scenario: &Scenario, out: &Path, plots: Option<&Path>, show_progres
         ProgressBar::hidden()
     };
     let started = std::time::Instant::now();
-    let outcomes = spec.run(scenario.robot(), scenario.drive(), scenario.sim(), &|| bar.inc(1))?;
+    let outcomes = spec.run(scenario.sim(), &|| bar.inc(1))?;
     bar.finish_and_clear();
     let wall = started.elapsed().as_secs_f64();
 

@@ -56,7 +56,7 @@ fn same_value(shown: &str, real: &toml::Value) -> bool {
 
 /// Keys written inside inline tables (`start = { x = .. }`, `grid = { .. }`).
 fn inline(k: &SchemaKey) -> bool {
-    matches!(k.table, "pose" | "sweep.grid" | "sweep.random")
+    matches!(k.table, "pose" | "sweep.grid" | "sweep.random" | "sweep.vary") || k.key == "model"
 }
 
 /// The `--help` section of a schema table (and kind).
@@ -65,7 +65,9 @@ fn help_section<'a>(help: &'a str, k: &SchemaKey) -> &'a str {
         "" => return between(help, "SCENARIO FILE", &["[robot]"]),
         "robot" => between(help, "\n[robot]", &["\n[drive]"]),
         "drive" => between(help, "\n[drive]", &["\n[controller]"]),
-        "controller" => between(help, "\n[controller]", &["\n[sim]"]),
+        "controller" => between(help, "\n[controller]", &["\n[sensor]"]),
+        "sensor" => between(help, "\n[sensor]", &["\n[world]"]),
+        "world" => between(help, "\n[world]", &["\n[sim]"]),
         "sim" => between(help, "\n[sim]", &["\n[[run]]"]),
         "run" | "pose" => between(help, "\n[[run]]", &["\n[sweep]"]),
         _ => between(help, "\n[sweep]", &["\nOUTPUTS"]),
@@ -106,6 +108,8 @@ fn docs_document_every_key() {
             "robot" => between(&doc, "## `[robot]`", &["\n## "]),
             "drive" => between(&doc, "## `[drive]`", &["\n## "]),
             "controller" => between(&doc, "## `[controller]`", &["\n## "]),
+            "sensor" => between(&doc, "## `[sensor]`", &["\n## "]),
+            "world" => between(&doc, "## `[world]`", &["\n## "]),
             "sim" => between(&doc, "## `[sim]`", &["\n## "]),
             "run" | "pose" => between(&doc, "## `[[run]]`", &["\n## "]),
             _ => between(&doc, "## `[sweep]`", &["\n## "]),
@@ -157,7 +161,7 @@ fn stubs_list_the_robot_and_paper_controller_keys_with_their_defaults() {
     check(
         "PaperController",
         keys.iter()
-            .filter(|k| k.table == "controller" && k.key != "kind" && matches!(k.kind, None | Some("paper")))
+            .filter(|k| k.table == "controller" && !matches!(k.key, "kind" | "model") && matches!(k.kind, None | Some("paper")))
             .collect(),
     );
 }

@@ -14,6 +14,7 @@
 use crate::Real;
 use crate::controller::{ControlOutput, Controller, Law};
 use crate::error::{ParamError, check};
+use crate::math::Pose2;
 use crate::outcome::{Metrics, Outcome, Termination};
 use crate::plant::Plant;
 use crate::reference::{FixedGoal, Reference};
@@ -43,6 +44,8 @@ pub struct ClosedLoop<T, L, S = PerfectSensor, R = FixedGoal<T>> {
     /// Plant steps left until the next control tick (a countdown instead of a `%` per step).
     steps_to_control: u32,
     output: ControlOutput<T>,
+    /// The pose the controller used at the last tick.
+    measured: Pose2<T>,
     diverged: Option<Diverged<T>>,
 }
 
@@ -66,6 +69,13 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
         dt: T,
     ) -> Result<Self, ParamError> {
         check::positive("dt", dt)?;
+        if dt >= plant.max_stable_dt() {
+            return Err(check::out_of_range(
+                "dt",
+                "too large for the plant's friction: RK4 is unstable unless dt * stiffness < 2.785 (Plant::stiffness)",
+                dt,
+            ));
+        }
         let control_every = check::whole_multiple("control_dt", controller.control_dt(), dt)?;
         let mut lp = Self {
             plant,
@@ -77,6 +87,7 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
             control_every,
             steps_to_control: control_every,
             output: ControlOutput::default(),
+            measured: Pose2::default(),
             diverged: None,
         };
         lp.control_tick();
@@ -133,6 +144,7 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
         let t = self.time();
         let m = self.sensor.measure(t, self.plant.state(), self.plant.robot().params());
         let goal = self.reference.goal_at(t);
+        self.measured = m.pose;
         self.output = self.controller.update(t, &m, goal);
         self.plant.apply(self.output.command);
     }
@@ -146,6 +158,7 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
             wheel_speeds: self.plant.wheel_speeds(),
             torque: self.plant.wheel_torque(),
             errors: self.output.errors,
+            measured: self.measured,
         }
     }
 

@@ -12,6 +12,7 @@
 
 use crate::math::Wheels;
 use crate::state::State;
+use crate::world::World;
 use crate::{Real, Robot};
 
 impl<T: Real> Robot<T> {
@@ -64,11 +65,24 @@ pub(crate) struct Model<T> {
     tau_c: T,
     /// omega_eps, rad/s.
     omega_eps: T,
+    /// d, m: C forward to G.
+    d: T,
+    /// Gravity along a tilted ground, world x and y components, N (zero when flat).
+    downhill: (T, T),
+    /// True when the ground is tilted.
+    sloped: bool,
 }
 
 impl<T: Real> Model<T> {
+    /// The model on flat ground.
     #[inline(always)]
     pub(crate) fn new(robot: &Robot<T>) -> Self {
+        Self::on(robot, &World::flat())
+    }
+
+    /// The model on `world`'s ground.
+    #[inline(always)]
+    pub(crate) fn on(robot: &Robot<T>, world: &World<T>) -> Self {
         let p = robot.params();
         let (inv_m11, inv_m22) = robot.inv_reduced_inertia();
         Self {
@@ -81,7 +95,16 @@ impl<T: Real> Model<T> {
             b_v: p.viscous_friction,
             tau_c: p.coulomb_friction,
             omega_eps: p.coulomb_speed,
+            d: p.com_offset,
+            downhill: world.downhill_force(p.mass),
+            sloped: world.is_sloped(),
         }
+    }
+
+    /// True when gravity acts along the ground (a tilted plane).
+    #[inline(always)]
+    pub(crate) fn is_sloped(&self) -> bool {
+        self.sloped
     }
 
     /// True when the Coulomb term tau_c tanh(omega / omega_eps) is present (tau_c > 0).
@@ -114,20 +137,29 @@ impl<T: Real> Model<T> {
         if COULOMB { viscous + self.tau_c * (omega_wheel / self.omega_eps).tanh_libm() } else { viscous }
     }
 
-    /// See [`Robot::derivative`].
+    /// See [`Robot::derivative`]; on a tilted ground, with gravity along it.
     #[inline(always)]
     pub(crate) fn derivative(&self, s: &State<T>, tau_wheel: Wheels<T>) -> State<T> {
-        if self.has_coulomb() {
-            self.derivative_with::<true>(s, tau_wheel)
-        } else {
-            self.derivative_with::<false>(s, tau_wheel)
+        match (self.has_coulomb(), self.is_sloped()) {
+            (true, true) => self.derivative_with::<true, true>(s, tau_wheel),
+            (true, false) => self.derivative_with::<true, false>(s, tau_wheel),
+            (false, true) => self.derivative_with::<false, true>(s, tau_wheel),
+            (false, false) => self.derivative_with::<false, false>(s, tau_wheel),
         }
     }
 
-    /// [`Model::derivative`] with the Coulomb term decided by the caller; `COULOMB` must
-    /// equal [`Model::has_coulomb`].
+    /// [`Model::derivative`] with the Coulomb term and the slope decided by the caller;
+    /// `COULOMB` must equal [`Model::has_coulomb`] and `SLOPE` [`Model::is_sloped`].
+    ///
+    /// On a slope, with (F_x, F_y) = F (cos psi, sin psi) the pull along the plane (see
+    /// [`crate::world`]): forward force += F cos(psi - theta) = F_x cos(theta) + F_y sin(theta),
+    /// moment about C += d F sin(psi - theta) = d (F_y cos(theta) - F_x sin(theta)).
     #[inline(always)]
-    pub(crate) fn derivative_with<const COULOMB: bool>(&self, s: &State<T>, tau_wheel: Wheels<T>) -> State<T> {
+    pub(crate) fn derivative_with<const COULOMB: bool, const SLOPE: bool>(
+        &self,
+        s: &State<T>,
+        tau_wheel: Wheels<T>,
+    ) -> State<T> {
         let r = self.r;
         // Wheel speeds by the inverse of (1), as `kinematics::wheel_speeds`.
         let w_r = (s.v + self.big_r * s.omega) / r;
@@ -135,12 +167,19 @@ impl<T: Real> Model<T> {
         let net_r = tau_wheel.right - self.friction_torque_with::<COULOMB>(w_r);
         let net_l = tau_wheel.left - self.friction_torque_with::<COULOMB>(w_l);
         let (sin, cos) = s.theta.sin_cos_libm();
+        let mut forward = (net_r + net_l) / r + self.md * s.omega * s.omega;
+        let mut moment = self.big_r_over_r * (net_r - net_l) - self.md * s.v * s.omega;
+        if SLOPE {
+            let (f_x, f_y) = self.downhill;
+            forward = forward + (f_x * cos + f_y * sin);
+            moment = moment + self.d * (f_y * cos - f_x * sin);
+        }
         State {
             x: s.v * cos,
             y: s.v * sin,
             theta: s.omega,
-            v: ((net_r + net_l) / r + self.md * s.omega * s.omega) * self.inv_m11,
-            omega: (self.big_r_over_r * (net_r - net_l) - self.md * s.v * s.omega) * self.inv_m22,
+            v: forward * self.inv_m11,
+            omega: moment * self.inv_m22,
             phi_r: w_r,
             phi_l: w_l,
         }

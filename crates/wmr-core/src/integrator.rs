@@ -33,3 +33,8 @@ mod tests {
         assert!((y[0] - taylor).abs() < 1e-15);
     }
 }
+
+/// Where classic RK4's stability region meets the negative real axis: a decay
+/// y' = -lambda y is integrated stably (and, since the amplification factor stays
+/// positive there, without sign flips) exactly when h lambda < 2.785293563405282.
+pub const RK4_REAL_STABILITY_LIMIT: f64 = 2.785_293_563_405_282;

@@ -46,6 +46,7 @@ pub mod reference;
 pub mod sample;
 pub mod sensor;
 pub mod state;
+pub mod world;
 
 pub use closed_loop::{ClosedLoop, Diverged};
 pub use controller::{
@@ -62,5 +63,6 @@ pub use plant::Plant;
 pub use real::Real;
 pub use reference::{FixedGoal, Reference};
 pub use sample::Sample;
-pub use sensor::{Measurement, PerfectSensor, Sensor};
+pub use sensor::{Measurement, PerfectSensor, PoseSensor, Sensor, SensorParams};
 pub use state::State;
+pub use world::{World, WorldParams};

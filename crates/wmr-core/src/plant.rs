@@ -11,6 +11,7 @@ use crate::integrator::rk4_step;
 use crate::math::{Pose2, Wheels};
 use crate::outcome::Termination;
 use crate::state::{STATE_LEN, State};
+use crate::world::World;
 use crate::{Real, Robot};
 
 /// Half-width of the box (m) point C must stay in; outside it the run has diverged.
@@ -34,12 +35,17 @@ impl<T: Real> Plant<T> {
     /// At rest at `start` (x, y in m, theta in rad, world frame), encoders at zero, no
     /// command. Errors name `start.x`, `start.y` or `start.theta`.
     pub fn new(robot: Robot<T>, drive: Drive<T>, start: Pose2<T>) -> Result<Self, ParamError> {
+        Self::on(robot, drive, World::flat(), start)
+    }
+
+    /// As [`Plant::new`], on `world`'s ground (a slope).
+    pub fn on(robot: Robot<T>, drive: Drive<T>, world: World<T>, start: Pose2<T>) -> Result<Self, ParamError> {
         check::finite("start.x", start.x)?;
         check::finite("start.y", start.y)?;
         check::finite("start.theta", start.theta)?;
         Ok(Self {
             robot,
-            model: Model::new(&robot),
+            model: Model::on(&robot, &world),
             drive,
             state: State::at_rest(start),
             command: Wheels::default(),
@@ -78,6 +84,35 @@ impl<T: Real> Plant<T> {
         }
     }
 
+    /// The stiffness of the plant at rest, 1/s: the fastest decay rate lambda of its
+    /// speeds, linearized at zero speed. Each wheel's friction and drive then act as a
+    /// damper b = b_v + tau_c / omega_eps + (drive's speed damping), N m s/rad, and
+    ///
+    /// ```text
+    /// v' = -2 b v / (r^2 M_r11),   omega' = -2 b R^2 omega / (r^2 M_r22)
+    /// lambda = 2 b / r^2 * max(1 / M_r11, R^2 / M_r22)
+    /// ```
+    ///
+    /// RK4 at step dt is stable for this plant exactly when dt lambda <
+    /// [`crate::integrator::RK4_REAL_STABILITY_LIMIT`]; a Coulomb friction with a small
+    /// `coulomb_speed` makes lambda large (tau_c = 0.075 N m and omega_eps = 1e-3 rad/s
+    /// give 2,780 1/s on the paper's robot, the limit at dt = 1 ms).
+    pub fn stiffness(&self) -> T {
+        let p = self.robot.params();
+        let coulomb = if p.coulomb_friction > T::zero() { p.coulomb_friction / p.coulomb_speed } else { T::zero() };
+        let b = p.viscous_friction + coulomb + self.drive.speed_damping();
+        let (m11, m22) = self.robot.reduced_inertia();
+        let r2 = p.wheel_radius * p.wheel_radius;
+        let two = T::lit(2.0);
+        (two * b / r2) * m11.recip().max(p.half_track * p.half_track / m22)
+    }
+
+    /// The largest plant step (s) RK4 integrates stably: limit / [`Plant::stiffness`]
+    /// (infinite for a plant without damping).
+    pub fn max_stable_dt(&self) -> T {
+        T::lit(crate::integrator::RK4_REAL_STABILITY_LIMIT) / self.stiffness()
+    }
+
     /// True wheel speeds, rad/s.
     #[inline(always)]
     pub fn wheel_speeds(&self) -> Wheels<T> {
@@ -108,12 +143,13 @@ impl<T: Real> Plant<T> {
     pub fn step(&mut self, t: T, dt: T) -> Result<(), Termination> {
         let y = self.state.to_array();
         let model = &self.model;
-        let next = if self.drive.is_speed_independent() && !model.has_coulomb() {
-            // The hot case (torque drive, no Coulomb friction: the defaults). The torques
-            // are held over the whole step: pass them by value, and decide the friction
-            // once, so the four RK4 stages neither branch nor reload them.
+        let next = if self.drive.is_speed_independent() && !model.has_coulomb() && !model.is_sloped() {
+            // The hot case (torque drive, no Coulomb friction, flat: the defaults). The
+            // torques are held over the whole step: pass them by value, and decide the
+            // friction once, so the four RK4 stages neither branch nor reload them.
             let tau = self.held_torque;
-            let f = |_, y: &[T; STATE_LEN]| model.derivative_with::<false>(&State::from_array(*y), tau).to_array();
+            let f =
+                |_, y: &[T; STATE_LEN]| model.derivative_with::<false, false>(&State::from_array(*y), tau).to_array();
             rk4_step(f, t, &y, dt)
         } else {
             rk4_step(

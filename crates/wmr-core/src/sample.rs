@@ -2,7 +2,7 @@
 //! controller's diagnostic errors.
 
 use crate::controller::ControlErrors;
-use crate::math::Wheels;
+use crate::math::{Pose2, Wheels};
 use crate::state::State;
 
 /// Everything logged at one instant (the CSV columns of `docs/scenario.md`).
@@ -19,4 +19,7 @@ pub struct Sample<T> {
     /// The controller's errors of the last control tick at or before `t` (what each law
     /// logs is in [`crate::controller::ControlErrors`]).
     pub errors: ControlErrors<T>,
+    /// The pose of C the controller used at the last control tick at or before `t`
+    /// (what its sensor delivered: late, noisy; the true pose for a perfect sensor).
+    pub measured: Pose2<T>,
 }

@@ -9,7 +9,9 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use wmr_core::Pose2;
 use wmr_core::{ARRIVAL_RADIUS_M, Status};
-use wmr_scenario::{RunResult, RunSpec, SAMPLE_COLUMNS, Scenario, ScenarioError, executor, sample_values};
+use wmr_scenario::{
+    RunResult, RunSpec, SAMPLE_COLUMNS, Scenario, ScenarioError, executor, measured_values, sample_values,
+};
 
 use crate::convert::type_name;
 use crate::error::{parameter_error, scenario_error};
@@ -118,18 +120,25 @@ pub fn scenario_arg(obj: &Bound<'_, PyAny>) -> PyResult<Scenario> {
     Source::from_py(obj)?.parse().map_err(to_py)
 }
 
-/// One run's columns, built once in Rust.
+/// One run's columns, built once in Rust: the CSV columns and the measured pose.
 struct Columns {
     cols: [Vec<f64>; N_COLS],
+    measured: [Vec<f64>; 3],
 }
 
 impl Columns {
     fn with_capacity(n: usize) -> Self {
-        Self { cols: std::array::from_fn(|_| Vec::with_capacity(n)) }
+        Self {
+            cols: std::array::from_fn(|_| Vec::with_capacity(n)),
+            measured: std::array::from_fn(|_| Vec::with_capacity(n)),
+        }
     }
 
     fn push(&mut self, s: &wmr_core::Sample<f64>) {
         for (col, v) in self.cols.iter_mut().zip(sample_values(s)) {
+            col.push(v);
+        }
+        for (col, v) in self.measured.iter_mut().zip(measured_values(s)) {
             col.push(v);
         }
     }
@@ -225,6 +234,15 @@ pub struct PyRunResult {
     e_theta: Py<PyArray1<f64>>,
     #[pyo3(get)]
     dl: Py<PyArray1<f64>>,
+    /// x of the pose the controller used at its last tick, m (= x without a `[sensor]`).
+    #[pyo3(get)]
+    x_meas: Py<PyArray1<f64>>,
+    /// y of the pose the controller used, m.
+    #[pyo3(get)]
+    y_meas: Py<PyArray1<f64>>,
+    /// theta of the pose the controller used, rad.
+    #[pyo3(get)]
+    theta_meas: Py<PyArray1<f64>>,
 }
 
 impl PyRunResult {
@@ -232,6 +250,7 @@ impl PyRunResult {
         // from_vec hands each Vec's buffer to numpy: no copy.
         let [t, x, y, theta, v, omega, phi_r, phi_l, omega_r, omega_l, tau_r, tau_l, e_s, e_theta, dl] =
             cols.cols.map(|c| PyArray1::from_vec(py, c).unbind());
+        let [x_meas, y_meas, theta_meas] = cols.measured.map(|c| PyArray1::from_vec(py, c).unbind());
         let o = &r.outcome;
         Self {
             run: r.index,
@@ -263,6 +282,9 @@ impl PyRunResult {
             e_s,
             e_theta,
             dl,
+            x_meas,
+            y_meas,
+            theta_meas,
         }
     }
 
@@ -283,6 +305,9 @@ impl PyRunResult {
             "e_s" => &self.e_s,
             "e_theta" => &self.e_theta,
             "dl" => &self.dl,
+            "x_meas" => &self.x_meas,
+            "y_meas" => &self.y_meas,
+            "theta_meas" => &self.theta_meas,
             _ => return None,
         })
     }
@@ -485,7 +510,7 @@ pub fn sweep<'py>(py: Python<'py>, scenario: &Bound<'py, PyAny>) -> PyResult<Bou
     let Some(spec) = sc.sweep() else {
         return Err(scenario_error("sweep", None, "sweep: the scenario has no [sweep] table".to_owned()));
     };
-    let outcomes = py.detach(|| spec.run(sc.robot(), sc.drive(), sc.sim(), &|| {})).map_err(to_py)?;
+    let outcomes = py.detach(|| spec.run(sc.sim(), &|| {})).map_err(to_py)?;
     let d = outcome_dict(py, outcomes.iter().map(|o| &o.outcome))?;
     let law: Vec<String> = outcomes.iter().map(|o| spec.laws[o.law].0.clone()).collect();
     d.set_item("law", law)?;

@@ -1,16 +1,17 @@
-//! One run's closed loop from validated parts: the plant (robot, drive, start pose), a
-//! fresh copy of a built controller, a fixed goal and the plant step.
+//! One run's closed loop from a validated [`Setup`]: the plant at its start pose, the
+//! run's sensor, a fresh copy of the built controller, a fixed goal and the plant step.
 
-use wmr_core::{AnyLaw, ClosedLoop, Controller, Drive, FixedGoal, ParamError, Plant, Pose2, Robot};
+use wmr_core::{AnyLaw, ClosedLoop, Controller, FixedGoal, ParamError, PoseSensor, Pose2};
 
 use crate::error::ScenarioError;
 use crate::keys::join;
+use crate::setup::Setup;
 
 /// A built controller of any law, at t = 0.
 pub type BuiltController = Controller<f64, AnyLaw<f64>>;
 
 /// The closed loop of one run.
-pub type RunLoop = ClosedLoop<f64, AnyLaw<f64>>;
+pub type RunLoop = ClosedLoop<f64, AnyLaw<f64>, PoseSensor<f64>>;
 
 /// Where a run's values came from, to name them in errors: the table holding its start
 /// and goal (`run[2]`, `sweep`) and its controller (`controller`, `sweep.controllers[1]`).
@@ -28,23 +29,25 @@ impl Origin<'_> {
         let key = match e.field {
             "dt" => "sim.dt".to_owned(),
             "control_dt" => join(self.controller, "control_dt"),
+            field @ ("rate_hz" | "latency" | "position_noise" | "heading_noise_deg") => join("sensor", field),
             field => join(self.run, field),
         };
         ScenarioError::from_param(e, &key)
     }
 }
 
-/// The loop from `start` to `goal` (m, m, rad) with plant step `dt` (s).
+/// The loop of run number `run` (it selects the sensor's noise stream) from `start` to
+/// `goal` (m, m, rad) with plant step `dt` (s).
 pub fn closed_loop(
-    robot: &Robot<f64>,
-    drive: &Drive<f64>,
-    controller: &BuiltController,
+    setup: &Setup,
+    run: u64,
     start: Pose2<f64>,
     goal: Pose2<f64>,
     dt: f64,
     origin: Origin<'_>,
 ) -> Result<RunLoop, ScenarioError> {
-    let plant = Plant::new(*robot, *drive, start).map_err(|e| origin.key_of(&e))?;
+    let plant = setup.plant(start).map_err(|e| origin.key_of(&e))?;
+    let sensor = setup.sensor_for(run).map_err(|e| origin.key_of(&e))?;
     let goal = FixedGoal::new(goal).map_err(|e| origin.key_of(&e))?;
-    ClosedLoop::new(plant, *controller, goal, dt).map_err(|e| origin.key_of(&e))
+    ClosedLoop::with_sensor(plant, sensor, setup.built, goal, dt).map_err(|e| origin.key_of(&e))
 }

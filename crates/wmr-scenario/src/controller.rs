@@ -24,6 +24,7 @@ pub fn controller_keys(kind: &str, drive: &DriveParams<f64>) -> Vec<String> {
     let mut keys: Vec<String> = law.map(|l| law_table(&l).keys().cloned().collect()).unwrap_or_default();
     keys.extend(to_table(&WheelStageParams::for_drive(drive)).keys().cloned());
     keys.push("control_dt".to_owned());
+    keys.push("model".to_owned());
     keys
 }
 

@@ -20,8 +20,13 @@ pub struct ScenarioFile {
     pub robot: Option<Table>,
     /// `[drive]`: `kind` and the keys of that drive's parameters.
     pub drive: Option<Table>,
-    /// `[controller]`: `kind`, the law's keys, the wheel stage's keys, `control_dt`.
+    /// `[controller]`: `kind`, the law's keys, the wheel stage's keys, `control_dt`, and
+    /// the `[controller.model]` subtable (keys of `[robot]`).
     pub controller: Option<Table>,
+    /// `[sensor]`: keys of `wmr_core::SensorParams`.
+    pub sensor: Option<Table>,
+    /// `[world]`: keys of `wmr_core::WorldParams`.
+    pub world: Option<Table>,
     /// `[sim]`.
     pub sim: Option<SimFile>,
     /// `[[run]]`: one or more (none is an error, unless the file has a `[sweep]`).
@@ -107,6 +112,13 @@ pub struct SweepFile {
     pub grid: Option<GridFile>,
     /// Seeded random starts.
     pub random: Option<RandomFile>,
+    /// Keys of the plant, the controller's model, the sensor and the world to vary
+    /// (see `vary.rs`).
+    pub vary: Option<Vec<crate::vary::VaryFile>>,
+    /// Runs per (law, start, variant); default 1.
+    pub trials: Option<u32>,
+    /// Seed of the per-run draws of `vary`; default 0.
+    pub seed: Option<u64>,
 }
 
 /// `grid = { ... }`: starts on a rectangular grid, every heading in `theta_deg`.

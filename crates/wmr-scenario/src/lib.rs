@@ -42,16 +42,21 @@ mod output;
 mod run;
 mod scenario;
 pub mod schema;
+mod setup;
 mod sim;
 mod sweep;
+pub mod vary;
 
 pub use assemble::{BuiltController, RunLoop};
 pub use controller::{controller_keys, law_kinds};
 pub use error::ScenarioError;
 pub use file::{GridFile, PoseFile, RandomFile, RunFile, ScenarioFile, SimFile, SweepFile};
-pub use output::{CSV_COLUMNS, RunResult, SAMPLE_COLUMNS, Sink, SinkError, sample_values};
+pub use output::{
+    CSV_COLUMNS, MEASURED_COLUMNS, RunResult, SAMPLE_COLUMNS, Sink, SinkError, measured_values, sample_values,
+};
 pub use run::RunSpec;
 pub use scenario::Scenario;
+pub use setup::{Setup, Tables};
 pub use schema::{SchemaKey, schema};
 pub use sim::{DEFAULT_LOG_DT_S, DEFAULT_T_END_S, MAX_STEPS, MAX_T_END_S, SimSpec};
 pub use sweep::{

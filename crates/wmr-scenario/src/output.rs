@@ -44,6 +44,16 @@ pub fn sample_values(s: &Sample<f64>) -> [f64; 15] {
     ]
 }
 
+/// The columns a run with a `[sensor]` table adds after [`CSV_COLUMNS`]: the pose the
+/// controller used at its last tick (m, m, rad).
+pub const MEASURED_COLUMNS: [&str; 3] = ["x_meas", "y_meas", "theta_meas"];
+
+/// A sample's values in [`MEASURED_COLUMNS`] order.
+#[inline]
+pub fn measured_values(s: &Sample<f64>) -> [f64; 3] {
+    [s.measured.x, s.measured.y, s.measured.theta]
+}
+
 /// The error a sink reports (I/O, encoding, ...).
 pub type SinkError = Box<dyn Error + Send + Sync + 'static>;
 

@@ -4,17 +4,16 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use toml::{Table, Value};
-use wmr_core::{ControllerParams, Drive, DriveParams, Pose2, Robot, RobotParams, Sample};
+use toml::Value;
+use wmr_core::{ControllerParams, Drive, Pose2, Robot, RobotParams, Sample, SensorParams, WorldParams};
 
 use crate::assemble::{self, BuiltController, Origin, RunLoop};
 use crate::error::ScenarioError;
 use crate::file::{RunFile, ScenarioFile, SimFile};
-use crate::keys::{
-    fields_of, fields_read_by, join, kind_of, overlay, overlay_table, read_with, to_table, toml_f64, write_keys,
-};
+use crate::keys::{fields_of, fields_read_by, join, to_table, toml_f64, write_keys};
 use crate::output::RunResult;
 use crate::run::{RunSpec, short};
+use crate::setup::{Setup, Tables};
 use crate::sim::{DEFAULT_LOG_DT_S, DEFAULT_T_END_S, SimSpec};
 use crate::sweep::SweepSpec;
 use crate::{controller, locate};
@@ -23,59 +22,35 @@ use crate::{controller, locate};
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scenario {
     name: String,
-    robot: Robot<f64>,
-    drive: Drive<f64>,
-    controller: ControllerParams<f64>,
-    /// The controller built from `controller` for this robot and drive, at t = 0.
-    built: BuiltController,
+    setup: Setup,
     sim: SimSpec,
     runs: Vec<RunSpec>,
     sweep: Option<SweepSpec>,
-}
-
-/// `[robot]`: the paper's robot with the given keys, validated.
-fn resolve_robot(given: &Table) -> Result<Robot<f64>, ScenarioError> {
-    let params = overlay(&RobotParams::<f64>::paper(), given, "robot")?;
-    params.validate().map_err(|e| ScenarioError::from_param(&e, &join("robot", e.field)))
-}
-
-/// `[drive]`: `kind` (default `torque`) and its keys.
-fn resolve_drive(given: &Table) -> Result<DriveParams<f64>, ScenarioError> {
-    let defaults = DriveParams::<f64>::defaults();
-    let kinds: Vec<&str> = defaults.iter().map(DriveParams::kind).collect();
-    let kind = kind_of(given, "drive", "torque", &kinds)?;
-    let default = defaults.into_iter().find(|d| d.kind() == kind).unwrap_or_default();
-    let mut keys = to_table(&default);
-    keys.remove("kind");
-    let mut given = given.clone();
-    given.remove("kind");
-    let merged = overlay_table(&keys, &given, "drive")?;
-    read_with("drive", Value::Table(merged), |d| default.deserialize_variant(d))
 }
 
 impl ScenarioFile {
     /// Fills the defaults and checks everything by building the core types once.
     /// `default_name` is used when the file has no `name`.
     pub fn resolve(self, default_name: &str) -> Result<Scenario, ScenarioError> {
-        let empty = Table::new();
-        let robot = resolve_robot(self.robot.as_ref().unwrap_or(&empty))?;
-        let drive_params = resolve_drive(self.drive.as_ref().unwrap_or(&empty))?;
-        let drive =
-            drive_params.validate(&robot).map_err(|e| ScenarioError::from_param(&e, &join("drive", e.field)))?;
-        let controller = controller::resolve(self.controller.as_ref().unwrap_or(&empty), "controller", &drive_params)?;
-        let built = controller
-            .build(robot.params(), &drive)
-            .map_err(|e| ScenarioError::from_param(&e, &join("controller", e.field)))?;
+        let tables = Tables {
+            robot: self.robot.unwrap_or_default(),
+            drive: self.drive.unwrap_or_default(),
+            controller: self.controller.unwrap_or_default(),
+            sensor: self.sensor,
+            world: self.world.unwrap_or_default(),
+        };
+        let setup = Setup::resolve(&tables, "controller")?;
 
         let SimFile { t_end, dt, log_dt } = self.sim.unwrap_or_default();
         let sim = SimSpec::new(
             t_end.unwrap_or(DEFAULT_T_END_S),
-            dt.unwrap_or(controller.control_dt),
+            dt.unwrap_or(setup.controller.control_dt),
             log_dt.unwrap_or(DEFAULT_LOG_DT_S),
         )?;
+        setup.check_step(sim.dt())?;
 
         let sweep = match &self.sweep {
-            Some(sw) => Some(SweepSpec::resolve(sw, &robot, &drive, &sim)?),
+            Some(sw) => Some(SweepSpec::resolve(sw, &tables, &sim)?),
             None => None,
         };
         if self.run.is_empty() && sweep.is_none() {
@@ -96,7 +71,7 @@ impl ScenarioFile {
             runs.push(run);
         }
         let name = self.name.unwrap_or_else(|| default_name.to_owned());
-        let scenario = Scenario { name, robot, drive, controller, built, sim, runs, sweep };
+        let scenario = Scenario { name, setup, sim, runs, sweep };
         scenario.check_runs()?;
         Ok(scenario)
     }
@@ -155,24 +130,29 @@ impl Scenario {
         &self.name
     }
 
+    /// The validated configuration: robot, drive, world, sensor, controller and its model.
+    pub fn setup(&self) -> &Setup {
+        &self.setup
+    }
+
     /// The validated robot (`[robot]`).
     pub fn robot(&self) -> &Robot<f64> {
-        &self.robot
+        &self.setup.robot
     }
 
     /// The validated drive (`[drive]`).
     pub fn drive(&self) -> &Drive<f64> {
-        &self.drive
+        &self.setup.drive
     }
 
     /// The controller's parameters (`[controller]`), every default filled in.
     pub fn controller(&self) -> &ControllerParams<f64> {
-        &self.controller
+        &self.setup.controller
     }
 
     /// The controller built from them, at t = 0 (copy it to run it).
     pub fn built_controller(&self) -> &BuiltController {
-        &self.built
+        &self.setup.built
     }
 
     /// `[sim]`.
@@ -197,7 +177,7 @@ impl Scenario {
         })?;
         let path = format!("run[{run_index}]");
         let origin = Origin { run: &path, controller: "controller" };
-        assemble::closed_loop(&self.robot, &self.drive, &self.built, run.start, run.goal, self.sim.dt(), origin)
+        assemble::closed_loop(&self.setup, run_index as u64, run.start, run.goal, self.sim.dt(), origin)
     }
 
     /// Simulates run `run_index` from t = 0 to t_end (or divergence), handing `sink`
@@ -216,15 +196,26 @@ impl Scenario {
         let f = toml_f64;
         let _ = writeln!(o, "# Resolved scenario: every key with its value, defaults filled in.");
         let _ = writeln!(o, "name = {}", Value::String(self.name.clone()));
+        let setup = &self.setup;
         let _ = writeln!(o, "\n[robot]");
-        write_keys(&mut o, &to_table(self.robot.params()), fields_of::<RobotParams<f64>>());
+        write_keys(&mut o, &to_table(setup.robot.params()), fields_of::<RobotParams<f64>>());
         let _ = writeln!(o, "\n[drive]");
-        let drive = self.drive.params();
+        let drive = setup.drive.params();
         let mut order = vec!["kind"];
         order.extend(fields_read_by(|probe| drive.deserialize_variant(probe).map(|_| ())));
         write_keys(&mut o, &to_table(&drive), &order);
         let _ = writeln!(o, "\n[controller]");
-        controller::write(&self.controller, &mut o);
+        controller::write(&setup.controller, &mut o);
+        if setup.model != setup.robot {
+            let _ = writeln!(o, "\n[controller.model]");
+            write_keys(&mut o, &to_table(setup.model.params()), fields_of::<RobotParams<f64>>());
+        }
+        if setup.has_sensor {
+            let _ = writeln!(o, "\n[sensor]");
+            write_keys(&mut o, &to_table(&setup.sensor), fields_of::<SensorParams<f64>>());
+        }
+        let _ = writeln!(o, "\n[world]");
+        write_keys(&mut o, &to_table(setup.world.params()), fields_of::<WorldParams<f64>>());
         let s = &self.sim;
         let _ = writeln!(o, "\n[sim]\nt_end = {}\ndt = {}\nlog_dt = {}", f(s.t_end()), f(s.dt()), f(s.log_dt()));
         let _ = writeln!(o, "# {} steps and {} samples per run", s.n_steps(), s.n_samples());

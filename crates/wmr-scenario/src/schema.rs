@@ -2,16 +2,18 @@
 //! `docs/scenario.md` and the Python stubs are checked against.
 
 use toml::Value;
-use wmr_core::{DriveParams, LawParams, RobotParams, WheelStageParams};
+use wmr_core::{DriveParams, LawParams, RobotParams, SensorParams, WheelStageParams, WorldParams};
 
 use crate::file::{GridFile, PoseFile, RandomFile, RunFile, ScenarioFile, SimFile, SweepFile};
+use crate::vary::VaryFile;
 use crate::keys::{fields_of, fields_read_by, to_table};
 
 /// One accepted key.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SchemaKey {
-    /// The table it belongs to: `""` (top level), `robot`, `drive`, `controller`, `sim`,
-    /// `run`, `pose` (the `start`/`goal` tables), `sweep`, `sweep.grid`, `sweep.random`.
+    /// The table it belongs to: `""` (top level), `robot`, `drive`, `controller`, `sensor`,
+    /// `world`, `sim`, `run`, `pose` (the `start`/`goal` tables), `sweep`, `sweep.grid`,
+    /// `sweep.random`, `sweep.vary`. `controller.model` takes the `robot` keys.
     pub table: &'static str,
     /// For `[drive]` and `[controller]`: the `kind` it belongs to; `None` for keys every
     /// kind accepts.
@@ -73,11 +75,27 @@ pub fn schema() -> Vec<SchemaKey> {
         key: "control_dt",
         default: Some(Value::Float(wmr_core::ControllerParams::<f64>::default_control_dt())),
     });
+    out.push(SchemaKey { table: "controller", kind: None, key: "model", default: None });
+    let sensor = to_table(&SensorParams::<f64>::default());
+    out.extend(fields_of::<SensorParams<f64>>().iter().map(|&key| SchemaKey {
+        table: "sensor",
+        kind: None,
+        key,
+        default: sensor.get(key).cloned(),
+    }));
+    let world = to_table(&WorldParams::<f64>::default());
+    out.extend(fields_of::<WorldParams<f64>>().iter().map(|&key| SchemaKey {
+        table: "world",
+        kind: None,
+        key,
+        default: world.get(key).cloned(),
+    }));
     out.extend(plain("sim", fields_of::<SimFile>()));
     out.extend(plain("run", fields_of::<RunFile>()));
     out.extend(plain("pose", fields_of::<PoseFile>()));
     out.extend(plain("sweep", fields_of::<SweepFile>()));
     out.extend(plain("sweep.grid", fields_of::<GridFile>()));
     out.extend(plain("sweep.random", fields_of::<RandomFile>()));
+    out.extend(plain("sweep.vary", fields_of::<VaryFile>()));
     out
 }

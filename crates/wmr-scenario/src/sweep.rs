@@ -15,32 +15,50 @@
 //! `min_radius <= |C - goal| <= radius` with a uniform heading in [-180, 180) deg, drawn
 //! from `fastrand`'s generator seeded with `seed` (the same file gives the same starts).
 
-use toml::Table;
-use wmr_core::{ControllerParams, Drive, Outcome, Pose2, Robot, Status};
+use toml::{Table, Value};
+use wmr_core::{Outcome, Pose2, Status};
 
-use crate::assemble::{self, BuiltController, Origin};
+use crate::assemble::{self, Origin};
 use crate::controller::{self as controller_table, law_kinds};
 use crate::error::ScenarioError;
 use crate::executor::map_ordered;
 use crate::file::{GridFile, RandomFile, SweepFile};
+use crate::setup::{Setup, Tables};
 use crate::sim::SimSpec;
+use crate::vary::{Variant, Variation};
 
 /// Most (law, start) runs one sweep may hold.
 pub const MAX_SWEEP_RUNS: usize = 1_000_000;
 
 /// A checked sweep: the goal, the laws (with their names) and every start.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct SweepSpec {
     /// Goal pose of C: m, m, rad.
     pub goal: Pose2<f64>,
-    /// The laws, in file order, and a unique name for each (`kind`, or `kind#2` ...).
-    pub laws: Vec<(String, ControllerParams<f64>)>,
-    /// Each law's controller, built for the scenario's robot and drive, at t = 0.
-    pub built: Vec<BuiltController>,
+    /// The laws, in file order: a unique name for each (`kind`, or `kind#2` ...) and its
+    /// nominal configuration (the scenario's robot, drive, sensor and world, the law's
+    /// controller table).
+    pub laws: Vec<(String, Setup)>,
+    /// Each law's tables, from which varied runs are resolved.
+    pub tables: Vec<Tables>,
+    /// The varied keys (`vary`), the trials and the seed of the draws.
+    pub variation: Variation,
+    /// The variants of [`Variation::variants`], in order.
+    pub variants: Vec<Variant>,
+    /// The configuration of each (law, variant), index law * variants + variant.
+    pub setups: Vec<Setup>,
     /// Start poses of C: m, m, rad.
     pub starts: Vec<Pose2<f64>>,
     /// Where the starts come from, every default filled in (written back by `to_toml`).
     pub source: StartsSource,
+}
+
+/// Two sweeps are equal when they run the same: the tables as written may differ.
+impl PartialEq for SweepSpec {
+    fn eq(&self, other: &Self) -> bool {
+        (&self.goal, &self.laws, &self.variation, &self.variants, &self.setups, &self.starts, &self.source)
+            == (&other.goal, &other.laws, &other.variation, &other.variants, &other.setups, &other.starts, &other.source)
+    }
 }
 
 /// The `grid` or `random` table a sweep's starts were drawn from, defaults filled in.
@@ -57,38 +75,46 @@ fn finite_key(key: &str, v: f64) -> Result<f64, ScenarioError> {
 }
 
 impl SweepSpec {
-    /// Checks a `[sweep]` table and draws the starts; each law is built once for the
-    /// scenario's validated robot and drive, and its loop assembled towards the goal.
-    pub(crate) fn resolve(
-        sw: &SweepFile,
-        robot: &Robot<f64>,
-        drive: &Drive<f64>,
-        sim: &SimSpec,
-    ) -> Result<Self, ScenarioError> {
+    /// Checks a `[sweep]` table and draws the starts; every law is validated, for every
+    /// variant, with the scenario's tables (`base`) and its own controller table, and its
+    /// loop assembled towards the goal.
+    pub(crate) fn resolve(sw: &SweepFile, base: &Tables, sim: &SimSpec) -> Result<Self, ScenarioError> {
         let goal = sw.goal.clone().unwrap_or_default().resolve("sweep.goal")?;
-        let tables: Vec<Table> = match &sw.controllers {
+        let controllers: Vec<Table> = match &sw.controllers {
             Some(v) if v.is_empty() => return Err(ScenarioError::new("sweep.controllers", "name at least one law")),
             Some(v) => v.clone(),
             None => law_kinds()
                 .into_iter()
-                .map(|k| Table::from_iter([("kind".to_owned(), toml::Value::String(k.to_owned()))]))
+                .map(|k| Table::from_iter([("kind".to_owned(), Value::String(k.to_owned()))]))
                 .collect(),
         };
-        let mut laws: Vec<(String, ControllerParams<f64>)> = Vec::with_capacity(tables.len());
-        let mut built = Vec::with_capacity(tables.len());
-        for (i, table) in tables.iter().enumerate() {
+        let variation = Variation::resolve(sw.vary.as_deref().unwrap_or_default(), sw.seed.unwrap_or(0), sw.trials.unwrap_or(1))?;
+        let variants = variation.variants();
+        let mut laws: Vec<(String, Setup)> = Vec::with_capacity(controllers.len());
+        let mut tables = Vec::with_capacity(controllers.len());
+        let mut setups = Vec::with_capacity(controllers.len() * variants.len());
+        for (i, controller) in controllers.into_iter().enumerate() {
             let path = format!("sweep.controllers[{i}]");
-            let params = controller_table::resolve(table, &path, &drive.params())?;
-            let ctrl = params
-                .build(robot.params(), drive)
-                .map_err(|e| ScenarioError::from_param(&e, &crate::keys::join(&path, e.field)))?;
-            let origin = Origin { run: "sweep", controller: &path };
-            assemble::closed_loop(robot, drive, &ctrl, goal, goal, sim.dt(), origin)?;
-            let kind = params.law.kind();
-            let same = laws.iter().filter(|(_, p)| p.law.kind() == kind).count();
+            let mut t = Tables { controller, ..base.clone() };
+            // A law without its own model takes the scenario's [controller.model].
+            if let (None, Some(model)) = (t.controller.get("model"), base.controller.get("model")) {
+                t.controller.insert("model".to_owned(), model.clone());
+            }
+            let setup = check_setup(&t, &path, sim, goal, "")?;
+            for v in &variants {
+                let vt = with_settings(&t, &variation.settings(*v, 0))?;
+                let what = v.map(|(k, x)| format!("{} = {x}: ", variation.keys[k].key)).unwrap_or_default();
+                setups.push(check_setup(&vt, &path, sim, goal, &what)?);
+            }
+            if variation.has_draws() {
+                // The draws of the first run, as a sample of what the distributions give.
+                check_setup(&with_settings(&t, &variation.settings(None, 0))?, &path, sim, goal, "a drawn value: ")?;
+            }
+            let kind = setup.controller.law.kind();
+            let same = laws.iter().filter(|(_, s)| s.controller.law.kind() == kind).count();
             let name = if same == 0 { kind.to_owned() } else { format!("{kind}#{}", same + 1) };
-            laws.push((name, params));
-            built.push(ctrl);
+            laws.push((name, setup));
+            tables.push(t);
         }
         let (starts, source) = match (&sw.grid, &sw.random) {
             (Some(g), None) => {
@@ -103,14 +129,44 @@ impl SweepSpec {
                 return Err(ScenarioError::new("sweep", "missing the starts: give a grid or a random table"));
             }
         };
-        if starts.len().saturating_mul(laws.len()) > MAX_SWEEP_RUNS {
+        let runs = starts
+            .len()
+            .saturating_mul(laws.len())
+            .saturating_mul(variants.len())
+            .saturating_mul(variation.trials as usize);
+        if runs > MAX_SWEEP_RUNS {
             return Err(ScenarioError::new(
                 "sweep",
-                format!("{} starts x {} laws is more than {MAX_SWEEP_RUNS} runs", starts.len(), laws.len()),
+                format!(
+                    "{} starts x {} laws x {} variants x {} trials is more than {MAX_SWEEP_RUNS} runs",
+                    starts.len(),
+                    laws.len(),
+                    variants.len(),
+                    variation.trials
+                ),
             ));
         }
-        Ok(SweepSpec { goal, laws, built, starts, source })
+        Ok(SweepSpec { goal, laws, tables, variation, variants, setups, starts, source })
     }
+}
+
+/// `t` with every (key, value) of `settings` set.
+fn with_settings(t: &Tables, settings: &[(&str, Value)]) -> Result<Tables, ScenarioError> {
+    let mut t = t.clone();
+    for (k, v) in settings {
+        t.set(k, v.clone())?;
+    }
+    Ok(t)
+}
+
+/// Resolves `t` and assembles its loop at the goal, so every check a run makes is made
+/// now; an error says which varied value (`what`) caused it.
+fn check_setup(t: &Tables, path: &str, sim: &SimSpec, goal: Pose2<f64>, what: &str) -> Result<Setup, ScenarioError> {
+    let prefix = |e: ScenarioError| if what.is_empty() { e } else { ScenarioError::new(e.key, format!("{what}{}", e.message)) };
+    let setup = Setup::resolve(t, path).map_err(prefix)?;
+    setup.check_step(sim.dt()).map_err(prefix)?;
+    assemble::closed_loop(&setup, 0, goal, goal, sim.dt(), Origin { run: "sweep", controller: path }).map_err(prefix)?;
+    Ok(setup)
 }
 
 fn grid_starts(g: &GridFile) -> Result<Vec<Pose2<f64>>, ScenarioError> {
@@ -192,9 +248,14 @@ impl SweepSpec {
         let g = &self.goal;
         let _ = writeln!(out, "\n[sweep]\ngoal = {{ x = {}, y = {}, theta = {} }}", f(g.x), f(g.y), f(g.theta));
         let _ = writeln!(out, "controllers = [");
-        for (_, spec) in &self.laws {
+        for (_, setup) in &self.laws {
             let mut table = String::new();
-            controller_table::write(spec, &mut table);
+            controller_table::write(&setup.controller, &mut table);
+            if setup.model != setup.robot {
+                let mut model = String::new();
+                crate::keys::write_keys(&mut model, &crate::keys::to_table(setup.model.params()), &[]);
+                let _ = writeln!(table, "model = {{ {} }}", model.lines().collect::<Vec<_>>().join(", "));
+            }
             let _ = writeln!(out, "  {{ {} }},", table.lines().collect::<Vec<_>>().join(", "));
         }
         let _ = writeln!(out, "]");
@@ -224,15 +285,45 @@ impl SweepSpec {
                 );
             }
         }
-        let _ = writeln!(out, "# {} laws x {} starts = {} runs", self.laws.len(), self.starts.len(), self.len());
+        let v = &self.variation;
+        let _ = writeln!(out, "trials = {}\nseed = {}", v.trials, v.seed);
+        if !v.keys.is_empty() {
+            let _ = writeln!(out, "vary = [");
+            for k in &v.keys {
+                let spread = match &k.spread {
+                    crate::vary::Spread::Values(x) => {
+                        format!("values = [{}]", x.iter().map(|x| f(*x)).collect::<Vec<_>>().join(", "))
+                    }
+                    crate::vary::Spread::Uniform(lo, hi) => format!("uniform = [{}, {}]", f(*lo), f(*hi)),
+                    crate::vary::Spread::Normal(m, sd) => format!("normal = [{}, {}]", f(*m), f(*sd)),
+                };
+                let _ = writeln!(out, "  {{ key = {}, {spread} }},", Value::String(k.key.clone()));
+            }
+            let _ = writeln!(out, "]");
+        }
+        let _ = writeln!(
+            out,
+            "# {} laws x {} variants x {} trials x {} starts = {} runs",
+            self.laws.len(),
+            self.variants.len(),
+            v.trials,
+            self.starts.len(),
+            self.len()
+        );
     }
 }
 
-/// The outcome of one (law, start) run.
+/// The outcome of one (law, variant, trial, start) run.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SweepOutcome {
     /// Index into [`SweepSpec::laws`].
     pub law: usize,
+    /// Index into [`SweepSpec::variants`].
+    pub variant: usize,
+    /// 0-based trial.
+    pub trial: u32,
+    /// The run's index in the sweep (it selects the sensor noise and the draws).
+    pub run: u64,
     /// Index into [`SweepSpec::starts`].
     pub start_index: usize,
     /// Start pose of C.
@@ -265,9 +356,9 @@ pub const SWEEP_COLUMNS: [&str; 12] = [
 ];
 
 impl SweepSpec {
-    /// Number of (law, start) runs.
+    /// Number of runs: laws x variants x trials x starts.
     pub fn len(&self) -> usize {
-        self.laws.len() * self.starts.len()
+        self.laws.len() * self.variants.len() * self.variation.trials as usize * self.starts.len()
     }
 
     /// True when there is nothing to run.
@@ -275,28 +366,57 @@ impl SweepSpec {
         self.len() == 0
     }
 
-    /// Runs every (law, start) pair in parallel for the scenario's validated robot,
-    /// drive and `[sim]`; `done` is called once per finished run (from worker threads).
-    /// Results are ordered by law, then start.
-    pub fn run(
-        &self,
-        robot: &Robot<f64>,
-        drive: &Drive<f64>,
-        sim: &SimSpec,
-        done: &(dyn Fn() + Sync),
-    ) -> Result<Vec<SweepOutcome>, ScenarioError> {
+    /// Runs every (law, variant, trial, start) in parallel with the scenario's `[sim]`;
+    /// `done` is called once per finished run (from worker threads). Results are ordered
+    /// by law, then variant, trial and start.
+    pub fn run(&self, sim: &SimSpec, done: &(dyn Fn() + Sync)) -> Result<Vec<SweepOutcome>, ScenarioError> {
         let n_starts = self.starts.len();
+        let trials = self.variation.trials as usize;
+        let n_variants = self.variants.len();
         map_ordered(self.len(), |k| {
-            let (law, start_index) = (k / n_starts, k % n_starts);
+            let start_index = k % n_starts;
+            let trial = (k / n_starts) % trials;
+            let variant = (k / (n_starts * trials)) % n_variants;
+            let law = k / (n_starts * trials * n_variants);
             let start = self.starts[start_index];
-            let origin = Origin { run: "sweep", controller: "sweep.controllers" };
-            let mut lp = assemble::closed_loop(robot, drive, &self.built[law], start, self.goal, sim.dt(), origin)?;
+            let run = k as u64;
+            let path = format!("sweep.controllers[{law}]");
+            let origin = Origin { run: "sweep", controller: &path };
+            let drawn;
+            let setup = if self.variation.has_draws() {
+                let settings = self.variation.settings(self.variants[variant], run);
+                drawn = Setup::resolve(&with_settings(&self.tables[law], &settings)?, &path)?;
+                drawn.check_step(sim.dt())?;
+                &drawn
+            } else {
+                &self.setups[law * n_variants + variant]
+            };
+            let mut lp = assemble::closed_loop(setup, run, start, self.goal, sim.dt(), origin)?;
             let outcome = lp.run(sim.n_steps(), u32::MAX, |_| {});
             done();
-            Ok(SweepOutcome { law, start_index, start, outcome })
+            Ok(SweepOutcome { law, variant, trial: trial as u32, run, start_index, start, outcome })
         })
         .into_iter()
         .collect()
+    }
+
+    /// The value of every varied key in a run (in `vary` order): its variant's axis value,
+    /// its draw, or the nominal value.
+    pub fn varied_values(&self, o: &SweepOutcome) -> Vec<f64> {
+        let settings = self.variation.settings(self.variants[o.variant], o.run);
+        let nominal = &self.laws[o.law].1;
+        self.variation
+            .keys
+            .iter()
+            .map(|k| {
+                settings
+                    .iter()
+                    .find(|(key, _)| *key == k.key)
+                    .and_then(|(_, v)| v.as_float())
+                    .or_else(|| nominal.value_of(&k.key))
+                    .unwrap_or(f64::NAN)
+            })
+            .collect()
     }
 }
 

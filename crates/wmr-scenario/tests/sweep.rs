@@ -42,7 +42,7 @@ fn random_starts_are_reproducible_and_inside_the_annulus() {
 fn sweep_outcomes_match_single_runs() {
     let text = "[sim]\nt_end = 20.0\n[sweep]\ncontrollers = [{ kind = \"paper\" }]\nrandom = { n = 12, seed = 3, radius = 2.0 }\n";
     let (s, sw) = sweep_of(text);
-    let outcomes = sw.run(s.robot(), s.drive(), s.sim(), &|| {}).unwrap();
+    let outcomes = sw.run(s.sim(), &|| {}).unwrap();
     assert_eq!(outcomes.len(), 12);
     let mut runs = String::from("[sim]\nt_end = 20.0\n");
     for p in &sw.starts {
@@ -90,7 +90,7 @@ fn bad_sweeps_name_their_key() {
 fn summary_table_lists_every_law() {
     let text = "[sim]\nt_end = 5.0\n[sweep]\nrandom = { n = 4, seed = 1, radius = 1.0 }\n";
     let (s, sw) = sweep_of(text);
-    let out = sw.run(s.robot(), s.drive(), s.sim(), &|| {}).unwrap();
+    let out = sw.run(s.sim(), &|| {}).unwrap();
     let rows = summarize(&sw, &out);
     assert_eq!(rows.len(), 3);
     assert!(rows.iter().all(|r| r.n == 4));

@@ -24,6 +24,9 @@ pub struct DcMotorParams<T> {
     pub back_emf_constant: T,
     /// R_a, armature (terminal) resistance, Ohm (`armature_resistance`).
     pub armature_resistance: T,
+    /// i_max, armature current limit of the motor driver, A (`current_max`): the current
+    /// is clamped to +-i_max, so the wheel torque to +-k_tau i_max / k_t. Infinity = no limit.
+    pub current_max: T,
 }
 
 impl<T: Real> Default for DcMotorParams<T> {
@@ -33,6 +36,7 @@ impl<T: Real> Default for DcMotorParams<T> {
             torque_constant: T::lit(0.0302),
             back_emf_constant: T::lit(0.0302),
             armature_resistance: T::lit(0.299),
+            current_max: T::infinity(),
         }
     }
 }
@@ -43,9 +47,11 @@ impl<T: Real> DcMotorParams<T> {
         check::positive("torque_constant", self.torque_constant)?;
         check::non_negative("back_emf_constant", self.back_emf_constant)?;
         check::positive("armature_resistance", self.armature_resistance)?;
+        check::positive_or_inf("current_max", self.current_max)?;
         let torque_per_volt = self.torque_constant / (self.armature_resistance * gear_ratio);
         let emf_per_wheel_speed = self.back_emf_constant / gear_ratio;
-        Ok(DcMotor { params: self, torque_per_volt, emf_per_wheel_speed })
+        let wheel_torque_max = self.torque_constant * self.current_max / gear_ratio;
+        Ok(DcMotor { params: self, torque_per_volt, emf_per_wheel_speed, wheel_torque_max })
     }
 }
 
@@ -57,6 +63,8 @@ pub struct DcMotor<T> {
     torque_per_volt: T,
     /// k_e / k_t, V per rad/s of wheel speed.
     emf_per_wheel_speed: T,
+    /// k_tau i_max / k_t, N m: the wheel torque at the current limit (infinite without one).
+    wheel_torque_max: T,
 }
 
 impl<T: Real> DcMotor<T> {
@@ -65,10 +73,23 @@ impl<T: Real> DcMotor<T> {
         &self.params
     }
 
-    /// Wheel torque (N m) for a voltage command (V, clamped) at wheel speed (rad/s).
+    /// Wheel torque (N m) for a voltage command (V, clamped) at wheel speed (rad/s):
+    /// k_tau i / k_t with i = (u - k_e omega_motor) / R_a clamped to +-current_max.
     #[inline(always)]
     pub fn wheel_torque(&self, voltage: T, omega_wheel: T) -> T {
         let u = voltage.max(-self.params.voltage_max).min(self.params.voltage_max);
-        (u - self.emf_per_wheel_speed * omega_wheel) * self.torque_per_volt
+        let tau = (u - self.emf_per_wheel_speed * omega_wheel) * self.torque_per_volt;
+        // Torque is proportional to current: clamping it clamps the current.
+        if self.wheel_torque_max.is_finite() { tau.max(-self.wheel_torque_max).min(self.wheel_torque_max) } else { tau }
+    }
+
+    /// Back-EMF damping at the wheel, N m s/rad: k_tau k_e / (R_a k_t^2).
+    pub fn speed_damping(&self) -> T {
+        self.emf_per_wheel_speed * self.torque_per_volt
+    }
+
+    /// The largest wheel torque the current limit allows, N m (infinite without one).
+    pub fn wheel_torque_max(&self) -> T {
+        self.wheel_torque_max
     }
 }

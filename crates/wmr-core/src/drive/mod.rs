@@ -96,6 +96,16 @@ impl<T: Real> Drive<T> {
         }
     }
 
+    /// How much the wheel torque falls per rad/s of wheel speed at a fixed command,
+    /// N m s/rad: the back-EMF damping k_tau k_e / (R_a k_t^2) of a DC motor, 0 for the
+    /// torque drive. It adds to the friction's stiffness ([`crate::Plant::stiffness`]).
+    pub fn speed_damping(&self) -> T {
+        match self {
+            Drive::Torque(_) => T::zero(),
+            Drive::DcMotor(d) => d.speed_damping(),
+        }
+    }
+
     /// Largest useful command magnitude (N m or V): the servo's anti-windup bound.
     pub fn command_limit(&self) -> T {
         match self {

@@ -140,6 +140,10 @@ class RunResult:
     e_s: FloatArray
     e_theta: FloatArray
     dl: FloatArray
+    x_meas: FloatArray
+    """x of the pose the controller used at its last tick, m (equal to x without [sensor])."""
+    y_meas: FloatArray
+    theta_meas: FloatArray
     def __getitem__(self, name: str) -> FloatArray: ...
     def __len__(self) -> int: ...
     def columns(self) -> dict[str, FloatArray]:

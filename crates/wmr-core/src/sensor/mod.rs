@@ -3,7 +3,13 @@
 //! The paper assumes "a global positioning system that measures the Cartesian
 //! coordinates and the orientating angle" and wheel encoders: [`PerfectSensor`] gives
 //! exactly that, the true pose and wheel state at the instant of the control tick.
-//! Rate, latency, noise and encoder quantisation are further sensors of the same shape.
+//! [`PoseSensor`] is the real one: a pose sampled at its own rate, late, noisy, and
+//! quantized wheel encoders ([`pose_sensor`]); [`gaussian`] draws its noise.
+
+pub mod gaussian;
+pub mod pose_sensor;
+
+pub use pose_sensor::{PoseSensor, SensorParams};
 
 use crate::math::{Pose2, Wheels};
 use crate::state::State;

@@ -1,0 +1,234 @@
+//! A pose sensor as a real robot has one: the pose of C sampled at its own rate, arriving
+//! late, with Gaussian noise; wheel encoders read every tick, quantized to whole counts.
+//!
+//! With control period `dt_c`, sample period P = 1/`rate_hz` and latency L (both whole
+//! multiples of `dt_c`), at control tick k (time k dt_c):
+//!
+//! ```text
+//! every k with k dt_c = j P:   sample j = true pose at j P  + (n_x, n_y, n_theta)
+//!                              n_x, n_y ~ N(0, position_noise^2), n_theta ~ N(0, heading_noise^2)
+//! pose seen at tick k:         the newest sample j with j P + L <= k dt_c;
+//!                              before the first one arrives, the start pose without noise
+//! encoders at tick k:          phi = q round(phi_true / q),  q = 2 pi / encoder_counts
+//!                              omega = (phi_k - phi_(k-1)) / dt_c    (0 at the first tick)
+//! ```
+//!
+//! With every default (a sample each tick, no latency, no noise, ideal encoders) the
+//! measurement is the true state itself, bit for bit: the same as [`super::PerfectSensor`].
+//! The samples in flight wait in a fixed ring of `N` (no heap): L / P + 1 must fit.
+
+use super::gaussian::Gaussian;
+use super::{Measurement, Sensor};
+use crate::error::{ParamError, check};
+use crate::math::{Pose2, Wheels};
+use crate::state::State;
+use crate::{Real, RobotParams};
+
+/// `[sensor]` keys: what the controller sees.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct SensorParams<T> {
+    /// Pose samples per second, Hz; 1 / rate_hz a whole multiple of `control_dt`.
+    /// Infinity (the default): a sample at every control tick.
+    pub rate_hz: T,
+    /// Latency, s: a sample taken at t reaches the controller at t + latency; a whole
+    /// multiple of `control_dt`. Default 0.
+    pub latency: T,
+    /// Standard deviation of the Gaussian noise on x and on y of each sample, m. Default 0.
+    pub position_noise: T,
+    /// Standard deviation of the Gaussian noise on theta of each sample, degrees. Default 0.
+    pub heading_noise_deg: T,
+    /// Encoder counts per wheel revolution; 0 (the default) = ideal encoders.
+    pub encoder_counts: u32,
+    /// Seed of the noise; the noise of a run is a function of (seed, run index).
+    pub seed: u64,
+}
+
+impl<T: Real> Default for SensorParams<T> {
+    /// Perfect: a sample every tick, no latency, no noise, ideal encoders, seed 0.
+    fn default() -> Self {
+        Self {
+            rate_hz: T::infinity(),
+            latency: T::zero(),
+            position_noise: T::zero(),
+            heading_noise_deg: T::zero(),
+            encoder_counts: 0,
+            seed: 0,
+        }
+    }
+}
+
+impl<T: Real> SensorParams<T> {
+    /// True when the sensor is the paper's ideal one (every default but the seed).
+    pub fn is_perfect(&self) -> bool {
+        self.rate_hz.is_infinite()
+            && self.latency == T::zero()
+            && self.position_noise == T::zero()
+            && self.heading_noise_deg == T::zero()
+            && self.encoder_counts == 0
+    }
+}
+
+/// One pose sample in flight: its index j and the (noisy) pose.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct InFlight<T> {
+    index: u64,
+    pose: Pose2<T>,
+}
+
+/// The sensor of the module docs, with room for `N` samples in flight.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PoseSensor<T, const N: usize = 256> {
+    params: SensorParams<T>,
+    perfect: bool,
+    /// Control ticks per sample (P / dt_c) and of latency (L / dt_c).
+    ticks_per_sample: u64,
+    latency_ticks: u64,
+    /// heading noise, rad; encoder quantum q = 2 pi / counts, rad; control period, s.
+    heading_noise: T,
+    quantum: T,
+    control_dt: T,
+    /// The sample period P, s (for the measurement's time stamp).
+    sample_period: T,
+    noise: Gaussian,
+    /// The run index, which selects the noise stream.
+    run: u64,
+    /// The next control tick's index k.
+    tick: u64,
+    ring: [InFlight<T>; N],
+    /// Index in `ring` of the oldest sample in flight, and how many are in flight.
+    head: usize,
+    len: usize,
+    /// The pose the controller sees now and when it was taken (s); the start pose at first.
+    seen: Option<(Pose2<T>, T)>,
+    /// Encoder angles of the previous tick, rad.
+    last_angles: Option<Wheels<T>>,
+}
+
+impl<T: Real, const N: usize> PoseSensor<T, N> {
+    /// Validates `params` for control period `control_dt` (s); `run` selects the noise
+    /// stream. Errors name `rate_hz`, `latency`, `position_noise`, `heading_noise_deg`.
+    pub fn new(params: SensorParams<T>, control_dt: T, run: u64) -> Result<Self, ParamError> {
+        check::positive("control_dt", control_dt)?;
+        if params.rate_hz.is_nan() || params.rate_hz <= T::zero() {
+            return Err(check::out_of_range("rate_hz", "must be > 0 (inf: every control tick)", params.rate_hz));
+        }
+        let ticks_per_sample = if params.rate_hz.is_infinite() {
+            1
+        } else {
+            u64::from(check::whole_multiple("rate_hz", params.rate_hz.recip(), control_dt).map_err(|e| {
+                ParamError { reason: crate::Reason::OutOfRange("1 / rate_hz must be a whole multiple of control_dt"), ..e }
+            })?)
+        };
+        check::non_negative("latency", params.latency)?;
+        let latency_ticks = if params.latency == T::zero() {
+            0
+        } else {
+            u64::from(check::whole_multiple("latency", params.latency, control_dt)?)
+        };
+        check::non_negative("position_noise", params.position_noise)?;
+        check::non_negative("heading_noise_deg", params.heading_noise_deg)?;
+        if latency_ticks / ticks_per_sample + 2 > N as u64 {
+            return Err(check::out_of_range(
+                "latency",
+                "holds more pose samples in flight than the sensor's buffer (latency * rate_hz must be below 250)",
+                params.latency,
+            ));
+        }
+        let sample_period = T::lit(ticks_per_sample as f64) * control_dt;
+        let quantum = if params.encoder_counts == 0 {
+            T::zero()
+        } else {
+            T::lit(core::f64::consts::TAU / f64::from(params.encoder_counts))
+        };
+        Ok(Self {
+            params,
+            perfect: params.is_perfect(),
+            ticks_per_sample,
+            latency_ticks,
+            heading_noise: params.heading_noise_deg.to_radians(),
+            quantum,
+            control_dt,
+            sample_period,
+            noise: Gaussian::new(params.seed, run),
+            run,
+            tick: 0,
+            ring: [InFlight::default(); N],
+            head: 0,
+            len: 0,
+            seen: None,
+            last_angles: None,
+        })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &SensorParams<T> {
+        &self.params
+    }
+
+    /// `value` plus Gaussian noise of standard deviation `sigma` (unchanged when 0).
+    fn noisy(&mut self, value: T, sigma: T) -> T {
+        if sigma > T::zero() { value + sigma * T::lit(self.noise.next()) } else { value }
+    }
+
+    /// The pose the controller sees at this tick, and when it was taken (s).
+    fn pose_at_tick(&mut self, truth: Pose2<T>) -> (Pose2<T>, T) {
+        let k = self.tick;
+        if k.is_multiple_of(self.ticks_per_sample) {
+            let j = k / self.ticks_per_sample;
+            let x = self.noisy(truth.x, self.params.position_noise);
+            let y = self.noisy(truth.y, self.params.position_noise);
+            let theta = self.noisy(truth.theta, self.heading_noise);
+            let slot = (self.head + self.len) % N;
+            self.ring[slot] = InFlight { index: j, pose: Pose2::new(x, y, theta) };
+            self.len += 1;
+        }
+        // Deliver every sample that has arrived: j P + L <= k dt_c.
+        while self.len > 0 {
+            let s = self.ring[self.head];
+            if s.index * self.ticks_per_sample + self.latency_ticks > k {
+                break;
+            }
+            self.seen = Some((s.pose, T::lit(s.index as f64) * self.sample_period));
+            self.head = (self.head + 1) % N;
+            self.len -= 1;
+        }
+        // Before the first sample arrives: the start pose, without noise.
+        *self.seen.get_or_insert((truth, T::zero()))
+    }
+
+    /// Encoder angles (rad) and speeds (rad/s) at this tick.
+    fn encoders(&mut self, state: &State<T>, robot: &RobotParams<T>) -> (Wheels<T>, Wheels<T>) {
+        if self.params.encoder_counts == 0 {
+            return (state.wheel_angles(), state.wheel_speeds(robot));
+        }
+        let q = self.quantum;
+        let angles = state.wheel_angles().map(|phi| (phi / q).round() * q);
+        let prev = self.last_angles.unwrap_or(angles);
+        self.last_angles = Some(angles);
+        let dt = self.control_dt;
+        (angles, Wheels::new((angles.right - prev.right) / dt, (angles.left - prev.left) / dt))
+    }
+}
+
+impl<T: Real, const N: usize> Sensor<T> for PoseSensor<T, N> {
+    #[inline]
+    fn measure(&mut self, t: T, state: &State<T>, robot: &RobotParams<T>) -> Measurement<T> {
+        if self.perfect {
+            return super::PerfectSensor.measure(t, state, robot);
+        }
+        let (pose, taken) = self.pose_at_tick(state.pose());
+        let (wheel_angles, wheel_speeds) = self.encoders(state, robot);
+        self.tick += 1;
+        Measurement { t: taken, pose, wheel_angles, wheel_speeds }
+    }
+
+    fn reset(&mut self) {
+        self.noise = Gaussian::new(self.params.seed, self.run);
+        self.tick = 0;
+        self.head = 0;
+        self.len = 0;
+        self.seen = None;
+        self.last_angles = None;
+    }
+}

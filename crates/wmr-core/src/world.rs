@@ -1,0 +1,78 @@
+//! The ground the robot drives on: a plane tilted by `slope_deg`, descending towards
+//! `slope_direction_deg`; x and y are coordinates in that plane.
+//!
+//! Gravity along the plane, F = m g sin(slope) with g = 9.80665 m/s^2, acts at the centre
+//! of mass G. With psi the descent direction and theta the heading, its component along
+//! the heading, F cos(psi - theta), adds to the forward force of (15), and its lateral
+//! component F sin(psi - theta), applied at G a distance d ahead of C, adds the moment
+//! d F sin(psi - theta) about C (the lateral part itself is carried by the wheels'
+//! no-slip constraint).
+
+use crate::Real;
+use crate::error::{ParamError, check};
+
+/// Standard gravity, m/s^2.
+pub const STANDARD_GRAVITY: f64 = 9.80665;
+
+/// `[world]` keys.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct WorldParams<T> {
+    /// Tilt of the ground plane, degrees, |slope_deg| < 90. Default 0 (flat).
+    pub slope_deg: T,
+    /// World direction (in the plane, from the x axis) in which the ground descends,
+    /// degrees. Default 0.
+    pub slope_direction_deg: T,
+}
+
+impl<T: Real> Default for WorldParams<T> {
+    fn default() -> Self {
+        Self { slope_deg: T::zero(), slope_direction_deg: T::zero() }
+    }
+}
+
+impl<T: Real> WorldParams<T> {
+    /// Checks the keys; errors name `slope_deg` or `slope_direction_deg`.
+    pub fn validate(self) -> Result<World<T>, ParamError> {
+        let slope = check::finite("slope_deg", self.slope_deg)?;
+        if slope.abs() >= T::lit(90.0) {
+            return Err(check::out_of_range("slope_deg", "must be between -90 and 90 degrees", slope));
+        }
+        check::finite("slope_direction_deg", self.slope_direction_deg)?;
+        Ok(World { params: self })
+    }
+}
+
+/// Validated ground.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct World<T> {
+    params: WorldParams<T>,
+}
+
+impl<T: Real> World<T> {
+    /// Flat ground.
+    pub fn flat() -> Self {
+        Self { params: WorldParams::default() }
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &WorldParams<T> {
+        &self.params
+    }
+
+    /// True when the ground is tilted.
+    pub fn is_sloped(&self) -> bool {
+        self.params.slope_deg != T::zero()
+    }
+
+    /// Gravity's pull along the plane on a mass of `mass_kg`, in world x and y, N:
+    /// F (cos psi, sin psi) with F = m g sin(slope). Computed in f64 with `libm`, the same
+    /// bits in every build.
+    pub fn downhill_force(&self, mass_kg: T) -> (T, T) {
+        let slope = self.params.slope_deg.to_f64_lossless().to_radians();
+        let psi = self.params.slope_direction_deg.to_f64_lossless().to_radians();
+        let f = mass_kg.to_f64_lossless() * STANDARD_GRAVITY * libm::sin(slope);
+        let (s, c) = libm::sincos(psi);
+        (T::lit(f * c), T::lit(f * s))
+    }
+}

@@ -1,0 +1,206 @@
+//! One configuration of a closed loop, as written ([`Tables`]) and validated ([`Setup`]):
+//! the robot, its drive, the ground, the sensor, and the controller with its own model of
+//! the robot. A scenario has one; a sweep has one per law, and one per law and varied
+//! value when it varies keys.
+
+use toml::{Table, Value};
+use wmr_core::{
+    ControllerParams, Drive, DriveParams, Plant, PoseSensor, Pose2, Robot, RobotParams, SensorParams, World,
+    WorldParams,
+};
+
+use crate::assemble::BuiltController;
+use crate::controller;
+use crate::error::ScenarioError;
+use crate::keys::{join, kind_of, overlay, overlay_table, read_with, to_table};
+
+/// The tables of one configuration, as written (absent tables are empty).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Tables {
+    /// `[robot]`.
+    pub robot: Table,
+    /// `[drive]`.
+    pub drive: Table,
+    /// `[controller]`, with its `model` subtable if any.
+    pub controller: Table,
+    /// `[sensor]`, if the file has one.
+    pub sensor: Option<Table>,
+    /// `[world]`.
+    pub world: Table,
+}
+
+impl Tables {
+    /// Sets the value at a dotted scenario key (`robot.mass`, `sensor.latency`,
+    /// `controller.model.wheel_radius`, `world.slope_deg`), for sweeps that vary it.
+    pub fn set(&mut self, key: &str, value: Value) -> Result<(), ScenarioError> {
+        let (table, rest) = key.split_once('.').unwrap_or((key, ""));
+        let target = match table {
+            "robot" => &mut self.robot,
+            "drive" => &mut self.drive,
+            "controller" => &mut self.controller,
+            "sensor" => self.sensor.get_or_insert_with(Table::new),
+            "world" => &mut self.world,
+            _ => {
+                return Err(ScenarioError::new(
+                    key,
+                    "only keys of [robot], [drive], [controller], [sensor] and [world] can be varied",
+                ));
+            }
+        };
+        let mut parts: Vec<&str> = rest.split('.').collect();
+        let last = parts.pop().filter(|k| !k.is_empty()).ok_or_else(|| ScenarioError::new(key, "name a key"))?;
+        let mut t = target;
+        for p in parts {
+            let entry = t.entry(p.to_owned()).or_insert_with(|| Value::Table(Table::new()));
+            t = entry.as_table_mut().ok_or_else(|| ScenarioError::new(key, format!("{p} is not a table")))?;
+        }
+        // A whole number is written as an integer, which integer keys need
+        // (`encoder_counts`) and float keys accept.
+        let value = match value {
+            Value::Float(x) if x.fract() == 0.0 && x.abs() < 9.0e15 => Value::Integer(x as i64),
+            v => v,
+        };
+        t.insert(last.to_owned(), value);
+        Ok(())
+    }
+}
+
+/// A validated configuration.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Setup {
+    /// The true robot (`[robot]`).
+    pub robot: Robot<f64>,
+    /// The drive (`[drive]`).
+    pub drive: Drive<f64>,
+    /// The ground (`[world]`).
+    pub world: World<f64>,
+    /// What the controller sees (`[sensor]`; every default when absent).
+    pub sensor: SensorParams<f64>,
+    /// True when the file has a `[sensor]` table: outputs then carry the measured pose.
+    pub has_sensor: bool,
+    /// The controller's idea of the robot: `[robot]` with `[controller.model]` laid over it.
+    pub model: Robot<f64>,
+    /// The controller's keys (`[controller]`).
+    pub controller: ControllerParams<f64>,
+    /// The controller built for the model and the drive, at t = 0.
+    pub built: BuiltController,
+}
+
+/// A TOML number as f64.
+fn number(v: &Value) -> Option<f64> {
+    v.as_float().or_else(|| v.as_integer().map(|i| i as f64))
+}
+
+fn param_error(path: &str) -> impl Fn(wmr_core::ParamError) -> ScenarioError + '_ {
+    move |e| ScenarioError::from_param(&e, &join(path, e.field))
+}
+
+/// `[drive]`: `kind` (default `torque`) and its keys.
+fn resolve_drive(given: &Table) -> Result<DriveParams<f64>, ScenarioError> {
+    let defaults = DriveParams::<f64>::defaults();
+    let kinds: Vec<&str> = defaults.iter().map(DriveParams::kind).collect();
+    let kind = kind_of(given, "drive", "torque", &kinds)?;
+    let default = defaults.into_iter().find(|d| d.kind() == kind).unwrap_or_default();
+    let mut keys = to_table(&default);
+    keys.remove("kind");
+    let mut given = given.clone();
+    given.remove("kind");
+    let merged = overlay_table(&keys, &given, "drive")?;
+    read_with("drive", Value::Table(merged), |d| default.deserialize_variant(d))
+}
+
+impl Setup {
+    /// Reads and validates `t`; the controller table's path is `controller_path`
+    /// (`controller`, `sweep.controllers[1]`) and its control period must divide into
+    /// the sensor's timing.
+    pub fn resolve(t: &Tables, controller_path: &str) -> Result<Self, ScenarioError> {
+        let robot_params = overlay(&RobotParams::<f64>::paper(), &t.robot, "robot")?;
+        let robot = robot_params.validate().map_err(param_error("robot"))?;
+        let drive_params = resolve_drive(&t.drive)?;
+        let drive = drive_params.validate(&robot).map_err(param_error("drive"))?;
+        let world = overlay(&WorldParams::<f64>::default(), &t.world, "world")?.validate().map_err(param_error("world"))?;
+        let sensor = match &t.sensor {
+            Some(s) => overlay(&SensorParams::<f64>::default(), s, "sensor")?,
+            None => SensorParams::default(),
+        };
+        let mut table = t.controller.clone();
+        let model_path = join(controller_path, "model");
+        let model = match table.remove("model") {
+            None => robot,
+            Some(Value::Table(m)) => overlay(robot.params(), &m, &model_path)?.validate().map_err(param_error(&model_path))?,
+            Some(other) => return Err(ScenarioError::new(model_path, format!("expected a table, got {}", other.type_str()))),
+        };
+        let controller = controller::resolve(&table, controller_path, &drive_params)?;
+        let built = controller.build(model.params(), &drive).map_err(param_error(controller_path))?;
+        PoseSensor::<f64>::new(sensor, controller.control_dt, 0).map_err(param_error("sensor"))?;
+        Ok(Self { robot, drive, world, sensor, has_sensor: t.sensor.is_some(), model, controller, built })
+    }
+
+    /// The plant at rest at `start` (m, m, rad).
+    pub fn plant(&self, start: Pose2<f64>) -> Result<Plant<f64>, wmr_core::ParamError> {
+        Plant::on(self.robot, self.drive, self.world, start)
+    }
+
+    /// Checks the plant step `dt` (s, `sim.dt`) against the plant's stiffness: RK4 is
+    /// unstable beyond it. A Coulomb friction too sharp for the step names
+    /// `robot.coulomb_speed` and says what would do.
+    pub fn check_step(&self, dt: f64) -> Result<(), ScenarioError> {
+        let plant = self.plant(Pose2::default()).map_err(param_error("run"))?;
+        let max_dt = plant.max_stable_dt();
+        if dt < max_dt {
+            return Ok(());
+        }
+        let p = self.robot.params();
+        let key = if p.coulomb_friction > 0.0 { "robot.coulomb_speed" } else { "sim.dt" };
+        // stiffness = k b with b = b_v + tau_c / omega_eps + drive damping (Plant::stiffness):
+        // the coulomb_speed that brings it to 90 % of the limit at this dt, if any does.
+        let b_other = p.viscous_friction + self.drive.speed_damping();
+        let b = b_other + p.coulomb_friction / p.coulomb_speed;
+        let k = plant.stiffness() / b;
+        let b_target = 0.9 * wmr_core::integrator::RK4_REAL_STABILITY_LIMIT / dt / k;
+        let needed = (p.coulomb_friction > 0.0 && b_target > b_other).then(|| p.coulomb_friction / (b_target - b_other));
+        let advice = match needed {
+            Some(w) => format!("raise coulomb_speed to {w:.3e} rad/s or more, or lower sim.dt below {max_dt:.3e} s"),
+            None => format!("lower sim.dt below {max_dt:.3e} s"),
+        };
+        Err(ScenarioError::new(
+            key,
+            format!(
+                "with coulomb_friction = {} N m, coulomb_speed = {} rad/s and sim.dt = {dt} s the friction is too stiff \
+                 for RK4 (dt * stiffness = {:.3} must be < 2.785, stiffness = {:.4e} 1/s): {advice}",
+                p.coulomb_friction,
+                p.coulomb_speed,
+                dt * plant.stiffness(),
+                plant.stiffness()
+            ),
+        ))
+    }
+
+    /// The value of a dotted numeric key in this configuration (`robot.mass`,
+    /// `controller.model.wheel_radius`, `sensor.latency`, `controller.k_rho`), if it has one.
+    pub fn value_of(&self, key: &str) -> Option<f64> {
+        let (table, rest) = key.split_once('.')?;
+        let t = match table {
+            "robot" => to_table(self.robot.params()),
+            "drive" => to_table(&self.drive.params()),
+            "world" => to_table(self.world.params()),
+            "sensor" => to_table(&self.sensor),
+            "controller" => match rest.strip_prefix("model.") {
+                Some(k) => return number(to_table(self.model.params()).get(k)?),
+                None => {
+                    let mut t = to_table(&self.controller.law);
+                    t.extend(to_table(&self.controller.wheels));
+                    t.insert("control_dt".to_owned(), Value::Float(self.controller.control_dt));
+                    t
+                }
+            },
+            _ => return None,
+        };
+        number(t.get(rest)?)
+    }
+
+    /// The sensor of run `run` (its noise stream).
+    pub fn sensor_for(&self, run: u64) -> Result<PoseSensor<f64>, wmr_core::ParamError> {
+        PoseSensor::new(self.sensor, self.controller.control_dt, run)
+    }
+}
