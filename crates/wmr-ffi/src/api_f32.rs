@@ -1,0 +1,220 @@
+//! The f32 entry points. `api_f64.rs` is this file with every `f32` replaced by `f64`
+//! (the test `f64_api_is_the_f32_api` checks it; `WMR_BLESS=1` rewrites it).
+
+use crate::imp::{self, Lyapunov, Paper, Polar};
+use crate::*;
+
+/// Fills `out` with the paper's robot: m = 5 kg, r = 0.1 m, R = 0.2 m, d = 0.25 m,
+/// I_m = 0.002 kg m^2, I_p = 0.005 kg m^2, k_t = 0.1, no friction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_robot_params_f32_paper(out: *mut wmr_robot_params<f32>) -> wmr_status {
+    imp::robot_params_paper(out)
+}
+
+/// Validates `params` into a robot. On error `err` (may be NULL) names the field.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_robot_f32_init(
+    out: *mut wmr_robot_f32,
+    params: *const wmr_robot_params<f32>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::robot_init(out, params, err)
+}
+
+/// Fills `out` with the defaults of drive `kind` (both kinds' fields are filled).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_drive_params_f32_default(kind: u32, out: *mut wmr_drive_params<f32>) -> wmr_status {
+    imp::drive_params_default(kind, out)
+}
+
+/// Validates `params` for `robot` (its gear ratio) into a drive.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_drive_f32_init(
+    out: *mut wmr_drive_f32,
+    params: *const wmr_drive_params<f32>,
+    robot: *const wmr_robot_f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::drive_init(out, params, robot, err)
+}
+
+/// Fills `out` with the wheel stage defaults for the drive kind of `drive`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_wheel_stage_params_f32_default(
+    drive: *const wmr_drive_params<f32>,
+    out: *mut wmr_wheel_stage_params<f32>,
+) -> wmr_status {
+    imp::wheel_stage_params_default(drive, out)
+}
+
+/// Fills `out` with the paper's gains (section 4) and the default radii and hold.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_params_f32_default(out: *mut wmr_paper_params<f32>) -> wmr_status {
+    imp::law_params_default::<f32, Paper>(out)
+}
+
+/// Fills `out` with the polar law's defaults (k_rho 0.5, k_alpha 3, k_beta -1.2).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_polar_params_f32_default(out: *mut wmr_polar_params<f32>) -> wmr_status {
+    imp::law_params_default::<f32, Polar>(out)
+}
+
+/// Fills `out` with the Lyapunov law's defaults (gamma 0.5, k 3, h 9).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_lyapunov_params_f32_default(out: *mut wmr_lyapunov_params<f32>) -> wmr_status {
+    imp::law_params_default::<f32, Lyapunov>(out)
+}
+
+/// A plant at rest at `start` (m, m, rad), encoders at zero, no command held.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_plant_f32_init(
+    out: *mut wmr_plant_f32,
+    robot: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    start: wmr_pose<f32>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::plant_init(out, robot, drive, start, err)
+}
+
+/// Holds `command` (per wheel: N m for the torque drive, V for the DC motor) until the
+/// next call: the zero-order hold of a digital controller.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_plant_f32_apply(plant: *mut wmr_plant_f32, command: wmr_wheels<f32>) -> wmr_status {
+    imp::plant_apply(plant, command)
+}
+
+/// One RK4 step of `dt` (s) from time `t` (s) under the held command. A state that is
+/// not finite or leaves the 1 km box is refused (`WMR_DIVERGED_*`), the state unchanged.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_plant_f32_step(plant: *mut wmr_plant_f32, t: f32, dt: f32) -> wmr_status {
+    imp::plant_step(plant, t, dt)
+}
+
+/// The plant's true state.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_plant_f32_state(plant: *const wmr_plant_f32, out: *mut wmr_state<f32>) -> wmr_status {
+    imp::plant_state(plant, out)
+}
+
+/// The paper's sensor: the true pose and wheel state at the instant of the tick.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_sensor_f32_init_perfect(out: *mut wmr_sensor_f32) -> wmr_status {
+    imp::sensor_init_perfect::<f32>(out)
+}
+
+/// What the sensor reports at time `t` (s) of the plant's state.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_sensor_f32_measure(
+    sensor: *mut wmr_sensor_f32,
+    t: f32,
+    plant: *const wmr_plant_f32,
+    out: *mut wmr_measurement<f32>,
+) -> wmr_status {
+    imp::sensor_measure(sensor, t, plant, out)
+}
+
+/// Forgets the sensor's memory, as at t = 0.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_sensor_f32_reset(sensor: *mut wmr_sensor_f32) -> wmr_status {
+    imp::sensor_reset::<f32>(sensor)
+}
+
+/// The paper's law with its wheel stage, for the controller's robot model (r and R),
+/// the drive it commands and the control period `control_dt` (s).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_controller_f32_init(
+    out: *mut wmr_paper_controller_f32,
+    params: *const wmr_paper_params<f32>,
+    wheels: *const wmr_wheel_stage_params<f32>,
+    model: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    control_dt: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init::<f32, Paper>(out, params, wheels, model, drive, control_dt, err)
+}
+
+/// One control tick at time `t` (s): drive commands and errors from the measurement and
+/// the goal pose (m, m, rad). Non-finite inputs are refused (`WMR_NOT_FINITE`) and leave
+/// the controller unchanged.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_controller_f32_update(
+    ctrl: *mut wmr_paper_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    goal: wmr_pose<f32>,
+    out: *mut wmr_control_output<f32>,
+) -> wmr_status {
+    imp::controller_update::<f32, Paper>(ctrl, t, measurement, goal, out)
+}
+
+/// Clears the integrators and memories, as at t = 0.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_controller_f32_reset(ctrl: *mut wmr_paper_controller_f32) -> wmr_status {
+    imp::controller_reset::<f32, Paper>(ctrl)
+}
+
+/// Astolfi's polar law with its wheel stage (see `wmr_paper_controller_f32_init`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_polar_controller_f32_init(
+    out: *mut wmr_polar_controller_f32,
+    params: *const wmr_polar_params<f32>,
+    wheels: *const wmr_wheel_stage_params<f32>,
+    model: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    control_dt: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init::<f32, Polar>(out, params, wheels, model, drive, control_dt, err)
+}
+
+/// One control tick (see `wmr_paper_controller_f32_update`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_polar_controller_f32_update(
+    ctrl: *mut wmr_polar_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    goal: wmr_pose<f32>,
+    out: *mut wmr_control_output<f32>,
+) -> wmr_status {
+    imp::controller_update::<f32, Polar>(ctrl, t, measurement, goal, out)
+}
+
+/// Clears the direction choice, the servos and the references, as at t = 0.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_polar_controller_f32_reset(ctrl: *mut wmr_polar_controller_f32) -> wmr_status {
+    imp::controller_reset::<f32, Polar>(ctrl)
+}
+
+/// Aicardi et al.'s Lyapunov law with its wheel stage (see `wmr_paper_controller_f32_init`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_lyapunov_controller_f32_init(
+    out: *mut wmr_lyapunov_controller_f32,
+    params: *const wmr_lyapunov_params<f32>,
+    wheels: *const wmr_wheel_stage_params<f32>,
+    model: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    control_dt: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init::<f32, Lyapunov>(out, params, wheels, model, drive, control_dt, err)
+}
+
+/// One control tick (see `wmr_paper_controller_f32_update`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_lyapunov_controller_f32_update(
+    ctrl: *mut wmr_lyapunov_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    goal: wmr_pose<f32>,
+    out: *mut wmr_control_output<f32>,
+) -> wmr_status {
+    imp::controller_update::<f32, Lyapunov>(ctrl, t, measurement, goal, out)
+}
+
+/// Clears the direction choice, the servos and the references, as at t = 0.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_lyapunov_controller_f32_reset(ctrl: *mut wmr_lyapunov_controller_f32) -> wmr_status {
+    imp::controller_reset::<f32, Lyapunov>(ctrl)
+}

@@ -1,0 +1,766 @@
+//! The generic implementation behind the `_f32` and `_f64` entry points: pointer checks,
+//! storage tags, conversions between the C structs and the core's types, error reports
+//! and the panic guard. Every `unsafe` of the crate is here.
+
+use core::ffi::{CStr, c_char};
+use core::marker::PhantomData;
+use core::mem::{align_of, size_of};
+
+use wmr_core::controller::Law;
+use wmr_core::{
+    Controller, DcMotorParams, Drive, DriveParams, HoldMode, LyapunovLaw, LyapunovParams, Measurement, PaperLaw,
+    PaperMode, PaperParams, ParamError, PerfectSensor, Plant, PolarLaw, PolarParams, Pose2, Real, Reason, Robot,
+    RobotParams, Sensor, State, Termination, TorqueDriveParams, WheelStage, WheelStageParams, Wheels,
+};
+
+use crate::*;
+
+/// Why a call failed, before it is written into a [`wmr_error`].
+#[derive(Clone, Copy, Debug)]
+pub struct Fail {
+    code: wmr_status,
+    field: &'static str,
+    reason: &'static str,
+    value: f64,
+}
+
+impl Fail {
+    fn null(arg: &'static str) -> Self {
+        Fail { code: wmr_status::WMR_NULL_POINTER, field: arg, reason: "must not be NULL", value: 0.0 }
+    }
+
+    fn not_initialized(arg: &'static str) -> Self {
+        Fail {
+            code: wmr_status::WMR_NOT_INITIALIZED,
+            field: arg,
+            reason: "was not filled by the matching *_init function",
+            value: 0.0,
+        }
+    }
+
+    fn out_of_range(field: &'static str, reason: &'static str, value: f64) -> Self {
+        Fail { code: wmr_status::WMR_OUT_OF_RANGE, field, reason, value }
+    }
+
+    fn not_finite(field: &'static str, value: f64) -> Self {
+        Fail { code: wmr_status::WMR_NOT_FINITE, field, reason: "must be a finite number", value }
+    }
+
+    #[cfg(feature = "std")]
+    fn panic() -> Self {
+        Fail { code: wmr_status::WMR_PANIC, field: "", reason: "internal error (a Rust panic was caught)", value: 0.0 }
+    }
+}
+
+impl From<ParamError> for Fail {
+    fn from(e: ParamError) -> Self {
+        let (code, reason) = match e.reason {
+            Reason::NotFinite => (wmr_status::WMR_NOT_FINITE, "must be a finite number"),
+            Reason::NotPositive => (wmr_status::WMR_NOT_POSITIVE, "must be > 0"),
+            Reason::Negative => (wmr_status::WMR_NEGATIVE, "must be >= 0"),
+            Reason::NotMultipleOfDt => {
+                (wmr_status::WMR_NOT_MULTIPLE_OF_DT, "must be a whole multiple of the plant step dt")
+            }
+            Reason::NaN => (wmr_status::WMR_NAN, "must not be NaN"),
+            Reason::OutOfRange(why) => (wmr_status::WMR_OUT_OF_RANGE, why),
+        };
+        Fail { code, field: e.field, reason, value: e.value }
+    }
+}
+
+/// Copies `s` into `dst` as a NUL-terminated string, cut to fit.
+fn copy_c(dst: &mut [c_char], s: &str) {
+    let n = s.len().min(dst.len().saturating_sub(1));
+    for (d, b) in dst.iter_mut().zip(&s.as_bytes()[..n]) {
+        *d = *b as c_char;
+    }
+    for d in dst.iter_mut().skip(n) {
+        *d = 0;
+    }
+}
+
+/// Writes the result of a call into `err` (when not NULL) and returns its code.
+fn report(err: *mut wmr_error, r: Result<(), Fail>) -> wmr_status {
+    let fail = match r {
+        Ok(()) => Fail { code: wmr_status::WMR_OK, field: "", reason: "", value: 0.0 },
+        Err(f) => f,
+    };
+    // SAFETY: the caller passes NULL or a pointer valid for writes of a wmr_error.
+    if let Some(e) = unsafe { err.as_mut() } {
+        e.code = fail.code;
+        e.value = fail.value;
+        copy_c(&mut e.field, fail.field);
+        copy_c(&mut e.reason, fail.reason);
+    }
+    fail.code
+}
+
+/// Runs an entry point's body. With `std`, under `catch_unwind`: a panic becomes
+/// `WMR_PANIC` and never unwinds into C.
+pub fn guard(err: *mut wmr_error, f: impl FnOnce() -> Result<(), Fail>) -> wmr_status {
+    #[cfg(feature = "std")]
+    let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|_| Err(Fail::panic()));
+    #[cfg(not(feature = "std"))]
+    let r = f();
+    report(err, r)
+}
+
+/// The no_std build's panic handler. No entry point reaches it: the firmware link check
+/// (`firmware/check-c`) builds a program that calls every entry point with
+/// `--gc-sections` and finds no `rust_begin_unwind` in it. Were it reached anyway, the
+/// core stops with a permanently undefined instruction, i.e. a HardFault the firmware
+/// handles as any other fault.
+#[cfg(all(not(feature = "std"), not(test), target_os = "none"))]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    loop {
+        #[cfg(target_arch = "arm")]
+        // SAFETY: `udf` only raises the UsageFault/HardFault exception.
+        unsafe {
+            core::arch::asm!("udf #0");
+        }
+    }
+}
+
+/// The name of a status code as a C string.
+pub fn status_name(code: i32) -> &'static CStr {
+    use wmr_status::*;
+    const ALL: [(wmr_status, &CStr); 12] = [
+        (WMR_OK, c"WMR_OK"),
+        (WMR_NOT_FINITE, c"WMR_NOT_FINITE"),
+        (WMR_NOT_POSITIVE, c"WMR_NOT_POSITIVE"),
+        (WMR_NEGATIVE, c"WMR_NEGATIVE"),
+        (WMR_NOT_MULTIPLE_OF_DT, c"WMR_NOT_MULTIPLE_OF_DT"),
+        (WMR_NAN, c"WMR_NAN"),
+        (WMR_OUT_OF_RANGE, c"WMR_OUT_OF_RANGE"),
+        (WMR_NULL_POINTER, c"WMR_NULL_POINTER"),
+        (WMR_NOT_INITIALIZED, c"WMR_NOT_INITIALIZED"),
+        (WMR_DIVERGED_NON_FINITE, c"WMR_DIVERGED_NON_FINITE"),
+        (WMR_DIVERGED_LEFT_BOX, c"WMR_DIVERGED_LEFT_BOX"),
+        (WMR_PANIC, c"WMR_PANIC"),
+    ];
+    ALL.iter().find(|(s, _)| *s as i32 == code).map_or(c"WMR_UNKNOWN", |(_, n)| n)
+}
+
+// ---------------------------------------------------------------------------------------
+// Storage: a tag word, then the Rust value.
+
+/// A storage struct of the header and the Rust value it holds.
+pub trait Storage {
+    /// The Rust object.
+    type Value: Copy;
+    /// Tag written by `init`; a different one per storage type, so uninitialized storage
+    /// and storage of another type are refused.
+    const TAG: u64;
+    /// Compile-time proof that the value fits (evaluated where the storage is used).
+    const FITS: ();
+}
+
+#[repr(C)]
+struct Slot<V> {
+    tag: u64,
+    value: V,
+}
+
+macro_rules! storage_of {
+    ($($s:ty => $v:ty, $tag:literal;)+) => {$(
+        impl Storage for $s {
+            type Value = $v;
+            const TAG: u64 = $tag;
+            const FITS: () = assert!(
+                size_of::<Slot<$v>>() <= size_of::<$s>() && align_of::<Slot<$v>>() <= WMR_STORAGE_ALIGN,
+                "storage too small: raise its WORDS constant in lib.rs and WMR_ABI_VERSION"
+            );
+        }
+    )+};
+}
+
+/// The sensor models behind `wmr_sensor_*`. A new model is a variant here, an init
+/// function per precision, and (if larger) more words in the storage.
+#[derive(Clone, Copy, Debug)]
+pub enum AnySensor<T> {
+    /// The true pose and wheel state, instantly.
+    Perfect(PerfectSensor, PhantomData<T>),
+}
+
+impl<T: Real> AnySensor<T> {
+    fn measure(&mut self, t: T, state: &State<T>, robot: &RobotParams<T>) -> Measurement<T> {
+        match self {
+            AnySensor::Perfect(s, _) => s.measure(t, state, robot),
+        }
+    }
+
+    fn reset(&mut self) {
+        match self {
+            AnySensor::Perfect(s, _) => Sensor::<T>::reset(s),
+        }
+    }
+}
+
+storage_of! {
+    wmr_robot_f32 => Robot<f32>, 0x574d_5201_0000_0f32;
+    wmr_robot_f64 => Robot<f64>, 0x574d_5201_0000_0f64;
+    wmr_drive_f32 => Drive<f32>, 0x574d_5202_0000_0f32;
+    wmr_drive_f64 => Drive<f64>, 0x574d_5202_0000_0f64;
+    wmr_plant_f32 => Plant<f32>, 0x574d_5203_0000_0f32;
+    wmr_plant_f64 => Plant<f64>, 0x574d_5203_0000_0f64;
+    wmr_sensor_f32 => AnySensor<f32>, 0x574d_5204_0000_0f32;
+    wmr_sensor_f64 => AnySensor<f64>, 0x574d_5204_0000_0f64;
+    wmr_paper_controller_f32 => Controller<f32, PaperLaw<f32>>, 0x574d_5205_0000_0f32;
+    wmr_paper_controller_f64 => Controller<f64, PaperLaw<f64>>, 0x574d_5205_0000_0f64;
+    wmr_polar_controller_f32 => Controller<f32, PolarLaw<f32>>, 0x574d_5206_0000_0f32;
+    wmr_polar_controller_f64 => Controller<f64, PolarLaw<f64>>, 0x574d_5206_0000_0f64;
+    wmr_lyapunov_controller_f32 => Controller<f32, LyapunovLaw<f32>>, 0x574d_5207_0000_0f32;
+    wmr_lyapunov_controller_f64 => Controller<f64, LyapunovLaw<f64>>, 0x574d_5207_0000_0f64;
+}
+
+/// Fills `out` with `value` and its tag.
+fn put<S: Storage>(out: *mut S, arg: &'static str, value: S::Value) -> Result<(), Fail> {
+    let () = S::FITS;
+    if out.is_null() {
+        return Err(Fail::null(arg));
+    }
+    // SAFETY: `out` is valid for writes of S (caller contract), S is at least as large
+    // and as aligned as Slot<Value> (FITS), and Slot is plain data.
+    unsafe { out.cast::<Slot<S::Value>>().write(Slot { tag: S::TAG, value }) };
+    Ok(())
+}
+
+/// The value in initialized storage.
+fn get<'a, S: Storage>(p: *const S, arg: &'static str) -> Result<&'a S::Value, Fail> {
+    let () = S::FITS;
+    if p.is_null() {
+        return Err(Fail::null(arg));
+    }
+    let slot = p.cast::<Slot<S::Value>>();
+    // SAFETY: `p` is valid for reads of S (caller contract); the tag is a plain u64.
+    let tag = unsafe { core::ptr::addr_of!((*slot).tag).read() };
+    if tag != S::TAG {
+        return Err(Fail::not_initialized(arg));
+    }
+    // SAFETY: the tag says `put` wrote a valid value of this type here.
+    Ok(unsafe { &(*slot).value })
+}
+
+/// The value in initialized storage, mutably.
+fn get_mut<'a, S: Storage>(p: *mut S, arg: &'static str) -> Result<&'a mut S::Value, Fail> {
+    get::<S>(p, arg)?;
+    // SAFETY: as in `get`; `p` is valid for writes and not aliased during the call.
+    Ok(unsafe { &mut (*p.cast::<Slot<S::Value>>()).value })
+}
+
+/// Reads a C input struct.
+fn read<'a, X>(p: *const X, arg: &'static str) -> Result<&'a X, Fail> {
+    // SAFETY: NULL or valid for reads of X (caller contract); the C structs here are
+    // plain numbers, valid for any bit pattern.
+    unsafe { p.as_ref() }.ok_or(Fail::null(arg))
+}
+
+/// Writes a C output struct.
+fn write<X>(p: *mut X, arg: &'static str, value: X) -> Result<(), Fail> {
+    if p.is_null() {
+        return Err(Fail::null(arg));
+    }
+    // SAFETY: valid for writes of X (caller contract).
+    unsafe { p.write(value) };
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------
+// Per precision: the storage types of f32 and of f64.
+
+/// f32 or f64 with the storage types of that precision.
+pub trait Prec: Real {
+    /// `wmr_robot_*`.
+    type Robot: Storage<Value = Robot<Self>>;
+    /// `wmr_drive_*`.
+    type Drive: Storage<Value = Drive<Self>>;
+    /// `wmr_plant_*`.
+    type Plant: Storage<Value = Plant<Self>>;
+    /// `wmr_sensor_*`.
+    type Sensor: Storage<Value = AnySensor<Self>>;
+    /// `wmr_paper_controller_*`.
+    type Paper: Storage<Value = Controller<Self, PaperLaw<Self>>>;
+    /// `wmr_polar_controller_*`.
+    type Polar: Storage<Value = Controller<Self, PolarLaw<Self>>>;
+    /// `wmr_lyapunov_controller_*`.
+    type Lyapunov: Storage<Value = Controller<Self, LyapunovLaw<Self>>>;
+}
+
+impl Prec for f32 {
+    type Robot = wmr_robot_f32;
+    type Drive = wmr_drive_f32;
+    type Plant = wmr_plant_f32;
+    type Sensor = wmr_sensor_f32;
+    type Paper = wmr_paper_controller_f32;
+    type Polar = wmr_polar_controller_f32;
+    type Lyapunov = wmr_lyapunov_controller_f32;
+}
+
+impl Prec for f64 {
+    type Robot = wmr_robot_f64;
+    type Drive = wmr_drive_f64;
+    type Plant = wmr_plant_f64;
+    type Sensor = wmr_sensor_f64;
+    type Paper = wmr_paper_controller_f64;
+    type Polar = wmr_polar_controller_f64;
+    type Lyapunov = wmr_lyapunov_controller_f64;
+}
+
+// ---------------------------------------------------------------------------------------
+// Conversions.
+
+fn pose<T: Real>(p: wmr_pose<T>) -> Pose2<T> {
+    Pose2::new(p.x, p.y, p.theta)
+}
+
+fn c_pose<T: Real>(p: Pose2<T>) -> wmr_pose<T> {
+    wmr_pose { x: p.x, y: p.y, theta: p.theta }
+}
+
+fn c_wheels<T: Real>(w: Wheels<T>) -> wmr_wheels<T> {
+    wmr_wheels { right: w.right, left: w.left }
+}
+
+fn robot_params<T: Real>(p: &wmr_robot_params<T>) -> RobotParams<T> {
+    RobotParams {
+        mass: p.mass,
+        wheel_radius: p.wheel_radius,
+        half_track: p.half_track,
+        com_offset: p.com_offset,
+        wheel_inertia: p.wheel_inertia,
+        platform_inertia: p.platform_inertia,
+        gear_ratio: p.gear_ratio,
+        viscous_friction: p.viscous_friction,
+        coulomb_friction: p.coulomb_friction,
+        coulomb_speed: p.coulomb_speed,
+    }
+}
+
+fn c_robot_params<T: Real>(p: &RobotParams<T>) -> wmr_robot_params<T> {
+    wmr_robot_params {
+        mass: p.mass,
+        wheel_radius: p.wheel_radius,
+        half_track: p.half_track,
+        com_offset: p.com_offset,
+        wheel_inertia: p.wheel_inertia,
+        platform_inertia: p.platform_inertia,
+        gear_ratio: p.gear_ratio,
+        viscous_friction: p.viscous_friction,
+        coulomb_friction: p.coulomb_friction,
+        coulomb_speed: p.coulomb_speed,
+    }
+}
+
+fn drive_params<T: Real>(p: &wmr_drive_params<T>) -> Result<DriveParams<T>, Fail> {
+    match p.kind {
+        WMR_DRIVE_TORQUE => Ok(DriveParams::Torque(TorqueDriveParams { motor_torque_max: p.motor_torque_max })),
+        WMR_DRIVE_DC_MOTOR => Ok(DriveParams::DcMotor(DcMotorParams {
+            voltage_max: p.voltage_max,
+            torque_constant: p.torque_constant,
+            back_emf_constant: p.back_emf_constant,
+            armature_resistance: p.armature_resistance,
+            ..DcMotorParams::default()
+        })),
+        k => Err(Fail::out_of_range("kind", "must be WMR_DRIVE_TORQUE (0) or WMR_DRIVE_DC_MOTOR (1)", f64::from(k))),
+    }
+}
+
+/// Both kinds' defaults, with `kind` set: a C struct holds the keys of both.
+fn c_drive_params<T: Real>(kind: u32) -> Result<wmr_drive_params<T>, Fail> {
+    let t = TorqueDriveParams::<T>::default();
+    let d = DcMotorParams::<T>::default();
+    drive_params(&wmr_drive_params::<T> { kind, ..Default::default() })?;
+    Ok(wmr_drive_params {
+        kind,
+        motor_torque_max: t.motor_torque_max,
+        voltage_max: d.voltage_max,
+        torque_constant: d.torque_constant,
+        back_emf_constant: d.back_emf_constant,
+        armature_resistance: d.armature_resistance,
+    })
+}
+
+fn wheel_params<T: Real>(p: &wmr_wheel_stage_params<T>) -> WheelStageParams<T> {
+    WheelStageParams {
+        servo_kp: p.servo_kp,
+        servo_kd: p.servo_kd,
+        servo_ki: p.servo_ki,
+        wheel_speed_max: p.wheel_speed_max,
+    }
+}
+
+fn c_wheel_params<T: Real>(p: &WheelStageParams<T>) -> wmr_wheel_stage_params<T> {
+    wmr_wheel_stage_params {
+        servo_kp: p.servo_kp,
+        servo_kd: p.servo_kd,
+        servo_ki: p.servo_ki,
+        wheel_speed_max: p.wheel_speed_max,
+    }
+}
+
+fn flag(field: &'static str, v: u32) -> Result<bool, Fail> {
+    match v {
+        0 => Ok(false),
+        1 => Ok(true),
+        v => Err(Fail::out_of_range(field, "must be 0 or 1", f64::from(v))),
+    }
+}
+
+/// A law of the C API: its C parameter struct and how it becomes the core's law.
+pub trait CLaw<T: Prec> {
+    /// The C parameter struct.
+    type Params: Copy;
+    /// The core's law.
+    type Law: Law<T> + Copy;
+    /// The storage of the law with its wheel stage.
+    type Storage: Storage<Value = Controller<T, Self::Law>>;
+    /// The default parameters.
+    fn defaults() -> Self::Params;
+    /// Validates and builds the law for the controller's robot model and period (s).
+    fn build(p: &Self::Params, model: &RobotParams<T>, control_dt: T) -> Result<Self::Law, Fail>;
+}
+
+/// The paper's law.
+pub struct Paper;
+/// Astolfi's polar law.
+pub struct Polar;
+/// Aicardi et al.'s Lyapunov law.
+pub struct Lyapunov;
+
+impl<T: Prec> CLaw<T> for Paper {
+    type Params = wmr_paper_params<T>;
+    type Law = PaperLaw<T>;
+    type Storage = T::Paper;
+
+    fn defaults() -> Self::Params {
+        let p = PaperParams::<T>::paper();
+        wmr_paper_params {
+            mode: match p.mode {
+                PaperMode::Pose => WMR_PAPER_MODE_POSE,
+                PaperMode::Position => WMR_PAPER_MODE_POSITION,
+            },
+            kp_theta: p.kp_theta,
+            ki_theta: p.ki_theta,
+            kp_s: p.kp_s,
+            ki_s: p.ki_s,
+            goal_radius: p.goal_radius,
+            hold_radius: p.hold_radius,
+            hold: match p.hold {
+                HoldMode::ZeroErrors => WMR_HOLD_ZERO_ERRORS,
+                HoldMode::Freeze => WMR_HOLD_FREEZE,
+            },
+        }
+    }
+
+    fn build(p: &Self::Params, model: &RobotParams<T>, control_dt: T) -> Result<Self::Law, Fail> {
+        let mode = match p.mode {
+            WMR_PAPER_MODE_POSE => PaperMode::Pose,
+            WMR_PAPER_MODE_POSITION => PaperMode::Position,
+            m => {
+                return Err(Fail::out_of_range(
+                    "mode",
+                    "must be WMR_PAPER_MODE_POSE (0) or WMR_PAPER_MODE_POSITION (1)",
+                    f64::from(m),
+                ));
+            }
+        };
+        let hold = match p.hold {
+            WMR_HOLD_ZERO_ERRORS => HoldMode::ZeroErrors,
+            WMR_HOLD_FREEZE => HoldMode::Freeze,
+            h => {
+                return Err(Fail::out_of_range(
+                    "hold",
+                    "must be WMR_HOLD_ZERO_ERRORS (0) or WMR_HOLD_FREEZE (1)",
+                    f64::from(h),
+                ));
+            }
+        };
+        let params = PaperParams {
+            mode,
+            kp_theta: p.kp_theta,
+            ki_theta: p.ki_theta,
+            kp_s: p.kp_s,
+            ki_s: p.ki_s,
+            goal_radius: p.goal_radius,
+            hold_radius: p.hold_radius,
+            hold,
+        };
+        Ok(PaperLaw::new(params, model, control_dt)?)
+    }
+}
+
+impl<T: Prec> CLaw<T> for Polar {
+    type Params = wmr_polar_params<T>;
+    type Law = PolarLaw<T>;
+    type Storage = T::Polar;
+
+    fn defaults() -> Self::Params {
+        let p = PolarParams::<T>::default();
+        wmr_polar_params {
+            k_rho: p.k_rho,
+            k_alpha: p.k_alpha,
+            k_beta: p.k_beta,
+            reverse: u32::from(p.reverse),
+            reverse_hysteresis: p.reverse_hysteresis,
+            goal_radius: p.goal_radius,
+        }
+    }
+
+    fn build(p: &Self::Params, _model: &RobotParams<T>, _control_dt: T) -> Result<Self::Law, Fail> {
+        Ok(PolarLaw::new(PolarParams {
+            k_rho: p.k_rho,
+            k_alpha: p.k_alpha,
+            k_beta: p.k_beta,
+            reverse: flag("reverse", p.reverse)?,
+            reverse_hysteresis: p.reverse_hysteresis,
+            goal_radius: p.goal_radius,
+        })?)
+    }
+}
+
+impl<T: Prec> CLaw<T> for Lyapunov {
+    type Params = wmr_lyapunov_params<T>;
+    type Law = LyapunovLaw<T>;
+    type Storage = T::Lyapunov;
+
+    fn defaults() -> Self::Params {
+        let p = LyapunovParams::<T>::default();
+        wmr_lyapunov_params {
+            gamma: p.gamma,
+            k: p.k,
+            h: p.h,
+            reverse: u32::from(p.reverse),
+            reverse_hysteresis: p.reverse_hysteresis,
+            goal_radius: p.goal_radius,
+        }
+    }
+
+    fn build(p: &Self::Params, _model: &RobotParams<T>, _control_dt: T) -> Result<Self::Law, Fail> {
+        Ok(LyapunovLaw::new(LyapunovParams {
+            gamma: p.gamma,
+            k: p.k,
+            h: p.h,
+            reverse: flag("reverse", p.reverse)?,
+            reverse_hysteresis: p.reverse_hysteresis,
+            goal_radius: p.goal_radius,
+        })?)
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// The entry points, generic; `api_f32.rs` and `api_f64.rs` export them.
+
+pub fn robot_params_paper<T: Prec>(out: *mut wmr_robot_params<T>) -> wmr_status {
+    guard(core::ptr::null_mut(), || write(out, "out", c_robot_params(&RobotParams::paper())))
+}
+
+pub fn robot_init<T: Prec>(out: *mut T::Robot, params: *const wmr_robot_params<T>, err: *mut wmr_error) -> wmr_status {
+    guard(err, || {
+        let robot = robot_params(read(params, "params")?).validate()?;
+        put(out, "out", robot)
+    })
+}
+
+pub fn drive_params_default<T: Prec>(kind: u32, out: *mut wmr_drive_params<T>) -> wmr_status {
+    guard(core::ptr::null_mut(), || write(out, "out", c_drive_params(kind)?))
+}
+
+pub fn drive_init<T: Prec>(
+    out: *mut T::Drive,
+    params: *const wmr_drive_params<T>,
+    robot: *const T::Robot,
+    err: *mut wmr_error,
+) -> wmr_status {
+    guard(err, || {
+        let params = drive_params(read(params, "params")?)?;
+        let robot = get(robot, "robot")?;
+        put(out, "out", params.validate(robot)?)
+    })
+}
+
+pub fn wheel_stage_params_default<T: Prec>(
+    drive: *const wmr_drive_params<T>,
+    out: *mut wmr_wheel_stage_params<T>,
+) -> wmr_status {
+    guard(core::ptr::null_mut(), || {
+        let drive = drive_params(read(drive, "drive")?)?;
+        write(out, "out", c_wheel_params(&WheelStageParams::for_drive(&drive)))
+    })
+}
+
+pub fn law_params_default<T: Prec, L: CLaw<T>>(out: *mut L::Params) -> wmr_status {
+    guard(core::ptr::null_mut(), || write(out, "out", L::defaults()))
+}
+
+pub fn plant_init<T: Prec>(
+    out: *mut T::Plant,
+    robot: *const T::Robot,
+    drive: *const T::Drive,
+    start: wmr_pose<T>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    guard(err, || {
+        let plant = Plant::new(*get(robot, "robot")?, *get(drive, "drive")?, pose(start))?;
+        put(out, "out", plant)
+    })
+}
+
+pub fn plant_apply<T: Prec>(plant: *mut T::Plant, command: wmr_wheels<T>) -> wmr_status {
+    guard(core::ptr::null_mut(), || {
+        get_mut(plant, "plant")?.apply(Wheels::new(command.right, command.left));
+        Ok(())
+    })
+}
+
+pub fn plant_step<T: Prec>(plant: *mut T::Plant, t: T, dt: T) -> wmr_status {
+    guard(core::ptr::null_mut(), || {
+        let plant = get_mut(plant, "plant")?;
+        plant.step(t, dt).map_err(|term| {
+            let code = match term {
+                Termination::LeftBox => wmr_status::WMR_DIVERGED_LEFT_BOX,
+                Termination::NonFinite | Termination::Completed => wmr_status::WMR_DIVERGED_NON_FINITE,
+            };
+            Fail { code, field: "state", reason: "the step diverged; the state is unchanged", value: 0.0 }
+        })
+    })
+}
+
+pub fn plant_state<T: Prec>(plant: *const T::Plant, out: *mut wmr_state<T>) -> wmr_status {
+    guard(core::ptr::null_mut(), || {
+        let s = get(plant, "plant")?.state();
+        let state =
+            wmr_state { x: s.x, y: s.y, theta: s.theta, v: s.v, omega: s.omega, phi_r: s.phi_r, phi_l: s.phi_l };
+        write(out, "out", state)
+    })
+}
+
+pub fn sensor_init_perfect<T: Prec>(out: *mut T::Sensor) -> wmr_status {
+    guard(core::ptr::null_mut(), || put(out, "out", AnySensor::Perfect(PerfectSensor, PhantomData)))
+}
+
+pub fn sensor_measure<T: Prec>(
+    sensor: *mut T::Sensor,
+    t: T,
+    plant: *const T::Plant,
+    out: *mut wmr_measurement<T>,
+) -> wmr_status {
+    guard(core::ptr::null_mut(), || {
+        let plant = get(plant, "plant")?;
+        let m = get_mut(sensor, "sensor")?.measure(t, plant.state(), plant.robot().params());
+        let m = wmr_measurement {
+            t: m.t,
+            pose: c_pose(m.pose),
+            wheel_angles: c_wheels(m.wheel_angles),
+            wheel_speeds: c_wheels(m.wheel_speeds),
+        };
+        write(out, "out", m)
+    })
+}
+
+pub fn sensor_reset<T: Prec>(sensor: *mut T::Sensor) -> wmr_status {
+    guard(core::ptr::null_mut(), || {
+        get_mut(sensor, "sensor")?.reset();
+        Ok(())
+    })
+}
+
+pub fn controller_init<T: Prec, L: CLaw<T>>(
+    out: *mut L::Storage,
+    params: *const L::Params,
+    wheels: *const wmr_wheel_stage_params<T>,
+    model: *const T::Robot,
+    drive: *const T::Drive,
+    control_dt: T,
+    err: *mut wmr_error,
+) -> wmr_status {
+    guard(err, || {
+        let params = read(params, "params")?;
+        let wheels = wheel_params(read(wheels, "wheels")?);
+        let model = get(model, "model")?.params();
+        let drive = get(drive, "drive")?;
+        let law = L::build(params, model, control_dt)?;
+        let stage = WheelStage::new(&wheels, model, drive, control_dt)?;
+        put(out, "out", Controller::new(law, stage))
+    })
+}
+
+fn finite<T: Real>(field: &'static str, v: T) -> Result<(), Fail> {
+    if v.is_finite() { Ok(()) } else { Err(Fail::not_finite(field, v.to_f64_lossless())) }
+}
+
+pub fn controller_update<T: Prec, L: CLaw<T>>(
+    ctrl: *mut L::Storage,
+    t: T,
+    m: *const wmr_measurement<T>,
+    goal: wmr_pose<T>,
+    out: *mut wmr_control_output<T>,
+) -> wmr_status {
+    guard(core::ptr::null_mut(), || {
+        let m = read(m, "measurement")?;
+        if out.is_null() {
+            return Err(Fail::null("out"));
+        }
+        let values = [
+            ("t", t),
+            ("measurement.t", m.t),
+            ("measurement.pose.x", m.pose.x),
+            ("measurement.pose.y", m.pose.y),
+            ("measurement.pose.theta", m.pose.theta),
+            ("measurement.wheel_angles.right", m.wheel_angles.right),
+            ("measurement.wheel_angles.left", m.wheel_angles.left),
+            ("measurement.wheel_speeds.right", m.wheel_speeds.right),
+            ("measurement.wheel_speeds.left", m.wheel_speeds.left),
+            ("goal.x", goal.x),
+            ("goal.y", goal.y),
+            ("goal.theta", goal.theta),
+        ];
+        values.iter().try_for_each(|&(f, v)| finite(f, v))?;
+        let ctrl = get_mut(ctrl, "ctrl")?;
+        let m = Measurement {
+            t: m.t,
+            pose: pose(m.pose),
+            wheel_angles: Wheels::new(m.wheel_angles.right, m.wheel_angles.left),
+            wheel_speeds: Wheels::new(m.wheel_speeds.right, m.wheel_speeds.left),
+        };
+        let o = ctrl.update(t, &m, pose(goal));
+        let out_value = wmr_control_output {
+            command: c_wheels(o.command),
+            e_s: o.errors.e_s,
+            e_theta: o.errors.e_theta,
+            dl: o.errors.dl,
+        };
+        write(out, "out", out_value)
+    })
+}
+
+pub fn controller_reset<T: Prec, L: CLaw<T>>(ctrl: *mut L::Storage) -> wmr_status {
+    guard(core::ptr::null_mut(), || {
+        get_mut(ctrl, "ctrl")?.reset();
+        Ok(())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn guard_turns_a_panic_into_wmr_panic() {
+        let mut e = core::mem::MaybeUninit::<wmr_error>::uninit();
+        let code = guard(e.as_mut_ptr(), || panic!("a bug"));
+        assert_eq!(code, wmr_status::WMR_PANIC);
+        // SAFETY: `report` wrote every field.
+        let e = unsafe { e.assume_init() };
+        assert_eq!(e.code, wmr_status::WMR_PANIC);
+    }
+
+    #[test]
+    fn copy_c_cuts_and_terminates() {
+        let mut b = [1 as c_char; 5];
+        copy_c(&mut b, "abcdefgh");
+        assert_eq!(b, [b'a' as c_char, b'b' as c_char, b'c' as c_char, b'd' as c_char, 0]);
+        copy_c(&mut b, "x");
+        assert_eq!(b, [b'x' as c_char, 0, 0, 0, 0]);
+    }
+}

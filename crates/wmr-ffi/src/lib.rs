@@ -1,0 +1,445 @@
+//! # wmr-ffi: the C API of wmr-core
+//!
+//! The header is `crates/wmr-ffi/include/wmr.h`, generated from this crate by cbindgen
+//! (`WMR_BLESS=1 cargo test -p wmr-ffi --test header` rewrites it; the same test fails
+//! when it is stale). Build the static library with
+//!
+//! ```text
+//! cargo build -p wmr-ffi --release                       # host: target/release/libwmr_ffi.a
+//! cargo build -p wmr-ffi --release --no-default-features \
+//!     --target thumbv7em-none-eabihf                      # Cortex-M4F, no_std
+//! ```
+//!
+//! Every entry point exists in an `_f32` and an `_f64` flavour. No function allocates:
+//! each object (a validated robot, a drive, a plant, a sensor, a controller) lives in
+//! storage the caller declares, a struct of `uint64_t` words whose size is given in the
+//! header (`WMR_PLANT_F32_WORDS`, ...) and whose alignment is 8 (`WMR_STORAGE_ALIGN`).
+//! An `*_init` function validates its inputs and fills the storage; the other functions
+//! refuse storage that was not filled by the matching `*_init` (`WMR_NOT_INITIALIZED`).
+//!
+//! Errors: every function returns a [`wmr_status`]. Functions that validate parameters
+//! also fill an optional [`wmr_error`] with the NUL-terminated name of the offending
+//! field, as the core names it (`mass`, `servo_kp`, `control_dt`), the reason and the
+//! value. No panic crosses the boundary: with the `std` feature (the host library) every
+//! entry point runs under `catch_unwind` and a panic returns `WMR_PANIC`; the `no_std`
+//! build for Cortex-M has a panic handler that no entry point reaches (the firmware link
+//! check shows it is not in the linked program).
+//!
+//! Safety contract for C callers, once for all functions: every pointer argument is
+//! either NULL (refused with `WMR_NULL_POINTER`) or valid for reads (inputs) or writes
+//! (outputs) of its type, and storage is not used from two threads at once.
+//!
+//! Sensors: the C API wraps the paper's perfect sensor ([`wmr_core::PerfectSensor`]).
+//! `wmr_sensor_*` is one storage type for every sensor model, created by a per-model
+//! `wmr_sensor_*_init_*` function and used through the same `measure`/`reset`: another
+//! sensor model is one more init function and one more variant inside the storage.
+#![no_std]
+// The C boundary dereferences raw pointers from C; every such place is in `imp`.
+#![allow(unsafe_code)]
+// C names: `wmr_pose_f32`, `WMR_OK`.
+#![allow(non_camel_case_types)]
+// One safety contract for every entry point, in the crate docs above.
+#![allow(clippy::missing_safety_doc)]
+
+#[cfg(feature = "std")]
+extern crate std;
+
+mod api_f32;
+mod api_f64;
+mod imp;
+
+pub use api_f32::*;
+pub use api_f64::*;
+
+use core::ffi::c_char;
+
+/// Version of this C API: changes whenever a struct, a storage size or a signature does.
+pub const WMR_ABI_VERSION: u32 = 1;
+
+/// Alignment, bytes, of every storage struct (they are arrays of `uint64_t`).
+pub const WMR_STORAGE_ALIGN: usize = 8;
+
+/// Capacity of `wmr_error.field`, bytes, with the terminating NUL.
+pub const WMR_FIELD_LEN: usize = 48;
+
+/// Capacity of `wmr_error.reason`, bytes, with the terminating NUL.
+pub const WMR_REASON_LEN: usize = 96;
+
+/// `wmr_drive_params_*.kind`: ideal torque source with a motor torque limit.
+pub const WMR_DRIVE_TORQUE: u32 = 0;
+/// `wmr_drive_params_*.kind`: voltage-driven permanent-magnet DC motor.
+pub const WMR_DRIVE_DC_MOTOR: u32 = 1;
+
+/// `wmr_paper_params_*.mode`: reach (x, y, theta) (the paper's orientating control).
+pub const WMR_PAPER_MODE_POSE: u32 = 0;
+/// `wmr_paper_params_*.mode`: reach (x, y), heading free (positioning control).
+pub const WMR_PAPER_MODE_POSITION: u32 = 1;
+
+/// `wmr_paper_params_*.hold`: inside `hold_radius` the outer errors are zero (default).
+pub const WMR_HOLD_ZERO_ERRORS: u32 = 0;
+/// `wmr_paper_params_*.hold`: inside `hold_radius` the last wheel references are kept.
+pub const WMR_HOLD_FREEZE: u32 = 1;
+
+/// What a call did. `WMR_OK` is 0; every other value is an error.
+#[repr(i32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum wmr_status {
+    /// Success.
+    WMR_OK = 0,
+    /// A value is NaN or infinite where a finite number is needed.
+    WMR_NOT_FINITE = 1,
+    /// A value must be > 0.
+    WMR_NOT_POSITIVE = 2,
+    /// A value must be >= 0.
+    WMR_NEGATIVE = 3,
+    /// A period must be a whole multiple of the plant step.
+    WMR_NOT_MULTIPLE_OF_DT = 4,
+    /// A value is NaN (infinity is allowed there).
+    WMR_NAN = 5,
+    /// A value is outside its documented range (`wmr_error.reason` says which).
+    WMR_OUT_OF_RANGE = 6,
+    /// A pointer argument is NULL (`wmr_error.field` names the argument).
+    WMR_NULL_POINTER = 7,
+    /// The storage was not filled by the matching `*_init` function.
+    WMR_NOT_INITIALIZED = 8,
+    /// A plant step gave a state that is not finite; the state is unchanged.
+    WMR_DIVERGED_NON_FINITE = 9,
+    /// A plant step took point C out of the 1 km box; the state is unchanged.
+    WMR_DIVERGED_LEFT_BOX = 10,
+    /// A bug: Rust code panicked. The storage involved must be initialized again.
+    WMR_PANIC = 11,
+}
+
+/// Details of a refused call: the code, the field and the rejected value.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct wmr_error {
+    /// The same code the function returned.
+    pub code: wmr_status,
+    /// The rejected value, widened to double (0 when there is none).
+    pub value: f64,
+    /// NUL-terminated name of the field, as the core names it (`mass`, `goal.x`,
+    /// `control_dt`), or of the pointer argument for `WMR_NULL_POINTER`; empty on success.
+    pub field: [c_char; WMR_FIELD_LEN],
+    /// NUL-terminated reason in words (`must be > 0`); empty on success.
+    pub reason: [c_char; WMR_REASON_LEN],
+}
+
+/// A planar pose of point C in the world frame: x, y in m, theta in rad (CCW from +x).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_pose<T> {
+    /// x of C, m.
+    pub x: T,
+    /// y of C, m.
+    pub y: T,
+    /// Heading, rad.
+    pub theta: T,
+}
+
+/// One value per driven wheel (angles, speeds, torques, commands).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_wheels<T> {
+    /// Right wheel.
+    pub right: T,
+    /// Left wheel.
+    pub left: T,
+}
+
+/// The robot's state: C in the world frame (m, m, rad), forward speed v (m/s), yaw
+/// rate omega (rad/s) and the wheel angles (rad, encoders, zero at start).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_state<T> {
+    /// x of C, m.
+    pub x: T,
+    /// y of C, m.
+    pub y: T,
+    /// Heading, rad.
+    pub theta: T,
+    /// Forward speed of C, m/s.
+    pub v: T,
+    /// Yaw rate, rad/s.
+    pub omega: T,
+    /// Right wheel angle, rad.
+    pub phi_r: T,
+    /// Left wheel angle, rad.
+    pub phi_l: T,
+}
+
+/// What a controller sees at one control tick.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_measurement<T> {
+    /// When the measurement was taken, s.
+    pub t: T,
+    /// Measured pose of C (m, m, rad).
+    pub pose: wmr_pose<T>,
+    /// Wheel angles from the encoders, rad.
+    pub wheel_angles: wmr_wheels<T>,
+    /// Wheel speeds, rad/s.
+    pub wheel_speeds: wmr_wheels<T>,
+}
+
+/// One control update: the drive commands to hold until the next tick and the law's
+/// logged errors.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_control_output<T> {
+    /// Per-wheel drive command: wheel-torque demand (N m, torque drive) or voltage (V,
+    /// DC motor).
+    pub command: wmr_wheels<T>,
+    /// The law's along-track error, m.
+    pub e_s: T,
+    /// The law's heading error, rad, in (-pi, pi].
+    pub e_theta: T,
+    /// The measured distance from C to the goal position, m.
+    pub dl: T,
+}
+
+/// Physical robot parameters, SI units (the `[robot]` keys of a scenario).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_robot_params<T> {
+    /// m, total mass, kg (> 0).
+    pub mass: T,
+    /// r, wheel radius, m (> 0).
+    pub wheel_radius: T,
+    /// R, half the distance between the wheels, m (> 0).
+    pub half_track: T,
+    /// d, distance from C forward to the centre of mass G, m.
+    pub com_offset: T,
+    /// I_m, inertia of one wheel plus its rotor about the wheel axis, kg m^2 (>= 0).
+    pub wheel_inertia: T,
+    /// I_p, platform inertia about G, kg m^2 (>= 0).
+    pub platform_inertia: T,
+    /// k_t, gear reduction: wheel speed = k_t motor speed (> 0).
+    pub gear_ratio: T,
+    /// b_v, viscous friction at each wheel, N m s (>= 0).
+    pub viscous_friction: T,
+    /// tau_c, Coulomb friction at each wheel, N m (>= 0).
+    pub coulomb_friction: T,
+    /// omega_eps, rad/s: Coulomb friction is tau_c tanh(omega / omega_eps) (> 0).
+    pub coulomb_speed: T,
+}
+
+/// Drive parameters (the `[drive]` keys). `kind` selects which fields are read.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_drive_params<T> {
+    /// `WMR_DRIVE_TORQUE` or `WMR_DRIVE_DC_MOTOR`.
+    pub kind: u32,
+    /// Torque drive: |motor torque| limit at the motor shaft, N m (> 0, infinity allowed).
+    pub motor_torque_max: T,
+    /// DC motor: supply voltage limit, V (> 0).
+    pub voltage_max: T,
+    /// DC motor: torque constant, N m/A (> 0).
+    pub torque_constant: T,
+    /// DC motor: back-EMF constant, V s/rad at the motor shaft (>= 0).
+    pub back_emf_constant: T,
+    /// DC motor: armature resistance, Ohm (> 0).
+    pub armature_resistance: T,
+}
+
+/// The wheel stage: two wheel position servos and the curvature-keeping speed limit.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_wheel_stage_params<T> {
+    /// Servo Kp: N m/rad (torque drive) or V/rad (DC motor), > 0.
+    pub servo_kp: T,
+    /// Servo Kd: N m s/rad or V s/rad, >= 0.
+    pub servo_kd: T,
+    /// Servo Ki: N m/(rad s) or V/(rad s), >= 0.
+    pub servo_ki: T,
+    /// Per-wheel limit on the reference speeds, rad/s; infinity = off.
+    pub wheel_speed_max: T,
+}
+
+/// The paper's law: PI loops on (e_s, e_theta) towards a moving false target.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_paper_params<T> {
+    /// `WMR_PAPER_MODE_POSE` or `WMR_PAPER_MODE_POSITION`.
+    pub mode: u32,
+    /// Kp_theta, rad per rad (>= 0).
+    pub kp_theta: T,
+    /// Ki_theta, 1/s (>= 0).
+    pub ki_theta: T,
+    /// Kp_s, m per m (>= 0).
+    pub kp_s: T,
+    /// Ki_s, 1/s (>= 0).
+    pub ki_s: T,
+    /// Within this distance of the goal, m, alpha keeps its last value (>= 0).
+    pub goal_radius: T,
+    /// Within this distance of the goal, m, the outer loop holds (>= 0; 0 = off).
+    pub hold_radius: T,
+    /// `WMR_HOLD_ZERO_ERRORS` or `WMR_HOLD_FREEZE`.
+    pub hold: u32,
+}
+
+/// Astolfi's polar-coordinates law: v = k_rho rho, omega = k_alpha alpha + k_beta beta.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_polar_params<T> {
+    /// k_rho, 1/s (> 0).
+    pub k_rho: T,
+    /// k_alpha, 1/s (> k_rho, and k_alpha + 5/3 k_beta - 2/pi k_rho > 0).
+    pub k_alpha: T,
+    /// k_beta, 1/s (< 0).
+    pub k_beta: T,
+    /// 1: drive backwards when the goal is behind; 0: always forward.
+    pub reverse: u32,
+    /// Overshoot of |alpha| past pi/2, rad, before a later direction switch.
+    pub reverse_hysteresis: T,
+    /// Within this distance of the goal, m, the law stops.
+    pub goal_radius: T,
+}
+
+/// Aicardi et al.'s Lyapunov law in polar coordinates.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_lyapunov_params<T> {
+    /// gamma, 1/s (> 0).
+    pub gamma: T,
+    /// k, 1/s (> 0).
+    pub k: T,
+    /// h, dimensionless (> 0).
+    pub h: T,
+    /// 1: drive backwards when the goal is behind; 0: always start forward.
+    pub reverse: u32,
+    /// Overshoot of |alpha| past pi/2, rad, before a later direction switch.
+    pub reverse_hysteresis: T,
+    /// Within this distance of the goal, m, the law stops.
+    pub goal_radius: T,
+}
+
+// Storage: cbindgen reads literal sizes, so each type is written out; `imp` checks at
+// compile time that the Rust object it holds fits (size and alignment).
+/// Words (8 bytes each) of a validated robot, `wmr_robot_f32`.
+pub const WMR_ROBOT_F32_WORDS: usize = 12;
+/// Words of a validated robot, `wmr_robot_f64`.
+pub const WMR_ROBOT_F64_WORDS: usize = 20;
+/// Words of a validated drive, `wmr_drive_f32`.
+pub const WMR_DRIVE_F32_WORDS: usize = 8;
+/// Words of a validated drive, `wmr_drive_f64`.
+pub const WMR_DRIVE_F64_WORDS: usize = 12;
+/// Words of a plant, `wmr_plant_f32`.
+pub const WMR_PLANT_F32_WORDS: usize = 32;
+/// Words of a plant, `wmr_plant_f64`.
+pub const WMR_PLANT_F64_WORDS: usize = 64;
+/// Words of a sensor, `wmr_sensor_f32` (room for the sensor models to come).
+pub const WMR_SENSOR_F32_WORDS: usize = 64;
+/// Words of a sensor, `wmr_sensor_f64` (room for the sensor models to come).
+pub const WMR_SENSOR_F64_WORDS: usize = 64;
+/// Words of the paper's law with its wheel stage, `wmr_paper_controller_f32`.
+pub const WMR_PAPER_CONTROLLER_F32_WORDS: usize = 32;
+/// Words of the paper's law with its wheel stage, `wmr_paper_controller_f64`.
+pub const WMR_PAPER_CONTROLLER_F64_WORDS: usize = 64;
+/// Words of the polar law with its wheel stage, `wmr_polar_controller_f32`.
+pub const WMR_POLAR_CONTROLLER_F32_WORDS: usize = 32;
+/// Words of the polar law with its wheel stage, `wmr_polar_controller_f64`.
+pub const WMR_POLAR_CONTROLLER_F64_WORDS: usize = 56;
+/// Words of the Lyapunov law with its wheel stage, `wmr_lyapunov_controller_f32`.
+pub const WMR_LYAPUNOV_CONTROLLER_F32_WORDS: usize = 32;
+/// Words of the Lyapunov law with its wheel stage, `wmr_lyapunov_controller_f64`.
+pub const WMR_LYAPUNOV_CONTROLLER_F64_WORDS: usize = 56;
+
+/// A validated robot (f32): parameters and the reduced inertia matrix.
+#[repr(C)]
+pub struct wmr_robot_f32 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_ROBOT_F32_WORDS],
+}
+/// A validated robot (f64): parameters and the reduced inertia matrix.
+#[repr(C)]
+pub struct wmr_robot_f64 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_ROBOT_F64_WORDS],
+}
+/// A validated drive (f32).
+#[repr(C)]
+pub struct wmr_drive_f32 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_DRIVE_F32_WORDS],
+}
+/// A validated drive (f64).
+#[repr(C)]
+pub struct wmr_drive_f64 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_DRIVE_F64_WORDS],
+}
+/// The plant (f32): robot, drive and state, stepped by RK4 under a held command.
+#[repr(C)]
+pub struct wmr_plant_f32 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_PLANT_F32_WORDS],
+}
+/// The plant (f64): robot, drive and state, stepped by RK4 under a held command.
+#[repr(C)]
+pub struct wmr_plant_f64 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_PLANT_F64_WORDS],
+}
+/// A sensor (f32): turns the plant's true state into a measurement.
+#[repr(C)]
+pub struct wmr_sensor_f32 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_SENSOR_F32_WORDS],
+}
+/// A sensor (f64): turns the plant's true state into a measurement.
+#[repr(C)]
+pub struct wmr_sensor_f64 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_SENSOR_F64_WORDS],
+}
+/// The paper's law with its wheel stage (f32).
+#[repr(C)]
+pub struct wmr_paper_controller_f32 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_PAPER_CONTROLLER_F32_WORDS],
+}
+/// The paper's law with its wheel stage (f64).
+#[repr(C)]
+pub struct wmr_paper_controller_f64 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_PAPER_CONTROLLER_F64_WORDS],
+}
+/// The polar law with its wheel stage (f32).
+#[repr(C)]
+pub struct wmr_polar_controller_f32 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_POLAR_CONTROLLER_F32_WORDS],
+}
+/// The polar law with its wheel stage (f64).
+#[repr(C)]
+pub struct wmr_polar_controller_f64 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_POLAR_CONTROLLER_F64_WORDS],
+}
+/// The Lyapunov law with its wheel stage (f32).
+#[repr(C)]
+pub struct wmr_lyapunov_controller_f32 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_LYAPUNOV_CONTROLLER_F32_WORDS],
+}
+/// The Lyapunov law with its wheel stage (f64).
+#[repr(C)]
+pub struct wmr_lyapunov_controller_f64 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_LYAPUNOV_CONTROLLER_F64_WORDS],
+}
+
+/// The version of the C API this library implements; compare it with the header's
+/// `WMR_ABI_VERSION` at start-up.
+#[unsafe(no_mangle)]
+pub extern "C" fn wmr_abi_version() -> u32 {
+    WMR_ABI_VERSION
+}
+
+/// A static NUL-terminated name for a status code (`"WMR_NOT_POSITIVE"`), or
+/// `"WMR_UNKNOWN"` for a value that is not a `wmr_status`.
+#[unsafe(no_mangle)]
+pub extern "C" fn wmr_status_name(code: i32) -> *const c_char {
+    imp::status_name(code).as_ptr()
+}

@@ -1,0 +1,348 @@
+//! The C API called from Rust: its verdict on any parameters equals the core's own
+//! validation (same code, same field), it never panics, and a loop composed of its calls
+//! equals the core's `ClosedLoop` bit for bit for every law.
+#![allow(unsafe_code)]
+
+use std::ffi::CStr;
+use std::mem::MaybeUninit;
+
+use proptest::prelude::*;
+use wmr_core::{
+    ClosedLoop, Controller, DriveParams, FixedGoal, LyapunovLaw, LyapunovParams, ParamError, Plant, PolarLaw,
+    PolarParams, Pose2, Reason, Robot, RobotParams, TorqueDriveParams, WheelStage, WheelStageParams,
+};
+use wmr_ffi::*;
+
+fn code_of(e: &ParamError) -> wmr_status {
+    match e.reason {
+        Reason::NotFinite => wmr_status::WMR_NOT_FINITE,
+        Reason::NotPositive => wmr_status::WMR_NOT_POSITIVE,
+        Reason::Negative => wmr_status::WMR_NEGATIVE,
+        Reason::NotMultipleOfDt => wmr_status::WMR_NOT_MULTIPLE_OF_DT,
+        Reason::NaN => wmr_status::WMR_NAN,
+        Reason::OutOfRange(_) => wmr_status::WMR_OUT_OF_RANGE,
+    }
+}
+
+fn field(e: &wmr_error) -> String {
+    // SAFETY: the library NUL-terminates `field`.
+    unsafe { CStr::from_ptr(e.field.as_ptr()) }.to_str().expect("ASCII").to_owned()
+}
+
+fn new_err() -> wmr_error {
+    wmr_error { code: wmr_status::WMR_OK, value: 0.0, field: [0; WMR_FIELD_LEN], reason: [0; WMR_REASON_LEN] }
+}
+
+/// A value that is often invalid: NaN, infinities, zero, negative, or a plausible one.
+fn any_value() -> impl Strategy<Value = f64> {
+    prop_oneof![Just(f64::NAN), Just(f64::INFINITY), Just(f64::NEG_INFINITY), Just(0.0), -10.0..10.0f64, 0.001..10.0f64,]
+}
+
+fn robot_params() -> impl Strategy<Value = RobotParams<f64>> {
+    (prop::array::uniform10(any_value()), prop::array::uniform10(any::<bool>())).prop_map(|(v, keep)| {
+        let p = RobotParams::<f64>::paper();
+        let pick = |i: usize, d: f64| if keep[i] { d } else { v[i] };
+        RobotParams {
+            mass: pick(0, p.mass),
+            wheel_radius: pick(1, p.wheel_radius),
+            half_track: pick(2, p.half_track),
+            com_offset: pick(3, p.com_offset),
+            wheel_inertia: pick(4, p.wheel_inertia),
+            platform_inertia: pick(5, p.platform_inertia),
+            gear_ratio: pick(6, p.gear_ratio),
+            viscous_friction: pick(7, p.viscous_friction),
+            coulomb_friction: pick(8, p.coulomb_friction),
+            coulomb_speed: pick(9, p.coulomb_speed),
+        }
+    })
+}
+
+fn c_robot(p: &RobotParams<f64>) -> wmr_robot_params<f64> {
+    wmr_robot_params {
+        mass: p.mass,
+        wheel_radius: p.wheel_radius,
+        half_track: p.half_track,
+        com_offset: p.com_offset,
+        wheel_inertia: p.wheel_inertia,
+        platform_inertia: p.platform_inertia,
+        gear_ratio: p.gear_ratio,
+        viscous_friction: p.viscous_friction,
+        coulomb_friction: p.coulomb_friction,
+        coulomb_speed: p.coulomb_speed,
+    }
+}
+
+fn valid_robot() -> wmr_robot_f64 {
+    let mut rp = MaybeUninit::uninit();
+    let mut robot = MaybeUninit::uninit();
+    // SAFETY: valid out-pointers; the calls fill them on WMR_OK.
+    unsafe {
+        assert_eq!(wmr_robot_params_f64_paper(rp.as_mut_ptr()), wmr_status::WMR_OK);
+        assert_eq!(wmr_robot_f64_init(robot.as_mut_ptr(), rp.as_ptr(), std::ptr::null_mut()), wmr_status::WMR_OK);
+        robot.assume_init()
+    }
+}
+
+fn valid_drive(robot: &wmr_robot_f64, kind: u32) -> (wmr_drive_params<f64>, wmr_drive_f64) {
+    let mut dp = MaybeUninit::uninit();
+    let mut drive = MaybeUninit::uninit();
+    // SAFETY: as above.
+    unsafe {
+        assert_eq!(wmr_drive_params_f64_default(kind, dp.as_mut_ptr()), wmr_status::WMR_OK);
+        assert_eq!(
+            wmr_drive_f64_init(drive.as_mut_ptr(), dp.as_ptr(), robot, std::ptr::null_mut()),
+            wmr_status::WMR_OK
+        );
+        (dp.assume_init(), drive.assume_init())
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 512, ..ProptestConfig::default() })]
+
+    #[test]
+    fn robot_init_agrees_with_the_core(p in robot_params()) {
+        let mut err = new_err();
+        let mut robot = MaybeUninit::<wmr_robot_f64>::uninit();
+        // SAFETY: valid pointers.
+        let code = unsafe { wmr_robot_f64_init(robot.as_mut_ptr(), &c_robot(&p), &mut err) };
+        prop_assert_ne!(code, wmr_status::WMR_PANIC);
+        match p.validate() {
+            Ok(_) => prop_assert_eq!(code, wmr_status::WMR_OK),
+            Err(e) => {
+                prop_assert_eq!(code, code_of(&e));
+                prop_assert_eq!(err.code, code);
+                prop_assert_eq!(field(&err), e.field);
+                prop_assert!(err.value.to_bits() == e.value.to_bits());
+            }
+        }
+    }
+
+    #[test]
+    fn torque_drive_and_wheel_stage_agree_with_the_core(
+        limit in any_value(), kp in any_value(), kd in any_value(), ki in any_value(), vmax in any_value(), dt in any_value()
+    ) {
+        let robot_c = valid_robot();
+        let robot = Robot::<f64>::paper();
+        let (mut dp, _) = valid_drive(&robot_c, WMR_DRIVE_TORQUE);
+        dp.motor_torque_max = limit;
+        let mut err = new_err();
+        let mut drive_c = MaybeUninit::<wmr_drive_f64>::uninit();
+        // SAFETY: valid pointers.
+        let code = unsafe { wmr_drive_f64_init(drive_c.as_mut_ptr(), &dp, &robot_c, &mut err) };
+        let core = DriveParams::Torque(TorqueDriveParams { motor_torque_max: limit }).validate(&robot);
+        let drive = match core {
+            Err(e) => {
+                prop_assert_eq!(code, code_of(&e));
+                prop_assert_eq!(field(&err), e.field);
+                return Ok(());
+            }
+            Ok(d) => { prop_assert_eq!(code, wmr_status::WMR_OK); d }
+        };
+        let wp = wmr_wheel_stage_params { servo_kp: kp, servo_kd: kd, servo_ki: ki, wheel_speed_max: vmax };
+        let pp = PolarParams::<f64>::default();
+        let mut ppc = MaybeUninit::uninit();
+        let mut ctrl = MaybeUninit::<wmr_polar_controller_f64>::uninit();
+        // SAFETY: valid pointers; drive_c was filled (code was WMR_OK).
+        let code = unsafe {
+            wmr_polar_params_f64_default(ppc.as_mut_ptr());
+            wmr_polar_controller_f64_init(ctrl.as_mut_ptr(), ppc.as_ptr(), &wp, &robot_c, drive_c.as_ptr(), dt, &mut err)
+        };
+        prop_assert_ne!(code, wmr_status::WMR_PANIC);
+        let wheels = WheelStageParams { servo_kp: kp, servo_kd: kd, servo_ki: ki, wheel_speed_max: vmax };
+        let core = PolarLaw::new(pp).and_then(|_| WheelStage::new(&wheels, robot.params(), &drive, dt));
+        match core {
+            Ok(_) => prop_assert_eq!(code, wmr_status::WMR_OK),
+            Err(e) => {
+                prop_assert_eq!(code, code_of(&e));
+                prop_assert_eq!(field(&err), e.field);
+            }
+        }
+    }
+
+    #[test]
+    fn lyapunov_gains_agree_with_the_core(gamma in any_value(), k in any_value(), h in any_value(), hyst in any_value(), radius in any_value(), reverse in 0u32..3) {
+        let robot_c = valid_robot();
+        let (dp, drive_c) = valid_drive(&robot_c, WMR_DRIVE_DC_MOTOR);
+        let mut wp = MaybeUninit::uninit();
+        let lp = wmr_lyapunov_params { gamma, k, h, reverse, reverse_hysteresis: hyst, goal_radius: radius };
+        let mut err = new_err();
+        let mut ctrl = MaybeUninit::<wmr_lyapunov_controller_f64>::uninit();
+        // SAFETY: valid pointers.
+        let code = unsafe {
+            wmr_wheel_stage_params_f64_default(&dp, wp.as_mut_ptr());
+            wmr_lyapunov_controller_f64_init(ctrl.as_mut_ptr(), &lp, wp.as_ptr(), &robot_c, &drive_c, 1e-3, &mut err)
+        };
+        prop_assert_ne!(code, wmr_status::WMR_PANIC);
+        if reverse > 1 {
+            prop_assert_eq!(code, wmr_status::WMR_OUT_OF_RANGE);
+            prop_assert_eq!(field(&err), "reverse");
+            return Ok(());
+        }
+        let core = LyapunovLaw::new(LyapunovParams { gamma, k, h, reverse: reverse == 1, reverse_hysteresis: hyst, goal_radius: radius });
+        match core {
+            Ok(_) => prop_assert_eq!(code, wmr_status::WMR_OK),
+            Err(e) => {
+                prop_assert_eq!(code, code_of(&e));
+                prop_assert_eq!(field(&err), e.field);
+            }
+        }
+    }
+}
+
+#[test]
+fn null_pointers_are_refused_by_name() {
+    let mut err = new_err();
+    let robot = valid_robot();
+    // SAFETY: NULL is allowed and must be refused; the rest are valid.
+    unsafe {
+        assert_eq!(wmr_robot_params_f32_paper(std::ptr::null_mut()), wmr_status::WMR_NULL_POINTER);
+        let code = wmr_plant_f64_init(std::ptr::null_mut(), &robot, std::ptr::null(), wmr_pose::default(), &mut err);
+        assert_eq!(code, wmr_status::WMR_NULL_POINTER);
+        assert_eq!(field(&err), "drive");
+        assert_eq!(wmr_plant_f64_step(std::ptr::null_mut(), 0.0, 1e-3), wmr_status::WMR_NULL_POINTER);
+        assert_eq!(wmr_sensor_f32_init_perfect(std::ptr::null_mut()), wmr_status::WMR_NULL_POINTER);
+    }
+}
+
+#[test]
+fn a_diverging_plant_step_is_refused_and_keeps_the_state() {
+    let robot = valid_robot();
+    let (_, drive) = valid_drive(&robot, WMR_DRIVE_TORQUE);
+    let mut plant = MaybeUninit::<wmr_plant_f64>::uninit();
+    let mut before = wmr_state::default();
+    let mut after = wmr_state::default();
+    // SAFETY: valid pointers.
+    unsafe {
+        let start = wmr_pose { x: 999.9999, y: 0.0, theta: 0.0 };
+        assert_eq!(
+            wmr_plant_f64_init(plant.as_mut_ptr(), &robot, &drive, start, std::ptr::null_mut()),
+            wmr_status::WMR_OK
+        );
+        let plant = plant.as_mut_ptr();
+        assert_eq!(wmr_plant_f64_apply(plant, wmr_wheels { right: 1e9, left: 1e9 }), wmr_status::WMR_OK);
+        assert_eq!(wmr_plant_f64_step(plant, 0.0, 1e-3), wmr_status::WMR_OK);
+        wmr_plant_f64_state(plant, &mut before);
+        let mut code = wmr_status::WMR_OK;
+        for k in 1..100_000 {
+            code = wmr_plant_f64_step(plant, k as f64 * 1e-3, 1e-3);
+            if code != wmr_status::WMR_OK {
+                break;
+            }
+            wmr_plant_f64_state(plant, &mut before);
+        }
+        assert_eq!(code, wmr_status::WMR_DIVERGED_LEFT_BOX);
+        wmr_plant_f64_state(plant, &mut after);
+        assert_eq!(before, after);
+        assert!(after.x <= 1000.0);
+        assert_eq!(wmr_plant_f64_step(plant, 0.0, f64::NAN), wmr_status::WMR_DIVERGED_NON_FINITE);
+    }
+}
+
+/// A loop made of C API calls, as `examples/c/fig7.c` makes it, against `ClosedLoop`; and
+/// `reset` mid-way against a controller initialized afresh at that moment.
+macro_rules! compare_loop {
+    ($name:ident, $default:ident, $init:ident, $update:ident, $reset:ident, $storage:ty, $law:expr) => {
+        #[test]
+        fn $name() {
+            let robot_c = valid_robot();
+            let (dp, drive_c) = valid_drive(&robot_c, WMR_DRIVE_DC_MOTOR);
+            let start = Pose2::new(0.3, -0.2, 2.5);
+            let goal = Pose2::new(-1.0, 0.5, -1.0);
+            let dt = 1e-3;
+            let n = 8_000;
+            let null = std::ptr::null_mut();
+            // SAFETY: valid pointers, every init checked.
+            let c_path = unsafe {
+                let mut wp = MaybeUninit::uninit();
+                let mut lp = MaybeUninit::uninit();
+                let mut ctrl = MaybeUninit::<$storage>::uninit();
+                let mut fresh = MaybeUninit::<$storage>::uninit();
+                let mut plant = MaybeUninit::<wmr_plant_f64>::uninit();
+                let mut sensor = MaybeUninit::<wmr_sensor_f64>::uninit();
+                wmr_wheel_stage_params_f64_default(&dp, wp.as_mut_ptr());
+                $default(lp.as_mut_ptr());
+                assert_eq!(
+                    $init(ctrl.as_mut_ptr(), lp.as_ptr(), wp.as_ptr(), &robot_c, &drive_c, dt, null),
+                    wmr_status::WMR_OK
+                );
+                let s = wmr_pose { x: start.x, y: start.y, theta: start.theta };
+                assert_eq!(wmr_plant_f64_init(plant.as_mut_ptr(), &robot_c, &drive_c, s, null), wmr_status::WMR_OK);
+                assert_eq!(wmr_sensor_f64_init_perfect(sensor.as_mut_ptr()), wmr_status::WMR_OK);
+                let g = wmr_pose { x: goal.x, y: goal.y, theta: goal.theta };
+                let mut m = wmr_measurement::default();
+                let mut out = wmr_control_output::default();
+                let mut out_fresh = wmr_control_output::default();
+                let mut path = Vec::new();
+                for k in 0..n {
+                    let t = k as f64 * dt;
+                    if k == n / 2 {
+                        assert_eq!($reset(ctrl.as_mut_ptr()), wmr_status::WMR_OK);
+                        assert_eq!(
+                            $init(fresh.as_mut_ptr(), lp.as_ptr(), wp.as_ptr(), &robot_c, &drive_c, dt, null),
+                            wmr_status::WMR_OK
+                        );
+                    }
+                    assert_eq!(
+                        wmr_sensor_f64_measure(sensor.as_mut_ptr(), t, plant.as_ptr(), &mut m),
+                        wmr_status::WMR_OK
+                    );
+                    assert_eq!($update(ctrl.as_mut_ptr(), t, &m, g, &mut out), wmr_status::WMR_OK);
+                    if k >= n / 2 {
+                        assert_eq!($update(fresh.as_mut_ptr(), t, &m, g, &mut out_fresh), wmr_status::WMR_OK);
+                        assert_eq!(out, out_fresh, "tick {k}: reset differs from a fresh init");
+                    }
+                    assert_eq!(wmr_plant_f64_apply(plant.as_mut_ptr(), out.command), wmr_status::WMR_OK);
+                    assert_eq!(wmr_plant_f64_step(plant.as_mut_ptr(), t, dt), wmr_status::WMR_OK);
+                    let mut st = wmr_state::default();
+                    wmr_plant_f64_state(plant.as_ptr(), &mut st);
+                    path.push([st.x, st.y, st.theta, st.v, st.omega, st.phi_r, st.phi_l]);
+                }
+                path
+            };
+            let robot = Robot::<f64>::paper();
+            let drive_params = DriveParams::DcMotor(Default::default());
+            let drive = drive_params.validate(&robot).unwrap();
+            let wheels =
+                WheelStage::new(&WheelStageParams::for_drive(&drive_params), robot.params(), &drive, dt).unwrap();
+            let plant = Plant::new(robot, drive, start).unwrap();
+            let mut sim =
+                ClosedLoop::new(plant, Controller::new($law, wheels), FixedGoal::new(goal).unwrap(), dt).unwrap();
+            // Until the reset (ClosedLoop has none) every state is the same, bit for bit.
+            for (k, c) in c_path.iter().enumerate().take(n / 2) {
+                sim.step().unwrap();
+                let s = sim.state();
+                let r = [s.x, s.y, s.theta, s.v, s.omega, s.phi_r, s.phi_l];
+                assert_eq!(c.map(f64::to_bits), r.map(f64::to_bits), "step {k}");
+            }
+        }
+    };
+}
+
+compare_loop!(
+    polar_loop_equals_closed_loop,
+    wmr_polar_params_f64_default,
+    wmr_polar_controller_f64_init,
+    wmr_polar_controller_f64_update,
+    wmr_polar_controller_f64_reset,
+    wmr_polar_controller_f64,
+    PolarLaw::new(PolarParams::default()).unwrap()
+);
+compare_loop!(
+    lyapunov_loop_equals_closed_loop,
+    wmr_lyapunov_params_f64_default,
+    wmr_lyapunov_controller_f64_init,
+    wmr_lyapunov_controller_f64_update,
+    wmr_lyapunov_controller_f64_reset,
+    wmr_lyapunov_controller_f64,
+    LyapunovLaw::new(LyapunovParams::default()).unwrap()
+);
+compare_loop!(
+    paper_loop_equals_closed_loop,
+    wmr_paper_params_f64_default,
+    wmr_paper_controller_f64_init,
+    wmr_paper_controller_f64_update,
+    wmr_paper_controller_f64_reset,
+    wmr_paper_controller_f64,
+    wmr_core::PaperLaw::new(wmr_core::PaperParams::paper(), Robot::<f64>::paper().params(), 1e-3).unwrap()
+);

@@ -1,0 +1,138 @@
+//! C programs against the host static library, compiled with the system's `cc`:
+//! `examples/c/fig7.c` (the final pose of Fig. 7 equals the CLI's bit for bit in double
+//! and the Rust core's f32 run in float), the README's example, and `tests/c/errors.c`
+//! (error codes and field names as C sees them, through the header's struct layout).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use wmr_core::{
+    ClosedLoop, Controller, DriveParams, FixedGoal, PaperLaw, PaperParams, Plant, Pose2, Robot, WheelStage,
+    WheelStageParams,
+};
+
+fn crate_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn repo_dir() -> PathBuf {
+    crate_dir().join("../..")
+}
+
+/// The static library cargo built beside this test's binary (target/<profile>/).
+fn static_lib() -> PathBuf {
+    let exe = std::env::current_exe().expect("test binary path");
+    let profile_dir = exe.parent().and_then(Path::parent).expect("target/<profile>/deps/<test>");
+    let lib = profile_dir.join("libwmr_ffi.a");
+    assert!(lib.is_file(), "{} is missing: cargo builds it with the crate's lib target", lib.display());
+    lib
+}
+
+/// Compiles `sources` with `cc` (C99, every warning an error) against the header and
+/// the static library, runs the program and returns its standard output.
+fn build_and_run(name: &str, sources: &[PathBuf]) -> String {
+    let out_dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("c_programs");
+    std::fs::create_dir_all(&out_dir).expect("scratch dir");
+    let exe = out_dir.join(name);
+    let status = Command::new("cc")
+        .args(["-std=c99", "-O1", "-Wall", "-Wextra", "-Werror", "-pedantic", "-I"])
+        .arg(crate_dir().join("include"))
+        .args(sources)
+        .arg(static_lib())
+        .args(["-lm", "-lpthread", "-ldl", "-o"])
+        .arg(&exe)
+        .status()
+        .expect("cc runs (the C compiler is needed for these tests)");
+    assert!(status.success(), "cc failed on {sources:?}");
+    let run = Command::new(&exe).output().expect("the program runs");
+    let stdout = String::from_utf8(run.stdout).expect("UTF-8 output");
+    assert!(run.status.success(), "{name} failed:\n{stdout}{}", String::from_utf8_lossy(&run.stderr));
+    stdout
+}
+
+/// `key=value` of the line starting with `impl=<tag>`.
+fn field<'a>(out: &'a str, tag: &str, key: &str) -> &'a str {
+    let line = out
+        .lines()
+        .find(|l| l.starts_with(&format!("impl={tag} ")))
+        .unwrap_or_else(|| panic!("no {tag} line in:\n{out}"));
+    line.split(' ').find_map(|kv| kv.strip_prefix(&format!("{key}="))).unwrap_or_else(|| panic!("no {key} in {line}"))
+}
+
+/// The last row of the CLI's Fig. 7 CSV (the golden test pins the CLI to this file).
+fn cli_final_pose() -> [f64; 3] {
+    let csv =
+        std::fs::read_to_string(repo_dir().join("crates/wmr-cli/tests/fixtures/fig7-c4c77d1.csv")).expect("fixture");
+    let header: Vec<&str> = csv.lines().next().expect("header").split(',').collect();
+    let last: Vec<&str> = csv.lines().last().expect("rows").split(',').collect();
+    let col = |name: &str| -> f64 {
+        let i = header.iter().position(|h| *h == name).expect("column");
+        last[i].parse().expect("number")
+    };
+    [col("x"), col("y"), col("theta")]
+}
+
+/// Fig. 7 in f32 through the Rust core's own closed loop (as the firmware runs it).
+fn rust_f32_final_pose() -> Pose2<f32> {
+    let robot = Robot::<f32>::paper();
+    let dt = 1e-3;
+    let drive_params = DriveParams::default();
+    let drive = drive_params.validate(&robot).unwrap();
+    let goal = FixedGoal::new(Pose2::new(1.0, 1.0, 120f64.to_radians() as f32)).unwrap();
+    let law = PaperLaw::new(PaperParams::paper(), robot.params(), dt).unwrap();
+    let wheels = WheelStage::new(&WheelStageParams::for_drive(&drive_params), robot.params(), &drive, dt).unwrap();
+    let plant = Plant::new(robot, drive, Pose2::default()).unwrap();
+    let mut sim = ClosedLoop::new(plant, Controller::new(law, wheels), goal, dt).unwrap();
+    for _ in 0..60_000 {
+        sim.step().unwrap();
+    }
+    sim.state().pose()
+}
+
+#[test]
+fn fig7_c_example_matches_the_cli_in_double_and_the_core_in_float() {
+    let out = build_and_run("fig7", &[repo_dir().join("examples/c/fig7.c")]);
+    let [x, y, theta] = cli_final_pose();
+    assert_eq!(field(&out, "c-f64", "x_bits"), format!("{:016x}", x.to_bits()), "{out}");
+    assert_eq!(field(&out, "c-f64", "y_bits"), format!("{:016x}", y.to_bits()), "{out}");
+    assert_eq!(field(&out, "c-f64", "theta_bits"), format!("{:016x}", theta.to_bits()), "{out}");
+    assert_eq!(field(&out, "c-f64", "steps"), "60000");
+    let p = rust_f32_final_pose();
+    assert_eq!(field(&out, "c-f32", "x_bits"), format!("{:08x}", p.x.to_bits()), "{out}");
+    assert_eq!(field(&out, "c-f32", "y_bits"), format!("{:08x}", p.y.to_bits()), "{out}");
+    assert_eq!(field(&out, "c-f32", "theta_bits"), format!("{:08x}", p.theta.to_bits()), "{out}");
+}
+
+#[test]
+fn readme_example_compiles_and_runs_fig7() {
+    let readme = std::fs::read_to_string(crate_dir().join("README.md")).expect("README.md");
+    let start = readme.find("```c\n").expect("a C block in the README") + 5;
+    let block = &readme[start..start + readme[start..].find("```").expect("closed block")];
+    assert!(block.lines().count() <= 25, "the README example should stay short");
+    let (includes, body): (Vec<&str>, Vec<&str>) = block.lines().partition(|l| l.starts_with("#include"));
+    let program = format!(
+        "#include <stdint.h>\n#include <stdio.h>\n#include <string.h>\n{}\nint main(void) {{\n{}\n\
+         wmr_state_f32 s; uint32_t b[3];\n\
+         if (wmr_plant_f32_state(&plant, &s) != WMR_OK) return 1;\n\
+         memcpy(&b[0], &s.x, 4); memcpy(&b[1], &s.y, 4); memcpy(&b[2], &s.theta, 4);\n\
+         printf(\"impl=readme x_bits=%08lx y_bits=%08lx theta_bits=%08lx\\n\", (unsigned long)b[0], (unsigned long)b[1], (unsigned long)b[2]);\n\
+         return 0;\n}}\n",
+        includes.join("\n"),
+        body.join("\n")
+    );
+    let path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("readme_example.c");
+    std::fs::write(&path, program).expect("write the program");
+    let out = build_and_run("readme_example", &[path]);
+    // The README's goal heading is 120 deg rounded to float, as the firmware's.
+    let p = rust_f32_final_pose();
+    assert_eq!(field(&out, "readme", "x_bits"), format!("{:08x}", p.x.to_bits()), "{out}");
+    assert_eq!(field(&out, "readme", "y_bits"), format!("{:08x}", p.y.to_bits()), "{out}");
+    assert_eq!(field(&out, "readme", "theta_bits"), format!("{:08x}", p.theta.to_bits()), "{out}");
+}
+
+#[test]
+fn errors_name_the_field_in_c() {
+    let out = build_and_run("errors", &[crate_dir().join("tests/c/errors.c")]);
+    assert!(out.ends_with("ok\n"), "{out}");
+    assert!(!out.contains("FAIL"), "{out}");
+}

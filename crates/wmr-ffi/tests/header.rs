@@ -1,0 +1,79 @@
+//! The checked-in C header and the f64 entry points are generated: these tests fail when
+//! either is stale. `WMR_BLESS=1 cargo test -p wmr-ffi --test header` rewrites both.
+
+use std::path::{Path, PathBuf};
+
+fn crate_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn bless() -> bool {
+    std::env::var_os("WMR_BLESS").is_some_and(|v| v == "1")
+}
+
+/// Compares `fresh` with the file at `path`, or rewrites the file under `WMR_BLESS=1`.
+fn check_or_bless(path: &Path, fresh: &str, how: &str) {
+    if bless() {
+        std::fs::write(path, fresh).unwrap_or_else(|e| panic!("cannot write {}: {e}", path.display()));
+        return;
+    }
+    let current = std::fs::read_to_string(path).unwrap_or_default();
+    if current != fresh {
+        let line = current.lines().zip(fresh.lines()).position(|(a, b)| a != b).map_or(0, |i| i + 1);
+        panic!("{} is stale (first difference near line {line}): {how}", path.display());
+    }
+}
+
+/// `api_f64.rs` as it must be: `api_f32.rs` with f32 -> f64, under its own module docs.
+fn mirror_f64(api_f32: &str) -> String {
+    let body: Vec<&str> = api_f32.split('\n').skip_while(|l| l.starts_with("//!")).collect();
+    let head = "//! The f64 entry points: `api_f32.rs` with every `f32` replaced by `f64`. Generated;\n\
+                //! edit `api_f32.rs` and run `WMR_BLESS=1 cargo test -p wmr-ffi --test header`.\n";
+    format!("{head}{}", body.join("\n").replace("f32", "f64"))
+}
+
+#[test]
+fn f64_api_is_the_f32_api() {
+    let dir = crate_dir().join("src");
+    let f32_src = std::fs::read_to_string(dir.join("api_f32.rs")).expect("api_f32.rs");
+    check_or_bless(
+        &dir.join("api_f64.rs"),
+        &mirror_f64(&f32_src),
+        "run WMR_BLESS=1 cargo test -p wmr-ffi --test header",
+    );
+}
+
+fn generate() -> String {
+    let dir = crate_dir();
+    let config = cbindgen::Config::from_file(dir.join("cbindgen.toml")).expect("cbindgen.toml");
+    let bindings = cbindgen::Builder::new()
+        .with_config(config)
+        .with_src(dir.join("src/lib.rs"))
+        .generate()
+        .expect("cbindgen parses the crate");
+    let mut out = Vec::new();
+    bindings.write(&mut out);
+    String::from_utf8(out).expect("UTF-8 header")
+}
+
+#[test]
+fn header_is_current() {
+    // The f64 file must be current first, or the header would be generated from a stale one.
+    let dir = crate_dir().join("src");
+    let f32_src = std::fs::read_to_string(dir.join("api_f32.rs")).expect("api_f32.rs");
+    let f64_now = std::fs::read_to_string(dir.join("api_f64.rs")).expect("api_f64.rs");
+    if !bless() {
+        assert_eq!(
+            f64_now,
+            mirror_f64(&f32_src),
+            "api_f64.rs is stale: run WMR_BLESS=1 cargo test -p wmr-ffi --test header"
+        );
+    }
+    let header = generate();
+    for name in
+        ["wmr_plant_f32_step", "wmr_plant_f64_step", "wmr_lyapunov_controller_f64_update", "WMR_PLANT_F32_WORDS"]
+    {
+        assert!(header.contains(name), "the generated header lacks {name}");
+    }
+    check_or_bless(&crate_dir().join("include/wmr.h"), &header, "run WMR_BLESS=1 cargo test -p wmr-ffi --test header");
+}
