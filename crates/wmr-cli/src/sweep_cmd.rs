@@ -7,7 +7,8 @@ use std::path::Path;
 use anyhow::{Context as _, Result, bail};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use wmr_core::Status;
-use wmr_plot::{CellOutcome, SweepCell, region_svg};
+use wmr_plot::{CellOutcome, ShareSeries, SweepCell, region_svg, share_svg};
+use wmr_scenario::robustness::{ShareCurve, share_curves, share_table, varied_columns, varied_row};
 use wmr_scenario::{SWEEP_COLUMNS, Scenario, SweepOutcome, SweepSpec, summarize, summary_table, sweep_row};
 
 use crate::atomic::AtomicOut;
@@ -24,7 +25,7 @@ pub fn sweep(scenario: &Scenario, out: &Path, plots: Option<&Path>, show_progres
         {
             bar.set_style(style);
         }
-        bar.set_message(format!("{} laws x {} starts", spec.laws.len(), spec.starts.len()));
+        bar.set_message(format!("{} runs", spec.len()));
         bar
     } else {
         ProgressBar::hidden()
@@ -35,14 +36,19 @@ pub fn sweep(scenario: &Scenario, out: &Path, plots: Option<&Path>, show_progres
     let wall = started.elapsed().as_secs_f64();
 
     write_csv(spec, &outcomes, out)?;
+    let curves = share_curves(spec, &outcomes);
     if let Some(dir) = plots {
         write_regions(spec, &outcomes, dir)?;
+        write_share_curves(&curves, dir)?;
     }
     print!("{}", summary_table(&summarize(spec, &outcomes)));
+    print!("{}", share_table(&curves));
     eprintln!(
-        "wmr-cli: {} runs ({} laws x {} starts, {} s each) in {wall:.2} s; outcomes in {}",
+        "wmr-cli: {} runs ({} laws x {} variants x {} trials x {} starts, {} s each) in {wall:.2} s; outcomes in {}",
         spec.len(),
         spec.laws.len(),
+        spec.variants.len(),
+        spec.variation.trials,
         spec.starts.len(),
         scenario.sim().t_end(),
         out.display()
@@ -54,9 +60,10 @@ fn write_csv(spec: &SweepSpec, outcomes: &[SweepOutcome], out: &Path) -> Result<
     let tmp = AtomicOut::create(out)?;
     {
         let mut w = csv::Writer::from_writer(std::io::BufWriter::new(tmp.file()?));
-        w.write_record(SWEEP_COLUMNS)?;
+        // One column per varied key after the outcome columns (none without `vary`).
+        w.write_record(SWEEP_COLUMNS.iter().map(|c| c.to_string()).chain(varied_columns(spec)))?;
         for o in outcomes {
-            w.write_record(sweep_row(spec, o))?;
+            w.write_record(sweep_row(spec, o).into_iter().chain(varied_row(spec, o)))?;
         }
         w.flush().with_context(|| format!("cannot write {}", out.display()))?;
     }
@@ -80,6 +87,22 @@ fn write_regions(spec: &SweepSpec, outcomes: &[SweepOutcome], dir: &Path) -> Res
         let title = format!("{name}: outcome by start (goal at the cross)");
         let svg = region_svg(&title, &cells, spec.goal)?;
         write_text(&dir.join(format!("region-{}.svg", name.replace('#', "-"))), &svg)?;
+    }
+    Ok(())
+}
+
+/// One `share-<key>.svg` per varied key: each law's converged share against the key.
+fn write_share_curves(curves: &[ShareCurve], dir: &Path) -> Result<()> {
+    let mut keys: Vec<&str> = curves.iter().map(|c| c.key.as_str()).collect();
+    keys.dedup();
+    for key in keys {
+        let series: Vec<ShareSeries<'_>> = curves
+            .iter()
+            .filter(|c| c.key == key)
+            .map(|c| (c.law.as_str(), c.points.iter().map(|(x, s, _)| (*x, *s)).collect()))
+            .collect();
+        let svg = share_svg(&format!("Converged share against {key}"), key, &series)?;
+        write_text(&dir.join(format!("share-{}.svg", key.replace('.', "-"))), &svg)?;
     }
     Ok(())
 }

@@ -8,9 +8,11 @@
 mod chart;
 mod figures;
 mod region;
+mod share;
 
 pub use figures::{errors_svg, paths_svg, wheel_speeds_svg};
 pub use region::{CellOutcome, SweepCell, region_svg};
+pub use share::{ShareSeries, share_svg};
 
 use wmr_core::{Pose2, Sample};
 

@@ -39,6 +39,7 @@ mod file;
 pub mod keys;
 mod locate;
 mod output;
+pub mod robustness;
 mod run;
 mod scenario;
 pub mod schema;

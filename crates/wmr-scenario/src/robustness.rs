@@ -1,0 +1,105 @@
+//! What a robustness sweep shows: the value of every varied key per run (extra CSV
+//! columns), and for each varied key the converged share of each law against its value.
+
+use std::fmt::Write as _;
+
+use wmr_core::Status;
+
+use crate::sweep::{SweepOutcome, SweepSpec};
+use crate::vary::Spread;
+
+/// Bins of a drawn (uniform or normal) key in the share curves: equal counts of runs.
+const DRAW_BINS: usize = 5;
+
+/// The varied keys, in `vary` order: the names of the extra CSV columns.
+pub fn varied_columns(spec: &SweepSpec) -> Vec<String> {
+    spec.variation.keys.iter().map(|k| k.key.clone()).collect()
+}
+
+/// The value of every varied key in run `o`, as CSV fields.
+pub fn varied_row(spec: &SweepSpec, o: &SweepOutcome) -> Vec<String> {
+    spec.varied_values(o).into_iter().map(|v| v.to_string()).collect()
+}
+
+/// One law's converged share against one varied key.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShareCurve {
+    /// The varied key.
+    pub key: String,
+    /// The law's name.
+    pub law: String,
+    /// (value of the key, share of runs converged in 0..1, runs): one point per listed
+    /// value, or per bin of equal counts (at the bin's mean) for a drawn key.
+    pub points: Vec<(f64, f64, usize)>,
+}
+
+/// The converged share of each law against each varied key.
+pub fn share_curves(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<ShareCurve> {
+    let mut curves = Vec::new();
+    let values: Vec<Vec<f64>> = outcomes.iter().map(|o| spec.varied_values(o)).collect();
+    for (ki, k) in spec.variation.keys.iter().enumerate() {
+        for (li, (law, _)) in spec.laws.iter().enumerate() {
+            let runs: Vec<(f64, bool)> = outcomes
+                .iter()
+                .zip(&values)
+                .filter(|(o, _)| o.law == li)
+                .filter(|(o, _)| match &k.spread {
+                    // A listed key's curve uses only the variants that set it.
+                    Spread::Values(_) => spec.variants[o.variant].is_some_and(|(i, _)| i == ki),
+                    _ => true,
+                })
+                .map(|(o, v)| (v[ki], o.status() == Status::Converged))
+                .collect();
+            let points = match &k.spread {
+                Spread::Values(list) => list
+                    .iter()
+                    .map(|&x| {
+                        let at: Vec<bool> = runs.iter().filter(|(v, _)| *v == x).map(|(_, c)| *c).collect();
+                        (x, share(&at), at.len())
+                    })
+                    .collect(),
+                _ => {
+                    let mut sorted = runs.clone();
+                    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+                    let n = sorted.len();
+                    (0..DRAW_BINS.min(n))
+                        .map(|b| {
+                            let bin = &sorted[b * n / DRAW_BINS.min(n)..(b + 1) * n / DRAW_BINS.min(n)];
+                            let mean = bin.iter().map(|(v, _)| v).sum::<f64>() / bin.len().max(1) as f64;
+                            let conv: Vec<bool> = bin.iter().map(|(_, c)| *c).collect();
+                            (mean, share(&conv), bin.len())
+                        })
+                        .collect()
+                }
+            };
+            curves.push(ShareCurve { key: k.key.clone(), law: law.clone(), points });
+        }
+    }
+    curves
+}
+
+fn share(converged: &[bool]) -> f64 {
+    if converged.is_empty() { f64::NAN } else { converged.iter().filter(|c| **c).count() as f64 / converged.len() as f64 }
+}
+
+/// The share curves as text: per varied key, one row per law, one column per value.
+pub fn share_table(curves: &[ShareCurve]) -> String {
+    let mut out = String::new();
+    let mut key = "";
+    for c in curves {
+        if c.key != key {
+            key = &c.key;
+            let _ = write!(out, "\nconverged share against {key}\n{:<12}", "law");
+            for (x, _, _) in &c.points {
+                let _ = write!(out, " {:>9}", format!("{x:.4}").trim_end_matches('0').trim_end_matches('.'));
+            }
+            out.push('\n');
+        }
+        let _ = write!(out, "{:<12}", c.law);
+        for (_, s, _) in &c.points {
+            let _ = write!(out, " {:>8.1}%", 100.0 * s);
+        }
+        out.push('\n');
+    }
+    out
+}
