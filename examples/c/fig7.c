@@ -69,7 +69,7 @@ static void print_bits64(const char *name, double v) {
         CHECK(wmr_paper_controller_##P##_init(&ctrl, &law_params, &wheel_params, &robot, &drive, \
                                               dt, &err),                                         \
               &err);                                                                             \
-        CHECK(wmr_plant_##P##_init(&plant, &robot, &drive, start, &err), &err);                  \
+        CHECK(wmr_plant_##P##_init(&plant, &robot, &drive, NULL, start, &err), &err);                  \
         CHECK(wmr_sensor_##P##_init_perfect(&sensor), NULL);                                     \
         for (k = 0;; k++) {                                                                      \
             const S t = (S)k * dt; /* s, from the step count: no drift */                       \

@@ -28,6 +28,9 @@
 // `wmr_drive_params_*.kind`: voltage-driven permanent-magnet DC motor.
 #define WMR_DRIVE_DC_MOTOR 1
 
+// Pose samples the C API's sensor holds in flight (the core's ring buffer length).
+#define WMR_SENSOR_SAMPLES_IN_FLIGHT 16
+
 // `wmr_paper_params_*.mode`: reach (x, y, theta) (the paper's orientating control).
 #define WMR_PAPER_MODE_POSE 0
 
@@ -58,11 +61,11 @@
 // Words of a plant, `wmr_plant_f64`.
 #define WMR_PLANT_F64_WORDS 64
 
-// Words of a sensor, `wmr_sensor_f32` (room for the sensor models to come).
-#define WMR_SENSOR_F32_WORDS 64
+// Words of a sensor, `wmr_sensor_f32` (perfect or pose sensor).
+#define WMR_SENSOR_F32_WORDS 96
 
-// Words of a sensor, `wmr_sensor_f64` (room for the sensor models to come).
-#define WMR_SENSOR_F64_WORDS 64
+// Words of a sensor, `wmr_sensor_f64` (perfect or pose sensor).
+#define WMR_SENSOR_F64_WORDS 112
 
 // Words of the paper's law with its wheel stage, `wmr_paper_controller_f32`.
 #define WMR_PAPER_CONTROLLER_F32_WORDS 32
@@ -178,6 +181,8 @@ typedef struct {
   float back_emf_constant;
   // DC motor: armature resistance, Ohm (> 0).
   float armature_resistance;
+  // DC motor: armature current limit of the motor driver, A (> 0, infinity = none).
+  float current_max;
 } wmr_drive_params_f32;
 
 // A validated drive (f32).
@@ -256,6 +261,15 @@ typedef struct {
   uint64_t opaque[WMR_PLANT_F32_WORDS];
 } wmr_plant_f32;
 
+// The ground (the `[world]` keys): a plane tilted by `slope_deg`, descending towards
+// `slope_direction_deg`.
+typedef struct {
+  // Tilt of the ground plane, degrees, |slope_deg| < 90 (0: flat).
+  float slope_deg;
+  // World direction in which the ground descends, degrees from the x axis.
+  float slope_direction_deg;
+} wmr_world_params_f32;
+
 // A planar pose of point C in the world frame: x, y in m, theta in rad (CCW from +x).
 typedef struct {
   // x of C, m.
@@ -298,6 +312,26 @@ typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_SENSOR_F32_WORDS];
 } wmr_sensor_f32;
+
+// The pose sensor (the `[sensor]` keys): a pose sampled at `rate_hz`, arriving after
+// `latency`, with Gaussian noise, and wheel encoders quantized to `encoder_counts`.
+// Every default: the perfect sensor, bit for bit.
+typedef struct {
+  // Pose samples per second, Hz; 1 / rate_hz a whole multiple of control_dt.
+  // Infinity: a sample at every control tick.
+  float rate_hz;
+  // Latency, s, a whole multiple of control_dt; latency * rate_hz below
+  // `WMR_SENSOR_SAMPLES_IN_FLIGHT` - 1.
+  float latency;
+  // Standard deviation of the noise on x and on y, m.
+  float position_noise;
+  // Standard deviation of the noise on theta, degrees.
+  float heading_noise_deg;
+  // Encoder counts per wheel revolution; 0 = ideal encoders.
+  uint32_t encoder_counts;
+  // Seed of the noise (with the run index passed to init, it selects the stream).
+  uint64_t seed;
+} wmr_sensor_params_f32;
 
 // What a controller sees at one control tick.
 typedef struct {
@@ -387,6 +421,8 @@ typedef struct {
   double back_emf_constant;
   // DC motor: armature resistance, Ohm (> 0).
   double armature_resistance;
+  // DC motor: armature current limit of the motor driver, A (> 0, infinity = none).
+  double current_max;
 } wmr_drive_params_f64;
 
 // A validated drive (f64).
@@ -465,6 +501,15 @@ typedef struct {
   uint64_t opaque[WMR_PLANT_F64_WORDS];
 } wmr_plant_f64;
 
+// The ground (the `[world]` keys): a plane tilted by `slope_deg`, descending towards
+// `slope_direction_deg`.
+typedef struct {
+  // Tilt of the ground plane, degrees, |slope_deg| < 90 (0: flat).
+  double slope_deg;
+  // World direction in which the ground descends, degrees from the x axis.
+  double slope_direction_deg;
+} wmr_world_params_f64;
+
 // A planar pose of point C in the world frame: x, y in m, theta in rad (CCW from +x).
 typedef struct {
   // x of C, m.
@@ -507,6 +552,26 @@ typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_SENSOR_F64_WORDS];
 } wmr_sensor_f64;
+
+// The pose sensor (the `[sensor]` keys): a pose sampled at `rate_hz`, arriving after
+// `latency`, with Gaussian noise, and wheel encoders quantized to `encoder_counts`.
+// Every default: the perfect sensor, bit for bit.
+typedef struct {
+  // Pose samples per second, Hz; 1 / rate_hz a whole multiple of control_dt.
+  // Infinity: a sample at every control tick.
+  double rate_hz;
+  // Latency, s, a whole multiple of control_dt; latency * rate_hz below
+  // `WMR_SENSOR_SAMPLES_IN_FLIGHT` - 1.
+  double latency;
+  // Standard deviation of the noise on x and on y, m.
+  double position_noise;
+  // Standard deviation of the noise on theta, degrees.
+  double heading_noise_deg;
+  // Encoder counts per wheel revolution; 0 = ideal encoders.
+  uint32_t encoder_counts;
+  // Seed of the noise (with the run index passed to init, it selects the stream).
+  uint64_t seed;
+} wmr_sensor_params_f64;
 
 // What a controller sees at one control tick.
 typedef struct {
@@ -596,10 +661,12 @@ wmr_status wmr_polar_params_f32_default(wmr_polar_params_f32 *out);
 // Fills `out` with the Lyapunov law's defaults (gamma 0.5, k 3, h 9).
 wmr_status wmr_lyapunov_params_f32_default(wmr_lyapunov_params_f32 *out);
 
-// A plant at rest at `start` (m, m, rad), encoders at zero, no command held.
+// A plant at rest at `start` (m, m, rad), encoders at zero, no command held, on the
+// ground `world` (NULL: flat).
 wmr_status wmr_plant_f32_init(wmr_plant_f32 *out,
                               const wmr_robot_f32 *robot,
                               const wmr_drive_f32 *drive,
+                              const wmr_world_params_f32 *world,
                               wmr_pose_f32 start,
                               wmr_error *err);
 
@@ -620,6 +687,17 @@ wmr_status wmr_plant_f32_state(const wmr_plant_f32 *plant,
 
 // The paper's sensor: the true pose and wheel state at the instant of the tick.
 wmr_status wmr_sensor_f32_init_perfect(wmr_sensor_f32 *out);
+
+// Fills `out` with the pose sensor's defaults (the perfect sensor, seed 0).
+wmr_status wmr_sensor_params_f32_default(wmr_sensor_params_f32 *out);
+
+// The pose sensor for control period `control_dt` (s); `run` selects the noise stream
+// (with `params.seed`).
+wmr_status wmr_sensor_f32_init_pose(wmr_sensor_f32 *out,
+                                    const wmr_sensor_params_f32 *params,
+                                    float control_dt,
+                                    uint64_t run,
+                                    wmr_error *err);
 
 // What the sensor reports at time `t` (s) of the plant's state.
 wmr_status wmr_sensor_f32_measure(wmr_sensor_f32 *sensor,
@@ -722,10 +800,12 @@ wmr_status wmr_polar_params_f64_default(wmr_polar_params_f64 *out);
 // Fills `out` with the Lyapunov law's defaults (gamma 0.5, k 3, h 9).
 wmr_status wmr_lyapunov_params_f64_default(wmr_lyapunov_params_f64 *out);
 
-// A plant at rest at `start` (m, m, rad), encoders at zero, no command held.
+// A plant at rest at `start` (m, m, rad), encoders at zero, no command held, on the
+// ground `world` (NULL: flat).
 wmr_status wmr_plant_f64_init(wmr_plant_f64 *out,
                               const wmr_robot_f64 *robot,
                               const wmr_drive_f64 *drive,
+                              const wmr_world_params_f64 *world,
                               wmr_pose_f64 start,
                               wmr_error *err);
 
@@ -746,6 +826,17 @@ wmr_status wmr_plant_f64_state(const wmr_plant_f64 *plant,
 
 // The paper's sensor: the true pose and wheel state at the instant of the tick.
 wmr_status wmr_sensor_f64_init_perfect(wmr_sensor_f64 *out);
+
+// Fills `out` with the pose sensor's defaults (the perfect sensor, seed 0).
+wmr_status wmr_sensor_params_f64_default(wmr_sensor_params_f64 *out);
+
+// The pose sensor for control period `control_dt` (s); `run` selects the noise stream
+// (with `params.seed`).
+wmr_status wmr_sensor_f64_init_pose(wmr_sensor_f64 *out,
+                                    const wmr_sensor_params_f64 *params,
+                                    double control_dt,
+                                    uint64_t run,
+                                    wmr_error *err);
 
 // What the sensor reports at time `t` (s) of the plant's state.
 wmr_status wmr_sensor_f64_measure(wmr_sensor_f64 *sensor,

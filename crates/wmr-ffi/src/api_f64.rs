@@ -65,16 +65,18 @@ pub unsafe extern "C" fn wmr_lyapunov_params_f64_default(out: *mut wmr_lyapunov_
     imp::law_params_default::<f64, Lyapunov>(out)
 }
 
-/// A plant at rest at `start` (m, m, rad), encoders at zero, no command held.
+/// A plant at rest at `start` (m, m, rad), encoders at zero, no command held, on the
+/// ground `world` (NULL: flat).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_plant_f64_init(
     out: *mut wmr_plant_f64,
     robot: *const wmr_robot_f64,
     drive: *const wmr_drive_f64,
+    world: *const wmr_world_params<f64>,
     start: wmr_pose<f64>,
     err: *mut wmr_error,
 ) -> wmr_status {
-    imp::plant_init(out, robot, drive, start, err)
+    imp::plant_init(out, robot, drive, world, start, err)
 }
 
 /// Holds `command` (per wheel: N m for the torque drive, V for the DC motor) until the
@@ -101,6 +103,25 @@ pub unsafe extern "C" fn wmr_plant_f64_state(plant: *const wmr_plant_f64, out: *
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_sensor_f64_init_perfect(out: *mut wmr_sensor_f64) -> wmr_status {
     imp::sensor_init_perfect::<f64>(out)
+}
+
+/// Fills `out` with the pose sensor's defaults (the perfect sensor, seed 0).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_sensor_params_f64_default(out: *mut wmr_sensor_params<f64>) -> wmr_status {
+    imp::sensor_params_default(out)
+}
+
+/// The pose sensor for control period `control_dt` (s); `run` selects the noise stream
+/// (with `params.seed`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_sensor_f64_init_pose(
+    out: *mut wmr_sensor_f64,
+    params: *const wmr_sensor_params<f64>,
+    control_dt: f64,
+    run: u64,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::sensor_init_pose::<f64>(out, params, control_dt, run, err)
 }
 
 /// What the sensor reports at time `t` (s) of the plant's state.

@@ -9,8 +9,9 @@ use core::mem::{align_of, size_of};
 use wmr_core::controller::Law;
 use wmr_core::{
     Controller, DcMotorParams, Drive, DriveParams, HoldMode, LyapunovLaw, LyapunovParams, Measurement, PaperLaw,
-    PaperMode, PaperParams, ParamError, PerfectSensor, Plant, PolarLaw, PolarParams, Pose2, Real, Reason, Robot,
-    RobotParams, Sensor, State, Termination, TorqueDriveParams, WheelStage, WheelStageParams, Wheels,
+    PaperMode, PaperParams, ParamError, PerfectSensor, Plant, PolarLaw, PolarParams, Pose2, PoseSensor, Real, Reason,
+    Robot, RobotParams, Sensor, SensorParams, State, Termination, TorqueDriveParams, WheelStage, WheelStageParams,
+    Wheels, WorldParams,
 };
 
 use crate::*;
@@ -110,7 +111,7 @@ pub fn guard(err: *mut wmr_error, f: impl FnOnce() -> Result<(), Fail>) -> wmr_s
 /// `--gc-sections` and finds no `rust_begin_unwind` in it. Were it reached anyway, the
 /// core stops with a permanently undefined instruction, i.e. a HardFault the firmware
 /// handles as any other fault.
-#[cfg(all(not(feature = "std"), not(test), target_os = "none"))]
+#[cfg(all(feature = "panic-handler", not(feature = "std"), not(test)))]
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {
     loop {
@@ -181,18 +182,22 @@ macro_rules! storage_of {
 pub enum AnySensor<T> {
     /// The true pose and wheel state, instantly.
     Perfect(PerfectSensor, PhantomData<T>),
+    /// Rate, latency, noise and encoder counts.
+    Pose(PoseSensor<T, WMR_SENSOR_SAMPLES_IN_FLIGHT>),
 }
 
 impl<T: Real> AnySensor<T> {
     fn measure(&mut self, t: T, state: &State<T>, robot: &RobotParams<T>) -> Measurement<T> {
         match self {
             AnySensor::Perfect(s, _) => s.measure(t, state, robot),
+            AnySensor::Pose(s) => s.measure(t, state, robot),
         }
     }
 
     fn reset(&mut self) {
         match self {
             AnySensor::Perfect(s, _) => Sensor::<T>::reset(s),
+            AnySensor::Pose(s) => s.reset(),
         }
     }
 }
@@ -360,7 +365,7 @@ fn drive_params<T: Real>(p: &wmr_drive_params<T>) -> Result<DriveParams<T>, Fail
             torque_constant: p.torque_constant,
             back_emf_constant: p.back_emf_constant,
             armature_resistance: p.armature_resistance,
-            ..DcMotorParams::default()
+            current_max: p.current_max,
         })),
         k => Err(Fail::out_of_range("kind", "must be WMR_DRIVE_TORQUE (0) or WMR_DRIVE_DC_MOTOR (1)", f64::from(k))),
     }
@@ -378,6 +383,7 @@ fn c_drive_params<T: Real>(kind: u32) -> Result<wmr_drive_params<T>, Fail> {
         torque_constant: d.torque_constant,
         back_emf_constant: d.back_emf_constant,
         armature_resistance: d.armature_resistance,
+        current_max: d.current_max,
     })
 }
 
@@ -597,11 +603,18 @@ pub fn plant_init<T: Prec>(
     out: *mut T::Plant,
     robot: *const T::Robot,
     drive: *const T::Drive,
+    world: *const wmr_world_params<T>,
     start: wmr_pose<T>,
     err: *mut wmr_error,
 ) -> wmr_status {
     guard(err, || {
-        let plant = Plant::new(*get(robot, "robot")?, *get(drive, "drive")?, pose(start))?;
+        // SAFETY: NULL (flat ground) or valid for reads (caller contract).
+        let world = match unsafe { world.as_ref() } {
+            None => WorldParams::default(),
+            Some(w) => WorldParams { slope_deg: w.slope_deg, slope_direction_deg: w.slope_direction_deg },
+        };
+        let world = world.validate()?;
+        let plant = Plant::on(*get(robot, "robot")?, *get(drive, "drive")?, world, pose(start))?;
         put(out, "out", plant)
     })
 }
@@ -637,6 +650,50 @@ pub fn plant_state<T: Prec>(plant: *const T::Plant, out: *mut wmr_state<T>) -> w
 
 pub fn sensor_init_perfect<T: Prec>(out: *mut T::Sensor) -> wmr_status {
     guard(core::ptr::null_mut(), || put(out, "out", AnySensor::Perfect(PerfectSensor, PhantomData)))
+}
+
+pub fn sensor_params_default<T: Prec>(out: *mut wmr_sensor_params<T>) -> wmr_status {
+    guard(core::ptr::null_mut(), || {
+        let p = SensorParams::<T>::default();
+        let c = wmr_sensor_params {
+            rate_hz: p.rate_hz,
+            latency: p.latency,
+            position_noise: p.position_noise,
+            heading_noise_deg: p.heading_noise_deg,
+            encoder_counts: p.encoder_counts,
+            seed: p.seed,
+        };
+        write(out, "out", c)
+    })
+}
+
+pub fn sensor_init_pose<T: Prec>(
+    out: *mut T::Sensor,
+    params: *const wmr_sensor_params<T>,
+    control_dt: T,
+    run: u64,
+    err: *mut wmr_error,
+) -> wmr_status {
+    guard(err, || {
+        let p = read(params, "params")?;
+        let params = SensorParams {
+            rate_hz: p.rate_hz,
+            latency: p.latency,
+            position_noise: p.position_noise,
+            heading_noise_deg: p.heading_noise_deg,
+            encoder_counts: p.encoder_counts,
+            seed: p.seed,
+        };
+        let sensor = PoseSensor::new(params, control_dt, run).map_err(|e| {
+            let mut fail = Fail::from(e);
+            if e.field == "latency" && matches!(e.reason, Reason::OutOfRange(_)) {
+                // The core's text counts its own default buffer; this one holds fewer.
+                fail.reason = "latency * rate_hz must be below WMR_SENSOR_SAMPLES_IN_FLIGHT - 1 (15)";
+            }
+            fail
+        })?;
+        put(out, "out", AnySensor::Pose(sensor))
+    })
 }
 
 pub fn sensor_measure<T: Prec>(

@@ -29,10 +29,10 @@
 //! either NULL (refused with `WMR_NULL_POINTER`) or valid for reads (inputs) or writes
 //! (outputs) of its type, and storage is not used from two threads at once.
 //!
-//! Sensors: the C API wraps the paper's perfect sensor ([`wmr_core::PerfectSensor`]).
-//! `wmr_sensor_*` is one storage type for every sensor model, created by a per-model
-//! `wmr_sensor_*_init_*` function and used through the same `measure`/`reset`: another
-//! sensor model is one more init function and one more variant inside the storage.
+//! Sensors: `wmr_sensor_*` is one storage type for every sensor model, created by a
+//! per-model init function (`_init_perfect`: the paper's assumption; `_init_pose`: the
+//! core's [`wmr_core::PoseSensor`] with rate, latency, noise and encoder counts) and used
+//! through the same `measure`/`reset`; another model is one more init function.
 #![no_std]
 // The C boundary dereferences raw pointers from C; every such place is in `imp`.
 #![allow(unsafe_code)]
@@ -47,6 +47,10 @@ extern crate std;
 mod api_f32;
 mod api_f64;
 mod imp;
+/// The control trace format (Rust only, not part of the C header).
+///
+/// cbindgen:ignore
+pub mod trace;
 
 pub use api_f32::*;
 pub use api_f64::*;
@@ -69,6 +73,9 @@ pub const WMR_REASON_LEN: usize = 96;
 pub const WMR_DRIVE_TORQUE: u32 = 0;
 /// `wmr_drive_params_*.kind`: voltage-driven permanent-magnet DC motor.
 pub const WMR_DRIVE_DC_MOTOR: u32 = 1;
+
+/// Pose samples the C API's sensor holds in flight (the core's ring buffer length).
+pub const WMR_SENSOR_SAMPLES_IN_FLIGHT: usize = 16;
 
 /// `wmr_paper_params_*.mode`: reach (x, y, theta) (the paper's orientating control).
 pub const WMR_PAPER_MODE_POSE: u32 = 0;
@@ -240,6 +247,41 @@ pub struct wmr_drive_params<T> {
     pub back_emf_constant: T,
     /// DC motor: armature resistance, Ohm (> 0).
     pub armature_resistance: T,
+    /// DC motor: armature current limit of the motor driver, A (> 0, infinity = none).
+    pub current_max: T,
+}
+
+/// The ground (the `[world]` keys): a plane tilted by `slope_deg`, descending towards
+/// `slope_direction_deg`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_world_params<T> {
+    /// Tilt of the ground plane, degrees, |slope_deg| < 90 (0: flat).
+    pub slope_deg: T,
+    /// World direction in which the ground descends, degrees from the x axis.
+    pub slope_direction_deg: T,
+}
+
+/// The pose sensor (the `[sensor]` keys): a pose sampled at `rate_hz`, arriving after
+/// `latency`, with Gaussian noise, and wheel encoders quantized to `encoder_counts`.
+/// Every default: the perfect sensor, bit for bit.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_sensor_params<T> {
+    /// Pose samples per second, Hz; 1 / rate_hz a whole multiple of control_dt.
+    /// Infinity: a sample at every control tick.
+    pub rate_hz: T,
+    /// Latency, s, a whole multiple of control_dt; latency * rate_hz below
+    /// `WMR_SENSOR_SAMPLES_IN_FLIGHT` - 1.
+    pub latency: T,
+    /// Standard deviation of the noise on x and on y, m.
+    pub position_noise: T,
+    /// Standard deviation of the noise on theta, degrees.
+    pub heading_noise_deg: T,
+    /// Encoder counts per wheel revolution; 0 = ideal encoders.
+    pub encoder_counts: u32,
+    /// Seed of the noise (with the run index passed to init, it selects the stream).
+    pub seed: u64,
 }
 
 /// The wheel stage: two wheel position servos and the curvature-keeping speed limit.
@@ -328,10 +370,10 @@ pub const WMR_DRIVE_F64_WORDS: usize = 12;
 pub const WMR_PLANT_F32_WORDS: usize = 32;
 /// Words of a plant, `wmr_plant_f64`.
 pub const WMR_PLANT_F64_WORDS: usize = 64;
-/// Words of a sensor, `wmr_sensor_f32` (room for the sensor models to come).
-pub const WMR_SENSOR_F32_WORDS: usize = 64;
-/// Words of a sensor, `wmr_sensor_f64` (room for the sensor models to come).
-pub const WMR_SENSOR_F64_WORDS: usize = 64;
+/// Words of a sensor, `wmr_sensor_f32` (perfect or pose sensor).
+pub const WMR_SENSOR_F32_WORDS: usize = 96;
+/// Words of a sensor, `wmr_sensor_f64` (perfect or pose sensor).
+pub const WMR_SENSOR_F64_WORDS: usize = 112;
 /// Words of the paper's law with its wheel stage, `wmr_paper_controller_f32`.
 pub const WMR_PAPER_CONTROLLER_F32_WORDS: usize = 32;
 /// Words of the paper's law with its wheel stage, `wmr_paper_controller_f64`.

@@ -9,7 +9,8 @@ use std::mem::MaybeUninit;
 use proptest::prelude::*;
 use wmr_core::{
     ClosedLoop, Controller, DriveParams, FixedGoal, LyapunovLaw, LyapunovParams, ParamError, Plant, PolarLaw,
-    PolarParams, Pose2, Reason, Robot, RobotParams, TorqueDriveParams, WheelStage, WheelStageParams,
+    PolarParams, Pose2, PoseSensor, Reason, Robot, RobotParams, SensorParams, TorqueDriveParams, WheelStage,
+    WheelStageParams, WorldParams,
 };
 use wmr_ffi::*;
 
@@ -197,7 +198,14 @@ fn null_pointers_are_refused_by_name() {
     // SAFETY: NULL is allowed and must be refused; the rest are valid.
     unsafe {
         assert_eq!(wmr_robot_params_f32_paper(std::ptr::null_mut()), wmr_status::WMR_NULL_POINTER);
-        let code = wmr_plant_f64_init(std::ptr::null_mut(), &robot, std::ptr::null(), wmr_pose::default(), &mut err);
+        let code = wmr_plant_f64_init(
+            std::ptr::null_mut(),
+            &robot,
+            std::ptr::null(),
+            std::ptr::null(),
+            wmr_pose::default(),
+            &mut err,
+        );
         assert_eq!(code, wmr_status::WMR_NULL_POINTER);
         assert_eq!(field(&err), "drive");
         assert_eq!(wmr_plant_f64_step(std::ptr::null_mut(), 0.0, 1e-3), wmr_status::WMR_NULL_POINTER);
@@ -216,7 +224,7 @@ fn a_diverging_plant_step_is_refused_and_keeps_the_state() {
     unsafe {
         let start = wmr_pose { x: 999.9999, y: 0.0, theta: 0.0 };
         assert_eq!(
-            wmr_plant_f64_init(plant.as_mut_ptr(), &robot, &drive, start, std::ptr::null_mut()),
+            wmr_plant_f64_init(plant.as_mut_ptr(), &robot, &drive, std::ptr::null(), start, std::ptr::null_mut()),
             wmr_status::WMR_OK
         );
         let plant = plant.as_mut_ptr();
@@ -239,7 +247,24 @@ fn a_diverging_plant_step_is_refused_and_keeps_the_state() {
     }
 }
 
-/// A loop made of C API calls, as `examples/c/fig7.c` makes it, against `ClosedLoop`; and
+const SLOPE_DEG: f64 = 3.0;
+const SLOPE_DIR_DEG: f64 = 30.0;
+const RUN: u64 = 3;
+
+/// A sensor with every effect: 100 Hz, 20 ms late, noisy, 2048-count encoders.
+fn sensor_params() -> SensorParams<f64> {
+    SensorParams {
+        rate_hz: 100.0,
+        latency: 0.02,
+        position_noise: 0.002,
+        heading_noise_deg: 0.5,
+        encoder_counts: 2048,
+        seed: 7,
+    }
+}
+
+/// A loop made of C API calls, as `examples/c/fig7.c` makes it, on a slope with the pose
+/// sensor, against `ClosedLoop`; and
 /// `reset` mid-way against a controller initialized afresh at that moment.
 macro_rules! compare_loop {
     ($name:ident, $default:ident, $init:ident, $update:ident, $reset:ident, $storage:ty, $law:expr) => {
@@ -267,8 +292,21 @@ macro_rules! compare_loop {
                     wmr_status::WMR_OK
                 );
                 let s = wmr_pose { x: start.x, y: start.y, theta: start.theta };
-                assert_eq!(wmr_plant_f64_init(plant.as_mut_ptr(), &robot_c, &drive_c, s, null), wmr_status::WMR_OK);
-                assert_eq!(wmr_sensor_f64_init_perfect(sensor.as_mut_ptr()), wmr_status::WMR_OK);
+                let world = wmr_world_params { slope_deg: SLOPE_DEG, slope_direction_deg: SLOPE_DIR_DEG };
+                assert_eq!(
+                    wmr_plant_f64_init(plant.as_mut_ptr(), &robot_c, &drive_c, &world, s, null),
+                    wmr_status::WMR_OK
+                );
+                let sp = sensor_params();
+                let csp = wmr_sensor_params {
+                    rate_hz: sp.rate_hz,
+                    latency: sp.latency,
+                    position_noise: sp.position_noise,
+                    heading_noise_deg: sp.heading_noise_deg,
+                    encoder_counts: sp.encoder_counts,
+                    seed: sp.seed,
+                };
+                assert_eq!(wmr_sensor_f64_init_pose(sensor.as_mut_ptr(), &csp, dt, RUN, null), wmr_status::WMR_OK);
                 let g = wmr_pose { x: goal.x, y: goal.y, theta: goal.theta };
                 let mut m = wmr_measurement::default();
                 let mut out = wmr_control_output::default();
@@ -305,9 +343,11 @@ macro_rules! compare_loop {
             let drive = drive_params.validate(&robot).unwrap();
             let wheels =
                 WheelStage::new(&WheelStageParams::for_drive(&drive_params), robot.params(), &drive, dt).unwrap();
-            let plant = Plant::new(robot, drive, start).unwrap();
-            let mut sim =
-                ClosedLoop::new(plant, Controller::new($law, wheels), FixedGoal::new(goal).unwrap(), dt).unwrap();
+            let world = WorldParams { slope_deg: SLOPE_DEG, slope_direction_deg: SLOPE_DIR_DEG }.validate().unwrap();
+            let plant = Plant::on(robot, drive, world, start).unwrap();
+            let sensor = PoseSensor::<f64>::new(sensor_params(), dt, RUN).unwrap();
+            let goal = FixedGoal::new(goal).unwrap();
+            let mut sim = ClosedLoop::with_sensor(plant, sensor, Controller::new($law, wheels), goal, dt).unwrap();
             // Until the reset (ClosedLoop has none) every state is the same, bit for bit.
             for (k, c) in c_path.iter().enumerate().take(n / 2) {
                 sim.step().unwrap();

@@ -65,7 +65,7 @@ int main(void) {
     expect("uninitialized controller", wmr_polar_controller_f64_update(&ctrl, 0.0, &m, origin, &out),
            WMR_NOT_INITIALIZED, NULL, "");
     /* A plant passed where a robot is expected: refused by its tag. */
-    expect("valid plant", wmr_plant_f64_init(&plant, &robot, &drive, origin, &err), WMR_OK, &err, "");
+    expect("valid plant", wmr_plant_f64_init(&plant, &robot, &drive, NULL, origin, &err), WMR_OK, &err, "");
     expect("plant as robot", wmr_drive_f64_init(&drive, &dp, (const wmr_robot_f64 *)(const void *)&plant, &err),
            WMR_NOT_INITIALIZED, &err, "robot");
 

@@ -1,0 +1,443 @@
+//! The control trace: every control tick of an f32 closed loop, its inputs (the true
+//! state, the measurement, the goal) and its outputs (the drive command and the law's
+//! errors). `wmr-cli trace FILE.toml -o run.bin` writes it; the firmware's `replay`
+//! program (`firmware/`) replays it on the Cortex-M4F under QEMU and checks every tick
+//! bit for bit. Rust only (no C entry points), `no_std`, no allocation.
+//!
+//! The file is a sequence of little-endian 32-bit words: f32 values by their bit
+//! patterns, enums and flags as integers.
+//!
+//! ```text
+//! header   magic "WMRTRACE" (2 words), VERSION, CONFIG_WORDS, RECORD_WORDS, ticks
+//! config   CONFIG_WORDS words (Config::encode): law, drive, robot, wheel stage,
+//!          control_dt, dt, plant steps per tick, start pose, goal pose
+//! records  `ticks` records of RECORD_WORDS words (Record::encode), tick k at
+//!          t = k * control_dt:
+//!          t, true state (x y theta v omega phi_r phi_l), measurement (t x y theta
+//!          phi_r phi_l omega_r omega_l), goal (x y theta), command (right left),
+//!          errors (e_s e_theta dl)
+//! ```
+//!
+//! Replaying: tick k's controller, fed the recorded measurement and goal, must give the
+//! recorded command and errors; the plant, started at `start` and driven by the recorded
+//! commands, must reach each recorded state (the zero-order hold of `ClosedLoop`:
+//! control tick at t = 0, then `plant steps per tick` RK4 steps of `dt` between ticks).
+
+use wmr_core::{
+    DcMotorParams, DriveParams, HoldMode, LawParams, LyapunovParams, PaperMode, PaperParams, PolarParams, Pose2, Real,
+    RobotParams, TorqueDriveParams, WheelStageParams,
+};
+
+/// The first 8 bytes of a trace file.
+pub const MAGIC: [u8; 8] = *b"WMRTRACE";
+/// Format version.
+pub const VERSION: u32 = 1;
+/// Words of the header before the config: magic (2), version, config words, record words, ticks.
+pub const HEADER_WORDS: usize = 6;
+/// Words of [`Config`].
+pub const CONFIG_WORDS: usize = 39;
+/// Words of one [`Record`].
+pub const RECORD_WORDS: usize = 24;
+
+/// What was run: everything the replay needs to build the same loop, in f32.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Config {
+    /// The outer law and its keys.
+    pub law: LawParams<f32>,
+    /// The drive.
+    pub drive: DriveParams<f32>,
+    /// The robot (the plant's truth and the controller's model).
+    pub robot: RobotParams<f32>,
+    /// The wheel stage.
+    pub wheels: WheelStageParams<f32>,
+    /// Control period, s.
+    pub control_dt: f32,
+    /// Plant step, s.
+    pub dt: f32,
+    /// Plant steps per control tick.
+    pub steps_per_tick: u32,
+    /// Start pose of C (m, m, rad).
+    pub start: Pose2<f32>,
+    /// Goal pose of C (m, m, rad).
+    pub goal: Pose2<f32>,
+}
+
+/// Why a trace could not be read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FormatError(pub &'static str);
+
+fn f<T: Real>(v: T) -> u32 {
+    (v.to_f64_lossless() as f32).to_bits()
+}
+
+fn r(w: u32) -> f32 {
+    f32::from_bits(w)
+}
+
+fn flag(w: u32, what: &'static str) -> Result<bool, FormatError> {
+    match w {
+        0 => Ok(false),
+        1 => Ok(true),
+        _ => Err(FormatError(what)),
+    }
+}
+
+/// `Config` before rounding to f32: the loop as the scenario gives it (f64), or f32.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConfigOf<T> {
+    /// The outer law and its keys.
+    pub law: LawParams<T>,
+    /// The drive.
+    pub drive: DriveParams<T>,
+    /// The robot.
+    pub robot: RobotParams<T>,
+    /// The wheel stage.
+    pub wheels: WheelStageParams<T>,
+    /// Control period, s.
+    pub control_dt: T,
+    /// Plant step, s.
+    pub dt: T,
+    /// Plant steps per control tick.
+    pub steps_per_tick: u32,
+    /// Start pose (m, m, rad).
+    pub start: Pose2<T>,
+    /// Goal pose (m, m, rad).
+    pub goal: Pose2<T>,
+}
+
+impl<T: Real> ConfigOf<T> {
+    /// The config words, every value rounded to f32.
+    pub fn encode(&self) -> [u32; CONFIG_WORDS] {
+        let mut w = [0u32; CONFIG_WORDS];
+        let law: [u32; 9] = match self.law {
+            LawParams::Paper(p) => [
+                0,
+                match p.mode {
+                    PaperMode::Pose => 0,
+                    PaperMode::Position => 1,
+                },
+                f(p.kp_theta),
+                f(p.ki_theta),
+                f(p.kp_s),
+                f(p.ki_s),
+                f(p.goal_radius),
+                f(p.hold_radius),
+                match p.hold {
+                    HoldMode::ZeroErrors => 0,
+                    HoldMode::Freeze => 1,
+                },
+            ],
+            LawParams::Polar(p) => [
+                1,
+                f(p.k_rho),
+                f(p.k_alpha),
+                f(p.k_beta),
+                u32::from(p.reverse),
+                f(p.reverse_hysteresis),
+                f(p.goal_radius),
+                0,
+                0,
+            ],
+            LawParams::Lyapunov(p) => {
+                [2, f(p.gamma), f(p.k), f(p.h), u32::from(p.reverse), f(p.reverse_hysteresis), f(p.goal_radius), 0, 0]
+            }
+        };
+        w[0..9].copy_from_slice(&law);
+        let drive: [u32; 7] = match self.drive {
+            DriveParams::Torque(p) => [0, f(p.motor_torque_max), 0, 0, 0, 0, 0],
+            DriveParams::DcMotor(p) => {
+                [1, 0, f(p.voltage_max), f(p.torque_constant), f(p.back_emf_constant), f(p.armature_resistance), 0]
+            }
+        };
+        w[9..16].copy_from_slice(&drive);
+        let p = &self.robot;
+        let robot = [
+            p.mass,
+            p.wheel_radius,
+            p.half_track,
+            p.com_offset,
+            p.wheel_inertia,
+            p.platform_inertia,
+            p.gear_ratio,
+            p.viscous_friction,
+            p.coulomb_friction,
+            p.coulomb_speed,
+        ];
+        for (d, v) in w[16..26].iter_mut().zip(robot) {
+            *d = f(v);
+        }
+        let s = &self.wheels;
+        for (d, v) in w[26..30].iter_mut().zip([s.servo_kp, s.servo_kd, s.servo_ki, s.wheel_speed_max]) {
+            *d = f(v);
+        }
+        w[30] = f(self.control_dt);
+        w[31] = f(self.dt);
+        w[32] = self.steps_per_tick;
+        for (d, v) in w[33..39].iter_mut().zip([
+            self.start.x,
+            self.start.y,
+            self.start.theta,
+            self.goal.x,
+            self.goal.y,
+            self.goal.theta,
+        ]) {
+            *d = f(v);
+        }
+        w
+    }
+}
+
+impl Config {
+    /// Reads the config words.
+    pub fn decode(w: &[u32; CONFIG_WORDS]) -> Result<Self, FormatError> {
+        let law = match w[0] {
+            0 => LawParams::Paper(PaperParams {
+                mode: match w[1] {
+                    0 => PaperMode::Pose,
+                    1 => PaperMode::Position,
+                    _ => return Err(FormatError("paper mode is not 0 or 1")),
+                },
+                kp_theta: r(w[2]),
+                ki_theta: r(w[3]),
+                kp_s: r(w[4]),
+                ki_s: r(w[5]),
+                goal_radius: r(w[6]),
+                hold_radius: r(w[7]),
+                hold: match w[8] {
+                    0 => HoldMode::ZeroErrors,
+                    1 => HoldMode::Freeze,
+                    _ => return Err(FormatError("paper hold is not 0 or 1")),
+                },
+            }),
+            1 => LawParams::Polar(PolarParams {
+                k_rho: r(w[1]),
+                k_alpha: r(w[2]),
+                k_beta: r(w[3]),
+                reverse: flag(w[4], "polar reverse is not 0 or 1")?,
+                reverse_hysteresis: r(w[5]),
+                goal_radius: r(w[6]),
+            }),
+            2 => LawParams::Lyapunov(LyapunovParams {
+                gamma: r(w[1]),
+                k: r(w[2]),
+                h: r(w[3]),
+                reverse: flag(w[4], "lyapunov reverse is not 0 or 1")?,
+                reverse_hysteresis: r(w[5]),
+                goal_radius: r(w[6]),
+            }),
+            _ => return Err(FormatError("unknown law kind")),
+        };
+        let drive = match w[9] {
+            0 => DriveParams::Torque(TorqueDriveParams { motor_torque_max: r(w[10]) }),
+            1 => DriveParams::DcMotor(DcMotorParams {
+                voltage_max: r(w[11]),
+                torque_constant: r(w[12]),
+                back_emf_constant: r(w[13]),
+                armature_resistance: r(w[14]),
+                ..DcMotorParams::default()
+            }),
+            _ => return Err(FormatError("unknown drive kind")),
+        };
+        let robot = RobotParams {
+            mass: r(w[16]),
+            wheel_radius: r(w[17]),
+            half_track: r(w[18]),
+            com_offset: r(w[19]),
+            wheel_inertia: r(w[20]),
+            platform_inertia: r(w[21]),
+            gear_ratio: r(w[22]),
+            viscous_friction: r(w[23]),
+            coulomb_friction: r(w[24]),
+            coulomb_speed: r(w[25]),
+        };
+        let wheels =
+            WheelStageParams { servo_kp: r(w[26]), servo_kd: r(w[27]), servo_ki: r(w[28]), wheel_speed_max: r(w[29]) };
+        if w[32] == 0 {
+            return Err(FormatError("zero plant steps per tick"));
+        }
+        Ok(Config {
+            law,
+            drive,
+            robot,
+            wheels,
+            control_dt: r(w[30]),
+            dt: r(w[31]),
+            steps_per_tick: w[32],
+            start: Pose2::new(r(w[33]), r(w[34]), r(w[35])),
+            goal: Pose2::new(r(w[36]), r(w[37]), r(w[38])),
+        })
+    }
+}
+
+/// The header words for a trace of `ticks` records.
+pub fn header(ticks: u32) -> [u32; HEADER_WORDS] {
+    let m = |i: usize| u32::from_le_bytes([MAGIC[i], MAGIC[i + 1], MAGIC[i + 2], MAGIC[i + 3]]);
+    [m(0), m(4), VERSION, CONFIG_WORDS as u32, RECORD_WORDS as u32, ticks]
+}
+
+/// Checks the header words and returns the number of ticks.
+pub fn read_header(w: &[u32; HEADER_WORDS]) -> Result<u32, FormatError> {
+    let expect = header(w[5]);
+    if w[0..2] != expect[0..2] {
+        return Err(FormatError("not a wmr trace (bad magic)"));
+    }
+    if w[2] != VERSION {
+        return Err(FormatError("unsupported trace version"));
+    }
+    if w[3] as usize != CONFIG_WORDS || w[4] as usize != RECORD_WORDS {
+        return Err(FormatError("unexpected config or record size"));
+    }
+    Ok(w[5])
+}
+
+/// One control tick.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Record {
+    /// Time of the tick, s.
+    pub t: f32,
+    /// The plant's true state at the tick: x, y (m), theta (rad), v (m/s), omega (rad/s),
+    /// phi_r, phi_l (rad).
+    pub state: [f32; 7],
+    /// The measurement the controller got: t (s), x, y (m), theta (rad), wheel angles
+    /// right, left (rad), wheel speeds right, left (rad/s).
+    pub measurement: [f32; 8],
+    /// The goal pose (m, m, rad).
+    pub goal: [f32; 3],
+    /// The drive command, right and left (N m or V).
+    pub command: [f32; 2],
+    /// The law's errors: e_s (m), e_theta (rad), dl (m).
+    pub errors: [f32; 3],
+}
+
+impl Record {
+    /// The record's words.
+    pub fn encode(&self) -> [u32; RECORD_WORDS] {
+        let mut w = [0u32; RECORD_WORDS];
+        let values = core::iter::once(self.t)
+            .chain(self.state)
+            .chain(self.measurement)
+            .chain(self.goal)
+            .chain(self.command)
+            .chain(self.errors);
+        for (d, v) in w.iter_mut().zip(values) {
+            *d = v.to_bits();
+        }
+        w
+    }
+
+    /// Reads a record's words.
+    pub fn decode(w: &[u32; RECORD_WORDS]) -> Self {
+        let v = |i: usize| f32::from_bits(w[i]);
+        Record {
+            t: v(0),
+            state: core::array::from_fn(|i| v(1 + i)),
+            measurement: core::array::from_fn(|i| v(8 + i)),
+            goal: core::array::from_fn(|i| v(16 + i)),
+            command: core::array::from_fn(|i| v(19 + i)),
+            errors: core::array::from_fn(|i| v(21 + i)),
+        }
+    }
+
+    /// Column names of the CSV form, in word order.
+    pub const COLUMNS: [&'static str; RECORD_WORDS] = [
+        "t",
+        "x",
+        "y",
+        "theta",
+        "v",
+        "omega",
+        "phi_r",
+        "phi_l",
+        "m_t",
+        "m_x",
+        "m_y",
+        "m_theta",
+        "m_phi_r",
+        "m_phi_l",
+        "m_omega_r",
+        "m_omega_l",
+        "goal_x",
+        "goal_y",
+        "goal_theta",
+        "command_r",
+        "command_l",
+        "e_s",
+        "e_theta",
+        "dl",
+    ];
+
+    /// The values in word order.
+    pub fn values(&self) -> [f32; RECORD_WORDS] {
+        self.encode().map(f32::from_bits)
+    }
+}
+
+/// Words of `bytes` (little-endian); `bytes.len()` must be a multiple of 4.
+pub fn words_le<const N: usize>(bytes: &[u8]) -> Option<[u32; N]> {
+    if bytes.len() != 4 * N {
+        return None;
+    }
+    Some(core::array::from_fn(|i| {
+        u32::from_le_bytes([bytes[4 * i], bytes[4 * i + 1], bytes[4 * i + 2], bytes[4 * i + 3]])
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn config_round_trips_for_every_law_and_drive() {
+        for law in LawParams::<f64>::defaults() {
+            for drive in DriveParams::<f64>::defaults() {
+                let c = ConfigOf {
+                    law,
+                    drive,
+                    robot: RobotParams::paper(),
+                    wheels: WheelStageParams::for_drive(&drive),
+                    control_dt: 2e-3,
+                    dt: 1e-3,
+                    steps_per_tick: 2,
+                    start: Pose2::new(0.1, -0.2, 0.3),
+                    goal: Pose2::new(1.0, 1.0, 120f64.to_radians()),
+                };
+                let d = Config::decode(&c.encode()).unwrap();
+                assert_eq!(d.law.kind(), law.kind());
+                assert_eq!(d.drive.kind(), drive.kind());
+                assert_eq!(d.goal.theta, 120f64.to_radians() as f32);
+                assert!(d.wheels.wheel_speed_max.is_infinite());
+                // f32 -> words -> f32 is exact.
+                let again = ConfigOf {
+                    law: d.law,
+                    drive: d.drive,
+                    robot: d.robot,
+                    wheels: d.wheels,
+                    control_dt: d.control_dt,
+                    dt: d.dt,
+                    steps_per_tick: d.steps_per_tick,
+                    start: d.start,
+                    goal: d.goal,
+                };
+                assert_eq!(Config::decode(&again.encode()).unwrap(), d);
+            }
+        }
+    }
+
+    #[test]
+    fn record_round_trips_and_header_checks() {
+        let rec = Record {
+            t: 0.5,
+            state: [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0],
+            measurement: [0.5, 1.0, 2.0, 3.0, 6.0, 7.0, -1.0, -2.0],
+            goal: [1.0, 1.0, 2.0],
+            command: [0.25, -0.25],
+            errors: [0.1, 0.2, f32::NAN],
+        };
+        let back = Record::decode(&rec.encode());
+        assert_eq!(back.encode(), rec.encode());
+        assert_eq!(read_header(&header(7)), Ok(7));
+        let mut bad = header(7);
+        bad[2] = 99;
+        assert!(read_header(&bad).is_err());
+    }
+}
