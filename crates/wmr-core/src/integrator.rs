@@ -20,6 +20,11 @@ pub fn rk4_step<T: Real, const N: usize>(mut f: impl FnMut(T, &[T; N]) -> [T; N]
     core::array::from_fn(|i| y[i] + sixth_h * (k1[i] + two * (k2[i] + k3[i]) + k4[i]))
 }
 
+/// Where classic RK4's stability region meets the negative real axis: a decay
+/// y' = -lambda y is integrated stably (and, since the amplification factor stays
+/// positive there, without sign flips) exactly when h lambda < 2.785293563405282.
+pub const RK4_REAL_STABILITY_LIMIT: f64 = 2.785_293_563_405_282;
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -33,8 +38,3 @@ mod tests {
         assert!((y[0] - taylor).abs() < 1e-15);
     }
 }
-
-/// Where classic RK4's stability region meets the negative real axis: a decay
-/// y' = -lambda y is integrated stably (and, since the amplification factor stays
-/// positive there, without sign flips) exactly when h lambda < 2.785293563405282.
-pub const RK4_REAL_STABILITY_LIMIT: f64 = 2.785_293_563_405_282;

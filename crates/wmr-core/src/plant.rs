@@ -68,6 +68,11 @@ impl<T: Real> Plant<T> {
         &self.state
     }
 
+    /// Puts the plant in state `s` (hardware-in-the-loop, tests): the held command stays.
+    pub fn set_state(&mut self, s: State<T>) {
+        self.state = s;
+    }
+
     /// The held drive command (N m or V per wheel).
     pub fn command(&self) -> Wheels<T> {
         self.command

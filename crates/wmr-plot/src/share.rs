@@ -27,7 +27,8 @@ pub fn share_svg(title: &str, key_desc: &str, series: &[ShareSeries<'_>]) -> Res
     svg_chart(frame, |chart| {
         for (i, (law, points)) in series.iter().enumerate() {
             let color = palette(i);
-            let pts: Vec<(f64, f64)> = points.iter().filter(|(_, s)| s.is_finite()).map(|(x, s)| (*x, 100.0 * s)).collect();
+            let pts: Vec<(f64, f64)> =
+                points.iter().filter(|(_, s)| s.is_finite()).map(|(x, s)| (*x, 100.0 * s)).collect();
             chart
                 .draw_series(LineSeries::new(pts.iter().copied(), color.stroke_width(2)))
                 .map_err(err)?

@@ -79,7 +79,11 @@ pub fn share_curves(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<ShareCur
 }
 
 fn share(converged: &[bool]) -> f64 {
-    if converged.is_empty() { f64::NAN } else { converged.iter().filter(|c| **c).count() as f64 / converged.len() as f64 }
+    if converged.is_empty() {
+        f64::NAN
+    } else {
+        converged.iter().filter(|c| **c).count() as f64 / converged.len() as f64
+    }
 }
 
 /// The share curves as text: per varied key, one row per law, one column per value.

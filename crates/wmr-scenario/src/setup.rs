@@ -5,7 +5,7 @@
 
 use toml::{Table, Value};
 use wmr_core::{
-    ControllerParams, Drive, DriveParams, Plant, PoseSensor, Pose2, Robot, RobotParams, SensorParams, World,
+    ControllerParams, Drive, DriveParams, Plant, Pose2, PoseSensor, Robot, RobotParams, SensorParams, World,
     WorldParams,
 };
 
@@ -118,7 +118,8 @@ impl Setup {
         let robot = robot_params.validate().map_err(param_error("robot"))?;
         let drive_params = resolve_drive(&t.drive)?;
         let drive = drive_params.validate(&robot).map_err(param_error("drive"))?;
-        let world = overlay(&WorldParams::<f64>::default(), &t.world, "world")?.validate().map_err(param_error("world"))?;
+        let world =
+            overlay(&WorldParams::<f64>::default(), &t.world, "world")?.validate().map_err(param_error("world"))?;
         let sensor = match &t.sensor {
             Some(s) => overlay(&SensorParams::<f64>::default(), s, "sensor")?,
             None => SensorParams::default(),
@@ -127,8 +128,12 @@ impl Setup {
         let model_path = join(controller_path, "model");
         let model = match table.remove("model") {
             None => robot,
-            Some(Value::Table(m)) => overlay(robot.params(), &m, &model_path)?.validate().map_err(param_error(&model_path))?,
-            Some(other) => return Err(ScenarioError::new(model_path, format!("expected a table, got {}", other.type_str()))),
+            Some(Value::Table(m)) => {
+                overlay(robot.params(), &m, &model_path)?.validate().map_err(param_error(&model_path))?
+            }
+            Some(other) => {
+                return Err(ScenarioError::new(model_path, format!("expected a table, got {}", other.type_str())));
+            }
         };
         let controller = controller::resolve(&table, controller_path, &drive_params)?;
         let built = controller.build(model.params(), &drive).map_err(param_error(controller_path))?;
@@ -158,7 +163,8 @@ impl Setup {
         let b = b_other + p.coulomb_friction / p.coulomb_speed;
         let k = plant.stiffness() / b;
         let b_target = 0.9 * wmr_core::integrator::RK4_REAL_STABILITY_LIMIT / dt / k;
-        let needed = (p.coulomb_friction > 0.0 && b_target > b_other).then(|| p.coulomb_friction / (b_target - b_other));
+        let needed =
+            (p.coulomb_friction > 0.0 && b_target > b_other).then(|| p.coulomb_friction / (b_target - b_other));
         let advice = match needed {
             Some(w) => format!("raise coulomb_speed to {w:.3e} rad/s or more, or lower sim.dt below {max_dt:.3e} s"),
             None => format!("lower sim.dt below {max_dt:.3e} s"),

@@ -57,7 +57,15 @@ pub struct SweepSpec {
 impl PartialEq for SweepSpec {
     fn eq(&self, other: &Self) -> bool {
         (&self.goal, &self.laws, &self.variation, &self.variants, &self.setups, &self.starts, &self.source)
-            == (&other.goal, &other.laws, &other.variation, &other.variants, &other.setups, &other.starts, &other.source)
+            == (
+                &other.goal,
+                &other.laws,
+                &other.variation,
+                &other.variants,
+                &other.setups,
+                &other.starts,
+                &other.source,
+            )
     }
 }
 
@@ -88,7 +96,8 @@ impl SweepSpec {
                 .map(|k| Table::from_iter([("kind".to_owned(), Value::String(k.to_owned()))]))
                 .collect(),
         };
-        let variation = Variation::resolve(sw.vary.as_deref().unwrap_or_default(), sw.seed.unwrap_or(0), sw.trials.unwrap_or(1))?;
+        let variation =
+            Variation::resolve(sw.vary.as_deref().unwrap_or_default(), sw.seed.unwrap_or(0), sw.trials.unwrap_or(1))?;
         let variants = variation.variants();
         let mut laws: Vec<(String, Setup)> = Vec::with_capacity(controllers.len());
         let mut tables = Vec::with_capacity(controllers.len());
@@ -162,10 +171,12 @@ fn with_settings(t: &Tables, settings: &[(&str, Value)]) -> Result<Tables, Scena
 /// Resolves `t` and assembles its loop at the goal, so every check a run makes is made
 /// now; an error says which varied value (`what`) caused it.
 fn check_setup(t: &Tables, path: &str, sim: &SimSpec, goal: Pose2<f64>, what: &str) -> Result<Setup, ScenarioError> {
-    let prefix = |e: ScenarioError| if what.is_empty() { e } else { ScenarioError::new(e.key, format!("{what}{}", e.message)) };
+    let prefix =
+        |e: ScenarioError| if what.is_empty() { e } else { ScenarioError::new(e.key, format!("{what}{}", e.message)) };
     let setup = Setup::resolve(t, path).map_err(prefix)?;
     setup.check_step(sim.dt()).map_err(prefix)?;
-    assemble::closed_loop(&setup, 0, goal, goal, sim.dt(), Origin { run: "sweep", controller: path }).map_err(prefix)?;
+    assemble::closed_loop(&setup, 0, goal, goal, sim.dt(), Origin { run: "sweep", controller: path })
+        .map_err(prefix)?;
     Ok(setup)
 }
 

@@ -110,12 +110,18 @@ impl Variation {
                 (None, None, Some([mean, std])) => {
                     let (mean, std) = (finite("normal", mean)?, finite("normal", std)?);
                     if std < 0.0 {
-                        return Err(ScenarioError::new(format!("{path}.normal"), "the standard deviation must be >= 0"));
+                        return Err(ScenarioError::new(
+                            format!("{path}.normal"),
+                            "the standard deviation must be >= 0",
+                        ));
                     }
                     Spread::Normal(mean, std)
                 }
                 _ => {
-                    return Err(ScenarioError::new(path, "give exactly one of values, uniform = [low, high], normal = [mean, std]"));
+                    return Err(ScenarioError::new(
+                        path,
+                        "give exactly one of values, uniform = [low, high], normal = [mean, std]",
+                    ));
                 }
             };
             if keys.iter().any(|k: &Varied| k.key == f.key) {
@@ -153,8 +159,10 @@ impl Variation {
             .enumerate()
             .filter_map(|(i, k)| match k.spread {
                 Spread::Values(_) => None,
-                Spread::Uniform(lo, hi) => Some((i, lo + (hi - lo) * (g.uniform_open0() - f64::EPSILON / 2.0).max(0.0))),
-                Spread::Normal(mean, std) => Some((i, mean + std * g.next())),
+                Spread::Uniform(lo, hi) => {
+                    Some((i, lo + (hi - lo) * (g.uniform_open0() - f64::EPSILON / 2.0).max(0.0)))
+                }
+                Spread::Normal(mean, std) => Some((i, mean + std * g.next_normal())),
             })
             .collect()
     }

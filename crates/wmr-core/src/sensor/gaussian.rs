@@ -43,7 +43,7 @@ impl Gaussian {
     }
 
     /// The next standard normal number.
-    pub fn next(&mut self) -> f64 {
+    pub fn next_normal(&mut self) -> f64 {
         if let Some(z) = self.spare.take() {
             return z;
         }

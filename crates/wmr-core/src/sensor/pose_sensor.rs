@@ -116,8 +116,9 @@ impl<T: Real, const N: usize> PoseSensor<T, N> {
         let ticks_per_sample = if params.rate_hz.is_infinite() {
             1
         } else {
-            u64::from(check::whole_multiple("rate_hz", params.rate_hz.recip(), control_dt).map_err(|e| {
-                ParamError { reason: crate::Reason::OutOfRange("1 / rate_hz must be a whole multiple of control_dt"), ..e }
+            u64::from(check::whole_multiple("rate_hz", params.rate_hz.recip(), control_dt).map_err(|e| ParamError {
+                reason: crate::Reason::OutOfRange("1 / rate_hz must be a whole multiple of control_dt"),
+                ..e
             })?)
         };
         check::non_negative("latency", params.latency)?;
@@ -168,7 +169,7 @@ impl<T: Real, const N: usize> PoseSensor<T, N> {
 
     /// `value` plus Gaussian noise of standard deviation `sigma` (unchanged when 0).
     fn noisy(&mut self, value: T, sigma: T) -> T {
-        if sigma > T::zero() { value + sigma * T::lit(self.noise.next()) } else { value }
+        if sigma > T::zero() { value + sigma * T::lit(self.noise.next_normal()) } else { value }
     }
 
     /// The pose the controller sees at this tick, and when it was taken (s).
