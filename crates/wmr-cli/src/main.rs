@@ -8,6 +8,7 @@ mod keys;
 mod mcap_sink;
 mod plot_cmd;
 mod sweep_cmd;
+mod trace_cmd;
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -71,6 +72,19 @@ enum Command {
         /// The scenario file (TOML).
         file: PathBuf,
     },
+    /// Run one [[run]] in f32, as firmware does, and write every control tick's inputs
+    /// (true state, measurement, goal) and outputs (command, errors): OUT.bin for the
+    /// firmware's bit-for-bit replay under QEMU (firmware/README.md), or OUT.csv.
+    Trace {
+        /// The scenario file (TOML).
+        file: PathBuf,
+        /// Output file: .bin (the trace format of wmr_ffi::trace) or .csv.
+        #[arg(short, long, value_name = "OUT")]
+        output: PathBuf,
+        /// Which [[run]] (0 = the first).
+        #[arg(long, default_value_t = 0)]
+        run: usize,
+    },
 }
 
 /// Output format.
@@ -122,6 +136,14 @@ fn run(cli: Cli) -> Result<()> {
             print!("{}", scenario.to_toml());
             Ok(())
         }
+        Command::Trace { file, output, run } => {
+            let scenario = load(&file)?;
+            atomic::install_interrupt_handler()?;
+            let t = trace_cmd::trace(&scenario, run, &output)?;
+            let end = if t.diverged { "diverged" } else { "completed" };
+            println!("trace: {} ticks of {} (f32) to t = {} s, {end}: {}", t.ticks, t.law, t.t_last, output.display());
+            Ok(())
+        }
         Command::Sweep { file, output, plots } => {
             let scenario = load(&file)?;
             let output = output.unwrap_or_else(|| PathBuf::from(format!("{}-sweep.csv", scenario.name())));
@@ -153,7 +175,7 @@ fn run(cli: Cli) -> Result<()> {
                     csv_sink::CsvSink::new(file, scenario.setup().has_sensor).map_err(|e| anyhow::anyhow!(e))?,
                 ),
                 Format::Mcap => Box::new(
-                    mcap_sink::McapSink::new(file, *scenario.robot().params()).map_err(|e| anyhow::anyhow!(e))?,
+                    mcap_sink::McapSink::new(file, *scenario.robot().params(), scenario.setup().has_sensor).map_err(|e| anyhow::anyhow!(e))?,
                 ),
             };
             let results = exec::execute(&scenario, sink.as_mut(), std::io::stderr().is_terminal())

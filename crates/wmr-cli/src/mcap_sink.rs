@@ -11,6 +11,9 @@
 //! | `/runN/sample` | `wmr.Sample` (JSON, JSON Schema) | every sample: `run` and every CSV column |
 //! | `/runN/goal` | `foxglove.PoseInFrame` | once, at t = 0: the goal pose in `world` |
 //! | `/runN/robot` | `foxglove.SceneUpdate` | once, at t = 0: a box locked to `runN/base_link` |
+//! | `/runN/pose_meas` | `foxglove.PoseInFrame` | with a `[sensor]`: every sample, the pose the controller used |
+//!
+//! With a `[sensor]` the JSON samples also carry `x_meas`, `y_meas`, `theta_meas`.
 
 use std::fmt::Write as _;
 use std::fs::File;
@@ -23,7 +26,7 @@ use foxglove::messages::{
 };
 use foxglove::{Channel, Context, McapWriteOptions, McapWriterHandle, PartialMetadata, RawChannel, Schema};
 use wmr_core::{Pose2, RobotParams, Sample};
-use wmr_scenario::{RunSpec, SAMPLE_COLUMNS, Sink, SinkError, sample_values};
+use wmr_scenario::{MEASURED_COLUMNS, RunSpec, SAMPLE_COLUMNS, Sink, SinkError, measured_values, sample_values};
 
 use crate::csv_sink::format_f64;
 
@@ -74,6 +77,8 @@ struct RunChannels {
     pose: Channel<PoseInFrame>,
     path: Channel<SceneUpdate>,
     sample: Arc<RawChannel>,
+    /// The measured pose, with a `[sensor]`.
+    pose_meas: Option<Channel<PoseInFrame>>,
     base_link: String,
     /// Points of the path chunk being drawn.
     chunk: Vec<Point3>,
@@ -91,6 +96,8 @@ pub struct McapSink {
     robot: RobotParams<f64>,
     run: Option<RunChannels>,
     schema: Schema,
+    /// Also log the measured pose (the scenario has a `[sensor]`).
+    measured: bool,
 }
 
 /// Log time of a simulation time `t` (s): ns from the Unix epoch.
@@ -114,9 +121,10 @@ fn pose(p: Pose2<f64>) -> Pose {
 }
 
 /// JSON Schema of the `/runN/sample` messages: `run` and every CSV column, all numbers.
-fn sample_schema() -> Schema {
+fn sample_schema(measured: bool) -> Schema {
     let mut props = String::from(r#""run":{"type":"integer","description":"0-based index of the [[run]]"}"#);
-    for c in SAMPLE_COLUMNS {
+    let extra: &[&str] = if measured { &MEASURED_COLUMNS } else { &[] };
+    for c in SAMPLE_COLUMNS.iter().chain(extra) {
         let _ = write!(props, r#","{c}":{{"type":"number"}}"#);
     }
     let text = format!(
@@ -126,14 +134,14 @@ fn sample_schema() -> Schema {
 }
 
 impl McapSink {
-    /// Starts an MCAP file on `file` for runs of `robot`.
-    pub fn new(file: File, robot: RobotParams<f64>) -> Result<Self, SinkError> {
+    /// Starts an MCAP file on `file` for runs of `robot`; `measured`: log the measured pose too.
+    pub fn new(file: File, robot: RobotParams<f64>, measured: bool) -> Result<Self, SinkError> {
         let context = Context::new();
         let error = Arc::new(Mutex::new(None));
         let writer = Checked { inner: BufWriter::with_capacity(1 << 16, file), error: error.clone() };
         let options = McapWriteOptions::new().profile("");
         let handle = context.mcap_writer_with_options(options).create(writer)?;
-        Ok(Self { context, handle: Some(handle), error, robot, run: None, schema: sample_schema() })
+        Ok(Self { context, handle: Some(handle), error, robot, run: None, schema: sample_schema(measured), measured })
     }
 
     fn check(&self) -> Result<(), SinkError> {
@@ -193,6 +201,7 @@ impl Sink for McapSink {
             pose: ctx.channel_builder(topic("pose")).build(),
             path: ctx.channel_builder(topic("path")).build(),
             sample,
+            pose_meas: self.measured.then(|| ctx.channel_builder(topic("pose_meas")).build()),
             base_link,
             chunk: Vec::with_capacity(PATH_CHUNK),
             chunk_index: 0,
@@ -218,6 +227,12 @@ impl Sink for McapSink {
             ns,
         );
         ch.pose.log_with_time(&PoseInFrame { timestamp: ts, frame_id: "world".into(), pose: Some(pose(p)) }, ns);
+        if let Some(meas) = &ch.pose_meas {
+            meas.log_with_time(
+                &PoseInFrame { timestamp: ts, frame_id: "world".into(), pose: Some(pose(s.measured)) },
+                ns,
+            );
+        }
 
         // Path: the current chunk grows until PATH_CHUNK points, then a new entity starts
         // at the last point so the line stays continuous.
@@ -270,6 +285,12 @@ impl Sink for McapSink {
         for (name, v) in SAMPLE_COLUMNS.iter().zip(sample_values(s)) {
             format_f64(v, &mut ch.number);
             let _ = write!(ch.json, ",\"{name}\":{}", ch.number);
+        }
+        if ch.pose_meas.is_some() {
+            for (name, v) in MEASURED_COLUMNS.iter().zip(measured_values(s)) {
+                format_f64(v, &mut ch.number);
+                let _ = write!(ch.json, ",\"{name}\":{}", ch.number);
+            }
         }
         ch.json.push('}');
         ch.sample.log_with_meta(ch.json.as_bytes(), PartialMetadata::with_log_time(ns));
