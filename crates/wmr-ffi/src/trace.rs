@@ -9,8 +9,9 @@
 //!
 //! ```text
 //! header   magic "WMRTRACE" (2 words), VERSION, CONFIG_WORDS, RECORD_WORDS, ticks
-//! config   CONFIG_WORDS words (Config::encode): law, drive, robot, wheel stage,
-//!          control_dt, dt, plant steps per tick, start pose, goal pose
+//! config   CONFIG_WORDS words (ConfigOf::encode): law, drive, robot (the plant's),
+//!          model (the controller's robot), wheel stage, control_dt, dt, plant steps
+//!          per tick, start pose, goal pose, ground slope
 //! records  `ticks` records of RECORD_WORDS words (Record::encode), tick k at
 //!          t = k * control_dt:
 //!          t, true state (x y theta v omega phi_r phi_l), measurement (t x y theta
@@ -25,7 +26,7 @@
 
 use wmr_core::{
     DcMotorParams, DriveParams, HoldMode, LawParams, LyapunovParams, PaperMode, PaperParams, PolarParams, Pose2, Real,
-    RobotParams, TorqueDriveParams, WheelStageParams,
+    RobotParams, TorqueDriveParams, WheelStageParams, WorldParams,
 };
 
 /// The first 8 bytes of a trace file.
@@ -35,7 +36,7 @@ pub const VERSION: u32 = 1;
 /// Words of the header before the config: magic (2), version, config words, record words, ticks.
 pub const HEADER_WORDS: usize = 6;
 /// Words of [`Config`].
-pub const CONFIG_WORDS: usize = 39;
+pub const CONFIG_WORDS: usize = 51;
 /// Words of one [`Record`].
 pub const RECORD_WORDS: usize = 24;
 
@@ -48,6 +49,10 @@ pub struct Config {
     pub drive: DriveParams<f32>,
     /// The robot (the plant's truth and the controller's model).
     pub robot: RobotParams<f32>,
+    /// The controller's idea of the robot (`[controller.model]`).
+    pub model: RobotParams<f32>,
+    /// The ground.
+    pub world: WorldParams<f32>,
     /// The wheel stage.
     pub wheels: WheelStageParams<f32>,
     /// Control period, s.
@@ -82,6 +87,36 @@ fn flag(w: u32, what: &'static str) -> Result<bool, FormatError> {
     }
 }
 
+fn robot_words<T: Real>(p: &RobotParams<T>) -> [u32; 10] {
+    [
+        f(p.mass),
+        f(p.wheel_radius),
+        f(p.half_track),
+        f(p.com_offset),
+        f(p.wheel_inertia),
+        f(p.platform_inertia),
+        f(p.gear_ratio),
+        f(p.viscous_friction),
+        f(p.coulomb_friction),
+        f(p.coulomb_speed),
+    ]
+}
+
+fn robot_of(w: &[u32]) -> RobotParams<f32> {
+    RobotParams {
+        mass: r(w[0]),
+        wheel_radius: r(w[1]),
+        half_track: r(w[2]),
+        com_offset: r(w[3]),
+        wheel_inertia: r(w[4]),
+        platform_inertia: r(w[5]),
+        gear_ratio: r(w[6]),
+        viscous_friction: r(w[7]),
+        coulomb_friction: r(w[8]),
+        coulomb_speed: r(w[9]),
+    }
+}
+
 /// `Config` before rounding to f32: the loop as the scenario gives it (f64), or f32.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ConfigOf<T> {
@@ -91,6 +126,10 @@ pub struct ConfigOf<T> {
     pub drive: DriveParams<T>,
     /// The robot.
     pub robot: RobotParams<T>,
+    /// The controller's idea of the robot (`[controller.model]`).
+    pub model: RobotParams<T>,
+    /// The ground.
+    pub world: WorldParams<T>,
     /// The wheel stage.
     pub wheels: WheelStageParams<T>,
     /// Control period, s.
@@ -145,42 +184,37 @@ impl<T: Real> ConfigOf<T> {
         w[0..9].copy_from_slice(&law);
         let drive: [u32; 7] = match self.drive {
             DriveParams::Torque(p) => [0, f(p.motor_torque_max), 0, 0, 0, 0, 0],
-            DriveParams::DcMotor(p) => {
-                [1, 0, f(p.voltage_max), f(p.torque_constant), f(p.back_emf_constant), f(p.armature_resistance), 0]
-            }
+            DriveParams::DcMotor(p) => [
+                1,
+                0,
+                f(p.voltage_max),
+                f(p.torque_constant),
+                f(p.back_emf_constant),
+                f(p.armature_resistance),
+                f(p.current_max),
+            ],
         };
         w[9..16].copy_from_slice(&drive);
-        let p = &self.robot;
-        let robot = [
-            p.mass,
-            p.wheel_radius,
-            p.half_track,
-            p.com_offset,
-            p.wheel_inertia,
-            p.platform_inertia,
-            p.gear_ratio,
-            p.viscous_friction,
-            p.coulomb_friction,
-            p.coulomb_speed,
-        ];
-        for (d, v) in w[16..26].iter_mut().zip(robot) {
-            *d = f(v);
-        }
+        w[16..26].copy_from_slice(&robot_words(&self.robot));
+        w[26..36].copy_from_slice(&robot_words(&self.model));
         let s = &self.wheels;
-        for (d, v) in w[26..30].iter_mut().zip([s.servo_kp, s.servo_kd, s.servo_ki, s.wheel_speed_max]) {
+        for (d, v) in w[36..40].iter_mut().zip([s.servo_kp, s.servo_kd, s.servo_ki, s.wheel_speed_max]) {
             *d = f(v);
         }
-        w[30] = f(self.control_dt);
-        w[31] = f(self.dt);
-        w[32] = self.steps_per_tick;
-        for (d, v) in w[33..39].iter_mut().zip([
+        w[40] = f(self.control_dt);
+        w[41] = f(self.dt);
+        w[42] = self.steps_per_tick;
+        let rest = [
             self.start.x,
             self.start.y,
             self.start.theta,
             self.goal.x,
             self.goal.y,
             self.goal.theta,
-        ]) {
+            self.world.slope_deg,
+            self.world.slope_direction_deg,
+        ];
+        for (d, v) in w[43..51].iter_mut().zip(rest) {
             *d = f(v);
         }
         w
@@ -234,37 +268,27 @@ impl Config {
                 torque_constant: r(w[12]),
                 back_emf_constant: r(w[13]),
                 armature_resistance: r(w[14]),
-                ..DcMotorParams::default()
+                current_max: r(w[15]),
             }),
             _ => return Err(FormatError("unknown drive kind")),
         };
-        let robot = RobotParams {
-            mass: r(w[16]),
-            wheel_radius: r(w[17]),
-            half_track: r(w[18]),
-            com_offset: r(w[19]),
-            wheel_inertia: r(w[20]),
-            platform_inertia: r(w[21]),
-            gear_ratio: r(w[22]),
-            viscous_friction: r(w[23]),
-            coulomb_friction: r(w[24]),
-            coulomb_speed: r(w[25]),
-        };
         let wheels =
-            WheelStageParams { servo_kp: r(w[26]), servo_kd: r(w[27]), servo_ki: r(w[28]), wheel_speed_max: r(w[29]) };
-        if w[32] == 0 {
+            WheelStageParams { servo_kp: r(w[36]), servo_kd: r(w[37]), servo_ki: r(w[38]), wheel_speed_max: r(w[39]) };
+        if w[42] == 0 {
             return Err(FormatError("zero plant steps per tick"));
         }
         Ok(Config {
             law,
             drive,
-            robot,
+            robot: robot_of(&w[16..26]),
+            model: robot_of(&w[26..36]),
+            world: WorldParams { slope_deg: r(w[49]), slope_direction_deg: r(w[50]) },
             wheels,
-            control_dt: r(w[30]),
-            dt: r(w[31]),
-            steps_per_tick: w[32],
-            start: Pose2::new(r(w[33]), r(w[34]), r(w[35])),
-            goal: Pose2::new(r(w[36]), r(w[37]), r(w[38])),
+            control_dt: r(w[40]),
+            dt: r(w[41]),
+            steps_per_tick: w[42],
+            start: Pose2::new(r(w[43]), r(w[44]), r(w[45])),
+            goal: Pose2::new(r(w[46]), r(w[47]), r(w[48])),
         })
     }
 }
@@ -394,6 +418,8 @@ mod tests {
                     law,
                     drive,
                     robot: RobotParams::paper(),
+                    model: RobotParams { mass: 6.0, ..RobotParams::paper() },
+                    world: WorldParams { slope_deg: 2.0, slope_direction_deg: -45.0 },
                     wheels: WheelStageParams::for_drive(&drive),
                     control_dt: 2e-3,
                     dt: 1e-3,
@@ -406,11 +432,15 @@ mod tests {
                 assert_eq!(d.drive.kind(), drive.kind());
                 assert_eq!(d.goal.theta, 120f64.to_radians() as f32);
                 assert!(d.wheels.wheel_speed_max.is_infinite());
+                assert_eq!(d.model.mass, 6.0);
+                assert_eq!(d.world.slope_direction_deg, -45.0);
                 // f32 -> words -> f32 is exact.
                 let again = ConfigOf {
                     law: d.law,
                     drive: d.drive,
                     robot: d.robot,
+                    model: d.model,
+                    world: d.world,
                     wheels: d.wheels,
                     control_dt: d.control_dt,
                     dt: d.dt,
