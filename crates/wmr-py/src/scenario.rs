@@ -518,6 +518,11 @@ pub fn sweep<'py>(py: Python<'py>, scenario: &Bound<'py, PyAny>) -> PyResult<Bou
     d.set_item("x0", PyArray1::from_vec(py, outcomes.iter().map(|o| o.start.x).collect()))?;
     d.set_item("y0", PyArray1::from_vec(py, outcomes.iter().map(|o| o.start.y).collect()))?;
     d.set_item("theta0", PyArray1::from_vec(py, outcomes.iter().map(|o| o.start.theta).collect()))?;
+    // One array per varied key of a robustness sweep (`vary`), the value each run used.
+    let values: Vec<Vec<f64>> = outcomes.iter().map(|o| spec.varied_values(o)).collect();
+    for (j, k) in spec.variation.keys.iter().enumerate() {
+        d.set_item(k.key.as_str(), PyArray1::from_vec(py, values.iter().map(|v| v[j]).collect()))?;
+    }
     d.set_item("table", wmr_scenario::summary_table(&wmr_scenario::summarize(spec, &outcomes)))?;
     Ok(d)
 }

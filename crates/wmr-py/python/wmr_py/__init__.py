@@ -91,9 +91,12 @@ def _scenario(
     t_end: float,
     dt: Optional[float],
     log_dt: Optional[float],
+    sensor: Any = None,
+    world: Any = None,
 ) -> dict:
     sc: dict = {"name": "simulate", "run": runs, "sim": {"t_end": t_end, "dt": dt, "log_dt": log_dt}}
-    for key, value in (("robot", robot), ("drive", drive), ("controller", controller)):
+    tables = (("robot", robot), ("drive", drive), ("controller", controller), ("sensor", sensor), ("world", world))
+    for key, value in tables:
         table = _table(value, key)
         if table is not None:
             sc[key] = table
@@ -110,6 +113,8 @@ def simulate(
     dt: Optional[float] = None,
     log_dt: float = 0.01,
     label: Optional[str] = None,
+    sensor: Optional[Mapping[str, Any]] = None,
+    world: Optional[Mapping[str, Any]] = None,
 ) -> RunResult:
     """Simulate one run of the closed loop and return its RunResult.
 
@@ -119,6 +124,10 @@ def simulate(
     ``[controller]`` keys (docs/scenario.md); ``robot`` may also be a ``Robot``.
     t_end: simulated time, s. dt: RK4 step, s (default: the controller's control_dt,
     1 ms). log_dt: output sample period, s (a whole multiple of dt).
+    sensor, world: the scenario's ``[sensor]`` (pose rate, latency, noise, encoders, seed)
+    and ``[world]`` (slope) keys; a ``controller`` dict may hold a ``model`` dict (the
+    controller's idea of the robot). With ``sensor``, ``x_meas``, ``y_meas`` and
+    ``theta_meas`` are the pose the controller used.
 
     The same as ``run_scenario`` on a one-run scenario: same parser, checks and loop.
     Raises ScenarioError naming the key (e.g. ``robot.mass``, ``run[0].start.x``).
@@ -126,7 +135,7 @@ def simulate(
     run: dict = {"start": _pose(start, "start"), "goal": _pose(goal, "goal")}
     if label is not None:
         run["label"] = label
-    return run_scenario(_scenario([run], robot, drive, controller, t_end, dt, log_dt))[0]
+    return run_scenario(_scenario([run], robot, drive, controller, t_end, dt, log_dt, sensor, world))[0]
 
 
 def run_batch(
@@ -137,6 +146,8 @@ def run_batch(
     controller: Optional[Mapping[str, Any]] = None,
     t_end: float = 60.0,
     dt: Optional[float] = None,
+    sensor: Optional[Mapping[str, Any]] = None,
+    world: Optional[Mapping[str, Any]] = None,
 ) -> dict:
     """Run the closed loop from many starts to one goal in parallel (rayon, the GIL
     released) and return a dict of 1-D arrays, one entry per start, in order:
@@ -148,7 +159,8 @@ def run_batch(
     bool. Plus ``arrival_radius`` (m), the 1 cm threshold.
 
     starts: array-like of shape (N, 3): rows (x_m, y_m, theta_rad).
-    goal, robot, drive, controller, t_end, dt: as for ``simulate``.
+    goal, robot, drive, controller, t_end, dt, sensor, world: as for ``simulate``; run i
+    draws its sensor noise from stream i.
     """
     arr = np.ascontiguousarray(starts, dtype=np.float64)
     if arr.ndim != 2 or arr.shape[1] != 3 or arr.shape[0] == 0:
@@ -163,5 +175,5 @@ def run_batch(
     if not all(math.isfinite(v) for v in base_start.values()):
         base_start = None
     runs = [{"start": base_start, "goal": _pose(goal, "goal")}]
-    base = _scenario(runs, robot, drive, controller, t_end, dt, t_end)
+    base = _scenario(runs, robot, drive, controller, t_end, dt, t_end, sensor, world)
     return _native._run_batch(base, arr)
