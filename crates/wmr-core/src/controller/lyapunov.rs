@@ -47,7 +47,7 @@
 //! error the law drives to zero; e_s = (x_d - x) cos(theta) + (y_d - y) sin(theta), the
 //! signed distance to the goal along the heading.
 
-use super::polar_frame::{Direction, PolarCoordinateLaw, PolarCoords, PolarGains, check_direction_keys};
+use super::polar_frame::{Direction, PolarCoordinateLaw, PolarCoords, PolarGains, Steering};
 use crate::Real;
 use crate::error::{ParamError, check};
 use crate::math::{Pose2, Twist2};
@@ -85,31 +85,16 @@ impl<T: Real> Default for LyapunovParams<T> {
     }
 }
 
-impl<T: Real> LyapunovParams<T> {
-    /// Checks every field; errors name the key.
-    pub fn validate(&self) -> Result<(), ParamError> {
+impl<T: Real> PolarGains<T> for LyapunovParams<T> {
+    fn check_gains(&self) -> Result<(), ParamError> {
         check::positive("gamma", self.gamma)?;
         check::positive("k", self.k)?;
         check::positive("h", self.h)?;
-        check_direction_keys(self.reverse_hysteresis, self.goal_radius)
-    }
-}
-
-impl<T: Real> PolarGains<T> for LyapunovParams<T> {
-    fn validate(&self) -> Result<(), ParamError> {
-        LyapunovParams::validate(self)
+        Ok(())
     }
 
-    fn reverse(&self) -> bool {
-        self.reverse
-    }
-
-    fn reverse_hysteresis(&self) -> T {
-        self.reverse_hysteresis
-    }
-
-    fn goal_radius(&self) -> T {
-        self.goal_radius
+    fn steering(&self) -> Steering<T> {
+        Steering { reverse: self.reverse, reverse_hysteresis: self.reverse_hysteresis, goal_radius: self.goal_radius }
     }
 
     /// u = gamma cos(alpha) e, omega = k alpha + gamma (cos(alpha) sin(alpha) / alpha)

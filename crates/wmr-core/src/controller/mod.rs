@@ -24,7 +24,7 @@ pub use law::{ControlErrors, Law, LawOutput, WheelDemand};
 pub use lyapunov::{LyapunovLaw, LyapunovParams};
 pub use paper::{HoldMode, PaperLaw, PaperMode, PaperParams};
 pub use polar::{PolarLaw, PolarParams};
-pub use polar_frame::{Direction, DirectionSelector, PolarCoordinateLaw, PolarCoords, PolarGains};
+pub use polar_frame::{Direction, DirectionSelector, PolarCoordinateLaw, PolarCoords, PolarGains, Steering};
 pub use saturation::{WheelRateLimiter, limit_wheel_speeds, wheel_speed_scale};
 pub use servo::{ServoGains, WheelServo};
 pub use wheel_stage::{WheelStage, WheelStageParams};

@@ -61,7 +61,7 @@
 //! heading error the law drives to zero (= alpha + beta); e_s = (x_d - x) cos(theta) +
 //! (y_d - y) sin(theta), the signed distance to the goal along the heading.
 
-use super::polar_frame::{Direction, PolarCoordinateLaw, PolarCoords, PolarGains, check_direction_keys};
+use super::polar_frame::{Direction, PolarCoordinateLaw, PolarCoords, PolarGains, Steering};
 use crate::Real;
 use crate::error::{ParamError, check};
 use crate::math::Twist2;
@@ -100,9 +100,8 @@ impl<T: Real> Default for PolarParams<T> {
     }
 }
 
-impl<T: Real> PolarParams<T> {
-    /// Checks every field; gain errors name the key and the violated condition.
-    pub fn validate(&self) -> Result<(), ParamError> {
+impl<T: Real> PolarGains<T> for PolarParams<T> {
+    fn check_gains(&self) -> Result<(), ParamError> {
         let k_rho = check::positive("k_rho", self.k_rho)?;
         let k_alpha = check::finite("k_alpha", self.k_alpha)?;
         let k_beta = check::finite("k_beta", self.k_beta)?;
@@ -120,25 +119,11 @@ impl<T: Real> PolarParams<T> {
                 k_alpha,
             ));
         }
-        check_direction_keys(self.reverse_hysteresis, self.goal_radius)
-    }
-}
-
-impl<T: Real> PolarGains<T> for PolarParams<T> {
-    fn validate(&self) -> Result<(), ParamError> {
-        PolarParams::validate(self)
+        Ok(())
     }
 
-    fn reverse(&self) -> bool {
-        self.reverse
-    }
-
-    fn reverse_hysteresis(&self) -> T {
-        self.reverse_hysteresis
-    }
-
-    fn goal_radius(&self) -> T {
-        self.goal_radius
+    fn steering(&self) -> Steering<T> {
+        Steering { reverse: self.reverse, reverse_hysteresis: self.reverse_hysteresis, goal_radius: self.goal_radius }
     }
 
     /// v = s k_rho rho, omega = k_alpha alpha + k_beta beta (module docs).

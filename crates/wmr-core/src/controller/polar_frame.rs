@@ -177,27 +177,23 @@ fn goal_hold<T: Real>(held: bool, dl: T, radius: T) -> bool {
     if held { dl <= radius + radius } else { dl <= radius }
 }
 
-/// Checks the keys the polar-coordinate laws share: `reverse_hysteresis` in [0, pi/2)
-/// and `goal_radius` >= 0.
-pub(crate) fn check_direction_keys<T: Real>(reverse_hysteresis: T, goal_radius: T) -> Result<(), ParamError> {
-    check::non_negative("reverse_hysteresis", reverse_hysteresis)?;
-    if reverse_hysteresis >= T::FRAC_PI_2() {
-        return Err(check::out_of_range("reverse_hysteresis", "must be < pi/2", reverse_hysteresis));
-    }
-    check::non_negative("goal_radius", goal_radius)?;
-    Ok(())
+/// The keys every law in polar coordinates has: how it picks its direction and where it stops.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Steering<T> {
+    /// Drive backwards when the goal is behind (`reverse`).
+    pub reverse: bool,
+    /// Overshoot of |alpha| past pi/2, rad, before a later direction switch (`reverse_hysteresis`).
+    pub reverse_hysteresis: T,
+    /// Within this distance of the goal, m, the law stops (`goal_radius`).
+    pub goal_radius: T,
 }
 
 /// What distinguishes one law in polar coordinates from another: its gains and its twist.
 pub trait PolarGains<T: Real>: Copy {
-    /// Checks every gain; errors name the key and the violated condition.
-    fn validate(&self) -> Result<(), ParamError>;
-    /// Drive backwards when the goal is behind (`reverse`).
-    fn reverse(&self) -> bool;
-    /// Overshoot of |alpha| past pi/2, rad, before a later direction switch.
-    fn reverse_hysteresis(&self) -> T;
-    /// Within this distance of the goal, m, the law stops (`goal_radius`).
-    fn goal_radius(&self) -> T;
+    /// Checks the law's own gains; errors name the key and the violated condition.
+    fn check_gains(&self) -> Result<(), ParamError>;
+    /// The keys it shares with every polar law.
+    fn steering(&self) -> Steering<T>;
     /// The twist (v in m/s, omega in rad/s) for the goal at `c` in driving direction `dir`.
     fn twist(&self, dir: Direction, c: &PolarCoords<T>) -> Twist2<T>;
 }
@@ -213,10 +209,17 @@ pub struct PolarCoordinateLaw<T, G> {
 }
 
 impl<T: Real, G: PolarGains<T>> PolarCoordinateLaw<T, G> {
-    /// Validates the gains.
+    /// Validates the gains and the shared keys (`reverse_hysteresis` in [0, pi/2),
+    /// `goal_radius` >= 0).
     pub fn new(gains: G) -> Result<Self, ParamError> {
-        gains.validate()?;
-        let direction = DirectionSelector::new(gains.reverse(), gains.reverse_hysteresis());
+        gains.check_gains()?;
+        let st = gains.steering();
+        check::non_negative("reverse_hysteresis", st.reverse_hysteresis)?;
+        if st.reverse_hysteresis >= T::FRAC_PI_2() {
+            return Err(check::out_of_range("reverse_hysteresis", "must be < pi/2", st.reverse_hysteresis));
+        }
+        check::non_negative("goal_radius", st.goal_radius)?;
+        let direction = DirectionSelector::new(st.reverse, st.reverse_hysteresis);
         Ok(Self { gains, direction, held: false })
     }
 
@@ -238,7 +241,7 @@ impl<T: Real, G: PolarGains<T>> PolarCoordinateLaw<T, G> {
     /// [`PolarCoordinateLaw::twist`] with the distance `dl` (m) from `pose` to `goal` known.
     #[inline]
     fn twist_at(&mut self, pose: Pose2<T>, goal: Pose2<T>, dl: T) -> Twist2<T> {
-        self.held = goal_hold(self.held, dl, self.gains.goal_radius());
+        self.held = goal_hold(self.held, dl, self.gains.steering().goal_radius);
         if self.held {
             return Twist2::default();
         }
