@@ -171,11 +171,12 @@ fn run(cli: Cli) -> Result<()> {
             let out = AtomicOut::create(&output)?;
             let file = out.file()?;
             let mut sink: Box<dyn Sink> = match format {
-                Format::Csv => Box::new(
-                    csv_sink::CsvSink::new(file, scenario.setup().has_sensor).map_err(|e| anyhow::anyhow!(e))?,
-                ),
+                Format::Csv => {
+                    Box::new(csv_sink::CsvSink::new(file, scenario.setup().has_sensor).map_err(|e| anyhow::anyhow!(e))?)
+                }
                 Format::Mcap => Box::new(
-                    mcap_sink::McapSink::new(file, *scenario.robot().params(), scenario.setup().has_sensor).map_err(|e| anyhow::anyhow!(e))?,
+                    mcap_sink::McapSink::new(file, *scenario.robot().params(), scenario.setup().has_sensor)
+                        .map_err(|e| anyhow::anyhow!(e))?,
                 ),
             };
             let results = exec::execute(&scenario, sink.as_mut(), std::io::stderr().is_terminal())

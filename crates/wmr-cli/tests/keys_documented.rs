@@ -161,7 +161,9 @@ fn stubs_list_the_robot_and_paper_controller_keys_with_their_defaults() {
     check(
         "PaperController",
         keys.iter()
-            .filter(|k| k.table == "controller" && !matches!(k.key, "kind" | "model") && matches!(k.kind, None | Some("paper")))
+            .filter(|k| {
+                k.table == "controller" && !matches!(k.key, "kind" | "model") && matches!(k.kind, None | Some("paper"))
+            })
             .collect(),
     );
 }

@@ -1,7 +1,7 @@
 //! One run's closed loop from a validated [`Setup`]: the plant at its start pose, the
 //! run's sensor, a fresh copy of the built controller, a fixed goal and the plant step.
 
-use wmr_core::{AnyLaw, ClosedLoop, Controller, FixedGoal, ParamError, PoseSensor, Pose2};
+use wmr_core::{AnyLaw, ClosedLoop, Controller, FixedGoal, ParamError, Pose2, PoseSensor};
 
 use crate::error::ScenarioError;
 use crate::keys::join;

@@ -57,8 +57,8 @@ pub use output::{
 };
 pub use run::RunSpec;
 pub use scenario::Scenario;
-pub use setup::{Setup, Tables};
 pub use schema::{SchemaKey, schema};
+pub use setup::{Setup, Tables};
 pub use sim::{DEFAULT_LOG_DT_S, DEFAULT_T_END_S, MAX_STEPS, MAX_T_END_S, SimSpec};
 pub use sweep::{
     LawSummary, MAX_SWEEP_RUNS, SWEEP_COLUMNS, Spread, StartsSource, SweepOutcome, SweepSpec, summarize, summary_table,

@@ -5,8 +5,8 @@ use toml::Value;
 use wmr_core::{DriveParams, LawParams, RobotParams, SensorParams, WheelStageParams, WorldParams};
 
 use crate::file::{GridFile, PoseFile, RandomFile, RunFile, ScenarioFile, SimFile, SweepFile};
-use crate::vary::VaryFile;
 use crate::keys::{fields_of, fields_read_by, to_table};
+use crate::vary::VaryFile;
 
 /// One accepted key.
 #[derive(Clone, Debug, PartialEq)]
