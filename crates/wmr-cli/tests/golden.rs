@@ -17,7 +17,7 @@ fn fig7_csv_is_byte_identical_to_the_fixture() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let got = std::fs::read(&out).unwrap();
     let want =
-        std::fs::read(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/fig7-c4c77d1.csv")).unwrap();
+        std::fs::read(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/fig7-issue12.csv")).unwrap();
     assert_eq!(got.len(), want.len(), "length differs");
     if let Some(i) = got.iter().zip(&want).position(|(a, b)| a != b) {
         let line = want[..i].iter().filter(|&&b| b == b'\n').count() + 1;
@@ -43,7 +43,7 @@ fn fig7_with_a_default_sensor_and_an_equal_model_adds_only_the_measured_pose() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let got = std::fs::read_to_string(&out).unwrap();
     let want =
-        std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/fig7-c4c77d1.csv"))
+        std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/fig7-issue12.csv"))
             .unwrap();
     assert_eq!(got.lines().count(), want.lines().count());
     for (i, (g, w)) in got.lines().zip(want.lines()).enumerate() {
@@ -55,5 +55,21 @@ fn fig7_with_a_default_sensor_and_an_equal_model_adds_only_the_measured_pose() {
         } else {
             assert_eq!(fields[16..], fields[2..5], "line {}: measured = true pose", i + 1);
         }
+    }
+}
+
+/// The fixture's `t` column is the exact decimal k / 100 s (log_dt = 10 ms): no float
+/// noise such as `0.07000000000000001` (issue 12, defect 15).
+#[test]
+fn regression_12_15_fixture_times_are_exact_decimals() {
+    let want =
+        std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/fig7-issue12.csv"))
+            .unwrap();
+    for (k, line) in want.lines().skip(1).enumerate() {
+        let t = line.split(',').nth(1).unwrap();
+        let (whole, frac) = t.split_once('.').unwrap_or((t, ""));
+        assert!(frac.len() <= 2, "line {}: t = {t}", k + 2);
+        let hundredths: u64 = format!("{whole}{frac:0<2}").parse().unwrap();
+        assert_eq!(hundredths, k as u64, "line {}: t = {t}", k + 2);
     }
 }

@@ -11,6 +11,9 @@
 //!        └──────────────────── plant.step(t, dt) (RK4) <────────────────────┘
 //! ```
 
+use core::convert::Infallible;
+use core::ops::ControlFlow;
+
 use crate::Real;
 use crate::controller::{ControlOutput, Controller, Law};
 use crate::error::{ParamError, check};
@@ -40,6 +43,9 @@ pub struct ClosedLoop<T, L, S = PerfectSensor, R = FixedGoal<T>> {
     reference: R,
     dt: T,
     step_index: u64,
+    /// `dt` as an exact decimal `m / scale` (1 ms: m = 1, scale = 1e3), when it is one:
+    /// see [`ClosedLoop::time`].
+    decimal_dt: Option<(u64, f64)>,
     control_every: u32,
     /// Plant steps left until the next control tick (a countdown instead of a `%` per step).
     steps_to_control: u32,
@@ -84,6 +90,7 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
             reference,
             dt,
             step_index: 0,
+            decimal_dt: decimal(dt),
             control_every,
             steps_to_control: control_every,
             output: ControlOutput::default(),
@@ -124,10 +131,17 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
         self.step_index
     }
 
-    /// Current time, s (step count times dt, so it does not drift).
+    /// Current time, s: the step count times dt, so it does not drift. In `f64`, when dt
+    /// is a short decimal (1e-3, 2.5e-4, 0.01), the time is the number nearest to the exact
+    /// product (step 70 of 1 ms is 0.07 s, not 0.07000000000000001); otherwise it is the
+    /// rounded product `steps * dt`.
     #[inline(always)]
     pub fn time(&self) -> T {
-        T::lit(self.step_index as f64) * self.dt
+        match self.decimal_dt {
+            // i * m < 2^53 is exact in f64, so one rounding: the division.
+            Some((m, scale)) if self.step_index < (1u64 << 53) / m => T::lit((self.step_index * m) as f64 / scale),
+            _ => T::lit(self.step_index as f64) * self.dt,
+        }
     }
 
     /// Plant step, s.
@@ -189,28 +203,81 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
     /// steps, and the last one (at the end, or the last good state of a diverged run).
     /// Returns the run's [`Outcome`], judged from the true state against the reference.
     pub fn run(&mut self, n_steps: u64, log_every: u32, mut sink: impl FnMut(&Sample<T>)) -> Outcome<T> {
+        let keep_going = |s: &Sample<T>| -> ControlFlow<Infallible> {
+            sink(s);
+            ControlFlow::Continue(())
+        };
+        match self.try_run(n_steps, log_every, keep_going, || ControlFlow::Continue(())) {
+            ControlFlow::Continue(outcome) => outcome,
+            ControlFlow::Break(never) => match never {},
+        }
+    }
+
+    /// [`ClosedLoop::run`] that may be stopped: `sink` gets the same samples and may
+    /// answer [`ControlFlow::Break`] (an output that failed), and `poll` is asked before
+    /// the first step and then every [`POLL_EVERY_STEPS`] steps (about a millisecond of
+    /// work) whether to go on (a Ctrl-C, a deadline). A stopped run returns the `Break`
+    /// value at once; the loop stays where it stopped. Run to the end, it returns the
+    /// same outcome and samples as [`ClosedLoop::run`], bit for bit.
+    pub fn try_run<B>(
+        &mut self,
+        n_steps: u64,
+        log_every: u32,
+        mut sink: impl FnMut(&Sample<T>) -> ControlFlow<B>,
+        mut poll: impl FnMut() -> ControlFlow<B>,
+    ) -> ControlFlow<B, Outcome<T>> {
         let log_every = u64::from(log_every.max(1));
         let mut metrics = Metrics::default();
         let mut termination = Termination::Completed;
         let mut last_logged = None;
-        for _ in 0..n_steps {
-            let s = self.sample();
-            if self.step_index.is_multiple_of(log_every) {
-                sink(&s);
-                last_logged = Some(self.step_index);
+        let mut done = 0;
+        'run: while done < n_steps {
+            poll()?;
+            let chunk = (n_steps - done).min(POLL_EVERY_STEPS);
+            for _ in 0..chunk {
+                let s = self.sample();
+                if self.step_index.is_multiple_of(log_every) {
+                    sink(&s)?;
+                    last_logged = Some(self.step_index);
+                }
+                metrics.add_step(s.t, &s.state, s.wheel_speeds, s.torque, self.reference.goal_at(s.t), self.dt);
+                if let Err(d) = self.step() {
+                    termination = d.termination;
+                    break 'run;
+                }
             }
-            metrics.add_step(s.t, &s.state, s.wheel_speeds, s.torque, self.reference.goal_at(s.t), self.dt);
-            if let Err(d) = self.step() {
-                termination = d.termination;
-                break;
-            }
+            done += chunk;
         }
         let last = self.sample();
         let goal = self.reference.goal_at(last.t);
         metrics.observe(last.t, &last.state, last.wheel_speeds, goal);
         if last_logged != Some(self.step_index) {
-            sink(&last);
+            sink(&last)?;
         }
-        metrics.finish(last.t, &last.state, goal, termination)
+        ControlFlow::Continue(metrics.finish(last.t, &last.state, goal, termination))
     }
+}
+
+/// Plant steps between two calls of the `poll` of [`ClosedLoop::try_run`].
+pub const POLL_EVERY_STEPS: u64 = 1024;
+
+/// `dt` as `m / 10^k` with a whole `m` of at most 1e6 and k <= 12, when that quotient,
+/// rounded to `T`, is `dt` itself (1e-3 -> (1, 1e3); 2.5e-4 -> (25, 1e5)). Only for
+/// `f64`: in `f32` (firmware) the time stays the plain product `steps * dt`, the formula
+/// f32 traces replay tick for tick.
+fn decimal<T: Real>(dt: T) -> Option<(u64, f64)> {
+    // T is f64 exactly when it holds 0.1 as f64 does.
+    if T::lit(0.1).to_f64_lossless() != 0.1 {
+        return None;
+    }
+    let dt64 = dt.to_f64_lossless();
+    let mut scale = 1.0_f64;
+    for _ in 0..=12 {
+        let m = num_traits::Float::round(dt64 * scale);
+        if (1.0..=1e6).contains(&m) && <T as Real>::lit(m / scale) == dt {
+            return Some((m as u64, scale));
+        }
+        scale *= 10.0;
+    }
+    None
 }

@@ -483,7 +483,7 @@ fn paper_default_is_unchanged() {
     let mut lb = Vec::new();
     let (mut path, mut energy, mut peak, mut arrived) = (0.0_f64, 0.0_f64, 0.0_f64, None);
     for k in 0..=n {
-        let t = k as f64 * DT;
+        let t = k as f64 / 1e3; // ClosedLoop::time in f64: k ms exactly rounded (DT = 1 ms)
         let s = *plant.state();
         let w = s.wheel_speeds(robot.params());
         let (refs, errors) = law.references(s.pose(), goal);
