@@ -7,7 +7,8 @@
 #![no_main]
 
 use cortex_m_rt::entry;
-use panic_halt as _;
+// The panic handler (wmr-ffi's, through the firmware library).
+use wmr_firmware as _;
 use wmr_core::{
     ClosedLoop, Controller, DriveParams, FixedGoal, PaperLaw, PaperParams, Plant, Pose2, Robot, WheelStage,
     WheelStageParams,
