@@ -113,8 +113,8 @@ OUTPUTS
         /runN/sample (JSON wmr.Sample, every CSV column), /runN/goal (foxglove.PoseInFrame, once),
         /runN/robot (foxglove.SceneUpdate, once); log time = simulation time.
   Summary (stdout, one line per run): label, final dl (m), final heading error (deg),
-        time from which dl < 1 cm (s or "never"), converged / not converged / diverged.
-        Converged = not diverged and final dl < 1 cm.
+        time from which dl < 1 cm (s or "never"), converged / diverged / unsettled.
+        Converged = not diverged and final dl < 1 cm; unsettled = neither by t_end.
   sweep: CSV law,start,x0,y0,theta0_deg,status,time_to_1cm_s,final_dl_m,
         final_heading_error_deg,peak_wheel_speed_rad_s,path_length_m,energy_j; a comparison
         table on stdout; --plots DIR: region-<law>.svg per law.

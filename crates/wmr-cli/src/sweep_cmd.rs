@@ -75,7 +75,7 @@ fn cell(o: &SweepOutcome) -> SweepCell {
     let outcome = match o.status() {
         Status::Diverged => CellOutcome::Diverged,
         Status::Converged => CellOutcome::Converged,
-        Status::NotConverged => CellOutcome::NotConverged,
+        Status::Unsettled => CellOutcome::Unsettled,
     };
     SweepCell { x: o.start.x, y: o.start.y, outcome }
 }

@@ -26,25 +26,32 @@ impl Termination {
     }
 }
 
-/// The verdict on a run: decided here and nowhere else.
+/// The verdict on a run, one of three: decided here and nowhere else.
+///
+/// A run that is neither converged nor diverged is [`Status::Unsettled`]: it may still
+/// arrive later, wander for ever, or circle; only a longer run can tell. It is not
+/// counted as a divergence.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Status {
     /// Not diverged, and the final distance to the goal is below [`ARRIVAL_RADIUS_M`].
     /// The heading is not part of it: the paper's law leaves several degrees.
     Converged,
-    /// Finite and inside the box, but not within [`ARRIVAL_RADIUS_M`] at the end.
-    NotConverged,
-    /// The state stopped being finite or C left the 1 km box.
+    /// The state stopped being finite or C left the 1 km box: the run was stopped there.
     Diverged,
+    /// Finite and inside the box at t_end, but not within [`ARRIVAL_RADIUS_M`] of the goal.
+    Unsettled,
 }
 
 impl Status {
-    /// `"converged"`, `"not converged"` or `"diverged"`.
+    /// Every status, in report order.
+    pub const ALL: [Status; 3] = [Status::Converged, Status::Diverged, Status::Unsettled];
+
+    /// `"converged"`, `"diverged"` or `"unsettled"`: the word every output uses.
     pub fn name(self) -> &'static str {
         match self {
             Status::Converged => "converged",
-            Status::NotConverged => "not converged",
             Status::Diverged => "diverged",
+            Status::Unsettled => "unsettled",
         }
     }
 }
@@ -76,14 +83,14 @@ pub struct Outcome<T> {
 }
 
 impl<T: Real> Outcome<T> {
-    /// Converged, not converged or diverged.
+    /// Converged, diverged or unsettled (see [`Status`]).
     pub fn status(&self) -> Status {
         if self.termination.diverged() {
             Status::Diverged
         } else if self.final_dl < T::lit(ARRIVAL_RADIUS_M) {
             Status::Converged
         } else {
-            Status::NotConverged
+            Status::Unsettled
         }
     }
 }
@@ -157,5 +164,26 @@ impl<T: Real> Metrics<T> {
             path_length: self.path_length,
             energy: self.energy,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn outcome_at(x: f64, termination: Termination) -> Outcome<f64> {
+        let state = State::at_rest(Pose2::new(x, 0.0, 0.0));
+        Metrics::default().finish(60.0, &state, Pose2::default(), termination)
+    }
+
+    #[test]
+    fn three_outcomes_from_the_true_state() {
+        assert_eq!(outcome_at(0.009, Termination::Completed).status(), Status::Converged);
+        assert_eq!(outcome_at(0.011, Termination::Completed).status(), Status::Unsettled);
+        // Diverged wins over a final state near the goal: the run was stopped.
+        assert_eq!(outcome_at(0.0, Termination::LeftBox).status(), Status::Diverged);
+        assert_eq!(outcome_at(0.0, Termination::NonFinite).status(), Status::Diverged);
+        let names: [&str; 3] = Status::ALL.map(Status::name);
+        assert_eq!(names, ["converged", "diverged", "unsettled"]);
     }
 }

@@ -11,8 +11,8 @@ use wmr_core::Pose2;
 pub enum CellOutcome {
     /// Within 1 cm of the goal at the end.
     Converged,
-    /// Finite but not within 1 cm at the end.
-    NotConverged,
+    /// Finite, inside the box, but not within 1 cm at the end.
+    Unsettled,
     /// Stopped: non-finite state or left the 1 km box.
     Diverged,
 }
@@ -21,7 +21,7 @@ impl CellOutcome {
     fn color(self) -> RGBColor {
         match self {
             CellOutcome::Converged => RGBColor(44, 160, 44),
-            CellOutcome::NotConverged => RGBColor(255, 165, 0),
+            CellOutcome::Unsettled => RGBColor(255, 165, 0),
             CellOutcome::Diverged => RGBColor(214, 39, 40),
         }
     }
@@ -29,7 +29,7 @@ impl CellOutcome {
     fn label(self) -> &'static str {
         match self {
             CellOutcome::Converged => "converged",
-            CellOutcome::NotConverged => "not converged",
+            CellOutcome::Unsettled => "unsettled",
             CellOutcome::Diverged => "diverged",
         }
     }
@@ -61,7 +61,7 @@ pub fn region_svg(title: &str, cells: &[SweepCell], goal: Pose2<f64>) -> Result<
         legend: None,
     };
     svg_chart(frame, |chart| {
-        for kind in [CellOutcome::Converged, CellOutcome::NotConverged, CellOutcome::Diverged] {
+        for kind in [CellOutcome::Converged, CellOutcome::Unsettled, CellOutcome::Diverged] {
             let color = kind.color();
             let n = cells.iter().filter(|c| c.outcome == kind).count();
             chart

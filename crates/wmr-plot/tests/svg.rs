@@ -66,7 +66,7 @@ fn region_map_has_one_cell_per_start() {
         for j in 0..5 {
             let outcome = match (i + j) % 3 {
                 0 => CellOutcome::Converged,
-                1 => CellOutcome::NotConverged,
+                1 => CellOutcome::Unsettled,
                 _ => CellOutcome::Diverged,
             };
             cells.push(SweepCell { x: i as f64 * 0.3 - 1.0, y: j as f64 * 0.3 - 0.6, outcome });

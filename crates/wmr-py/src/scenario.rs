@@ -168,7 +168,7 @@ pub struct PyRunResult {
     /// The run's label.
     #[pyo3(get)]
     label: String,
-    /// `"converged"` (final dl < 1 cm, not diverged), `"diverged"` or `"not converged"`.
+    /// `"converged"` (final dl < 1 cm, not diverged), `"diverged"` or `"unsettled"` (neither).
     #[pyo3(get)]
     status: &'static str,
     /// True when not diverged and the final dl < 1 cm.

@@ -98,7 +98,7 @@ impl RunResult {
         Self { index, label, outcome }
     }
 
-    /// Converged, not converged or diverged (decided by the core, from the true state).
+    /// Converged, diverged or unsettled (decided by the core, from the true state).
     pub fn status(&self) -> Status {
         self.outcome.status()
     }

@@ -344,7 +344,7 @@ pub struct SweepOutcome {
 }
 
 impl SweepOutcome {
-    /// Converged, not converged or diverged (decided by the core).
+    /// Converged, diverged or unsettled (decided by the core).
     pub fn status(&self) -> Status {
         self.outcome.status()
     }
@@ -480,8 +480,10 @@ pub struct LawSummary {
     pub n: usize,
     /// Share of runs that converged (0..1).
     pub converged: f64,
-    /// Share of runs that diverged (0..1).
+    /// Share of runs that diverged (0..1): the state stopped being finite or C left the box.
     pub diverged: f64,
+    /// Share of runs that are unsettled (0..1): neither converged nor diverged at t_end.
+    pub unsettled: f64,
     /// Time to 1 cm, s.
     pub time_to_1cm: Spread,
     /// |final heading error|, deg.
@@ -503,12 +505,14 @@ pub fn summarize(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<LawSummary>
             let runs: Vec<&SweepOutcome> = outcomes.iter().filter(|o| o.law == i).collect();
             let ok: Vec<&SweepOutcome> = runs.iter().copied().filter(|o| o.status() == Status::Converged).collect();
             let n = runs.len().max(1) as f64;
+            let share = |status: Status| runs.iter().filter(|o| o.status() == status).count() as f64 / n;
             let over = |f: fn(&Outcome<f64>) -> f64| spread(ok.iter().map(|o| f(&o.outcome)).collect());
             LawSummary {
                 name: name.clone(),
                 n: runs.len(),
                 converged: ok.len() as f64 / n,
-                diverged: runs.iter().filter(|o| o.status() == Status::Diverged).count() as f64 / n,
+                diverged: share(Status::Diverged),
+                unsettled: share(Status::Unsettled),
                 time_to_1cm: over(|o| o.time_to_arrival.unwrap_or(f64::NAN)),
                 heading_error_deg: over(|o| o.final_heading_error.to_degrees().abs()),
                 peak_wheel_speed: over(|o| o.peak_wheel_speed),
@@ -519,22 +523,34 @@ pub fn summarize(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<LawSummary>
         .collect()
 }
 
-/// The comparison table as aligned text, one line per law ("median / worst").
+/// The comparison table as aligned text, one line per law: the shares of the three
+/// outcomes, then "median / worst" of the other figures over the converged runs.
 pub fn summary_table(rows: &[LawSummary]) -> String {
     let fmt = |s: Spread, prec: usize| {
         if s.median.is_nan() { "-".to_owned() } else { format!("{:.p$} / {:.p$}", s.median, s.worst, p = prec) }
     };
+    let w = rows.iter().map(|r| r.name.len()).max().unwrap_or(0).max(3);
     let mut out = format!(
-        "{:<12} {:>6} {:>10} {:>9} {:>17} {:>17} {:>17} {:>15} {:>17}\n",
-        "law", "runs", "converged", "diverged", "t_1cm s (med/max)", "|e_th| deg", "peak w rad/s", "path m", "energy J"
+        "{:<w$} {:>6} {:>10} {:>9} {:>10} {:>17} {:>15} {:>15} {:>13} {:>15}\n",
+        "law",
+        "runs",
+        "converged",
+        "diverged",
+        "unsettled",
+        "t_1cm s (med/max)",
+        "|e_th| deg",
+        "peak w rad/s",
+        "path m",
+        "energy J"
     );
     for r in rows {
         out.push_str(&format!(
-            "{:<12} {:>6} {:>9.1}% {:>8.1}% {:>17} {:>17} {:>17} {:>15} {:>17}\n",
+            "{:<w$} {:>6} {:>9.1}% {:>8.1}% {:>9.1}% {:>17} {:>15} {:>15} {:>13} {:>15}\n",
             r.name,
             r.n,
             100.0 * r.converged,
             100.0 * r.diverged,
+            100.0 * r.unsettled,
             fmt(r.time_to_1cm, 2),
             fmt(r.heading_error_deg, 2),
             fmt(r.peak_wheel_speed, 1),
