@@ -38,6 +38,8 @@ pub mod error;
 pub mod integrator;
 pub mod kinematics;
 pub mod math;
+#[cfg(feature = "nalgebra")]
+pub mod nalgebra_interop;
 pub mod outcome;
 mod params;
 pub mod plant;
