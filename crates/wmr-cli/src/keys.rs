@@ -39,7 +39,8 @@ name = "fig7"                  scenario name (default: the file's stem)
     ki_s = 0.25                Ki_s, 1/s (>= 0)
     goal_radius = 0.001        m: inside it alpha keeps its last value (>= 0)
     hold_radius = 0.005        m: inside it the outer loop holds; 0 = off (>= 0)
-    hold = "zero_errors"       "zero_errors" (errors zeroed, references step on entry)
+    hold = "auto"              "auto" (zero_errors in pose mode, freeze in position mode),
+                               "zero_errors" (errors zeroed, references step on entry)
                                or "freeze" (bumpless: keep the last wheel references)
   kind = "polar":              v = k_rho rho, omega = k_alpha alpha + k_beta beta
     k_rho = 0.5                1/s (> 0)

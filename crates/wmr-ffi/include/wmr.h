@@ -37,11 +37,14 @@
 // `wmr_paper_params_*.mode`: reach (x, y), heading free (positioning control).
 #define WMR_PAPER_MODE_POSITION 1
 
-// `wmr_paper_params_*.hold`: inside `hold_radius` the outer errors are zero (default).
+// `wmr_paper_params_*.hold`: inside `hold_radius` the outer errors are zero.
 #define WMR_HOLD_ZERO_ERRORS 0
 
 // `wmr_paper_params_*.hold`: inside `hold_radius` the last wheel references are kept.
 #define WMR_HOLD_FREEZE 1
+
+// `wmr_paper_params_*.hold`: zero errors in pose mode, freeze in position mode (default).
+#define WMR_HOLD_AUTO 2
 
 // Words (8 bytes each) of a validated robot, `wmr_robot_f32`.
 #define WMR_ROBOT_F32_WORDS 12
@@ -219,6 +222,7 @@ typedef struct {
   float goal_radius;
   // Within this distance of the goal, m, the outer loop holds (>= 0; 0 = off).
   float hold_radius;
+  // `WMR_HOLD_AUTO` (default: zero errors in pose mode, freeze in position mode),
   // `WMR_HOLD_ZERO_ERRORS` or `WMR_HOLD_FREEZE`.
   uint32_t hold;
 } wmr_paper_params_f32;
@@ -459,6 +463,7 @@ typedef struct {
   double goal_radius;
   // Within this distance of the goal, m, the outer loop holds (>= 0; 0 = off).
   double hold_radius;
+  // `WMR_HOLD_AUTO` (default: zero errors in pose mode, freeze in position mode),
   // `WMR_HOLD_ZERO_ERRORS` or `WMR_HOLD_FREEZE`.
   uint32_t hold;
 } wmr_paper_params_f64;

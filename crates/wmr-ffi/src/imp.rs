@@ -453,6 +453,7 @@ impl<T: Prec> CLaw<T> for Paper {
             goal_radius: p.goal_radius,
             hold_radius: p.hold_radius,
             hold: match p.hold {
+                HoldMode::Auto => WMR_HOLD_AUTO,
                 HoldMode::ZeroErrors => WMR_HOLD_ZERO_ERRORS,
                 HoldMode::Freeze => WMR_HOLD_FREEZE,
             },
@@ -474,10 +475,11 @@ impl<T: Prec> CLaw<T> for Paper {
         let hold = match p.hold {
             WMR_HOLD_ZERO_ERRORS => HoldMode::ZeroErrors,
             WMR_HOLD_FREEZE => HoldMode::Freeze,
+            WMR_HOLD_AUTO => HoldMode::Auto,
             h => {
                 return Err(Fail::out_of_range(
                     "hold",
-                    "must be WMR_HOLD_ZERO_ERRORS (0) or WMR_HOLD_FREEZE (1)",
+                    "must be WMR_HOLD_ZERO_ERRORS (0), WMR_HOLD_FREEZE (1) or WMR_HOLD_AUTO (2)",
                     f64::from(h),
                 ));
             }

@@ -82,10 +82,12 @@ pub const WMR_PAPER_MODE_POSE: u32 = 0;
 /// `wmr_paper_params_*.mode`: reach (x, y), heading free (positioning control).
 pub const WMR_PAPER_MODE_POSITION: u32 = 1;
 
-/// `wmr_paper_params_*.hold`: inside `hold_radius` the outer errors are zero (default).
+/// `wmr_paper_params_*.hold`: inside `hold_radius` the outer errors are zero.
 pub const WMR_HOLD_ZERO_ERRORS: u32 = 0;
 /// `wmr_paper_params_*.hold`: inside `hold_radius` the last wheel references are kept.
 pub const WMR_HOLD_FREEZE: u32 = 1;
+/// `wmr_paper_params_*.hold`: zero errors in pose mode, freeze in position mode (default).
+pub const WMR_HOLD_AUTO: u32 = 2;
 
 /// What a call did. `WMR_OK` is 0; every other value is an error.
 #[repr(i32)]
@@ -316,6 +318,7 @@ pub struct wmr_paper_params<T> {
     pub goal_radius: T,
     /// Within this distance of the goal, m, the outer loop holds (>= 0; 0 = off).
     pub hold_radius: T,
+    /// `WMR_HOLD_AUTO` (default: zero errors in pose mode, freeze in position mode),
     /// `WMR_HOLD_ZERO_ERRORS` or `WMR_HOLD_FREEZE`.
     pub hold: u32,
 }

@@ -164,6 +164,7 @@ impl<T: Real> ConfigOf<T> {
                 match p.hold {
                     HoldMode::ZeroErrors => 0,
                     HoldMode::Freeze => 1,
+                    HoldMode::Auto => 2,
                 },
             ],
             LawParams::Polar(p) => [
@@ -240,7 +241,8 @@ impl Config {
                 hold: match w[8] {
                     0 => HoldMode::ZeroErrors,
                     1 => HoldMode::Freeze,
-                    _ => return Err(FormatError("paper hold is not 0 or 1")),
+                    2 => HoldMode::Auto,
+                    _ => return Err(FormatError("paper hold is not 0, 1 or 2")),
                 },
             }),
             1 => LawParams::Polar(PolarParams {

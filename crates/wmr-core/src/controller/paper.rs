@@ -35,15 +35,33 @@ pub enum PaperMode {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize), serde(rename_all = "snake_case"))]
 pub enum HoldMode {
+    /// The default: [`HoldMode::ZeroErrors`] in pose mode (the paper's hold, so the
+    /// paper's runs are unchanged) and [`HoldMode::Freeze`] in position mode, where the
+    /// zero-errors hold does not let the robot settle: each entry steps the path
+    /// reference back by Kp_s e_s, which pushes C out of the radius again (from (0, 0, 0)
+    /// to (1, 1) the distance was 0.25 m at 60 s and 0.42 m at 120 s). See
+    /// [`HoldMode::resolve`].
+    #[default]
+    Auto,
     /// The paper's hold: the outer errors are taken as zero and the integrators
     /// stop, so u = Ki int. The wheel references step on entry (the Kp e parts drop
     /// out); on Fig. 7 that kick is what brings the heading error from 28 to 5 deg.
-    #[default]
     ZeroErrors,
     /// Bumpless: the wheel references of the last tick outside the radius are kept and
     /// the integrators stop. The robot stays where it entered the radius (position mode
     /// then converges; pose mode keeps the heading error it had at entry).
     Freeze,
+}
+
+impl HoldMode {
+    /// The hold the law applies in `mode`: [`HoldMode::Auto`] resolved, the others as given.
+    pub fn resolve(self, mode: PaperMode) -> HoldMode {
+        match (self, mode) {
+            (HoldMode::Auto, PaperMode::Pose) => HoldMode::ZeroErrors,
+            (HoldMode::Auto, PaperMode::Position) => HoldMode::Freeze,
+            (h, _) => h,
+        }
+    }
 }
 
 /// `[controller] kind = "paper"`: the law's own keys.
@@ -65,12 +83,14 @@ pub struct PaperParams<T> {
     /// Within this distance of the goal (m) the outer errors are zero and the outer
     /// integrators stop; 0 turns the hold off.
     pub hold_radius: T,
-    /// How the hold behaves (`hold`): [`HoldMode::ZeroErrors`] (the default) or [`HoldMode::Freeze`].
+    /// How the hold behaves (`hold`): [`HoldMode::Auto`] (the default: zero errors in
+    /// pose mode, freeze in position mode), [`HoldMode::ZeroErrors`] or [`HoldMode::Freeze`].
     pub hold: HoldMode,
 }
 
 impl<T: Real> PaperParams<T> {
-    /// The paper's gains (section 4) and the default radii and hold.
+    /// The paper's gains (section 4), the default radii and the default hold
+    /// ([`HoldMode::Auto`]: the paper's zero-errors hold in pose mode).
     pub fn paper() -> Self {
         Self {
             mode: PaperMode::Pose,
@@ -80,7 +100,7 @@ impl<T: Real> PaperParams<T> {
             ki_s: T::lit(0.25),
             goal_radius: T::lit(1e-3),
             hold_radius: T::lit(5e-3),
-            hold: HoldMode::ZeroErrors,
+            hold: HoldMode::Auto,
         }
     }
 }
@@ -168,7 +188,7 @@ impl<T: Real> PaperLaw<T> {
         // proportional parts Kp e drop out at once.
         let in_hold = p.hold_radius > T::zero() && dl < p.hold_radius;
         if in_hold
-            && p.hold == HoldMode::Freeze
+            && p.hold.resolve(p.mode) == HoldMode::Freeze
             && let Some(refs) = self.last_refs
         {
             return (refs, ControlErrors { e_s: T::zero(), e_theta: T::zero(), dl });

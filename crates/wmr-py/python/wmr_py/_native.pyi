@@ -90,7 +90,7 @@ class PaperController:
         ki_s: float = 0.25,
         goal_radius: float = 0.001,
         hold_radius: float = 0.005,
-        hold: str = "zero_errors",
+        hold: str = "auto",
         servo_kp: float = 14.0,
         servo_kd: float = 1.4,
         servo_ki: float = 0.0,
