@@ -27,6 +27,14 @@
 //! RK4), [`sensor`] (what the controller sees), [`reference`](mod@reference) (the goal over time),
 //! [`controller`] (an outer law and a wheel stage), [`closed_loop`] (ties them together
 //! and logs [`Sample`]s) and [`outcome`] (how the run went, from the true state).
+//!
+//! **Stability** (0.x: a minor version may break the API): the equations and their
+//! results, the parameter types and their field names, [`ParamError`]'s field names and
+//! the loop's entry points ([`Plant`], [`Controller`], [`ClosedLoop`], [`Law`],
+//! [`Sensor`], [`Reference`]) are meant to stay; the laws' helper modules, the fields of
+//! [`Sample`], [`Outcome`] and [`Measurement`], and the `nalgebra` feature's nalgebra
+//! version may still change. Optional features: `serde`, `nalgebra`
+//! (`nalgebra_interop`). The crate's README says more.
 #![no_std]
 #![warn(missing_docs)]
 
