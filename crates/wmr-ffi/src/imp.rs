@@ -106,11 +106,12 @@ pub fn guard(err: *mut wmr_error, f: impl FnOnce() -> Result<(), Fail>) -> wmr_s
     report(err, r)
 }
 
-/// The no_std build's panic handler. No entry point reaches it: the firmware link check
-/// (`firmware/check-c`) builds a program that calls every entry point with
-/// `--gc-sections` and finds no `rust_begin_unwind` in it. Were it reached anyway, the
-/// core stops with a permanently undefined instruction, i.e. a HardFault the firmware
-/// handles as any other fault.
+/// The no_std build's panic handler. `firmware/check` links every entry point for the
+/// Cortex-M4F with `--gc-sections` and lists the functions left that can panic: only the
+/// core pose sensor's two sites (a division by its ticks per sample and a ring index,
+/// both in range by construction). Were one reached, the core stops with a permanently
+/// undefined instruction, a HardFault the firmware handles as any other fault: nothing
+/// unwinds into C.
 #[cfg(all(feature = "panic-handler", not(feature = "std"), not(test)))]
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {

@@ -22,8 +22,9 @@
 //! field, as the core names it (`mass`, `servo_kp`, `control_dt`), the reason and the
 //! value. No panic crosses the boundary: with the `std` feature (the host library) every
 //! entry point runs under `catch_unwind` and a panic returns `WMR_PANIC`; the `no_std`
-//! build for Cortex-M has a panic handler that no entry point reaches (the firmware link
-//! check shows it is not in the linked program).
+//! build for Cortex-M (feature `panic-handler`) traps instead (a HardFault), and
+//! `firmware/check` shows that the only panic sites the entry points link are the core
+//! pose sensor's two, in range by construction.
 //!
 //! Safety contract for C callers, once for all functions: every pointer argument is
 //! either NULL (refused with `WMR_NULL_POINTER`) or valid for reads (inputs) or writes

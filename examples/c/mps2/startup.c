@@ -1,6 +1,6 @@
 /* Start-up for QEMU's mps2-an386 (Cortex-M4F) with newlib and semihosting (librdimon):
  * vector table, reset handler (data, bss, FPU), main, exit through semihosting. Used by
- * firmware/check-c to run examples/c/fig7.c on the emulated microcontroller. */
+ * firmware/check to run examples/c/fig7.c on the emulated microcontroller. */
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
