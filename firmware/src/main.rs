@@ -8,11 +8,11 @@
 
 use cortex_m_rt::entry;
 // The panic handler (wmr-ffi's, through the firmware library).
-use wmr_firmware as _;
 use wmr_core::{
     ClosedLoop, Controller, DriveParams, FixedGoal, PaperLaw, PaperParams, Plant, Pose2, Robot, WheelStage,
     WheelStageParams,
 };
+use wmr_firmware as _;
 
 /// 60 s at 1 ms.
 const STEPS: u32 = 60_000;

@@ -168,7 +168,12 @@ impl Meter {
         };
         let (full, empty) = (time(wmr_nops_1000), time(wmr_nops_0));
         let per_tick = 100_000_000u64 / u64::from(full.saturating_sub(empty).max(1));
-        let mut m = Meter { update: Stat::default(), step: Stat::default(), empty: Stat::default(), milli_insn_per_tick: per_tick };
+        let mut m = Meter {
+            update: Stat::default(),
+            step: Stat::default(),
+            empty: Stat::default(),
+            milli_insn_per_tick: per_tick,
+        };
         for _ in 0..20_000 {
             measured(&mut m.empty, &mut || core::hint::black_box(0u32));
         }

@@ -3,7 +3,7 @@
 
 use core::fmt::Write as _;
 
-use cortex_m_semihosting::{debug, hio, nr, syscall};
+use cortex_m_semihosting::{debug, hio, nr, syscall, syscall1};
 
 /// Prints one line on the host's standard output.
 pub fn println(args: core::fmt::Arguments<'_>) {
@@ -23,8 +23,9 @@ pub fn exit(ok: bool) -> ! {
 /// `buf`, as a string.
 pub fn cmdline(buf: &mut [u8]) -> Option<&str> {
     let mut block = [buf.as_mut_ptr() as usize, buf.len()];
-    // SAFETY: the block points to `buf` and its length; the host writes at most that.
-    let r = unsafe { syscall(nr::GET_CMDLINE, &mut block) };
+    // SAFETY: the block points to `buf` and its length; the host writes at most that
+    // into `buf`, and the command line's length into the block's second word.
+    let r = unsafe { syscall1(nr::GET_CMDLINE, block.as_mut_ptr() as usize) };
     if r != 0 {
         return None;
     }

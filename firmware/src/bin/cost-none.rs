@@ -3,7 +3,6 @@
 #![no_std]
 #![no_main]
 
-
 #[cortex_m_rt::entry]
 fn main() -> ! {
     core::hint::black_box(0u32);

@@ -4,7 +4,6 @@
 #![no_std]
 #![no_main]
 
-
 #[cortex_m_rt::entry]
 fn main() -> ! {
     wmr_firmware::cost_main::<wmr_core::PaperLaw<f32>>()

@@ -2,7 +2,6 @@
 #![no_std]
 #![no_main]
 
-
 #[cortex_m_rt::entry]
 fn main() -> ! {
     wmr_firmware::cost_plant_main()
