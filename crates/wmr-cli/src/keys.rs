@@ -30,7 +30,8 @@ name = "fig7"                  scenario name (default: the file's stem)
 
 [controller]                   an outer law (kind) and a wheel stage; each kind accepts only its
                                own law keys plus the wheel-stage keys and control_dt
-  kind = "paper"               "paper" (the paper's law), "polar" (Astolfi) or "lyapunov" (Aicardi)
+  kind = "paper"               "paper" (the paper's law), "paper_bidirectional" (the paper's law
+                               repaired, docs/model.md), "polar" (Astolfi) or "lyapunov" (Aicardi)
   kind = "paper":
     mode = "pose"              "pose" (reach x, y, theta) or "position" (heading free)
     kp_theta = 2.0             Kp_theta, rad/rad (>= 0)
@@ -42,6 +43,14 @@ name = "fig7"                  scenario name (default: the file's stem)
     hold = "auto"              "auto" (zero_errors in pose mode, freeze in position mode),
                                "zero_errors" (errors zeroed, references step on entry)
                                or "freeze" (bumpless: keep the last wheel references)
+  kind = "paper_bidirectional":  the paper's structure; e_s = (x_d - x) cos theta + (y_d - y) sin theta
+    kp_theta = 0.2             Kp_theta, rad/rad (>= 0)
+    ki_theta = 1.0             Ki_theta, 1/s (> ki_s (1 - kp_theta) / (1 + kp_s))
+    kp_s = 0.2                 Kp_s, m/m (>= 0)
+    ki_s = 0.25                Ki_s, 1/s (> 0)
+    goal_radius = 0.001        m: inside it alpha keeps its last value (>= 0)
+    hold_radius = 0.005        m: inside it the outer loop holds; 0 = off (>= 0)
+    hold = "freeze"            "freeze" (bumpless; "auto" is the same) or "zero_errors"
   kind = "polar":              v = k_rho rho, omega = k_alpha alpha + k_beta beta
     k_rho = 0.5                1/s (> 0)
     k_alpha = 3.0              1/s (> k_rho; k_alpha + 5/3 k_beta - 2/pi k_rho > 0)
@@ -94,7 +103,7 @@ name = "fig7"                  scenario name (default: the file's stem)
 
 [sweep]                        wmr-cli sweep: every law from every start ([[run]] optional)
   goal = { x = 0.0, y = 0.0, theta_deg = 0.0 }    goal pose of C (default origin, 0)
-  controllers = [{ kind = "paper" }, { kind = "polar" }, { kind = "lyapunov" }]
+  controllers = [{ kind = "paper" }, { kind = "paper_bidirectional" }, { kind = "polar" }, { kind = "lyapunov" }]
                                laws to compare, each with its [controller] keys (default: these)
   grid = { x_min = -2.0, x_max = 2.0, nx = 21, y_min = -2.0, y_max = 2.0, ny = 21, theta_deg = [0.0] }
   random = { n = 1000, seed = 1, radius = 2.0, min_radius = 0.1 }

@@ -61,8 +61,8 @@ pub mod world;
 pub use closed_loop::{ClosedLoop, Diverged};
 pub use controller::{
     AnyLaw, ControlErrors, ControlOutput, Controller, ControllerParams, HoldMode, Law, LawParams, LyapunovLaw,
-    LyapunovParams, PaperLaw, PaperMode, PaperParams, PolarLaw, PolarParams, ServoGains, WheelDemand, WheelStage,
-    WheelStageParams,
+    LyapunovParams, PaperBidirectionalLaw, PaperBidirectionalParams, PaperLaw, PaperMode, PaperParams, PolarLaw,
+    PolarParams, ServoGains, WheelDemand, WheelStage, WheelStageParams,
 };
 pub use drive::{DcMotorParams, Drive, DriveParams, TorqueDriveParams};
 pub use error::{ParamError, Reason};

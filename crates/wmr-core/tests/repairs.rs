@@ -57,3 +57,130 @@ fn auto_hold_is_the_papers_hold_in_pose_mode() {
         assert_eq!(h.resolve(PaperMode::Position), h);
     }
 }
+
+use wmr_core::{
+    ClosedLoop, ControllerParams, DriveParams, FixedGoal, LawParams, Outcome, PaperBidirectionalLaw,
+    PaperBidirectionalParams, PaperLaw, Plant, Robot, Sample,
+};
+
+/// A small seeded generator (xorshift64*), uniform in [0, 1).
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// d(e_s)/ds: the change of a law's position error (m) when C moves by `ds` (m) along
+/// its heading, per metre, from a fresh law (no memory) at `pose`.
+fn position_error_slope(mut e_s: impl FnMut(Pose2<f64>) -> f64, pose: Pose2<f64>) -> f64 {
+    let ds = 1e-6;
+    let moved = Pose2::new(pose.x + ds * pose.theta.cos(), pose.y + ds * pose.theta.sin(), pose.theta);
+    (e_s(moved) - e_s(pose)) / ds
+}
+
+/// The repaired law's position error changes by exactly -ds when C moves by ds along its
+/// heading, from every pose: negative feedback of gain one, whatever the goal and the
+/// heading. The paper's (18) gives positive feedback from poses in front of the goal.
+#[test]
+fn regression_17_position_error_never_feeds_back_positively() {
+    let model = RobotParams::paper();
+    let repaired = |goal: Pose2<f64>| {
+        move |p: Pose2<f64>| {
+            let mut law = PaperBidirectionalLaw::new(PaperBidirectionalParams::default(), &model, 1e-3).unwrap();
+            law.references(p, goal).1.e_s
+        }
+    };
+    let paper = |goal: Pose2<f64>| {
+        move |p: Pose2<f64>| PaperLaw::new(PaperParams::paper(), &model, 1e-3).unwrap().references(p, goal).1.e_s
+    };
+    let mut rng = Rng(0x17);
+    let (mut worst_repaired, mut worst_paper) = (f64::NEG_INFINITY, f64::NEG_INFINITY);
+    for _ in 0..20_000 {
+        let goal = Pose2::new(4.0 * rng.next() - 2.0, 4.0 * rng.next() - 2.0, 6.0 * rng.next() - 3.0);
+        let pose = Pose2::new(4.0 * rng.next() - 2.0, 4.0 * rng.next() - 2.0, 6.0 * rng.next() - 3.0);
+        if (goal.x - pose.x).hypot(goal.y - pose.y) < 0.01 {
+            continue;
+        }
+        let slope = position_error_slope(repaired(goal), pose);
+        assert!((slope + 1.0).abs() < 1e-6, "d(e_s)/ds = {slope} at {pose:?} towards {goal:?}");
+        worst_repaired = worst_repaired.max(slope);
+        // The paper's heading is aligned with theta_R here, as its heading loop makes it.
+        let dx = goal.x - pose.x;
+        let dy = goal.y - pose.y;
+        let aligned = Pose2::new(pose.x, pose.y, 2.0 * dy.atan2(dx) - goal.theta);
+        worst_paper = worst_paper.max(position_error_slope(paper(goal), aligned));
+    }
+    println!("largest d(e_s)/ds: repaired {worst_repaired:.6}, paper (heading on theta_R) {worst_paper:.6}");
+    assert!(worst_paper > 0.99, "the paper's (18) feeds back positively in front of the goal");
+}
+
+/// The loop of law `law` (default wheel stage, torque drive, the paper's robot).
+fn law_loop(law: LawParams<f64>, start: Pose2<f64>, goal: Pose2<f64>) -> ClosedLoop<f64, wmr_core::AnyLaw<f64>> {
+    let robot = Robot::<f64>::paper();
+    let drive = DriveParams::default().validate(&robot).unwrap();
+    let ctrl = ControllerParams::with_law(law).build(robot.params(), &drive).unwrap();
+    let plant = Plant::new(robot, drive, start).unwrap();
+    ClosedLoop::new(plant, ctrl, FixedGoal::new(goal).unwrap(), 1e-3).unwrap()
+}
+
+fn bidirectional() -> LawParams<f64> {
+    LawParams::PaperBidirectional(PaperBidirectionalParams::default())
+}
+
+/// Starts of the paper's Fig. 6 (in front of the goal, facing away from it, theta_0 =
+/// theta_d = 0): the repaired law backs up first, then reaches the goal with its heading.
+#[test]
+fn regression_17_fig6_starts_back_up_first_and_arrive() {
+    let goal = Pose2::default();
+    for (x, y) in [(1.0, 0.0), (1.5, 0.5), (1.0, -1.0), (2.0, 1.0), (0.5, 1.5)] {
+        let mut sim = law_loop(bidirectional(), Pose2::new(x, y, 0.0), goal);
+        let mut first_move = 0.0;
+        let out = sim.run(120_000, 10, |s: &Sample<f64>| {
+            if first_move == 0.0 && s.state.v.abs() > 0.01 {
+                first_move = s.state.v;
+            }
+        });
+        println!(
+            "({x}, {y}, 0): first |v| > 1 cm/s with v = {first_move:.3} m/s; {:?}, dl {:.4} m, heading error {:.3} deg",
+            out.status(),
+            out.final_dl,
+            out.final_heading_error.to_degrees()
+        );
+        assert!(first_move < 0.0, "({x}, {y}): first moved with v = {first_move}");
+        assert_eq!(out.status(), Status::Converged, "({x}, {y})");
+        assert!(out.final_heading_error.to_degrees().abs() < 1.0, "({x}, {y}): {out:?}");
+    }
+}
+
+/// Starts all around the goal, every heading quarter: the paper's law drives away from
+/// some of them; the repaired one brings every one to the goal with its heading.
+#[test]
+fn regression_17_repaired_law_converges_where_the_papers_diverges() {
+    let goal = Pose2::new(0.3, -0.2, 0.5);
+    let mut paper_diverged = 0;
+    let mut worst_heading_deg: f64 = 0.0;
+    for i in 0..8 {
+        for j in 0..3 {
+            let phi = f64::from(i) * std::f64::consts::FRAC_PI_4 + 0.1;
+            let theta = f64::from(j) * 2.1 - 2.0;
+            let start = Pose2::new(goal.x + 1.5 * phi.cos(), goal.y + 1.5 * phi.sin(), theta);
+            let run = |law| -> Outcome<f64> { law_loop(law, start, goal).run(120_000, u32::MAX, |_| {}) };
+            let repaired = run(bidirectional());
+            assert_eq!(repaired.status(), Status::Converged, "from {start:?}: {repaired:?}");
+            worst_heading_deg = worst_heading_deg.max(repaired.final_heading_error.to_degrees().abs());
+            if run(LawParams::Paper(PaperParams::paper())).status() == Status::Diverged {
+                paper_diverged += 1;
+            }
+        }
+    }
+    println!(
+        "24 starts: paper law diverged {paper_diverged}; repaired: all converged, worst heading {worst_heading_deg:.3} deg"
+    );
+    assert!(paper_diverged > 0, "the starts must include some the paper's law cannot handle");
+    assert!(worst_heading_deg < 2.0);
+}

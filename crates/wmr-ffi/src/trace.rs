@@ -25,8 +25,8 @@
 //! control tick at t = 0, then `plant steps per tick` RK4 steps of `dt` between ticks).
 
 use wmr_core::{
-    DcMotorParams, DriveParams, HoldMode, LawParams, LyapunovParams, PaperMode, PaperParams, PolarParams, Pose2, Real,
-    RobotParams, TorqueDriveParams, WheelStageParams, WorldParams,
+    DcMotorParams, DriveParams, HoldMode, LawParams, LyapunovParams, PaperBidirectionalParams, PaperMode, PaperParams,
+    PolarParams, Pose2, Real, RobotParams, TorqueDriveParams, WheelStageParams, WorldParams,
 };
 
 /// The first 8 bytes of a trace file.
@@ -161,11 +161,7 @@ impl<T: Real> ConfigOf<T> {
                 f(p.ki_s),
                 f(p.goal_radius),
                 f(p.hold_radius),
-                match p.hold {
-                    HoldMode::ZeroErrors => 0,
-                    HoldMode::Freeze => 1,
-                    HoldMode::Auto => 2,
-                },
+                hold_word(p.hold),
             ],
             LawParams::Polar(p) => [
                 1,
@@ -181,6 +177,17 @@ impl<T: Real> ConfigOf<T> {
             LawParams::Lyapunov(p) => {
                 [2, f(p.gamma), f(p.k), f(p.h), u32::from(p.reverse), f(p.reverse_hysteresis), f(p.goal_radius), 0, 0]
             }
+            LawParams::PaperBidirectional(p) => [
+                3,
+                f(p.kp_theta),
+                f(p.ki_theta),
+                f(p.kp_s),
+                f(p.ki_s),
+                f(p.goal_radius),
+                f(p.hold_radius),
+                hold_word(p.hold),
+                0,
+            ],
         };
         w[0..9].copy_from_slice(&law);
         let drive: [u32; 7] = match self.drive {
@@ -238,12 +245,16 @@ impl Config {
                 ki_s: r(w[5]),
                 goal_radius: r(w[6]),
                 hold_radius: r(w[7]),
-                hold: match w[8] {
-                    0 => HoldMode::ZeroErrors,
-                    1 => HoldMode::Freeze,
-                    2 => HoldMode::Auto,
-                    _ => return Err(FormatError("paper hold is not 0, 1 or 2")),
-                },
+                hold: hold_of(w[8])?,
+            }),
+            3 => LawParams::PaperBidirectional(PaperBidirectionalParams {
+                kp_theta: r(w[1]),
+                ki_theta: r(w[2]),
+                kp_s: r(w[3]),
+                ki_s: r(w[4]),
+                goal_radius: r(w[5]),
+                hold_radius: r(w[6]),
+                hold: hold_of(w[7])?,
             }),
             1 => LawParams::Polar(PolarParams {
                 k_rho: r(w[1]),
@@ -395,6 +406,25 @@ impl Record {
     /// The values in word order.
     pub fn values(&self) -> [f32; RECORD_WORDS] {
         self.encode().map(f32::from_bits)
+    }
+}
+
+/// The word of a paper-law hold mode.
+fn hold_word(h: HoldMode) -> u32 {
+    match h {
+        HoldMode::ZeroErrors => 0,
+        HoldMode::Freeze => 1,
+        HoldMode::Auto => 2,
+    }
+}
+
+/// The hold mode of a word.
+fn hold_of(w: u32) -> Result<HoldMode, FormatError> {
+    match w {
+        0 => Ok(HoldMode::ZeroErrors),
+        1 => Ok(HoldMode::Freeze),
+        2 => Ok(HoldMode::Auto),
+        _ => Err(FormatError("paper hold is not 0, 1 or 2")),
     }
 }
 

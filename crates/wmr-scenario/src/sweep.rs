@@ -10,8 +10,8 @@
 //! random = { n = 1000, seed = 1, radius = 2.0, min_radius = 0.1 }
 //! ```
 //!
-//! Each entry of `controllers` takes the keys of `[controller]` for its kind; absent, all
-//! three laws run with their defaults. Random starts are uniform over the annulus
+//! Each entry of `controllers` takes the keys of `[controller]` for its kind; absent, every
+//! law runs with its defaults. Random starts are uniform over the annulus
 //! `min_radius <= |C - goal| <= radius` with a uniform heading in [-180, 180) deg, drawn
 //! from `fastrand`'s generator seeded with `seed` (the same file gives the same starts).
 

@@ -7,6 +7,7 @@
 use super::law::{Law, LawOutput};
 use super::lyapunov::{LyapunovLaw, LyapunovParams};
 use super::paper::{PaperLaw, PaperParams};
+use super::paper_bidirectional::{PaperBidirectionalLaw, PaperBidirectionalParams};
 use super::polar::{PolarLaw, PolarParams};
 use crate::error::ParamError;
 use crate::math::Pose2;
@@ -84,6 +85,8 @@ macro_rules! laws {
 laws! {
     /// The paper's law (`"paper"`), [`PaperLaw`].
     Paper(PaperParams, PaperLaw) = "paper", new(p, model, dt) => PaperLaw::new(p, model, dt);
+    /// The paper's law repaired (`"paper_bidirectional"`), [`PaperBidirectionalLaw`].
+    PaperBidirectional(PaperBidirectionalParams, PaperBidirectionalLaw) = "paper_bidirectional", new(p, model, dt) => PaperBidirectionalLaw::new(p, model, dt);
     /// Astolfi's polar law (`"polar"`), [`PolarLaw`].
     Polar(PolarParams, PolarLaw) = "polar", new(p, model, dt) => PolarLaw::new(p);
     /// Aicardi et al.'s Lyapunov law (`"lyapunov"`), [`LyapunovLaw`].

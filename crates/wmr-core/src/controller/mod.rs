@@ -2,7 +2,8 @@
 //! (make them go there), run every control period.
 //!
 //! - [`law`]: the [`Law`] contract and what a law asks of the wheels ([`WheelDemand`]).
-//! - [`paper`], [`polar`], [`lyapunov`]: the laws; [`polar_frame`] their shared geometry.
+//! - [`paper`], [`paper_bidirectional`], [`polar`], [`lyapunov`]: the laws; [`polar_frame`]
+//!   the polar laws' shared geometry.
 //! - [`any`]: every law behind one enum, chosen by name at run time.
 //! - [`wheel_stage`]: the wheel servos and the curvature-keeping wheel speed limit.
 //! - [`composed`]: [`Controller`] = law + wheel stage + control period.
@@ -12,6 +13,7 @@ pub mod composed;
 pub mod law;
 pub mod lyapunov;
 pub mod paper;
+pub mod paper_bidirectional;
 pub mod polar;
 pub mod polar_frame;
 pub mod saturation;
@@ -23,6 +25,7 @@ pub use composed::{ControlOutput, Controller, ControllerParams};
 pub use law::{ControlErrors, Law, LawOutput, WheelDemand};
 pub use lyapunov::{LyapunovLaw, LyapunovParams};
 pub use paper::{HoldMode, PaperLaw, PaperMode, PaperParams};
+pub use paper_bidirectional::{PaperBidirectionalLaw, PaperBidirectionalParams};
 pub use polar::{PolarLaw, PolarParams};
 pub use polar_frame::{Direction, DirectionSelector, PolarCoordinateLaw, PolarCoords, PolarGains, Steering};
 pub use saturation::{WheelRateLimiter, limit_wheel_speeds, wheel_speed_scale};

@@ -115,6 +115,93 @@ impl<T: Real> Default for PaperParams<T> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PaperLaw<T> {
     params: PaperParams<T>,
+    outer: OuterLoops<T>,
+}
+
+impl<T: Real> PaperLaw<T> {
+    /// Validates `params` (errors name `kp_theta`, `ki_theta`, `kp_s`, `ki_s`,
+    /// `goal_radius`, `hold_radius`) for the controller's robot model (r and R) and the
+    /// control period (s, `control_dt`).
+    pub fn new(params: PaperParams<T>, model: &RobotParams<T>, control_dt: T) -> Result<Self, ParamError> {
+        check::non_negative("kp_theta", params.kp_theta)?;
+        check::non_negative("ki_theta", params.ki_theta)?;
+        check::non_negative("kp_s", params.kp_s)?;
+        check::non_negative("ki_s", params.ki_s)?;
+        check::non_negative("goal_radius", params.goal_radius)?;
+        check::non_negative("hold_radius", params.hold_radius)?;
+        Ok(Self { params, outer: OuterLoops::new(model, control_dt)? })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &PaperParams<T> {
+        &self.params
+    }
+
+    /// The law itself: errors and wheel angle references (rad) for the measured `pose`
+    /// and the `goal` (m, m, rad), advancing the PI integrators by one control period.
+    #[inline]
+    pub fn references(&mut self, pose: Pose2<T>, goal: Pose2<T>) -> (Wheels<T>, ControlErrors<T>) {
+        let p = &self.params;
+        let gains = PiGains { kp_s: p.kp_s, ki_s: p.ki_s, kp_theta: p.kp_theta, ki_theta: p.ki_theta };
+        // At the goal alpha is undefined: keep the last one, or start from the value that
+        // makes theta_R the goal heading (pose) or the current one (position).
+        let alpha_at_goal = match p.mode {
+            PaperMode::Pose => goal.theta,
+            PaperMode::Position => pose.theta,
+        };
+        let mode = p.mode;
+        let hold = Hold { goal_radius: p.goal_radius, radius: p.hold_radius, mode: p.hold.resolve(mode) };
+        self.outer.step(&gains, hold, pose, goal, alpha_at_goal, |_, _, dl, alpha| {
+            let theta_ref = match mode {
+                PaperMode::Pose => alpha + alpha - goal.theta,
+                PaperMode::Position => alpha,
+            };
+            let diff = theta_ref - pose.theta;
+            // (18), (23) and (21).
+            (dl * diff.cos_libm(), wrap_angle(diff))
+        })
+    }
+}
+
+impl<T: Real> Law<T> for PaperLaw<T> {
+    #[inline]
+    fn update(&mut self, _t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
+        let (refs, errors) = self.references(m.pose, goal);
+        LawOutput { demand: WheelDemand::Angles(refs), errors }
+    }
+
+    fn reset(&mut self) {
+        self.outer.reset();
+    }
+}
+
+/// The gains of the two PI loops (22), (24).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct PiGains<T> {
+    /// Kp_s, m/m, and Ki_s, 1/s.
+    pub kp_s: T,
+    pub ki_s: T,
+    /// Kp_theta, rad/rad, and Ki_theta, 1/s.
+    pub kp_theta: T,
+    pub ki_theta: T,
+}
+
+/// The radii of the goal: alpha's memory and the hold, and the hold's (resolved) mode.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Hold<T> {
+    /// Within this distance (m) alpha keeps its last value.
+    pub goal_radius: T,
+    /// Within this distance (m) the outer loops hold; 0 = off.
+    pub radius: T,
+    /// [`HoldMode::ZeroErrors`] or [`HoldMode::Freeze`] (already resolved).
+    pub mode: HoldMode,
+}
+
+/// What the paper's law and its repair share: the errors generator's alpha (17) with its
+/// memory at the goal, the hold, the two PI loops (22), (24) and the inverse of (20) to
+/// absolute wheel angle references. Only the errors differ between the two laws.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct OuterLoops<T> {
     /// r, m and R, m (the controller's model), for the inverse of (20).
     wheel_radius: T,
     half_track: T,
@@ -130,20 +217,11 @@ pub struct PaperLaw<T> {
     last_refs: Option<Wheels<T>>,
 }
 
-impl<T: Real> PaperLaw<T> {
-    /// Validates `params` (errors name `kp_theta`, `ki_theta`, `kp_s`, `ki_s`,
-    /// `goal_radius`, `hold_radius`) for the controller's robot model (r and R) and the
-    /// control period (s, `control_dt`).
-    pub fn new(params: PaperParams<T>, model: &RobotParams<T>, control_dt: T) -> Result<Self, ParamError> {
-        check::non_negative("kp_theta", params.kp_theta)?;
-        check::non_negative("ki_theta", params.ki_theta)?;
-        check::non_negative("kp_s", params.kp_s)?;
-        check::non_negative("ki_s", params.ki_s)?;
-        check::non_negative("goal_radius", params.goal_radius)?;
-        check::non_negative("hold_radius", params.hold_radius)?;
+impl<T: Real> OuterLoops<T> {
+    /// For the controller's robot model (r and R) and the control period (s, `control_dt`).
+    pub(crate) fn new(model: &RobotParams<T>, control_dt: T) -> Result<Self, ParamError> {
         check::positive("control_dt", control_dt)?;
         Ok(Self {
-            params,
             wheel_radius: model.wheel_radius,
             half_track: model.half_track,
             control_dt,
@@ -154,41 +232,36 @@ impl<T: Real> PaperLaw<T> {
         })
     }
 
-    /// The parameters.
-    pub fn params(&self) -> &PaperParams<T> {
-        &self.params
-    }
-
-    /// The law itself: errors and wheel angle references (rad) for the measured `pose`
-    /// and the `goal` (m, m, rad), advancing the PI integrators by one control period.
-    #[inline]
-    pub fn references(&mut self, pose: Pose2<T>, goal: Pose2<T>) -> (Wheels<T>, ControlErrors<T>) {
-        let p = &self.params;
+    /// One control period: `errors(dx, dy, dl, alpha)` gives (e_s in m, e_theta in rad)
+    /// from the goal offset (m, world frame), the distance (m) and alpha (rad); the
+    /// result is the wheel angle references (rad) and the logged errors.
+    #[inline(always)]
+    pub(crate) fn step(
+        &mut self,
+        g: &PiGains<T>,
+        hold: Hold<T>,
+        pose: Pose2<T>,
+        goal: Pose2<T>,
+        alpha_at_goal: T,
+        errors: impl FnOnce(T, T, T, T) -> (T, T),
+    ) -> (Wheels<T>, ControlErrors<T>) {
         let dx = goal.x - pose.x;
         let dy = goal.y - pose.y;
         let dl = dx.hypot_libm(dy);
-        let alpha = if dl > p.goal_radius {
+        let alpha = if dl > hold.goal_radius {
             let a = dy.atan2_libm(dx);
             self.last_alpha = Some(a);
             a
         } else {
-            // At the goal alpha is undefined: keep the last one, or start from the
-            // value that makes theta_R the goal heading (pose) or the current one.
-            self.last_alpha.unwrap_or(match p.mode {
-                PaperMode::Pose => goal.theta,
-                PaperMode::Position => pose.theta,
-            })
+            self.last_alpha.unwrap_or(alpha_at_goal)
         };
-        let theta_ref = match p.mode {
-            PaperMode::Pose => alpha + alpha - goal.theta,
-            PaperMode::Position => alpha,
-        };
-        // Hold: inside hold_radius the outer errors are taken as zero and the integrators
-        // stop, so u = Ki * int and the references stay put. Note the step on entry: the
-        // proportional parts Kp e drop out at once.
-        let in_hold = p.hold_radius > T::zero() && dl < p.hold_radius;
+        // Hold: inside the radius the outer errors are taken as zero and the integrators
+        // stop, so u = Ki * int and the references stay put (zero errors; note the step on
+        // entry: the proportional parts Kp e drop out at once), or the references of the
+        // last tick outside are kept (freeze).
+        let in_hold = hold.radius > T::zero() && dl < hold.radius;
         if in_hold
-            && p.hold.resolve(p.mode) == HoldMode::Freeze
+            && hold.mode == HoldMode::Freeze
             && let Some(refs) = self.last_refs
         {
             return (refs, ControlErrors { e_s: T::zero(), e_theta: T::zero(), dl });
@@ -196,31 +269,22 @@ impl<T: Real> PaperLaw<T> {
         let (e_s, e_theta) = if in_hold {
             (T::zero(), T::zero())
         } else {
-            let diff = theta_ref - pose.theta;
-            let e_s = dl * diff.cos_libm();
-            let e_theta = wrap_angle(diff);
+            let (e_s, e_theta) = errors(dx, dy, dl, alpha);
             // Forward-Euler sums that include the current error.
             self.int_e_s = self.int_e_s + e_s * self.control_dt;
             self.int_e_theta = self.int_e_theta + e_theta * self.control_dt;
             (e_s, e_theta)
         };
-        let u_s = p.kp_s * e_s + p.ki_s * self.int_e_s;
-        let u_theta = p.kp_theta * e_theta + p.ki_theta * self.int_e_theta;
+        let u_s = g.kp_s * e_s + g.ki_s * self.int_e_s;
+        let u_theta = g.kp_theta * e_theta + g.ki_theta * self.int_e_theta;
         let turn = self.half_track * u_theta;
         let refs = Wheels::new((u_s + turn) / self.wheel_radius, (u_s - turn) / self.wheel_radius);
         self.last_refs = Some(refs);
         (refs, ControlErrors { e_s, e_theta, dl })
     }
-}
 
-impl<T: Real> Law<T> for PaperLaw<T> {
-    #[inline]
-    fn update(&mut self, _t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
-        let (refs, errors) = self.references(m.pose, goal);
-        LawOutput { demand: WheelDemand::Angles(refs), errors }
-    }
-
-    fn reset(&mut self) {
+    /// Clears the integrators and memories, as at t = 0.
+    pub(crate) fn reset(&mut self) {
         self.int_e_theta = T::zero();
         self.int_e_s = T::zero();
         self.last_alpha = None;

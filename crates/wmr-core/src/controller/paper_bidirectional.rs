@@ -1,0 +1,229 @@
+//! The paper's law, repaired (`kind = "paper_bidirectional"`): the same errors generator,
+//! two PI loops, inverse of (20) and wheel position servos as [`super::PaperLaw`], with a
+//! position error that never feeds back positively, and gains for which the heading
+//! settles before the position. The derivation is in `docs/model.md` ("The repaired
+//! law"); in short:
+//!
+//! ```text
+//! dl      = hypot(x_d - x, y_d - y)                                   (16)
+//! alpha   = atan2(y_d - y, x_d - x)                                   (17)
+//! theta_R = 2 alpha - theta_d,  e_theta = wrap(theta_R - theta)       (21), as the paper
+//! e_s     = (x_d - x) cos(theta) + (y_d - y) sin(theta) = dl cos(alpha - theta)
+//! u_theta = Kp_t e_theta + Ki_t int e_theta,  u_s = Kp_s e_s + Ki_s int e_s   (22), (24)
+//! phi_r_ref = (u_s + R u_theta) / r,  phi_l_ref = (u_s - R u_theta) / r       (20)^-1
+//! ```
+//!
+//! **The position error.** The paper's (18) measures the distance dl along the heading
+//! towards the moving false target R, dl cos(theta_R - theta). With the heading on
+//! theta_R, driving forward by ds changes it by -cos(alpha - theta_d) ds: positive
+//! feedback whenever the goal lies behind the robot's goal-heading line (cos(alpha -
+//! theta_d) < 0), and those runs drive away. Here e_s is the goal's own coordinate along
+//! the heading axis; driving by ds along the heading changes it by exactly -ds, whatever
+//! the pose: the position loop always sees negative feedback of gain one. The sign of e_s
+//! chooses the direction, so the robot backs up when the goal lies behind its axis (the
+//! paper's Fig. 6), and with the heading on theta_R it follows, forwards or backwards,
+//! the circle through C that is tangent to theta_d at the goal, which arrives with the
+//! goal heading.
+//!
+//! **The gains.** With ideal wheel servos (s = u_s, theta = u_theta up to constants) the
+//! position loop is v = k_s e_s with k_s = Ki_s / (1 + Kp_s). Linearized about the goal
+//! (robot behind it on its circle, small angles), the lateral angle q = alpha - theta_d and
+//! the heading theta - theta_d obey
+//!
+//! ```text
+//! q'     = k_s (q - theta)
+//! theta' = (2 Kp_t k_s (q - theta) + Ki_t (2 q - theta)) / (1 + Kp_t)
+//! ```
+//!
+//! whose decay rates mu solve mu^2 - T mu + D = 0 with
+//! T = (2 Kp_t k_s + Ki_t) / (1 + Kp_t) - k_s and D = k_s Ki_t / (1 + Kp_t). The approach
+//! is stable when Ki_t > 0 and T > 0 (checked at construction); the heading settles no
+//! later than the distance when both rates exceed k_s ([`PaperBidirectionalParams::near_goal_rates`]).
+//! The paper's gains (Kp_t 2, Ki_t 0.1, Kp_s 1, Ki_s 0.25) give k_s = 0.125 1/s and a
+//! heading rate of 0.0375 1/s, 3.3 times slower than the distance: the robot arrives
+//! before it has turned, which is the paper's residual heading error. The defaults here
+//! (Kp_t 0.2, Ki_t 1, Kp_s 0.2, Ki_s 0.25) give k_s = 0.21 1/s and a heading rate of
+//! 0.35 1/s (1.7 k_s); the small proportional gains also avoid the first tick's step of
+//! the wheel references by Kp e, which with the paper's gains saturates the drives.
+//!
+//! Inside `hold_radius` the law holds as [`super::PaperLaw`] does; the default is
+//! [`HoldMode::Freeze`] (bumpless), and [`HoldMode::Auto`] means freeze here.
+//!
+//! Logged errors ([`super::ControlErrors`]): e_s the position error above, e_theta =
+//! wrap(theta_R - theta) as the paper's, dl the distance.
+
+use super::law::{ControlErrors, Law, LawOutput, WheelDemand};
+use super::paper::{Hold, HoldMode, OuterLoops, PiGains};
+use crate::error::{ParamError, check};
+use crate::math::{Pose2, Wheels, wrap_angle};
+use crate::sensor::Measurement;
+use crate::{Real, RobotParams};
+
+/// `[controller] kind = "paper_bidirectional"`: the law's own keys.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct PaperBidirectionalParams<T> {
+    /// Kp_theta, rad of heading command per rad of error (`kp_theta`). >= 0.
+    pub kp_theta: T,
+    /// Ki_theta, 1/s (`ki_theta`). > ki_s (1 - kp_theta) / (1 + kp_s), and > 0.
+    pub ki_theta: T,
+    /// Kp_s, m of path command per m of error (`kp_s`). >= 0.
+    pub kp_s: T,
+    /// Ki_s, 1/s (`ki_s`). > 0.
+    pub ki_s: T,
+    /// Within this distance of the goal (m) alpha keeps its last value (`goal_radius`).
+    pub goal_radius: T,
+    /// Within this distance of the goal (m) the outer loops hold (`hold_radius`); 0 = off.
+    pub hold_radius: T,
+    /// How the hold behaves (`hold`): [`HoldMode::Freeze`] (default; `auto` is the same)
+    /// or [`HoldMode::ZeroErrors`].
+    pub hold: HoldMode,
+}
+
+impl<T: Real> Default for PaperBidirectionalParams<T> {
+    /// Kp_theta 0.2, Ki_theta 1 1/s, Kp_s 0.2, Ki_s 0.25 1/s (module docs), goal_radius
+    /// 1 mm, hold_radius 5 mm, freeze.
+    fn default() -> Self {
+        Self {
+            kp_theta: T::lit(0.2),
+            ki_theta: T::lit(1.0),
+            kp_s: T::lit(0.2),
+            ki_s: T::lit(0.25),
+            goal_radius: T::lit(1e-3),
+            hold_radius: T::lit(5e-3),
+            hold: HoldMode::Freeze,
+        }
+    }
+}
+
+impl<T: Real> PaperBidirectionalParams<T> {
+    /// The position loop's rate k_s = Ki_s / (1 + Kp_s) (1/s) and the decay rates (1/s)
+    /// of the heading and lateral modes near the goal, linearized with ideal servos
+    /// (module docs): `(k_s, slow, fast)`. Complex rates are given by their real part
+    /// (both equal); a rate <= 0 is an unstable approach.
+    pub fn near_goal_rates(&self) -> (T, T, T) {
+        let one = T::one();
+        let two = T::lit(2.0);
+        let k_s = self.ki_s / (one + self.kp_s);
+        let trace = (two * self.kp_theta * k_s + self.ki_theta) / (one + self.kp_theta) - k_s;
+        let det = k_s * self.ki_theta / (one + self.kp_theta);
+        let disc = trace * trace - T::lit(4.0) * det;
+        let half = trace / two;
+        if disc < T::zero() {
+            (k_s, half, half)
+        } else {
+            let root = disc.sqrt() / two;
+            (k_s, half - root, half + root)
+        }
+    }
+
+    /// Checks every key; errors name it.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let kp_theta = check::non_negative("kp_theta", self.kp_theta)?;
+        let kp_s = check::non_negative("kp_s", self.kp_s)?;
+        let ki_s = check::positive("ki_s", self.ki_s)?;
+        let ki_theta = check::positive("ki_theta", self.ki_theta)?;
+        check::non_negative("goal_radius", self.goal_radius)?;
+        check::non_negative("hold_radius", self.hold_radius)?;
+        let k_s = ki_s / (T::one() + kp_s);
+        if ki_theta <= k_s * (T::one() - kp_theta) {
+            return Err(check::out_of_range(
+                "ki_theta",
+                "must exceed ki_s (1 - kp_theta) / (1 + kp_s): otherwise the heading loop cannot keep up with \
+                 the position loop near the goal and the approach is unstable",
+                ki_theta,
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The repaired paper law. Implements [`Law`] with [`WheelDemand::Angles`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PaperBidirectionalLaw<T> {
+    params: PaperBidirectionalParams<T>,
+    outer: OuterLoops<T>,
+}
+
+impl<T: Real> PaperBidirectionalLaw<T> {
+    /// Validates `params` for the controller's robot model (r and R) and the control
+    /// period (s, `control_dt`).
+    pub fn new(params: PaperBidirectionalParams<T>, model: &RobotParams<T>, control_dt: T) -> Result<Self, ParamError> {
+        params.validate()?;
+        Ok(Self { params, outer: OuterLoops::new(model, control_dt)? })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &PaperBidirectionalParams<T> {
+        &self.params
+    }
+
+    /// The law itself: errors and wheel angle references (rad) for the measured `pose`
+    /// and the `goal` (m, m, rad, world frame), advancing the PI integrators by one
+    /// control period.
+    #[inline]
+    pub fn references(&mut self, pose: Pose2<T>, goal: Pose2<T>) -> (Wheels<T>, ControlErrors<T>) {
+        let p = &self.params;
+        let gains = PiGains { kp_s: p.kp_s, ki_s: p.ki_s, kp_theta: p.kp_theta, ki_theta: p.ki_theta };
+        let mode = if p.hold == HoldMode::ZeroErrors { HoldMode::ZeroErrors } else { HoldMode::Freeze };
+        let hold = Hold { goal_radius: p.goal_radius, radius: p.hold_radius, mode };
+        // At the goal from the start, alpha = theta_d makes theta_R the goal heading.
+        self.outer.step(&gains, hold, pose, goal, goal.theta, |dx, dy, _, alpha| {
+            let (sin, cos) = pose.theta.sin_cos_libm();
+            let e_s = dx * cos + dy * sin;
+            let e_theta = wrap_angle(alpha + alpha - goal.theta - pose.theta);
+            (e_s, e_theta)
+        })
+    }
+}
+
+impl<T: Real> Law<T> for PaperBidirectionalLaw<T> {
+    #[inline]
+    fn update(&mut self, _t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
+        let (refs, errors) = self.references(m.pose, goal);
+        LawOutput { demand: WheelDemand::Angles(refs), errors }
+    }
+
+    fn reset(&mut self) {
+        self.outer.reset();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The default gains: stable, and the heading settles faster than the distance; the
+    /// paper's gains: stable, but the heading is 3.3 times slower than the distance.
+    #[test]
+    fn near_goal_rates_of_the_defaults_and_of_the_papers_gains() {
+        let (k_s, slow, fast) = PaperBidirectionalParams::<f64>::default().near_goal_rates();
+        assert!((k_s - 0.25 / 1.2).abs() < 1e-15);
+        assert!(slow > k_s && (slow - fast).abs() < 1e-15, "{k_s} {slow} {fast}");
+        let paper = PaperBidirectionalParams::<f64> {
+            kp_theta: 2.0,
+            ki_theta: 0.1,
+            kp_s: 1.0,
+            ki_s: 0.25,
+            ..Default::default()
+        };
+        let (k_s, slow, _) = paper.near_goal_rates();
+        assert!((k_s - 0.125).abs() < 1e-15 && (slow - 0.0375).abs() < 1e-12, "{k_s} {slow}");
+        assert!(paper.validate().is_ok());
+    }
+
+    #[test]
+    fn gains_that_make_the_approach_unstable_are_refused() {
+        let p = PaperBidirectionalParams::<f64> {
+            kp_theta: 0.0,
+            ki_theta: 0.2,
+            kp_s: 0.0,
+            ki_s: 0.25,
+            ..Default::default()
+        };
+        assert!(p.near_goal_rates().1 < 0.0);
+        assert_eq!(p.validate().unwrap_err().field, "ki_theta");
+        let p = PaperBidirectionalParams { ki_s: 0.0, ..PaperBidirectionalParams::<f64>::default() };
+        assert_eq!(p.validate().unwrap_err().field, "ki_s");
+    }
+}
