@@ -4,7 +4,11 @@
 mod atomic;
 mod csv_sink;
 mod exec;
+mod foxglove_cmd;
+mod foxglove_topics;
 mod keys;
+mod layout;
+mod live;
 mod mcap_sink;
 mod plot_cmd;
 mod sweep_cmd;
@@ -37,12 +41,33 @@ enum Command {
     Run {
         /// The scenario file (TOML).
         file: PathBuf,
-        /// Output file: MCAP when it ends in .mcap, CSV when it ends in .csv.
-        #[arg(short, long, value_name = "OUT")]
-        output: PathBuf,
+        /// Output file: MCAP when it ends in .mcap, CSV when it ends in .csv (optional with --live).
+        #[arg(short, long, value_name = "OUT", required_unless_present = "live")]
+        output: Option<PathBuf>,
         /// Output format; overrides the extension of OUT.
         #[arg(long, value_enum)]
         format: Option<Format>,
+        /// Also write LAYOUT, a Foxglove layout made for these runs (as `wmr-cli layout`).
+        #[arg(long, value_name = "LAYOUT")]
+        layout: Option<PathBuf>,
+        /// Serve the runs live on ADDR (default 127.0.0.1:8765, loopback only) over Foxglove's
+        /// WebSocket protocol, paced at simulated time; in Foxglove: Open connection. Starts when
+        /// a client subscribes; with -o OUT.mcap the file is written too. Give FILE first.
+        #[arg(long, value_name = "ADDR", num_args = 0..=1, default_missing_value = live::DEFAULT_ADDR,
+              value_parser = foxglove_cmd::parse_addr)]
+        live: Option<std::net::SocketAddr>,
+        /// With --live: simulated seconds per second of wall time (2 = twice as fast) [default: 1].
+        #[arg(long, value_name = "X", requires = "live", value_parser = foxglove_cmd::parse_speed)]
+        speed: Option<f64>,
+    },
+    /// Write a Foxglove layout made for a scenario's runs: the 3D view of the plane (paths,
+    /// robots, goals of every run) and plots of dl, e_theta and the wheel speeds, with units.
+    Layout {
+        /// The scenario file (TOML).
+        file: PathBuf,
+        /// The layout (JSON); import it in Foxglove with Layouts > Import from file.
+        #[arg(short, long, value_name = "LAYOUT")]
+        output: PathBuf,
     },
     /// Run the sweep table of a scenario: every law from every start, in parallel; write one CSV
     /// row per (law, start) and print a comparison table (median / worst per law).
@@ -157,8 +182,29 @@ fn run(cli: Cli) -> Result<()> {
             eprintln!("wmr-cli: wrote {} SVG file(s) into {}", written.len(), output.display());
             Ok(())
         }
-        Command::Run { file, output, format } => {
+        Command::Layout { file, output } => {
+            let scenario = load(&file)?;
+            if scenario.runs().is_empty() {
+                bail!("{} has no [[run]] (a [sweep] file runs with `wmr-cli sweep`)", file.display());
+            }
+            atomic::install_interrupt_handler()?;
+            foxglove_cmd::write_layout(&scenario, &output)?;
+            eprintln!("wmr-cli: wrote {} ({} run(s))", output.display(), scenario.runs().len());
+            Ok(())
+        }
+        Command::Run { file, output, format, layout, live, speed } => {
+            if let Some(addr) = live {
+                let scenario = load(&file)?;
+                if scenario.runs().is_empty() {
+                    bail!("{} has no [[run]] (a [sweep] file runs with `wmr-cli sweep`)", file.display());
+                }
+                return foxglove_cmd::run_live(&scenario, output, format, layout, addr, speed.unwrap_or(1.0));
+            }
+            let output = output.context("-o OUT is required without --live")?;
             let format = format_of(&output, format)?;
+            if layout.is_some() && format != Format::Mcap {
+                foxglove_cmd::usage_error("--layout describes the MCAP topics: write OUT as .mcap");
+            }
             let scenario = load(&file)?;
             if scenario.runs().is_empty() {
                 bail!("{} has no [[run]] (a [sweep] file runs with `wmr-cli sweep`)", file.display());
@@ -175,14 +221,22 @@ fn run(cli: Cli) -> Result<()> {
                     Box::new(csv_sink::CsvSink::new(file, scenario.setup().has_sensor).map_err(|e| anyhow::anyhow!(e))?)
                 }
                 Format::Mcap => Box::new(
-                    mcap_sink::McapSink::new(file, *scenario.robot().params(), scenario.setup().has_sensor)
-                        .map_err(|e| anyhow::anyhow!(e))?,
+                    mcap_sink::McapSink::new(
+                        file,
+                        *scenario.robot().params(),
+                        scenario.sim().dt(),
+                        scenario.setup().has_sensor,
+                    )
+                    .map_err(|e| anyhow::anyhow!(e))?,
                 ),
             };
             let results = exec::execute(&scenario, sink.as_mut(), std::io::stderr().is_terminal())
                 .with_context(|| format!("cannot write {}", output.display()))?;
             drop(sink);
             out.persist()?;
+            if let Some(layout) = &layout {
+                foxglove_cmd::write_layout(&scenario, layout)?;
+            }
             for r in &results {
                 println!("{}", r.summary_line());
             }

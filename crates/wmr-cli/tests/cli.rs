@@ -131,35 +131,36 @@ fn mcap_round_trip() {
     }
     let per_sample = 201; // t_end / log_dt + 1
     for run in 0..2 {
+        // The topics of crate::foxglove_topics (tests/foxglove.rs checks them in depth).
         let expect = [
-            ("tf", "foxglove.FrameTransform", per_sample),
-            ("pose", "foxglove.PoseInFrame", per_sample),
-            ("path", "foxglove.SceneUpdate", per_sample),
-            ("sample", "wmr.Sample", per_sample),
-            ("goal", "foxglove.PoseInFrame", 1),
-            ("robot", "foxglove.SceneUpdate", 1),
+            ("tf", "foxglove.FrameTransform", Some(per_sample)),
+            ("sample", "wmr.Sample", Some(per_sample)),
+            ("scene", "foxglove.SceneUpdate", Some(1)),
+            ("path_tip", "foxglove.SceneUpdate", None),
         ];
         for (name, schema, count) in expect {
             let topic = format!("/run{run}/{name}");
             let (s, _, times, _) = topics.get(&topic).unwrap_or_else(|| panic!("missing {topic}: {:?}", topics.keys()));
             assert_eq!(s, schema, "{topic}");
-            assert_eq!(times.len(), count, "{topic}");
+            if let Some(count) = count {
+                assert_eq!(times.len(), count, "{topic}");
+            }
             assert!(times.windows(2).all(|w| w[0] <= w[1]), "{topic} log times not monotonic");
-            assert_eq!(times[0], 0, "{topic} starts at t = 0");
-            if count > 1 {
+            if name != "path_tip" {
+                assert_eq!(times[0], 0, "{topic} starts at t = 0");
+            }
+            if count.is_some_and(|c| c > 1) || name == "path_tip" {
                 assert_eq!(*times.last().unwrap(), 2_000_000_000, "{topic} ends at t_end");
             }
         }
     }
-    assert_eq!(topics.len(), 12, "{:?}", topics.keys());
-    for (topic, (schema, enc, _, _)) in &topics {
-        let want = if schema.starts_with("foxglove.") { "protobuf" } else { "json" };
-        assert_eq!(enc, want, "{topic}");
+    for (topic, (_, enc, _, _)) in &topics {
+        assert_eq!(enc, "protobuf", "{topic}");
     }
 
     // The protobuf messages decode and carry the core's pose.
     use foxglove::Decode as _;
-    use foxglove::messages::{FrameTransform, PoseInFrame, SceneUpdate};
+    use foxglove::messages::{FrameTransform, SceneUpdate};
     let core = core_samples(Pose2::new(0.0, 0.0, 0.0), Pose2::new(1.0, 1.0, 120f64.to_radians()), 2000, 10);
     let last = core.last().unwrap();
     let tf = FrameTransform::decode(&topics["/run0/tf"].3[200][..]).unwrap();
@@ -168,20 +169,23 @@ fn mcap_round_trip() {
     assert_eq!((t.x, t.y), (last.state.x, last.state.y));
     let q = tf.rotation.unwrap();
     assert!((2.0 * q.z.atan2(q.w) - last.state.theta).abs() < 1e-12);
-    let goal = PoseInFrame::decode(&topics["/run0/goal"].3[0][..]).unwrap();
-    assert_eq!(goal.pose.unwrap().position.unwrap().x, 1.0);
-    let path = SceneUpdate::decode(&topics["/run0/path"].3[200][..]).unwrap();
-    let line = &path.entities[0].lines[0];
-    let end = line.points.last().unwrap();
+    let scene = SceneUpdate::decode(&topics["/run0/scene"].3[0][..]).unwrap();
+    let goal = scene.entities.iter().find(|e| e.id == "goal").unwrap();
+    assert_eq!(goal.arrows[0].pose.unwrap().position.unwrap().x, 1.0);
+    let tip = SceneUpdate::decode(&topics["/run0/path_tip"].3.last().unwrap()[..]).unwrap();
+    let end = tip.entities[0].lines[0].points.last().unwrap();
     assert_eq!((end.x, end.y), (last.state.x, last.state.y));
 
-    // The JSON samples carry every CSV column with the core's numbers.
+    // The samples (protobuf wmr.Sample: field i + 1 is CSV column i + 1, a double) carry the
+    // core's numbers.
     let (_, _, _, msgs) = &topics["/run0/sample"];
+    assert_eq!(msgs.len(), core.len());
     for (msg, s) in msgs.iter().zip(&core) {
-        let v: serde_json::Value = serde_json::from_slice(msg).unwrap();
-        assert_eq!(v["run"], 0);
-        for (name, x) in SAMPLE_COLUMNS.iter().zip(sample_values(s)) {
-            assert_eq!(v[name].as_f64(), Some(x), "{name}");
+        assert_eq!(msg.len(), 9 * SAMPLE_COLUMNS.len());
+        for (i, (name, x)) in SAMPLE_COLUMNS.iter().zip(sample_values(s)).enumerate() {
+            assert_eq!(msg[9 * i], ((i as u8 + 1) << 3) | 1, "{name}: field key");
+            let v = f64::from_le_bytes(msg[9 * i + 1..9 * i + 9].try_into().unwrap());
+            assert_eq!(v.to_bits(), x.to_bits(), "{name}");
         }
     }
 }

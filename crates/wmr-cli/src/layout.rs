@@ -1,0 +1,254 @@
+//! A Foxglove layout made for one scenario (`wmr-cli layout`, `run --layout`): the keys
+//! are the ones Foxglove's panels read (checked against the open-source Foxglove fork's
+//! panel code: `ThreeDeeRender` and `Plot`).
+//!
+//! - **3D** (`3D!wmr-plane`): the plane seen from above (orthographic camera framing every
+//!   start and goal, x to the right, y up), a grid with round spacing, and per run its
+//!   `scene` (body, goal), `path` and `path_tip` topics visible and, with a `[sensor]`, its
+//!   `pose_meas` as an arrow. Frame settings where Foxglove reads them: axis scale and label
+//!   size under `scene.transforms`, one `frame:<id>` entry per frame under `transforms`.
+//! - **Plots**, titled with their units (`foxglovePanelTitle`): dl of every run, e_theta of
+//!   every run, the wheel speeds of run 0 and, with a `[sensor]`, run 0's true and
+//!   measured position. A run's series has the colour of its path in the 3D panel.
+
+use serde_json::{Value, json};
+use wmr_scenario::Scenario;
+
+use crate::foxglove_topics::{Kind, WORLD_FRAME, base_link, run_hex, topic};
+
+/// Id (type!name) of the 3D panel.
+pub const PANEL_3D: &str = "3D!wmr-plane";
+
+/// Length of the frame axes Foxglove draws at `axisScale` 1, m (its `Axis.ts`: shaft 0.154 +
+/// head 0.046).
+const AXIS_LENGTH_FOXGLOVE_M: f64 = 0.2;
+
+/// A round grid spacing (1, 2 or 5 times a power of ten) near `span / 10`, m.
+fn nice_spacing(span: f64) -> f64 {
+    let raw = (span / 10.0).max(1e-3);
+    let p = 10f64.powf(raw.log10().floor());
+    let m = raw / p;
+    let k = if m < 1.5 {
+        1.0
+    } else if m < 3.5 {
+        2.0
+    } else if m < 7.5 {
+        5.0
+    } else {
+        10.0
+    };
+    k * p
+}
+
+/// Rounds to 6 decimals, so the JSON shows 0.3 and not 0.30000000000000004.
+fn r6(v: f64) -> f64 {
+    (v * 1e6).round() / 1e6
+}
+
+fn plot(title: &str, paths: Vec<Value>) -> Value {
+    let legend = if paths.len() <= 8 { "floating" } else { "left" };
+    json!({
+        "foxglovePanelTitle": title,
+        "paths": paths,
+        "showXAxisLabels": true,
+        "showYAxisLabels": true,
+        "showLegend": true,
+        "legendDisplay": legend,
+        "showPlotValuesInLegend": false,
+        "isSynced": true,
+        "xAxisVal": "timestamp",
+        "sidebarDimension": 240
+    })
+}
+
+fn series(run: usize, field: &str, label: String, color: String) -> Value {
+    json!({
+        "value": format!("{}.{field}", topic(run, Kind::Sample)),
+        "enabled": true,
+        "timestampMethod": "receiveTime",
+        "label": label,
+        "color": color
+    })
+}
+
+/// Panels stacked in a column, evenly.
+fn column(ids: &[&str]) -> Value {
+    match ids {
+        [] => Value::Null,
+        [one] => json!(one),
+        [first, rest @ ..] => json!({
+            "first": first,
+            "second": column(rest),
+            "direction": "column",
+            "splitPercentage": r6(100.0 / ids.len() as f64)
+        }),
+    }
+}
+
+/// The layout for `scenario`'s runs.
+pub fn layout(scenario: &Scenario) -> Value {
+    let runs = scenario.runs();
+    let robot = scenario.robot().params();
+    let measured = scenario.setup().has_sensor;
+
+    // Frame every start and goal with a margin of a robot length and 15 %.
+    let body = (2.0 * robot.com_offset.abs()).max(2.0 * robot.wheel_radius) + 2.0 * robot.wheel_radius;
+    let reach = body.max(2.0 * robot.half_track);
+    let (mut x0, mut y0, mut x1, mut y1) = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
+    for p in runs.iter().flat_map(|r| [r.start, r.goal]) {
+        x0 = x0.min(p.x);
+        y0 = y0.min(p.y);
+        x1 = x1.max(p.x);
+        y1 = y1.max(p.y);
+    }
+    if !x0.is_finite() {
+        (x0, y0, x1, y1) = (0.0, 0.0, 0.0, 0.0);
+    }
+    let span = (x1 - x0).max(y1 - y0) + 2.0 * reach;
+    let span = span * 1.15;
+    let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+    let spacing = nice_spacing(span);
+    let cells = (span / spacing).ceil() + 2.0;
+    let grid_size = cells * spacing;
+
+    let mut transforms = serde_json::Map::new();
+    transforms.insert(format!("frame:{WORLD_FRAME}"), json!({ "visible": true }));
+    let mut topics = serde_json::Map::new();
+    for i in 0..runs.len() {
+        transforms.insert(format!("frame:{}", base_link(i)), json!({ "visible": true }));
+        for kind in [Kind::Scene, Kind::Path, Kind::PathTip] {
+            topics.insert(topic(i, kind), json!({ "visible": true }));
+        }
+        if measured {
+            let s = robot.half_track;
+            topics.insert(
+                topic(i, Kind::PoseMeas),
+                json!({
+                    "visible": true,
+                    "type": "arrow",
+                    "arrowScale": [r6(1.2 * s), r6(0.08 * s), r6(0.08 * s)],
+                    "color": format!("{}ff", run_hex(i))
+                }),
+            );
+        }
+    }
+
+    let three_d = json!({
+        "cameraState": {
+            "perspective": false,
+            "distance": r6(span),
+            "phi": 0,
+            "thetaOffset": 0,
+            "targetOffset": [r6(cx), r6(cy), 0],
+            "target": [0, 0, 0],
+            "targetOrientation": [0, 0, 0, 1],
+            "fovy": 45,
+            "near": 0.01,
+            "far": 5000
+        },
+        "followMode": "follow-none",
+        "followTf": WORLD_FRAME,
+        "scene": {
+            "backgroundColor": "#ffffff",
+            "transforms": {
+                "showLabel": true,
+                "labelSize": r6(span / 60.0),
+                "axisScale": r6(robot.half_track / AXIS_LENGTH_FOXGLOVE_M),
+                "enablePreloading": true
+            }
+        },
+        "transforms": transforms,
+        "topics": topics,
+        "layers": {
+            "grid": {
+                "visible": true,
+                "layerId": "foxglove.Grid",
+                "frameId": WORLD_FRAME,
+                "size": r6(grid_size),
+                "divisions": cells as u64,
+                "lineWidth": 1,
+                "color": "#c8c8c8ff",
+                "position": [r6((cx / spacing).round() * spacing), r6((cy / spacing).round() * spacing), 0],
+                "rotation": [0, 0, 0],
+                "order": 1
+            }
+        },
+        "publish": {
+            "type": "point",
+            "poseTopic": "/move_base_simple/goal",
+            "pointTopic": "/clicked_point",
+            "poseEstimateTopic": "/initialpose",
+            "poseEstimateXDeviation": 0.5,
+            "poseEstimateYDeviation": 0.5,
+            "poseEstimateThetaDeviation": 0.26179939
+        },
+        "imageMode": {}
+    });
+
+    let every = |field: &str| -> Vec<Value> {
+        (0..runs.len()).map(|i| series(i, field, format!("run {i}"), run_hex(i))).collect()
+    };
+    let mut config = serde_json::Map::new();
+    config.insert(PANEL_3D.into(), three_d);
+    config.insert("Plot!wmr-dl".into(), plot("dl (m): distance of C to the goal, every run", every("dl")));
+    config.insert("Plot!wmr-heading".into(), plot("e_theta (rad): heading error, every run", every("e_theta")));
+    config.insert(
+        "Plot!wmr-wheels".into(),
+        plot(
+            "run 0: wheel speeds omega_r, omega_l (rad/s)",
+            vec![
+                series(0, "omega_r", "omega_r (rad/s)".into(), run_hex(0)),
+                series(0, "omega_l", "omega_l (rad/s)".into(), run_hex(1)),
+            ],
+        ),
+    );
+    let mut plots = vec!["Plot!wmr-dl", "Plot!wmr-heading", "Plot!wmr-wheels"];
+    if measured {
+        config.insert(
+            "Plot!wmr-sensor".into(),
+            plot(
+                "run 0: true and measured position x, x_meas, y, y_meas (m)",
+                vec![
+                    series(0, "x", "x (m)".into(), run_hex(0)),
+                    series(0, "x_meas", "x_meas (m)".into(), run_hex(1)),
+                    series(0, "y", "y (m)".into(), run_hex(2)),
+                    series(0, "y_meas", "y_meas (m)".into(), run_hex(3)),
+                ],
+            ),
+        );
+        plots.push("Plot!wmr-sensor");
+    }
+
+    json!({
+        "configById": config,
+        "globalVariables": {},
+        "userNodes": {},
+        "linkedGlobalVariables": [],
+        "playbackConfig": { "speed": 1 },
+        "layout": {
+            "first": PANEL_3D,
+            "second": column(&plots),
+            "direction": "row",
+            "splitPercentage": 55
+        }
+    })
+}
+
+/// The layout as pretty JSON text, ending in a newline.
+pub fn layout_text(scenario: &Scenario) -> String {
+    let mut s = serde_json::to_string_pretty(&layout(scenario)).unwrap_or_default();
+    s.push('\n');
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::nice_spacing;
+
+    #[test]
+    fn grid_spacing_is_round() {
+        for (span, want) in [(1.6, 0.2), (1.0, 0.1), (3.2, 0.2), (4.0, 0.5), (40.0, 5.0), (0.05, 0.005)] {
+            assert!((nice_spacing(span) - want).abs() < 1e-12, "{span}: {}", nice_spacing(span));
+        }
+    }
+}

@@ -1,0 +1,233 @@
+//! `wmr-cli run --live`: a WebSocket client speaking Foxglove's protocol (subprotocol
+//! `foxglove.sdk.v1`) subscribes to a run's transform topic and gets the very messages the
+//! MCAP written at the same time holds, in time order and paced at `--speed`; the server
+//! clock follows the simulation. Only 127.0.0.1; every wait has a deadline.
+
+use std::collections::BTreeMap;
+use std::fs;
+use std::io::{BufRead, BufReader, Read};
+use std::net::TcpStream;
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use foxglove::Decode as _;
+use foxglove::messages::FrameTransform;
+use tungstenite::Message;
+use tungstenite::client::IntoClientRequest as _;
+
+/// Longest the whole test may wait for anything.
+const DEADLINE: Duration = Duration::from_secs(120);
+
+const SCENARIO: &str = r#"
+[sim]
+t_end = 2.0
+log_dt = 0.01
+[[run]]
+start = { x = 0.0, y = 0.0, theta_deg = 0.0 }
+goal = { x = 1.0, y = 1.0, theta_deg = 120.0 }
+[[run]]
+start = { x = -0.5, y = 0.2, theta = 0.3 }
+goal = { x = 0.0, y = 0.0, theta_deg = 0.0 }
+"#;
+
+/// Kills the child when the test fails half-way.
+struct Guard(Option<Child>);
+
+impl Drop for Guard {
+    fn drop(&mut self) {
+        if let Some(c) = self.0.as_mut() {
+            let _ = c.kill();
+            let _ = c.wait();
+        }
+    }
+}
+
+/// Starts `wmr-cli run FILE --live 127.0.0.1:0 ARGS` and returns it with the port it
+/// announced and the rest of its stderr (collected by a thread).
+fn start(dir: &Path, args: &[&str]) -> (Guard, u16, mpsc::Receiver<String>) {
+    let scen = dir.join("s.toml");
+    fs::write(&scen, SCENARIO).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_wmr-cli"))
+        .current_dir(dir)
+        .args(["run", "s.toml", "--live", "127.0.0.1:0"])
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("spawn wmr-cli");
+    let stderr = child.stderr.take().unwrap();
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+            let _ = tx.send(line);
+        }
+    });
+    let guard = Guard(Some(child));
+    let t0 = Instant::now();
+    loop {
+        let line = rx.recv_timeout(DEADLINE.saturating_sub(t0.elapsed())).expect("no `live on ws://` line in time");
+        if let Some(rest) = line.split("live on ws://127.0.0.1:").nth(1) {
+            let port: u16 = rest.split(|c: char| !c.is_ascii_digit()).next().unwrap().parse().unwrap();
+            return (guard, port, rx);
+        }
+    }
+}
+
+/// Channel ids by topic, from the server's `advertise` messages.
+type Channels = BTreeMap<String, u64>;
+
+type Socket = tungstenite::WebSocket<TcpStream>;
+
+fn connect(port: u16) -> (Socket, Channels) {
+    let stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
+    stream.set_read_timeout(Some(Duration::from_secs(20))).unwrap();
+    let mut req = format!("ws://127.0.0.1:{port}").into_client_request().unwrap();
+    req.headers_mut().insert("sec-websocket-protocol", "foxglove.sdk.v1".parse().unwrap());
+    let (mut ws, resp) = tungstenite::client(req, stream).expect("WebSocket handshake");
+    assert_eq!(resp.headers().get("sec-websocket-protocol").unwrap(), "foxglove.sdk.v1");
+    let mut channels = Channels::new();
+    let mut time_capability = false;
+    while channels.len() < 10 {
+        match ws.read().expect("serverInfo and advertise") {
+            Message::Text(t) => {
+                let v: serde_json::Value = serde_json::from_str(&t).unwrap();
+                match v["op"].as_str() {
+                    Some("serverInfo") => {
+                        time_capability = v["capabilities"].as_array().unwrap().iter().any(|c| c == "time");
+                    }
+                    Some("advertise") => {
+                        for c in v["channels"].as_array().unwrap() {
+                            assert_eq!(c["encoding"], "protobuf");
+                            channels.insert(c["topic"].as_str().unwrap().to_owned(), c["id"].as_u64().unwrap());
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            Message::Ping(_) | Message::Pong(_) => {}
+            other => panic!("unexpected message before subscribing: {other:?}"),
+        }
+    }
+    assert!(time_capability, "the server must announce the time capability");
+    (ws, channels)
+}
+
+/// The `/run1/tf` messages of an MCAP file: (log time, bytes).
+fn mcap_topic(path: &Path, topic: &str) -> Vec<(u64, Vec<u8>)> {
+    let bytes = fs::read(path).unwrap();
+    mcap::MessageStream::new(&bytes)
+        .unwrap()
+        .map(|m| m.unwrap())
+        .filter(|m| m.channel.topic == topic)
+        .map(|m| (m.log_time, m.data.into_owned()))
+        .collect()
+}
+
+#[test]
+fn a_subscribed_client_gets_the_mcap_messages_in_time_order_at_the_given_speed() {
+    let dir = tempfile::tempdir().unwrap();
+    let speed = 4.0;
+    let (mut guard, port, stderr) = start(dir.path(), &["--speed", "4", "-o", "live.mcap"]);
+    let (mut ws, channels) = connect(port);
+    let mut want: Vec<&str> = channels.keys().map(String::as_str).collect();
+    want.sort();
+    assert_eq!(
+        want,
+        [
+            "/run0/path",
+            "/run0/path_tip",
+            "/run0/sample",
+            "/run0/scene",
+            "/run0/tf",
+            "/run1/path",
+            "/run1/path_tip",
+            "/run1/sample",
+            "/run1/scene",
+            "/run1/tf"
+        ]
+    );
+    let sub =
+        serde_json::json!({ "op": "subscribe", "subscriptions": [{ "id": 7, "channelId": channels["/run1/tf"] }] });
+    ws.send(Message::text(sub.to_string())).unwrap();
+
+    let t0 = Instant::now();
+    let mut got: Vec<(u64, Vec<u8>, Instant)> = Vec::new();
+    let mut clock: Vec<u64> = Vec::new();
+    loop {
+        assert!(t0.elapsed() < DEADLINE, "the stream did not end in time");
+        match ws.read() {
+            Ok(Message::Binary(b)) => match b[0] {
+                1 => {
+                    let sub = u32::from_le_bytes(b[1..5].try_into().unwrap());
+                    assert_eq!(sub, 7);
+                    let t = u64::from_le_bytes(b[5..13].try_into().unwrap());
+                    got.push((t, b[13..].to_vec(), Instant::now()));
+                }
+                2 => clock.push(u64::from_le_bytes(b[1..9].try_into().unwrap())),
+                op => panic!("unexpected binary opcode {op}"),
+            },
+            Ok(_) => {}
+            // The server closes the connection when the runs are over.
+            Err(_) => break,
+        }
+    }
+    let child = guard.0.as_mut().unwrap();
+    let status = child.wait().unwrap();
+    let mut out = String::new();
+    child.stdout.take().unwrap().read_to_string(&mut out).unwrap();
+    let log: Vec<String> = stderr.try_iter().collect();
+    assert!(status.success(), "wmr-cli failed: {log:?}");
+    assert_eq!(out.lines().count(), 2, "one summary line per run: {out}");
+
+    // Time order, and exactly the MCAP's messages: same log times, same bytes.
+    assert!(got.windows(2).all(|w| w[0].0 < w[1].0), "log times must increase");
+    let file = mcap_topic(&dir.path().join("live.mcap"), "/run1/tf");
+    assert_eq!(file.len(), 201);
+    assert_eq!(got.len(), file.len(), "every sample of run 1 arrives");
+    for ((t, data, _), (ft, fdata)) in got.iter().zip(&file) {
+        assert_eq!(t, ft);
+        assert_eq!(data, fdata, "message at {t} ns differs from the MCAP's");
+        let tf = FrameTransform::decode(&data[..]).unwrap();
+        assert_eq!(tf.child_frame_id, "run1/base_link");
+        let stamp = tf.timestamp.unwrap();
+        assert_eq!(u64::from(stamp.sec()) * 1_000_000_000 + u64::from(stamp.nsec()), *t);
+    }
+    assert_eq!(got[0].0, 0);
+    assert_eq!(got.last().unwrap().0, 2_000_000_000);
+
+    // Paced: 2 s simulated at 4x take 0.5 s; the last message cannot come sooner.
+    let span = got.last().unwrap().2 - got[0].2;
+    assert!(span.as_secs_f64() >= 0.9 * 2.0 / speed, "streamed in {span:?}, faster than {speed}x");
+    // The server clock is the simulation time.
+    assert!(clock.windows(2).all(|w| w[0] <= w[1]));
+    assert_eq!(clock.last(), Some(&2_000_000_000));
+    assert!(log.iter().any(|l| l.contains("messages/s")), "{log:?}");
+}
+
+#[cfg(unix)]
+#[test]
+fn ctrl_c_stops_the_server_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut guard, port, stderr) = start(dir.path(), &["-o", "never.mcap"]);
+    let child = guard.0.as_mut().unwrap();
+    // The server waits for a subscription; interrupt it.
+    let kill = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    assert!(kill.success());
+    let t0 = Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        assert!(t0.elapsed() < DEADLINE, "wmr-cli did not stop after Ctrl-C");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert_eq!(status.code(), Some(130));
+    let log: Vec<String> = stderr.recv_timeout(Duration::from_secs(5)).into_iter().chain(stderr.try_iter()).collect();
+    assert!(log.iter().any(|l| l.contains("interrupted, no output written")), "{log:?}");
+    let mut left: Vec<_> = fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    left.sort();
+    assert_eq!(left, ["s.toml"], "no output and no temporary file");
+    assert!(TcpStream::connect(("127.0.0.1", port)).is_err(), "the server is closed");
+}
