@@ -38,6 +38,10 @@ const QUEUE_SAMPLES: usize = 512;
 /// After the first subscription, time for the client's other subscriptions to arrive.
 const SUBSCRIBE_GRACE: Duration = Duration::from_millis(300);
 
+/// After the last message, the server stays up this long: stopping drops what is still
+/// queued for a client.
+const LINGER: Duration = Duration::from_secs(1);
+
 /// Longest sleep between two checks of Ctrl-C.
 const POLL: Duration = Duration::from_millis(20);
 
@@ -164,7 +168,9 @@ pub fn serve(
             wait_until(Instant::now() + POLL)?;
         }
         wait_until(Instant::now() + SUBSCRIBE_GRACE)?;
-        stream(scenario, speed, &channels, &mut file, &server)
+        let report = stream(scenario, speed, &channels, &mut file, &server)?;
+        wait_until(Instant::now() + LINGER)?;
+        Ok(report)
     })();
     server.stop().wait_blocking();
     let report = outcome?;
