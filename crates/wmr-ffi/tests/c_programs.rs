@@ -3,8 +3,9 @@
 //! and the Rust core's f32 run in float), the README's example, and `tests/c/errors.c`
 //! (error codes and field names as C sees them, through the header's struct layout).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
+use std::sync::OnceLock;
 
 use wmr_core::{
     ClosedLoop, Controller, DriveParams, FixedGoal, PaperLaw, PaperParams, Plant, Pose2, Robot, WheelStage,
@@ -19,13 +20,26 @@ fn repo_dir() -> PathBuf {
     crate_dir().join("../..")
 }
 
-/// The static library cargo built beside this test's binary (target/<profile>/).
+/// The host static library, built once for these tests into their own target directory
+/// (`cargo test` builds the crate as an rlib for the test binaries; whether it also leaves
+/// `libwmr_ffi.a` beside them depends on what else the workspace builds).
 fn static_lib() -> PathBuf {
-    let exe = std::env::current_exe().expect("test binary path");
-    let profile_dir = exe.parent().and_then(Path::parent).expect("target/<profile>/deps/<test>");
-    let lib = profile_dir.join("libwmr_ffi.a");
-    assert!(lib.is_file(), "{} is missing: cargo builds it with the crate's lib target", lib.display());
-    lib
+    static LIB: OnceLock<PathBuf> = OnceLock::new();
+    LIB.get_or_init(|| {
+        let target = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("ffi-staticlib");
+        let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+        let status = Command::new(cargo)
+            .args(["build", "-q", "-p", "wmr-ffi", "--lib", "--locked", "--target-dir"])
+            .arg(&target)
+            .current_dir(crate_dir())
+            .status()
+            .expect("cargo runs");
+        assert!(status.success(), "cargo build -p wmr-ffi failed");
+        let lib = target.join("debug/libwmr_ffi.a");
+        assert!(lib.is_file(), "{} is missing", lib.display());
+        lib
+    })
+    .clone()
 }
 
 /// Compiles `sources` with `cc` (C99, every warning an error) against the header and
@@ -59,17 +73,14 @@ fn field<'a>(out: &'a str, tag: &str, key: &str) -> &'a str {
     line.split(' ').find_map(|kv| kv.strip_prefix(&format!("{key}="))).unwrap_or_else(|| panic!("no {key} in {line}"))
 }
 
-/// The last row of the CLI's Fig. 7 CSV (the golden test pins the CLI to this file).
+/// The final pose of `wmr-cli run examples/paper/fig7.toml`: the scenario runner the CLI
+/// uses (the CLI's golden test pins its output to a checked-in CSV).
 fn cli_final_pose() -> [f64; 3] {
-    let csv =
-        std::fs::read_to_string(repo_dir().join("crates/wmr-cli/tests/fixtures/fig7-c4c77d1.csv")).expect("fixture");
-    let header: Vec<&str> = csv.lines().next().expect("header").split(',').collect();
-    let last: Vec<&str> = csv.lines().last().expect("rows").split(',').collect();
-    let col = |name: &str| -> f64 {
-        let i = header.iter().position(|h| *h == name).expect("column");
-        last[i].parse().expect("number")
-    };
-    [col("x"), col("y"), col("theta")]
+    let scenario = wmr_scenario::Scenario::from_path(repo_dir().join("examples/paper/fig7.toml")).expect("fig7.toml");
+    let mut last = None;
+    scenario.run(0, |s| last = Some(s.state)).expect("the run");
+    let s = last.expect("samples");
+    [s.x, s.y, s.theta]
 }
 
 /// Fig. 7 in f32 through the Rust core's own closed loop (as the firmware runs it).
