@@ -712,6 +712,38 @@ mod tests {
         assert!(max_gap(&all, &drawn(&p)) <= PATH_TOLERANCE_M * 1.0001);
     }
 
+    /// Bytes of the path topics (`scene`, `path`, `path_tip`) for `laps` laps of a circle
+    /// of radius 1 m at 0.5 m/s, logged every 10 ms.
+    fn path_bytes_for_laps(laps: usize) -> usize {
+        let robot = RobotParams::<f64>::default();
+        let spec = RunSpec::new(Pose2::new(1.0, 0.0, 0.0), Pose2::new(0.0, 0.0, 0.0));
+        let mut enc = RunEncoder::new(0, &spec, &robot, false, LogClock::new(1e-3));
+        let mut bytes = 0;
+        let mut out = |kind: Kind, _ns: u64, data: &[u8]| -> Result<(), ()> {
+            if matches!(kind, Kind::Scene | Kind::Path | Kind::PathTip) {
+                bytes += data.len();
+            }
+            Ok(())
+        };
+        let per_lap = (std::f64::consts::TAU / 0.5 / 0.01).round() as usize;
+        for k in 0..=laps * per_lap {
+            let a = k as f64 * std::f64::consts::TAU / per_lap as f64;
+            let mut s = Sample::<f64> { t: k as f64 * 0.01, ..Default::default() };
+            s.state.x = a.cos();
+            s.state.y = a.sin();
+            let _ = enc.sample(&s, &mut out);
+        }
+        bytes
+    }
+
+    #[test]
+    fn path_bytes_grow_linearly_with_the_path() {
+        // 10 laps: about 400 vertices, 40 laps: 1,600 (the oldest piece is re-sent 3 times).
+        let (short, long) = (path_bytes_for_laps(10), path_bytes_for_laps(40));
+        let ratio = long as f64 / short as f64;
+        assert!((3.9..4.4).contains(&ratio), "40 laps: {long} B, 10 laps: {short} B, ratio {ratio}");
+    }
+
     #[test]
     fn back_and_forth_and_jitter_stay_within_tolerance() {
         let mut p = PathPieces::new(P2 { x: 0.0, y: 0.0 });

@@ -141,7 +141,7 @@ pub fn serve(
     }
     let mut file = match mcap {
         Some(f) => {
-            let mut m = McapFile::new(f, measured).map_err(|e| anyhow!(e))?;
+            let mut m = McapFile::new(f, n, measured).map_err(|e| anyhow!(e))?;
             let ids = (0..n).map(|i| m.add_run(i)).collect::<Result<Vec<RunChannels>, _>>().map_err(|e| anyhow!(e))?;
             Some((m, ids))
         }

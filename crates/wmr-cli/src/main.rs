@@ -220,15 +220,7 @@ fn run(cli: Cli) -> Result<()> {
                 Format::Csv => {
                     Box::new(csv_sink::CsvSink::new(file, scenario.setup().has_sensor).map_err(|e| anyhow::anyhow!(e))?)
                 }
-                Format::Mcap => Box::new(
-                    mcap_sink::McapSink::new(
-                        file,
-                        *scenario.robot().params(),
-                        scenario.sim().dt(),
-                        scenario.setup().has_sensor,
-                    )
-                    .map_err(|e| anyhow::anyhow!(e))?,
-                ),
+                Format::Mcap => Box::new(mcap_sink::McapSink::new(file, &scenario).map_err(|e| anyhow::anyhow!(e))?),
             };
             let results = exec::execute(&scenario, sink.as_mut(), std::io::stderr().is_terminal())
                 .with_context(|| format!("cannot write {}", output.display()))?;

@@ -2,9 +2,10 @@
 //! `mcap` crate (zstd chunks, message indexes, chunk indexes, statistics).
 //!
 //! `wmr-cli run` hands the runs over one after the other; the chunk is closed at every
-//! run boundary, so no chunk spans two runs' times. Chunks are small ([`CHUNK_BYTES`]
-//! uncompressed): a seek in Foxglove decompresses one chunk per subscribed topic (the one
-//! holding its latest message), so this bounds a seek's work by topics x [`CHUNK_BYTES`].
+//! run boundary, so no chunk spans two runs' times. A seek in Foxglove decompresses one
+//! chunk per subscribed topic (the one holding its latest message), so the chunk size is
+//! chosen from the number of topics ([`chunk_bytes`]): a seek decompresses about
+//! [`SEEK_BUDGET_BYTES`], or topics x [`MIN_CHUNK_BYTES`] when there are many.
 
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -13,12 +14,26 @@ use std::io::{BufWriter, Write};
 use mcap::records::MessageHeader;
 use mcap::{Compression, WriteOptions, Writer};
 use wmr_core::{RobotParams, Sample};
-use wmr_scenario::{RunSpec, Sink, SinkError};
+use wmr_scenario::{RunSpec, Scenario, Sink, SinkError};
 
 use crate::foxglove_topics::{Kind, LogClock, MESSAGE_ENCODING, RunEncoder, Schemas, topic};
 
-/// Uncompressed bytes after which a chunk is closed.
-pub const CHUNK_BYTES: u64 = 64 * 1024;
+/// Decompressed bytes a seek should cost at most, when chunks need not be smaller than
+/// [`MIN_CHUNK_BYTES`].
+pub const SEEK_BUDGET_BYTES: u64 = 8 << 20;
+/// Smallest chunk (uncompressed bytes): smaller ones compress worse and cost an index
+/// entry each (about 0.4 KB of memory until the file is finished).
+pub const MIN_CHUNK_BYTES: u64 = 64 << 10;
+/// Largest chunk (uncompressed bytes).
+pub const MAX_CHUNK_BYTES: u64 = 1 << 20;
+
+/// Uncompressed bytes after which a chunk is closed, for `runs` runs (`measured`: with the
+/// measured pose's topic): [`SEEK_BUDGET_BYTES`] over the number of topics, within
+/// [`MIN_CHUNK_BYTES`]..=[`MAX_CHUNK_BYTES`]. Fig. 7 (5 topics): 1 MiB; 30 runs: 64 KiB.
+pub fn chunk_bytes(runs: usize, measured: bool) -> u64 {
+    let topics = (runs.max(1) * Kind::present(measured).count()) as u64;
+    (SEEK_BUDGET_BYTES / topics).clamp(MIN_CHUNK_BYTES, MAX_CHUNK_BYTES)
+}
 
 /// zstd level of the chunks: 1, the fastest (level 3, zstd's default, makes Fig. 7's file
 /// 4 % smaller for 25 % more writing time).
@@ -41,14 +56,17 @@ fn mcap_err(e: mcap::McapError) -> SinkError {
 }
 
 impl McapFile {
-    /// Starts the file on `file`; `measured`: the scenario has a `[sensor]`.
-    pub fn new(file: File, measured: bool) -> Result<Self, SinkError> {
+    /// Starts the file on `file` for `runs` runs; `measured`: the scenario has a `[sensor]`.
+    pub fn new(file: File, runs: usize, measured: bool) -> Result<Self, SinkError> {
         let options = WriteOptions::new()
             .profile("")
             .library(concat!("wmr-cli ", env!("CARGO_PKG_VERSION")))
             .compression(Some(Compression::Zstd))
             .compression_level(ZSTD_LEVEL)
-            .chunk_size(Some(CHUNK_BYTES));
+            // One thread: zstd's worker threads cost more in locking than they save on
+            // 64 KiB chunks, and this keeps the writer's cost plain CPU time on this thread.
+            .compression_threads(0)
+            .chunk_size(Some(chunk_bytes(runs, measured)));
         let mut writer = options.create(BufWriter::with_capacity(1 << 16, file)).map_err(mcap_err)?;
         let schemas = Schemas::new(measured);
         let mut schema_ids = [0u16; Kind::ALL.len()];
@@ -116,13 +134,13 @@ pub struct McapSink {
 }
 
 impl McapSink {
-    /// Starts an MCAP file on `file` for runs of `robot` with plant step `dt` (s);
-    /// `measured`: log the measured pose too.
-    pub fn new(file: File, robot: RobotParams<f64>, dt: f64, measured: bool) -> Result<Self, SinkError> {
+    /// Starts an MCAP file on `file` for the runs of `scenario`.
+    pub fn new(file: File, scenario: &Scenario) -> Result<Self, SinkError> {
+        let measured = scenario.setup().has_sensor;
         Ok(Self {
-            file: Some(McapFile::new(file, measured)?),
-            robot,
-            clock: LogClock::new(dt),
+            file: Some(McapFile::new(file, scenario.runs().len(), measured)?),
+            robot: *scenario.robot().params(),
+            clock: LogClock::new(scenario.sim().dt()),
             measured,
             run: None,
             runs_begun: 0,
