@@ -1,15 +1,16 @@
 //! CSV output of SPEC section 6: one header line, one row per run and logged sample.
 
 use std::fmt::Write as _;
-use std::fs::File;
 use std::io::BufWriter;
 
 use wmr_core::Sample;
 use wmr_scenario::{CSV_COLUMNS, MEASURED_COLUMNS, Sink, SinkError, measured_values, sample_values};
 
+use crate::atomic::OutWriter;
+
 /// Writes `run,t,x,...,dl` rows; every number reads back to the same f64.
 pub struct CsvSink {
-    writer: csv::Writer<BufWriter<File>>,
+    writer: csv::Writer<BufWriter<OutWriter>>,
     field: String,
     /// Also write the measured pose (`x_meas, y_meas, theta_meas`): the run has a `[sensor]`.
     measured: bool,
@@ -30,12 +31,15 @@ pub fn format_f64(v: f64, out: &mut String) {
 }
 
 impl CsvSink {
-    /// Writes the header to `file`; with `measured`, the measured pose's columns too.
-    pub fn new(file: File, measured: bool) -> Result<Self, SinkError> {
+    /// Writes the header to `out` (with `measured`, the measured pose's columns too) and
+    /// flushes it, so an output that cannot be written at all (a full disk) fails before
+    /// any run starts.
+    pub fn new(out: OutWriter, measured: bool) -> Result<Self, SinkError> {
         let mut writer =
-            csv::WriterBuilder::new().buffer_capacity(1 << 16).from_writer(BufWriter::with_capacity(1 << 16, file));
+            csv::WriterBuilder::new().buffer_capacity(1 << 16).from_writer(BufWriter::with_capacity(1 << 16, out));
         let extra: &[&str] = if measured { &MEASURED_COLUMNS } else { &[] };
         writer.write_record(CSV_COLUMNS.iter().chain(extra))?;
+        writer.flush()?;
         Ok(Self { writer, field: String::with_capacity(32), measured })
     }
 }

@@ -1,12 +1,20 @@
-//! Runs a scenario's runs through the scenario's ordered executor and hands them to a
-//! sink in run order, so the output does not depend on the thread count.
+//! `wmr-cli run`: checks what the runs will cost, simulates them through the scenario's
+//! ordered executor and hands them to a sink in run order, so the output does not depend
+//! on the thread count. The first failed write stops the work.
 
 use std::mem::size_of;
+use std::ops::ControlFlow;
+use std::path::Path;
+use std::time::Instant;
 
-use anyhow::{Result, anyhow};
+use anyhow::{Context as _, Result};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use wmr_core::Sample;
 use wmr_scenario::{RunResult, Scenario, Sink, SinkError, executor};
+
+use crate::atomic::Output;
+use crate::errors::{StdoutClosed, bad_input, is_broken_pipe, note, say};
+use crate::{Format, csv_sink, mcap_sink};
 
 /// Memory for buffered samples at once (bytes). Runs whose samples fit are simulated in
 /// parallel batches and written in order; a run larger than this streams straight to
@@ -21,6 +29,165 @@ fn buffer_budget() -> u64 {
 
 /// Plant steps (all runs) above which the work counts as long and gets a progress bar.
 const LONG_WORK_STEPS: u64 = 2_000_000;
+
+/// Plant steps above which the work is announced with an estimate of its duration
+/// (about a minute and more).
+pub const ANNOUNCE_WORK_STEPS: u128 = 100_000_000;
+
+/// Plant steps per second of one core, roughly (release build; the benches measure it):
+/// only for the announcement of long work.
+const STEPS_PER_CORE_SECOND: f64 = 1e6;
+
+/// Output bytes per logged sample, by format: (below which no moving robot writes, typical).
+/// The free-space check refuses only work that surely cannot fit, on the first figure.
+/// CSV rows take 150 to 290 bytes (Fig. 7: 280); MCAP samples, zstd-compressed, 130 to
+/// 180 (Fig. 7: 180), fewer when the robot stands still.
+fn bytes_per_sample(format: Format) -> (u64, u64) {
+    match format {
+        Format::Csv => (100, 280),
+        Format::Mcap => (50, 180),
+    }
+}
+
+/// `bytes` for people: `281 GB`, `1.7 MB`.
+pub fn human_bytes(bytes: f64) -> String {
+    let units = ["bytes", "kB", "MB", "GB", "TB", "PB"];
+    let mut v = bytes;
+    let mut u = 0;
+    while v >= 1000.0 && u + 1 < units.len() {
+        v /= 1000.0;
+        u += 1;
+    }
+    if u == 0 { format!("{v:.0} {}", units[0]) } else { format!("{v:.1} {}", units[u]) }
+}
+
+/// Seconds for people: `42 s`, `17 min`, `5.8 h`, `3.1 days`.
+pub fn human_seconds(s: f64) -> String {
+    if s < 120.0 {
+        format!("{s:.0} s")
+    } else if s < 7200.0 {
+        format!("{:.0} min", s / 60.0)
+    } else if s < 172_800.0 {
+        format!("{:.1} h", s / 3600.0)
+    } else {
+        format!("{:.1} days", s / 86400.0)
+    }
+}
+
+/// Announces long work (more than [`ANNOUNCE_WORK_STEPS`]) with a rough duration.
+pub fn announce_work(steps: u128, what: &str) {
+    if steps > ANNOUNCE_WORK_STEPS {
+        let threads = rayon::current_num_threads().max(1) as f64;
+        let secs = steps as f64 / STEPS_PER_CORE_SECOND / threads;
+        note(&format!(
+            "wmr-cli: {what}: {steps:.2e} plant steps, roughly {} on {threads} threads; Ctrl-C stops it and leaves \
+             OUT as it was",
+            human_seconds(secs)
+        ));
+    }
+}
+
+/// Refuses output that cannot fit in the free space where it goes: `samples` logged
+/// samples of at least [`bytes_per_sample`] each. The message says which key to change
+/// and to what.
+pub fn check_space(scenario: &Scenario, out: &Output, format: Format, samples: u128) -> Result<()> {
+    let Some(free) = out.free_bytes() else { return Ok(()) };
+    let (least_each, typical_each) = bytes_per_sample(format);
+    let least = samples.saturating_mul(u128::from(least_each));
+    if least <= u128::from(free) {
+        return Ok(());
+    }
+    let sim = scenario.sim();
+    let typical = samples as f64 * typical_each as f64;
+    // log_dt (a whole multiple of dt) for which the typical size fits.
+    let factor = typical / free.max(1) as f64;
+    let steps = (f64::from(sim.log_every()) * factor).ceil();
+    let log_dt = steps * sim.dt();
+    let hint = if log_dt <= sim.t_end() {
+        format!("raise sim.log_dt to at least {log_dt:.3e} s (now {} s), ", sim.log_dt())
+    } else {
+        String::new()
+    };
+    Err(bad_input(format!(
+        "{} would take about {} ({samples} samples of ~{typical_each} bytes), at least {}, but only {} are free \
+         there: {hint}shorten sim.t_end, or write elsewhere",
+        out.shown(),
+        human_bytes(typical),
+        human_bytes(least as f64),
+        human_bytes(free as f64)
+    )))
+}
+
+/// Refuses a scenario without `[[run]]` (a sweep file) for a command that runs them.
+pub fn require_runs(scenario: &Scenario, file: &Path) -> Result<()> {
+    if scenario.runs().is_empty() {
+        return Err(bad_input(format!(
+            "{}: run: the file has no [[run]] (a [sweep] file runs with `wmr-cli sweep`)",
+            wmr_scenario::shown(file)
+        )));
+    }
+    Ok(())
+}
+
+/// `wmr-cli run FILE -o OUT [--format] [--layout LAYOUT]`.
+pub fn run_command(
+    scenario: &Scenario,
+    file: &Path,
+    output: &Path,
+    format: Format,
+    layout: Option<&Path>,
+) -> Result<()> {
+    require_runs(scenario, file)?;
+    let started = Instant::now();
+    let out = Output::create(output)?;
+    let n_runs = scenario.runs().len();
+    let samples = u128::from(scenario.sim().n_samples()) * n_runs as u128;
+    check_space(scenario, &out, format, samples)?;
+    announce_work(u128::from(scenario.sim().n_steps()) * n_runs as u128, &format!("{n_runs} run(s)"));
+    let writer = out.writer()?;
+    let measured = scenario.setup().has_sensor;
+    let mut sink: Box<dyn Sink> = match format {
+        Format::Csv => csv_sink::CsvSink::new(writer, measured).map(|s| Box::new(s) as Box<dyn Sink>),
+        Format::Mcap => mcap_sink::McapSink::new(writer, scenario).map(|s| Box::new(s) as Box<dyn Sink>),
+    }
+    .map_err(sink_err)
+    .map_err(|e| {
+        if out.is_stdout() && is_broken_pipe(&e) {
+            anyhow::Error::new(StdoutClosed)
+        } else {
+            e.context(format!("cannot write {}", out.shown()))
+        }
+    })?;
+    let show_bar = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let executed = execute(scenario, sink.as_mut(), show_bar);
+    drop(sink);
+    let (results, counts) = match executed {
+        Ok(done) => done,
+        Err(e) if out.is_stdout() && is_broken_pipe(&e) => return Err(anyhow::Error::new(StdoutClosed)),
+        Err(e) => return Err(e.context(format!("cannot write {}", out.shown()))),
+    };
+    let to_stdout = out.is_stdout();
+    out.finish()?;
+    if let Some(layout) = layout {
+        crate::foxglove_cmd::write_layout(scenario, layout)?;
+    }
+    for r in &results {
+        // With OUT on stdout the summary goes to stderr, so the data stays clean.
+        if to_stdout { note(&r.summary_line()) } else { say(&r.summary_line())? }
+    }
+    let samples = if counts.iter().all(|&c| c == counts[0]) {
+        format!("{} samples each", counts[0])
+    } else {
+        format!("{} samples in all (fewer for runs that diverged early)", counts.iter().sum::<u64>())
+    };
+    note(&format!(
+        "wmr-cli: wrote {} ({} run(s), {samples}, {:.2} s)",
+        if to_stdout { "stdout".to_owned() } else { wmr_scenario::shown(output) },
+        results.len(),
+        started.elapsed().as_secs_f64()
+    ));
+    Ok(())
+}
 
 fn progress(scenario: &Scenario, show: bool) -> ProgressBar {
     let total = scenario.sim().n_steps().saturating_mul(scenario.runs().len() as u64);
@@ -37,42 +204,60 @@ fn progress(scenario: &Scenario, show: bool) -> ProgressBar {
     bar
 }
 
+/// A sink error as an anyhow error; a broken pipe stays recognisable as one.
 fn sink_err(e: SinkError) -> anyhow::Error {
-    anyhow!(e)
+    if crate::errors::is_broken_pipe_error(e.as_ref()) {
+        anyhow::Error::new(std::io::Error::new(std::io::ErrorKind::BrokenPipe, e.to_string()))
+    } else {
+        anyhow::Error::from_boxed(e)
+    }
 }
 
-/// Simulates every run into `sink` and finishes it. `show_progress`: stderr is a
-/// terminal, so a bar may be drawn when the work is long.
-pub fn execute(scenario: &Scenario, sink: &mut dyn Sink, show_progress: bool) -> Result<Vec<RunResult>> {
+/// Simulates every run into `sink` and finishes it; returns the results and the number
+/// of samples each run wrote. The first failed write stops everything: a streamed run
+/// within a millisecond of work, batched runs at the end of their batch (a few runs per
+/// thread at most). `show_progress`: stderr is a terminal, so a bar may be drawn when the
+/// work is long.
+pub fn execute(scenario: &Scenario, sink: &mut dyn Sink, show_progress: bool) -> Result<(Vec<RunResult>, Vec<u64>)> {
     let bar = progress(scenario, show_progress);
     let step = u64::from(scenario.sim().log_every());
     let per_run = scenario.sim().n_samples().saturating_mul(size_of::<Sample<f64>>() as u64);
     let n = scenario.runs().len();
     let mut results = Vec::with_capacity(n);
+    let mut counts = Vec::with_capacity(n);
     let budget = buffer_budget();
 
     if per_run > budget {
         // Streaming: one run at a time on this thread, bounded memory.
         for (i, spec) in scenario.runs().iter().enumerate() {
             sink.begin_run(i, spec).map_err(sink_err)?;
-            let mut failed: Option<SinkError> = None;
-            let result = scenario.run(i, |s| {
-                if failed.is_none()
-                    && let Err(e) = sink.sample(i, s)
-                {
-                    failed = Some(e);
-                }
-                bar.inc(step);
-            })?;
-            if let Some(e) = failed {
-                return Err(sink_err(e));
-            }
+            let mut count = 0u64;
+            let flow = scenario.try_run(
+                i,
+                |s| {
+                    bar.inc(step);
+                    count += 1;
+                    match sink.sample(i, s) {
+                        Ok(()) => ControlFlow::Continue(()),
+                        Err(e) => ControlFlow::Break(e),
+                    }
+                },
+                || ControlFlow::Continue(()),
+            )?;
+            let result = match flow {
+                ControlFlow::Continue(r) => r,
+                ControlFlow::Break(e) => return Err(sink_err(e)),
+            };
             sink.end_run(&result).map_err(sink_err)?;
             results.push(result);
+            counts.push(count);
         }
     } else {
         // Batches of runs in parallel, their samples buffered, handed on in run order.
-        let batch = usize::try_from((budget / per_run.max(1)).max(1)).unwrap_or(usize::MAX);
+        // A batch holds at most a few runs per thread, so a failed write wastes little.
+        let threads = rayon::current_num_threads().max(1);
+        let by_memory = usize::try_from((budget / per_run.max(1)).max(1)).unwrap_or(usize::MAX);
+        let batch = by_memory.min(4 * threads);
         let capacity = usize::try_from(scenario.sim().n_samples()).unwrap_or(0);
         let job = |i: usize| {
             let mut samples = Vec::with_capacity(capacity);
@@ -90,10 +275,47 @@ pub fn execute(scenario: &Scenario, sink: &mut dyn Sink, show_progress: bool) ->
             }
             sink.end_run(&result).map_err(sink_err)?;
             results.push(result);
+            counts.push(samples.len() as u64);
             Ok(())
         })?;
     }
     sink.finish().map_err(sink_err)?;
     bar.finish_and_clear();
-    Ok(results)
+    Ok((results, counts))
+}
+
+/// Loads a scenario file: read (a regular file, size-capped), checked, its warnings
+/// printed, and remembered as an input so no output replaces it.
+pub fn load(file: &Path) -> Result<Scenario> {
+    let name = wmr_scenario::shown(file);
+    let text = wmr_scenario::read_text(file).map_err(|e| anyhow::Error::new(e).context(name.clone()))?;
+    crate::atomic::register_input(file);
+    // Printed as "FILE: line L: KEY: what is wrong".
+    let scenario = Scenario::from_toml_str(&text, &wmr_scenario::default_name(file))
+        .map_err(|e| anyhow::Error::new(e).context(name.clone()))?;
+    for w in wmr_scenario::warnings(&text) {
+        note(&format!("wmr-cli: warning: {name}: {w}"));
+    }
+    Ok(scenario)
+}
+
+/// `wmr-cli check FILE`: the resolved scenario on stdout.
+pub fn check_command(file: &Path) -> Result<()> {
+    let scenario = load(file)?;
+    let total = wmr_scenario::total_steps(&scenario);
+    let text = scenario.to_toml();
+    // Labels and the name are TOML strings: control characters come out escaped by
+    // TOML's rules; the bidirectional overrides TOML allows raw are escaped here too.
+    let text: String =
+        text.chars()
+            .map(|c| {
+                if wmr_scenario::is_unsafe_char(c) && c != '\n' {
+                    format!("\\u{:04X}", c as u32)
+                } else {
+                    c.to_string()
+                }
+            })
+            .collect();
+    crate::errors::say_raw(&text)?;
+    crate::errors::say_raw(&format!("# {total} plant steps in all\n")).context("cannot write to stdout")
 }

@@ -3,6 +3,7 @@
 
 mod atomic;
 mod csv_sink;
+mod errors;
 mod exec;
 mod foxglove_cmd;
 mod foxglove_topics;
@@ -17,13 +18,12 @@ mod trace_cmd;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::Instant;
 
-use anyhow::{Context as _, Result, bail};
+use anyhow::Result;
 use clap::{Parser, Subcommand, ValueEnum};
-use wmr_scenario::{Scenario, ScenarioError, Sink};
 
-use crate::atomic::AtomicOut;
+use crate::errors::{bad_input, note};
+use crate::exec::load;
 
 /// Simulate and control two-wheeled differential-drive robots from scenario files.
 #[derive(Parser, Debug)]
@@ -41,7 +41,9 @@ enum Command {
     Run {
         /// The scenario file (TOML).
         file: PathBuf,
-        /// Output file: MCAP when it ends in .mcap, CSV when it ends in .csv (optional with --live).
+        /// Output file: MCAP when it ends in .mcap, CSV when it ends in .csv (optional with
+        /// --live); `-` is stdout (with --format). Replaced atomically when complete; a
+        /// device or FIFO is written to directly. Its directory must exist.
         #[arg(short, long, value_name = "OUT", required_unless_present = "live")]
         output: Option<PathBuf>,
         /// Output format; overrides the extension of OUT.
@@ -75,10 +77,12 @@ enum Command {
     Sweep {
         /// The scenario file (TOML) with a sweep table.
         file: PathBuf,
-        /// Outcome CSV; default: NAME-sweep.csv (NAME: the scenario name) in the current folder.
+        /// Outcome CSV (`-`: stdout); default: STEM-sweep.csv in the current folder (STEM:
+        /// the scenario file's name without .toml).
         #[arg(short, long, value_name = "OUT")]
         output: Option<PathBuf>,
-        /// Also write one region-of-attraction map per law (region-LAW.svg) into DIR.
+        /// Also write one region-of-attraction map per law (region-LAW.svg) into DIR
+        /// (created if missing; its parent must exist).
         #[arg(long, value_name = "DIR")]
         plots: Option<PathBuf>,
     },
@@ -87,7 +91,7 @@ enum Command {
     Plot {
         /// The scenario file (TOML).
         file: PathBuf,
-        /// Output folder (created if missing).
+        /// Output folder (created if missing; its parent must exist).
         #[arg(short, long, value_name = "DIR")]
         output: PathBuf,
     },
@@ -121,23 +125,12 @@ enum Format {
     Csv,
 }
 
-/// Bad input (file, keys, values): a distinct exit code.
-const EXIT_BAD_INPUT: u8 = 2;
-
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match run(cli) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("wmr-cli: error: {e:#}");
-            if e.downcast_ref::<ScenarioError>().is_some() { ExitCode::from(EXIT_BAD_INPUT) } else { ExitCode::FAILURE }
-        }
-    }
-}
-
-fn load(file: &Path) -> Result<Scenario> {
-    // Printed as "FILE: line L: KEY: what is wrong".
-    Scenario::from_path(file).map_err(|e| anyhow::Error::new(e).context(file.display().to_string()))
+    // `run --live` handles Ctrl-C itself (the first one stops the stream).
+    let live = matches!(cli.command, Command::Run { live: Some(_), .. });
+    let handlers = if live { Ok(()) } else { atomic::install_signal_handlers() };
+    errors::finish(handlers.and_then(|()| run(cli)))
 }
 
 fn format_of(out: &Path, format: Option<Format>) -> Result<Format> {
@@ -147,99 +140,59 @@ fn format_of(out: &Path, format: Option<Format>) -> Result<Format> {
     match out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
         Some("mcap") => Ok(Format::Mcap),
         Some("csv") => Ok(Format::Csv),
-        _ => bail!(
+        _ => Err(bad_input(format!(
             "cannot tell the format of {} from its extension: name it .mcap or .csv, or pass --format",
-            out.display()
-        ),
+            wmr_scenario::shown(out)
+        ))),
     }
 }
 
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
-        Command::Check { file } => {
-            let scenario = load(&file)?;
-            print!("{}", scenario.to_toml());
-            Ok(())
-        }
+        Command::Check { file } => exec::check_command(&file),
         Command::Trace { file, output, run } => {
             let scenario = load(&file)?;
-            atomic::install_interrupt_handler()?;
             let t = trace_cmd::trace(&scenario, run, &output)?;
             let end = if t.diverged { "diverged" } else { "completed" };
-            println!("trace: {} ticks of {} (f32) to t = {} s, {end}: {}", t.ticks, t.law, t.t_last, output.display());
-            Ok(())
+            errors::say(&format!(
+                "trace: {} ticks of {} (f32) to t = {} s, {end}: {}",
+                t.ticks,
+                t.law,
+                t.t_last,
+                wmr_scenario::shown(&output)
+            ))
         }
         Command::Sweep { file, output, plots } => {
             let scenario = load(&file)?;
-            let output = output.unwrap_or_else(|| PathBuf::from(format!("{}-sweep.csv", scenario.name())));
-            atomic::install_interrupt_handler()?;
-            sweep_cmd::sweep(&scenario, &output, plots.as_deref(), std::io::stderr().is_terminal())
+            let output = output.unwrap_or_else(|| sweep_cmd::default_output(&file));
+            sweep_cmd::sweep(&scenario, &file, &output, plots.as_deref(), std::io::stderr().is_terminal())
         }
         Command::Plot { file, output } => {
             let scenario = load(&file)?;
-            atomic::install_interrupt_handler()?;
-            let written = plot_cmd::plot(&scenario, &output)?;
-            eprintln!("wmr-cli: wrote {} SVG file(s) into {}", written.len(), output.display());
+            let written = plot_cmd::plot(&scenario, &file, &output)?;
+            note(&format!("wmr-cli: wrote {} SVG file(s) into {}", written.len(), wmr_scenario::shown(&output)));
             Ok(())
         }
         Command::Layout { file, output } => {
             let scenario = load(&file)?;
-            if scenario.runs().is_empty() {
-                bail!("{} has no [[run]] (a [sweep] file runs with `wmr-cli sweep`)", file.display());
-            }
-            atomic::install_interrupt_handler()?;
+            exec::require_runs(&scenario, &file)?;
             foxglove_cmd::write_layout(&scenario, &output)?;
-            eprintln!("wmr-cli: wrote {} ({} run(s))", output.display(), scenario.runs().len());
+            note(&format!("wmr-cli: wrote {} ({} run(s))", wmr_scenario::shown(&output), scenario.runs().len()));
             Ok(())
         }
         Command::Run { file, output, format, layout, live, speed } => {
             if let Some(addr) = live {
                 let scenario = load(&file)?;
-                if scenario.runs().is_empty() {
-                    bail!("{} has no [[run]] (a [sweep] file runs with `wmr-cli sweep`)", file.display());
-                }
+                exec::require_runs(&scenario, &file)?;
                 return foxglove_cmd::run_live(&scenario, output, format, layout, addr, speed.unwrap_or(1.0));
             }
-            let output = output.context("-o OUT is required without --live")?;
+            let output = output.ok_or_else(|| bad_input("-o OUT is required without --live"))?;
             let format = format_of(&output, format)?;
             if layout.is_some() && format != Format::Mcap {
                 foxglove_cmd::usage_error("--layout describes the MCAP topics: write OUT as .mcap");
             }
             let scenario = load(&file)?;
-            if scenario.runs().is_empty() {
-                bail!("{} has no [[run]] (a [sweep] file runs with `wmr-cli sweep`)", file.display());
-            }
-            if output.is_dir() {
-                bail!("{} is a directory", output.display());
-            }
-            atomic::install_interrupt_handler()?;
-            let started = Instant::now();
-            let out = AtomicOut::create(&output)?;
-            let file = out.file()?;
-            let mut sink: Box<dyn Sink> = match format {
-                Format::Csv => {
-                    Box::new(csv_sink::CsvSink::new(file, scenario.setup().has_sensor).map_err(|e| anyhow::anyhow!(e))?)
-                }
-                Format::Mcap => Box::new(mcap_sink::McapSink::new(file, &scenario).map_err(|e| anyhow::anyhow!(e))?),
-            };
-            let results = exec::execute(&scenario, sink.as_mut(), std::io::stderr().is_terminal())
-                .with_context(|| format!("cannot write {}", output.display()))?;
-            drop(sink);
-            out.persist()?;
-            if let Some(layout) = &layout {
-                foxglove_cmd::write_layout(&scenario, layout)?;
-            }
-            for r in &results {
-                println!("{}", r.summary_line());
-            }
-            eprintln!(
-                "wmr-cli: wrote {} ({} run(s), {} samples each, {:.2} s)",
-                output.display(),
-                results.len(),
-                scenario.sim().n_samples(),
-                started.elapsed().as_secs_f64()
-            );
-            Ok(())
+            exec::run_command(&scenario, &file, &output, format, layout.as_deref())
         }
     }
 }

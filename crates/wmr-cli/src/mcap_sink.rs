@@ -9,13 +9,14 @@
 
 use std::collections::BTreeMap;
 use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::{self, BufWriter, Seek, Write};
 
 use mcap::records::MessageHeader;
 use mcap::{Compression, WriteOptions, Writer};
 use wmr_core::{RobotParams, Sample};
 use wmr_scenario::{RunSpec, Scenario, Sink, SinkError};
 
+use crate::atomic::OutWriter;
 use crate::foxglove_topics::{Kind, LogClock, MESSAGE_ENCODING, RunEncoder, Schemas, topic};
 
 /// Decompressed bytes a seek should cost at most, when chunks need not be smaller than
@@ -43,22 +44,44 @@ const ZSTD_LEVEL: u32 = 1;
 pub type RunChannels = [u16; Kind::ALL.len()];
 
 /// An MCAP file being written: its schemas, and channels added run by run.
-pub struct McapFile {
-    writer: Writer<BufWriter<File>>,
+pub struct McapFile<W: Target = File> {
+    writer: Writer<BufWriter<W>>,
     /// Schema ids by [`Kind`].
     schema_ids: [u16; Kind::ALL.len()],
     measured: bool,
     sequence: u32,
 }
 
-fn mcap_err(e: mcap::McapError) -> SinkError {
-    format!("cannot write the MCAP file: {e}").into()
+/// Where an MCAP file goes: a file, or an [`OutWriter`] (a file, or a stream such as
+/// stdout or a FIFO, which gets the MCAP written front to back, without seeking).
+pub trait Target: Write + Seek {
+    /// True when the writer may seek back.
+    fn seekable(&self) -> bool {
+        true
+    }
 }
 
-impl McapFile {
+impl Target for File {}
+
+impl Target for OutWriter {
+    fn seekable(&self) -> bool {
+        OutWriter::seekable(self)
+    }
+}
+
+/// An MCAP error as a sink error; an I/O error keeps its kind (a full disk, a closed pipe).
+fn mcap_err(e: mcap::McapError) -> SinkError {
+    match e {
+        mcap::McapError::Io(io) => Box::new(io::Error::new(io.kind(), format!("cannot write the MCAP file: {io}"))),
+        e => format!("cannot write the MCAP file: {e}").into(),
+    }
+}
+
+impl<W: Target> McapFile<W> {
     /// Starts the file on `file` for `runs` runs; `measured`: the scenario has a `[sensor]`.
-    pub fn new(file: File, runs: usize, measured: bool) -> Result<Self, SinkError> {
+    pub fn new(file: W, runs: usize, measured: bool) -> Result<Self, SinkError> {
         let options = WriteOptions::new()
+            .disable_seeking(!file.seekable())
             .profile("")
             .library(concat!("wmr-cli ", env!("CARGO_PKG_VERSION")))
             .compression(Some(Compression::Zstd))
@@ -125,7 +148,7 @@ struct RunState {
 
 /// Writes the runs of `wmr-cli run` to an MCAP file.
 pub struct McapSink {
-    file: Option<McapFile>,
+    file: Option<McapFile<OutWriter>>,
     robot: RobotParams<f64>,
     clock: LogClock,
     measured: bool,
@@ -135,7 +158,7 @@ pub struct McapSink {
 
 impl McapSink {
     /// Starts an MCAP file on `file` for the runs of `scenario`.
-    pub fn new(file: File, scenario: &Scenario) -> Result<Self, SinkError> {
+    pub fn new(file: OutWriter, scenario: &Scenario) -> Result<Self, SinkError> {
         let measured = scenario.setup().has_sensor;
         Ok(Self {
             file: Some(McapFile::new(file, scenario.runs().len(), measured)?),
@@ -147,7 +170,7 @@ impl McapSink {
         })
     }
 
-    fn file(&mut self) -> Result<&mut McapFile, SinkError> {
+    fn file(&mut self) -> Result<&mut McapFile<OutWriter>, SinkError> {
         self.file.as_mut().ok_or_else(|| "MCAP sink already finished".into())
     }
 }

@@ -1,25 +1,96 @@
 //! `wmr-cli plot`: SVG figures of a scenario's runs (paths, the paper's Figs. 4-7; wheel
-//! speeds, Fig. 8; errors, Fig. 9) and, for a `[sweep]`, region maps per law.
+//! speeds, Fig. 8; errors, Fig. 9). Each run keeps at most [`MAX_PLOT_SAMPLES`] samples,
+//! evenly spaced, so memory and file sizes stay small whatever `t_end / log_dt` is.
 
 use std::path::Path;
 
-use anyhow::{Context as _, Result, bail};
+use anyhow::{Context as _, Result};
 use wmr_core::Sample;
 use wmr_plot::{Trace, errors_svg, paths_svg, wheel_speeds_svg};
-use wmr_scenario::{Scenario, executor};
+use wmr_scenario::{Scenario, executor, shown};
 
-use crate::sweep_cmd::write_text;
+use crate::atomic::{parent_dir, write_text};
+use crate::errors::bad_input;
+use crate::exec::announce_work;
+
+/// Most samples drawn per run and curve: a figure a few hundred pixels wide shows no
+/// more, and 4,000 points keep each SVG below about 200 kB.
+pub const MAX_PLOT_SAMPLES: u64 = 4000;
+
+/// Extensions of files, not folders: `plot -o x.svg` is a mistake, not a folder name.
+const FILE_EXTENSIONS: [&str; 6] = ["svg", "csv", "mcap", "png", "pdf", "toml"];
+
+/// Makes sure `dir` is a folder to write into: an existing directory, or a new one
+/// created in an existing parent (wmr-cli creates the last level only, as for files).
+pub fn prepare_dir(dir: &Path) -> Result<()> {
+    let name = shown(dir);
+    match std::fs::metadata(dir) {
+        Ok(m) if m.is_dir() => return Ok(()),
+        Ok(_) => return Err(bad_input(format!("{name} exists and is not a directory; give a folder for the SVGs"))),
+        Err(_) => {}
+    }
+    let ext = dir.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if let Some(ext) = ext.filter(|e| FILE_EXTENSIONS.contains(&e.as_str())) {
+        return Err(bad_input(format!(
+            "{name} looks like a file (.{ext}), but SVGs are written into a folder: give a folder name"
+        )));
+    }
+    let parent = parent_dir(dir);
+    if !parent.is_dir() {
+        return Err(bad_input(format!(
+            "cannot create {name}: the directory {} does not exist (wmr-cli creates one level, not the ones above)",
+            shown(&parent)
+        )));
+    }
+    std::fs::create_dir(dir).with_context(|| format!("cannot create {name}"))
+}
+
+/// The samples of one run, thinned to at most [`MAX_PLOT_SAMPLES`]: every `stride`-th
+/// logged sample and the last one (the final state, also of a run that diverged).
+struct Thinned {
+    stride: u64,
+    seen: u64,
+    kept: Vec<Sample<f64>>,
+    last: Option<Sample<f64>>,
+}
+
+impl Thinned {
+    fn new(n_samples: u64) -> Self {
+        let stride = n_samples.div_ceil(MAX_PLOT_SAMPLES).max(1);
+        Self { stride, seen: 0, kept: Vec::with_capacity(MAX_PLOT_SAMPLES as usize + 1), last: None }
+    }
+
+    fn push(&mut self, s: &Sample<f64>) {
+        if self.seen.is_multiple_of(self.stride) {
+            self.kept.push(*s);
+            self.last = None;
+        } else {
+            self.last = Some(*s);
+        }
+        self.seen += 1;
+    }
+
+    fn finish(mut self) -> Vec<Sample<f64>> {
+        self.kept.extend(self.last);
+        self.kept
+    }
+}
 
 /// Writes `paths.svg`, and `run<i>-wheel-speeds.svg` and `run<i>-errors.svg` per run,
 /// into `dir`; returns the files written.
-pub fn plot(scenario: &Scenario, dir: &Path) -> Result<Vec<String>> {
+pub fn plot(scenario: &Scenario, file: &Path, dir: &Path) -> Result<Vec<String>> {
     if scenario.runs().is_empty() {
-        bail!("the scenario has no [[run]] to plot (for a [sweep], use `wmr-cli sweep --plots DIR`)");
+        return Err(bad_input(format!(
+            "{}: run: the file has no [[run]] to plot (for a [sweep], use `wmr-cli sweep --plots DIR`)",
+            shown(file)
+        )));
     }
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    prepare_dir(dir)?;
+    let n_samples = scenario.sim().n_samples();
+    announce_work(u128::from(scenario.sim().n_steps()) * scenario.runs().len() as u128, "plot");
     let samples: Vec<Vec<Sample<f64>>> = executor::map_ordered(scenario.runs().len(), |i| {
-        let mut v = Vec::with_capacity(scenario.sim().n_samples() as usize);
-        scenario.run(i, |s| v.push(*s)).map(|_| v)
+        let mut thin = Thinned::new(n_samples);
+        scenario.run(i, |s| thin.push(s)).map(|_| thin.finish())
     })
     .into_iter()
     .collect::<Result<_, _>>()?;
@@ -41,4 +112,29 @@ pub fn plot(scenario: &Scenario, dir: &Path) -> Result<Vec<String>> {
         put(format!("run{i}-errors.svg"), errors_svg(&format!("{}: errors", t.label), t)?)?;
     }
     Ok(written)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample(t: f64) -> Sample<f64> {
+        Sample { t, ..Default::default() }
+    }
+
+    #[test]
+    fn thinning_keeps_evenly_spaced_samples_and_the_last() {
+        for n in [1, 2, 3999, 4000, 4001, 6001, 100_000, 1_000_001] {
+            let mut thin = Thinned::new(n);
+            for i in 0..n {
+                thin.push(&sample(i as f64));
+            }
+            let kept = thin.finish();
+            assert!(kept.len() as u64 <= MAX_PLOT_SAMPLES + 1, "{n}: {}", kept.len());
+            assert!(kept.len() as u64 >= n.min(MAX_PLOT_SAMPLES / 2), "{n}: {}", kept.len());
+            assert_eq!(kept[0].t, 0.0);
+            assert_eq!(kept.last().unwrap().t, (n - 1) as f64, "{n}: the last sample is kept");
+            assert!(kept.windows(2).all(|w| w[0].t < w[1].t));
+        }
+    }
 }

@@ -1,24 +1,69 @@
 //! `wmr-cli sweep`: every (law, start) of a `[sweep]` in parallel, outcomes to CSV, a
 //! comparison table on stdout, and optionally one region-of-attraction SVG per law.
 
-use std::io::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use anyhow::{Context as _, Result, bail};
+use anyhow::{Context as _, Result};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use wmr_core::Status;
 use wmr_plot::{CellOutcome, ShareSeries, SweepCell, region_svg, share_svg};
 use wmr_scenario::robustness::{ShareCurve, share_curves, share_table, varied_columns, varied_row};
-use wmr_scenario::{SWEEP_COLUMNS, Scenario, SweepOutcome, SweepSpec, summarize, summary_table, sweep_row};
+use wmr_scenario::{SWEEP_COLUMNS, Scenario, SweepOutcome, SweepSpec, shown, summarize, summary_table, sweep_row};
 
-use crate::atomic::AtomicOut;
+use crate::atomic::{Output, write_text};
+use crate::errors::{bad_input, is_broken_pipe, note, say_raw};
+use crate::exec::announce_work;
+
+/// Output bytes per sweep CSV row below which no row is written (a row holds a law
+/// name, ten numbers and a status): the free-space check refuses only what surely
+/// cannot fit.
+const MIN_BYTES_PER_ROW: u64 = 60;
+
+/// A file name made from `stem`: letters, digits, `.`, `_` and `-` kept, anything else
+/// (path separators, spaces, control characters) `_`, no leading dot; `scenario` when
+/// nothing is left. A file therefore never chooses where its default outputs go.
+pub fn safe_file_stem(stem: &str) -> String {
+    let s: String =
+        stem.chars().map(|c| if c.is_ascii_alphanumeric() || "._-".contains(c) { c } else { '_' }).collect();
+    let s = s.trim_start_matches('.');
+    if s.is_empty() { "scenario".to_owned() } else { s.chars().take(100).collect() }
+}
+
+/// The default outcome CSV of `file`: `<stem>-sweep.csv` in the current folder, from the
+/// file's name (never from the scenario's `name`, which the file's author chooses).
+pub fn default_output(file: &Path) -> PathBuf {
+    PathBuf::from(format!("{}-sweep.csv", safe_file_stem(&wmr_scenario::default_name(file))))
+}
 
 /// Runs the sweep of `scenario`, writes the outcome CSV to `out` and, with `plots`, one
 /// `region-<law>.svg` per law into that folder; prints the comparison table.
-pub fn sweep(scenario: &Scenario, out: &Path, plots: Option<&Path>, show_progress: bool) -> Result<()> {
+pub fn sweep(scenario: &Scenario, file: &Path, out: &Path, plots: Option<&Path>, show_progress: bool) -> Result<()> {
     let Some(spec) = &scenario.sweep() else {
-        bail!("the scenario has no [sweep] table (see `wmr-cli --help` for its keys)");
+        return Err(bad_input(format!(
+            "{}: sweep: the file has no [sweep] table (see `wmr-cli --help` for its keys; [[run]]s run with \
+             `wmr-cli run`)",
+            shown(file)
+        )));
     };
+    // Every output is checked before the work: a bad path costs nothing.
+    let output = Output::create(out)?;
+    if let Some(free) = output.free_bytes() {
+        let least = spec.len() as u128 * u128::from(MIN_BYTES_PER_ROW);
+        if least > u128::from(free) {
+            return Err(bad_input(format!(
+                "{} would take at least {least} bytes ({} rows) but only {free} bytes are free there; write elsewhere",
+                output.shown(),
+                spec.len()
+            )));
+        }
+    }
+    if let Some(dir) = plots {
+        crate::plot_cmd::prepare_dir(dir)?;
+    }
+    announce_work(
+        u128::from(scenario.sim().n_steps()) * spec.len() as u128,
+        &format!("{} laws x {} starts", spec.laws.len(), spec.starts.len()),
+    );
     let bar = if show_progress && spec.len() > 50 {
         let bar = ProgressBar::with_draw_target(Some(spec.len() as u64), ProgressDrawTarget::stderr());
         if let Ok(style) = ProgressStyle::with_template("{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} (eta {eta})")
@@ -35,39 +80,52 @@ pub fn sweep(scenario: &Scenario, out: &Path, plots: Option<&Path>, show_progres
     bar.finish_and_clear();
     let wall = started.elapsed().as_secs_f64();
 
-    write_csv(spec, &outcomes, out)?;
+    let to_stdout = output.is_stdout();
+    let shown_out = output.shown().to_owned();
+    write_csv(spec, &outcomes, output)?;
     let curves = share_curves(spec, &outcomes);
     if let Some(dir) = plots {
         write_regions(spec, &outcomes, dir)?;
         write_share_curves(&curves, dir)?;
     }
-    print!("{}", summary_table(&summarize(spec, &outcomes)));
-    print!("{}", share_table(&curves));
-    eprintln!(
-        "wmr-cli: {} runs ({} laws x {} variants x {} trials x {} starts, {} s each) in {wall:.2} s; outcomes in {}",
+    let table = format!("{}{}", summary_table(&summarize(spec, &outcomes)), share_table(&curves));
+    // With the CSV on stdout, the tables go to stderr.
+    if to_stdout {
+        table.lines().for_each(note);
+    } else {
+        say_raw(&table)?;
+    }
+    note(&format!(
+        "wmr-cli: {} runs ({} laws x {} variants x {} trials x {} starts, {} s each) in {wall:.2} s; outcomes in \
+         {shown_out}",
         spec.len(),
         spec.laws.len(),
         spec.variants.len(),
         spec.variation.trials,
         spec.starts.len(),
         scenario.sim().t_end(),
-        out.display()
-    );
+    ));
     Ok(())
 }
 
-fn write_csv(spec: &SweepSpec, outcomes: &[SweepOutcome], out: &Path) -> Result<()> {
-    let tmp = AtomicOut::create(out)?;
-    {
-        let mut w = csv::Writer::from_writer(std::io::BufWriter::new(tmp.file()?));
+fn write_csv(spec: &SweepSpec, outcomes: &[SweepOutcome], out: Output) -> Result<()> {
+    let name = out.shown().to_owned();
+    let to_stdout = out.is_stdout();
+    let written = (|| -> Result<()> {
+        let mut w = csv::Writer::from_writer(std::io::BufWriter::new(out.writer()?));
         // One column per varied key after the outcome columns (none without `vary`).
         w.write_record(SWEEP_COLUMNS.iter().map(|c| c.to_string()).chain(varied_columns(spec)))?;
         for o in outcomes {
             w.write_record(sweep_row(spec, o).into_iter().chain(varied_row(spec, o)))?;
         }
-        w.flush().with_context(|| format!("cannot write {}", out.display()))?;
+        w.flush()?;
+        Ok(())
+    })();
+    match written {
+        Err(e) if to_stdout && is_broken_pipe(&e) => Err(anyhow::Error::new(crate::errors::StdoutClosed)),
+        Err(e) => Err(e.context(format!("cannot write {name}"))),
+        Ok(()) => out.finish(),
     }
-    tmp.persist()
 }
 
 /// The outcome of a sweep run as a map cell.
@@ -81,12 +139,12 @@ fn cell(o: &SweepOutcome) -> SweepCell {
 }
 
 fn write_regions(spec: &SweepSpec, outcomes: &[SweepOutcome], dir: &Path) -> Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     for (i, (name, _)) in spec.laws.iter().enumerate() {
         let cells: Vec<SweepCell> = outcomes.iter().filter(|o| o.law == i).map(cell).collect();
         let title = format!("{name}: outcome by start (goal at the cross)");
         let svg = region_svg(&title, &cells, spec.goal)?;
-        write_text(&dir.join(format!("region-{}.svg", name.replace('#', "-"))), &svg)?;
+        let file = dir.join(format!("region-{}.svg", safe_file_stem(&name.replace('#', "-"))));
+        write_text(&file, &svg).with_context(|| format!("cannot write the region map of {name}"))?;
     }
     Ok(())
 }
@@ -102,16 +160,21 @@ fn write_share_curves(curves: &[ShareCurve], dir: &Path) -> Result<()> {
             .map(|c| (c.law.as_str(), c.points.iter().map(|(x, s, _)| (*x, *s)).collect()))
             .collect();
         let svg = share_svg(&format!("Converged share against {key}"), key, &series)?;
-        write_text(&dir.join(format!("share-{}.svg", key.replace('.', "-"))), &svg)?;
+        write_text(&dir.join(format!("share-{}.svg", safe_file_stem(&key.replace('.', "-")))), &svg)?;
     }
     Ok(())
 }
 
-/// Writes a text file atomically.
-pub fn write_text(path: &Path, text: &str) -> Result<()> {
-    let tmp = AtomicOut::create(path)?;
-    let mut f = tmp.file()?;
-    f.write_all(text.as_bytes()).with_context(|| format!("cannot write {}", path.display()))?;
-    drop(f);
-    tmp.persist()
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_names_stay_in_the_working_directory() {
+        assert_eq!(default_output(Path::new("examples/compare.toml")), PathBuf::from("compare-sweep.csv"));
+        assert_eq!(safe_file_stem("/etc/wmr-evil"), "_etc_wmr-evil");
+        assert_eq!(safe_file_stem("../../x"), "_.._x");
+        assert_eq!(safe_file_stem("..."), "scenario");
+        assert_eq!(safe_file_stem("a\u{1b}[31mb c"), "a_[31mb_c".replace('[', "_"));
+    }
 }

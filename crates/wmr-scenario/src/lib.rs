@@ -37,6 +37,7 @@ mod error;
 pub mod executor;
 mod file;
 pub mod keys;
+mod limits;
 mod locate;
 mod output;
 pub mod robustness;
@@ -45,13 +46,17 @@ mod scenario;
 pub mod schema;
 mod setup;
 mod sim;
+mod stop;
 mod sweep;
 pub mod vary;
 
 pub use assemble::{BuiltController, RunLoop};
 pub use controller::{controller_keys, law_kinds};
-pub use error::ScenarioError;
+pub use error::{ScenarioError, escape_controls, is_unsafe_char};
 pub use file::{GridFile, PoseFile, RandomFile, RunFile, ScenarioFile, SimFile, SweepFile};
+pub use limits::{
+    MAX_FILE_BYTES, MAX_TOTAL_STEPS, available_memory_bytes, default_name, read_text, shown, total_steps, warnings,
+};
 pub use output::{
     CSV_COLUMNS, MEASURED_COLUMNS, RunResult, SAMPLE_COLUMNS, Sink, SinkError, measured_values, sample_values,
 };

@@ -136,7 +136,7 @@ pub(crate) fn key_at(text: &str, offset: usize) -> Option<String> {
 pub(crate) fn deser_error(path: &str, message: &str, span: Option<Range<usize>>, text: &str) -> ScenarioError {
     let mut key = if path == "." { String::new() } else { path.to_owned() };
     // The first line only: toml's own message may carry a snippet we replace by the key.
-    let message = message.trim().lines().next().unwrap_or("").to_owned();
+    let message = plain_words(&path.replace(".[", "["), message.trim().lines().next().unwrap_or(""));
     let line = if key.is_empty() {
         span.map(|s| {
             if let Some(k) = key_at(text, s.start) {
@@ -148,4 +148,110 @@ pub(crate) fn deser_error(path: &str, message: &str, span: Option<Range<usize>>,
         span_of_key(text, &key).or(span).map(|s| line_of(text, s.start))
     };
     ScenarioError::new(key, message).at_line(line)
+}
+
+/// What the file's own tables are, in the words of docs/scenario.md (serde names the
+/// Rust types: `struct PoseFile with 4 elements`).
+const TABLE_WORDS: [(&str, &str); 7] = [
+    ("PoseFile", "a pose table such as { x = 1.0, y = 1.0, theta_deg = 90.0 } (m, m, and theta in rad or theta_deg)"),
+    ("SimFile", "a [sim] table"),
+    ("RunFile", "a [[run]] table"),
+    ("SweepFile", "a [sweep] table"),
+    ("GridFile", "a grid table { x_min, x_max, nx, y_min, y_max, ny, theta_deg }"),
+    ("RandomFile", "a random table { n, seed, radius, min_radius }"),
+    ("ScenarioFile", "a scenario (a TOML table)"),
+];
+
+/// Serde's message in the scenario's words: no Rust type names (`struct PoseFile`,
+/// `u32`, `f64`), TOML's names for its values (table, array), and `[run]` written for
+/// `[[run]]` explained.
+pub(crate) fn plain_words(key: &str, message: &str) -> String {
+    if key == "run" && message.starts_with("invalid type: map") {
+        return "must be an array of tables: write [[run]] (two brackets) for each run, not [run]".to_owned();
+    }
+    let mut m = message.to_owned();
+    // `invalid length 3, expected struct PoseFile with 4 elements`: an array for a table.
+    if let Some(rest) = m.strip_prefix("invalid length ")
+        && let Some((n, expected)) = rest.split_once(", expected ")
+        && expected.starts_with("struct ")
+    {
+        m = format!("invalid type: an array of {n} values, expected {expected}");
+    }
+    if let Some(i) = m.find(" with ")
+        && m[i..].ends_with(" elements")
+        && m[..i].contains("expected struct ")
+    {
+        m.truncate(i);
+    }
+    for (name, words) in TABLE_WORDS {
+        m = m.replace(&format!("struct {name}"), words);
+    }
+    // Any other struct the file layout may gain: a table.
+    while let Some(i) = m.find("expected struct ") {
+        let start = i + "expected ".len();
+        let end = m[start + "struct ".len()..]
+            .find(|c: char| !c.is_alphanumeric() && c != '_')
+            .map_or(m.len(), |e| start + "struct ".len() + e);
+        m.replace_range(start..end, "a table");
+    }
+    let words = [
+        ("expected u8", "expected a whole number from 0 to 255"),
+        ("expected u16", "expected a whole number from 0 to 65535"),
+        ("expected u32", "expected a whole number from 0 to 4294967295"),
+        ("expected u64", "expected a whole number from 0 to 18446744073709551615"),
+        ("expected usize", "expected a whole number from 0 to 18446744073709551615"),
+        ("expected i64", "expected a whole number"),
+        ("expected f64", "expected a number"),
+        ("expected f32", "expected a number"),
+        ("expected a sequence", "expected an array"),
+        ("expected a map", "expected a table"),
+        ("invalid type: map", "invalid type: table"),
+        ("invalid type: sequence", "invalid type: array"),
+    ];
+    for (from, to) in words {
+        if let Some(i) = m.find(from) {
+            let end = i + from.len();
+            // Whole words only: `expected u32` but not `expected u320`.
+            if m[end..].chars().next().is_none_or(|c| !c.is_alphanumeric()) {
+                m.replace_range(i..end, to);
+            }
+        }
+    }
+    m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::plain_words;
+
+    #[test]
+    fn serde_messages_lose_the_rust_type_names() {
+        assert_eq!(
+            plain_words("run[0].goal", "invalid length 3, expected struct PoseFile with 4 elements"),
+            "invalid type: an array of 3 values, expected a pose table such as { x = 1.0, y = 1.0, theta_deg = 90.0 } (m, m, and theta in rad or theta_deg)"
+        );
+        assert_eq!(
+            plain_words("run", "invalid type: map, expected a sequence"),
+            "must be an array of tables: write [[run]] (two brackets) for each run, not [run]"
+        );
+        assert_eq!(
+            plain_words("sim", "invalid type: integer `3`, expected struct SimFile"),
+            "invalid type: integer `3`, expected a [sim] table"
+        );
+        assert_eq!(
+            plain_words("x", "invalid type: integer `3`, expected struct NewFile"),
+            "invalid type: integer `3`, expected a table"
+        );
+        assert_eq!(
+            plain_words("sweep.grid.nx", "invalid value: integer `-1`, expected u32"),
+            "invalid value: integer `-1`, expected a whole number from 0 to 4294967295"
+        );
+        assert_eq!(
+            plain_words("sweep.controllers", "invalid type: integer `3`, expected a sequence"),
+            "invalid type: integer `3`, expected an array"
+        );
+        for m in ["missing field `radius`", "unknown field `foo`, expected one of `x`, `y`"] {
+            assert_eq!(plain_words("k", m), m);
+        }
+    }
 }

@@ -14,9 +14,9 @@ use crate::keys::{fields_of, fields_read_by, join, to_table, toml_f64, write_key
 use crate::output::RunResult;
 use crate::run::{RunSpec, short};
 use crate::setup::{Setup, Tables};
-use crate::sim::{DEFAULT_LOG_DT_S, DEFAULT_T_END_S, SimSpec};
+use crate::sim::SimSpec;
 use crate::sweep::SweepSpec;
-use crate::{controller, locate};
+use crate::{controller, limits, locate};
 
 /// A complete, validated scenario: every default filled in, every key checked once.
 #[derive(Clone, Debug, PartialEq)]
@@ -42,11 +42,7 @@ impl ScenarioFile {
         let setup = Setup::resolve(&tables, "controller")?;
 
         let SimFile { t_end, dt, log_dt } = self.sim.unwrap_or_default();
-        let sim = SimSpec::new(
-            t_end.unwrap_or(DEFAULT_T_END_S),
-            dt.unwrap_or(setup.controller.control_dt),
-            log_dt.unwrap_or(DEFAULT_LOG_DT_S),
-        )?;
+        let sim = SimSpec::resolve(t_end, dt, log_dt, setup.controller.control_dt)?;
         setup.check_step(sim.dt())?;
 
         let sweep = match &self.sweep {
@@ -98,25 +94,24 @@ impl Scenario {
             let inner = e.into_inner();
             locate::deser_error(&path, inner.message(), inner.span(), text)
         })?;
-        file.resolve(default_name).map_err(|e| {
+        file.resolve(default_name).and_then(|s| limits::check(&s).map(|()| s)).map_err(|e| {
             let line = locate::span_of_key(text, &e.key).map(|s| locate::line_of(text, s.start));
             e.at_line(line)
         })
     }
 
-    /// Reads a TOML file; the name defaults to the file's stem. Read errors name the path.
+    /// Reads a TOML file (a regular file of at most [`limits::MAX_FILE_BYTES`]); the
+    /// name defaults to the file's stem. Read errors name the path.
     pub fn from_path(path: impl AsRef<Path>) -> Result<Self, ScenarioError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| ScenarioError::new("", format!("cannot read {}: {e}", path.display())))?;
-        let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scenario".to_owned());
-        Self::from_toml_str(&text, &stem)
+        Self::from_toml_str(&limits::read_text(path)?, &limits::default_name(path))
     }
 
     /// The same scenario with other runs, each checked (Python's batches of starts).
     pub fn with_runs(mut self, runs: Vec<RunSpec>) -> Result<Self, ScenarioError> {
         self.runs = runs;
         self.check_runs()?;
+        limits::check(&self)?;
         Ok(self)
     }
 

@@ -1,6 +1,6 @@
 //! `[sim]`, checked: run length, plant step and log period, whole multiples of each other.
 
-use crate::error::ScenarioError;
+use crate::error::{ScenarioError, num};
 
 /// Largest `sim.t_end` accepted, s (about 11.6 days of simulated time).
 pub const MAX_T_END_S: f64 = 1e6;
@@ -35,33 +35,73 @@ fn positive(key: &str, v: f64) -> Result<f64, ScenarioError> {
     if !v.is_finite() {
         Err(ScenarioError::new(key, format!("must be a finite number (got {v})")))
     } else if v <= 0.0 {
-        Err(ScenarioError::new(key, format!("must be > 0 (got {v})")))
+        Err(ScenarioError::new(key, format!("must be > 0 (got {})", num(v))))
     } else {
         Ok(v)
     }
 }
 
 impl SimSpec {
-    /// Checks t_end (s), dt (s) and log_dt (s); errors name `sim.*`.
+    /// Checks t_end (s), dt (s) and log_dt (s), all given; errors name `sim.*`.
     pub fn new(t_end: f64, dt: f64, log_dt: f64) -> Result<Self, ScenarioError> {
-        let dt = positive("sim.dt", dt)?;
-        let t_end = positive("sim.t_end", t_end)?;
-        let log_dt = positive("sim.log_dt", log_dt)?;
+        Self::resolve(Some(t_end), Some(dt), Some(log_dt), dt)
+    }
+
+    /// `[sim]` as written (`None`: the key is absent) with its defaults: t_end
+    /// [`DEFAULT_T_END_S`], dt the controller's `control_dt` (s), log_dt
+    /// [`DEFAULT_LOG_DT_S`]. An error names a key the file has: when t_end or log_dt is
+    /// not a whole multiple of dt, the one of them that was written, else `sim.dt` if
+    /// written, else `controller.control_dt` (where dt came from).
+    pub fn resolve(
+        t_end: Option<f64>,
+        dt: Option<f64>,
+        log_dt: Option<f64>,
+        control_dt: f64,
+    ) -> Result<Self, ScenarioError> {
+        let dt_key = if dt.is_some() { "sim.dt" } else { "controller.control_dt" };
+        let dt = positive(dt_key, dt.unwrap_or(control_dt))?;
+        let t_end_given = t_end.is_some();
+        let log_dt_given = log_dt.is_some();
+        let t_end = positive("sim.t_end", t_end.unwrap_or(DEFAULT_T_END_S))?;
+        let log_dt = positive("sim.log_dt", log_dt.unwrap_or(DEFAULT_LOG_DT_S))?;
         if t_end > MAX_T_END_S {
-            return Err(ScenarioError::new("sim.t_end", format!("must be <= {MAX_T_END_S:e} s (got {t_end})")));
+            return Err(ScenarioError::new("sim.t_end", format!("must be <= {MAX_T_END_S:e} s (got {})", num(t_end))));
         }
-        let n_steps = whole_multiple(t_end, dt).ok_or_else(|| {
-            ScenarioError::new("sim.t_end", format!("must be a whole multiple of sim.dt = {dt} (got {t_end})"))
-        })?;
+        // Which key to blame when `period` is not a whole multiple of dt.
+        let blame = |given: bool, key: &str, period: f64| {
+            if given {
+                ScenarioError::new(
+                    key,
+                    format!("must be a whole multiple of sim.dt = {} (got {})", num(dt), num(period)),
+                )
+            } else {
+                ScenarioError::new(
+                    dt_key,
+                    format!(
+                        "{} s does not divide the default {key} = {} s: give a {} that divides it, or set {key}",
+                        num(dt),
+                        num(period),
+                        if dt_key == "sim.dt" { "dt" } else { "control_dt" },
+                    ),
+                )
+            }
+        };
+        let n_steps = whole_multiple(t_end, dt).ok_or_else(|| blame(t_end_given, "sim.t_end", t_end))?;
         if n_steps > MAX_STEPS {
+            let key = if t_end_given { "sim.t_end" } else { dt_key };
             return Err(ScenarioError::new(
-                "sim.t_end",
-                format!("t_end / dt = {n_steps} steps per run, more than the limit of {MAX_STEPS}"),
+                key,
+                format!(
+                    "t_end / dt = {} s / {} s = {n_steps} steps per run, more than the limit of {MAX_STEPS}: \
+                     shorten sim.t_end or raise sim.dt",
+                    num(t_end),
+                    num(dt)
+                ),
             ));
         }
-        let log_every = whole_multiple(log_dt, dt).and_then(|n| u32::try_from(n).ok()).ok_or_else(|| {
-            ScenarioError::new("sim.log_dt", format!("must be a whole multiple of sim.dt = {dt} (got {log_dt})"))
-        })?;
+        let log_every = whole_multiple(log_dt, dt)
+            .and_then(|n| u32::try_from(n).ok())
+            .ok_or_else(|| blame(log_dt_given, "sim.log_dt", log_dt))?;
         Ok(Self { t_end, dt, log_dt, n_steps, log_every })
     }
 

@@ -15,14 +15,18 @@
 //! `min_radius <= |C - goal| <= radius` with a uniform heading in [-180, 180) deg, drawn
 //! from `fastrand`'s generator seeded with `seed` (the same file gives the same starts).
 
+use std::ops::ControlFlow;
+
 use toml::{Table, Value};
+use wmr_core::plant::DIVERGENCE_BOX_M;
 use wmr_core::{Outcome, Pose2, Status};
 
 use crate::assemble::{self, Origin};
 use crate::controller::{self as controller_table, law_kinds};
-use crate::error::ScenarioError;
+use crate::error::{ScenarioError, num};
 use crate::executor::map_ordered;
 use crate::file::{GridFile, RandomFile, SweepFile};
+use crate::limits::check_in_box;
 use crate::setup::{Setup, Tables};
 use crate::sim::SimSpec;
 use crate::vary::{Variant, Variation};
@@ -88,6 +92,7 @@ impl SweepSpec {
     /// loop assembled towards the goal.
     pub(crate) fn resolve(sw: &SweepFile, base: &Tables, sim: &SimSpec) -> Result<Self, ScenarioError> {
         let goal = sw.goal.clone().unwrap_or_default().resolve("sweep.goal")?;
+        check_in_box("sweep.goal", goal)?;
         let controllers: Vec<Table> = match &sw.controllers {
             Some(v) if v.is_empty() => return Err(ScenarioError::new("sweep.controllers", "name at least one law")),
             Some(v) => v.clone(),
@@ -191,15 +196,40 @@ fn grid_starts(g: &GridFile) -> Result<Vec<Pose2<f64>>, ScenarioError> {
     if g.ny == 0 {
         return Err(ScenarioError::new("sweep.grid.ny", "must be >= 1"));
     }
-    if x_max < x_min {
-        return Err(ScenarioError::new("sweep.grid.x_max", "must be >= x_min"));
-    }
-    if y_max < y_min {
-        return Err(ScenarioError::new("sweep.grid.y_max", "must be >= y_min"));
-    }
     let thetas = g.theta_deg.clone().unwrap_or_else(|| vec![0.0]);
     if thetas.is_empty() {
         return Err(ScenarioError::new("sweep.grid.theta_deg", "give at least one heading"));
+    }
+    // Counted in u128: nx * ny * headings cannot wrap (each factor is below 2^32 or a
+    // length), and nothing is allocated before the count is known to be allowed.
+    let total = u128::from(g.nx) * u128::from(g.ny) * thetas.len() as u128;
+    if total > MAX_SWEEP_RUNS as u128 {
+        return Err(ScenarioError::new(
+            "sweep.grid",
+            format!(
+                "nx x ny x headings = {} x {} x {} = {total} starts, more than the limit of {MAX_SWEEP_RUNS}",
+                g.nx,
+                g.ny,
+                thetas.len()
+            ),
+        ));
+    }
+    if x_max < x_min {
+        return Err(ScenarioError::new(
+            "sweep.grid.x_max",
+            format!("must be >= x_min = {} (got {})", num(x_min), num(x_max)),
+        ));
+    }
+    if y_max < y_min {
+        return Err(ScenarioError::new(
+            "sweep.grid.y_max",
+            format!("must be >= y_min = {} (got {})", num(y_min), num(y_max)),
+        ));
+    }
+    // Every start inside the box (so hi - lo below cannot overflow either).
+    for (key, v) in [("x_min", x_min), ("x_max", x_max), ("y_min", y_min), ("y_max", y_max)] {
+        check_in_box("sweep.grid", Pose2::new(v, 0.0, 0.0))
+            .map_err(|e| ScenarioError { key: format!("sweep.grid.{key}"), ..e })?;
     }
     for (i, t) in thetas.iter().enumerate() {
         finite_key(&format!("sweep.grid.theta_deg[{i}]"), *t)?;
@@ -207,11 +237,7 @@ fn grid_starts(g: &GridFile) -> Result<Vec<Pose2<f64>>, ScenarioError> {
     let at = |lo: f64, hi: f64, n: u32, i: u32| {
         if n == 1 { 0.5 * (lo + hi) } else { lo + (hi - lo) * f64::from(i) / f64::from(n - 1) }
     };
-    let total = u64::from(g.nx) * u64::from(g.ny) * thetas.len() as u64;
-    if total > MAX_SWEEP_RUNS as u64 {
-        return Err(ScenarioError::new("sweep.grid", format!("{total} starts is more than {MAX_SWEEP_RUNS}")));
-    }
-    let mut starts = Vec::new();
+    let mut starts = Vec::with_capacity(total as usize);
     for j in 0..g.ny {
         for i in 0..g.nx {
             for t in &thetas {
@@ -226,16 +252,32 @@ fn random_starts(r: &RandomFile, goal: Pose2<f64>) -> Result<Vec<Pose2<f64>>, Sc
     let radius = finite_key("sweep.random.radius", r.radius)?;
     let min_radius = finite_key("sweep.random.min_radius", r.min_radius)?;
     if radius <= 0.0 {
-        return Err(ScenarioError::new("sweep.random.radius", format!("must be > 0 (got {radius})")));
+        return Err(ScenarioError::new("sweep.random.radius", format!("must be > 0 (got {})", num(radius))));
     }
     if !(0.0..=radius).contains(&min_radius) {
         return Err(ScenarioError::new(
             "sweep.random.min_radius",
-            format!("must be in [0, radius] (got {min_radius})"),
+            format!("must be in [0, radius] (got {})", num(min_radius)),
         ));
     }
     if r.n == 0 || r.n as usize > MAX_SWEEP_RUNS {
         return Err(ScenarioError::new("sweep.random.n", format!("must be in 1..={MAX_SWEEP_RUNS} (got {})", r.n)));
+    }
+    // Every start inside the box: the circle of `radius` around the goal must be (this
+    // also keeps radius^2 below from overflowing).
+    let reach = goal.x.abs().max(goal.y.abs()) + radius;
+    if reach > DIVERGENCE_BOX_M {
+        return Err(ScenarioError::new(
+            "sweep.random.radius",
+            format!(
+                "starts up to {} m from the goal ({}, {}) would lie outside the box a run may not leave \
+                 (|x|, |y| <= {DIVERGENCE_BOX_M} m): at most {} m here",
+                num(radius),
+                num(goal.x),
+                num(goal.y),
+                num(DIVERGENCE_BOX_M - goal.x.abs().max(goal.y.abs()))
+            ),
+        ));
     }
     let mut rng = fastrand::Rng::with_seed(r.seed);
     let tau = std::f64::consts::TAU;
@@ -381,10 +423,22 @@ impl SweepSpec {
     /// `done` is called once per finished run (from worker threads). Results are ordered
     /// by law, then variant, trial and start.
     pub fn run(&self, sim: &SimSpec, done: &(dyn Fn() + Sync)) -> Result<Vec<SweepOutcome>, ScenarioError> {
+        Ok(self.run_until(sim, done, &|| false)?.unwrap_or_default())
+    }
+
+    /// [`SweepSpec::run`] that stops soon after `stop` answers true (every run asks it
+    /// about every millisecond of work): `Ok(None)` then.
+    pub fn run_until(
+        &self,
+        sim: &SimSpec,
+        done: &(dyn Fn() + Sync),
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Option<Vec<SweepOutcome>>, ScenarioError> {
         let n_starts = self.starts.len();
         let trials = self.variation.trials as usize;
         let n_variants = self.variants.len();
-        map_ordered(self.len(), |k| {
+        let poll = || if stop() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
+        let runs: Result<Vec<Option<SweepOutcome>>, ScenarioError> = map_ordered(self.len(), |k| {
             let start_index = k % n_starts;
             let trial = (k / n_starts) % trials;
             let variant = (k / (n_starts * trials)) % n_variants;
@@ -403,12 +457,17 @@ impl SweepSpec {
                 &self.setups[law * n_variants + variant]
             };
             let mut lp = assemble::closed_loop(setup, run, start, self.goal, sim.dt(), origin)?;
-            let outcome = lp.run(sim.n_steps(), u32::MAX, |_| {});
+            let ControlFlow::Continue(outcome) =
+                lp.try_run(sim.n_steps(), u32::MAX, |_| ControlFlow::Continue(()), poll)
+            else {
+                return Ok(None);
+            };
             done();
-            Ok(SweepOutcome { law, variant, trial: trial as u32, run, start_index, start, outcome })
+            Ok(Some(SweepOutcome { law, variant, trial: trial as u32, run, start_index, start, outcome }))
         })
         .into_iter()
-        .collect()
+        .collect();
+        Ok(runs?.into_iter().collect())
     }
 
     /// The value of every varied key in a run (in `vary` order): its variant's axis value,

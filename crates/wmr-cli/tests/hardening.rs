@@ -1,0 +1,446 @@
+//! Issue 12: what an attack on the CLI broke, one test per defect (`regression_12_N_...`),
+//! plus the siblings found while fixing them. Signals and a full disk are in
+//! `signals.rs` and `disk_full.rs`, the fuzz test in `fuzz.rs`.
+
+use std::fs;
+use std::io::Read as _;
+use std::os::unix::fs::FileTypeExt as _;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_wmr-cli"))
+}
+
+fn run_in(dir: &Path, args: &[&str]) -> Output {
+    bin().current_dir(dir).args(args).output().expect("spawn wmr-cli")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+fn write(dir: &Path, name: &str, body: &str) -> PathBuf {
+    let p = dir.join(name);
+    fs::write(&p, body).unwrap();
+    p
+}
+
+fn repo(p: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(p).display().to_string()
+}
+
+fn entries(dir: &Path) -> Vec<String> {
+    let mut v: Vec<_> =
+        fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    v.sort();
+    v
+}
+
+/// Exit 2, one line on stderr naming `key`, nothing on stdout, no panic.
+fn assert_bad_input(o: &Output, key: &str) {
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains(key), "stderr lacks {key:?}: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+/// 2 s runs, logged every 10 ms: short enough for a debug build.
+const SHORT: &str = "[sim]\nt_end = 2.0\n[[run]]\ngoal = { x = 1.0, y = 1.0, theta_deg = 120.0 }\n";
+
+const SWEEP: &str =
+    "[sim]\nt_end = 0.5\n[sweep]\ncontrollers = [{ kind = \"paper\" }]\nrandom = { n = 3, radius = 1.0 }\n";
+
+fn is_root() -> bool {
+    Command::new("id").arg("-u").output().map(|o| text(&o.stdout).trim() == "0").unwrap_or(false)
+}
+
+#[test]
+fn regression_12_1_output_is_a_device_node() {
+    let dir = tempfile::tempdir().unwrap();
+    let scen = write(dir.path(), "s.toml", SHORT);
+    let null = dir.path().join("mynull");
+    if is_root() {
+        // A character device (major 1, minor 3: the null device) made here.
+        assert!(
+            Command::new("mknod")
+                .args(["-m", "666", null.to_str().unwrap(), "c", "1", "3"])
+                .status()
+                .unwrap()
+                .success()
+        );
+    } else {
+        std::os::unix::fs::symlink("/dev/null", &null).unwrap();
+        eprintln!("not root: mknod skipped, testing a link to /dev/null instead");
+    }
+    let o = run_in(dir.path(), &["run", scen.to_str().unwrap(), "-o", null.to_str().unwrap(), "--format", "csv"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(fs::metadata(&null).unwrap().file_type().is_char_device(), "the device was replaced by a file");
+    assert!(entries(dir.path()).iter().all(|n| !n.ends_with(".tmp")), "{:?}", entries(dir.path()));
+
+    // /dev/null itself (as root the attack replaced the system's /dev/null).
+    let o = run_in(dir.path(), &["run", scen.to_str().unwrap(), "-o", "/dev/null", "--format", "mcap"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(fs::metadata("/dev/null").unwrap().file_type().is_char_device());
+}
+
+#[test]
+fn regression_12_1_output_streams_to_a_fifo_and_to_stdout() {
+    let dir = tempfile::tempdir().unwrap();
+    let scen = write(dir.path(), "s.toml", SHORT);
+    let reference = dir.path().join("ref.csv");
+    let o = run_in(dir.path(), &["run", scen.to_str().unwrap(), "-o", reference.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let want = fs::read(&reference).unwrap();
+
+    // `-o -`: the CSV on stdout, the summary on stderr.
+    let o = run_in(dir.path(), &["run", scen.to_str().unwrap(), "-o", "-", "--format", "csv"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(o.stdout == want, "stdout differs from the file");
+    assert!(text(&o.stderr).contains("run 0 ["), "summary on stderr: {}", text(&o.stderr));
+
+    // A FIFO: streamed to a reader, never replaced.
+    let fifo = dir.path().join("pipe");
+    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || {
+            let mut got = Vec::new();
+            fs::File::open(&fifo).unwrap().read_to_end(&mut got).unwrap();
+            got
+        })
+    };
+    let o = run_in(dir.path(), &["run", scen.to_str().unwrap(), "-o", fifo.to_str().unwrap(), "--format", "csv"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(reader.join().unwrap() == want, "the FIFO's reader got other bytes");
+    assert!(fs::metadata(&fifo).unwrap().file_type().is_fifo());
+}
+
+#[test]
+fn regression_12_1_output_equal_to_an_input_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let same = write(dir.path(), "same.toml", SHORT);
+    let cmp = write(dir.path(), "cmp.toml", SWEEP);
+    std::os::unix::fs::symlink(&same, dir.path().join("link.toml")).unwrap();
+    fs::hard_link(&cmp, dir.path().join("hard.csv")).unwrap();
+    for args in [
+        vec!["run", "same.toml", "-o", "same.toml", "--format", "csv"],
+        vec!["run", "same.toml", "-o", "link.toml", "--format", "csv"],
+        vec!["run", "same.toml", "-o", "./same.toml", "--format", "mcap"],
+        vec!["sweep", "cmp.toml", "-o", "cmp.toml"],
+        vec!["sweep", "cmp.toml", "-o", "hard.csv"],
+    ] {
+        let o = run_in(dir.path(), &args);
+        assert_bad_input(&o, "is the input file");
+    }
+    assert_eq!(fs::read_to_string(&same).unwrap(), SHORT);
+    assert_eq!(fs::read_to_string(&cmp).unwrap(), SWEEP);
+    assert!(fs::symlink_metadata(dir.path().join("link.toml")).unwrap().file_type().is_symlink());
+    assert_eq!(entries(dir.path()), ["cmp.toml", "hard.csv", "link.toml", "same.toml"]);
+}
+
+#[test]
+fn regression_12_1_a_link_to_a_file_is_followed_not_replaced() {
+    let dir = tempfile::tempdir().unwrap();
+    let scen = write(dir.path(), "s.toml", SHORT);
+    let real = write(dir.path(), "real.csv", "old\n");
+    std::os::unix::fs::symlink(&real, dir.path().join("link.csv")).unwrap();
+    let o = run_in(dir.path(), &["run", scen.to_str().unwrap(), "-o", "link.csv"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(fs::symlink_metadata(dir.path().join("link.csv")).unwrap().file_type().is_symlink());
+    assert!(fs::read_to_string(&real).unwrap().starts_with("run,t,"));
+}
+
+#[test]
+fn regression_12_2_grid_count_does_not_wrap() {
+    let dir = tempfile::tempdir().unwrap();
+    let grid = "[sim]\nt_end = 1.0\n[sweep]\ngrid = { x_min = 0, x_max = 1, nx = 2147483648, y_min = 0, y_max = 1, \
+                ny = 2147483648, theta_deg = [0, 1, 2, 3] }\n";
+    let f = write(dir.path(), "g.toml", grid);
+    for cmd in ["check", "sweep"] {
+        let o = run_in(dir.path(), &[cmd, f.to_str().unwrap()]);
+        assert_bad_input(&o, "sweep.grid: nx x ny x headings = 2147483648 x 2147483648 x 4 = 18446744073709551616");
+    }
+    let f = write(dir.path(), "g2.toml", &grid.replace("2147483648", "4294967295"));
+    let o = run_in(dir.path(), &["check", f.to_str().unwrap()]);
+    assert_bad_input(&o, "= 73786976260478468100 starts");
+    assert!(!text(&o.stderr).contains("18446744056529682434"));
+    assert_eq!(entries(dir.path()), ["g.toml", "g2.toml"]);
+}
+
+/// Peak resident memory of a process, kB (Linux).
+fn vm_hwm_kb(pid: u32) -> Option<u64> {
+    let status = fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
+    status.lines().find(|l| l.starts_with("VmHWM:"))?.split_whitespace().nth(1)?.parse().ok()
+}
+
+#[test]
+fn regression_12_3_plot_of_a_long_run_neither_aborts_nor_holds_every_sample() {
+    let dir = tempfile::tempdir().unwrap();
+    // 1e9 samples of 1e9 steps: the attack's `memory allocation of 120000000120 bytes
+    // failed` came at once. Now the plot runs in bounded memory; stopped after 3 s.
+    let f = write(dir.path(), "long.toml", "[sim]\nt_end = 1e6\nlog_dt = 1e-3\n[[run]]\ngoal = { x = 1.0 }\n");
+    let mut child = bin()
+        .current_dir(dir.path())
+        .args(["plot", f.to_str().unwrap(), "-o", "figs"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_secs(3));
+    assert!(child.try_wait().unwrap().is_none(), "plot ended early: {:?}", child.wait_with_output());
+    let peak = vm_hwm_kb(child.id()).unwrap_or(0);
+    assert!(Command::new("kill").args(["-TERM", &child.id().to_string()]).status().unwrap().success());
+    let o = child.wait_with_output().unwrap();
+    assert!(peak < 200_000, "peak memory {peak} kB");
+    assert!(!text(&o.stderr).contains("memory allocation"), "{}", text(&o.stderr));
+
+    // A finished plot of 200,001 samples draws at most 4,001 points per curve.
+    let f = write(dir.path(), "mid.toml", "[sim]\nt_end = 200.0\nlog_dt = 1e-3\n[[run]]\ngoal = { x = 1.0 }\n");
+    let o = run_in(dir.path(), &["plot", f.to_str().unwrap(), "-o", "mid"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    for svg in ["paths.svg", "run0-wheel-speeds.svg", "run0-errors.svg"] {
+        let body = fs::read_to_string(dir.path().join("mid").join(svg)).unwrap();
+        let doc = roxmltree::Document::parse(&body).unwrap();
+        let longest = doc
+            .descendants()
+            .filter(|n| n.has_tag_name("polyline"))
+            .map(|n| n.attribute("points").unwrap_or("").split_whitespace().count())
+            .max()
+            .unwrap();
+        assert!((1000..=4001).contains(&longest), "{svg}: {longest} points");
+    }
+}
+
+#[test]
+fn regression_12_7_huge_jobs_are_refused_before_they_start() {
+    let dir = tempfile::tempdir().unwrap();
+    // 1,000 runs of 1e9 steps, and a sweep of 1e6 runs of 1e9 steps: more than 1e11 steps.
+    let mut many = String::from("[sim]\nt_end = 1e6\n");
+    for _ in 0..1000 {
+        many.push_str("[[run]]\ngoal = { x = 1.0 }\n");
+    }
+    let f = write(dir.path(), "many.toml", &many);
+    for args in
+        [vec!["check", "many.toml"], vec!["run", "many.toml", "-o", "x.csv"], vec!["plot", "many.toml", "-o", "d"]]
+    {
+        let started = Instant::now();
+        let o = run_in(dir.path(), &args);
+        assert_bad_input(&o, "sim.t_end: 1000 runs x 1000000000 steps");
+        assert!(started.elapsed() < Duration::from_secs(20));
+    }
+    let _ = f;
+    write(
+        dir.path(),
+        "sw.toml",
+        "[sim]\nt_end = 1e6\n[sweep]\ncontrollers = [{ kind = \"paper\" }]\nrandom = { n = 1000000, radius = 1 }\n",
+    );
+    let o = run_in(dir.path(), &["sweep", "sw.toml", "-o", "x.csv"]);
+    assert_bad_input(&o, "sim.t_end: 1000000 runs x 1000000000 steps");
+    assert_eq!(entries(dir.path()), ["many.toml", "sw.toml"]);
+}
+
+#[test]
+fn regression_12_8_a_closed_stdout_ends_the_command_quietly() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut many = String::from("[sim]\nt_end = 0.01\n");
+    for _ in 0..3000 {
+        many.push_str("[[run]]\ngoal = { x = 1.0 }\n");
+    }
+    let f = write(dir.path(), "many.toml", &many);
+    // `| head -c 10`: the reader takes 10 bytes and goes away.
+    for args in [
+        vec!["run", f.to_str().unwrap(), "-o", "x.csv"],
+        vec!["check", f.to_str().unwrap()],
+        vec!["run", f.to_str().unwrap(), "-o", "-", "--format", "csv"],
+    ] {
+        let mut child =
+            bin().current_dir(dir.path()).args(&args).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+        let mut head = [0u8; 10];
+        child.stdout.take().unwrap().read_exact(&mut head).unwrap();
+        // The pipe's read end is dropped here.
+        let o = child.wait_with_output().unwrap();
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {err}");
+        assert!(!err.contains("panicked") && !err.contains("Broken pipe"), "{args:?}: {err}");
+    }
+    // OUT of the first command is complete.
+    assert_eq!(fs::read_to_string(dir.path().join("x.csv")).unwrap().lines().count(), 1 + 3000 * 2);
+    // stdout = /dev/full: one error line, exit 1, no panic.
+    let full = fs::OpenOptions::new().write(true).open("/dev/full").unwrap();
+    let o = bin().current_dir(dir.path()).args(["check", f.to_str().unwrap()]).stdout(full).output().unwrap();
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("No space left on device") && !err.contains("panicked"), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    // stderr = /dev/full: no panic either (the message is lost, the code stays).
+    let full = fs::OpenOptions::new().write(true).open("/dev/full").unwrap();
+    let o = bin().current_dir(dir.path()).args(["check", "missing.toml"]).stderr(full).output().unwrap();
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn regression_12_9_sweep_writes_its_default_output_in_the_working_directory() {
+    let dir = tempfile::tempdir().unwrap();
+    let evil = dir.path().join("elsewhere").join("wmr-evil");
+    fs::create_dir(dir.path().join("elsewhere")).unwrap();
+    let work = dir.path().join("work");
+    fs::create_dir(&work).unwrap();
+    let body = format!("name = {:?}\n{SWEEP}", evil.to_str().unwrap());
+    let f = write(dir.path(), "down loaded.toml", &body);
+    let o = run_in(&work, &["sweep", f.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert_eq!(entries(&work), ["down_loaded-sweep.csv"]);
+    assert!(entries(&dir.path().join("elsewhere")).is_empty(), "the file's name chose a path");
+}
+
+#[test]
+fn regression_12_10_check_runs_every_validation_sweep_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    for (body, key) in [
+        ("[sweep]\nrandom = { n = 10, radius = 1e308 }\n", "line 2: sweep.random.radius"),
+        (
+            "[sweep]\ngrid = { x_min = -1.7e308, x_max = 1.7e308, nx = 3, y_min = 0, y_max = 1, ny = 1 }\n",
+            "line 2: sweep.grid.x_min",
+        ),
+        ("[sweep]\ngoal = { x = 5000.0 }\nrandom = { n = 10, radius = 1 }\n", "line 2: sweep.goal.x"),
+        ("[sweep]\ngoal = { x = 999.5 }\nrandom = { n = 10, radius = 1 }\n", "line 3: sweep.random.radius"),
+    ] {
+        let f = write(dir.path(), "s.toml", body);
+        for args in [vec!["check", "s.toml"], vec!["sweep", "s.toml", "-o", "o.csv"]] {
+            let o = run_in(dir.path(), &args);
+            assert_bad_input(&o, key);
+            assert!(!text(&o.stderr).contains("inf") && !text(&o.stderr).contains("NaN"), "{}", text(&o.stderr));
+        }
+        let _ = f;
+    }
+    assert_eq!(entries(dir.path()), ["s.toml"]);
+}
+
+#[test]
+fn regression_12_11_bad_input_exits_2_everywhere() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let sweep = repo("examples/compare.toml");
+    let fig7 = repo("examples/paper/fig7.toml");
+    for (args, says) in [
+        (vec!["run", sweep.as_str(), "-o", "x.csv"], "compare.toml: run: the file has no [[run]]"),
+        (vec!["sweep", fig7.as_str(), "-o", "x.csv"], "fig7.toml: sweep: the file has no [sweep]"),
+        (vec!["plot", sweep.as_str(), "-o", "figs"], "compare.toml: run: the file has no [[run]]"),
+        (vec!["run", fig7.as_str(), "-o", "noext"], "--format"),
+        (vec!["run", fig7.as_str(), "-o", "a/b/x.csv"], "the directory a/b does not exist"),
+        (vec!["sweep", sweep.as_str(), "-o", "a/b/x.csv"], "the directory a/b does not exist"),
+        (vec!["sweep", sweep.as_str(), "-o", "x.csv", "--plots", "a/b"], "the directory a does not exist"),
+        (vec!["plot", fig7.as_str(), "-o", "a/b"], "the directory a does not exist"),
+        (vec!["plot", fig7.as_str(), "-o", "x.svg"], "looks like a file"),
+        (vec!["run", fig7.as_str(), "-o", ".", "--format", "csv"], "is a directory"),
+        (vec!["check", "missing.toml"], "cannot read missing.toml"),
+    ] {
+        let o = run_in(d, &args);
+        assert_bad_input(&o, says);
+        assert!(!text(&o.stderr).contains(".tmp"), "{}", text(&o.stderr));
+    }
+    assert!(entries(d).is_empty(), "{:?}", entries(d));
+    // An existing file where plot wants a folder.
+    write(d, "taken", "x");
+    assert_bad_input(&run_in(d, &["plot", fig7.as_str(), "-o", "taken"]), "is not a directory");
+    assert_eq!(entries(d), ["taken"]);
+}
+
+#[test]
+fn regression_12_12_control_characters_are_escaped() {
+    let dir = tempfile::tempdir().unwrap();
+    for (body, shown) in [
+        ("[[ru\u{1b}[31mn]]\ngoal = {}\n", "\\x1b[31m"),
+        ("[robot]\nma\u{202e}ss = 1.0\n[[run]]\ngoal = {}\n", "\\u{202e}"),
+        ("[robot]\nmass = \"a\u{0}b\"\n[[run]]\ngoal = {}\n", "\\0"),
+        ("[robot]\nmass = -1.0\r\n[[run]]\ngoal = {}\n", "robot.mass"),
+        ("[robot]\r\nm\rass = 1\n", "\\r"),
+    ] {
+        let f = write(dir.path(), "c.toml", body);
+        let o = run_in(dir.path(), &["check", f.to_str().unwrap()]);
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains(shown), "{shown:?} in {err:?}");
+        let line = err.strip_suffix('\n').unwrap_or(&err);
+        assert!(!line.chars().any(|c| c.is_control() || ('\u{202a}'..='\u{202e}').contains(&c)), "raw: {err:?}");
+    }
+    // A label from the file reaches stdout (the summary) escaped too.
+    let f = write(dir.path(), "l.toml", "[sim]\nt_end = 0.01\n[[run]]\nlabel = \"\\u001b[2Jred\\u202e\"\ngoal = {}\n");
+    let o = run_in(dir.path(), &["run", f.to_str().unwrap(), "-o", "x.csv"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    assert!(out.contains("[\\x1b[2Jred\\u{202e}]"), "{out:?}");
+    assert!(!out.contains('\u{1b}') && !out.contains('\u{202e}'));
+    // And `check` prints it as a TOML escape.
+    let o = run_in(dir.path(), &["check", f.to_str().unwrap()]);
+    let out = text(&o.stdout);
+    assert!(out.contains("\\u001B[2Jred\\u202E"), "{out}");
+}
+
+#[test]
+fn regression_12_13_input_size_is_capped_and_special_files_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("fifo.toml");
+    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let big = dir.path().join("big.toml");
+    fs::write(&big, format!("# {}\n", "x".repeat(17 << 20))).unwrap();
+    for (file, says) in [
+        ("/dev/zero", "not a regular file"),
+        (fifo.to_str().unwrap(), "not a regular file"),
+        (big.to_str().unwrap(), "a scenario file may be at most 16 MiB"),
+        (dir.path().to_str().unwrap(), "is a directory"),
+    ] {
+        let started = Instant::now();
+        let o = run_in(dir.path(), &["check", file]);
+        assert_bad_input(&o, says);
+        assert!(started.elapsed() < Duration::from_secs(10), "{file}");
+    }
+    // Not UTF-8: one line with the line number.
+    let f = dir.path().join("latin1.toml");
+    fs::write(&f, b"[[run]]\ngoal = {}\nlabel = \"caf\xe9\"\n").unwrap();
+    assert_bad_input(&run_in(dir.path(), &["check", f.to_str().unwrap()]), "line 3: ");
+}
+
+#[test]
+fn regression_12_15_small_defects() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (body, says) in [
+        ("[[run]]\nstart = { x = 5000.0 }\ngoal = {}\n", "line 2: run[0].start.x: must be within 1000 m"),
+        ("[[run]]\ngoal = { x = 1e300 }\n", "run[0].goal.x: must be within 1000 m of the origin (got 1e300)"),
+        ("[[run]]\ngoal = [1, 1, 0]\n", "run[0].goal: invalid type: an array of 3 values, expected a pose table"),
+        ("[run]\ngoal = { x = 1.0 }\n", "run: must be an array of tables: write [[run]]"),
+        ("[sim]\ndt = 0.003\n[[run]]\ngoal = {}\n", "line 2: sim.dt: 0.003 s does not divide the default sim.log_dt"),
+        ("[controller]\ncontrol_dt = 0.003\n[[run]]\ngoal = {}\n", "controller.control_dt: 0.003 s does not divide"),
+        ("[sweep]\ngrid = 3\n", "sweep.grid: invalid type: integer `3`, expected a grid table"),
+    ] {
+        let f = write(d, "s.toml", body);
+        let o = run_in(d, &["check", f.to_str().unwrap()]);
+        assert_bad_input(&o, says);
+        for internal in ["PoseFile", "GridFile", "struct", "sequence", "u32"] {
+            assert!(!text(&o.stderr).contains(internal), "{internal}: {}", text(&o.stderr));
+        }
+    }
+    // theta = 90 (radians) is valid but warned about.
+    let f = write(d, "w.toml", "[sim]\nt_end = 0.01\n[[run]]\ngoal = { x = 1.0, theta = 90 }\n");
+    let o = run_in(d, &["check", f.to_str().unwrap()]);
+    assert!(o.status.success());
+    assert!(
+        text(&o.stderr).contains("warning: ") && text(&o.stderr).contains("run[0].goal.theta: 90 rad is 14.3 turns")
+    );
+    assert!(text(&o.stderr).contains("theta_deg = 90"));
+    // A diverged run has fewer samples: the summary does not claim t_end / log_dt + 1 for all.
+    let f = write(
+        d,
+        "div.toml",
+        "[sim]\nt_end = 20.0\nlog_dt = 0.1\n[[run]]\nstart = { x = 1.0 }\ngoal = {}\n[[run]]\ngoal = { x = 0.5 }\n",
+    );
+    let o = run_in(d, &["run", f.to_str().unwrap(), "-o", "div.csv"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let rows = fs::read_to_string(d.join("div.csv")).unwrap().lines().count() - 1;
+    let err = text(&o.stderr);
+    assert!(err.contains(&format!("{rows} samples in all")) && !err.contains("201 samples each"), "{rows}: {err}");
+}
