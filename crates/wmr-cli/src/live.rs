@@ -35,6 +35,14 @@ pub const MAX_LIVE_RUNS: usize = 256;
 /// Samples a run's thread may be ahead of the stream.
 const QUEUE_SAMPLES: usize = 512;
 
+/// Least wall time between two broadcasts of the server clock: a broadcast per sample
+/// fills a client's control queue at high speeds, and the server then drops the client.
+const CLOCK_EVERY: Duration = Duration::from_millis(20);
+
+/// Messages the server queues per client before dropping the oldest (the crate's default
+/// is 1024, which a 30-run scenario fills in 0.2 s at speed 1).
+const BACKLOG_MESSAGES: usize = 16 * 1024;
+
 /// After the first subscription, time for the client's other subscriptions to arrive.
 const SUBSCRIBE_GRACE: Duration = Duration::from_millis(300);
 
@@ -153,6 +161,7 @@ pub fn serve(
         .name(format!("wmr-cli {}", scenario.name()))
         .bind(addr.ip().to_string(), addr.port())
         .capabilities([Capability::Time])
+        .message_backlog_size(BACKLOG_MESSAGES)
         .listener(watch.clone())
         .context(&ctx)
         .start_blocking()
@@ -224,7 +233,8 @@ fn stream(
             queues.iter().map(|q| q.as_ref().and_then(|rx| rx.recv().ok())).collect();
         let mut last_t = vec![0.0; n];
         let mut messages = 0u64;
-        let mut last_broadcast = None;
+        // The last clock broadcast: simulation time (ns) and when.
+        let mut last_broadcast: Option<(u64, Instant)> = None;
         let start = Instant::now();
         let mut first_message = None;
         let mut last_message = start;
@@ -243,9 +253,9 @@ fn stream(
                 let Some((i, t)) = next else { break };
                 wait_until(start + Duration::from_secs_f64(t / speed))?;
                 let ns = clock.nanos(t);
-                if last_broadcast != Some(ns) {
+                if last_broadcast.is_none_or(|(b, at)| b != ns && at.elapsed() >= CLOCK_EVERY) {
                     server.broadcast_time(ns);
-                    last_broadcast = Some(ns);
+                    last_broadcast = Some((ns, Instant::now()));
                 }
                 let Some(s) = heads[i].take() else { break };
                 last_t[i] = s.t;
@@ -267,6 +277,11 @@ fn stream(
                 }
                 first_message.get_or_insert_with(Instant::now);
                 last_message = Instant::now();
+            }
+            // The clock ends at the last sample's time.
+            let end = last_t.iter().copied().fold(0.0, f64::max);
+            if last_broadcast.is_some_and(|(b, _)| b != clock.nanos(end)) {
+                server.broadcast_time(clock.nanos(end));
             }
             Ok(())
         })();
