@@ -1,6 +1,7 @@
 //! `wmr_py.PaperController`: the paper's law and its wheel stage (the core's
 //! [`wmr_core::Controller`]) for loops closed in Python.
 
+use pyo3::exceptions::PyFloatingPointError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wmr_core::{ControlOutput, Measurement, Pose2};
@@ -95,7 +96,19 @@ impl PyPaperController {
             wheel_angles: wheels_arg(wheel_angles, "wheel_angles", ["phi_r", "phi_l"])?,
             wheel_speeds: wheels_arg(wheel_speeds, "wheel_speeds", ["omega_r", "omega_l"])?,
         };
-        self.last = self.inner.update(t, &m, self.goal);
+        // A tick whose commands or errors are not finite (finite but huge inputs, such as
+        // wheel angles of 1e308) is refused, and the controller stays as it was.
+        let before = self.inner;
+        let out = self.inner.update(t, &m, self.goal);
+        let e = out.errors;
+        if ![out.command.right, out.command.left, e.e_s, e.e_theta, e.dl].iter().all(|v| v.is_finite()) {
+            self.inner = before;
+            return Err(PyFloatingPointError::new_err(format!(
+                "the wheel commands are not finite ({}, {}): the measurement is too large for the controller",
+                out.command.right, out.command.left
+            )));
+        }
+        self.last = out;
         self.ticks += 1;
         Ok((self.last.command.right, self.last.command.left))
     }

@@ -6,26 +6,49 @@
 use numpy::PyReadonlyArray1;
 use numpy::PyUntypedArrayMethods;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyBool, PyByteArray, PyBytes, PyDict, PyString};
 
 use crate::error::parameter_error;
 
-/// Reads `N` floats from a 1-D float64 array or any sequence of numbers, each finite.
+/// Reads `N` floats from a 1-D float64 array or any sequence of real numbers, each finite.
 ///
-/// `names` gives the component names used in error messages.
+/// `names` gives the component names used in error messages. Refused with a
+/// `ParameterError` naming `arg`: text (`"123"` and `b"abc"` are not three numbers),
+/// complex numbers (their imaginary part would be lost), arrays of anything but real
+/// numbers, and sequences holding other things.
 pub fn finite_array<const N: usize>(obj: &Bound<'_, PyAny>, arg: &str, names: [&str; N]) -> PyResult<[f64; N]> {
+    let expected = || format!("expected {N} real numbers ({})", names.join(", "));
+    if obj.is_instance_of::<PyString>()
+        || obj.is_instance_of::<PyBytes>()
+        || obj.is_instance_of::<PyByteArray>()
+        || obj.is_instance_of::<PyDict>()
+    {
+        return Err(parameter_error(arg, format_args!("{}, got {}", expected(), type_name(obj))));
+    }
+    if let Some(kind) = dtype_kind(obj)
+        && !"iuf".contains(kind)
+    {
+        return Err(parameter_error(arg, format_args!("{}, got an array of {}", expected(), kind_name(kind))));
+    }
     let values: Vec<f64> = if let Ok(a) = obj.extract::<PyReadonlyArray1<'_, f64>>() {
         if a.len() != N {
             return Err(wrong_length(arg, N, a.len(), &names));
         }
         a.as_array().iter().copied().collect()
-    } else if let Ok(v) = obj.extract::<Vec<f64>>() {
+    } else if let Ok(items) = obj.try_iter() {
+        let mut v = Vec::with_capacity(N);
+        for (i, item) in items.enumerate() {
+            let item =
+                item.map_err(|_| parameter_error(arg, format_args!("{}, got {}", expected(), type_name(obj))))?;
+            if i >= N {
+                // Counted to say how many, without reading an endless iterator.
+                return Err(wrong_length(arg, N, obj.len().unwrap_or(i + 1), &names));
+            }
+            v.push(real_number(&item, &format!("{arg}[{i}]"))?);
+        }
         v
     } else {
-        return Err(parameter_error(
-            arg,
-            format_args!("expected {N} numbers ({}), got {}", names.join(", "), type_name(obj)),
-        ));
+        return Err(parameter_error(arg, format_args!("{}, got {}", expected(), type_name(obj))));
     };
     let out: [f64; N] = values.as_slice().try_into().map_err(|_| wrong_length(arg, N, values.len(), &names))?;
     for (i, (v, name)) in out.iter().zip(names).enumerate() {
@@ -39,6 +62,33 @@ pub fn finite_array<const N: usize>(obj: &Bound<'_, PyAny>, arg: &str, names: [&
     Ok(out)
 }
 
+/// numpy's dtype kind of an array or numpy scalar (`f`, `i`, `u`, `b`, `c`, `U`, `O`,
+/// ...), `None` for other objects.
+pub fn dtype_kind(obj: &Bound<'_, PyAny>) -> Option<char> {
+    let dtype = obj.getattr("dtype").ok()?;
+    dtype.getattr("kind").ok()?.extract::<String>().ok()?.chars().next()
+}
+
+fn kind_name(kind: char) -> &'static str {
+    match kind {
+        'c' => "complex numbers",
+        'b' => "booleans",
+        'U' | 'S' => "strings",
+        'O' => "Python objects",
+        'M' | 'm' => "dates or times",
+        _ => "non-numbers",
+    }
+}
+
+/// One real number (int, float, numpy's integer and floating scalars); text, complex
+/// numbers, None and the like are a `ParameterError` naming `arg`.
+pub fn real_number(obj: &Bound<'_, PyAny>, arg: &str) -> PyResult<f64> {
+    if !crate::scenario::is_real_number(obj) || obj.is_instance_of::<PyBool>() {
+        return Err(parameter_error(arg, format_args!("expected a real number, got {}", type_name(obj))));
+    }
+    obj.extract::<f64>().map_err(|_| parameter_error(arg, format_args!("is too large (more than 1.8e308)")))
+}
+
 fn wrong_length(arg: &str, n: usize, got: usize, names: &[&str]) -> PyErr {
     parameter_error(arg, format_args!("expected {n} numbers ({}), got {got}", names.join(", ")))
 }
@@ -48,8 +98,10 @@ pub fn type_name(obj: &Bound<'_, PyAny>) -> String {
     obj.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "an unknown type".to_owned())
 }
 
-/// A finite float argument, e.g. `dt`.
-pub fn finite_scalar(value: f64, arg: &str) -> PyResult<f64> {
+/// A finite real-number argument, e.g. `dt`; anything else (text, None, complex) is a
+/// `ParameterError` naming `arg`.
+pub fn finite_scalar(obj: &Bound<'_, PyAny>, arg: &str) -> PyResult<f64> {
+    let value = real_number(obj, arg)?;
     if value.is_finite() {
         Ok(value)
     } else {

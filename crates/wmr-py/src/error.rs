@@ -37,6 +37,33 @@ pub fn scenario_error(key: &str, line: Option<usize>, display: String) -> PyErr 
     with_attrs(ScenarioError::new_err(display), key, line)
 }
 
+/// A `wmr_scenario::ScenarioError` as a Python exception: a file that could not be
+/// opened as the matching `OSError` (`FileNotFoundError`, `PermissionError`,
+/// `IsADirectoryError`, with `errno` and `filename`; `key = "scenario"`), anything else
+/// as a `ScenarioError` whose message starts with the key: `robot.mass: must be > 0
+/// (got -1) (line 2)`.
+pub fn from_scenario(e: &wmr_scenario::ScenarioError, path: Option<&std::path::Path>) -> PyErr {
+    use pyo3::exceptions::{PyFileNotFoundError, PyIsADirectoryError, PyPermissionError};
+    use std::io::ErrorKind;
+    let filename = path.map(|p| p.display().to_string()).unwrap_or_default();
+    // As `open()` raises them: `[Errno 2] No such file or directory: 'x.toml'`.
+    let os = match e.io {
+        Some(ErrorKind::NotFound) => Some(PyFileNotFoundError::new_err((2, "No such file or directory", filename))),
+        Some(ErrorKind::PermissionDenied) => Some(PyPermissionError::new_err((13, "Permission denied", filename))),
+        Some(ErrorKind::IsADirectory) => Some(PyIsADirectoryError::new_err((21, "Is a directory", filename))),
+        _ => None,
+    };
+    match os {
+        Some(err) => with_attrs(err, "scenario", None),
+        // Text that is no scenario at all (not TOML, not UTF-8, too large) has no key of
+        // its own: the argument is named.
+        None if e.key.is_empty() => {
+            with_attrs(ScenarioError::new_err(format!("scenario: {}", e.key_first())), "scenario", e.line)
+        }
+        None => with_attrs(ScenarioError::new_err(e.key_first()), &e.key, e.line),
+    }
+}
+
 /// Sets `key` and `line` on the exception instance (plain attributes, read by tests
 /// and by callers that want to point at the offending key).
 fn with_attrs(err: PyErr, key: &str, line: Option<usize>) -> PyErr {

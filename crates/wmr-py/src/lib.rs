@@ -8,6 +8,7 @@
 pub mod controller;
 pub mod convert;
 pub mod error;
+pub mod interrupt;
 pub mod robot;
 pub mod scenario;
 
@@ -22,4 +23,12 @@ mod _native {
     use crate::robot::PyRobot;
     #[pymodule_export]
     use crate::scenario::{PyRunResult, run_batch_native, run_scenario, sweep, time_run_rust};
+
+    /// Loads NumPy's C API now, while importing: loaded lazily, the first array made
+    /// after a run that Ctrl-C interrupted would import numpy with a KeyboardInterrupt
+    /// pending, and rust-numpy panics when that import fails.
+    #[pymodule_init]
+    fn init(m: &pyo3::Bound<'_, pyo3::types::PyModule>) -> pyo3::PyResult<()> {
+        crate::interrupt::load_numpy_api(m.py())
+    }
 }

@@ -129,7 +129,7 @@ impl PyRobot {
         py: Python<'py>,
         state: &Bound<'py, PyAny>,
         tau: &Bound<'py, PyAny>,
-        dt: f64,
+        dt: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let s = state_arg(state, "state")?;
         let tau = wheels_arg(tau, "tau", ["tau_r", "tau_l"])?;

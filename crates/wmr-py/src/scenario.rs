@@ -1,6 +1,7 @@
 //! `run_scenario`, `run_batch` and `sweep`: scenarios parsed, checked and run by `wmr-scenario`,
 //! columns handed to numpy without a copy, the GIL released while Rust runs.
 
+use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -8,20 +9,31 @@ use numpy::{PyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use wmr_core::Pose2;
+use wmr_core::plant::DIVERGENCE_BOX_M;
 use wmr_core::{ARRIVAL_RADIUS_M, Status};
 use wmr_scenario::{
     RunResult, RunSpec, SAMPLE_COLUMNS, Scenario, ScenarioError, executor, measured_values, sample_values,
 };
 
 use crate::convert::type_name;
-use crate::error::{parameter_error, scenario_error};
+use crate::error::{from_scenario, parameter_error, scenario_error};
+use crate::interrupt::{Stop, check_memory, interruptible, try_vec};
 
 /// Number of sample columns (the CSV columns after `run`).
 const N_COLS: usize = SAMPLE_COLUMNS.len();
 
-/// A `wmr_scenario::ScenarioError` as a Python `ScenarioError`.
+/// A `wmr_scenario::ScenarioError` as a Python exception (see [`from_scenario`]).
 fn to_py(e: ScenarioError) -> PyErr {
-    scenario_error(&e.key, e.line, e.to_string())
+    from_scenario(&e, None)
+}
+
+/// A str argument as Rust text; a str that is not valid Unicode (a lone surrogate such as
+/// "\udcff", which cannot be encoded) is a `ScenarioError` naming `key`.
+fn text_arg(obj: &Bound<'_, PyAny>, key: &str) -> PyResult<String> {
+    obj.extract::<String>().map_err(|_| {
+        let shown = if key.is_empty() { "scenario" } else { key };
+        scenario_error(shown, None, format!("{shown}: not valid Unicode text (it holds a lone surrogate)"))
+    })
 }
 
 /// A Python value as TOML, for the scenario parser. `None` values are left out (the key
@@ -31,24 +43,30 @@ fn to_toml(obj: &Bound<'_, PyAny>, key: &str) -> PyResult<Option<toml::Value>> {
     if obj.is_none() {
         return Ok(None);
     }
-    let bad = |what: String| scenario_error(key, None, format!("{key}: {what}"));
+    let named = if key.is_empty() { "scenario" } else { key };
+    let bad = |what: String| scenario_error(named, None, format!("{named}: {what}"));
     let v = if obj.is_instance_of::<PyBool>() {
         toml::Value::Boolean(obj.extract::<bool>()?)
     } else if obj.is_instance_of::<PyInt>() {
         match obj.extract::<i64>() {
             Ok(i) => toml::Value::Integer(i),
-            Err(_) => toml::Value::Float(obj.extract::<f64>()?),
+            // Beyond i64: as a float when it is one, else too large for any key.
+            Err(_) => match obj.extract::<f64>() {
+                Ok(f) => toml::Value::Float(f),
+                Err(_) => return Err(bad("the integer is too large (more than 1.8e308)".to_owned())),
+            },
         }
     } else if obj.is_instance_of::<PyFloat>() {
         toml::Value::Float(obj.extract::<f64>()?)
     } else if obj.is_instance_of::<PyString>() {
-        toml::Value::String(obj.extract::<String>()?)
+        toml::Value::String(text_arg(obj, key)?)
     } else if let Ok(d) = obj.cast::<PyDict>() {
         let mut table = toml::Table::new();
         for (k, v) in d.iter() {
-            let Ok(k) = k.extract::<String>() else {
+            if !k.is_instance_of::<PyString>() {
                 return Err(bad(format!("keys must be strings, got {}", type_name(&k))));
-            };
+            }
+            let k = text_arg(&k, key)?;
             let sub = if key.is_empty() { k.clone() } else { format!("{key}.{k}") };
             if let Some(v) = to_toml(&v, &sub)? {
                 table.insert(k, v);
@@ -63,9 +81,12 @@ fn to_toml(obj: &Bound<'_, PyAny>, key: &str) -> PyResult<Option<toml::Value>> {
             }
         }
         toml::Value::Array(items)
-    } else if let Ok(f) = obj.extract::<f64>() {
-        // numpy scalars and other objects with __float__.
-        toml::Value::Float(f)
+    } else if is_real_number(obj) {
+        // numpy's real scalars (float64, int32, ...), not complex ones.
+        match obj.extract::<f64>() {
+            Ok(f) => toml::Value::Float(f),
+            Err(_) => return Err(bad(format!("cannot read {} as a number", type_name(obj)))),
+        }
     } else {
         return Err(bad(format!("unsupported value of type {}", type_name(obj))));
     };
@@ -88,36 +109,73 @@ impl Source {
     fn from_py(obj: &Bound<'_, PyAny>) -> PyResult<Self> {
         if obj.is_instance_of::<PyDict>() {
             let Some(toml::Value::Table(table)) = to_toml(obj, "")? else {
-                return Err(scenario_error("", None, "expected a dict".to_owned()));
+                return Err(scenario_error("scenario", None, "scenario: expected a dict".to_owned()));
             };
-            let text = toml::to_string(&table)
-                .map_err(|e| scenario_error("", None, format!("cannot express the dict as a scenario: {e}")))?;
+            let text = toml::to_string(&table).map_err(|e| {
+                scenario_error("scenario", None, format!("scenario: cannot express the dict as a scenario: {e}"))
+            })?;
             return Ok(Source::Dict(text));
         }
         if obj.is_instance_of::<PyString>() {
-            let s: String = obj.extract()?;
-            let s = s.as_str();
-            let is_path = std::path::Path::new(s).is_file() || !(s.contains('=') || s.contains('\n'));
-            return Ok(if is_path { Source::Path(s.into()) } else { Source::Text(s.to_owned()) });
+            let s = text_arg(obj, "scenario")?;
+            let is_path = std::path::Path::new(&s).is_file() || !(s.contains('=') || s.contains('\n'));
+            return Ok(if is_path { Source::Path(s.into()) } else { Source::Text(s) });
         }
         obj.extract::<PathBuf>().map(Source::Path).map_err(|_| {
-            scenario_error("", None, format!("expected a path, TOML text or a dict, got {}", type_name(obj)))
+            scenario_error(
+                "scenario",
+                None,
+                format!("scenario: expected a path, TOML text or a dict, got {}", type_name(obj)),
+            )
         })
     }
 
-    /// Parses and checks the scenario (no Python involved: may run without the GIL).
-    fn parse(&self) -> Result<Scenario, ScenarioError> {
+    /// Parses and checks the scenario (no Python involved: may run without the GIL), with
+    /// the warnings about its text (a heading of 90 rad).
+    fn parse(&self) -> Result<(Scenario, Vec<ScenarioError>), ScenarioError> {
+        let (text, name) = match self {
+            Source::Path(p) => (wmr_scenario::read_text(p)?, wmr_scenario::default_name(p)),
+            Source::Text(t) | Source::Dict(t) => (t.clone(), "scenario".to_owned()),
+        };
+        let parsed = Scenario::from_toml_str(&text, &name);
+        let (sc, warnings) = match self {
+            Source::Dict(_) => (
+                parsed.map_err(|e| e.at_line(None))?,
+                wmr_scenario::warnings(&text).into_iter().map(|w| w.at_line(None)).collect(),
+            ),
+            _ => (parsed?, wmr_scenario::warnings(&text)),
+        };
+        Ok((sc, warnings))
+    }
+
+    /// The file, for an error about it.
+    fn path(&self) -> Option<&std::path::Path> {
         match self {
-            Source::Path(p) => Scenario::from_path(p),
-            Source::Text(t) => Scenario::from_toml_str(t, "scenario"),
-            Source::Dict(t) => Scenario::from_toml_str(t, "scenario").map_err(|e| e.at_line(None)),
+            Source::Path(p) => Some(p),
+            _ => None,
         }
     }
 }
 
-/// Parses a scenario from a path (str or os.PathLike), TOML text, or a dict.
+/// True for real numbers Python knows as such (`numbers.Real`: int, float, numpy's
+/// integer and floating scalars), not complex ones.
+pub fn is_real_number(obj: &Bound<'_, PyAny>) -> bool {
+    let py = obj.py();
+    py.import("numbers").and_then(|m| m.getattr("Real")).and_then(|real| obj.is_instance(&real)).unwrap_or(false)
+}
+
+/// Parses a scenario from a path (str or os.PathLike), TOML text, or a dict; its
+/// warnings become Python `UserWarning`s.
 pub fn scenario_arg(obj: &Bound<'_, PyAny>) -> PyResult<Scenario> {
-    Source::from_py(obj)?.parse().map_err(to_py)
+    let source = Source::from_py(obj)?;
+    let (sc, warnings) = source.parse().map_err(|e| from_scenario(&e, source.path()))?;
+    let py = obj.py();
+    for w in warnings {
+        let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+        let message = std::ffi::CString::new(w.key_first().replace('\0', "\\0")).unwrap_or_default();
+        PyErr::warn(py, &category, &message, 1)?;
+    }
+    Ok(sc)
 }
 
 /// One run's columns, built once in Rust: the CSV columns and the measured pose.
@@ -127,11 +185,13 @@ struct Columns {
 }
 
 impl Columns {
-    fn with_capacity(n: usize) -> Self {
-        Self {
-            cols: std::array::from_fn(|_| Vec::with_capacity(n)),
-            measured: std::array::from_fn(|_| Vec::with_capacity(n)),
+    /// Room for `n` samples in every column, or `MemoryError`.
+    fn try_with_capacity(n: usize) -> PyResult<Self> {
+        let mut cols = Self { cols: [(); N_COLS].map(|()| Vec::new()), measured: [(); 3].map(|()| Vec::new()) };
+        for c in cols.cols.iter_mut().chain(cols.measured.iter_mut()) {
+            *c = try_vec(n)?;
         }
+        Ok(cols)
     }
 
     fn push(&mut self, s: &wmr_core::Sample<f64>) {
@@ -144,12 +204,41 @@ impl Columns {
     }
 }
 
-/// Runs run `i` of `sc`, collecting its columns.
-fn run_one(sc: &Scenario, i: usize) -> Result<(RunResult, Columns), ScenarioError> {
-    let n = usize::try_from(sc.sim().n_samples()).unwrap_or(0).min(1 << 24);
-    let mut cols = Columns::with_capacity(n);
-    let result = sc.run(i, |s| cols.push(s))?;
-    Ok((result, cols))
+/// Bytes of the columns of every run of `sc`: n_samples x (CSV columns + measured
+/// pose) x 8, summed over the runs.
+fn columns_bytes(sc: &Scenario) -> u128 {
+    u128::from(sc.sim().n_samples()) * ((N_COLS + 3) * 8) as u128 * sc.runs().len() as u128
+}
+
+/// Refuses runs whose columns the memory cannot hold, naming `sim.log_dt` and the value
+/// that would fit (before anything is allocated).
+fn check_columns_memory(sc: &Scenario) -> PyResult<()> {
+    let sim = sc.sim();
+    check_memory(columns_bytes(sc), "sim.log_dt", |share| {
+        let every = (f64::from(sim.log_every()) / share).ceil();
+        format!("raise sim.log_dt to at least {:.3e} s (now {} s) or shorten sim.t_end", every * sim.dt(), sim.log_dt())
+    })
+}
+
+/// Runs run `i` of `sc`, collecting its columns; `None` when `stop` ended it.
+fn run_one(sc: &Scenario, i: usize, stop: &Stop) -> PyResult<Option<(RunResult, Columns)>> {
+    let n = usize::try_from(sc.sim().n_samples()).unwrap_or(usize::MAX);
+    let mut cols = Columns::try_with_capacity(n)?;
+    let poll = || if stop.requested() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
+    let flow = sc
+        .try_run(
+            i,
+            |s| {
+                cols.push(s);
+                ControlFlow::Continue(())
+            },
+            poll,
+        )
+        .map_err(to_py)?;
+    Ok(match flow {
+        ControlFlow::Continue(result) => Some((result, cols)),
+        ControlFlow::Break(()) => None,
+    })
 }
 
 /// One run of a scenario: every column of SPEC section 6 as a float64 ndarray, plus the
@@ -353,9 +442,19 @@ impl PyRunResult {
 #[pyfunction]
 pub fn run_scenario(py: Python<'_>, scenario: &Bound<'_, PyAny>) -> PyResult<Vec<PyRunResult>> {
     let sc = scenario_arg(scenario)?;
-    let runs: Result<Vec<_>, ScenarioError> =
-        py.detach(|| executor::map_ordered(sc.runs().len(), |i| run_one(&sc, i)).into_iter().collect());
-    let runs = runs.map_err(to_py)?;
+    if sc.runs().is_empty() {
+        return Err(scenario_error(
+            "run",
+            None,
+            "run: the scenario has no [[run]] (it is a [sweep] file: run it with wmr_py.sweep)".to_owned(),
+        ));
+    }
+    check_columns_memory(&sc)?;
+    let runs: PyResult<Vec<_>> = interruptible(py, |stop| {
+        executor::map_ordered(sc.runs().len(), |i| run_one(&sc, i, stop)).into_iter().collect()
+    })?;
+    // A run is `None` only when stopped, and then `interruptible` returned the signal's error.
+    let runs: Vec<(RunResult, Columns)> = runs?.into_iter().flatten().collect();
     Ok(runs.into_iter().map(|(r, cols)| PyRunResult::new(py, r, cols)).collect())
 }
 
@@ -443,6 +542,16 @@ pub fn run_batch_native<'py>(
                         format_args!("{} must be a finite number (got {v})", names[j]),
                     ));
                 }
+                if j < 2 && v.abs() > DIVERGENCE_BOX_M {
+                    return Err(parameter_error(
+                        &format!("{arg}[{i}, {j}]"),
+                        format_args!(
+                            "{} must be within {DIVERGENCE_BOX_M} m of the origin (got {v:e}): a run that leaves \
+                             |x|, |y| <= {DIVERGENCE_BOX_M} m counts as diverged",
+                            names[j]
+                        ),
+                    ));
+                }
             }
             out.push(Pose2::new(row[0], row[1], row[2]));
         }
@@ -469,9 +578,19 @@ pub fn run_batch_native<'py>(
         .map(|(i, &start)| RunSpec { label: format!("start {i}"), start, goal: goals[i % goals.len()] })
         .collect();
     let sc = sc.with_runs(runs).map_err(to_py)?;
-    let results: Result<Vec<RunResult>, ScenarioError> =
-        py.detach(|| executor::map_ordered(sc.runs().len(), |i| sc.run(i, |_| {})).into_iter().collect());
-    let results = results.map_err(to_py)?;
+    let results: Result<Vec<Option<RunResult>>, ScenarioError> = interruptible(py, |stop| {
+        let poll = || if stop.requested() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
+        executor::map_ordered(sc.runs().len(), |i| {
+            Ok(match sc.try_run(i, |_| ControlFlow::Continue(()), poll)? {
+                ControlFlow::Continue(r) => Some(r),
+                ControlFlow::Break(()) => None,
+            })
+        })
+        .into_iter()
+        .collect()
+    })?;
+    // `None` only when stopped, and then `interruptible` returned the signal's error.
+    let results: Vec<RunResult> = results.map_err(to_py)?.into_iter().flatten().collect();
 
     let d = outcome_dict(py, results.iter().map(|r| &r.outcome))?;
     d.set_item("arrival_radius", ARRIVAL_RADIUS_M)?;
@@ -485,18 +604,18 @@ pub fn run_batch_native<'py>(
 #[pyfunction(name = "_time_run_rust")]
 pub fn time_run_rust(py: Python<'_>, scenario: &Bound<'_, PyAny>, n: usize) -> PyResult<f64> {
     let source = Source::from_py(scenario)?;
-    let best: Result<f64, ScenarioError> = py.detach(|| {
+    let best: PyResult<f64> = py.detach(|| {
         let mut best = f64::INFINITY;
         for _ in 0..n.max(1) {
             let t0 = Instant::now();
-            let sc = source.parse()?;
-            let (_r, cols) = run_one(&sc, 0)?;
+            let (sc, _) = source.parse().map_err(to_py)?;
+            let (_r, cols) = run_one(&sc, 0, &Stop::new())?.ok_or_else(|| to_py(ScenarioError::new("", "stopped")))?;
             std::hint::black_box(&cols.cols);
             best = best.min(t0.elapsed().as_secs_f64());
         }
         Ok(best)
     });
-    best.map_err(to_py)
+    best
 }
 
 /// Runs a scenario's `[sweep]` (every law from every start, rayon, GIL released) and
@@ -510,7 +629,9 @@ pub fn sweep<'py>(py: Python<'py>, scenario: &Bound<'py, PyAny>) -> PyResult<Bou
     let Some(spec) = sc.sweep() else {
         return Err(scenario_error("sweep", None, "sweep: the scenario has no [sweep] table".to_owned()));
     };
-    let outcomes = py.detach(|| spec.run(sc.sim(), &|| {})).map_err(to_py)?;
+    let outcomes = interruptible(py, |stop| spec.run_until(sc.sim(), &|| {}, &|| stop.requested()))?.map_err(to_py)?;
+    // `None` only when stopped, and then `interruptible` returned the signal's error.
+    let outcomes = outcomes.unwrap_or_default();
     let d = outcome_dict(py, outcomes.iter().map(|o| &o.outcome))?;
     let law: Vec<String> = outcomes.iter().map(|o| spec.laws[o.law].0.clone()).collect();
     d.set_item("law", law)?;

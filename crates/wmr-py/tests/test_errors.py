@@ -76,9 +76,13 @@ def test_bad_toml_text_gives_line() -> None:
     assert info.value.line == 1  # a TOML syntax error: no key, but the line
 
 
-def test_missing_file_is_a_scenario_error(tmp_path) -> None:
-    with pytest.raises(wmr_py.ScenarioError, match="cannot read"):
-        wmr_py.run_scenario(tmp_path / "nope.toml")
+def test_missing_file_is_a_file_not_found_error(tmp_path) -> None:
+    """As open() would: FileNotFoundError with errno and filename (issue 12, defect 14)."""
+    missing = tmp_path / "nope.toml"
+    with pytest.raises(FileNotFoundError) as info:
+        wmr_py.run_scenario(missing)
+    assert info.value.errno == 2 and info.value.filename == str(missing)
+    assert info.value.key == "scenario"
 
 
 def test_scenario_error_is_a_parameter_error_is_a_value_error() -> None:

@@ -53,22 +53,41 @@ __all__ = [
 Pose = Union[Sequence[float], Mapping[str, float]]
 
 
+def _error(arg: str, message: str) -> ParameterError:
+    """A ParameterError about the argument ``arg``: ``.key`` names it."""
+    err = ParameterError(f"{arg}: {message}")
+    err.key = arg
+    err.line = None
+    return err
+
+
+def _real_array(value: Any, arg: str, what: str) -> np.ndarray:
+    """``value`` as a float64 array of real numbers: text, complex numbers (whose imaginary
+    part would be lost), objects and ragged nestings raise ParameterError naming ``arg``."""
+    if isinstance(value, (str, bytes, bytearray, memoryview)):
+        raise _error(arg, f"expected {what}, got {type(value).__name__} {value!r:.40}")
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError) as e:
+        # A ragged nesting ([[1, 2, 3], [4, 5]]) or an object numpy cannot read.
+        raise _error(arg, f"expected {what}: {e}") from None
+    if arr.dtype.kind not in "iuf":
+        kinds = {"c": "complex numbers", "b": "booleans", "U": "strings", "S": "bytes", "O": "Python objects"}
+        got = kinds.get(arr.dtype.kind, f"values of dtype {arr.dtype}")
+        raise _error(arg, f"expected {what}, got {got}")
+    return arr.astype(np.float64)
+
+
 def _pose(value: Any, arg: str) -> Any:
     """A pose as the scenario's pose table: a mapping is passed on as is (the scenario
     parser checks its keys), a sequence must be (x_m, y_m, theta_rad)."""
     if isinstance(value, Mapping):
         return dict(value)
-    try:
-        items = [float(v) for v in value]
-    except (TypeError, ValueError):
-        err = ParameterError(f"{arg}: expected (x, y, theta_rad) or a dict with x, y, theta or theta_deg, got {value!r}")
-        err.key = arg
-        raise err from None
-    if len(items) != 3:
-        err = ParameterError(f"{arg}: expected 3 numbers (x, y, theta_rad), got {len(items)}")
-        err.key = arg
-        raise err
-    return {"x": items[0], "y": items[1], "theta": items[2]}
+    what = "(x, y, theta_rad) or a dict with x, y, theta or theta_deg"
+    arr = _real_array(value, arg, what)
+    if arr.shape != (3,):
+        raise _error(arg, f"expected 3 numbers (x, y, theta_rad), got shape {arr.shape}")
+    return {"x": float(arr[0]), "y": float(arr[1]), "theta": float(arr[2])}
 
 
 def _table(value: Any, arg: str) -> Optional[dict]:
@@ -78,9 +97,7 @@ def _table(value: Any, arg: str) -> Optional[dict]:
         return value.to_dict()
     if isinstance(value, Mapping):
         return dict(value)
-    err = ParameterError(f"{arg}: expected a dict of scenario keys, got {type(value).__name__}")
-    err.key = arg
-    raise err
+    raise _error(arg, f"expected a dict of scenario keys, got {type(value).__name__}")
 
 
 def _scenario(
@@ -162,17 +179,17 @@ def run_batch(
     goal, robot, drive, controller, t_end, dt, sensor, world: as for ``simulate``; run i
     draws its sensor noise from stream i.
     """
-    arr = np.ascontiguousarray(starts, dtype=np.float64)
+    arr = np.ascontiguousarray(_real_array(starts, "starts", "an array of shape (N, 3) of (x, y, theta_rad)"))
     if arr.ndim != 2 or arr.shape[1] != 3 or arr.shape[0] == 0:
-        err = ParameterError(f"starts: expected an array of shape (N, 3), N >= 1, got shape {arr.shape}")
-        err.key = "starts"
-        raise err
+        raise _error("starts", f"expected an array of shape (N, 3), N >= 1, got shape {arr.shape}")
     # The base scenario carries the goal and every setting; the scenario parser checks it
     # with the first start, then each start becomes a run. Logging is not needed, so
     # log_dt = t_end (a whole multiple of dt whenever t_end is).
     first = arr[0]
     base_start = {"x": float(first[0]), "y": float(first[1]), "theta": float(first[2])}
-    if not all(math.isfinite(v) for v in base_start.values()):
+    # A first start the scenario would refuse is left to the native check, which names it
+    # as starts[i, j].
+    if not all(math.isfinite(v) for v in base_start.values()) or max(abs(first[0]), abs(first[1])) > 1000.0:
         base_start = None
     runs = [{"start": base_start, "goal": _pose(goal, "goal")}]
     base = _scenario(runs, robot, drive, controller, t_end, dt, t_end, sensor, world)
