@@ -132,5 +132,8 @@ OUTPUTS
 
 A diverged run (state not finite, or C outside a 1 km box) keeps its rows up to that
 point, is reported as diverged, and the exit code stays 0. Bad input exits with 2 and
-one message naming the key; no output file is written. Full reference: docs/scenario.md
+one message naming the key; no output file is written. A failed write (full disk) exits
+with 1; SIGINT, SIGTERM and SIGHUP leave OUT as it was. OUT may be `-` (stdout), a device
+or a FIFO (streamed); its directory must exist. Limits: 16 MiB per file, 1e11 plant steps
+per scenario, starts and goals within 1000 m. Full reference: docs/scenario.md
 "#;
