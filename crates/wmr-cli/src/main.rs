@@ -152,6 +152,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Check { file } => exec::check_command(&file),
         Command::Trace { file, output, run } => {
             let scenario = load(&file)?;
+            exec::check_trace_memory(&scenario)?;
             let t = trace_cmd::trace(&scenario, run, &output)?;
             let end = if t.diverged { "diverged" } else { "completed" };
             errors::say(&format!(

@@ -214,6 +214,17 @@ fn regression_12_3_plot_of_a_long_run_neither_aborts_nor_holds_every_sample() {
     }
 }
 
+/// A sibling of defect 3 in `trace`, which keeps every control tick: 1e9 ticks aborted
+/// with `memory allocation of ... failed`; now refused before the run.
+#[test]
+fn regression_12_3_trace_of_a_long_run_is_refused_not_aborted() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(dir.path(), "long.toml", "[sim]\nt_end = 1e6\n[[run]]\ngoal = { x = 1.0 }\n");
+    let o = run_in(dir.path(), &["trace", f.to_str().unwrap(), "-o", "t.csv"]);
+    assert_bad_input(&o, "sim.t_end: a trace keeps every control tick in memory");
+    assert_eq!(entries(dir.path()), ["long.toml"]);
+}
+
 #[test]
 fn regression_12_7_huge_jobs_are_refused_before_they_start() {
     let dir = tempfile::tempdir().unwrap();
