@@ -6,11 +6,12 @@ use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::{Context as _, Result, anyhow, bail};
+use anyhow::{Context as _, Result};
 use clap::CommandFactory as _;
-use wmr_scenario::Scenario;
+use wmr_scenario::{Scenario, shown};
 
-use crate::atomic::AtomicOut;
+use crate::atomic::{AtomicOut, Target, target_of};
+use crate::errors::{bad_input, note, say};
 use crate::{Cli, Format, format_of, layout, live};
 
 /// `--live ADDR`: `IP:PORT` (port 0: any free port).
@@ -31,16 +32,28 @@ pub fn usage_error(msg: &str) -> ! {
     Cli::command().error(clap::error::ErrorKind::ArgumentConflict, msg).exit()
 }
 
-/// Writes `scenario`'s layout to `path` (beside it under a temporary name, renamed when
-/// complete).
-pub fn write_layout(scenario: &Scenario, path: &Path) -> Result<()> {
-    if path.is_dir() {
-        bail!("{} is a directory", path.display());
+/// Refuses, before any work, a LAYOUT path that cannot take the layout file (the rules of
+/// OUT, except that LAYOUT must be a file) or that is OUT itself.
+pub fn check_layout_path(layout: &Path, out: Option<&Path>) -> Result<()> {
+    let Target::File(real) = target_of(layout)? else {
+        return Err(bad_input(format!("--layout {} is not a regular file; give a file name", shown(layout))));
+    };
+    if let Some(Ok(Target::File(out))) = out.map(target_of) {
+        let same = |p: &Path| std::fs::canonicalize(p).ok();
+        if out == real || (same(&out).is_some() && same(&out) == same(&real)) {
+            return Err(bad_input(format!("--layout {} is OUT itself; give another file name", shown(layout))));
+        }
     }
+    Ok(())
+}
+
+/// Writes `scenario`'s layout to `path` (beside it under a temporary name, renamed when
+/// complete; a path that cannot take a file is bad input, as for OUT).
+pub fn write_layout(scenario: &Scenario, path: &Path) -> Result<()> {
     let out = AtomicOut::create(path)?;
     let mut file = out.file()?;
     file.write_all(layout::layout_text(scenario).as_bytes())
-        .with_context(|| format!("cannot write {}", path.display()))?;
+        .with_context(|| format!("cannot write {}", shown(path)))?;
     out.persist()
 }
 
@@ -53,54 +66,55 @@ pub fn run_live(
     addr: SocketAddr,
     speed: f64,
 ) -> Result<()> {
-    if let Some(o) = &output {
-        if format_of(o, format)? != Format::Mcap {
-            usage_error("--live writes the MCAP file only: name OUT .mcap, or leave -o out");
-        }
-        if o.is_dir() {
-            bail!("{} is a directory", o.display());
-        }
+    if let Some(o) = &output
+        && format_of(o, format)? != Format::Mcap
+    {
+        usage_error("--live writes the MCAP file only: name OUT .mcap, or leave -o out");
+    }
+    if let Some(l) = &layout {
+        check_layout_path(l, output.as_deref())?;
     }
     live::install_interrupt_handler()?;
-    if let Some(l) = &layout {
-        // First, so it can be imported while the server waits for Foxglove.
-        write_layout(scenario, l)?;
-        eprintln!("wmr-cli: wrote {}", l.display());
-    }
-    if !addr.ip().is_loopback() {
-        eprintln!("wmr-cli: note: {addr} is not a loopback address: other machines can connect");
-    }
+    // OUT first: a path that cannot be written is refused before anything is done.
     let out = output.as_deref().map(AtomicOut::create).transpose()?;
     let file = out.as_ref().map(AtomicOut::file).transpose()?;
+    if let Some(l) = &layout {
+        // Before serving, so it can be imported while the server waits for Foxglove.
+        write_layout(scenario, l)?;
+        note(&format!("wmr-cli: wrote {}", shown(l)));
+    }
+    if !addr.ip().is_loopback() {
+        note(&format!("wmr-cli: note: {addr} is not a loopback address: other machines can connect"));
+    }
     let started = Instant::now();
     let served = live::serve(scenario, addr, speed, file, |url| {
-        eprintln!(
+        note(&format!(
             "wmr-cli: live on {url} at {speed}x: in Foxglove, Open connection > Foxglove WebSocket > {url}; \
              streaming starts when a client subscribes (Ctrl-C stops)"
-        );
+        ));
     });
     let report = match served {
         Ok(r) => r,
         Err(e) if e.is::<live::Interrupted>() => {
             drop(out);
-            eprintln!("wmr-cli: interrupted, no output written");
+            note("wmr-cli: interrupted, no output written");
             std::process::exit(130);
         }
         Err(e) => return Err(e),
     };
     if let (Some(out), Some(o)) = (out, &output) {
-        out.persist().map_err(|e| anyhow!(e))?;
-        eprintln!("wmr-cli: wrote {}", o.display());
+        out.persist()?;
+        note(&format!("wmr-cli: wrote {}", shown(o)));
     }
     for r in &report.results {
-        println!("{}", r.summary_line());
+        say(&r.summary_line())?;
     }
     let rate = if report.seconds > 0.0 { report.messages as f64 / report.seconds } else { 0.0 };
-    eprintln!(
+    note(&format!(
         "wmr-cli: live: {} messages in {:.2} s of streaming ({rate:.0} messages/s), {:.2} s in all",
         report.messages,
         report.seconds,
         started.elapsed().as_secs_f64()
-    );
+    ));
     Ok(())
 }

@@ -189,8 +189,11 @@ fn run(cli: Cli) -> Result<()> {
             }
             let output = output.ok_or_else(|| bad_input("-o OUT is required without --live"))?;
             let format = format_of(&output, format)?;
-            if layout.is_some() && format != Format::Mcap {
-                foxglove_cmd::usage_error("--layout describes the MCAP topics: write OUT as .mcap");
+            if let Some(l) = &layout {
+                if format != Format::Mcap {
+                    foxglove_cmd::usage_error("--layout describes the MCAP topics: write OUT as .mcap");
+                }
+                foxglove_cmd::check_layout_path(l, Some(&output))?;
             }
             let scenario = load(&file)?;
             exec::run_command(&scenario, &file, &output, format, layout.as_deref())

@@ -621,6 +621,13 @@ fn the_layout_names_what_the_file_has_and_matches_its_colours() {
     let o = run(&["run", s(&scen), "-o", s(&dir.path().join("x.csv")), "--layout", s(&dir.path().join("x.json"))]);
     assert_eq!(o.status.code(), Some(2));
     assert!(!dir.path().join("x.csv").exists() && !dir.path().join("x.json").exists());
+    // A LAYOUT that cannot be written is refused before the run: exit 2, no OUT.
+    let out = dir.path().join("y.mcap");
+    for layout in [out.clone(), dir.path().to_path_buf(), dir.path().join("missing/y.json")] {
+        let o = run(&["run", s(&scen), "-o", s(&out), "--layout", s(&layout)]);
+        assert_eq!(o.status.code(), Some(2), "--layout {}: {}", layout.display(), String::from_utf8_lossy(&o.stderr));
+        assert!(!out.exists(), "--layout {}: OUT written", layout.display());
+    }
 }
 
 #[test]
