@@ -14,7 +14,7 @@
 use serde_json::{Value, json};
 use wmr_scenario::Scenario;
 
-use crate::foxglove_topics::{Kind, WORLD_FRAME, base_link, run_hex, topic};
+use crate::foxglove_topics::{Kind, WORLD_FRAME, base_link, run_hex, run_rgb, topic};
 
 /// Id (type!name) of the 3D panel.
 pub const PANEL_3D: &str = "3D!wmr-plane";
@@ -38,6 +38,14 @@ fn nice_spacing(span: f64) -> f64 {
         10.0
     };
     k * p
+}
+
+/// Run `run`'s colour mixed with grey level `to` (0 black, 1 white) by `f` (0..1), as
+/// `#rrggbb`: the second series of a one-run plot, in a shade of the run's colour.
+fn shade(run: usize, to: f64, f: f64) -> String {
+    let mix = |c: u8| (f64::from(c) * (1.0 - f) + 255.0 * to * f).round() as u8;
+    let [r, g, b] = run_rgb(run).map(mix);
+    format!("#{r:02x}{g:02x}{b:02x}")
 }
 
 /// Rounds to 6 decimals, so the JSON shows 0.3 and not 0.30000000000000004.
@@ -134,6 +142,7 @@ pub fn layout(scenario: &Scenario) -> Value {
     }
 
     let three_d = json!({
+        "foxglovePanelTitle": "the plane from above (m, frame world): every run's path, body and goal",
         "cameraState": {
             "perspective": false,
             "distance": r6(span),
@@ -198,7 +207,7 @@ pub fn layout(scenario: &Scenario) -> Value {
             "run 0: wheel speeds omega_r, omega_l (rad/s)",
             vec![
                 series(0, "omega_r", "omega_r (rad/s)".into(), run_hex(0)),
-                series(0, "omega_l", "omega_l (rad/s)".into(), run_hex(1)),
+                series(0, "omega_l", "omega_l (rad/s)".into(), shade(0, 0.0, 0.45)),
             ],
         ),
     );
@@ -210,9 +219,9 @@ pub fn layout(scenario: &Scenario) -> Value {
                 "run 0: true and measured position x, x_meas, y, y_meas (m)",
                 vec![
                     series(0, "x", "x (m)".into(), run_hex(0)),
-                    series(0, "x_meas", "x_meas (m)".into(), run_hex(1)),
-                    series(0, "y", "y (m)".into(), run_hex(2)),
-                    series(0, "y_meas", "y_meas (m)".into(), run_hex(3)),
+                    series(0, "x_meas", "x_meas (m)".into(), shade(0, 1.0, 0.5)),
+                    series(0, "y", "y (m)".into(), shade(0, 0.0, 0.45)),
+                    series(0, "y_meas", "y_meas (m)".into(), shade(0, 0.0, 0.75)),
                 ],
             ),
         );
