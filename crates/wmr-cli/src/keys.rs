@@ -71,7 +71,8 @@ name = "fig7"                  scenario name (default: the file's stem)
     servo_kp = 14.0            wheel servo Kp: N m/rad (torque), V/rad (dc_motor) (> 0)
     servo_kd = 1.4             wheel servo Kd: N m s/rad; dc_motor default 1.1 V s/rad (>= 0)
     servo_ki = 0.0             wheel servo Ki: N m/(rad s) or V/(rad s) (>= 0)
-    wheel_speed_max = inf      rad/s, limit on the wheel reference speeds, curvature kept (> 0)
+    wheel_speed_max = inf      rad/s, limit on the wheel speeds (measured within 2 %), curvature
+                               kept (> 0)
     control_dt = 0.001         s, control period; a whole multiple of sim.dt (> 0)
 
 [controller.model]             what the controller believes about the robot: any [robot] key;

@@ -83,6 +83,14 @@ impl<T: Real> DcMotor<T> {
         if self.wheel_torque_max.is_finite() { tau.max(-self.wheel_torque_max).min(self.wheel_torque_max) } else { tau }
     }
 
+    /// The voltage (V) that makes the wheel torque `tau` (N m) at wheel speed
+    /// `omega_wheel` (rad/s), the voltage and current limits aside: tau R_a k_t / k_tau +
+    /// k_e omega_wheel / k_t.
+    #[inline(always)]
+    pub fn voltage_for_wheel_torque(&self, tau: T, omega_wheel: T) -> T {
+        tau / self.torque_per_volt + self.emf_per_wheel_speed * omega_wheel
+    }
+
     /// Back-EMF damping at the wheel, N m s/rad: k_tau k_e / (R_a k_t^2).
     pub fn speed_damping(&self) -> T {
         self.emf_per_wheel_speed * self.torque_per_volt

@@ -106,6 +106,18 @@ impl<T: Real> Drive<T> {
         }
     }
 
+    /// The command (N m or V) that makes the wheel torque `tau` (N m) at wheel speed
+    /// `omega_wheel` (rad/s), the drive's limits aside: the inverse of
+    /// [`Drive::wheel_torque`] where that is not saturated. The wheel stage's speed limit
+    /// turns its torque bound into a command bound with it.
+    #[inline(always)]
+    pub fn command_for_wheel_torque(&self, tau: T, omega_wheel: T) -> T {
+        match self {
+            Drive::Torque(_) => tau,
+            Drive::DcMotor(d) => d.voltage_for_wheel_torque(tau, omega_wheel),
+        }
+    }
+
     /// Largest useful command magnitude (N m or V): the servo's anti-windup bound.
     pub fn command_limit(&self) -> T {
         match self {
