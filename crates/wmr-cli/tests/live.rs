@@ -196,6 +196,20 @@ fn a_subscribed_client_gets_the_mcap_messages_in_time_order_at_the_given_speed()
     assert!(got.windows(2).all(|w| w[0].0 < w[1].0), "log times must increase");
     let file = mcap_topic(&dir.path().join("live.mcap"), "/run1/tf");
     assert_eq!(file.len(), 201);
+    // The MCAP written live holds what `wmr-cli run` writes, message for message.
+    let plain = Command::new(env!("CARGO_BIN_EXE_wmr-cli"))
+        .current_dir(dir.path())
+        .args(["run", "s.toml", "-o", "plain.mcap"])
+        .output()
+        .unwrap();
+    assert!(plain.status.success());
+    for topic in ["/run0/tf", "/run1/tf", "/run0/sample", "/run1/sample", "/run1/path_tip", "/run1/scene"] {
+        assert_eq!(
+            mcap_topic(&dir.path().join("live.mcap"), topic),
+            mcap_topic(&dir.path().join("plain.mcap"), topic),
+            "{topic}"
+        );
+    }
     assert_eq!(
         got.len(),
         file.len(),
