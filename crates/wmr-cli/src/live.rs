@@ -17,7 +17,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc::{Receiver, sync_channel};
 use std::time::{Duration, Instant};
 
-use anyhow::{Context as _, Result, anyhow, bail};
+use anyhow::{Context as _, Result, anyhow};
 use foxglove::websocket::{Capability, ChannelView, Client, ServerListener};
 use foxglove::{Context, PartialMetadata, RawChannel, WebSocketServer};
 use wmr_core::Sample;
@@ -128,7 +128,9 @@ pub fn serve(
     let runs = scenario.runs();
     let n = runs.len();
     if n > MAX_LIVE_RUNS {
-        bail!("--live streams at most {MAX_LIVE_RUNS} runs at once; this scenario has {n}");
+        return Err(crate::errors::bad_input(format!(
+            "--live streams at most {MAX_LIVE_RUNS} runs at once; this scenario has {n} [[run]] tables"
+        )));
     }
     let measured = scenario.setup().has_sensor;
     let schemas = Schemas::new(measured);

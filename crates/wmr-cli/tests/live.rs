@@ -269,3 +269,24 @@ fn ctrl_c_stops_the_server_and_writes_nothing() {
     assert_eq!(left, ["s.toml"], "no output and no temporary file");
     assert!(TcpStream::connect(("127.0.0.1", port)).is_err(), "the server is closed");
 }
+
+#[test]
+fn more_runs_than_threads_allowed_is_bad_input_and_nothing_is_served() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut body = String::from("[sim]\nt_end = 0.1\n");
+    for _ in 0..257 {
+        body += "[[run]]\nstart = { x = 0.0, y = 0.0, theta = 0.0 }\ngoal = { x = 1.0, y = 0.0, theta = 0.0 }\n";
+    }
+    fs::write(dir.path().join("many.toml"), body).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_wmr-cli"))
+        .current_dir(dir.path())
+        .args(["run", "many.toml", "--live", "127.0.0.1:0", "-o", "many.mcap"])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("at most 256 runs") && !err.contains("live on"), "{err}");
+    let mut left: Vec<_> = fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    left.sort();
+    assert_eq!(left, ["many.toml"]);
+}
