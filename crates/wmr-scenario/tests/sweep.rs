@@ -15,7 +15,7 @@ fn grid_has_nx_ny_nheadings_starts_and_all_laws_by_default() {
     );
     assert_eq!(sw.starts.len(), 5 * 3 * 2);
     let names: Vec<&str> = sw.laws.iter().map(|(n, _)| n.as_str()).collect();
-    assert_eq!(names, ["paper", "polar", "lyapunov"]);
+    assert_eq!(names, wmr_scenario::law_kinds());
     assert_eq!(sw.starts[0].x, -1.0);
     assert_eq!(sw.starts.last().unwrap().y, 2.0);
 }
