@@ -66,13 +66,13 @@ impl<T: Real> World<T> {
     }
 
     /// Gravity's pull along the plane on a mass of `mass_kg`, in world x and y, N:
-    /// F (cos psi, sin psi) with F = m g sin(slope). Computed in f64 with `libm`, the same
-    /// bits in every build.
+    /// F (cos psi, sin psi) with F = m g sin(slope). Computed in `T` with the core's
+    /// `libm` calls (no double-precision trigonometry pulled into an f32 firmware).
     pub fn downhill_force(&self, mass_kg: T) -> (T, T) {
-        let slope = self.params.slope_deg.to_f64_lossless().to_radians();
-        let psi = self.params.slope_direction_deg.to_f64_lossless().to_radians();
-        let f = mass_kg.to_f64_lossless() * STANDARD_GRAVITY * libm::sin(slope);
-        let (s, c) = libm::sincos(psi);
-        (T::lit(f * c), T::lit(f * s))
+        let per_degree = T::PI() / T::lit(180.0);
+        let (sin_slope, _) = (self.params.slope_deg * per_degree).sin_cos_libm();
+        let f = mass_kg * T::lit(STANDARD_GRAVITY) * sin_slope;
+        let (s, c) = (self.params.slope_direction_deg * per_degree).sin_cos_libm();
+        (f * c, f * s)
     }
 }
