@@ -80,8 +80,14 @@ impl Thinned {
 /// into `dir`; returns the files written.
 pub fn plot(scenario: &Scenario, file: &Path, dir: &Path) -> Result<Vec<String>> {
     if scenario.runs().is_empty() {
+        if let Some(spec) = scenario.sweep()
+            && spec.starts.len() <= MAX_COMPARED_STARTS
+        {
+            return plot_sweep(scenario, spec, dir);
+        }
         return Err(bad_input(format!(
-            "{}: run: the file has no [[run]] to plot (for a [sweep], use `wmr-cli sweep --plots DIR`)",
+            "{}: run: the file has no [[run]] to plot, and plot compares the laws of a [sweep] only from at most \
+             {MAX_COMPARED_STARTS} starts (for region maps, use `wmr-cli sweep --plots DIR`)",
             shown(file)
         )));
     }
@@ -112,6 +118,49 @@ pub fn plot(scenario: &Scenario, file: &Path, dir: &Path) -> Result<Vec<String>>
         put(format!("run{i}-errors.svg"), errors_svg(&format!("{}: errors", t.label), t)?)?;
     }
     Ok(written)
+}
+
+/// Most starts of a `[sweep]` that `plot` draws, one figure each.
+pub const MAX_COMPARED_STARTS: usize = 12;
+
+/// For a `[sweep]` (no `[[run]]`): `compare-start<k>.svg` per start, the path of every law
+/// from that start (the sweep's first variant and trial), one colour per law.
+fn plot_sweep(scenario: &Scenario, spec: &wmr_scenario::SweepSpec, dir: &Path) -> Result<Vec<String>> {
+    prepare_dir(dir)?;
+    let sim = scenario.sim();
+    let (n_laws, n_starts) = (spec.laws.len(), spec.starts.len());
+    announce_work(u128::from(sim.n_steps()) * (n_laws * n_starts) as u128, "plot");
+    let samples: Vec<Vec<Sample<f64>>> = executor::map_ordered(n_laws * n_starts, |k| {
+        let mut thin = Thinned::new(sim.n_samples());
+        spec.run_one(sim, k % n_laws, k / n_laws, |s| thin.push(s)).map(|_| thin.finish())
+    })
+    .into_iter()
+    .collect::<Result<_, _>>()?;
+    let mut written = Vec::new();
+    for (k, start) in spec.starts.iter().enumerate() {
+        let traces: Vec<Trace<'_>> = spec
+            .laws
+            .iter()
+            .enumerate()
+            .map(|(i, (name, _))| Trace { label: name, goal: spec.goal, samples: &samples[k * n_laws + i] })
+            .collect();
+        let title = format!(
+            "{}: every law from ({}, {}, {} deg)",
+            scenario.name(),
+            round3(start.x),
+            round3(start.y),
+            round3(start.theta.to_degrees())
+        );
+        let name = format!("compare-start{k}.svg");
+        write_text(&dir.join(&name), &paths_svg(&title, &traces)?)?;
+        written.push(name);
+    }
+    Ok(written)
+}
+
+/// A number to at most three decimals, for titles.
+fn round3(v: f64) -> f64 {
+    (v * 1000.0).round() / 1000.0
 }
 
 #[cfg(test)]

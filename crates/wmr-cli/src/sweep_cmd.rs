@@ -5,8 +5,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context as _, Result};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use wmr_core::Status;
-use wmr_plot::{CellOutcome, ShareSeries, SweepCell, region_svg, share_svg};
+use wmr_plot::{ShareSeries, SweepCell, region_svg, share_svg};
 use wmr_scenario::robustness::{ShareCurve, share_curves, share_table, varied_columns, varied_row};
 use wmr_scenario::{SWEEP_COLUMNS, Scenario, SweepOutcome, SweepSpec, shown, summarize, summary_table, sweep_row};
 
@@ -128,20 +127,15 @@ fn write_csv(spec: &SweepSpec, outcomes: &[SweepOutcome], out: Output) -> Result
     }
 }
 
-/// The outcome of a sweep run as a map cell.
+/// The outcome of a sweep run as a map cell: its start pose and the core's status.
 fn cell(o: &SweepOutcome) -> SweepCell {
-    let outcome = match o.status() {
-        Status::Diverged => CellOutcome::Diverged,
-        Status::Converged => CellOutcome::Converged,
-        Status::Unsettled => CellOutcome::Unsettled,
-    };
-    SweepCell { x: o.start.x, y: o.start.y, outcome }
+    SweepCell { x: o.start.x, y: o.start.y, theta: o.start.theta, outcome: o.status() }
 }
 
 fn write_regions(spec: &SweepSpec, outcomes: &[SweepOutcome], dir: &Path) -> Result<()> {
     for (i, (name, _)) in spec.laws.iter().enumerate() {
         let cells: Vec<SweepCell> = outcomes.iter().filter(|o| o.law == i).map(cell).collect();
-        let title = format!("{name}: outcome by start (goal at the cross)");
+        let title = format!("{name}: how the run from each start ended");
         let svg = region_svg(&title, &cells, spec.goal)?;
         let file = dir.join(format!("region-{}.svg", safe_file_stem(&name.replace('#', "-"))));
         write_text(&file, &svg).with_context(|| format!("cannot write the region map of {name}"))?;

@@ -1,94 +1,324 @@
-//! Time-series and path figures of single scenarios (the paper's Figs. 4-9).
+//! Path and time-series figures of single runs (the paper's Figs. 4-9) and the path
+//! comparison of several laws from one start.
 
-use plotters::prelude::*;
+use wmr_core::{Pose2, Sample, wrap_angle};
 
-use crate::chart::{Frame, draw_goal, svg_chart};
-use crate::{PlotError, SIZE, Trace, err, padded_range, palette};
+use crate::chart::{
+    BOTTOM, Entry, FONT, Key, LEFT, LINE_W, PAGE_W, Panel, RIGHT, TOP, color, cross, dash, equal_aspect, legend,
+    legend_height, legend_width, padded_range, title,
+};
+use crate::svg::{Anchor, Stroke, Svg, escape, math};
+use crate::{PlotError, Trace};
 
-/// Paths of C in the plane, one line per run, with start and goal markers and the goal
-/// heading as a short arrow (the paper's Figs. 4-7). Equal scale on x and y.
-pub fn paths_svg(title: &str, traces: &[Trace<'_>]) -> Result<String, PlotError> {
-    let xs = traces.iter().flat_map(|t| t.samples.iter().map(|s| s.state.x).chain([t.goal.x]));
-    let ys = traces.iter().flat_map(|t| t.samples.iter().map(|s| s.state.y).chain([t.goal.y]));
-    let (x0, x1) = padded_range(xs, 0.08, 0.5);
-    let (y0, y1) = padded_range(ys, 0.08, 0.5);
-    // Equal scale: widen the shorter axis to the plot's aspect ratio.
-    let aspect = f64::from(SIZE.0 - 90) / f64::from(SIZE.1 - 90);
-    let (w, h) = (x1 - x0, y1 - y0);
-    let (x0, x1, y0, y1) = if w / h > aspect {
-        let extra = (w / aspect - h) / 2.0;
-        (x0, x1, y0 - extra, y1 + extra)
-    } else {
-        let extra = (h * aspect - w) / 2.0;
-        (x0 - extra, x1 + extra, y0, y1)
-    };
-    let arrow = 0.06 * (x1 - x0);
-    let frame = Frame {
-        title,
-        size: SIZE,
-        x: x0..x1,
-        y: y0..y1,
-        desc: ("x (m)", "y (m)"),
-        y_label_area: 55,
-        legend: Some(SeriesLabelPosition::UpperLeft),
-    };
-    svg_chart(frame, |chart| {
-        for (i, t) in traces.iter().enumerate() {
-            let color = palette(i);
-            chart
-                .draw_series(LineSeries::new(t.samples.iter().map(|s| (s.state.x, s.state.y)), color.stroke_width(2)))
-                .map_err(err)?
-                .label(t.label)
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2)));
-            if let Some(s0) = t.samples.first() {
-                chart.draw_series([Circle::new((s0.state.x, s0.state.y), 4, color.filled())]).map_err(err)?;
+/// Heading arrows drawn along each path.
+const HEADING_TICKS: usize = 7;
+
+/// Farthest a path may go from its goal, m, before it counts as leaving the plot: four
+/// times the largest start-to-goal distance plus 1 m.
+fn far_radius(traces: &[Trace<'_>]) -> f64 {
+    let d = traces
+        .iter()
+        .filter_map(|t| t.samples.first().map(|s| (t.goal.x - s.state.x).hypot(t.goal.y - s.state.y)))
+        .fold(0.0, f64::max);
+    4.0 * d + 1.0
+}
+
+/// True when the run leaves the disc of radius `far` (m) around its goal, or stops
+/// being finite: it is then drawn clipped to the plot, with a cross where it leaves.
+fn goes_far(t: &Trace<'_>, far: f64) -> bool {
+    t.samples.iter().any(|s| {
+        let (x, y) = (s.state.x, s.state.y);
+        !(x.is_finite() && y.is_finite()) || (t.goal.x - x).hypot(t.goal.y - y) > far
+    })
+}
+
+/// Sample indices spread evenly along the path's length (not its time), `n` of them,
+/// over the part of the run that moves (until the last sample farther than 2 cm from
+/// the goal), for the heading arrows.
+fn spread_along_path(samples: &[Sample<f64>], goal: Pose2<f64>, n: usize) -> Vec<usize> {
+    let end = samples
+        .iter()
+        .rposition(|s| (goal.x - s.state.x).hypot(goal.y - s.state.y) > 0.02)
+        .map_or(samples.len(), |i| i + 1);
+    let mut cum = Vec::with_capacity(end);
+    let mut acc = 0.0;
+    for (i, s) in samples[..end].iter().enumerate() {
+        if i > 0 {
+            let p = &samples[i - 1].state;
+            let d = (s.state.x - p.x).hypot(s.state.y - p.y);
+            if d.is_finite() {
+                acc += d;
             }
-            draw_goal(chart, t.goal, arrow, 6, 2)?;
         }
-        Ok(())
-    })
+        cum.push(acc);
+    }
+    if acc <= 0.0 || n == 0 {
+        return vec![0];
+    }
+    (0..n)
+        .map(|k| {
+            let target = acc * k as f64 / n as f64;
+            cum.iter().position(|c| *c >= target).unwrap_or(0)
+        })
+        .collect()
 }
 
-/// Several named series over time in one panel.
-fn time_series_svg(title: &str, y_desc: &str, t: &[f64], series: &[(&str, Vec<f64>)]) -> Result<String, PlotError> {
+/// Paths of C in the plane, one colour per run carried to its start dot and goal arrow,
+/// with arrows showing the heading along the way (a robot backing up has its arrows
+/// pointing against its travel). Equal scale on x and y; the axes fit the starts, the
+/// goals and every run that stays near its goal: a run that goes far (or diverges) is
+/// clipped at the frame and marked with a cross where it leaves (the paper's Figs. 4-7).
+pub fn paths_svg(title_text: &str, traces: &[Trace<'_>]) -> Result<String, PlotError> {
+    if traces.is_empty() {
+        return Err(PlotError::new("no run to plot"));
+    }
+    let far = far_radius(traces);
+    let far_runs: Vec<bool> = traces.iter().map(|t| goes_far(t, far)).collect();
+    let mut xs = Vec::new();
+    let mut ys = Vec::new();
+    // The goal arrows' tips too (drawn 1.6 heading-arrow lengths long, about 7 % of the
+    // frame): a twelfth of the starts-to-goals extent, at least 5 cm.
+    let reach = 0.08
+        * traces
+            .iter()
+            .filter_map(|t| t.samples.first().map(|s| (t.goal.x - s.state.x).abs().max((t.goal.y - s.state.y).abs())))
+            .fold(0.6, f64::max);
+    for (t, is_far) in traces.iter().zip(&far_runs) {
+        xs.extend([t.goal.x, t.goal.x + reach * t.goal.theta.cos()]);
+        ys.extend([t.goal.y, t.goal.y + reach * t.goal.theta.sin()]);
+        if *is_far {
+            if let Some(s) = t.samples.first() {
+                xs.push(s.state.x);
+                ys.push(s.state.y);
+            }
+        } else {
+            xs.extend(t.samples.iter().map(|s| s.state.x));
+            ys.extend(t.samples.iter().map(|s| s.state.y));
+        }
+    }
+    // Room to see a far run set off: more margin when some runs leave.
+    let pad = if far_runs.iter().any(|f| *f) { 0.15 } else { 0.06 };
+    let xr = padded_range(xs.into_iter(), pad, 0.5);
+    let yr = padded_range(ys.into_iter(), pad, 0.5);
+
+    let mut entries: Vec<Entry> = traces
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            let mut label = t.label.to_owned();
+            if far_runs[i] {
+                label.push_str(" (leaves the plot)");
+            }
+            Entry::user(label, Key::Line(color(i), dash(i)))
+        })
+        .collect();
+    entries.push(Entry::math("start", Key::Dot("#404040")));
+    entries.push(Entry::math("heading on the way", Key::Arrow("#404040")));
+    entries.push(Entry::math("goal and its heading", Key::GoalArrow("#404040")));
+    if far_runs.iter().any(|f| *f) {
+        entries.push(Entry::math("leaves the plot", Key::Cross("#404040")));
+    }
+    let lw = legend_width(&entries);
+    let below = lw > 0.38 * PAGE_W;
+    let w = if below { PAGE_W - LEFT - RIGHT } else { PAGE_W - LEFT - RIGHT - lw - 10.0 };
+    let aspect = ((yr.1 - yr.0) / (xr.1 - xr.0)).clamp(0.55, 1.15);
+    let h = w * aspect;
+    let (xr, yr) = equal_aspect(xr, yr, w, h);
+    let panel = Panel { x: LEFT, y: TOP, w, h, xr, yr };
+    let legend_h = legend_height(entries.len());
+    let height = if below { TOP + h + BOTTOM + 6.0 + legend_h } else { TOP + h.max(legend_h) + BOTTOM };
+    let mut svg = Svg::new(PAGE_W, height);
+    title(&mut svg, panel.x, panel.w, title_text);
+    panel.axes(&mut svg, Some("x (m)"), "y (m)");
+
+    let arrow_len = 0.05 * w;
+    let clip = panel.clip(&mut svg);
+    svg.begin_clip(&clip);
+    for (i, t) in traces.iter().enumerate() {
+        let pts: Vec<(f64, f64)> = t
+            .samples
+            .iter()
+            .filter(|s| s.state.x.is_finite() && s.state.y.is_finite())
+            .map(|s| panel.p((s.state.x, s.state.y)))
+            .collect();
+        svg.polyline(&pts, Stroke { dash: dash(i), ..Stroke::solid(color(i), LINE_W) });
+        // A far run's arrows go on its part inside the frame.
+        let inside = t.samples.iter().position(|s| !panel.contains((s.state.x, s.state.y))).unwrap_or(t.samples.len());
+        for k in spread_along_path(&t.samples[..inside.max(1)], t.goal, HEADING_TICKS).into_iter().skip(1) {
+            let s = &t.samples[k].state;
+            let a = panel.p((s.x, s.y));
+            let b = (a.0 + arrow_len * s.theta.cos(), a.1 - arrow_len * s.theta.sin());
+            svg.arrow(a, b, 3.6, Stroke { opacity: 0.9, ..Stroke::solid(color(i), 0.8) });
+        }
+    }
+    svg.end_clip();
+    for (i, t) in traces.iter().enumerate() {
+        let c = color(i);
+        // Where a far run leaves the frame: the last sample inside before the first outside.
+        if far_runs[i]
+            && let Some(out) = t.samples.iter().position(|s| !panel.contains((s.state.x, s.state.y)))
+            && out > 0
+        {
+            let s = &t.samples[out - 1];
+            cross(&mut svg, panel.p((s.state.x, s.state.y)), 3.5, Stroke::solid(c, 1.3));
+        }
+        // A start shared by several runs (laws compared from one start) is one grey dot.
+        if let Some(s) = t.samples.first() {
+            let same = |o: &Trace<'_>| o.samples.first().is_some_and(|f| f.state.pose() == s.state.pose());
+            let shared = traces.iter().filter(|o| same(o)).count() > 1;
+            if !(shared && traces[..i].iter().any(same)) {
+                svg.circle(panel.p((s.state.x, s.state.y)), 2.6, if shared { "#404040" } else { c }, None);
+            }
+        }
+        // A goal shared by several runs is drawn once, in dark grey (its colour would be
+        // the last run's); a goal of its own takes its run's colour.
+        let shared = traces.iter().filter(|o| o.goal == t.goal).count() > 1;
+        if shared && traces[..i].iter().any(|o| o.goal == t.goal) {
+            continue;
+        }
+        let gc = if shared { "#404040" } else { c };
+        let g = panel.p((t.goal.x, t.goal.y));
+        let tip = (g.0 + 1.6 * arrow_len * t.goal.theta.cos(), g.1 - 1.6 * arrow_len * t.goal.theta.sin());
+        svg.arrow(g, tip, 5.0, Stroke::solid(gc, 1.2));
+        svg.circle(g, 3.0, "#ffffff", Some(Stroke::solid(gc, 1.2)));
+    }
+    if below {
+        legend(&mut svg, LEFT, TOP + h + BOTTOM + 2.0, &entries);
+    } else {
+        legend(&mut svg, LEFT + w + 12.0, TOP, &entries);
+    }
+    Ok(svg.finish())
+}
+
+/// One curve of a time-series panel: its name, colour index and values (one per time).
+struct Series<'a> {
+    name: &'a str,
+    index: usize,
+    values: Vec<f64>,
+}
+
+/// The time from which every series stays within a quarter of its largest magnitude:
+/// the end of the start-up transient, if the rest is small enough to deserve a detail
+/// panel of its own (it spans less than 40 % of the full range and starts before 60 % of
+/// the run).
+fn detail_from(t: &[f64], series: &[Series<'_>]) -> Option<f64> {
+    let full = padded_range(series.iter().flat_map(|s| s.values.iter().copied()), 0.0, 0.0);
+    let peak =
+        series.iter().flat_map(|s| s.values.iter()).map(|v| v.abs()).filter(|v| v.is_finite()).fold(0.0, f64::max);
+    if peak <= 0.0 || t.len() < 4 {
+        return None;
+    }
+    let last_big =
+        series.iter().filter_map(|s| s.values.iter().rposition(|v| v.abs() > 0.25 * peak)).max().unwrap_or(0);
+    let from = (last_big + 1).min(t.len() - 1);
+    let t_end = *t.last()?;
+    if t[from] > 0.6 * t_end {
+        return None;
+    }
+    let rest = padded_range(series.iter().flat_map(|s| s.values[from..].iter().copied()), 0.0, 0.0);
+    ((rest.1 - rest.0) < 0.4 * (full.1 - full.0)).then_some(t[from])
+}
+
+/// Panels of time series sharing the time axis, the legend at the right.
+fn time_panels(title_text: &str, t: &[f64], panels: &[(&str, Vec<Series<'_>>)]) -> Result<String, PlotError> {
+    if t.is_empty() {
+        return Err(PlotError::new("no sample to plot"));
+    }
     let t_end = t.last().copied().unwrap_or(1.0).max(1e-9);
-    let (y0, y1) = padded_range(series.iter().flat_map(|(_, v)| v.iter().copied()), 0.05, 1e-3);
-    let frame = Frame {
-        title,
-        size: (SIZE.0, SIZE.1 * 3 / 4),
-        x: 0.0..t_end,
-        y: y0..y1,
-        desc: ("t (s)", y_desc),
-        y_label_area: 60,
-        legend: None,
-    };
-    svg_chart(frame, |chart| {
-        for (i, (name, v)) in series.iter().enumerate() {
-            let color = palette(i);
-            chart
-                .draw_series(LineSeries::new(t.iter().copied().zip(v.iter().copied()), color.stroke_width(2)))
-                .map_err(err)?
-                .label(*name)
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2)));
+    // Each requested panel, and after it a detail panel when its start-up dwarfs the rest.
+    struct Pane<'p, 'a> {
+        y_label: String,
+        series: &'p [Series<'a>],
+        from: Option<f64>,
+    }
+    let mut panes = Vec::new();
+    for (label, series) in panels {
+        panes.push(Pane { y_label: (*label).to_owned(), series, from: None });
+        if let Some(from) = detail_from(t, series) {
+            panes.push(Pane { y_label: format!("{label}, detail"), series, from: Some(from) });
         }
-        Ok(())
-    })
+    }
+    let mut entries = Vec::new();
+    for (_, series) in panels {
+        for s in series {
+            entries.push(Entry::math(s.name, Key::Line(color(s.index), dash(s.index))));
+        }
+    }
+    let lw = legend_width(&entries);
+    let w = PAGE_W - LEFT - RIGHT - lw - 10.0;
+    let h = 118.0;
+    let gap = 12.0;
+    let height = TOP + panes.len() as f64 * (h + gap) - gap + BOTTOM;
+    let mut svg = Svg::new(PAGE_W, height);
+    title(&mut svg, LEFT, w, title_text);
+    for (k, pane) in panes.iter().enumerate() {
+        let from_idx = pane.from.map_or(0, |f| t.iter().position(|x| *x >= f).unwrap_or(0));
+        let yr = padded_range(pane.series.iter().flat_map(|s| s.values[from_idx..].iter().copied()), 0.06, 1e-6);
+        let panel = Panel { x: LEFT, y: TOP + k as f64 * (h + gap), w, h, xr: (0.0, t_end), yr };
+        let last = k + 1 == panes.len();
+        panel.axes(&mut svg, last.then_some("t (s)"), &math(&pane.y_label));
+        let clip = panel.clip(&mut svg);
+        svg.begin_clip(&clip);
+        for s in pane.series {
+            let pts: Vec<(f64, f64)> =
+                t.iter().zip(&s.values).filter(|(_, v)| v.is_finite()).map(|(t, v)| panel.p((*t, *v))).collect();
+            svg.polyline(&pts, Stroke { dash: dash(s.index), ..Stroke::solid(color(s.index), LINE_W) });
+        }
+        svg.end_clip();
+        if let Some(f) = pane.from {
+            let note = format!("y fitted to t \u{2265} {f:.1} s");
+            svg.text((panel.x + panel.w - 4.0, panel.y + 10.0), &escape(&note), FONT, Anchor::End, 0.0, false);
+        }
+    }
+    legend(&mut svg, LEFT + w + 12.0, TOP, &entries);
+    Ok(svg.finish())
 }
 
-/// Right and left wheel speeds over time, rad/s (the paper's Fig. 8).
-pub fn wheel_speeds_svg(title: &str, trace: &Trace<'_>) -> Result<String, PlotError> {
+/// Right and left wheel speeds over time, rad/s (the paper's Fig. 8); when the start-up
+/// dwarfs the rest, a second panel shows the rest at its own scale.
+pub fn wheel_speeds_svg(title_text: &str, trace: &Trace<'_>) -> Result<String, PlotError> {
     let t: Vec<f64> = trace.samples.iter().map(|s| s.t).collect();
-    let wr = trace.samples.iter().map(|s| s.wheel_speeds.right).collect();
-    let wl = trace.samples.iter().map(|s| s.wheel_speeds.left).collect();
-    time_series_svg(title, "wheel speed (rad/s)", &t, &[("omega_r", wr), ("omega_l", wl)])
+    let series = vec![
+        Series {
+            name: "right wheel ω_r",
+            index: 0,
+            values: trace.samples.iter().map(|s| s.wheel_speeds.right).collect(),
+        },
+        Series {
+            name: "left wheel ω_l",
+            index: 1,
+            values: trace.samples.iter().map(|s| s.wheel_speeds.left).collect(),
+        },
+    ];
+    time_panels(title_text, &t, &[("wheel speed (rad/s)", series)])
 }
 
-/// Position error dl (m), path error e_s (m) and heading error e_theta (rad) over time
-/// (the paper's Fig. 9).
-pub fn errors_svg(title: &str, trace: &Trace<'_>) -> Result<String, PlotError> {
+/// The law's errors over time (the paper's Fig. 9): the distance dl and the position error
+/// e_s (m) in one panel; the heading error e_theta the law steers by and the true heading
+/// error theta_d - theta (deg) in another (for the paper's law e_theta is measured towards
+/// the moving false target, so the two differ).
+pub fn errors_svg(title_text: &str, trace: &Trace<'_>) -> Result<String, PlotError> {
     let t: Vec<f64> = trace.samples.iter().map(|s| s.t).collect();
-    let dl = trace.samples.iter().map(|s| s.errors.dl).collect();
-    let es = trace.samples.iter().map(|s| s.errors.e_s).collect();
-    let eth = trace.samples.iter().map(|s| s.errors.e_theta).collect();
-    time_series_svg(title, "error (m, rad)", &t, &[("dl (m)", dl), ("e_s (m)", es), ("e_theta (rad)", eth)])
+    let dist = vec![
+        Series { name: "distance dl (m)", index: 0, values: trace.samples.iter().map(|s| s.errors.dl).collect() },
+        Series {
+            name: "position error e_s (m)",
+            index: 1,
+            values: trace.samples.iter().map(|s| s.errors.e_s).collect(),
+        },
+    ];
+    let goal = trace.goal.theta;
+    let heading = vec![
+        Series {
+            name: "heading error e_θ (deg)",
+            index: 2,
+            values: trace.samples.iter().map(|s| s.errors.e_theta.to_degrees()).collect(),
+        },
+        Series {
+            name: "θ_d − θ (deg)",
+            index: 3,
+            values: trace.samples.iter().map(|s| wrap_angle(goal - s.state.theta).to_degrees()).collect(),
+        },
+    ];
+    time_panels(title_text, &t, &[("distance, error (m)", dist), ("heading error (deg)", heading)])
 }

@@ -1,86 +1,82 @@
-//! Region-of-attraction map: the start plane coloured by each start's outcome.
+//! Region-of-attraction map: every start of a sweep, drawn as a small arrowhead pointing
+//! along its start heading and coloured by how the run ended.
 
-use plotters::prelude::*;
+use wmr_core::{Pose2, Status};
 
-use crate::chart::{Frame, draw_goal, svg_chart};
-use crate::{PlotError, SIZE, err, padded_range};
-use wmr_core::Pose2;
+use crate::chart::{
+    BOTTOM, Entry, FONT, Key, LEFT, PAGE_W, Panel, RIGHT, TOP, equal_aspect, legend_rows, padded_range, rows_height,
+    title,
+};
+use crate::svg::{Anchor, Stroke, Svg};
+use crate::{PlotError, status_color};
 
-/// How one start of a sweep ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum CellOutcome {
-    /// Within 1 cm of the goal at the end.
-    Converged,
-    /// Finite, inside the box, but not within 1 cm at the end.
-    Unsettled,
-    /// Stopped: non-finite state or left the 1 km box.
-    Diverged,
-}
+/// How one start of a sweep ended: the core's three outcomes.
+pub type CellOutcome = Status;
 
-impl CellOutcome {
-    fn color(self) -> RGBColor {
-        match self {
-            CellOutcome::Converged => RGBColor(44, 160, 44),
-            CellOutcome::Unsettled => RGBColor(255, 165, 0),
-            CellOutcome::Diverged => RGBColor(214, 39, 40),
-        }
-    }
-
-    fn label(self) -> &'static str {
-        match self {
-            CellOutcome::Converged => "converged",
-            CellOutcome::Unsettled => "unsettled",
-            CellOutcome::Diverged => "diverged",
-        }
-    }
-}
-
-/// One start of a sweep: start position of C (m) and its outcome.
+/// One start of a sweep: start pose of C and how the run from it ended.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SweepCell {
     /// Start x of C, m.
     pub x: f64,
     /// Start y of C, m.
     pub y: f64,
-    /// Outcome.
+    /// Start heading, rad (world frame): the marker points this way.
+    pub theta: f64,
+    /// How the run ended.
     pub outcome: CellOutcome,
 }
 
-/// Map of the start plane for one law: one square marker per start, coloured by outcome,
-/// and the goal as a black cross with its heading.
-pub fn region_svg(title: &str, cells: &[SweepCell], goal: Pose2<f64>) -> Result<String, PlotError> {
-    let (x0, x1) = padded_range(cells.iter().map(|c| c.x).chain([goal.x]), 0.05, 0.5);
-    let (y0, y1) = padded_range(cells.iter().map(|c| c.y).chain([goal.y]), 0.05, 0.5);
-    let frame = Frame {
-        title,
-        size: SIZE,
-        x: x0..x1,
-        y: y0..y1,
-        desc: ("start x (m)", "start y (m)"),
-        y_label_area: 55,
-        legend: None,
-    };
-    svg_chart(frame, |chart| {
-        for kind in [CellOutcome::Converged, CellOutcome::Unsettled, CellOutcome::Diverged] {
-            let color = kind.color();
-            let n = cells.iter().filter(|c| c.outcome == kind).count();
-            chart
-                .draw_series(
-                    cells
-                        .iter()
-                        .filter(|c| c.outcome == kind)
-                        .map(|c| Rectangle::new(marker(c.x, c.y, x1 - x0, y1 - y0), color.filled())),
-                )
-                .map_err(err)?
-                .label(format!("{} ({n})", kind.label()))
-                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 10, y + 5)], color.filled()));
-        }
-        draw_goal(chart, goal, 0.06 * (x1 - x0), 8, 3)
-    })
-}
+/// Map of the start plane for one law, at equal scale on x and y: one arrowhead per start,
+/// pointing along its start heading and coloured by outcome (counts in the legend), and
+/// the goal with its heading. Rarer outcomes are drawn last, on top.
+pub fn region_svg(title_text: &str, cells: &[SweepCell], goal: Pose2<f64>) -> Result<String, PlotError> {
+    let xr = padded_range(cells.iter().map(|c| c.x).chain([goal.x]), 0.04, 0.5);
+    let yr = padded_range(cells.iter().map(|c| c.y).chain([goal.y]), 0.04, 0.5);
+    let count = |s: Status| cells.iter().filter(|c| c.outcome == s).count();
+    let mut order = Status::ALL;
+    order.sort_by_key(|s| std::cmp::Reverse(count(*s)));
+    let mut entries: Vec<Entry> = Status::ALL
+        .iter()
+        .map(|s| Entry::math(format!("{} ({})", s.name(), count(*s)), Key::Triangle(status_color(*s))))
+        .collect();
+    entries.push(Entry::math("goal and its heading", Key::GoalArrow("#000000")));
+    // The map takes the page's width; the legend and a note go below it.
+    let w = PAGE_W - LEFT - RIGHT;
+    let aspect = ((yr.1 - yr.0) / (xr.1 - xr.0)).clamp(0.6, 1.0);
+    let h = w * aspect;
+    let (xr, yr) = equal_aspect(xr, yr, w, h);
+    let panel = Panel { x: LEFT, y: TOP, w, h, xr, yr };
+    let legend_y = TOP + h + BOTTOM;
+    let height = legend_y + rows_height(&entries, w) + 16.0;
+    let mut svg = Svg::new(PAGE_W, height);
+    title(&mut svg, panel.x, panel.w, title_text);
+    panel.axes(&mut svg, Some("start x (m)"), "start y (m)");
 
-/// A small square around (x, y), 0.8% of the plot span.
-fn marker(x: f64, y: f64, span_x: f64, span_y: f64) -> [(f64, f64); 2] {
-    let (hx, hy) = (0.008 * span_x, 0.008 * span_y);
-    [(x - hx, y - hy), (x + hx, y + hy)]
+    // Marker length: about the spacing of the starts (pt), within 3.5 to 8 pt.
+    let area = (xr.1 - xr.0) * (yr.1 - yr.0) * panel.scale_x() * panel.scale_x();
+    let len = (0.9 * (area / cells.len().max(1) as f64).sqrt()).clamp(3.5, 8.0);
+    let clip = panel.clip(&mut svg);
+    svg.begin_clip(&clip);
+    for status in order {
+        let fill = status_color(status);
+        for c in cells.iter().filter(|c| c.outcome == status) {
+            let (cx, cy) = panel.p((c.x, c.y));
+            let (ux, uy) = (c.theta.cos(), -c.theta.sin());
+            let tip = (cx + 0.6 * len * ux, cy + 0.6 * len * uy);
+            let back = (cx - 0.4 * len * ux, cy - 0.4 * len * uy);
+            let half = 0.32 * len;
+            let left = (back.0 - uy * half, back.1 + ux * half);
+            let right = (back.0 + uy * half, back.1 - ux * half);
+            svg.polygon(&[tip, left, right], fill, None);
+        }
+    }
+    svg.end_clip();
+    let g = panel.p((goal.x, goal.y));
+    let arrow = 0.07 * w;
+    svg.arrow(g, (g.0 + arrow * goal.theta.cos(), g.1 - arrow * goal.theta.sin()), 6.0, Stroke::solid("#000000", 1.6));
+    svg.circle(g, 3.6, "#ffffff", Some(Stroke::solid("#000000", 1.6)));
+    legend_rows(&mut svg, LEFT, legend_y, w, &entries);
+    let note = "Each marker is a start, pointing along the robot's start heading.";
+    svg.text((LEFT, height - 6.0), note, FONT, Anchor::Start, 0.0, false);
+    Ok(svg.finish())
 }

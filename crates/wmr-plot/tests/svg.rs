@@ -1,7 +1,9 @@
-//! The SVGs parse as XML and hold one line per run and one marker per sweep start.
+//! The SVGs parse as XML, hold one curve per run or series and one marker per sweep
+//! start, print at their intended size, keep sub-point coordinates, and keep the axes
+//! on what matters.
 
-use wmr_core::{ClosedLoop, ControllerParams, DriveParams, FixedGoal, Plant, Pose2, Robot, Sample};
-use wmr_plot::{CellOutcome, SweepCell, Trace, errors_svg, paths_svg, region_svg, wheel_speeds_svg};
+use wmr_core::{ClosedLoop, ControllerParams, DriveParams, FixedGoal, Plant, Pose2, Robot, Sample, Status};
+use wmr_plot::{SweepCell, Trace, errors_svg, paths_svg, region_svg, share_svg, status_color, wheel_speeds_svg};
 
 fn run(start: Pose2<f64>, goal: Pose2<f64>, secs: u64) -> Vec<Sample<f64>> {
     let robot = Robot::<f64>::paper();
@@ -14,13 +16,36 @@ fn run(start: Pose2<f64>, goal: Pose2<f64>, secs: u64) -> Vec<Sample<f64>> {
     out
 }
 
-/// Elements with the given tag.
-fn count(doc: &roxmltree::Document<'_>, tag: &str) -> usize {
-    doc.descendants().filter(|n| n.has_tag_name(tag)).count()
+/// Polylines with more than `min` points (data curves; legend keys are lines).
+fn curves<'a>(doc: &'a roxmltree::Document<'a>, min: usize) -> Vec<roxmltree::Node<'a, 'a>> {
+    doc.descendants()
+        .filter(|n| n.has_tag_name("polyline"))
+        .filter(|n| n.attribute("points").is_some_and(|p| p.split_whitespace().count() > min))
+        .collect()
+}
+
+/// The numbers of every point of a polyline.
+fn points(n: &roxmltree::Node<'_, '_>) -> Vec<(f64, f64)> {
+    n.attribute("points")
+        .unwrap()
+        .split_whitespace()
+        .map(|p| {
+            let (x, y) = p.split_once(',').unwrap();
+            (x.parse().unwrap(), y.parse().unwrap())
+        })
+        .collect()
+}
+
+/// Tick labels along an axis: the text of every `<text>` element that parses as a number.
+fn numbers(doc: &roxmltree::Document<'_>) -> Vec<f64> {
+    doc.descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| n.text().and_then(|t| t.replace('\u{2212}', "-").parse().ok()))
+        .collect()
 }
 
 #[test]
-fn paths_plot_has_one_polyline_per_run() {
+fn paths_plot_one_curve_per_run_in_its_own_colour_with_its_goal_marker() {
     let goal_a = Pose2::new(1.0, 1.0, 120f64.to_radians());
     let goal_b = Pose2::new(1.0, 1.0, 0.0);
     let a = run(Pose2::default(), goal_a, 20);
@@ -31,55 +56,119 @@ fn paths_plot_has_one_polyline_per_run() {
     ];
     let svg = paths_svg("Fig. 4", &traces).unwrap();
     let doc = roxmltree::Document::parse(&svg).expect("valid XML");
-    // A path with N samples is one polyline with N points; legend entries are 2-point lines.
-    let long_lines: Vec<_> = doc
-        .descendants()
-        .filter(|n| n.has_tag_name("polyline"))
-        .filter(|n| n.attribute("points").is_some_and(|p| p.split_whitespace().count() > 10))
-        .collect();
-    assert_eq!(long_lines.len(), traces.len());
-    assert!(svg.contains("theta_d = 120 deg"));
+    let lines = curves(&doc, 10);
+    assert_eq!(lines.len(), traces.len());
+    let colors: Vec<&str> = lines.iter().map(|n| n.attribute("stroke").unwrap()).collect();
+    assert_ne!(colors[0], colors[1], "one colour per run");
+    for c in &colors {
+        // The goal ring of each run is outlined in the run's colour.
+        assert!(
+            doc.descendants().any(|n| n.has_tag_name("circle") && n.attribute("stroke") == Some(*c)),
+            "no goal ring in {c}"
+        );
+    }
+    // The user's label is drawn as written (no subscript markup in it).
+    assert!(svg.contains(">theta_d = 120 deg<"));
 }
 
 #[test]
-fn time_plots_have_one_polyline_per_series() {
+fn figures_print_at_their_size_with_fonts_of_at_least_8_pt_and_smooth_curves() {
     let goal = Pose2::new(1.0, 1.0, 120f64.to_radians());
     let s = run(Pose2::default(), goal, 10);
     let trace = Trace { label: "fig7", goal, samples: &s };
-    for (svg, n) in [(wheel_speeds_svg("Fig. 8", &trace).unwrap(), 2), (errors_svg("Fig. 9", &trace).unwrap(), 3)] {
+    for svg in [paths_svg("Fig. 7", &[trace]).unwrap(), wheel_speeds_svg("Fig. 8", &trace).unwrap()] {
         let doc = roxmltree::Document::parse(&svg).expect("valid XML");
-        let long = doc
-            .descendants()
-            .filter(|n| {
-                n.has_tag_name("polyline") && n.attribute("points").is_some_and(|p| p.split_whitespace().count() > 10)
-            })
-            .count();
-        assert_eq!(long, n);
-        assert!(count(&doc, "text") > 5, "axis labels are text");
+        let root = doc.root_element();
+        let width_mm: f64 = root.attribute("width").unwrap().trim_end_matches("mm").parse().unwrap();
+        assert!((width_mm - 141.11).abs() < 0.1, "{width_mm} mm");
+        let sizes: Vec<f64> =
+            doc.descendants().filter_map(|n| n.attribute("font-size")).filter_map(|f| f.parse().ok()).collect();
+        assert!(!sizes.is_empty() && sizes.iter().all(|f| *f >= 8.0), "font sizes {sizes:?}");
+        // Curves keep fractions of a point: not rounded to whole units.
+        let pts: Vec<(f64, f64)> = curves(&doc, 10).iter().flat_map(points).collect();
+        let fractional = pts.iter().filter(|(x, y)| x.fract() != 0.0 || y.fract() != 0.0).count();
+        assert!(fractional * 2 > pts.len(), "{fractional} of {} points have fractions", pts.len());
     }
 }
 
 #[test]
-fn region_map_has_one_cell_per_start() {
+fn time_plots_have_one_curve_per_series_and_a_detail_panel_after_a_start_up_spike() {
+    let goal = Pose2::new(1.0, 1.0, 120f64.to_radians());
+    let s = run(Pose2::default(), goal, 30);
+    let trace = Trace { label: "fig7", goal, samples: &s };
+    let speeds = wheel_speeds_svg("Fig. 8", &trace).unwrap();
+    let doc = roxmltree::Document::parse(&speeds).unwrap();
+    // Two wheels, drawn in the full panel and again in the detail panel.
+    assert_eq!(curves(&doc, 10).len(), 4);
+    assert!(speeds.contains("detail"));
+    let errors = errors_svg("Fig. 9", &trace).unwrap();
+    let doc = roxmltree::Document::parse(&errors).unwrap();
+    assert!(curves(&doc, 10).len() >= 4, "dl, e_s, e_theta, theta_d - theta");
+}
+
+#[test]
+fn a_run_that_goes_far_is_clipped_and_does_not_stretch_the_axes() {
+    let goal = Pose2::new(0.0, 0.0, 0.0);
+    let near = run(Pose2::new(-1.0, 0.5, 0.0), goal, 20);
+    // A run that leaves for 900 m (a diverged run's samples).
+    let far: Vec<Sample<f64>> = (0..200)
+        .map(|i| {
+            let mut s = near[0];
+            s.t = f64::from(i) * 0.1;
+            s.state.x = 1.0 + 4.5 * f64::from(i);
+            s
+        })
+        .collect();
+    let traces = [Trace { label: "near", goal, samples: &near }, Trace { label: "far", goal, samples: &far }];
+    let svg = paths_svg("clipped", &traces).unwrap();
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let largest = numbers(&doc).into_iter().filter(|v| v.abs() < 1e6).fold(0.0f64, |m, v| m.max(v.abs()));
+    assert!(largest < 10.0, "the axes reach {largest} m");
+    assert!(svg.contains("far (leaves the plot)"));
+    assert!(doc.descendants().any(|n| n.attribute("clip-path").is_some()), "the data are clipped");
+}
+
+#[test]
+fn region_map_has_one_marker_per_start_pointing_along_its_heading() {
     let mut cells = Vec::new();
     for i in 0..7 {
         for j in 0..5 {
-            let outcome = match (i + j) % 3 {
-                0 => CellOutcome::Converged,
-                1 => CellOutcome::Unsettled,
-                _ => CellOutcome::Diverged,
-            };
-            cells.push(SweepCell { x: i as f64 * 0.3 - 1.0, y: j as f64 * 0.3 - 0.6, outcome });
+            let outcome = Status::ALL[(i + j) % 3];
+            cells.push(SweepCell { x: i as f64 * 0.3 - 1.0, y: j as f64 * 0.3 - 0.6, theta: 0.0, outcome });
         }
     }
+    cells[0].theta = std::f64::consts::FRAC_PI_2;
     let svg = region_svg("paper law", &cells, Pose2::default()).unwrap();
     let doc = roxmltree::Document::parse(&svg).expect("valid XML");
-    let fills = ["#2CA02C", "#FFA500", "#D62728"];
-    let cell_rects = doc
+    let markers: Vec<_> = doc
         .descendants()
-        .filter(|n| n.has_tag_name("rect"))
-        .filter(|n| n.attribute("fill").is_some_and(|f| fills.iter().any(|c| f.eq_ignore_ascii_case(c))))
-        .count();
-    // One per start plus one legend swatch per outcome kind.
-    assert_eq!(cell_rects, cells.len() + 3);
+        .filter(|n| n.has_tag_name("polygon"))
+        .filter(|n| n.attribute("fill").is_some_and(|f| Status::ALL.iter().any(|s| status_color(*s) == f)))
+        .collect();
+    // One per start plus one legend key per outcome.
+    assert_eq!(markers.len(), cells.len() + 3);
+    // Equal scale: a 1 m step is as long on x as on y (two ticks apart).
+    let root = doc.root_element();
+    assert!(root.attribute("viewBox").is_some());
+    // The start turned to +90 deg points up the page (smaller y) from its centre.
+    let up = markers.iter().map(|n| points_of_polygon(n)).find(|p| {
+        let ys: Vec<f64> = p.iter().map(|q| q.1).collect();
+        let xs: Vec<f64> = p.iter().map(|q| q.0).collect();
+        (xs[1] - xs[2]).abs() > (ys[1] - ys[2]).abs() && ys[0] < ys[1]
+    });
+    assert!(up.is_some(), "no marker points up");
+}
+
+fn points_of_polygon(n: &roxmltree::Node<'_, '_>) -> Vec<(f64, f64)> {
+    points(n)
+}
+
+#[test]
+fn share_curves_one_per_law() {
+    let series = [("paper", vec![(0.0, 0.8), (0.01, 0.5)]), ("polar", vec![(0.0, 1.0), (0.01, 0.9)])];
+    let svg = share_svg("noise", "sensor.position_noise (m)", &series).unwrap();
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    assert_eq!(curves(&doc, 1).len(), 2);
+    // The key is user text: written as is.
+    assert!(svg.contains("sensor.position_noise (m)"));
 }

@@ -470,6 +470,39 @@ impl SweepSpec {
         Ok(runs?.into_iter().collect())
     }
 
+    /// One run of law `law` from start `start_index` (the first variant and trial, as the
+    /// sweep runs it), handing `sink` every `sim.log_dt` sample: what `wmr-cli plot` draws
+    /// to compare the laws from one start.
+    pub fn run_one(
+        &self,
+        sim: &SimSpec,
+        law: usize,
+        start_index: usize,
+        sink: impl FnMut(&wmr_core::Sample<f64>),
+    ) -> Result<Outcome<f64>, ScenarioError> {
+        let n_starts = self.starts.len();
+        let trials = self.variation.trials as usize;
+        let n_variants = self.variants.len();
+        if law >= self.laws.len() || start_index >= n_starts {
+            return Err(ScenarioError::new("sweep", format!("no run of law {law} from start {start_index}")));
+        }
+        // The run's index as `run_until` numbers it (variant 0, trial 0).
+        let run = (law * n_variants * trials * n_starts + start_index) as u64;
+        let path = format!("sweep.controllers[{law}]");
+        let origin = Origin { run: "sweep", controller: &path };
+        let drawn;
+        let setup = if self.variation.has_draws() {
+            let settings = self.variation.settings(self.variants[0], run);
+            drawn = Setup::resolve(&with_settings(&self.tables[law], &settings)?, &path)?;
+            drawn.check_step(sim.dt())?;
+            &drawn
+        } else {
+            &self.setups[law * n_variants]
+        };
+        let mut lp = assemble::closed_loop(setup, run, self.starts[start_index], self.goal, sim.dt(), origin)?;
+        Ok(lp.run(sim.n_steps(), sim.log_every(), sink))
+    }
+
     /// The value of every varied key in a run (in `vary` order): its variant's axis value,
     /// its draw, or the nominal value.
     pub fn varied_values(&self, o: &SweepOutcome) -> Vec<f64> {
