@@ -197,7 +197,8 @@ fn regression_12_3_plot_of_a_long_run_neither_aborts_nor_holds_every_sample() {
     assert!(peak < 200_000, "peak memory {peak} kB");
     assert!(!text(&o.stderr).contains("memory allocation"), "{}", text(&o.stderr));
 
-    // A finished plot of 200,001 samples draws at most 4,001 points per curve.
+    // A finished plot of 200,001 samples draws at most 4,001 points per curve (and a real
+    // curve: the figures simplify smooth stretches further, so the count varies).
     let f = write(dir.path(), "mid.toml", "[sim]\nt_end = 200.0\nlog_dt = 1e-3\n[[run]]\ngoal = { x = 1.0 }\n");
     let o = run_in(dir.path(), &["plot", f.to_str().unwrap(), "-o", "mid"]);
     assert!(o.status.success(), "{}", text(&o.stderr));
@@ -210,7 +211,7 @@ fn regression_12_3_plot_of_a_long_run_neither_aborts_nor_holds_every_sample() {
             .map(|n| n.attribute("points").unwrap_or("").split_whitespace().count())
             .max()
             .unwrap();
-        assert!((1000..=4001).contains(&longest), "{svg}: {longest} points");
+        assert!((100..=4001).contains(&longest), "{svg}: {longest} points");
     }
 }
 
