@@ -2,9 +2,9 @@
  * `benches/compare` (issue 6).
  *
  * Same closed loop as wmr-core's `ClosedLoop<f64, PaperController<f64>>` with every
- * default of SPEC sections 1, 3 and 4: the paper's controller (pose mode, hold radius),
+ * default of docs/model.md (robot, drive, the paper's law): the paper's controller (pose mode, hold radius),
  * two wheel PD servos, the torque drive with its motor torque clamp, the dynamic model
- * (15) of SPEC section 2 and classic RK4. Fig. 7 scenario: (0, 0, 0) -> (1, 1, 120 deg),
+ * (15) (docs/model.md) and classic RK4. Fig. 7 scenario: (0, 0, 0) -> (1, 1, 120 deg),
  * 60 s at dt = control_dt = 1 ms.
  *
  * The operation order mirrors crates/wmr-core/src/{controller/paper.rs,
@@ -28,12 +28,12 @@
 #include <stdlib.h>
 #include <time.h>
 
-/* SPEC section 1: the paper's robot. */
+/* The paper's robot (docs/model.md). */
 static const double M = 5.0, RW = 0.1, RH = 0.2, D = 0.25, I_M = 0.002, I_P = 0.005;
 static const double K_T = 0.1, B_V = 0.0, TAU_C = 0.0, OMEGA_EPS = 1e-3;
-/* SPEC section 3: torque drive. */
+/* Torque drive (docs/model.md, Drives). */
 static const double TAU_MOTOR_MAX = 0.2;
-/* SPEC section 4: the paper's gains, servo, radii, period. */
+/* The paper's gains, servo, radii, period (docs/model.md). */
 static const double KP_TH = 2.0, KI_TH = 0.1, KP_S = 1.0, KI_S = 0.25;
 static const double SERVO_KP = 14.0, SERVO_KD = 1.4;
 static const double GOAL_RADIUS = 1e-3, HOLD_RADIUS = 5e-3, CONTROL_DT = 1e-3;

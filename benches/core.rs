@@ -12,7 +12,7 @@ use wmr_core::{
     State, WheelStage, WheelStageParams, Wheels,
 };
 
-/// Fig. 7: (0, 0, 0) -> (1, 1, 120 deg), SPEC defaults, dt = control_dt = 1 ms.
+/// Fig. 7: (0, 0, 0) -> (1, 1, 120 deg), every default, dt = control_dt = 1 ms.
 const FIG7_STEPS: u64 = 60_000;
 /// Steps into the run where the per-step benches start: the robot is moving, not holding.
 const WARM_STEPS: u64 = 5_000;

@@ -1,6 +1,6 @@
 """The Fig. 7 closed loop written in numpy, the way a notebook user would: the paper's
-controller (SPEC section 4), the two PD wheel servos, the torque drive's clamp, RK4 and
-the dynamic model of SPEC section 2, with the SPEC defaults. It is the yardstick for the
+controller, the two PD wheel servos, the torque drive's clamp, RK4 and the dynamic
+model (15), with wmr's defaults (docs/model.md). It is the yardstick for the
 "pure-numpy loop vs Rust" row of benches/compare, and it checks itself against
 wmr_py.simulate on the same horizon.
 
@@ -14,12 +14,12 @@ import time
 
 import numpy as np
 
-# SPEC section 1 defaults.
+# The paper's robot (docs/model.md).
 m, r, R, d, I_m, I_p, k_t = 5.0, 0.1, 0.2, 0.25, 0.002, 0.005, 0.1
 M11 = m + 2 * I_m / r**2
 M22 = I_p + 2 * R**2 * I_m / r**2 + m * d**2
 TAU_MAX = 0.2 / k_t  # wheel torque limit, N m
-# SPEC section 4 defaults.
+# The paper's law and the wheel servos (docs/model.md).
 KP_TH, KI_TH, KP_S, KI_S = 2.0, 0.1, 1.0, 0.25
 SERVO_KP, SERVO_KD = 14.0, 1.4
 GOAL_R, HOLD_R, DT = 1e-3, 5e-3, 1e-3

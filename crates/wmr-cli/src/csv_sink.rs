@@ -1,4 +1,4 @@
-//! CSV output of SPEC section 6: one header line, one row per run and logged sample.
+//! CSV output (docs/scenario.md): one header line, one row per run and logged sample.
 
 use std::fmt::Write as _;
 use std::io::BufWriter;

@@ -1,4 +1,4 @@
-//! `wmr-cli`: run TOML scenarios of a differential-drive robot (SPEC section 6) and write
+//! `wmr-cli`: run TOML scenarios of a differential-drive robot (docs/scenario.md) and write
 //! MCAP for Foxglove or CSV; `check` validates and prints the resolved scenario.
 
 mod atomic;
@@ -121,7 +121,7 @@ enum Command {
 enum Format {
     /// MCAP with Foxglove's well-known schemas.
     Mcap,
-    /// CSV, the columns of SPEC section 6.
+    /// CSV, the columns of docs/scenario.md.
     Csv,
 }
 

@@ -1,4 +1,4 @@
-//! The paper's Fig. 7 run, (0, 0, 0) -> (1, 1, 120 deg), with every SPEC default; prints the summary.
+//! The paper's Fig. 7 run, (0, 0, 0) -> (1, 1, 120 deg), with every default; prints the summary.
 
 use wmr_core::{ClosedLoop, ControllerParams, DriveParams, FixedGoal, Plant, Pose2, Robot};
 

@@ -20,7 +20,7 @@ use wmr_core::{
     WheelStageParams,
 };
 
-/// Fig. 7: (0, 0, 0) -> (1, 1, 120 deg), SPEC defaults, 60 s at dt = control_dt = 1 ms.
+/// Fig. 7: (0, 0, 0) -> (1, 1, 120 deg), every default, 60 s at dt = control_dt = 1 ms.
 const FIG7_STEPS: u64 = 60_000;
 
 /// The paper's law and the default wheel stage, composed directly (no `AnyLaw` dispatch).

@@ -1,4 +1,4 @@
-//! Equations of motion (15) of the paper, written at C (SPEC section 2).
+//! Equations of motion (15) of the paper, written at C (docs/model.md, "Dynamics").
 //!
 //! With M_r = diag(m + 2 I_m/r^2, I_p + 2 R^2 I_m/r^2 + m d^2):
 //!

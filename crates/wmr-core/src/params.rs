@@ -1,4 +1,4 @@
-//! Robot parameters (SPEC section 1): the paper's defaults and their validation.
+//! Robot parameters (docs/model.md, "The robot"): the paper's defaults and their validation.
 
 use crate::Real;
 use crate::error::{ParamError, check};

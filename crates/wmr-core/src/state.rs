@@ -7,7 +7,7 @@ use crate::{Real, RobotParams};
 /// Number of state components.
 pub const STATE_LEN: usize = 7;
 
-/// State of the robot (SPEC section 2): `[x, y, theta, v, omega, phi_r, phi_l]`.
+/// State of the robot (docs/model.md, "The robot"): `[x, y, theta, v, omega, phi_r, phi_l]`.
 ///
 /// (x, y) is point C (axle midpoint) in the world frame, m; theta the heading, rad;
 /// v the forward speed of C, m/s; omega = theta', rad/s; phi_r, phi_l the wheel

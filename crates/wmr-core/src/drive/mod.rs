@@ -1,4 +1,4 @@
-//! Wheel drives (SPEC section 3): what turns a servo command into a wheel torque.
+//! Wheel drives (docs/model.md, "Drives"): what turns a servo command into a wheel torque.
 
 mod dc_motor;
 mod torque;
@@ -16,7 +16,7 @@ use crate::{Real, Robot};
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "snake_case"))]
 pub enum DriveParams<T> {
-    /// Ideal torque source with a motor torque limit (SPEC default).
+    /// Ideal torque source with a motor torque limit (the default).
     Torque(TorqueDriveParams<T>),
     /// Voltage-driven permanent-magnet DC motor with quasi-static armature.
     DcMotor(DcMotorParams<T>),

@@ -12,7 +12,7 @@ pub struct TorqueDriveParams<T> {
 }
 
 impl<T: Real> Default for TorqueDriveParams<T> {
-    /// 0.2 N m at the motor, i.e. 2 N m at the wheel with k_t = 0.1 (SPEC section 3).
+    /// 0.2 N m at the motor, i.e. 2 N m at the wheel with k_t = 0.1 (docs/model.md, "Drives").
     fn default() -> Self {
         Self { motor_torque_max: T::lit(0.2) }
     }

@@ -33,7 +33,7 @@ pub fn paper_controller<T: Real>(
     Controller::new(law, wheels)
 }
 
-/// The paper's closed loop from `start` to `goal` (m, m, rad) with every SPEC default.
+/// The paper's closed loop from `start` to `goal` (m, m, rad) with every default.
 pub fn paper_loop<T: Real>(start: Pose2<T>, goal: Pose2<T>) -> PaperLoop<T> {
     paper_loop_with(RobotParams::paper(), PaperParams::paper(), start, goal, T::lit(1e-3))
 }
