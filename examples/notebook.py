@@ -1,7 +1,7 @@
 # %% [markdown]
 # # wmr_py: Figs. 7-9 of the paper from Python
 #
-# Start (0, 0, 0), goal (1, 1, 120 deg), every default of SPEC sections 1-4.
+# Start (0, 0, 0), goal (1, 1, 120 deg), every default (docs/model.md).
 # Install: `pip install ./crates/wmr-py matplotlib`; run as a script or cell by cell
 # (VS Code / Jupytext `# %%` cells). matplotlib is optional: without it the script
 # prints the summary and stops.

@@ -1,6 +1,6 @@
 //! wmr on a Cortex-M4F: the paper's law, the wheel servos, the torque drive and the
 //! dynamic model, in f32, closed by RK4 for the Fig. 7 run (0, 0, 0) -> (1, 1, 120 deg),
-//! 60 s at dt = control_dt = 1 ms, with every SPEC default. No allocator, no formatting:
+//! 60 s at dt = control_dt = 1 ms, with every default. No allocator, no formatting:
 //! the plain build only computes; `--features qemu` prints the final pose through
 //! semihosting (as f32 bit patterns, so the host can compare exactly) and exits QEMU.
 #![no_std]

@@ -14,8 +14,8 @@ fn run_all<F: wmr_core::Real>(start: Pose2<F>, goal: Pose2<F>, steps: u64) -> (V
     (samples, out)
 }
 
-/// SPEC section 4: from (0,0,0) to (1,1,120 deg) the position converges (dl < 1 cm
-/// within about 40 s) and a heading error of several degrees remains.
+/// The paper's law (docs/model.md): from (0,0,0) to (1,1,120 deg) the position converges
+/// (dl < 1 cm within about 40 s) and a heading error of several degrees remains.
 #[test]
 fn fig7_reaches_the_goal_position_and_keeps_a_few_degrees_of_heading_error() {
     let (start, goal) = fig7::<f64>();
@@ -130,9 +130,9 @@ fn f32_and_f64_runs_of_fig7_agree() {
     assert!(out32.final_dl < 0.01);
 }
 
-/// Position mode (orientation free) brings C within 1 cm of the goal position. (The
-/// SPEC's hold, which zeroes the errors on entry, then kicks it out again: a step of
-/// Kp_theta e_theta in the heading reference. Recorded in the issue note.)
+/// Position mode (orientation free) brings C within 1 cm of the goal position. (With
+/// the paper's zero-errors hold each entry then kicks it out again; position mode's
+/// default hold is the freeze, which keeps it there: `tests/repairs.rs`.)
 #[test]
 fn position_mode_reaches_the_goal_position() {
     let params = PaperParams { mode: PaperMode::Position, ..PaperParams::paper() };
@@ -149,7 +149,7 @@ fn position_mode_reaches_the_goal_position() {
 }
 
 /// A robot in front of a goal that lies behind it diverges with the paper's law
-/// (SPEC section 4); the stepper stops at the last finite state and says so.
+/// (docs/model.md); the stepper stops at the last finite state and says so.
 #[test]
 fn divergent_runs_stop_with_finite_samples() {
     // Scan a few starts in front of the goal, facing away from it.
@@ -173,7 +173,7 @@ fn divergent_runs_stop_with_finite_samples() {
 }
 
 /// `HoldMode::Freeze` is bumpless: the wheel references do not step on entering the hold
-/// radius, so position mode stays at the goal (with the SPEC's zero-error hold it is
+/// radius, so position mode stays at the goal (with the paper's zero-errors hold it is
 /// kicked out again, see `position_mode_reaches_the_goal_position`).
 #[test]
 fn freeze_hold_is_bumpless_and_keeps_position_mode_at_the_goal() {

@@ -171,7 +171,7 @@ fn lyapunov_anchor_2_reaches_heading() {
 }
 
 /// The exact-heading law from the paper's Fig. 7 scenario (the paper's own law leaves 5
-/// to 16 deg there, SPEC section 4): measured arrival 12.1 s, heading error < 1e-3 deg.
+/// to 16 deg there, docs/model.md): measured arrival 12.1 s, heading error < 1e-3 deg.
 #[test]
 fn lyapunov_fig7_reaches_heading() {
     let (start, goal) = (pose(0.0, 0.0, 0.0), pose(1.0, 1.0, 120.0));
