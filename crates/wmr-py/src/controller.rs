@@ -12,7 +12,7 @@ use crate::error::parameter_error;
 use crate::robot::{PyRobot, one_run_scenario, wheels_arg};
 use crate::scenario::scenario_arg;
 
-/// The paper's point-stabilization controller (SPEC section 4) with its two wheel servos.
+/// The paper's point-stabilization controller (docs/model.md) with its two wheel servos.
 ///
 /// PaperController(goal, robot=None, drive=None, **gains)
 ///

@@ -14,7 +14,7 @@ use crate::error::parameter_error;
 /// Names of the state components, in order, for messages.
 pub const STATE_NAMES: [&str; STATE_LEN] = ["x", "y", "theta", "v", "omega", "phi_r", "phi_l"];
 
-/// A differential-drive robot (SPEC section 1): physical parameters, SI units.
+/// A differential-drive robot (docs/model.md): physical parameters, SI units.
 ///
 /// Robot(**params), params being the scenario's `[robot]` keys: mass=5.0,
 /// wheel_radius=0.1, half_track=0.2, com_offset=0.25, wheel_inertia=0.002,

@@ -241,7 +241,7 @@ fn run_one(sc: &Scenario, i: usize, stop: &Stop) -> PyResult<Option<(RunResult, 
     })
 }
 
-/// One run of a scenario: every column of SPEC section 6 as a float64 ndarray, plus the
+/// One run of a scenario: every CSV column (docs/scenario.md) as a float64 ndarray, plus the
 /// run's summary.
 ///
 /// Columns (one value per logged sample): t (s), x, y (m, point C, world frame),
@@ -411,7 +411,7 @@ impl PyRunResult {
         })
     }
 
-    /// Every CSV column of SPEC section 6 (`run` first, as float64 like the others), in order.
+    /// Every CSV column of docs/scenario.md (`run` first, as float64 like the others), in order.
     fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
         let n = self.t.bind(py).len();
@@ -437,7 +437,7 @@ impl PyRunResult {
 /// Runs every `[[run]]` of a scenario and returns one RunResult per run, in run order.
 ///
 /// `scenario`: a path (str or os.PathLike) to a TOML file, TOML text, or a dict with the
-/// same keys (SPEC section 6; None values take the default). Runs go in parallel with the
+/// same keys (docs/scenario.md; None values take the default). Runs go in parallel with the
 /// GIL released. Raises ScenarioError (a ValueError) naming the bad key.
 #[pyfunction]
 pub fn run_scenario(py: Python<'_>, scenario: &Bound<'_, PyAny>) -> PyResult<Vec<PyRunResult>> {

@@ -8,7 +8,7 @@ import pytest
 
 REPO = pathlib.Path(__file__).resolve().parents[3]
 
-# SPEC section 5: Figs. 7-9, start (0, 0, 0), goal (1, 1, 120 deg), defaults elsewhere.
+# The paper's Figs. 7-9: start (0, 0, 0), goal (1, 1, 120 deg), defaults elsewhere.
 FIG7_FALLBACK = """\
 name = "fig7"
 [sim]

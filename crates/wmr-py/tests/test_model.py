@@ -11,7 +11,7 @@ import wmr_py
 
 
 def reduced_inertia(p: dict) -> tuple[float, float]:
-    """M_r11 = m + 2 I_m / r^2, M_r22 = I_p + 2 R^2 I_m / r^2 + m d^2 (SPEC section 2)."""
+    """M_r11 = m + 2 I_m / r^2, M_r22 = I_p + 2 R^2 I_m / r^2 + m d^2 (docs/model.md)."""
     m, r, big_r, d = p["mass"], p["wheel_radius"], p["half_track"], p["com_offset"]
     i_m, i_p = p["wheel_inertia"], p["platform_inertia"]
     return m + 2 * i_m / r**2, i_p + 2 * big_r**2 * i_m / r**2 + m * d**2
@@ -28,7 +28,7 @@ def test_robot_defaults_and_properties() -> None:
 
 
 def test_derivative_matches_equations_of_motion() -> None:
-    """SPEC section 2, written out in numpy, at a generic state with friction."""
+    """The dynamics (15) of docs/model.md, written out in numpy, at a generic state with friction."""
     robot = wmr_py.Robot(viscous_friction=0.05, coulomb_friction=0.02, coulomb_speed=0.5)
     p = robot.to_dict()
     m11, m22 = reduced_inertia(p)
@@ -86,7 +86,7 @@ def test_step_is_rk4_of_derivative() -> None:
 
 
 def closed_loop_in_python(start, goal, t_end: float, dt: float = 1e-3, log_dt: float = 0.01):
-    """The loop of SPEC section 4 closed in Python: controller every control_dt (zero-order
+    """The paper's loop (docs/model.md) closed in Python: controller every control_dt (zero-order
     hold), torque drive clamp |tau| <= motor_torque_max / k_t = 2 N m, RK4 plant."""
     robot = wmr_py.Robot()
     ctrl = wmr_py.PaperController(goal, robot)

@@ -71,7 +71,7 @@ def test_fig7_shape_and_summary(fig7_path: pathlib.Path) -> None:
         assert col.flags["C_CONTIGUOUS"] and not col.flags["OWNDATA"]
         assert col.base is not None and not isinstance(col.base, np.ndarray)
     assert res.x is res.x  # the same array object every time: no copy per access
-    # SPEC section 4: the position converges within ~40-50 s; a heading error remains.
+    # The paper's law: the position converges within ~40-50 s; a heading error remains.
     assert res.converged and not res.diverged and res.status == "converged"
     assert res.time_to_1cm is not None and 20.0 < res.time_to_1cm < 60.0
     assert res.final_dl == pytest.approx(math.hypot(1 - res.x[-1], 1 - res.y[-1]))

@@ -4,7 +4,7 @@ The models, the paper's controller and the scenario runner are the Rust crates o
 (wmr-core, wmr-scenario); this package is a thin layer over them (``wmr_py._native``).
 SI units and radians everywhere; keys ending in ``_deg`` take degrees.
 
-- ``run_scenario(path_or_toml_or_dict)``: every run of a scenario (SPEC section 6) as
+- ``run_scenario(path_or_toml_or_dict)``: every run of a scenario (docs/scenario.md) as
   numpy columns plus its summary.
 - ``simulate(start, goal, ...)``: one run with keyword overrides.
 - ``run_batch(starts, goal, ...)``: many starts in parallel, the GIL released.

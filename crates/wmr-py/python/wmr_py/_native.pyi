@@ -109,7 +109,7 @@ class PaperController:
     def goal(self) -> Tuple[float, float, float]: ...
 
 class RunResult:
-    """One run: SPEC section 6 columns as float64 arrays, plus the summary."""
+    """One run: the CSV columns of docs/scenario.md as float64 arrays, plus the summary."""
 
     run: int
     label: str
