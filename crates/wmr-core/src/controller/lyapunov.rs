@@ -33,7 +33,9 @@
 //! by the time the robot stops at `goal_radius`. The defaults (gamma = 0.5, k = 3, h = 9)
 //! put a double root at k/2 = 1.5 1/s, three times gamma. With gamma = 0.5, k = 3, h = 4.5
 //! the slow root is 0.44 1/s, below gamma: the heading then lags the distance and a
-//! robot stopped at 1 mm keeps a heading error of about 2 deg (measured).
+//! robot stopped at 1 mm keeps some heading error (over the 1,000 starts of
+//! `examples/compare.toml` with `controllers = [{ kind = "lyapunov", h = 4.5 }]`: median
+//! 0.48 deg, worst 8.27 deg; with the defaults, median 0.00 deg, worst 0.05 deg).
 //!
 //! u changes sign with cos(alpha), so the law backs up by itself, but alpha is wrapped
 //! into (-pi, pi] and omega jumps at alpha = +-pi. As for [`super::PolarLaw`] the

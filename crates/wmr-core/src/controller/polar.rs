@@ -48,8 +48,9 @@
 //! s^2 + (k_alpha - k_rho) s - k_rho k_beta). Gains that satisfy the strong condition
 //! tend to make it slower than k_rho (with the defaults it is 0.27 1/s = 0.54 k_rho), so
 //! the heading settles more slowly than the distance and a robot stopped at 1 mm keeps a
-//! heading error of up to a few degrees (measured 0.4 to 5 deg); use
-//! [`super::LyapunovLaw`] when the heading matters. Within `goal_radius` of the
+//! heading error of a few degrees: over the 1,000 starts of `examples/compare.toml`
+//! (`wmr-cli sweep examples/compare.toml`), median 2.97 deg, 10.8 % of the runs above
+//! 5 deg, worst 18.07 deg. Use [`super::LyapunovLaw`] when the heading matters. Within `goal_radius` of the
 //! goal the law stops (v = omega = 0, the wheels hold their angles) until the robot is
 //! pushed out to twice that distance.
 //!
