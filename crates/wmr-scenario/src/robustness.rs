@@ -90,16 +90,17 @@ fn share(converged: &[bool]) -> f64 {
 pub fn share_table(curves: &[ShareCurve]) -> String {
     let mut out = String::new();
     let mut key = "";
+    let width = curves.iter().map(|c| c.law.len()).max().unwrap_or(3).max(12);
     for c in curves {
         if c.key != key {
             key = &c.key;
-            let _ = write!(out, "\nconverged share against {key}\n{:<12}", "law");
+            let _ = write!(out, "\nconverged share against {key}\n{:<width$}", "law");
             for (x, _, _) in &c.points {
                 let _ = write!(out, " {:>9}", format!("{x:.4}").trim_end_matches('0').trim_end_matches('.'));
             }
             out.push('\n');
         }
-        let _ = write!(out, "{:<12}", c.law);
+        let _ = write!(out, "{:<width$}", c.law);
         for (_, s, _) in &c.points {
             let _ = write!(out, " {:>8.1}%", 100.0 * s);
         }

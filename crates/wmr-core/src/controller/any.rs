@@ -19,7 +19,7 @@ use crate::{Real, RobotParams};
 macro_rules! laws {
     ($( $(#[$doc:meta])* $variant:ident($params:ident, $law:ident) = $name:literal, new($p:ident, $model:ident, $dt:ident) => $new:expr; )+) => {
         /// The keys of one law, tagged by its `kind` name (serialized with a `kind` key;
-        /// read with [`LawParams::deserialize_variant`], since serde's tagged-enum reader
+        /// read with `LawParams::deserialize_variant` (feature `serde`), since serde's tagged-enum reader
         /// needs an allocator).
         #[derive(Clone, Copy, Debug, PartialEq)]
         #[cfg_attr(feature = "serde", derive(serde::Serialize))]

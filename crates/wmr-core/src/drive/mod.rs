@@ -11,7 +11,7 @@ use crate::{Real, Robot};
 
 /// Drive parameters as written in a scenario (`[drive]`), before validation.
 #[derive(Clone, Copy, Debug, PartialEq)]
-/// Serialized with a `kind` key; read with [`DriveParams::deserialize_variant`] (serde's
+/// Serialized with a `kind` key; read with `DriveParams::deserialize_variant` (feature `serde`) (serde's
 /// tagged-enum reader needs an allocator).
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "snake_case"))]
