@@ -114,15 +114,16 @@ impl SweepSpec {
             if let (None, Some(model)) = (t.controller.get("model"), base.controller.get("model")) {
                 t.controller.insert("model".to_owned(), model.clone());
             }
-            let setup = check_setup(&t, &path, sim, goal, "")?;
+            let setup = check_setup(&t, &path, sim, goal, None)?;
             for v in &variants {
                 let vt = with_settings(&t, &variation.settings(*v, 0))?;
-                let what = v.map(|(k, x)| format!("{} = {x}: ", variation.keys[k].key)).unwrap_or_default();
-                setups.push(check_setup(&vt, &path, sim, goal, &what)?);
+                let blame = v.map(|(k, x)| (format!("sweep.vary[{k}]"), format!("{} = {x}", variation.keys[k].key)));
+                setups.push(check_setup(&vt, &path, sim, goal, blame)?);
             }
             if variation.has_draws() {
                 // The draws of the first run, as a sample of what the distributions give.
-                check_setup(&with_settings(&t, &variation.settings(None, 0))?, &path, sim, goal, "a drawn value: ")?;
+                let blame = Some(("sweep.vary".to_owned(), "a drawn value".to_owned()));
+                check_setup(&with_settings(&t, &variation.settings(None, 0))?, &path, sim, goal, blame)?;
             }
             let kind = setup.controller.law.kind();
             let same = laws.iter().filter(|(_, s)| s.controller.law.kind() == kind).count();
@@ -174,10 +175,19 @@ fn with_settings(t: &Tables, settings: &[(&str, Value)]) -> Result<Tables, Scena
 }
 
 /// Resolves `t` and assembles its loop at the goal, so every check a run makes is made
-/// now; an error says which varied value (`what`) caused it.
-fn check_setup(t: &Tables, path: &str, sim: &SimSpec, goal: Pose2<f64>, what: &str) -> Result<Setup, ScenarioError> {
-    let prefix =
-        |e: ScenarioError| if what.is_empty() { e } else { ScenarioError::new(e.key, format!("{what}{}", e.message)) };
+/// now. With `blame` (the `vary` entry's key path and the value it set), an error names
+/// that entry, which is what the file says, and quotes the key and reason inside.
+fn check_setup(
+    t: &Tables,
+    path: &str,
+    sim: &SimSpec,
+    goal: Pose2<f64>,
+    blame: Option<(String, String)>,
+) -> Result<Setup, ScenarioError> {
+    let prefix = |e: ScenarioError| match &blame {
+        None => e,
+        Some((key, what)) => ScenarioError::new(key, format!("{what}: {}: {}", e.key, e.message)),
+    };
     let setup = Setup::resolve(t, path).map_err(prefix)?;
     setup.check_step(sim.dt()).map_err(prefix)?;
     assemble::closed_loop(&setup, 0, goal, goal, sim.dt(), Origin { run: "sweep", controller: path })
