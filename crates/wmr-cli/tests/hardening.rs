@@ -102,6 +102,14 @@ fn regression_12_1_output_streams_to_a_fifo_and_to_stdout() {
     assert!(o.stdout == want, "stdout differs from the file");
     assert!(text(&o.stderr).contains("run 0 ["), "summary on stderr: {}", text(&o.stderr));
 
+    // MCAP to stdout: written front to back without seeking, the same bytes as the file.
+    let mcap = dir.path().join("ref.mcap");
+    let o = run_in(dir.path(), &["run", scen.to_str().unwrap(), "-o", mcap.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let o = run_in(dir.path(), &["run", scen.to_str().unwrap(), "-o", "-", "--format", "mcap"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(o.stdout == fs::read(&mcap).unwrap(), "streamed MCAP differs from the file");
+
     // A FIFO: streamed to a reader, never replaced.
     let fifo = dir.path().join("pipe");
     assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());

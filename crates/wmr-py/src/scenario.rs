@@ -558,6 +558,12 @@ pub fn run_batch_native<'py>(
         Ok(out)
     };
     let starts = poses(&starts, "starts")?;
+    // Every run's result is held until the arrays are made: refuse what memory cannot hold.
+    let per_run = (std::mem::size_of::<RunSpec>() + std::mem::size_of::<Option<RunResult>>() + 32 + 12 * 8) as u128;
+    let n = starts.len();
+    check_memory(per_run * n as u128, "starts", |share| {
+        format!("pass at most {} starts per call ({n} given)", (n as f64 * share).floor())
+    })?;
     let default_goal = sc.runs().first().map(|r| r.goal).unwrap_or_default();
     let goals = match goals {
         Some(g) => {
