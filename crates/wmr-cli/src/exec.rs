@@ -16,10 +16,15 @@ use crate::atomic::Output;
 use crate::errors::{StdoutClosed, bad_input, is_broken_pipe, note, say};
 use crate::{Format, csv_sink, mcap_sink};
 
-/// Memory for buffered samples at once (bytes). Runs whose samples fit are simulated in
-/// parallel batches and written in order; a run larger than this streams straight to
-/// the sink on one thread.
-const BUFFER_BUDGET_BYTES: u64 = 256 << 20;
+/// Memory for samples between the simulation and the sink, bytes: what keeps `run`'s
+/// memory flat whatever the run length (issue 15; `tests/memory.rs`). Short runs whose
+/// samples fit, one per thread at least, are simulated in parallel batches and written in
+/// order; longer runs stream: simulated in parallel, each handing its samples to the sink
+/// in blocks through a bounded queue, written in run order ([`stream_runs`]).
+const BUFFER_BUDGET_BYTES: u64 = 8 << 20;
+
+/// Samples per block handed from a streamed run to the sink (144 KiB of samples).
+const BLOCK_SAMPLES: usize = 1024;
 
 /// The buffer budget: [`BUFFER_BUDGET_BYTES`], or `WMR_CLI_BUFFER_BYTES` when set (the
 /// tests use it to exercise streaming and batching on small scenarios).
@@ -233,9 +238,9 @@ fn sink_err(e: SinkError) -> anyhow::Error {
 }
 
 /// Simulates every run into `sink` and finishes it; returns the results and the number
-/// of samples each run wrote. The first failed write stops everything: a streamed run
-/// within a millisecond of work, batched runs at the end of their batch (a few runs per
-/// thread at most). `show_progress`: stderr is a terminal, so a bar may be drawn when the
+/// of samples each run wrote. The first failed write stops everything: streamed runs
+/// within a block of samples of work, batched runs at the end of their batch (a few runs
+/// per thread at most). `show_progress`: stderr is a terminal, so a bar may be drawn when the
 /// work is long.
 pub fn execute(scenario: &Scenario, sink: &mut dyn Sink, show_progress: bool) -> Result<(Vec<RunResult>, Vec<u64>)> {
     let bar = progress(scenario, show_progress);
@@ -246,36 +251,14 @@ pub fn execute(scenario: &Scenario, sink: &mut dyn Sink, show_progress: bool) ->
     let mut counts = Vec::with_capacity(n);
     let budget = buffer_budget();
 
-    if per_run > budget {
-        // Streaming: one run at a time on this thread, bounded memory.
-        for (i, spec) in scenario.runs().iter().enumerate() {
-            sink.begin_run(i, spec).map_err(sink_err)?;
-            let mut count = 0u64;
-            let flow = scenario.try_run(
-                i,
-                |s| {
-                    bar.inc(step);
-                    count += 1;
-                    match sink.sample(i, s) {
-                        Ok(()) => ControlFlow::Continue(()),
-                        Err(e) => ControlFlow::Break(e),
-                    }
-                },
-                || ControlFlow::Continue(()),
-            )?;
-            let result = match flow {
-                ControlFlow::Continue(r) => r,
-                ControlFlow::Break(e) => return Err(sink_err(e)),
-            };
-            sink.end_run(&result).map_err(sink_err)?;
-            results.push(result);
-            counts.push(count);
-        }
+    let threads = rayon::current_num_threads().max(1);
+    let by_memory = usize::try_from(budget / per_run.max(1)).unwrap_or(usize::MAX);
+    if by_memory < n.min(threads).max(1) {
+        // Streaming: runs too long to buffer one per thread, bounded memory.
+        stream_runs(scenario, sink, &bar, budget, threads, &mut results, &mut counts)?;
     } else {
         // Batches of runs in parallel, their samples buffered, handed on in run order.
         // A batch holds at most a few runs per thread, so a failed write wastes little.
-        let threads = rayon::current_num_threads().max(1);
-        let by_memory = usize::try_from((budget / per_run.max(1)).max(1)).unwrap_or(usize::MAX);
         let batch = by_memory.min(4 * threads);
         let capacity = usize::try_from(scenario.sim().n_samples()).unwrap_or(0);
         let job = |i: usize| {
@@ -301,6 +284,99 @@ pub fn execute(scenario: &Scenario, sink: &mut dyn Sink, show_progress: bool) ->
     sink.finish().map_err(sink_err)?;
     bar.finish_and_clear();
     Ok((results, counts))
+}
+
+/// What a streamed run hands to the sink: its samples in blocks, then its result.
+enum Piece {
+    Samples(Vec<Sample<f64>>),
+    Done(Result<RunResult>),
+}
+
+/// Streams every run into `sink` in run order with memory bounded by `budget` (bytes of
+/// samples in flight), whatever the run length: up to `threads` runs are simulated at once,
+/// each on its own thread, handing its samples in blocks of [`BLOCK_SAMPLES`] through a
+/// bounded queue; this thread writes the oldest run's blocks as they come, then the next
+/// run's. A run ahead of the one being written waits when its queue is full. A failed write
+/// drops the queues: every run stops at its next block.
+fn stream_runs(
+    scenario: &Scenario,
+    sink: &mut dyn Sink,
+    bar: &ProgressBar,
+    budget: u64,
+    threads: usize,
+    results: &mut Vec<RunResult>,
+    counts: &mut Vec<u64>,
+) -> Result<()> {
+    let n = scenario.runs().len();
+    let step = u64::from(scenario.sim().log_every());
+    let window = threads.min(n).max(1);
+    let block_bytes = (BLOCK_SAMPLES * size_of::<Sample<f64>>()) as u64;
+    // Blocks queued per run: enough to keep a run going while the sink is busy, within the
+    // budget shared by the runs in flight (2 to 8: at most 1.2 MB of samples per run).
+    let queued = usize::try_from(budget / (window as u64 * block_bytes)).unwrap_or(usize::MAX).clamp(2, 8);
+    std::thread::scope(|scope| -> Result<()> {
+        let start = |i: usize| {
+            let (tx, rx) = std::sync::mpsc::sync_channel::<Piece>(queued);
+            let bar = bar.clone();
+            scope.spawn(move || {
+                let mut block = Vec::with_capacity(BLOCK_SAMPLES);
+                let flow = scenario.try_run(
+                    i,
+                    |s| {
+                        bar.inc(step);
+                        block.push(*s);
+                        if block.len() < BLOCK_SAMPLES {
+                            return ControlFlow::Continue(());
+                        }
+                        let full = std::mem::replace(&mut block, Vec::with_capacity(BLOCK_SAMPLES));
+                        // An error: the writer has stopped (a failed write) and dropped the queue.
+                        if tx.send(Piece::Samples(full)).is_err() {
+                            ControlFlow::Break(())
+                        } else {
+                            ControlFlow::Continue(())
+                        }
+                    },
+                    || ControlFlow::Continue(()),
+                );
+                let done = match flow {
+                    Ok(ControlFlow::Continue(result)) => Ok(result),
+                    Ok(ControlFlow::Break(())) => return,
+                    Err(e) => Err(anyhow::Error::new(e)),
+                };
+                if !block.is_empty() && tx.send(Piece::Samples(block)).is_err() {
+                    return;
+                }
+                let _ = tx.send(Piece::Done(done));
+            });
+            (i, rx)
+        };
+        let mut in_flight: std::collections::VecDeque<_> = (0..window).map(start).collect();
+        let mut next = window;
+        while let Some((i, rx)) = in_flight.pop_front() {
+            sink.begin_run(i, &scenario.runs()[i]).map_err(sink_err)?;
+            let mut count = 0u64;
+            let result = loop {
+                match rx.recv() {
+                    Ok(Piece::Samples(block)) => {
+                        for s in &block {
+                            sink.sample(i, s).map_err(sink_err)?;
+                        }
+                        count += block.len() as u64;
+                    }
+                    Ok(Piece::Done(result)) => break result?,
+                    Err(_) => anyhow::bail!("run {i} stopped without a result"),
+                }
+            };
+            sink.end_run(&result).map_err(sink_err)?;
+            results.push(result);
+            counts.push(count);
+            if next < n {
+                in_flight.push_back(start(next));
+                next += 1;
+            }
+        }
+        Ok(())
+    })
 }
 
 /// Loads a scenario file: read (a regular file, size-capped), checked, its warnings
