@@ -34,6 +34,7 @@
 mod assemble;
 mod controller;
 mod error;
+pub mod chunk;
 pub mod executor;
 mod file;
 pub mod keys;
