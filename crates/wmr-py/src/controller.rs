@@ -1,10 +1,17 @@
-//! `wmr_py.PaperController`: the paper's law and its wheel stage (the core's
-//! [`wmr_core::Controller`]) for loops closed in Python.
+//! `wmr_py.PaperController`, `PaperBidirectionalController`, `PolarController` and
+//! `LyapunovController`: each law with its wheel stage (the core's
+//! [`wmr_core::Controller`]) for loops closed in Python, one robot or a batch of N.
+//!
+//! A batch holds N copies of the controller (N lanes), one per robot, all with the same
+//! gains and goal; a call with (N, k) arrays advances every lane by one tick in Rust, so
+//! a loop closed in Python costs a few Python calls per step whatever N is.
 
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyFloatingPointError;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
-use wmr_core::{ControlOutput, Measurement, Pose2};
+use pyo3::types::{PyDict, PyList, PyTuple};
+use wmr_core::{ControlOutput, Measurement, Pose2, Wheels};
 use wmr_scenario::BuiltController;
 
 use crate::convert::{finite_array, pose_table, type_name};
@@ -12,39 +19,103 @@ use crate::error::parameter_error;
 use crate::robot::{PyRobot, one_run_scenario, wheels_arg};
 use crate::scenario::scenario_arg;
 
-/// The paper's point-stabilization controller (docs/model.md) with its two wheel servos.
+/// A (N, K) float64 argument of a batched call, or `None` for a single (1-D) one.
 ///
-/// PaperController(goal, robot=None, drive=None, **gains)
-///
-/// goal: the goal pose of C, (x_m, y_m, theta_rad) or a dict with x, y and theta (rad)
-/// or theta_deg (degrees). robot: a Robot or a dict of `[robot]` keys (default: the
-/// paper's). drive: a dict of `[drive]` keys (default: the torque drive); it sets the
-/// servo's defaults and anti-windup bound. gains: the scenario's `[controller]` keys of
-/// kind "paper": the law's mode ("pose" or "position"), kp_theta (rad/rad, 2), ki_theta
-/// (1/s, 0.1), kp_s (m/m, 1), ki_s (1/s, 0.25), goal_radius (m, 0.001), hold_radius (m,
-/// 0.005; 0 = off), hold ("auto", "zero_errors" or "freeze"); the wheel stage's servo_kp
-/// (N m/rad, 14), servo_kd (N m s/rad, 1.4), servo_ki (N m/(rad s), 0), wheel_speed_max
-/// (rad/s, inf); control_dt (s, 0.001). Parsed and checked by the scenario code: a bad or
-/// unknown key raises ScenarioError naming it (``controller.kp_s``).
-///
-/// Call update() once every control_dt seconds and hold its output in between. With
-/// the torque drive the output is the wheel torque demand (N m) before the drive's clamp
-/// (|tau| <= motor_torque_max / gear_ratio, 2 N m by default); with dc_motor, volts.
-#[pyclass(name = "PaperController", module = "wmr_py")]
-pub struct PyPaperController {
-    /// The paper's law with its wheel stage, as the scenario builds it.
-    inner: BuiltController,
+/// A float64 ndarray is read in place; a 2-D array of other real numbers or a list of
+/// rows is converted with numpy. Every value must be finite: `ParameterError` naming
+/// `arg[i, j]` otherwise.
+pub fn batch_arg<'py, const K: usize>(
+    obj: &Bound<'py, PyAny>,
+    arg: &str,
+    names: [&str; K],
+) -> PyResult<Option<PyReadonlyArray2<'py, f64>>> {
+    let arr = match obj.extract::<PyReadonlyArray2<'py, f64>>() {
+        Ok(a) => a,
+        Err(_) => {
+            let ndim = match obj.getattr("ndim") {
+                Ok(n) => n.extract::<usize>().unwrap_or(0),
+                // A list of rows (lists or arrays) is a batch; a flat list is one robot.
+                Err(_) => {
+                    let nested = (obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>())
+                        && obj.get_item(0).is_ok_and(|r| {
+                            r.is_instance_of::<PyList>()
+                                || r.is_instance_of::<PyTuple>()
+                                || r.hasattr("ndim").unwrap_or(false)
+                        });
+                    if nested { 2 } else { 1 }
+                }
+            };
+            if ndim != 2 {
+                return Ok(None);
+            }
+            if let Some(kind) = crate::convert::dtype_kind(obj)
+                && !"iuf".contains(kind)
+            {
+                return Err(parameter_error(
+                    arg,
+                    format_args!("expected an (N, {K}) array of real numbers, got dtype kind {kind:?}"),
+                ));
+            }
+            let np = obj.py().import("numpy")?;
+            let converted = np
+                .call_method1("asarray", (obj, "float64"))
+                .map_err(|e| parameter_error(arg, format_args!("expected an (N, {K}) array of real numbers: {e}")))?;
+            converted
+                .extract::<PyReadonlyArray2<'py, f64>>()
+                .map_err(|_| parameter_error(arg, format_args!("expected an (N, {K}) array, got {}", type_name(obj))))?
+        }
+    };
+    let shape = arr.shape();
+    if shape[1] != K || shape[0] == 0 {
+        return Err(parameter_error(
+            arg,
+            format_args!("expected shape (N, {K}) of ({}), N >= 1, got {shape:?}", names.join(", ")),
+        ));
+    }
+    let view = arr.as_array();
+    if let Some(((i, j), v)) = view.indexed_iter().find(|(_, v)| !v.is_finite()) {
+        return Err(parameter_error(
+            &format!("{arg}[{i}, {j}]"),
+            format_args!("{} must be a finite number (got {v})", names[j]),
+        ));
+    }
+    Ok(Some(arr))
+}
+
+/// Checks that a batched argument has `n` rows.
+pub fn same_rows(arr: &PyReadonlyArray2<'_, f64>, arg: &str, n: usize, first: &str) -> PyResult<()> {
+    let rows = arr.shape()[0];
+    if rows != n {
+        return Err(parameter_error(arg, format_args!("has {rows} rows but {first} has {n}: one row per robot")));
+    }
+    Ok(())
+}
+
+/// The controller of one law and its lanes (one per robot of a batch).
+pub struct Lanes {
+    /// The controller at t = 0, as the scenario builds it.
+    proto: BuiltController,
+    /// One controller per robot; one for the single (1-D) calls.
+    lanes: Vec<BuiltController>,
+    /// The lanes before the tick being computed (a tick that fails leaves them as they were).
+    next: Vec<BuiltController>,
+    last: Vec<ControlOutput<f64>>,
+    /// The outputs of the tick being computed.
+    next_last: Vec<ControlOutput<f64>>,
     goal: Pose2<f64>,
     /// Control ticks since construction or reset: the time of a tick is ticks * control_dt.
     ticks: u64,
-    last: ControlOutput<f64>,
+    /// Whether the last update was batched (then `errors` is an array).
+    batched: bool,
+    /// The one-run scenario the controller was built from, resolved (pickling).
+    scenario_toml: String,
 }
 
-#[pymethods]
-impl PyPaperController {
-    #[new]
-    #[pyo3(signature = (goal, robot=None, drive=None, **gains))]
+impl Lanes {
+    /// Builds the controller of law `kind` the way `PaperController(goal, robot, drive,
+    /// **gains)` documents it: the keys go through the scenario parser.
     fn new(
+        kind: &str,
         goal: &Bound<'_, PyAny>,
         robot: Option<&Bound<'_, PyAny>>,
         drive: Option<&Bound<'_, PyAny>>,
@@ -64,84 +135,350 @@ impl PyPaperController {
                 ),
             },
         };
+        let table = PyDict::new(py);
+        if let Some(g) = gains {
+            if let Some(k) = g.get_item("kind")?
+                && k.extract::<String>().ok().as_deref() != Some(kind)
+            {
+                return Err(parameter_error(
+                    "controller.kind",
+                    format_args!("this class runs kind = \"{kind}\" (got {k}); each law has its own class"),
+                ));
+            }
+            table.update(g.as_mapping())?;
+        }
+        table.set_item("kind", kind)?;
         let goal = pose_table(goal, "goal")?;
         // A one-run scenario: the scenario code parses the keys, fills the defaults
         // (servo gains by drive kind) and checks everything, as for a file.
-        let table = one_run_scenario(py, robot.as_ref(), drive, gains, Some(&goal))?;
-        let sc = scenario_arg(table.as_any())?;
-        let goal = sc.runs().first().map(|r| r.goal).unwrap_or_default();
-        let inner = *sc.built_controller();
-        if inner.law().kind() != "paper" {
-            return Err(parameter_error("controller.kind", "PaperController needs kind = \"paper\""));
-        }
-        Ok(Self { inner, goal, ticks: 0, last: ControlOutput::default() })
+        let sc_dict = one_run_scenario(py, robot.as_ref(), drive, Some(&table), Some(&goal))?;
+        let sc = scenario_arg(sc_dict.as_any())?;
+        Self::from_scenario(&sc)
     }
 
-    /// One control tick: the wheel commands (tau_r, tau_l) in N m (the servos' wheel
-    /// torque demands, before the drive's clamp) from the measured pose (x_m, y_m,
-    /// theta_rad) of C, the wheel angles (phi_r, phi_l) in rad and the wheel speeds
-    /// (omega_r, omega_l) in rad/s. Advances the integrators by control_dt.
-    /// The errors of this tick are then in `errors`.
-    fn update(
+    fn from_scenario(sc: &wmr_scenario::Scenario) -> PyResult<Self> {
+        let goal = sc.runs().first().map(|r| r.goal).unwrap_or_default();
+        let proto = *sc.built_controller();
+        Ok(Self {
+            proto,
+            lanes: vec![proto],
+            next: Vec::new(),
+            last: vec![ControlOutput::default()],
+            next_last: Vec::new(),
+            goal,
+            ticks: 0,
+            batched: false,
+            scenario_toml: sc.to_toml(),
+        })
+    }
+
+    /// Rebuilds a controller from the resolved scenario its `__reduce__` gave.
+    pub fn from_toml(kind: &str, text: &str) -> PyResult<Self> {
+        let sc = wmr_scenario::Scenario::from_toml_str(text, "controller")
+            .map_err(|e| crate::error::from_scenario(&e, None))?;
+        let lanes = Self::from_scenario(&sc)?;
+        if lanes.proto.law().kind() != kind {
+            return Err(parameter_error("controller.kind", format_args!("expected kind = \"{kind}\"")));
+        }
+        Ok(lanes)
+    }
+
+    /// Makes room for `n` lanes: allowed at t = 0 only (the lanes of a running batch
+    /// hold their integrators).
+    fn lanes_for(&mut self, n: usize, arg: &str) -> PyResult<()> {
+        if self.lanes.len() == n {
+            return Ok(());
+        }
+        if self.ticks != 0 {
+            return Err(parameter_error(
+                arg,
+                format_args!(
+                    "{n} robots, but the controller runs {} since its first update; call reset() to change the batch",
+                    self.lanes.len()
+                ),
+            ));
+        }
+        self.lanes = vec![self.proto; n];
+        self.last = vec![ControlOutput::default(); n];
+        Ok(())
+    }
+
+    /// One tick of every lane, from the measurement of lane i given by `m(i)`. All or
+    /// nothing: a tick whose commands or errors are not finite leaves every lane as it was.
+    fn tick(&mut self, n: usize, m: impl Fn(usize, f64) -> Measurement<f64>) -> PyResult<()> {
+        let t = self.ticks as f64 * self.proto.control_dt();
+        // The tick is computed into `next` and `next_last` and swapped in when every lane
+        // is finite; the buffers are kept, so a tick allocates nothing after the first.
+        self.next.clear();
+        self.next.extend_from_slice(&self.lanes[..n]);
+        self.next_last.clear();
+        for (i, lane) in self.next.iter_mut().enumerate() {
+            let out = lane.update(t, &m(i, t), self.goal);
+            let e = out.errors;
+            if ![out.command.right, out.command.left, e.e_s, e.e_theta, e.dl].iter().all(|v| v.is_finite()) {
+                return Err(PyFloatingPointError::new_err(format!(
+                    "the wheel commands of robot {i} are not finite ({}, {}): the measurement is too large for the controller",
+                    out.command.right, out.command.left
+                )));
+            }
+            self.next_last.push(out);
+        }
+        std::mem::swap(&mut self.lanes, &mut self.next);
+        std::mem::swap(&mut self.last, &mut self.next_last);
+        self.ticks += 1;
+        Ok(())
+    }
+
+    fn update<'py>(
         &mut self,
-        pose: &Bound<'_, PyAny>,
-        wheel_angles: &Bound<'_, PyAny>,
-        wheel_speeds: &Bound<'_, PyAny>,
-    ) -> PyResult<(f64, f64)> {
+        pose: &Bound<'py, PyAny>,
+        wheel_angles: &Bound<'py, PyAny>,
+        wheel_speeds: &Bound<'py, PyAny>,
+    ) -> PyResult<Py<PyAny>> {
+        let py = pose.py();
+        if let Some(p) = batch_arg(pose, "pose", ["x", "y", "theta"])? {
+            let n = p.shape()[0];
+            let a = batch_arg(wheel_angles, "wheel_angles", ["phi_r", "phi_l"])?.ok_or_else(|| {
+                parameter_error("wheel_angles", format_args!("expected shape (N, 2) like pose's (N, 3)"))
+            })?;
+            let w = batch_arg(wheel_speeds, "wheel_speeds", ["omega_r", "omega_l"])?.ok_or_else(|| {
+                parameter_error("wheel_speeds", format_args!("expected shape (N, 2) like pose's (N, 3)"))
+            })?;
+            same_rows(&a, "wheel_angles", n, "pose")?;
+            same_rows(&w, "wheel_speeds", n, "pose")?;
+            self.lanes_for(n, "pose")?;
+            let (p, a, w) = (p.as_array(), a.as_array(), w.as_array());
+            self.tick(n, |i, t| Measurement {
+                t,
+                pose: Pose2::new(p[[i, 0]], p[[i, 1]], p[[i, 2]]),
+                wheel_angles: Wheels::new(a[[i, 0]], a[[i, 1]]),
+                wheel_speeds: Wheels::new(w[[i, 0]], w[[i, 1]]),
+            })?;
+            self.batched = true;
+            let mut out = Array2::<f64>::zeros((n, 2));
+            for (mut row, o) in out.rows_mut().into_iter().zip(&self.last) {
+                row[0] = o.command.right;
+                row[1] = o.command.left;
+            }
+            return Ok(out.into_pyarray(py).into_any().unbind());
+        }
         let [x, y, theta] = finite_array(pose, "pose", ["x", "y", "theta"])?;
-        let t = self.ticks as f64 * self.inner.control_dt();
-        let m = Measurement {
+        let angles = wheels_arg(wheel_angles, "wheel_angles", ["phi_r", "phi_l"])?;
+        let speeds = wheels_arg(wheel_speeds, "wheel_speeds", ["omega_r", "omega_l"])?;
+        self.lanes_for(1, "pose")?;
+        self.tick(1, |_, t| Measurement {
             t,
             pose: Pose2::new(x, y, theta),
-            wheel_angles: wheels_arg(wheel_angles, "wheel_angles", ["phi_r", "phi_l"])?,
-            wheel_speeds: wheels_arg(wheel_speeds, "wheel_speeds", ["omega_r", "omega_l"])?,
-        };
-        // A tick whose commands or errors are not finite (finite but huge inputs, such as
-        // wheel angles of 1e308) is refused, and the controller stays as it was.
-        let before = self.inner;
-        let out = self.inner.update(t, &m, self.goal);
-        let e = out.errors;
-        if ![out.command.right, out.command.left, e.e_s, e.e_theta, e.dl].iter().all(|v| v.is_finite()) {
-            self.inner = before;
-            return Err(PyFloatingPointError::new_err(format!(
-                "the wheel commands are not finite ({}, {}): the measurement is too large for the controller",
-                out.command.right, out.command.left
+            wheel_angles: angles,
+            wheel_speeds: speeds,
+        })?;
+        self.batched = false;
+        let c = self.last[0].command;
+        Ok((c.right, c.left).into_pyobject(py)?.into_any().unbind())
+    }
+
+    fn errors(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+        if self.batched {
+            let mut out = Array2::<f64>::zeros((self.last.len(), 3));
+            for (mut row, o) in out.rows_mut().into_iter().zip(&self.last) {
+                row[0] = o.errors.e_s;
+                row[1] = o.errors.e_theta;
+                row[2] = o.errors.dl;
+            }
+            let arr: Bound<'_, PyArray2<f64>> = out.into_pyarray(py);
+            return Ok(arr.into_any().unbind());
+        }
+        let e = self.last.first().map(|o| o.errors).unwrap_or_default();
+        Ok((e.e_s, e.e_theta, e.dl).into_pyobject(py)?.into_any().unbind())
+    }
+
+    fn reset(&mut self) {
+        self.lanes = vec![self.proto];
+        self.last = vec![ControlOutput::default()];
+        self.ticks = 0;
+        self.batched = false;
+    }
+
+    /// `(wmr_py._restore_controller, (class name, resolved scenario))`; refused once the
+    /// controller has run, because its integrators have no portable form yet.
+    fn reduce<'py>(&self, py: Python<'py>, class: &str) -> PyResult<Bound<'py, PyTuple>> {
+        if self.ticks != 0 {
+            return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                "cannot pickle a {class} that has run ({} ticks): its integrator state is not picklable; \
+                 pickle it before the first update() or after reset()",
+                self.ticks
             )));
         }
-        self.last = out;
-        self.ticks += 1;
-        Ok((self.last.command.right, self.last.command.left))
+        let restore = py.import("wmr_py")?.getattr("_restore_controller")?;
+        PyTuple::new(py, [restore, PyTuple::new(py, [class, self.scenario_toml.as_str()])?.into_any()])
     }
+}
 
-    /// Errors of the last update: (e_s in m, e_theta in rad, dl in m), eqs. (18), (21), (16).
-    #[getter]
-    fn errors(&self) -> (f64, f64, f64) {
-        let e = self.last.errors;
-        (e.e_s, e.e_theta, e.dl)
-    }
+/// One Python class per law: the constructor fixes `kind`, the rest is [`Lanes`].
+macro_rules! law_class {
+    ($(#[$doc:meta])* $rust:ident, $name:literal, $kind:literal) => {
+        $(#[$doc])*
+        #[pyclass(name = $name, module = "wmr_py")]
+        pub struct $rust {
+            inner: Lanes,
+        }
 
-    /// Clears the integrators and memories, as at t = 0.
-    fn reset(&mut self) {
-        self.inner.reset();
-        self.ticks = 0;
-        self.last = ControlOutput::default();
-    }
+        impl $rust {
+            /// The controller rebuilt from its resolved one-run scenario (unpickling).
+            pub fn from_toml(text: &str) -> PyResult<Self> {
+                Ok(Self { inner: Lanes::from_toml($kind, text)? })
+            }
+        }
 
-    /// Control period, s: call update() this often.
-    #[getter]
-    fn control_dt(&self) -> f64 {
-        self.inner.control_dt()
-    }
+        #[pymethods]
+        impl $rust {
+            #[new]
+            #[pyo3(signature = (goal, robot=None, drive=None, **gains))]
+            fn new(
+                goal: &Bound<'_, PyAny>,
+                robot: Option<&Bound<'_, PyAny>>,
+                drive: Option<&Bound<'_, PyAny>>,
+                gains: Option<&Bound<'_, PyDict>>,
+            ) -> PyResult<Self> {
+                Ok(Self { inner: Lanes::new($kind, goal, robot, drive, gains)? })
+            }
 
-    /// The goal (x_m, y_m, theta_rad) of C.
-    #[getter]
-    fn goal(&self) -> (f64, f64, f64) {
-        let g = self.goal;
-        (g.x, g.y, g.theta)
-    }
+            /// One control tick: the wheel commands from the measured pose (x_m, y_m,
+            /// theta_rad) of C, the wheel angles (phi_r, phi_l) in rad and the wheel speeds
+            /// (omega_r, omega_l) in rad/s; advances the integrators by control_dt.
+            ///
+            /// One robot: 1-D arguments, returns (tau_r, tau_l). A batch of N robots:
+            /// arrays of shape (N, 3), (N, 2), (N, 2), returns an (N, 2) array; the first
+            /// batched call (or the first after reset()) fixes N. With the torque drive the
+            /// commands are wheel torque demands in N m before the drive's clamp
+            /// (|tau| <= motor_torque_max / gear_ratio); with dc_motor, volts.
+            fn update(
+                &mut self,
+                pose: &Bound<'_, PyAny>,
+                wheel_angles: &Bound<'_, PyAny>,
+                wheel_speeds: &Bound<'_, PyAny>,
+            ) -> PyResult<Py<PyAny>> {
+                self.inner.update(pose, wheel_angles, wheel_speeds)
+            }
 
-    fn __repr__(&self) -> String {
-        let g = self.goal;
-        format!("PaperController(goal=({}, {}, {}))", g.x, g.y, g.theta)
-    }
+            /// Errors of the last update, (e_s in m, e_theta in rad, dl in m) (docs/model.md,
+            /// eqs. (18), (21), (16) for the paper's law); an (N, 3) array after a batched update.
+            #[getter]
+            fn errors(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
+                self.inner.errors(py)
+            }
+
+            /// Clears the integrators and memories, as at t = 0 (and the batch size).
+            fn reset(&mut self) {
+                self.inner.reset()
+            }
+
+            /// Control period, s: call update() this often.
+            #[getter]
+            fn control_dt(&self) -> f64 {
+                self.inner.proto.control_dt()
+            }
+
+            /// The goal (x_m, y_m, theta_rad) of C.
+            #[getter]
+            fn goal(&self) -> (f64, f64, f64) {
+                let g = self.inner.goal;
+                (g.x, g.y, g.theta)
+            }
+
+            /// The law's `kind` in a scenario's `[controller]`.
+            #[getter]
+            fn kind(&self) -> &'static str {
+                $kind
+            }
+
+            /// Robots in the batch (1 for single calls).
+            #[getter]
+            fn n(&self) -> usize {
+                self.inner.lanes.len()
+            }
+
+            /// The resolved `[controller]` (with `[robot]` and `[drive]`) as TOML.
+            #[getter]
+            fn scenario_toml(&self) -> &str {
+                &self.inner.scenario_toml
+            }
+
+            fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+                self.inner.reduce(py, $name)
+            }
+
+            fn __repr__(&self) -> String {
+                let g = self.inner.goal;
+                format!("{}(goal=({}, {}, {}), n={}, ticks={})", $name, g.x, g.y, g.theta, self.inner.lanes.len(), self.inner.ticks)
+            }
+        }
+    };
+}
+
+law_class!(
+    /// The paper's point-stabilization controller (docs/model.md) with its two wheel servos.
+    ///
+    /// PaperController(goal, robot=None, drive=None, **gains)
+    ///
+    /// goal: the goal pose of C, (x_m, y_m, theta_rad) or a dict with x, y and theta (rad)
+    /// or theta_deg (degrees). robot: a Robot or a dict of `[robot]` keys (default: the
+    /// paper's). drive: a dict of `[drive]` keys (default: the torque drive); it sets the
+    /// servo's defaults and anti-windup bound. gains: the scenario's `[controller]` keys of
+    /// kind "paper": the law's mode ("pose" or "position"), kp_theta (rad/rad, 2), ki_theta
+    /// (1/s, 0.1), kp_s (m/m, 1), ki_s (1/s, 0.25), goal_radius (m, 0.001), hold_radius (m,
+    /// 0.005; 0 = off), hold ("auto", "zero_errors" or "freeze"); the wheel stage's servo_kp
+    /// (N m/rad, 14), servo_kd (N m s/rad, 1.4), servo_ki (N m/(rad s), 0), wheel_speed_max
+    /// (rad/s, inf); control_dt (s, 0.001). Parsed and checked by the scenario code: a bad or
+    /// unknown key raises ScenarioError naming it (``controller.kp_s``).
+    ///
+    /// Call update() once every control_dt seconds and hold its output in between; it
+    /// takes one robot (1-D arguments) or a batch of N ((N, 3), (N, 2), (N, 2) arrays).
+    PyPaperController,
+    "PaperController",
+    "paper"
+);
+
+law_class!(
+    /// The paper's law repaired (docs/model.md): kind "paper_bidirectional", with its
+    /// wheel servos. Same arguments and methods as PaperController; gains are the
+    /// `[controller]` keys of that kind: kp_theta (rad/rad, 0), ki_theta (1/s, 1), kp_s
+    /// (m/m, 0), ki_s (1/s, 0.25), goal_radius (m, 0.001), hold_radius (m, 0.005), hold
+    /// ("freeze"), and the wheel stage's keys and control_dt.
+    PyPaperBidirectionalController,
+    "PaperBidirectionalController",
+    "paper_bidirectional"
+);
+
+law_class!(
+    /// Astolfi's polar law (kind "polar") with the wheel servos: v = k_rho rho,
+    /// omega = k_alpha alpha + k_beta beta. Same arguments and methods as PaperController;
+    /// gains: k_rho (1/s, 0.5), k_alpha (1/s, 3), k_beta (1/s, -1.2), reverse (True),
+    /// reverse_hysteresis (rad, pi/6), goal_radius (m, 0.001), and the wheel stage's keys
+    /// and control_dt.
+    PyPolarController,
+    "PolarController",
+    "polar"
+);
+
+law_class!(
+    /// Aicardi et al.'s Lyapunov law (kind "lyapunov") with the wheel servos. Same
+    /// arguments and methods as PaperController; gains: gamma (1/s, 0.5), k (1/s, 3),
+    /// h (9), reverse (True), reverse_hysteresis (rad, pi/6), goal_radius (m, 0.001), and
+    /// the wheel stage's keys and control_dt.
+    PyLyapunovController,
+    "LyapunovController",
+    "lyapunov"
+);
+
+/// Rebuilds a controller of class `class` from its resolved scenario (pickle's restore).
+#[pyfunction(name = "_controller_from_toml")]
+pub fn controller_from_toml(py: Python<'_>, class: &str, text: &str) -> PyResult<Py<PyAny>> {
+    Ok(match class {
+        "PaperController" => Py::new(py, PyPaperController::from_toml(text)?)?.into_any(),
+        "PaperBidirectionalController" => Py::new(py, PyPaperBidirectionalController::from_toml(text)?)?.into_any(),
+        "PolarController" => Py::new(py, PyPolarController::from_toml(text)?)?.into_any(),
+        "LyapunovController" => Py::new(py, PyLyapunovController::from_toml(text)?)?.into_any(),
+        other => return Err(parameter_error("class", format_args!("no controller class {other:?}"))),
+    })
 }

@@ -7,7 +7,7 @@
 //! call returns that exception within about [`SIGNAL_CHECK_PERIOD`] plus a millisecond
 //! of work, instead of at the end of the run.
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Condvar, Mutex};
 use std::time::Duration;
 
@@ -40,7 +40,39 @@ impl Stop {
 /// signal that raises (Ctrl-C: `KeyboardInterrupt`) stops it and is returned instead.
 /// `work` must end soon after [`Stop::requested`] turns true.
 pub fn interruptible<T: Send>(py: Python<'_>, work: impl FnOnce(&Stop) -> T + Send) -> PyResult<T> {
+    interruptible_with(py, None, work)
+}
+
+/// A progress report: `callback(done)` is called with the count `done` holds (the work
+/// adds to it), from the waiting thread between two slices of [`SIGNAL_CHECK_PERIOD`]
+/// and once at the end. The runs only add to an atomic counter: progress costs them
+/// nothing measurable, however slow the callback (a tqdm bar) is.
+pub struct Progress<'a, 'py> {
+    /// What the work has done so far (runs, samples).
+    pub done: &'a AtomicUsize,
+    /// Called with the count when it changed; an exception it raises stops the work.
+    pub callback: &'a Bound<'py, PyAny>,
+}
+
+impl Progress<'_, '_> {
+    fn report(&self, last: &mut usize) -> PyResult<()> {
+        let now = self.done.load(Ordering::Relaxed);
+        if now != *last {
+            *last = now;
+            self.callback.call1((now,))?;
+        }
+        Ok(())
+    }
+}
+
+/// [`interruptible`] with an optional [`Progress`] report.
+pub fn interruptible_with<T: Send>(
+    py: Python<'_>,
+    progress: Option<Progress<'_, '_>>,
+    work: impl FnOnce(&Stop) -> T + Send,
+) -> PyResult<T> {
     let stop = Stop::new();
+    let mut reported = 0;
     // Set by the worker when it is done; the waiting thread sleeps on the condvar.
     let done = (Mutex::new(false), Condvar::new());
     std::thread::scope(|s| {
@@ -65,9 +97,13 @@ pub fn interruptible<T: Send>(py: Python<'_>, work: impl FnOnce(&Stop) -> T + Se
                 // A signal that came during the last slice still counts.
                 let value = join(worker);
                 py.check_signals()?;
+                if let Some(p) = &progress {
+                    p.report(&mut reported)?;
+                }
                 return Ok(value);
             }
-            if let Err(e) = py.check_signals() {
+            let reported_ok = progress.as_ref().map_or(Ok(()), |p| p.report(&mut reported));
+            if let Err(e) = py.check_signals().and(reported_ok) {
                 stop.0.store(true, Ordering::Relaxed);
                 py.detach(|| drop(join(worker)));
                 return Err(e);

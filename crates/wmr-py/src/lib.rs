@@ -16,19 +16,28 @@ pub mod scenario;
 #[pyo3::pymodule]
 mod _native {
     #[pymodule_export]
-    use crate::controller::PyPaperController;
+    use crate::controller::{
+        PyLyapunovController, PyPaperBidirectionalController, PyPaperController, PyPolarController,
+        controller_from_toml,
+    };
     #[pymodule_export]
     use crate::error::{ParameterError, ScenarioError};
     #[pymodule_export]
     use crate::robot::PyRobot;
     #[pymodule_export]
-    use crate::scenario::{PyRunResult, run_batch_native, run_scenario, sweep, time_run_rust};
+    use crate::scenario::{
+        PyRunResult, run_batch_native, run_result_from_state, run_scenario, sweep, sweep_gather, sweep_part,
+        sweep_plan, time_run_rust,
+    };
 
     /// Loads NumPy's C API now, while importing: loaded lazily, the first array made
     /// after a run that Ctrl-C interrupted would import numpy with a KeyboardInterrupt
     /// pending, and rust-numpy panics when that import fails.
     #[pymodule_init]
     fn init(m: &pyo3::Bound<'_, pyo3::types::PyModule>) -> pyo3::PyResult<()> {
+        use pyo3::types::PyModuleMethods as _;
+        // The version of wmr: the workspace's, which `wmr-cli --version` prints.
+        m.add("__version__", env!("CARGO_PKG_VERSION"))?;
         crate::interrupt::load_numpy_api(m.py())
     }
 }

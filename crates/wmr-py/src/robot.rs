@@ -1,13 +1,15 @@
 //! `wmr_py.Robot`: the core's validated [`Robot`] with its equations of motion and RK4.
 
-use numpy::{PyArray1, ToPyArray};
+use numpy::ndarray::{Array1, Array2, ArrayView2};
+use numpy::{IntoPyArray, PyArray1, PyUntypedArrayMethods, ToPyArray};
 use pyo3::exceptions::PyFloatingPointError;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyTuple};
 use wmr_core::integrator::rk4_step;
 use wmr_core::state::STATE_LEN;
 use wmr_core::{Robot, RobotParams, State, Wheels};
 
+use crate::controller::{batch_arg, same_rows};
 use crate::convert::{finite_array, finite_scalar};
 use crate::error::parameter_error;
 
@@ -96,6 +98,33 @@ fn state_out<'py>(py: Python<'py>, s: &State<f64>, what: &str) -> PyResult<Bound
     Ok(s.to_array().to_pyarray(py))
 }
 
+/// Row `i` of an (N, 7) state array.
+fn state_row(a: &ArrayView2<'_, f64>, i: usize) -> State<f64> {
+    State::from_array(std::array::from_fn(|j| a[[i, j]]))
+}
+
+/// An (N, 7) array of states out, every value finite (else `FloatingPointError` naming the row).
+fn states_out<'py>(py: Python<'py>, out: Array2<f64>, what: &str) -> PyResult<Py<PyAny>> {
+    if let Some(((i, _), _)) = out.indexed_iter().find(|(_, v)| !v.is_finite()) {
+        return Err(PyFloatingPointError::new_err(format!(
+            "{what} of robot {i} is not finite: {:?} (the state or torques are too large for the model)",
+            out.row(i).to_vec()
+        )));
+    }
+    Ok(out.into_pyarray(py).into_any().unbind())
+}
+
+/// Batched `state` (N, 7) and `tau` (N, 2) arguments, or `None` for single (1-D) ones.
+type Batch<'py> = (numpy::PyReadonlyArray2<'py, f64>, numpy::PyReadonlyArray2<'py, f64>);
+
+fn state_tau_batch<'py>(state: &Bound<'py, PyAny>, tau: &Bound<'py, PyAny>) -> PyResult<Option<Batch<'py>>> {
+    let Some(s) = batch_arg(state, "state", STATE_NAMES)? else { return Ok(None) };
+    let t = batch_arg(tau, "tau", ["tau_r", "tau_l"])?
+        .ok_or_else(|| parameter_error("tau", "expected shape (N, 2) like state's (N, 7)"))?;
+    same_rows(&t, "tau", s.shape()[0], "state")?;
+    Ok(Some((s, t)))
+}
+
 #[pymethods]
 impl PyRobot {
     #[new]
@@ -109,55 +138,102 @@ impl PyRobot {
     /// Time derivative of the state, ndarray (7,): [x', y', theta', v', omega', phi_r', phi_l']
     /// in (m/s, m/s, rad/s, m/s^2, rad/s^2, rad/s, rad/s), under wheel torques
     /// tau = (tau_r, tau_l) in N m (the torques the drives put on the wheels), eq. (15).
+    ///
+    /// A batch: state (N, 7) and tau (N, 2) give an (N, 7) array, row i from row i.
     fn derivative<'py>(
         &self,
         py: Python<'py>,
         state: &Bound<'py, PyAny>,
         tau: &Bound<'py, PyAny>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    ) -> PyResult<Py<PyAny>> {
+        if let Some((s, t)) = state_tau_batch(state, tau)? {
+            let (s, t) = (s.as_array(), t.as_array());
+            let mut out = Array2::<f64>::zeros((s.nrows(), STATE_LEN));
+            for (i, mut row) in out.rows_mut().into_iter().enumerate() {
+                let d = self.inner.derivative(&state_row(&s, i), Wheels::new(t[[i, 0]], t[[i, 1]])).to_array();
+                row.iter_mut().zip(d).for_each(|(o, v)| *o = v);
+            }
+            return states_out(py, out, "the derivative");
+        }
         let s = state_arg(state, "state")?;
         let tau = wheels_arg(tau, "tau", ["tau_r", "tau_l"])?;
-        state_out(py, &self.inner.derivative(&s, tau), "the derivative")
+        Ok(state_out(py, &self.inner.derivative(&s, tau), "the derivative")?.into_any().unbind())
     }
 
     /// The state after one classic RK4 step of dt seconds with the wheel torques
     /// tau = (tau_r, tau_l), N m, held constant over the step. Returns ndarray (7,).
     ///
     /// This is the core's integrator, the same arithmetic as the closed-loop simulation.
+    /// A batch: state (N, 7) and tau (N, 2) give the (N, 7) states after the step.
     fn step<'py>(
         &self,
         py: Python<'py>,
         state: &Bound<'py, PyAny>,
         tau: &Bound<'py, PyAny>,
         dt: &Bound<'py, PyAny>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let s = state_arg(state, "state")?;
-        let tau = wheels_arg(tau, "tau", ["tau_r", "tau_l"])?;
+    ) -> PyResult<Py<PyAny>> {
+        let batch = state_tau_batch(state, tau)?;
         let dt = finite_scalar(dt, "dt")?;
         if dt <= 0.0 {
             return Err(parameter_error("dt", format_args!("must be > 0 (got {dt})")));
         }
         let robot = &self.inner;
+        let rk4 = |s: &State<f64>, tau: Wheels<f64>| {
+            rk4_step(
+                |_, y: &[f64; STATE_LEN]| robot.derivative(&State::from_array(*y), tau).to_array(),
+                0.0,
+                &s.to_array(),
+                dt,
+            )
+        };
+        if let Some((s, t)) = batch {
+            let (s, t) = (s.as_array(), t.as_array());
+            let mut out = Array2::<f64>::zeros((s.nrows(), STATE_LEN));
+            for (i, mut row) in out.rows_mut().into_iter().enumerate() {
+                let next = rk4(&state_row(&s, i), Wheels::new(t[[i, 0]], t[[i, 1]]));
+                row.iter_mut().zip(next).for_each(|(o, v)| *o = v);
+            }
+            return states_out(py, out, "the state after the step");
+        }
+        let s = state_arg(state, "state")?;
+        let tau = wheels_arg(tau, "tau", ["tau_r", "tau_l"])?;
         let next = rk4_step(
             |_, y: &[f64; STATE_LEN]| robot.derivative(&State::from_array(*y), tau).to_array(),
             0.0,
             &s.to_array(),
             dt,
         );
-        state_out(py, &State::from_array(next), "the state after the step")
+        Ok(state_out(py, &State::from_array(next), "the state after the step")?.into_any().unbind())
     }
 
     /// Kinetic energy, J: 1/2 M11 v^2 + 1/2 M22 omega^2 (platform, wheels and rotors).
-    fn kinetic_energy(&self, state: &Bound<'_, PyAny>) -> PyResult<f64> {
+    /// A batch of states (N, 7) gives an (N,) array.
+    fn kinetic_energy(&self, py: Python<'_>, state: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
+        if let Some(s) = batch_arg(state, "state", STATE_NAMES)? {
+            let s = s.as_array();
+            let out: Array1<f64> = (0..s.nrows()).map(|i| self.inner.kinetic_energy(&state_row(&s, i))).collect();
+            return Ok(out.into_pyarray(py).into_any().unbind());
+        }
         let s = state_arg(state, "state")?;
-        Ok(self.inner.kinetic_energy(&s))
+        Ok(self.inner.kinetic_energy(&s).into_pyobject(py)?.into_any().unbind())
     }
 
     /// Wheel speeds (omega_r, omega_l), rad/s, of a state: ((v + R omega)/r, (v - R omega)/r).
-    fn wheel_speeds(&self, state: &Bound<'_, PyAny>) -> PyResult<(f64, f64)> {
+    /// A batch of states (N, 7) gives an (N, 2) array.
+    fn wheel_speeds(&self, py: Python<'_>, state: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
+        if let Some(s) = batch_arg(state, "state", STATE_NAMES)? {
+            let s = s.as_array();
+            let mut out = Array2::<f64>::zeros((s.nrows(), 2));
+            for (i, mut row) in out.rows_mut().into_iter().enumerate() {
+                let w = state_row(&s, i).wheel_speeds(self.inner.params());
+                row[0] = w.right;
+                row[1] = w.left;
+            }
+            return Ok(out.into_pyarray(py).into_any().unbind());
+        }
         let s = state_arg(state, "state")?;
         let w = s.wheel_speeds(self.inner.params());
-        Ok((w.right, w.left))
+        Ok((w.right, w.left).into_pyobject(py)?.into_any().unbind())
     }
 
     /// Diagonal of the reduced inertia matrix M_r of (15): (M11 in kg, M22 in kg m^2).
@@ -230,6 +306,12 @@ impl PyRobot {
     fn __repr__(&self) -> String {
         let items: Vec<String> = robot_items(self.inner.params()).iter().map(|(k, v)| format!("{k}={v:?}")).collect();
         format!("Robot({})", items.join(", "))
+    }
+
+    /// Pickles as `wmr_py._make_robot(self.to_dict())`.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        let make = py.import("wmr_py")?.getattr("_make_robot")?;
+        PyTuple::new(py, [make, PyTuple::new(py, [self.to_dict(py)?])?.into_any()])
     }
 
     fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {

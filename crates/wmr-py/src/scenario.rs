@@ -3,21 +3,24 @@
 
 use std::ops::ControlFlow;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-use numpy::{PyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use wmr_core::Pose2;
 use wmr_core::plant::DIVERGENCE_BOX_M;
-use wmr_core::{ARRIVAL_RADIUS_M, Status};
+use wmr_core::{Outcome, Status, Termination};
 use wmr_scenario::{
-    RunResult, RunSpec, SAMPLE_COLUMNS, Scenario, ScenarioError, executor, measured_values, sample_values,
+    RunResult, RunSpec, SAMPLE_COLUMNS, Scenario, ScenarioError, StartsSource, SweepOutcome, SweepSpec, executor,
+    measured_values, sample_values,
 };
 
 use crate::convert::type_name;
 use crate::error::{from_scenario, parameter_error, scenario_error};
-use crate::interrupt::{Stop, check_memory, interruptible, try_vec};
+use crate::interrupt::{Progress, Stop, check_memory, interruptible, interruptible_with, try_vec};
 
 /// Number of sample columns (the CSV columns after `run`).
 const N_COLS: usize = SAMPLE_COLUMNS.len();
@@ -148,6 +151,14 @@ impl Source {
         Ok((sc, warnings))
     }
 
+    /// The scenario's text: what a worker of an outside executor parses again.
+    fn text(&self) -> Result<String, ScenarioError> {
+        match self {
+            Source::Path(p) => wmr_scenario::read_text(p),
+            Source::Text(t) | Source::Dict(t) => Ok(t.clone()),
+        }
+    }
+
     /// The file, for an error about it.
     fn path(&self) -> Option<&std::path::Path> {
         match self {
@@ -221,7 +232,8 @@ fn check_columns_memory(sc: &Scenario) -> PyResult<()> {
 }
 
 /// Runs run `i` of `sc`, collecting its columns; `None` when `stop` ended it.
-fn run_one(sc: &Scenario, i: usize, stop: &Stop) -> PyResult<Option<(RunResult, Columns)>> {
+/// `done` counts the samples logged (progress).
+fn run_one(sc: &Scenario, i: usize, stop: &Stop, done: &AtomicUsize) -> PyResult<Option<(RunResult, Columns)>> {
     let n = usize::try_from(sc.sim().n_samples()).unwrap_or(usize::MAX);
     let mut cols = Columns::try_with_capacity(n)?;
     let poll = || if stop.requested() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
@@ -230,6 +242,7 @@ fn run_one(sc: &Scenario, i: usize, stop: &Stop) -> PyResult<Option<(RunResult, 
             i,
             |s| {
                 cols.push(s);
+                done.fetch_add(1, Ordering::Relaxed);
                 ControlFlow::Continue(())
             },
             poll,
@@ -404,6 +417,44 @@ impl PyRunResult {
 
 #[pymethods]
 impl PyRunResult {
+    /// Every field as a dict (scalars, `summary` and the columns as arrays): what pickling
+    /// carries.
+    fn __getstate__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        d.set_item("run", self.run)?;
+        d.set_item("label", &self.label)?;
+        d.set_item("status", self.status)?;
+        d.set_item("converged", self.converged)?;
+        d.set_item("diverged", self.diverged)?;
+        d.set_item("time_to_1cm", self.time_to_1cm)?;
+        d.set_item("final_dl", self.final_dl)?;
+        d.set_item("final_heading_error", self.final_heading_error)?;
+        d.set_item("final_heading_error_deg", self.final_heading_error_deg)?;
+        d.set_item("t_final", self.t_final)?;
+        d.set_item("peak_wheel_speed", self.peak_wheel_speed)?;
+        d.set_item("path_length", self.path_length)?;
+        d.set_item("energy", self.energy)?;
+        d.set_item("summary", &self.summary)?;
+        for name in RESULT_COLUMNS {
+            if let Some(c) = self.column(name) {
+                d.set_item(name, c.bind(py))?;
+            }
+        }
+        Ok(d)
+    }
+
+    /// Pickles as `wmr_py._restore_run_result(state)`, state from `__getstate__`.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        let restore = py.import("wmr_py")?.getattr("_restore_run_result")?;
+        PyTuple::new(py, [restore, PyTuple::new(py, [self.__getstate__(py)?])?.into_any()])
+    }
+
+    /// Every column (with `run` and `label`) as a pandas DataFrame, one row per logged
+    /// sample. Needs pandas (ImportError naming it otherwise).
+    fn to_pandas<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        slf.py().import("wmr_py._results")?.getattr("run_result_to_pandas")?.call1((slf,))
+    }
+
     /// A column by its CSV name, e.g. result["omega_r"].
     fn __getitem__(&self, py: Python<'_>, name: &str) -> PyResult<Py<PyArray1<f64>>> {
         self.column(name).map(|c| c.clone_ref(py)).ok_or_else(|| {
@@ -429,8 +480,14 @@ impl PyRunResult {
         self.t.bind(py).len()
     }
 
-    fn __repr__(&self) -> String {
-        format!("RunResult({})", self.summary)
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "<RunResult run={} label={:?} samples={}: {}>",
+            self.run,
+            self.label,
+            self.t.bind(py).len(),
+            self.summary
+        )
     }
 }
 
@@ -438,9 +495,16 @@ impl PyRunResult {
 ///
 /// `scenario`: a path (str or os.PathLike) to a TOML file, TOML text, or a dict with the
 /// same keys (docs/scenario.md; None values take the default). Runs go in parallel with the
-/// GIL released. Raises ScenarioError (a ValueError) naming the bad key.
+/// GIL released. Raises ScenarioError (a ValueError) naming the bad key. `progress`: None
+/// or a callable given the number of samples logged so far (about every 50 ms) and the
+/// total first, as `progress(-total)`.
 #[pyfunction]
-pub fn run_scenario(py: Python<'_>, scenario: &Bound<'_, PyAny>) -> PyResult<Vec<PyRunResult>> {
+#[pyo3(signature = (scenario, progress=None))]
+pub fn run_scenario(
+    py: Python<'_>,
+    scenario: &Bound<'_, PyAny>,
+    progress: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Vec<PyRunResult>> {
     let sc = scenario_arg(scenario)?;
     if sc.runs().is_empty() {
         return Err(scenario_error(
@@ -450,12 +514,96 @@ pub fn run_scenario(py: Python<'_>, scenario: &Bound<'_, PyAny>) -> PyResult<Vec
         ));
     }
     check_columns_memory(&sc)?;
-    let runs: PyResult<Vec<_>> = interruptible(py, |stop| {
-        executor::map_ordered(sc.runs().len(), |i| run_one(&sc, i, stop)).into_iter().collect()
-    })?;
+    let done = AtomicUsize::new(0);
+    if let Some(p) = progress {
+        let total = sc.sim().n_samples() as i64 * sc.runs().len() as i64;
+        p.call1((-total,))?;
+    }
+    let runs: PyResult<Vec<_>> =
+        interruptible_with(py, progress.map(|callback| Progress { done: &done, callback }), |stop| {
+            executor::map_ordered(sc.runs().len(), |i| run_one(&sc, i, stop, &done)).into_iter().collect()
+        })?;
     // A run is `None` only when stopped, and then `interruptible` returned the signal's error.
     let runs: Vec<(RunResult, Columns)> = runs?.into_iter().flatten().collect();
     Ok(runs.into_iter().map(|(r, cols)| PyRunResult::new(py, r, cols)).collect())
+}
+
+/// Names of a RunResult's columns, in order: the CSV columns, then the measured pose.
+const RESULT_COLUMNS: [&str; N_COLS + 3] = [
+    "t",
+    "x",
+    "y",
+    "theta",
+    "v",
+    "omega",
+    "phi_r",
+    "phi_l",
+    "omega_r",
+    "omega_l",
+    "tau_r",
+    "tau_l",
+    "e_s",
+    "e_theta",
+    "dl",
+    "x_meas",
+    "y_meas",
+    "theta_meas",
+];
+
+/// A RunResult from the state its `__getstate__` gave (unpickling); every field checked.
+#[pyfunction(name = "_run_result_from_state")]
+pub fn run_result_from_state(state: &Bound<'_, PyDict>) -> PyResult<PyRunResult> {
+    let get = |k: &str| -> PyResult<Bound<'_, PyAny>> {
+        state.get_item(k)?.ok_or_else(|| parameter_error("state", format_args!("no {k:?}")))
+    };
+    let status: String = get("status")?.extract()?;
+    let status = Status::ALL
+        .into_iter()
+        .map(Status::name)
+        .find(|n| *n == status)
+        .ok_or_else(|| parameter_error("state.status", format_args!("unknown status {status:?}")))?;
+    let mut cols: Vec<Py<PyArray1<f64>>> = Vec::with_capacity(RESULT_COLUMNS.len());
+    for name in RESULT_COLUMNS {
+        let a = get(name)?;
+        let a = a.cast_into::<PyArray1<f64>>().map_err(|_| parameter_error(name, "expected a float64 array"))?;
+        cols.push(a.unbind());
+    }
+    let mut it = cols.into_iter();
+    let mut next = || it.next().ok_or_else(|| parameter_error("state", "too few columns"));
+    Ok(PyRunResult {
+        run: get("run")?.extract()?,
+        label: get("label")?.extract()?,
+        status,
+        converged: get("converged")?.extract()?,
+        diverged: get("diverged")?.extract()?,
+        time_to_1cm: get("time_to_1cm")?.extract()?,
+        final_dl: get("final_dl")?.extract()?,
+        final_heading_error: get("final_heading_error")?.extract()?,
+        final_heading_error_deg: get("final_heading_error_deg")?.extract()?,
+        t_final: get("t_final")?.extract()?,
+        peak_wheel_speed: get("peak_wheel_speed")?.extract()?,
+        path_length: get("path_length")?.extract()?,
+        energy: get("energy")?.extract()?,
+        summary: get("summary")?.extract()?,
+        t: next()?,
+        x: next()?,
+        y: next()?,
+        theta: next()?,
+        v: next()?,
+        omega: next()?,
+        phi_r: next()?,
+        phi_l: next()?,
+        omega_r: next()?,
+        omega_l: next()?,
+        tau_r: next()?,
+        tau_l: next()?,
+        e_s: next()?,
+        e_theta: next()?,
+        dl: next()?,
+        x_meas: next()?,
+        y_meas: next()?,
+        theta_meas: next()?,
+    })
 }
 
 /// Names of the run_batch outputs, in order.
@@ -514,14 +662,27 @@ fn outcome_dict<'py, 'a>(
 
 /// Runs the scenario `base` (a dict or path, validated like `run_scenario`; its runs give
 /// the goal if `goals` is None) from every start in `starts` in parallel, GIL released.
+///
+/// `first`: the index of `starts[0]` in the whole batch when this is a part of it (an
+/// outside executor's chunk): run i draws its sensor noise from stream `first + i`, as in
+/// the whole. `threads = 1` runs the starts one after the other on one thread (a worker
+/// of a process pool or Dask must not start a thread pool per process); 0: rayon's pool.
+/// `progress`: as for `run_scenario`, counting runs.
 #[pyfunction(name = "_run_batch")]
-#[pyo3(signature = (base, starts, goals=None))]
+#[pyo3(signature = (base, starts, goals=None, first=0, threads=0, progress=None))]
+#[allow(clippy::too_many_arguments)]
 pub fn run_batch_native<'py>(
     py: Python<'py>,
     base: &Bound<'py, PyAny>,
     starts: PyReadonlyArray2<'py, f64>,
     goals: Option<PyReadonlyArray2<'py, f64>>,
+    first: usize,
+    threads: usize,
+    progress: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    if threads > 1 {
+        return Err(parameter_error("threads", format_args!("0 (rayon's pool) or 1, got {threads}")));
+    }
     let sc = scenario_arg(base)?;
     let poses = |a: &PyReadonlyArray2<'py, f64>, arg: &str| -> PyResult<Vec<Pose2<f64>>> {
         let shape = a.shape();
@@ -584,23 +745,30 @@ pub fn run_batch_native<'py>(
         .map(|(i, &start)| RunSpec { label: format!("start {i}"), start, goal: goals[i % goals.len()] })
         .collect();
     let sc = sc.with_runs(runs).map_err(to_py)?;
-    let results: Result<Vec<Option<RunResult>>, ScenarioError> = interruptible(py, |stop| {
-        let poll = || if stop.requested() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
-        executor::map_ordered(sc.runs().len(), |i| {
-            Ok(match sc.try_run(i, |_| ControlFlow::Continue(()), poll)? {
-                ControlFlow::Continue(r) => Some(r),
-                ControlFlow::Break(()) => None,
-            })
-        })
-        .into_iter()
-        .collect()
-    })?;
+    let done = AtomicUsize::new(0);
+    if let Some(p) = progress {
+        p.call1((-(sc.runs().len() as i64),))?;
+    }
+    let results: Result<Vec<Option<RunResult>>, ScenarioError> =
+        interruptible_with(py, progress.map(|callback| Progress { done: &done, callback }), |stop| {
+            let poll = || if stop.requested() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
+            let job = |i: usize| {
+                let r = match sc.try_run_as(i, (first + i) as u64, |_| ControlFlow::Continue(()), poll)? {
+                    ControlFlow::Continue(r) => Some(r),
+                    ControlFlow::Break(()) => None,
+                };
+                done.fetch_add(1, Ordering::Relaxed);
+                Ok(r)
+            };
+            if threads == 1 {
+                (0..sc.runs().len()).map(job).collect()
+            } else {
+                executor::map_ordered(sc.runs().len(), job).into_iter().collect()
+            }
+        })?;
     // `None` only when stopped, and then `interruptible` returned the signal's error.
     let results: Vec<RunResult> = results.map_err(to_py)?.into_iter().flatten().collect();
-
-    let d = outcome_dict(py, results.iter().map(|r| &r.outcome))?;
-    d.set_item("arrival_radius", ARRIVAL_RADIUS_M)?;
-    Ok(d)
+    outcome_dict(py, results.iter().map(|r| &r.outcome))
 }
 
 /// Times run 0 of a scenario inside Rust, GIL released, `n` times; returns the best
@@ -615,7 +783,8 @@ pub fn time_run_rust(py: Python<'_>, scenario: &Bound<'_, PyAny>, n: usize) -> P
         for _ in 0..n.max(1) {
             let t0 = Instant::now();
             let (sc, _) = source.parse().map_err(to_py)?;
-            let (_r, cols) = run_one(&sc, 0, &Stop::new())?.ok_or_else(|| to_py(ScenarioError::new("", "stopped")))?;
+            let (_r, cols) = run_one(&sc, 0, &Stop::new(), &AtomicUsize::new(0))?
+                .ok_or_else(|| to_py(ScenarioError::new("", "stopped")))?;
             std::hint::black_box(&cols.cols);
             best = best.min(t0.elapsed().as_secs_f64());
         }
@@ -624,20 +793,191 @@ pub fn time_run_rust(py: Python<'_>, scenario: &Bound<'_, PyAny>, n: usize) -> P
     best
 }
 
+/// The parsed sweep of a scenario, or a `ScenarioError` naming `sweep`.
+fn sweep_of(sc: &Scenario) -> PyResult<&SweepSpec> {
+    sc.sweep().ok_or_else(|| scenario_error("sweep", None, "sweep: the scenario has no [sweep] table".to_owned()))
+}
+
 /// Runs a scenario's `[sweep]` (every law from every start, rayon, GIL released) and
 /// returns one entry per (law, start), in law then start order: `law` (list of names),
 /// `start` (int64), `x0`, `y0` (m), `theta0` (rad), the outcome arrays of `run_batch`
-/// (`final_x` ... `energy`, `converged`, `diverged`), and `table`, the comparison
-/// `wmr-cli sweep` prints.
-#[pyfunction]
-pub fn sweep<'py>(py: Python<'py>, scenario: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+/// (`final_x` ... `energy`, `converged`, `diverged`), one array per varied key, and
+/// `table`, the comparison `wmr-cli sweep` prints; `_meta`: the laws, the varied keys, the
+/// resolved scenario (TOML) and the seeds. `progress`: as for `run_scenario`, counting runs.
+#[pyfunction(name = "_sweep")]
+#[pyo3(signature = (scenario, progress=None))]
+pub fn sweep<'py>(
+    py: Python<'py>,
+    scenario: &Bound<'py, PyAny>,
+    progress: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
     let sc = scenario_arg(scenario)?;
-    let Some(spec) = sc.sweep() else {
-        return Err(scenario_error("sweep", None, "sweep: the scenario has no [sweep] table".to_owned()));
+    let spec = sweep_of(&sc)?;
+    let done = AtomicUsize::new(0);
+    if let Some(p) = progress {
+        p.call1((-(spec.len() as i64),))?;
+    }
+    let count = || {
+        done.fetch_add(1, Ordering::Relaxed);
     };
-    let outcomes = interruptible(py, |stop| spec.run_until(sc.sim(), &|| {}, &|| stop.requested()))?.map_err(to_py)?;
+    let outcomes = interruptible_with(py, progress.map(|callback| Progress { done: &done, callback }), |stop| {
+        spec.run_until(sc.sim(), &count, &|| stop.requested())
+    })?
+    .map_err(to_py)?;
     // `None` only when stopped, and then `interruptible` returned the signal's error.
-    let outcomes = outcomes.unwrap_or_default();
+    sweep_dict(py, &sc, spec, &outcomes.unwrap_or_default())
+}
+
+/// Checks a sweep scenario for an outside executor: `(text, runs)`, the scenario's text
+/// (each worker parses it again, so a file need not be on the workers' machines) and the
+/// number of runs of the sweep.
+#[pyfunction(name = "_sweep_plan")]
+pub fn sweep_plan(scenario: &Bound<'_, PyAny>) -> PyResult<(String, usize)> {
+    let source = Source::from_py(scenario)?;
+    let sc = scenario_arg(scenario)?;
+    let text = source.text().map_err(|e| from_scenario(&e, source.path()))?;
+    Ok((text, sweep_of(&sc)?.len()))
+}
+
+/// Values per run in the rows of `_sweep_part` (see [`outcome_row`]).
+const ROW_LEN: usize = 22;
+
+/// One sweep outcome as floats (exact: indices below 2^53, f64 values as they are):
+/// law, variant, trial, run, start index, start (3), diverged, t_final, final pose (3),
+/// goal (3), final_dl, final heading error, time to 1 cm (NaN: never), peak wheel speed,
+/// path length, energy.
+fn outcome_row(o: &SweepOutcome) -> [f64; ROW_LEN] {
+    let u = &o.outcome;
+    let termination = match u.termination {
+        Termination::Completed => 0.0,
+        Termination::Settled => 1.0,
+        Termination::NonFinite => 2.0,
+        Termination::LeftBox => 3.0,
+    };
+    [
+        o.law as f64,
+        o.variant as f64,
+        f64::from(o.trial),
+        o.run as f64,
+        o.start_index as f64,
+        o.start.x,
+        o.start.y,
+        o.start.theta,
+        termination,
+        u.t_final,
+        u.final_pose.x,
+        u.final_pose.y,
+        u.final_pose.theta,
+        u.goal.x,
+        u.goal.y,
+        u.goal.theta,
+        u.final_dl,
+        u.final_heading_error,
+        u.time_to_arrival.unwrap_or(f64::NAN),
+        u.peak_wheel_speed,
+        u.path_length,
+        u.energy,
+    ]
+}
+
+/// The outcome a row of [`outcome_row`] holds, or `None` for a row that is no outcome.
+fn row_outcome(r: &[f64]) -> Option<SweepOutcome> {
+    let index = |v: f64| (v >= 0.0 && v.fract() == 0.0 && v < 9.0e15).then_some(v as usize);
+    let termination = match r[8] as u8 {
+        0 => Termination::Completed,
+        1 => Termination::Settled,
+        2 => Termination::NonFinite,
+        3 => Termination::LeftBox,
+        _ => return None,
+    };
+    Some(SweepOutcome {
+        law: index(r[0])?,
+        variant: index(r[1])?,
+        trial: u32::try_from(index(r[2])?).ok()?,
+        run: index(r[3])? as u64,
+        start_index: index(r[4])?,
+        start: Pose2::new(r[5], r[6], r[7]),
+        outcome: Outcome {
+            termination,
+            t_final: r[9],
+            final_pose: Pose2::new(r[10], r[11], r[12]),
+            goal: Pose2::new(r[13], r[14], r[15]),
+            final_dl: r[16],
+            final_heading_error: r[17],
+            time_to_arrival: (!r[18].is_nan()).then_some(r[18]),
+            peak_wheel_speed: r[19],
+            path_length: r[20],
+            energy: r[21],
+        },
+    })
+}
+
+/// Parses the text `_sweep_plan` gave (no warnings: the caller had them).
+fn parse_text(text: &str) -> PyResult<Scenario> {
+    Scenario::from_toml_str(text, "scenario").map_err(to_py)
+}
+
+/// Runs `first..last` of the sweep of `text` (from `_sweep_plan`) on one thread, GIL
+/// released: the work of one outside executor's task. Returns an (n, 22) float64 array,
+/// one row per run, which `_sweep_gather` puts together.
+#[pyfunction(name = "_sweep_part")]
+pub fn sweep_part<'py>(py: Python<'py>, text: &str, first: usize, last: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let sc = parse_text(text)?;
+    let spec = sweep_of(&sc)?;
+    if first > last {
+        return Err(parameter_error("first", format_args!("must be <= last ({first} > {last})")));
+    }
+    let flow = interruptible(py, |stop| {
+        spec.run_range(sc.sim(), first..last, || {
+            if stop.requested() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
+        })
+    })?
+    .map_err(to_py)?;
+    // Stopped only when `interruptible` returned the signal's error.
+    let outcomes = match flow {
+        ControlFlow::Continue(o) => o,
+        ControlFlow::Break(()) => Vec::new(),
+    };
+    let mut rows = Array2::<f64>::zeros((outcomes.len(), ROW_LEN));
+    for (mut row, o) in rows.rows_mut().into_iter().zip(&outcomes) {
+        row.iter_mut().zip(outcome_row(o)).for_each(|(a, v)| *a = v);
+    }
+    Ok(rows.into_pyarray(py))
+}
+
+/// The result of `sweep` from the rows of every part (`_sweep_part`), in run order.
+#[pyfunction(name = "_sweep_gather")]
+pub fn sweep_gather<'py>(
+    py: Python<'py>,
+    text: &str,
+    rows: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let sc = parse_text(text)?;
+    let spec = sweep_of(&sc)?;
+    let rows = rows.as_array();
+    if rows.ncols() != ROW_LEN || rows.nrows() != spec.len() {
+        return Err(parameter_error(
+            "rows",
+            format_args!("expected ({}, {ROW_LEN}) rows, got {:?}", spec.len(), rows.shape()),
+        ));
+    }
+    let mut outcomes = Vec::with_capacity(rows.nrows());
+    for (k, r) in rows.rows().into_iter().enumerate() {
+        let r = r.to_vec();
+        let o =
+            row_outcome(&r).filter(|o| o.run == k as u64 && o.law < spec.laws.len() && o.variant < spec.variants.len());
+        outcomes.push(o.ok_or_else(|| parameter_error(&format!("rows[{k}]"), "is not the outcome of run {k}"))?);
+    }
+    sweep_dict(py, &sc, spec, &outcomes)
+}
+
+/// The dict `sweep` returns (see there).
+fn sweep_dict<'py>(
+    py: Python<'py>,
+    sc: &Scenario,
+    spec: &SweepSpec,
+    outcomes: &[SweepOutcome],
+) -> PyResult<Bound<'py, PyDict>> {
     let d = outcome_dict(py, outcomes.iter().map(|o| &o.outcome))?;
     let law: Vec<String> = outcomes.iter().map(|o| spec.laws[o.law].0.clone()).collect();
     d.set_item("law", law)?;
@@ -650,6 +990,29 @@ pub fn sweep<'py>(py: Python<'py>, scenario: &Bound<'py, PyAny>) -> PyResult<Bou
     for (j, k) in spec.variation.keys.iter().enumerate() {
         d.set_item(k.key.as_str(), PyArray1::from_vec(py, values.iter().map(|v| v[j]).collect()))?;
     }
-    d.set_item("table", wmr_scenario::summary_table(&wmr_scenario::summarize(spec, &outcomes)))?;
+    d.set_item("table", wmr_scenario::summary_table(&wmr_scenario::summarize(spec, outcomes)))?;
+    let meta = PyDict::new(py);
+    meta.set_item("laws", spec.laws.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>())?;
+    let varied = PyDict::new(py);
+    for k in &spec.variation.keys {
+        let kind = match k.spread {
+            wmr_scenario::vary::Spread::Values(_) => "values",
+            wmr_scenario::vary::Spread::Uniform(..) => "uniform",
+            wmr_scenario::vary::Spread::Normal(..) => "normal",
+        };
+        varied.set_item(k.key.as_str(), kind)?;
+    }
+    meta.set_item("varied", varied)?;
+    meta.set_item("trials", spec.variation.trials)?;
+    meta.set_item("trial", PyArray1::from_vec(py, outcomes.iter().map(|o| i64::from(o.trial)).collect()))?;
+    meta.set_item("scenario_toml", sc.to_toml())?;
+    meta.set_item("seed", spec.variation.seed)?;
+    let starts_seed = match &spec.source {
+        StartsSource::Random(r) => Some(r.seed),
+        StartsSource::Grid(_) => None,
+    };
+    meta.set_item("starts_seed", starts_seed)?;
+    meta.set_item("goal", (spec.goal.x, spec.goal.y, spec.goal.theta))?;
+    d.set_item("_meta", meta)?;
     Ok(d)
 }

@@ -1,0 +1,316 @@
+"""Results as data (pandas, xarray), progress bars and outside executors for wmr_py.
+
+pandas, xarray and tqdm are optional: they are imported when a method needs them, and a
+missing one raises ImportError naming the package (tqdm: a warning, the run goes on).
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+import warnings
+from typing import Any, Callable, Optional, Sequence
+
+import numpy as np
+
+from . import _native
+
+#: Outcome arrays of run_batch and sweep, in order (float64 except converged/diverged).
+OUTCOME_FIELDS = (
+    "final_x",
+    "final_y",
+    "final_theta",
+    "final_dl",
+    "final_heading_error",
+    "time_to_1cm",
+    "t_final",
+    "peak_wheel_speed",
+    "path_length",
+    "energy",
+    "converged",
+    "diverged",
+)
+
+#: A run has converged when its final distance to the goal is below this, m.
+ARRIVAL_RADIUS_M = 0.01
+
+
+def require(package: str, what: str) -> Any:
+    """Imports an optional package, or raises ImportError naming it and what needs it."""
+    try:
+        return importlib.import_module(package)
+    except ImportError as e:
+        raise ImportError(f"{what} needs {package}, which is not installed: pip install {package}") from e
+
+
+def _status(converged: np.ndarray, diverged: np.ndarray) -> np.ndarray:
+    return np.where(converged, "converged", np.where(diverged, "diverged", "unsettled"))
+
+
+def _shares(res: Any) -> str:
+    n = max(len(res["converged"]), 1)
+    c, d = int(np.sum(res["converged"])), int(np.sum(res["diverged"]))
+    return f"{100 * c / n:.1f}% converged, {100 * d / n:.1f}% diverged, {100 * (n - c - d) / n:.1f}% unsettled"
+
+
+def run_result_to_pandas(r: Any) -> Any:
+    """RunResult.to_pandas(): every CSV column with `run` and `label`, one row per sample."""
+    pd = require("pandas", "RunResult.to_pandas()")
+    cols = r.columns()
+    n = len(r)
+    data = {"run": np.full(n, r.run, dtype=np.int64), "label": np.full(n, r.label, dtype=object)}
+    for name, col in cols.items():
+        if name != "run":
+            data[name] = col
+    for name in ("x_meas", "y_meas", "theta_meas"):
+        data[name] = r[name]
+    return pd.DataFrame(data)
+
+
+class BatchResult(dict):
+    """The outcome of ``run_batch``: a dict of 1-D arrays, one entry per start, in order.
+
+    ``start`` (int64), ``x0``, ``y0`` (m), ``theta0`` (rad): the starts; ``final_x``,
+    ``final_y`` (m), ``final_theta`` (rad), ``final_dl`` (m), ``final_heading_error`` (rad,
+    wrap(theta_d - theta)), ``time_to_1cm`` (s; NaN if dl never stays below 1 cm),
+    ``t_final`` (s), ``peak_wheel_speed`` (rad/s), ``path_length`` (m), ``energy`` (J) as
+    float64; ``converged`` and ``diverged`` as bool. Attributes: ``law`` (the controller's
+    kind), ``arrival_radius`` (m, the 1 cm threshold of ``converged``).
+    """
+
+    law: str
+    arrival_radius: float
+
+    def __init__(self, data: Any = (), law: str = "paper") -> None:
+        super().__init__(data)
+        self.law = law
+        self.arrival_radius = ARRIVAL_RADIUS_M
+
+    def __len__(self) -> int:  # the number of starts, not of keys
+        return len(self["start"]) if "start" in self else 0
+
+    def to_pandas(self) -> Any:
+        """One row per start: law, start, x0, y0, theta0, status and the outcome columns."""
+        pd = require("pandas", "BatchResult.to_pandas()")
+        n = len(self)
+        data: dict = {"law": np.full(n, self.law, dtype=object)}
+        for k in ("start", "x0", "y0", "theta0"):
+            data[k] = self[k]
+        data["status"] = _status(self["converged"], self["diverged"])
+        for k in OUTCOME_FIELDS:
+            data[k] = self[k]
+        return pd.DataFrame(data)
+
+    def __repr__(self) -> str:
+        return f"<BatchResult: {len(self)} starts, law {self.law}: {_shares(self)}>"
+
+
+class SweepResult(dict):
+    """The outcome of ``sweep``: a dict of 1-D arrays, one entry per run, in law then
+    variant, trial and start order: ``law`` (list of names), ``start`` (int64), ``x0``,
+    ``y0`` (m), ``theta0`` (rad), the outcome arrays of ``run_batch``, one array per
+    varied key of ``[sweep] vary`` (the value each run used), and ``table`` (the CLI's
+    comparison table).
+
+    Attributes: ``laws`` (names, in order), ``varied`` ({key: "values", "uniform" or
+    "normal"}), ``trials``, ``scenario_toml`` (the resolved scenario), ``seed`` (of the
+    draws), ``starts_seed`` (of random starts, or None), ``goal``, ``version`` (wmr's).
+    """
+
+    laws: list
+    varied: dict
+    trials: int
+    scenario_toml: str
+    seed: int
+    starts_seed: Optional[int]
+    goal: tuple
+    version: str
+
+    def __init__(self, data: Any = ()) -> None:
+        data = dict(data)
+        meta = data.pop("_meta", {})
+        self.trial = meta.get("trial")
+        super().__init__(data)
+        self.laws = list(meta.get("laws", []))
+        self.varied = dict(meta.get("varied", {}))
+        self.trials = int(meta.get("trials", 1))
+        self.scenario_toml = meta.get("scenario_toml", "")
+        self.seed = int(meta.get("seed", 0))
+        self.starts_seed = meta.get("starts_seed")
+        self.goal = tuple(meta.get("goal", (0.0, 0.0, 0.0)))
+        self.version = _native.__version__
+
+    def __len__(self) -> int:  # the number of runs
+        return len(self["start"]) if "start" in self else 0
+
+    def to_pandas(self) -> Any:
+        """One row per run (law and start, variant, trial): law, start, x0, y0, theta0,
+        the varied keys, trial (when trials > 1), status and the outcome columns."""
+        pd = require("pandas", "SweepResult.to_pandas()")
+        data: dict = {"law": np.asarray(self["law"], dtype=object)}
+        for k in ("start", "x0", "y0", "theta0"):
+            data[k] = self[k]
+        for k in self.varied:
+            data[k] = self[k]
+        if self.trials > 1:
+            data["trial"] = self.trial
+        data["status"] = _status(self["converged"], self["diverged"])
+        for k in OUTCOME_FIELDS:
+            data[k] = self[k]
+        return pd.DataFrame(data)
+
+    def to_xarray(self) -> Any:
+        """The sweep as an ``xarray.Dataset`` with dimensions ``law`` x (one per varied key
+        with ``values``) x (``trial`` when trials > 1) x ``start``; the start poses ``x0``,
+        ``y0``, ``theta0`` as coordinates along ``start``. Keys varied one at a time fill
+        the cells where the other keys are nominal (NaN elsewhere, and ``converged`` /
+        ``diverged`` are then float 1/0/NaN); drawn keys (``uniform``/``normal``) are data
+        variables. Attributes: ``scenario`` (resolved TOML), ``seed``, ``starts_seed``,
+        ``wmr_version``, ``table``.
+        """
+        xr = require("xarray", "SweepResult.to_xarray()")
+        axis_keys = [k for k, kind in self.varied.items() if kind == "values"]
+        drawn_keys = [k for k, kind in self.varied.items() if kind != "values"]
+        starts = np.asarray(self["start"])
+        n_starts = int(starts.max()) + 1 if len(starts) else 0
+        coords: dict = {"law": self.laws}
+        idx = [np.array([self.laws.index(name) for name in self["law"]], dtype=np.int64)]
+        for k in axis_keys:
+            values = np.unique(self[k])
+            coords[k] = values
+            idx.append(np.searchsorted(values, self[k]))
+        if self.trials > 1:
+            coords["trial"] = np.arange(self.trials)
+            idx.append(np.asarray(self.trial, dtype=np.int64))
+        coords["start"] = np.arange(n_starts)
+        idx.append(starts)
+        dims = list(coords)
+        shape = tuple(len(coords[d]) for d in dims)
+        flat = np.ravel_multi_index(tuple(idx), shape)
+        # A cell that two variants reach (every key nominal in both) keeps the first run.
+        cells, first = np.unique(flat, return_index=True)
+        dense = len(cells) == math.prod(shape)
+        data_vars = {}
+        for k in list(OUTCOME_FIELDS) + drawn_keys:
+            col = np.asarray(self[k])
+            if col.dtype == bool and dense:
+                arr = np.zeros(shape, dtype=bool)
+            else:
+                arr = np.full(shape, np.nan)
+            arr.reshape(-1)[cells] = col[first]
+            data_vars[k] = (dims, arr)
+        x0 = np.zeros(n_starts)
+        y0 = np.zeros(n_starts)
+        t0 = np.zeros(n_starts)
+        x0[starts], y0[starts], t0[starts] = self["x0"], self["y0"], self["theta0"]
+        coords["x0"] = ("start", x0)
+        coords["y0"] = ("start", y0)
+        coords["theta0"] = ("start", t0)
+        attrs = {
+            "scenario": self.scenario_toml,
+            "seed": self.seed,
+            "wmr_version": self.version,
+            "goal": list(self.goal),
+            "table": self.get("table", ""),
+        }
+        if self.starts_seed is not None:
+            attrs["starts_seed"] = self.starts_seed
+        return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+    def __repr__(self) -> str:
+        parts = [f"<SweepResult: {len(self)} runs of {len(self.laws)} laws ({', '.join(self.laws)})"]
+        if self.varied:
+            parts.append(f", varied: {', '.join(self.varied)}")
+        return "".join(parts) + ">\n" + str(self.get("table", ""))
+
+
+class Bar:
+    """A progress callback for the native runs: ``bar(-total)`` opens a tqdm bar (tqdm.auto:
+    a widget in a notebook), ``bar(done)`` moves it. Without tqdm: one warning, no bar."""
+
+    def __init__(self, desc: str, unit: str) -> None:
+        self.desc, self.unit = desc, unit
+        self.bar: Any = None
+        try:
+            from tqdm.auto import tqdm
+        except ImportError:
+            warnings.warn("progress=True needs tqdm (pip install tqdm); running without a bar", stacklevel=3)
+            self.tqdm = None
+        else:
+            self.tqdm = tqdm
+
+    def __call__(self, n: int) -> None:
+        if self.tqdm is None:
+            return
+        if n < 0:
+            self.bar = self.tqdm(total=-n, desc=self.desc, unit=self.unit)
+        elif self.bar is not None:
+            self.bar.update(n - self.bar.n)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+
+def progress_bar(progress: bool, desc: str, unit: str) -> Optional[Bar]:
+    return Bar(desc, unit) if progress else None
+
+
+def check_executor(executor: Any) -> None:
+    if not callable(getattr(executor, "submit", None)):
+        err = _native.ParameterError(
+            f"executor: expected an object with submit(fn, *args) returning futures "
+            f"(concurrent.futures.ProcessPoolExecutor, dask.distributed.Client), got {type(executor).__name__}"
+        )
+        err.key = "executor"
+        err.line = None
+        raise err
+
+
+def chunks(n: int, chunk_size: Optional[int]) -> list:
+    """[first, last) ranges covering range(n): `chunk_size` each, or about 32 parts."""
+    if chunk_size is None:
+        chunk_size = max(1, math.ceil(n / 32))
+    if not isinstance(chunk_size, int) or isinstance(chunk_size, bool) or chunk_size < 1:
+        err = _native.ParameterError(f"chunk_size: expected an int >= 1, got {chunk_size!r}")
+        err.key = "chunk_size"
+        err.line = None
+        raise err
+    return [(a, min(a + chunk_size, n)) for a in range(0, n, chunk_size)]
+
+
+def run_tasks(executor: Any, fn: Callable, tasks: Sequence[tuple], bar: Optional[Bar], sizes: Sequence[int]) -> list:
+    """Submits fn(*task) for every task and returns the results in task order. Waits on
+    each future's .result() in order (concurrent.futures.wait does not take Dask's)."""
+    futures = [executor.submit(fn, *t) for t in tasks]
+    out = []
+    done = 0
+    if bar is not None:
+        bar(-sum(sizes))
+    try:
+        for f, size in zip(futures, sizes):
+            out.append(f.result())
+            done += size
+            if bar is not None:
+                bar(done)
+    except BaseException:
+        for f in futures:
+            cancel = getattr(f, "cancel", None)
+            if cancel is not None:
+                cancel()
+        raise
+    return out
+
+
+# The tasks an outside executor runs: module-level functions, pickled by reference, each
+# running its part on one thread in the worker.
+
+
+def sweep_task(text: str, first: int, last: int) -> np.ndarray:
+    """Runs first..last of a sweep on one thread: an (n, 22) array of outcome rows."""
+    return _native._sweep_part(text, first, last)
+
+
+def batch_task(base: dict, starts: np.ndarray, goals: Optional[np.ndarray], first: int) -> dict:
+    """Runs a part of a batch (starts[first:...] of the whole) on one thread."""
+    return _native._run_batch(base, starts, goals, first, 1)
