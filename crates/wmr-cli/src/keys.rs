@@ -96,6 +96,7 @@ name = "fig7"                  scenario name (default: the file's stem)
   t_end = 60.0                 s per run; a whole multiple of dt; <= 1e6 s and <= 1e9 steps
   dt = 1e-3                    s, RK4 step (default: controller.control_dt)
   log_dt = 0.01                s, output sample period; a whole multiple of dt
+  stop_when_settled = false    stop a run once settled: law holding, at rest within 1 cm
 
 [[run]]                        one or more
   label = "..."                text for the summary (default: built from start and goal)

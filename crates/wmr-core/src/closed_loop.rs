@@ -23,6 +23,7 @@ use crate::plant::Plant;
 use crate::reference::{FixedGoal, Reference};
 use crate::sample::Sample;
 use crate::sensor::{PerfectSensor, Sensor};
+use crate::settle::SettleWatch;
 
 /// Why a step was refused: the run has diverged.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -53,6 +54,8 @@ pub struct ClosedLoop<T, L, S = PerfectSensor, R = FixedGoal<T>> {
     /// The pose the controller used at the last tick.
     measured: Pose2<T>,
     diverged: Option<Diverged<T>>,
+    /// Stop a run once it has settled ([`crate::settle`]).
+    stop_when_settled: bool,
 }
 
 impl<T: Real, L: Law<T>, R: Reference<T>> ClosedLoop<T, L, PerfectSensor, R> {
@@ -96,9 +99,18 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
             output: ControlOutput::default(),
             measured: Pose2::default(),
             diverged: None,
+            stop_when_settled: false,
         };
         lp.control_tick();
         Ok(lp)
+    }
+
+    /// With `on`, [`ClosedLoop::run`] and [`ClosedLoop::try_run`] stop a run once it
+    /// has settled by the rule of [`crate::settle`] (off by default: runs keep their full
+    /// length). The outcome's termination is then [`Termination::Settled`].
+    pub fn stop_when_settled(mut self, on: bool) -> Self {
+        self.stop_when_settled = on;
+        self
     }
 
     /// The plant (the truth).
@@ -231,6 +243,9 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
         let mut termination = Termination::Completed;
         let mut last_logged = None;
         let mut done = 0;
+        let t_end = T::lit((self.step_index + n_steps) as f64) * self.dt;
+        let mut watch = (self.stop_when_settled && self.sensor.deterministic() && self.reference.fixed())
+            .then(|| SettleWatch::new(t_end));
         'run: while done < n_steps {
             poll()?;
             let chunk = (n_steps - done).min(POLL_EVERY_STEPS);
@@ -240,7 +255,14 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
                     sink(&s)?;
                     last_logged = Some(self.step_index);
                 }
-                metrics.add_step(s.t, &s.state, s.wheel_speeds, s.torque, self.reference.goal_at(s.t), self.dt);
+                let goal = self.reference.goal_at(s.t);
+                metrics.add_step(s.t, &s.state, s.wheel_speeds, s.torque, goal, self.dt);
+                if let Some(w) = &mut watch
+                    && w.settled(s.t, &s.state, goal, self.controller.holding())
+                {
+                    termination = Termination::Settled;
+                    break 'run;
+                }
                 if let Err(d) = self.step() {
                     termination = d.termination;
                     break 'run;

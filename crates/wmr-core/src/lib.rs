@@ -55,6 +55,7 @@ mod real;
 pub mod reference;
 pub mod sample;
 pub mod sensor;
+pub mod settle;
 pub mod state;
 pub mod world;
 

@@ -13,6 +13,9 @@ pub const ARRIVAL_RADIUS_M: f64 = 0.01;
 pub enum Termination {
     /// Reached t_end with a finite state inside the box.
     Completed,
+    /// Stopped before t_end by `stop_when_settled`: at rest within the arrival radius
+    /// with the law holding ([`crate::settle`]).
+    Settled,
     /// The next state was not finite; the run stopped at the last finite one.
     NonFinite,
     /// Point C left the 1 km box around the origin.
@@ -22,7 +25,7 @@ pub enum Termination {
 impl Termination {
     /// True for the two divergence cases.
     pub fn diverged(self) -> bool {
-        !matches!(self, Termination::Completed)
+        !matches!(self, Termination::Completed | Termination::Settled)
     }
 }
 
@@ -61,7 +64,7 @@ impl Status {
 pub struct Outcome<T> {
     /// How the run ended.
     pub termination: Termination,
-    /// Time of the last state, s (t_end unless diverged).
+    /// Time of the last state, s (t_end unless diverged or settled).
     pub t_final: T,
     /// Final true pose of C (world frame).
     pub final_pose: Pose2<T>,

@@ -12,6 +12,12 @@ use crate::math::Pose2;
 pub trait Reference<T: Real> {
     /// Goal pose of C (x, y in m, theta in rad, world frame) at time `t` (s).
     fn goal_at(&self, t: T) -> Pose2<T>;
+
+    /// True when the goal never moves: only then can a run that has come to rest be
+    /// stopped early ([`crate::settle`]).
+    fn fixed(&self) -> bool {
+        false
+    }
 }
 
 /// A goal pose that does not move (point stabilization).
@@ -37,5 +43,9 @@ impl<T: Real> Reference<T> for FixedGoal<T> {
     #[inline(always)]
     fn goal_at(&self, _t: T) -> Pose2<T> {
         self.0
+    }
+
+    fn fixed(&self) -> bool {
+        true
     }
 }

@@ -635,7 +635,9 @@ pub fn plant_step<T: Prec>(plant: *mut T::Plant, t: T, dt: T) -> wmr_status {
         plant.step(t, dt).map_err(|term| {
             let code = match term {
                 Termination::LeftBox => wmr_status::WMR_DIVERGED_LEFT_BOX,
-                Termination::NonFinite | Termination::Completed => wmr_status::WMR_DIVERGED_NON_FINITE,
+                Termination::NonFinite | Termination::Completed | Termination::Settled => {
+                    wmr_status::WMR_DIVERGED_NON_FINITE
+                }
             };
             Fail { code, field: "state", reason: "the step diverged; the state is unchanged", value: 0.0 }
         })

@@ -6,6 +6,7 @@ use wmr_core::{AnyLaw, ClosedLoop, Controller, FixedGoal, ParamError, Pose2, Pos
 use crate::error::ScenarioError;
 use crate::keys::join;
 use crate::setup::Setup;
+use crate::sim::SimSpec;
 
 /// A built controller of any law, at t = 0.
 pub type BuiltController = Controller<f64, AnyLaw<f64>>;
@@ -37,17 +38,19 @@ impl Origin<'_> {
 }
 
 /// The loop of run number `run` (it selects the sensor's noise stream) from `start` to
-/// `goal` (m, m, rad) with plant step `dt` (s).
+/// `goal` (m, m, rad) with the plant step and settle rule of `sim`.
 pub fn closed_loop(
     setup: &Setup,
     run: u64,
     start: Pose2<f64>,
     goal: Pose2<f64>,
-    dt: f64,
+    sim: &SimSpec,
     origin: Origin<'_>,
 ) -> Result<RunLoop, ScenarioError> {
     let plant = setup.plant(start).map_err(|e| origin.key_of(&e))?;
     let sensor = setup.sensor_for(run).map_err(|e| origin.key_of(&e))?;
     let goal = FixedGoal::new(goal).map_err(|e| origin.key_of(&e))?;
-    ClosedLoop::with_sensor(plant, sensor, setup.built, goal, dt).map_err(|e| origin.key_of(&e))
+    ClosedLoop::with_sensor(plant, sensor, setup.built, goal, sim.dt())
+        .map(|lp| lp.stop_when_settled(sim.stop_when_settled()))
+        .map_err(|e| origin.key_of(&e))
 }

@@ -46,6 +46,8 @@ pub struct SimFile {
     pub dt: Option<f64>,
     /// Output sample period, s; a whole multiple of `dt`. Default 0.01.
     pub log_dt: Option<f64>,
+    /// Stop each run once it has settled (`wmr_core::settle`). Default false.
+    pub stop_when_settled: Option<bool>,
 }
 
 /// One `[[run]]`.

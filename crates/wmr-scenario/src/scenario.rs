@@ -41,8 +41,9 @@ impl ScenarioFile {
         };
         let setup = Setup::resolve(&tables, "controller")?;
 
-        let SimFile { t_end, dt, log_dt } = self.sim.unwrap_or_default();
-        let sim = SimSpec::resolve(t_end, dt, log_dt, setup.controller.control_dt)?;
+        let SimFile { t_end, dt, log_dt, stop_when_settled } = self.sim.unwrap_or_default();
+        let sim = SimSpec::resolve(t_end, dt, log_dt, setup.controller.control_dt)?
+            .with_stop_when_settled(stop_when_settled.unwrap_or(false));
         setup.check_step(sim.dt())?;
 
         let sweep = match &self.sweep {
@@ -172,7 +173,7 @@ impl Scenario {
         })?;
         let path = format!("run[{run_index}]");
         let origin = Origin { run: &path, controller: "controller" };
-        assemble::closed_loop(&self.setup, run_index as u64, run.start, run.goal, self.sim.dt(), origin)
+        assemble::closed_loop(&self.setup, run_index as u64, run.start, run.goal, &self.sim, origin)
     }
 
     /// Simulates run `run_index` from t = 0 to t_end (or divergence), handing `sink`
@@ -212,7 +213,14 @@ impl Scenario {
         let _ = writeln!(o, "\n[world]");
         write_keys(&mut o, &to_table(setup.world.params()), fields_of::<WorldParams<f64>>());
         let s = &self.sim;
-        let _ = writeln!(o, "\n[sim]\nt_end = {}\ndt = {}\nlog_dt = {}", f(s.t_end()), f(s.dt()), f(s.log_dt()));
+        let _ = writeln!(
+            o,
+            "\n[sim]\nt_end = {}\ndt = {}\nlog_dt = {}\nstop_when_settled = {}",
+            f(s.t_end()),
+            f(s.dt()),
+            f(s.log_dt()),
+            s.stop_when_settled()
+        );
         let _ = writeln!(o, "# {} steps and {} samples per run", s.n_steps(), s.n_samples());
         for run in &self.runs {
             let pose = |p: &Pose2<f64>| {

@@ -20,6 +20,7 @@ pub struct SimSpec {
     log_dt: f64,
     n_steps: u64,
     log_every: u32,
+    stop_when_settled: bool,
 }
 
 /// How many `dt` fit in `period` if it is a whole multiple (relative tolerance 1e-9, as
@@ -102,7 +103,19 @@ impl SimSpec {
         let log_every = whole_multiple(log_dt, dt)
             .and_then(|n| u32::try_from(n).ok())
             .ok_or_else(|| blame(log_dt_given, "sim.log_dt", log_dt))?;
-        Ok(Self { t_end, dt, log_dt, n_steps, log_every })
+        Ok(Self { t_end, dt, log_dt, n_steps, log_every, stop_when_settled: false })
+    }
+
+    /// With `on`, each run stops once it has settled (`[sim] stop_when_settled`, the
+    /// rule of `wmr_core::settle`); runs keep their full length otherwise.
+    pub fn with_stop_when_settled(mut self, on: bool) -> Self {
+        self.stop_when_settled = on;
+        self
+    }
+
+    /// Whether runs stop once settled.
+    pub fn stop_when_settled(&self) -> bool {
+        self.stop_when_settled
     }
 
     /// Simulated time per run, s.

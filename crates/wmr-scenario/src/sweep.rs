@@ -190,8 +190,7 @@ fn check_setup(
     };
     let setup = Setup::resolve(t, path).map_err(prefix)?;
     setup.check_step(sim.dt()).map_err(prefix)?;
-    assemble::closed_loop(&setup, 0, goal, goal, sim.dt(), Origin { run: "sweep", controller: path })
-        .map_err(prefix)?;
+    assemble::closed_loop(&setup, 0, goal, goal, sim, Origin { run: "sweep", controller: path }).map_err(prefix)?;
     Ok(setup)
 }
 
@@ -466,7 +465,7 @@ impl SweepSpec {
             } else {
                 &self.setups[law * n_variants + variant]
             };
-            let mut lp = assemble::closed_loop(setup, run, start, self.goal, sim.dt(), origin)?;
+            let mut lp = assemble::closed_loop(setup, run, start, self.goal, sim, origin)?;
             let ControlFlow::Continue(outcome) =
                 lp.try_run(sim.n_steps(), u32::MAX, |_| ControlFlow::Continue(()), poll)
             else {
@@ -509,7 +508,7 @@ impl SweepSpec {
         } else {
             &self.setups[law * n_variants]
         };
-        let mut lp = assemble::closed_loop(setup, run, self.starts[start_index], self.goal, sim.dt(), origin)?;
+        let mut lp = assemble::closed_loop(setup, run, self.starts[start_index], self.goal, sim, origin)?;
         Ok(lp.run(sim.n_steps(), sim.log_every(), sink))
     }
 

@@ -78,6 +78,10 @@ macro_rules! laws {
             fn reset(&mut self) {
                 match self { $( AnyLaw::$variant(l) => l.reset(), )+ }
             }
+
+            fn holding(&self) -> bool {
+                match self { $( AnyLaw::$variant(l) => l.holding(), )+ }
+            }
         }
     };
 }

@@ -101,6 +101,11 @@ impl<T: Real, L: Law<T>> Controller<T, L> {
         self.control_dt
     }
 
+    /// True when the law holds ([`Law::holding`]).
+    pub fn holding(&self) -> bool {
+        self.law.holding()
+    }
+
     /// The outer law.
     pub fn law(&self) -> &L {
         &self.law

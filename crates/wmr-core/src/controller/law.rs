@@ -58,4 +58,12 @@ pub trait Law<T: Real> {
 
     /// Clears integrators and memories, as at t = 0.
     fn reset(&mut self);
+
+    /// True when the last update was inside the law's hold: its memories no longer move
+    /// and its demand stays the same while the measured pose stays in the hold. A law
+    /// without a hold keeps the default, false, and its runs are never stopped early
+    /// ([`crate::settle`]).
+    fn holding(&self) -> bool {
+        false
+    }
 }

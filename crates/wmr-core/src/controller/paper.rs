@@ -173,6 +173,10 @@ impl<T: Real> Law<T> for PaperLaw<T> {
     fn reset(&mut self) {
         self.outer.reset();
     }
+
+    fn holding(&self) -> bool {
+        self.outer.held
+    }
 }
 
 /// The gains of the two PI loops (22), (24).
@@ -215,6 +219,8 @@ pub(crate) struct OuterLoops<T> {
     last_alpha: Option<T>,
     /// Wheel references of the last tick, rad ([`HoldMode::Freeze`] keeps them).
     last_refs: Option<Wheels<T>>,
+    /// The last tick was inside the hold radius ([`Law::holding`]).
+    pub(crate) held: bool,
 }
 
 impl<T: Real> OuterLoops<T> {
@@ -229,6 +235,7 @@ impl<T: Real> OuterLoops<T> {
             int_e_s: T::zero(),
             last_alpha: None,
             last_refs: None,
+            held: false,
         })
     }
 
@@ -260,6 +267,7 @@ impl<T: Real> OuterLoops<T> {
         // entry: the proportional parts Kp e drop out at once), or the references of the
         // last tick outside are kept (freeze).
         let in_hold = hold.radius > T::zero() && dl < hold.radius;
+        self.held = in_hold;
         if in_hold
             && hold.mode == HoldMode::Freeze
             && let Some(refs) = self.last_refs
@@ -289,5 +297,6 @@ impl<T: Real> OuterLoops<T> {
         self.int_e_s = T::zero();
         self.last_alpha = None;
         self.last_refs = None;
+        self.held = false;
     }
 }

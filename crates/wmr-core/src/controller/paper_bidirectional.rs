@@ -195,6 +195,10 @@ impl<T: Real> Law<T> for PaperBidirectionalLaw<T> {
     fn reset(&mut self) {
         self.outer.reset();
     }
+
+    fn holding(&self) -> bool {
+        self.outer.held
+    }
 }
 
 #[cfg(test)]

@@ -262,4 +262,8 @@ impl<T: Real, G: PolarGains<T>> Law<T> for PolarCoordinateLaw<T, G> {
         self.direction.reset();
         self.held = false;
     }
+
+    fn holding(&self) -> bool {
+        self.held
+    }
 }

@@ -36,6 +36,13 @@ pub trait Sensor<T: Real> {
 
     /// Forgets any memory (buffers, filters), as at t = 0.
     fn reset(&mut self) {}
+
+    /// True when the measurement is a function of the true state alone (no noise): a
+    /// loop that has come to rest stays at rest. A noisy sensor keeps the controller
+    /// moving, and its runs are never stopped early ([`crate::settle`]).
+    fn deterministic(&self) -> bool {
+        true
+    }
 }
 
 /// The true pose and wheel state, instantly: the paper's assumption.

@@ -232,4 +232,8 @@ impl<T: Real, const N: usize> Sensor<T> for PoseSensor<T, N> {
         self.seen = None;
         self.last_angles = None;
     }
+
+    fn deterministic(&self) -> bool {
+        self.params.position_noise == T::zero() && self.params.heading_noise_deg == T::zero()
+    }
 }

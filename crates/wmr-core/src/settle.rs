@@ -1,0 +1,110 @@
+//! When a run may stop early: the settle rule of `[sim] stop_when_settled`.
+//!
+//! A run is settled at time t when, for the whole of the last [`SETTLE_WINDOW_S`]:
+//!
+//! 1. the law holds ([`crate::Law::holding`]): inside its hold its memories stop and its
+//!    demand stays the same (paper laws: measured distance below `hold_radius`; polar
+//!    laws: inside `goal_radius`). A law that is still integrating may yet move the robot;
+//! 2. the true distance from C to the goal is below the arrival radius
+//!    ([`crate::ARRIVAL_RADIUS_M`], 1 cm), so the run already counts as converged;
+//! 3. the robot is at rest: |v| < [`SETTLE_SPEED_M_S`] and |omega| < [`SETTLE_TURN_RAD_S`];
+//!
+//! and at t, a creep at the present speed could not carry C out of the arrival disc
+//! before t_end: dl + |v| (t_end - t) < 1 cm. The sensor must be noise-free and the goal
+//! fixed ([`crate::Sensor::deterministic`], [`crate::Reference::fixed`]), else the rule
+//! never fires: noise keeps a held law's input moving.
+//!
+//! So an `unsettled` run (never within 1 cm, or not at rest there) is never stopped, and
+//! one that is stopped would have stayed within 1 cm: its status and time to 1 cm are
+//! those of the full-length run; its final pose differs by what the robot would still
+//! have crept (tested on every start of `examples/compare.toml`).
+
+use crate::Real;
+use crate::math::Pose2;
+use crate::outcome::ARRIVAL_RADIUS_M;
+use crate::state::State;
+
+/// Speed of C below which the robot counts as at rest, m/s.
+pub const SETTLE_SPEED_M_S: f64 = 1e-4;
+/// Turn rate below which the robot counts as at rest, rad/s.
+pub const SETTLE_TURN_RAD_S: f64 = 1e-3;
+/// How long the conditions must hold before the run stops, s.
+pub const SETTLE_WINDOW_S: f64 = 1.0;
+
+/// Watches a run for the settle rule (module docs), one plant step at a time.
+#[derive(Clone, Copy, Debug)]
+pub struct SettleWatch<T> {
+    /// t_end, s.
+    t_end: T,
+    /// Since when (s) conditions 1 to 3 have held without a break.
+    since: Option<T>,
+}
+
+impl<T: Real> SettleWatch<T> {
+    /// A watch for a run that ends at `t_end` (s).
+    pub fn new(t_end: T) -> Self {
+        Self { t_end, since: None }
+    }
+
+    /// Sees the true `state` at `t` (s) against `goal`, with the law `holding` or not;
+    /// true when the run is settled and may stop here.
+    #[inline(always)]
+    pub fn settled(&mut self, t: T, state: &State<T>, goal: Pose2<T>, holding: bool) -> bool {
+        let r = T::lit(ARRIVAL_RADIUS_M);
+        let dx = goal.x - state.x;
+        let dy = goal.y - state.y;
+        let dl_sq = dx * dx + dy * dy;
+        let at_rest = state.v.abs() < T::lit(SETTLE_SPEED_M_S) && state.omega.abs() < T::lit(SETTLE_TURN_RAD_S);
+        if !(holding && at_rest && dl_sq < r * r) {
+            self.since = None;
+            return false;
+        }
+        let since = *self.since.get_or_insert(t);
+        t - since >= T::lit(SETTLE_WINDOW_S) && dl_sq.sqrt() + state.v.abs() * (self.t_end - t) < r
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn state(x: f64, v: f64, omega: f64) -> State<f64> {
+        State { x, v, omega, ..State::at_rest(Pose2::new(x, 0.0, 0.0)) }
+    }
+
+    /// Fires only after the window, with every condition held throughout.
+    #[test]
+    fn settles_after_a_window_at_rest_near_the_goal_while_holding() {
+        let goal = Pose2::default();
+        let mut w = SettleWatch::new(100.0);
+        let s = state(0.002, 0.0, 0.0);
+        assert!(!w.settled(10.0, &s, goal, true));
+        assert!(!w.settled(10.5, &s, goal, true));
+        assert!(w.settled(11.0, &s, goal, true));
+        // Any break restarts the window: not holding, moving, turning, outside 1 cm.
+        for (s, holding) in [
+            (s, false),
+            (state(0.002, 2e-4, 0.0), true),
+            (state(0.002, 0.0, 2e-3), true),
+            (state(0.011, 0.0, 0.0), true),
+        ] {
+            let mut w = SettleWatch::new(100.0);
+            assert!(!w.settled(10.0, &state(0.002, 0.0, 0.0), goal, true));
+            assert!(!w.settled(10.5, &s, goal, holding));
+            assert!(!w.settled(11.0, &state(0.002, 0.0, 0.0), goal, true));
+        }
+    }
+
+    /// A creep below the rest speed that would still leave the 1 cm disc before t_end
+    /// (5 mm + 5e-5 m/s * 100 s = 1 cm) does not stop the run; a slower one does.
+    #[test]
+    fn a_creep_that_could_leave_the_arrival_disc_is_not_settled() {
+        let goal = Pose2::default();
+        let mut w = SettleWatch::new(111.0);
+        let creep = state(0.005, 5e-5, 0.0);
+        assert!(!w.settled(10.0, &creep, goal, true));
+        assert!(!w.settled(11.0, &creep, goal, true));
+        let slow = state(0.005, 4e-5, 0.0);
+        assert!(w.settled(12.0, &slow, goal, true));
+    }
+}

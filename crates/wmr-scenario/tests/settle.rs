@@ -1,0 +1,71 @@
+//! `[sim] stop_when_settled`: a run stopped by the settle rule (`wmr_core::settle`) has
+//! the status and time to 1 cm of the full-length run, and its final errors within
+//! 1 um and 1e-4 deg, on the starts of `examples/compare.toml` (all four laws).
+//!
+//! By default a subset of its 1,000 starts that holds every outcome of the paper law
+//! (converged 0, 1; unsettled 15, 16; diverged 27, 29) plus every 100th; all of them with
+//! `WMR_LONG_TESTS=1 cargo test --release -p wmr-scenario --test settle` (about 2 min).
+
+use wmr_core::{Outcome, Status, Termination};
+use wmr_scenario::{Scenario, SimSpec};
+
+const COMPARE: &str = include_str!("../../../examples/compare.toml");
+
+fn full_and_settled(law: usize, start: usize, s: &Scenario) -> (Outcome<f64>, Outcome<f64>) {
+    let sweep = s.sweep().expect("a sweep");
+    let full: SimSpec = s.sim().with_stop_when_settled(false);
+    let settled = s.sim().with_stop_when_settled(true);
+    (sweep.run_one(&full, law, start, |_| {}).unwrap(), sweep.run_one(&settled, law, start, |_| {}).unwrap())
+}
+
+#[test]
+fn settled_runs_equal_full_length_runs_on_compare_toml() {
+    let s = Scenario::from_toml_str(COMPARE, "compare").unwrap();
+    let n_starts = s.sweep().unwrap().starts.len();
+    assert_eq!(n_starts, 1000);
+    let starts: Vec<usize> = if std::env::var_os("WMR_LONG_TESTS").is_some() {
+        (0..n_starts).collect()
+    } else {
+        [0, 1, 15, 16, 27, 29].into_iter().chain((100..n_starts).step_by(100)).collect()
+    };
+    let laws = s.sweep().unwrap().laws.len();
+    let jobs: Vec<(usize, usize)> = (0..laws).flat_map(|l| starts.iter().map(move |&i| (l, i))).collect();
+    let pairs = wmr_scenario::executor::map_ordered(jobs.len(), |k| full_and_settled(jobs[k].0, jobs[k].1, &s));
+    let mut stopped = 0;
+    let mut statuses = [0; 3];
+    for (&(law, start), (full, early)) in jobs.iter().zip(&pairs) {
+        let at = format!("law {law}, start {start}");
+        assert_eq!(early.status(), full.status(), "{at}");
+        assert_eq!(early.time_to_arrival, full.time_to_arrival, "{at}");
+        assert!((early.final_dl - full.final_dl).abs() < 1e-6, "{at}: dl {} vs {}", early.final_dl, full.final_dl);
+        let dh = (early.final_heading_error - full.final_heading_error).abs().to_degrees();
+        assert!(dh < 1e-4, "{at}: heading differs by {dh} deg");
+        if early.termination == Termination::Settled {
+            stopped += 1;
+            assert_eq!(full.status(), Status::Converged, "{at}");
+            assert!(early.t_final < full.t_final, "{at}");
+        } else {
+            assert_eq!(early.t_final, full.t_final, "{at}");
+        }
+        statuses[Status::ALL.iter().position(|&st| st == full.status()).unwrap()] += 1;
+    }
+    // Every outcome is exercised, and the rule does fire.
+    assert!(statuses.iter().all(|&n| n > 0), "statuses {statuses:?}");
+    let converged = statuses[0];
+    assert!(stopped * 10 >= converged * 9, "only {stopped} of {converged} converged runs stopped early");
+}
+
+/// The rule never fires with a noisy sensor, nor for a law that never holds.
+#[test]
+fn noisy_sensors_and_laws_without_a_hold_run_to_the_end() {
+    let base =
+        "[sim]\nt_end = 60.0\nstop_when_settled = true\n[[run]]\ngoal = { x = 1.0, y = 1.0, theta_deg = 120.0 }\n";
+    let quiet = Scenario::from_toml_str(base, "quiet").unwrap();
+    assert_eq!(quiet.run(0, |_| {}).unwrap().outcome.termination, Termination::Settled);
+    let noisy = format!("[sensor]\nposition_noise = 1e-9\n{base}");
+    let noisy = Scenario::from_toml_str(&noisy, "noisy").unwrap();
+    assert_eq!(noisy.run(0, |_| {}).unwrap().outcome.termination, Termination::Completed);
+    let no_hold = format!("[controller]\nhold_radius = 0.0\n{base}");
+    let no_hold = Scenario::from_toml_str(&no_hold, "no_hold").unwrap();
+    assert_eq!(no_hold.run(0, |_| {}).unwrap().outcome.termination, Termination::Completed);
+}
