@@ -124,10 +124,11 @@ fn docs_document_every_key() {
     }
 }
 
-/// The keyword arguments of `class NAME`'s `__init__` in a stub, with their defaults.
+/// The keyword arguments of `class NAME`'s constructor in a stub (`__new__`, as pyo3
+/// classes have it), with their defaults.
 fn init_kwargs<'a>(stub: &'a str, class: &str) -> Vec<(&'a str, &'a str)> {
     let init = between(stub, &format!("class {class}:"), &["\nclass "]);
-    let init = between(init, "def __init__(", &[") -> None"]);
+    let init = between(init, "def __new__(", &[") -> Self"]);
     let star = init.find('*').expect("keyword-only arguments");
     init[star..]
         .lines()

@@ -473,8 +473,8 @@ law_class!(
 
 /// Rebuilds a controller of class `class` from its resolved scenario (pickle's restore).
 #[pyfunction(name = "_controller_from_toml")]
-pub fn controller_from_toml(py: Python<'_>, class: &str, text: &str) -> PyResult<Py<PyAny>> {
-    Ok(match class {
+pub fn controller_from_toml(py: Python<'_>, class_name: &str, text: &str) -> PyResult<Py<PyAny>> {
+    Ok(match class_name {
         "PaperController" => Py::new(py, PyPaperController::from_toml(text)?)?.into_any(),
         "PaperBidirectionalController" => Py::new(py, PyPaperBidirectionalController::from_toml(text)?)?.into_any(),
         "PolarController" => Py::new(py, PyPolarController::from_toml(text)?)?.into_any(),

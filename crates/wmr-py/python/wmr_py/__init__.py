@@ -222,10 +222,10 @@ def run_batch(
     # with the first start, then each start becomes a run. Logging is not needed, so
     # log_dt = t_end (a whole multiple of dt whenever t_end is).
     first = arr[0]
-    base_start = {"x": float(first[0]), "y": float(first[1]), "theta": float(first[2])}
+    base_start: Optional[dict] = {"x": float(first[0]), "y": float(first[1]), "theta": float(first[2])}
     # A first start the scenario would refuse is left to the native check, which names it
     # as starts[i, j].
-    if not all(math.isfinite(v) for v in base_start.values()) or max(abs(first[0]), abs(first[1])) > 1000.0:
+    if not all(math.isfinite(v) for v in first) or max(abs(first[0]), abs(first[1])) > 1000.0:
         base_start = None
     runs = [{"start": base_start, "goal": _pose(goal, "goal")}]
     base = _scenario(runs, robot, drive, controller, t_end, dt, t_end, sensor, world)

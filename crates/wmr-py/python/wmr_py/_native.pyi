@@ -4,15 +4,16 @@ from __future__ import annotations
 
 import math
 import os
-from typing import Any, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
+from typing_extensions import Self, final
 
-FloatArray = npt.NDArray[np.float64]
-ArrayLike = Union[Sequence[float], FloatArray]
-PoseLike = Union[Sequence[float], Mapping[str, float]]
-ScenarioLike = Union[str, os.PathLike[str], Mapping[str, Any]]
+_FloatArray = npt.NDArray[np.float64]
+_ArrayLike = Union[Sequence[float], _FloatArray]
+_PoseLike = Union[Sequence[float], Mapping[str, float]]
+_ScenarioLike = Union[str, os.PathLike[str], Mapping[str, Any]]
 
 class ParameterError(ValueError):
     """A bad argument or parameter value; ``key`` names it (``robot.mass``, ``state[3]``)."""
@@ -24,11 +25,12 @@ class ScenarioError(ParameterError):
     """A bad scenario (file, TOML text or dict): ``key`` is the dotted key
     (``run[0].start.x``), ``line`` the 1-based TOML line when known."""
 
+@final
 class Robot:
     """A differential-drive robot; keywords are the scenario's ``[robot]`` keys."""
 
-    def __init__(
-        self,
+    def __new__(
+        cls,
         *,
         mass: float = 5.0,
         wheel_radius: float = 0.1,
@@ -40,15 +42,16 @@ class Robot:
         viscous_friction: float = 0.0,
         coulomb_friction: float = 0.0,
         coulomb_speed: float = 0.001,
-    ) -> None: ...
-    def derivative(self, state: ArrayLike, tau: ArrayLike) -> FloatArray:
-        """d/dt of [x, y, theta, v, omega, phi_r, phi_l] under wheel torques (tau_r, tau_l), N m."""
-    def step(self, state: ArrayLike, tau: ArrayLike, dt: float) -> FloatArray:
-        """The state after one RK4 step of dt seconds with constant wheel torques."""
-    def kinetic_energy(self, state: ArrayLike) -> float:
-        """1/2 M11 v^2 + 1/2 M22 omega^2, J."""
-    def wheel_speeds(self, state: ArrayLike) -> Tuple[float, float]:
-        """(omega_r, omega_l), rad/s."""
+    ) -> Self: ...
+    def derivative(self, state: _ArrayLike, tau: _ArrayLike) -> _FloatArray:
+        """d/dt of [x, y, theta, v, omega, phi_r, phi_l] under wheel torques (tau_r, tau_l), N m;
+        (N, 7) for a batch of (N, 7) states and (N, 2) torques."""
+    def step(self, state: _ArrayLike, tau: _ArrayLike, dt: float) -> _FloatArray:
+        """The state after one RK4 step of dt seconds with constant wheel torques; (N, 7) for a batch."""
+    def kinetic_energy(self, state: _ArrayLike) -> Any:
+        """1/2 M11 v^2 + 1/2 M22 omega^2, J (float; (N,) array for (N, 7) states)."""
+    def wheel_speeds(self, state: _ArrayLike) -> Any:
+        """(omega_r, omega_l), rad/s ((N, 2) array for (N, 7) states)."""
     def to_dict(self) -> dict[str, float]: ...
     @property
     def reduced_inertia(self) -> Tuple[float, float]:
@@ -74,12 +77,13 @@ class Robot:
     @property
     def coulomb_speed(self) -> float: ...
 
+@final
 class PaperController:
-    """The paper's controller; gains are the scenario's ``[controller]`` keys."""
+    """The paper's controller; gains are the scenario's ``[controller]`` keys of kind "paper"."""
 
-    def __init__(
-        self,
-        goal: PoseLike,
+    def __new__(
+        cls,
+        goal: _PoseLike,
         robot: Union[None, Robot, Mapping[str, float]] = None,
         drive: Optional[Mapping[str, Any]] = None,
         *,
@@ -96,18 +100,155 @@ class PaperController:
         servo_ki: float = 0.0,
         wheel_speed_max: float = math.inf,
         control_dt: float = 0.001,
-    ) -> None: ...
-    def update(self, pose: ArrayLike, wheel_angles: ArrayLike, wheel_speeds: ArrayLike) -> Tuple[float, float]:
-        """(tau_r, tau_l): wheel torque demands, N m, before the drive's clamp."""
+    ) -> Self: ...
+    def update(self, pose: _ArrayLike, wheel_angles: _ArrayLike, wheel_speeds: _ArrayLike) -> Any:
+        """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
+        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds."""
     def reset(self) -> None: ...
     @property
-    def errors(self) -> Tuple[float, float, float]:
-        """(e_s in m, e_theta in rad, dl in m) of the last update."""
+    def errors(self) -> Any:
+        """(e_s in m, e_theta in rad, dl in m) of the last update, (N, 3) after a batched one."""
     @property
     def control_dt(self) -> float: ...
     @property
     def goal(self) -> Tuple[float, float, float]: ...
+    @property
+    def kind(self) -> str: ...
+    @property
+    def n(self) -> int:
+        """Robots in the batch (1 for single calls)."""
+    @property
+    def scenario_toml(self) -> str: ...
 
+
+@final
+class PaperBidirectionalController:
+    """The paper's law repaired (kind "paper_bidirectional")."""
+
+    def __new__(
+        cls,
+        goal: _PoseLike,
+        robot: Union[None, Robot, Mapping[str, float]] = None,
+        drive: Optional[Mapping[str, Any]] = None,
+        *,
+        kp_theta: float = 0.0,
+        ki_theta: float = 1.0,
+        kp_s: float = 0.0,
+        ki_s: float = 0.25,
+        goal_radius: float = 0.001,
+        hold_radius: float = 0.005,
+        hold: str = "freeze",
+        servo_kp: float = 14.0,
+        servo_kd: float = 1.4,
+        servo_ki: float = 0.0,
+        wheel_speed_max: float = math.inf,
+        control_dt: float = 0.001,
+    ) -> Self: ...
+    def update(self, pose: _ArrayLike, wheel_angles: _ArrayLike, wheel_speeds: _ArrayLike) -> Any:
+        """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
+        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds."""
+    def reset(self) -> None: ...
+    @property
+    def errors(self) -> Any:
+        """(e_s in m, e_theta in rad, dl in m) of the last update, (N, 3) after a batched one."""
+    @property
+    def control_dt(self) -> float: ...
+    @property
+    def goal(self) -> Tuple[float, float, float]: ...
+    @property
+    def kind(self) -> str: ...
+    @property
+    def n(self) -> int:
+        """Robots in the batch (1 for single calls)."""
+    @property
+    def scenario_toml(self) -> str: ...
+
+
+@final
+class PolarController:
+    """Astolfi's polar law (kind "polar")."""
+
+    def __new__(
+        cls,
+        goal: _PoseLike,
+        robot: Union[None, Robot, Mapping[str, float]] = None,
+        drive: Optional[Mapping[str, Any]] = None,
+        *,
+        k_rho: float = 0.5,
+        k_alpha: float = 3.0,
+        k_beta: float = -1.2,
+        reverse: bool = True,
+        reverse_hysteresis: float = 0.5235987755982989,
+        goal_radius: float = 0.001,
+        servo_kp: float = 14.0,
+        servo_kd: float = 1.4,
+        servo_ki: float = 0.0,
+        wheel_speed_max: float = math.inf,
+        control_dt: float = 0.001,
+    ) -> Self: ...
+    def update(self, pose: _ArrayLike, wheel_angles: _ArrayLike, wheel_speeds: _ArrayLike) -> Any:
+        """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
+        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds."""
+    def reset(self) -> None: ...
+    @property
+    def errors(self) -> Any:
+        """(e_s in m, e_theta in rad, dl in m) of the last update, (N, 3) after a batched one."""
+    @property
+    def control_dt(self) -> float: ...
+    @property
+    def goal(self) -> Tuple[float, float, float]: ...
+    @property
+    def kind(self) -> str: ...
+    @property
+    def n(self) -> int:
+        """Robots in the batch (1 for single calls)."""
+    @property
+    def scenario_toml(self) -> str: ...
+
+
+@final
+class LyapunovController:
+    """Aicardi et al.'s Lyapunov law (kind "lyapunov")."""
+
+    def __new__(
+        cls,
+        goal: _PoseLike,
+        robot: Union[None, Robot, Mapping[str, float]] = None,
+        drive: Optional[Mapping[str, Any]] = None,
+        *,
+        gamma: float = 0.5,
+        k: float = 3.0,
+        h: float = 9.0,
+        reverse: bool = True,
+        reverse_hysteresis: float = 0.5235987755982989,
+        goal_radius: float = 0.001,
+        servo_kp: float = 14.0,
+        servo_kd: float = 1.4,
+        servo_ki: float = 0.0,
+        wheel_speed_max: float = math.inf,
+        control_dt: float = 0.001,
+    ) -> Self: ...
+    def update(self, pose: _ArrayLike, wheel_angles: _ArrayLike, wheel_speeds: _ArrayLike) -> Any:
+        """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
+        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds."""
+    def reset(self) -> None: ...
+    @property
+    def errors(self) -> Any:
+        """(e_s in m, e_theta in rad, dl in m) of the last update, (N, 3) after a batched one."""
+    @property
+    def control_dt(self) -> float: ...
+    @property
+    def goal(self) -> Tuple[float, float, float]: ...
+    @property
+    def kind(self) -> str: ...
+    @property
+    def n(self) -> int:
+        """Robots in the batch (1 for single calls)."""
+    @property
+    def scenario_toml(self) -> str: ...
+
+
+@final
 class RunResult:
     """One run: the CSV columns of docs/scenario.md as float64 arrays, plus the summary."""
 
@@ -125,39 +266,74 @@ class RunResult:
     path_length: float
     energy: float
     summary: str
-    t: FloatArray
-    x: FloatArray
-    y: FloatArray
-    theta: FloatArray
-    v: FloatArray
-    omega: FloatArray
-    phi_r: FloatArray
-    phi_l: FloatArray
-    omega_r: FloatArray
-    omega_l: FloatArray
-    tau_r: FloatArray
-    tau_l: FloatArray
-    e_s: FloatArray
-    e_theta: FloatArray
-    dl: FloatArray
-    x_meas: FloatArray
+    t: _FloatArray
+    x: _FloatArray
+    y: _FloatArray
+    theta: _FloatArray
+    v: _FloatArray
+    omega: _FloatArray
+    phi_r: _FloatArray
+    phi_l: _FloatArray
+    omega_r: _FloatArray
+    omega_l: _FloatArray
+    tau_r: _FloatArray
+    tau_l: _FloatArray
+    e_s: _FloatArray
+    e_theta: _FloatArray
+    dl: _FloatArray
+    x_meas: _FloatArray
     """x of the pose the controller used at its last tick, m (equal to x without [sensor])."""
-    y_meas: FloatArray
-    theta_meas: FloatArray
-    def __getitem__(self, name: str) -> FloatArray: ...
+    y_meas: _FloatArray
+    theta_meas: _FloatArray
+    def __getitem__(self, name: str, /) -> _FloatArray: ...
     def __len__(self) -> int: ...
-    def columns(self) -> dict[str, FloatArray]:
+    def columns(self) -> dict[str, _FloatArray]:
         """Every CSV column (``run`` first), in CSV order."""
+    def to_pandas(self) -> Any:
+        """Every column with ``run`` and ``label``, one row per sample (needs pandas)."""
+    def __getstate__(self) -> dict[str, Any]: ...
 
-def run_scenario(scenario: ScenarioLike) -> list[RunResult]:
+__version__: str
+
+_Progress = Optional[Callable[[int], Any]]
+
+def run_scenario(scenario: _ScenarioLike, progress: _Progress = None) -> list[RunResult]:
     """Every run of a scenario (path, TOML text or dict), in run order."""
 
-def sweep(scenario: ScenarioLike) -> dict[str, Any]:
-    """Every law from every start of the scenario's [sweep], in parallel (GIL released):
-    ``law`` (list[str]), ``start`` (int64), ``x0``, ``y0`` (m), ``theta0`` (rad), the
-    outcome arrays of ``run_batch`` (``final_x`` ... ``energy``, ``converged``,
-    ``diverged``), and ``table`` (the CLI's comparison table)."""
-
-def _run_batch(base: Mapping[str, Any], starts: FloatArray, goals: Optional[FloatArray] = None) -> dict[str, Any]: ...
-def _time_run_rust(scenario: ScenarioLike, n: int) -> float:
+def _sweep(scenario: _ScenarioLike, progress: _Progress = None) -> dict[str, Any]: ...
+def _sweep_plan(scenario: _ScenarioLike) -> Tuple[str, int]: ...
+def _sweep_part(text: str, first: int, last: int) -> _FloatArray: ...
+def _sweep_gather(text: str, rows: _FloatArray) -> dict[str, Any]: ...
+def _run_batch(
+    base: Mapping[str, Any],
+    starts: _FloatArray,
+    goals: Optional[_FloatArray] = None,
+    first: int = 0,
+    threads: int = 0,
+    progress: _Progress = None,
+) -> dict[str, Any]: ...
+def _run_result_from_state(state: Mapping[str, Any]) -> RunResult: ...
+def _controller_from_toml(class_name: str, text: str) -> Any: ...
+def _time_run_rust(scenario: _ScenarioLike, n: int) -> float:
     """Best of n wall times (s) of parse + run 0 + columns inside Rust, GIL released."""
+
+__all__ = [
+    "LyapunovController",
+    "PaperBidirectionalController",
+    "PaperController",
+    "PolarController",
+    "_controller_from_toml",
+    "ParameterError",
+    "ScenarioError",
+    "Robot",
+    "RunResult",
+    "_run_batch",
+    "_run_result_from_state",
+    "run_scenario",
+    "_sweep",
+    "_sweep_gather",
+    "_sweep_part",
+    "_sweep_plan",
+    "_time_run_rust",
+    "__version__",
+]

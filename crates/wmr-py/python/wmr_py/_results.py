@@ -232,7 +232,7 @@ class Bar:
         self.desc, self.unit = desc, unit
         self.bar: Any = None
         try:
-            from tqdm.auto import tqdm
+            from tqdm.auto import tqdm  # type: ignore
         except ImportError:
             warnings.warn("progress=True needs tqdm (pip install tqdm); running without a bar", stacklevel=3)
             self.tqdm = None
