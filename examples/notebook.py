@@ -4,10 +4,14 @@
 # Start (0, 0, 0), goal (1, 1, 120 deg), every default (docs/model.md).
 # Install: `pip install ./crates/wmr-py matplotlib`; run as a script or cell by cell
 # (VS Code / Jupytext `# %%` cells). matplotlib is optional: without it the script
-# prints the summary and stops.
+# prints the summary and stops. Run headless (`python examples/notebook.py`, no display),
+# it prints the summaries and a table of the run, and saves the figure to
+# notebook-figs7-9.png (or the path in $WMR_NOTEBOOK_OUT) and says where.
+# For more, see examples/notebooks/ (paper.ipynb, tune_gains.ipynb).
 
 # %%
 import math
+import os
 import pathlib
 
 import numpy as np
@@ -38,6 +42,14 @@ for k in range(20_000):  # 20 s
 noisy_path = np.array(noisy_path)
 print(f"noisy sensor, after 20 s: dl = {math.hypot(1 - state[0], 1 - state[1]):.4f} m")
 
+# %% The run as a table (pandas is optional).
+try:
+    table = run.to_pandas()
+except ImportError as e:
+    print(e)
+else:
+    print(table[["t", "x", "y", "theta", "omega_r", "omega_l", "dl"]].iloc[::1000].to_string(index=False))
+
 # %%
 try:
     import matplotlib.pyplot as plt
@@ -62,4 +74,8 @@ if plt is not None:
     ax[2].set(xlabel="t (s)", title="Fig. 9: errors")
     ax[2].legend()
     fig.tight_layout()
-    plt.show()
+    out = pathlib.Path(os.environ.get("WMR_NOTEBOOK_OUT", "notebook-figs7-9.png"))
+    fig.savefig(out, dpi=120)
+    print(f"figure saved to {out.resolve()}")
+    if plt.get_backend().lower() not in ("agg", "pdf", "svg", "ps", "cairo", "template"):
+        plt.show()
