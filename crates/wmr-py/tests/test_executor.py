@@ -190,3 +190,36 @@ def test_worker_part_runs_on_one_thread() -> None:
     before, most = map(int, out.split())
     # The main thread (and numpy's, counted in `before`), the watcher, the run's worker.
     assert most <= before + 2, (before, most)
+
+
+class JoblibExecutor:
+    """The README's executor over joblib (there on joblib's Ray backend; here on its
+    default, loky): submit() collects, the first result() runs every call."""
+
+    def __init__(self, n_jobs: int = 2) -> None:
+        self.calls: list = []
+        self.results = None
+        self.n_jobs = n_jobs
+
+    def submit(self, fn, *args):  # noqa: ANN001, ANN201
+        self.calls.append((fn, args))
+        return _JoblibFuture(self, len(self.calls) - 1)
+
+
+class _JoblibFuture:
+    def __init__(self, ex: JoblibExecutor, i: int) -> None:
+        self.ex, self.i = ex, i
+
+    def result(self):  # noqa: ANN201
+        import joblib
+
+        if self.ex.results is None:
+            self.ex.results = joblib.Parallel(n_jobs=self.ex.n_jobs)(joblib.delayed(fn)(*a) for fn, a in self.ex.calls)
+        return self.ex.results[self.i]
+
+
+def test_joblib_executor_of_the_readme() -> None:
+    pytest.importorskip("joblib")
+    ref = wmr_py.sweep(VARY_SWEEP)
+    got = wmr_py.sweep(VARY_SWEEP, executor=JoblibExecutor())
+    assert all(same(got[k], ref[k]) for k in ref)
