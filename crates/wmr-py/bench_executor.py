@@ -42,7 +42,7 @@ def main() -> int:
     print(f"  local (rayon)                      {t_local:7.2f} s   {len(local)} runs")
 
     t0 = time.perf_counter()
-    cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True, dashboard_address=None)
+    cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True, dashboard_address=":0")
     client = Client(cluster)
     t_start = time.perf_counter() - t0
     try:

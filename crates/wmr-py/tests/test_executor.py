@@ -86,7 +86,7 @@ def test_dask_local_cluster(tmp_path) -> None:  # noqa: ANN001
     distributed = pytest.importorskip("distributed")
     ref = wmr_py.sweep(VARY_SWEEP)
     with distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None, local_directory=str(tmp_path)
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0", local_directory=str(tmp_path)
     ) as cluster, distributed.Client(cluster) as client:
         swept = wmr_py.sweep(VARY_SWEEP, executor=client)
         s = starts(10)
