@@ -223,3 +223,15 @@ def test_joblib_executor_of_the_readme() -> None:
     ref = wmr_py.sweep(VARY_SWEEP)
     got = wmr_py.sweep(VARY_SWEEP, executor=JoblibExecutor())
     assert all(same(got[k], ref[k]) for k in ref)
+
+
+def test_settled_sweep_parts_are_the_local_sweep() -> None:
+    """[sim] stop_when_settled (runs end early) holds in the parts too."""
+    text = (
+        "[sim]\nt_end = 30.0\nstop_when_settled = true\n[sweep]\n"
+        'controllers = [{ kind = "polar" }, { kind = "lyapunov" }]\nrandom = { n = 10, seed = 3, radius = 1.5 }\n'
+    )
+    local = wmr_py.sweep(text)
+    assert np.min(local["t_final"]) < 30.0
+    parted = wmr_py.sweep(text, executor=ReverseExecutor(), chunk_size=3)
+    assert all(same(parted[k], local[k]) for k in local)
