@@ -85,6 +85,11 @@ enum Command {
         /// (created if missing; its parent must exist).
         #[arg(long, value_name = "DIR")]
         plots: Option<PathBuf>,
+        /// Step the runs in SIMD lanes, several at once: several times faster, outcomes
+        /// not bit-identical to the default exact path (final poses within about 1e-9
+        /// relative; docs/scenario.md, "The fast path").
+        #[arg(long)]
+        fast: bool,
     },
     /// Plot a scenario's runs as SVG into DIR: paths.svg (all runs, the paper's Figs. 4-7),
     /// and per run I runI-wheel-speeds.svg (Fig. 8) and runI-errors.svg (Fig. 9).
@@ -163,10 +168,10 @@ fn run(cli: Cli) -> Result<()> {
                 wmr_scenario::shown(&output)
             ))
         }
-        Command::Sweep { file, output, plots } => {
+        Command::Sweep { file, output, plots, fast } => {
             let scenario = load(&file)?;
             let output = output.unwrap_or_else(|| sweep_cmd::default_output(&file));
-            sweep_cmd::sweep(&scenario, &file, &output, plots.as_deref(), std::io::stderr().is_terminal())
+            sweep_cmd::sweep(&scenario, &file, &output, plots.as_deref(), fast, std::io::stderr().is_terminal())
         }
         Command::Plot { file, output } => {
             let scenario = load(&file)?;

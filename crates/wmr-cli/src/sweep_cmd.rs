@@ -35,8 +35,16 @@ pub fn default_output(file: &Path) -> PathBuf {
 }
 
 /// Runs the sweep of `scenario`, writes the outcome CSV to `out` and, with `plots`, one
-/// `region-<law>.svg` per law into that folder; prints the comparison table.
-pub fn sweep(scenario: &Scenario, file: &Path, out: &Path, plots: Option<&Path>, show_progress: bool) -> Result<()> {
+/// `region-<law>.svg` per law into that folder; prints the comparison table. With `fast`,
+/// the runs are stepped in SIMD lanes (`wmr_scenario::fast`).
+pub fn sweep(
+    scenario: &Scenario,
+    file: &Path,
+    out: &Path,
+    plots: Option<&Path>,
+    fast: bool,
+    show_progress: bool,
+) -> Result<()> {
     let Some(spec) = &scenario.sweep() else {
         return Err(bad_input(format!(
             "{}: sweep: the file has no [sweep] table (see `wmr-cli --help` for its keys; [[run]]s run with \
@@ -75,7 +83,8 @@ pub fn sweep(scenario: &Scenario, file: &Path, out: &Path, plots: Option<&Path>,
         ProgressBar::hidden()
     };
     let started = std::time::Instant::now();
-    let outcomes = spec.run(scenario.sim(), &|| bar.inc(1))?;
+    let outcomes =
+        if fast { spec.run_fast(scenario.sim(), &|| bar.inc(1))? } else { spec.run(scenario.sim(), &|| bar.inc(1))? };
     bar.finish_and_clear();
     let wall = started.elapsed().as_secs_f64();
 

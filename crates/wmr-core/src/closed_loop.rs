@@ -37,16 +37,13 @@ pub struct Diverged<T> {
 /// A plant, a sensor, a controller (law `L` and wheel stage) and a reference, closed
 /// into one loop.
 #[derive(Clone, Debug)]
-pub struct ClosedLoop<T, L, S = PerfectSensor, R = FixedGoal<T>> {
+pub struct ClosedLoop<T: Real, L, S = PerfectSensor, R = FixedGoal<T>> {
     plant: Plant<T>,
     sensor: S,
     controller: Controller<T, L>,
     reference: R,
-    dt: T,
+    clock: StepClock<T>,
     step_index: u64,
-    /// `dt` as an exact decimal `m / scale` (1 ms: m = 1, scale = 1e3), when it is one:
-    /// see [`ClosedLoop::time`].
-    decimal_dt: Option<(u64, f64)>,
     control_every: u32,
     /// Plant steps left until the next control tick (a countdown instead of a `%` per step).
     steps_to_control: u32,
@@ -77,23 +74,14 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
         reference: R,
         dt: T,
     ) -> Result<Self, ParamError> {
-        check::positive("dt", dt)?;
-        if dt >= plant.max_stable_dt() {
-            return Err(check::out_of_range(
-                "dt",
-                "too large for the plant's friction: RK4 is unstable unless dt * stiffness < 2.785 (Plant::stiffness)",
-                dt,
-            ));
-        }
-        let control_every = check::whole_multiple("control_dt", controller.control_dt(), dt)?;
+        let control_every = control_every(&plant, controller.control_dt(), dt)?;
         let mut lp = Self {
             plant,
             sensor,
             controller,
             reference,
-            dt,
+            clock: StepClock::new(dt),
             step_index: 0,
-            decimal_dt: decimal(dt),
             control_every,
             steps_to_control: control_every,
             output: ControlOutput::default(),
@@ -149,16 +137,12 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
     /// rounded product `steps * dt`.
     #[inline(always)]
     pub fn time(&self) -> T {
-        match self.decimal_dt {
-            // i * m < 2^53 is exact in f64, so one rounding: the division.
-            Some((m, scale)) if self.step_index < (1u64 << 53) / m => T::lit((self.step_index * m) as f64 / scale),
-            _ => T::lit(self.step_index as f64) * self.dt,
-        }
+        self.clock.time(self.step_index)
     }
 
     /// Plant step, s.
     pub fn dt(&self) -> T {
-        self.dt
+        self.clock.dt
     }
 
     /// Set once a step has been refused.
@@ -197,7 +181,7 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
         if let Some(d) = self.diverged {
             return Err(d);
         }
-        if let Err(termination) = self.plant.step(self.time(), self.dt) {
+        if let Err(termination) = self.plant.step(self.time(), self.clock.dt) {
             let d = Diverged { t: self.time(), termination };
             self.diverged = Some(d);
             return Err(d);
@@ -243,7 +227,7 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
         let mut termination = Termination::Completed;
         let mut last_logged = None;
         let mut done = 0;
-        let t_end = T::lit((self.step_index + n_steps) as f64) * self.dt;
+        let t_end = T::lit((self.step_index + n_steps) as f64) * self.clock.dt;
         let mut watch = (self.stop_when_settled && self.sensor.deterministic() && self.reference.fixed())
             .then(|| SettleWatch::new(t_end));
         'run: while done < n_steps {
@@ -256,7 +240,7 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
                     last_logged = Some(self.step_index);
                 }
                 let goal = self.reference.goal_at(s.t);
-                metrics.add_step(s.t, &s.state, s.wheel_speeds, s.torque, goal, self.dt);
+                metrics.add_step(s.t, &s.state, s.wheel_speeds, s.torque, goal, self.clock.dt);
                 if let Some(w) = &mut watch
                     && w.settled(s.t, &s.state, goal, self.controller.holding())
                 {
@@ -282,6 +266,47 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
 
 /// Plant steps between two calls of the `poll` of [`ClosedLoop::try_run`].
 pub const POLL_EVERY_STEPS: u64 = 1024;
+
+/// Checks the plant step `dt` (s) against the plant and the control period (s): the
+/// plant steps per control tick. Errors name `dt` and `control_dt`.
+pub(crate) fn control_every<T: Real>(plant: &Plant<T>, control_dt: T, dt: T) -> Result<u32, ParamError> {
+    check::positive("dt", dt)?;
+    if dt >= plant.max_stable_dt() {
+        return Err(check::out_of_range(
+            "dt",
+            "too large for the plant's friction: RK4 is unstable unless dt * stiffness < 2.785 (Plant::stiffness)",
+            dt,
+        ));
+    }
+    check::whole_multiple("control_dt", control_dt, dt)
+}
+
+/// The time of step i, s: `i * dt`, exact for a short decimal `dt` in `f64` (see
+/// [`ClosedLoop::time`]). Shared with the lane batch ([`crate::batch`]), whose runs keep
+/// the same clock.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct StepClock<T> {
+    /// Plant step, s.
+    pub(crate) dt: T,
+    /// `dt` as an exact decimal `m / scale` (1 ms: m = 1, scale = 1e3), when it is one.
+    decimal_dt: Option<(u64, f64)>,
+}
+
+impl<T: Real> StepClock<T> {
+    pub(crate) fn new(dt: T) -> Self {
+        Self { dt, decimal_dt: decimal(dt) }
+    }
+
+    /// The time of step `i`, s.
+    #[inline(always)]
+    pub(crate) fn time(&self, i: u64) -> T {
+        match self.decimal_dt {
+            // i * m < 2^53 is exact in f64, so one rounding: the division.
+            Some((m, scale)) if i < (1u64 << 53) / m => T::lit((i * m) as f64 / scale),
+            _ => T::lit(i as f64) * self.dt,
+        }
+    }
+}
 
 /// `dt` as `m / 10^k` with a whole `m` of at most 1e6 and k <= 12, when that quotient,
 /// rounded to `T`, is `dt` itself (1e-3 -> (1, 1e3); 2.5e-4 -> (25, 1e5)). Only for

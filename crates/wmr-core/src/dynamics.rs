@@ -10,6 +10,7 @@
 //! The Coriolis terms C(v) = [-m d omega^2, m d v omega] do no work
 //! (v * m d omega^2 - omega * m d v omega = 0), which the energy test relies on.
 
+use crate::lane::Lane;
 use crate::math::Wheels;
 use crate::state::State;
 use crate::world::World;
@@ -117,9 +118,9 @@ impl<T: Real> Model<T> {
     #[inline(always)]
     pub(crate) fn friction_torque(&self, omega_wheel: T) -> T {
         if self.has_coulomb() {
-            self.friction_torque_with::<true>(omega_wheel)
+            self.friction_torque_with::<T, true>(omega_wheel)
         } else {
-            self.friction_torque_with::<false>(omega_wheel)
+            self.friction_torque_with::<T, false>(omega_wheel)
         }
     }
 
@@ -132,9 +133,9 @@ impl<T: Real> Model<T> {
     /// omega still gives NaN through b_v omega (0 * inf = NaN). Deciding it once per step
     /// rather than per call keeps the four RK4 stages free of branches.
     #[inline(always)]
-    fn friction_torque_with<const COULOMB: bool>(&self, omega_wheel: T) -> T {
-        let viscous = self.b_v * omega_wheel;
-        if COULOMB { viscous + self.tau_c * (omega_wheel / self.omega_eps).tanh_libm() } else { viscous }
+    fn friction_torque_with<L: Lane<Scalar = T>, const COULOMB: bool>(&self, omega_wheel: L) -> L {
+        let viscous = L::splat(self.b_v) * omega_wheel;
+        if COULOMB { viscous + L::splat(self.tau_c) * (omega_wheel / L::splat(self.omega_eps)).tanh() } else { viscous }
     }
 
     /// See [`Robot::derivative`]; on a tilted ground, with gravity along it.
@@ -160,26 +161,38 @@ impl<T: Real> Model<T> {
         s: &State<T>,
         tau_wheel: Wheels<T>,
     ) -> State<T> {
-        let r = self.r;
-        // Wheel speeds by the inverse of (1), as `kinematics::wheel_speeds`.
-        let w_r = (s.v + self.big_r * s.omega) / r;
-        let w_l = (s.v - self.big_r * s.omega) / r;
-        let net_r = tau_wheel.right - self.friction_torque_with::<COULOMB>(w_r);
-        let net_l = tau_wheel.left - self.friction_torque_with::<COULOMB>(w_l);
-        let (sin, cos) = s.theta.sin_cos_libm();
-        let mut forward = (net_r + net_l) / r + self.md * s.omega * s.omega;
-        let mut moment = self.big_r_over_r * (net_r - net_l) - self.md * s.v * s.omega;
+        self.derivative_lanes::<T, COULOMB, SLOPE>(s, tau_wheel)
+    }
+
+    /// [`Model::derivative_with`] for one run (`L = T`) or several side by side
+    /// ([`crate::lane`]): the same operations in the same order.
+    #[inline(always)]
+    pub(crate) fn derivative_lanes<L: Lane<Scalar = T>, const COULOMB: bool, const SLOPE: bool>(
+        &self,
+        s: &State<L>,
+        tau_wheel: Wheels<L>,
+    ) -> State<L> {
+        let r = L::splat(self.r);
+        let big_r = L::splat(self.big_r);
+        let md = L::splat(self.md);
+        let w_r = (s.v + big_r * s.omega) / r;
+        let w_l = (s.v - big_r * s.omega) / r;
+        let net_r = tau_wheel.right - self.friction_torque_with::<L, COULOMB>(w_r);
+        let net_l = tau_wheel.left - self.friction_torque_with::<L, COULOMB>(w_l);
+        let (sin, cos) = s.theta.sin_cos();
+        let mut forward = (net_r + net_l) / r + md * s.omega * s.omega;
+        let mut moment = L::splat(self.big_r_over_r) * (net_r - net_l) - md * s.v * s.omega;
         if SLOPE {
-            let (f_x, f_y) = self.downhill;
+            let (f_x, f_y) = (L::splat(self.downhill.0), L::splat(self.downhill.1));
             forward = forward + (f_x * cos + f_y * sin);
-            moment = moment + self.d * (f_y * cos - f_x * sin);
+            moment = moment + L::splat(self.d) * (f_y * cos - f_x * sin);
         }
         State {
             x: s.v * cos,
             y: s.v * sin,
             theta: s.omega,
-            v: forward * self.inv_m11,
-            omega: moment * self.inv_m22,
+            v: forward * L::splat(self.inv_m11),
+            omega: moment * L::splat(self.inv_m22),
             phi_r: w_r,
             phi_l: w_l,
         }

@@ -1,23 +1,64 @@
 //! Classic fourth-order Runge-Kutta with a fixed step, on a fixed-size array (no heap).
 
-use crate::Real;
+// Index loops over fixed-size arrays: the form the compiler unrolls into SIMD lanes.
+#![allow(clippy::needless_range_loop)]
+
+use crate::lane::Lane;
 
 /// One classic RK4 step of `y' = f(t, y)` from `(t, y)` over `h`; returns y(t + h).
 ///
 /// Local error O(h^5), global error O(h^4). `f` is called four times.
 #[inline(always)]
-pub fn rk4_step<T: Real, const N: usize>(mut f: impl FnMut(T, &[T; N]) -> [T; N], t: T, y: &[T; N], h: T) -> [T; N] {
+pub fn rk4_step<T: Lane, const N: usize>(f: impl FnMut(T, &[T; N]) -> [T; N], t: T, y: &[T; N], h: T) -> [T; N] {
+    rk4_step_of(&mut FnRhs(f), t, y, h)
+}
+
+/// The right-hand side f(t, y) of y' = f(t, y), for [`rk4_step_of`].
+pub trait Rhs<T, const N: usize> {
+    /// f(t, y).
+    fn eval(&mut self, t: T, y: &[T; N]) -> [T; N];
+}
+
+/// A closure as a [`Rhs`].
+struct FnRhs<F>(F);
+
+impl<T, const N: usize, F: FnMut(T, &[T; N]) -> [T; N]> Rhs<T, N> for FnRhs<F> {
+    #[inline(always)]
+    fn eval(&mut self, t: T, y: &[T; N]) -> [T; N] {
+        (self.0)(t, y)
+    }
+}
+
+/// [`rk4_step`] of a [`Rhs`]: a type whose `eval` is `#[inline(always)]` is inlined into
+/// the step for certain (a closure may be left as a call, which the lanes of
+/// [`crate::batch`] cannot afford: a call is compiled without the caller's SIMD features).
+#[inline(always)]
+pub fn rk4_step_of<T: Lane, const N: usize>(f: &mut impl Rhs<T, N>, t: T, y: &[T; N], h: T) -> [T; N] {
     let two = T::lit(2.0);
     let half_h = h / two;
     let sixth_h = h / T::lit(6.0);
-    let k1 = f(t, y);
-    let y2: [T; N] = core::array::from_fn(|i| y[i] + half_h * k1[i]);
-    let k2 = f(t + half_h, &y2);
-    let y3: [T; N] = core::array::from_fn(|i| y[i] + half_h * k2[i]);
-    let k3 = f(t + half_h, &y3);
-    let y4: [T; N] = core::array::from_fn(|i| y[i] + h * k3[i]);
-    let k4 = f(t + h, &y4);
-    core::array::from_fn(|i| y[i] + sixth_h * (k1[i] + two * (k2[i] + k3[i]) + k4[i]))
+    let k1 = f.eval(t, y);
+    let y2 = axpy(y, half_h, &k1);
+    let k2 = f.eval(t + half_h, &y2);
+    let y3 = axpy(y, half_h, &k2);
+    let k3 = f.eval(t + half_h, &y3);
+    let y4 = axpy(y, h, &k3);
+    let k4 = f.eval(t + h, &y4);
+    let mut next = *y;
+    for i in 0..N {
+        next[i] = y[i] + sixth_h * (k1[i] + two * (k2[i] + k3[i]) + k4[i]);
+    }
+    next
+}
+
+/// y + a k, component by component.
+#[inline(always)]
+fn axpy<T: Lane, const N: usize>(y: &[T; N], a: T, k: &[T; N]) -> [T; N] {
+    let mut out = *y;
+    for i in 0..N {
+        out[i] = y[i] + a * k[i];
+    }
+    out
 }
 
 /// Where classic RK4's stability region meets the negative real axis: a decay

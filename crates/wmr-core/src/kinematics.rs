@@ -3,6 +3,7 @@
 //! Frames: poses and velocities with `_world` are in the inertial XOY frame; `v` and
 //! `omega` are the body-frame forward speed of C and yaw rate.
 
+use crate::lane::Lane;
 use crate::math::{Pose2, Twist2, Wheels};
 use crate::{Real, RobotParams};
 
@@ -10,8 +11,15 @@ use crate::{Real, RobotParams};
 /// omega_r = (v + R omega) / r, omega_l = (v - R omega) / r.
 #[inline(always)]
 pub fn wheel_speeds<T: Real>(p: &RobotParams<T>, twist: Twist2<T>) -> Wheels<T> {
-    let (r, big_r) = (p.wheel_radius, p.half_track);
-    Wheels::new((twist.v + big_r * twist.omega) / r, (twist.v - big_r * twist.omega) / r)
+    wheel_speeds_lanes(p, twist.v, twist.omega)
+}
+
+/// [`wheel_speeds`] of v (m/s) and omega (rad/s) for one run or several side by side
+/// ([`crate::lane`]).
+#[inline(always)]
+pub fn wheel_speeds_lanes<L: Lane>(p: &RobotParams<L::Scalar>, v: L, omega: L) -> Wheels<L> {
+    let (r, big_r) = (L::splat(p.wheel_radius), L::splat(p.half_track));
+    Wheels::new((v + big_r * omega) / r, (v - big_r * omega) / r)
 }
 
 /// Body twist of C from wheel speeds (rad/s), relation (1):

@@ -38,6 +38,7 @@
 #![no_std]
 #![warn(missing_docs)]
 
+pub mod batch;
 pub mod closed_loop;
 pub mod controller;
 pub mod drive;
@@ -45,6 +46,7 @@ mod dynamics;
 pub mod error;
 pub mod integrator;
 pub mod kinematics;
+pub mod lane;
 pub mod math;
 #[cfg(feature = "nalgebra")]
 pub mod nalgebra_interop;

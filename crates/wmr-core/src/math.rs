@@ -1,6 +1,7 @@
 //! Shared planar geometry types: poses, twists, wheel pairs and angle wrapping.
 
 use crate::Real;
+use crate::lane::{Lane, Mask};
 
 /// A planar pose in the world frame: position of point C (m) and heading (rad, from +x, CCW).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -13,12 +14,14 @@ pub struct Pose2<T> {
     pub theta: T,
 }
 
-impl<T: Real> Pose2<T> {
+impl<T> Pose2<T> {
     /// A pose from x (m), y (m) and heading (rad).
     pub fn new(x: T, y: T, theta: T) -> Self {
         Self { x, y, theta }
     }
+}
 
+impl<T: Real> Pose2<T> {
     /// True when all three components are finite.
     pub fn is_finite(&self) -> bool {
         self.x.is_finite() && self.y.is_finite() && self.theta.is_finite()
@@ -58,20 +61,19 @@ impl<T: Copy> Wheels<T> {
 
 /// Wraps an angle (rad) into (-pi, pi].
 #[inline]
-pub fn wrap_angle<T: Real>(a: T) -> T {
-    let pi = T::PI();
+pub fn wrap_angle<L: Lane>(a: L) -> L {
+    let pi = L::lit(core::f64::consts::PI);
     // Fast path, bit-identical to the reduction below for these inputs: most angles a
     // controller wraps are already in range, and `floor` is a library call on some targets.
-    if a > -pi && a <= pi {
+    let in_range = (-pi).lt(a) & a.le(pi);
+    if in_range.all() {
         return a;
     }
     let two_pi = pi + pi;
     // rem_euclid-style reduction into [-pi, pi), then -pi -> +pi.
-    let mut w = a - two_pi * ((a + pi) / two_pi).floor();
-    if w <= -pi {
-        w = w + two_pi;
-    }
-    w
+    let w = a - two_pi * ((a + pi) / two_pi).floor();
+    let w = L::select(w.le(-pi), w + two_pi, w);
+    L::select(in_range, a, w)
 }
 
 #[cfg(test)]

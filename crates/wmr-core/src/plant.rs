@@ -7,7 +7,9 @@
 use crate::drive::Drive;
 use crate::dynamics::Model;
 use crate::error::{ParamError, check};
-use crate::integrator::rk4_step;
+use crate::integrator::{Rhs, rk4_step_of};
+use crate::kinematics;
+use crate::lane::Lane;
 use crate::math::{Pose2, Wheels};
 use crate::outcome::Termination;
 use crate::state::{STATE_LEN, State};
@@ -132,13 +134,50 @@ impl<T: Real> Plant<T> {
 
     #[inline(always)]
     fn wheel_torque_at(&self, s: &State<T>) -> Wheels<T> {
+        self.wheel_torque_lanes(s, self.command, self.held_torque)
+    }
+
+    /// The wheel torques (N m) the drive gives in state `s` under `command`, whose
+    /// torque is `held_torque` when the drive does not depend on the wheel speed; for one
+    /// run or several side by side ([`crate::lane`]).
+    #[inline(always)]
+    pub(crate) fn wheel_torque_lanes<L: Lane<Scalar = T>>(
+        &self,
+        s: &State<L>,
+        command: Wheels<L>,
+        held_torque: Wheels<L>,
+    ) -> Wheels<L> {
         if self.drive.is_speed_independent() {
-            self.held_torque
+            held_torque
         } else {
-            let w = s.wheel_speeds(self.robot.params());
-            let c = self.command;
-            Wheels::new(self.drive.wheel_torque(c.right, w.right), self.drive.wheel_torque(c.left, w.left))
+            let w = kinematics::wheel_speeds_lanes(self.robot.params(), s.v, s.omega);
+            Wheels::new(self.drive.wheel_torque(command.right, w.right), self.drive.wheel_torque(command.left, w.left))
         }
+    }
+
+    /// The torques (N m) `command` gives a speed-independent drive (the torque drive),
+    /// held over a step; for one run or several side by side.
+    #[inline(always)]
+    pub(crate) fn held_torque_lanes<L: Lane<Scalar = T>>(&self, command: Wheels<L>) -> Wheels<L> {
+        let d = self.drive;
+        if d.is_speed_independent() { command.map(|c| d.wheel_torque(c, L::splat(T::zero()))) } else { command }
+    }
+
+    /// One RK4 step of `dt` (s) from `state` at `t` (s) under `command` (held
+    /// torque `held_torque`, see [`Plant::wheel_torque_lanes`]), not checked: for one run
+    /// (`L = T`, what [`Plant::step`] does) or several side by side ([`crate::lane`]),
+    /// the same operations in the same order.
+    #[inline(always)]
+    pub(crate) fn advance<L: Lane<Scalar = T>>(
+        &self,
+        state: &State<L>,
+        command: Wheels<L>,
+        held_torque: Wheels<L>,
+        t: L,
+        dt: L,
+    ) -> State<L> {
+        let mut f = PlantRhs { plant: self, command, held_torque };
+        State::from_array(rk4_step_of(&mut f, t, &state.to_array(), dt))
     }
 
     /// Advances the state by one RK4 step of `dt` (s) from time `t` (s) under the held
@@ -146,28 +185,7 @@ impl<T: Real> Plant<T> {
     /// stays at the last good one and the reason is returned.
     #[inline]
     pub fn step(&mut self, t: T, dt: T) -> Result<(), Termination> {
-        let y = self.state.to_array();
-        let model = &self.model;
-        let next = if self.drive.is_speed_independent() && !model.has_coulomb() && !model.is_sloped() {
-            // The hot case (torque drive, no Coulomb friction, flat: the defaults). The
-            // torques are held over the whole step: pass them by value, and decide the
-            // friction once, so the four RK4 stages neither branch nor reload them.
-            let tau = self.held_torque;
-            let f =
-                |_, y: &[T; STATE_LEN]| model.derivative_with::<false, false>(&State::from_array(*y), tau).to_array();
-            rk4_step(f, t, &y, dt)
-        } else {
-            rk4_step(
-                |_, y| {
-                    let s = State::from_array(*y);
-                    model.derivative(&s, self.wheel_torque_at(&s)).to_array()
-                },
-                t,
-                &y,
-                dt,
-            )
-        };
-        let next = State::from_array(next);
+        let next = self.advance(&self.state, self.command, self.held_torque, t, dt);
         let bound = T::lit(DIVERGENCE_BOX_M);
         if !all_finite(&next) {
             return Err(Termination::NonFinite);
@@ -189,4 +207,30 @@ fn all_finite<T: Real>(s: &State<T>) -> bool {
     let z = T::zero();
     let sum = s.x * z + s.y * z + s.theta * z + s.v * z + s.omega * z + s.phi_r * z + s.phi_l * z;
     sum == z
+}
+
+/// The plant's right-hand side under a held command, for one run or several side by side.
+struct PlantRhs<'a, T, L> {
+    plant: &'a Plant<T>,
+    command: Wheels<L>,
+    held_torque: Wheels<L>,
+}
+
+impl<T: Real, L: Lane<Scalar = T>> Rhs<L, STATE_LEN> for PlantRhs<'_, T, L> {
+    #[inline(always)]
+    fn eval(&mut self, _t: L, y: &[L; STATE_LEN]) -> [L; STATE_LEN] {
+        let model = &self.plant.model;
+        let s = State::from_array(*y);
+        if self.plant.drive.is_speed_independent() && !model.has_coulomb() && !model.is_sloped() {
+            return model.derivative_lanes::<L, false, false>(&s, self.held_torque).to_array();
+        }
+        let tau = self.plant.wheel_torque_lanes(&s, self.command, self.held_torque);
+        match (model.has_coulomb(), model.is_sloped()) {
+            (true, true) => model.derivative_lanes::<L, true, true>(&s, tau),
+            (true, false) => model.derivative_lanes::<L, true, false>(&s, tau),
+            (false, true) => model.derivative_lanes::<L, false, true>(&s, tau),
+            (false, false) => model.derivative_lanes::<L, false, false>(&s, tau),
+        }
+        .to_array()
+    }
 }

@@ -70,7 +70,9 @@ impl<T: Real> State<T> {
     pub fn is_finite(&self) -> bool {
         self.to_array().iter().all(|c| c.is_finite())
     }
+}
 
+impl<T: Copy> State<T> {
     /// `[x, y, theta, v, omega, phi_r, phi_l]`.
     #[inline(always)]
     pub fn to_array(&self) -> [T; STATE_LEN] {

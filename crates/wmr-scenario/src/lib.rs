@@ -36,6 +36,7 @@ mod controller;
 mod error;
 pub mod chunk;
 pub mod executor;
+pub mod fast;
 mod file;
 pub mod keys;
 mod limits;

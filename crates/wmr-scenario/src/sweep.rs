@@ -401,6 +401,16 @@ impl SweepOutcome {
     }
 }
 
+/// Where run k sits in a sweep: indices into [`SweepSpec::laws`], [`SweepSpec::variants`],
+/// the trials and [`SweepSpec::starts`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct RunIndex {
+    pub law: usize,
+    pub variant: usize,
+    pub trial: usize,
+    pub start: usize,
+}
+
 /// Columns of the sweep CSV, in order.
 pub const SWEEP_COLUMNS: [&str; 12] = [
     "law",
@@ -443,40 +453,83 @@ impl SweepSpec {
         done: &(dyn Fn() + Sync),
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<Option<Vec<SweepOutcome>>, ScenarioError> {
-        let n_starts = self.starts.len();
-        let trials = self.variation.trials as usize;
-        let n_variants = self.variants.len();
         let poll = || if stop() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
         let runs: Result<Vec<Option<SweepOutcome>>, ScenarioError> = map_ordered(self.len(), |k| {
-            let start_index = k % n_starts;
-            let trial = (k / n_starts) % trials;
-            let variant = (k / (n_starts * trials)) % n_variants;
-            let law = k / (n_starts * trials * n_variants);
-            let start = self.starts[start_index];
-            let run = k as u64;
-            let path = format!("sweep.controllers[{law}]");
-            let origin = Origin { run: "sweep", controller: &path };
-            let drawn;
-            let setup = if self.variation.has_draws() {
-                let settings = self.variation.settings(self.variants[variant], run);
-                drawn = Setup::resolve(&with_settings(&self.tables[law], &settings)?, &path)?;
-                drawn.check_step(sim.dt())?;
-                &drawn
-            } else {
-                &self.setups[law * n_variants + variant]
-            };
-            let mut lp = assemble::closed_loop(setup, run, start, self.goal, sim, origin)?;
-            let ControlFlow::Continue(outcome) =
-                lp.try_run(sim.n_steps(), u32::MAX, |_| ControlFlow::Continue(()), poll)
-            else {
+            let ControlFlow::Continue(outcome) = self.run_exact(sim, k, poll)? else {
                 return Ok(None);
             };
             done();
-            Ok(Some(SweepOutcome { law, variant, trial: trial as u32, run, start_index, start, outcome }))
+            Ok(Some(outcome))
         })
         .into_iter()
         .collect();
         Ok(runs?.into_iter().collect())
+    }
+
+    /// Which (law, variant, trial, start) run `k` of the sweep is: law, then variant,
+    /// trial and start, the order of every sweep output.
+    pub(crate) fn index_of(&self, k: usize) -> RunIndex {
+        let n_starts = self.starts.len();
+        let trials = self.variation.trials as usize;
+        let n_variants = self.variants.len();
+        RunIndex {
+            start: k % n_starts,
+            trial: (k / n_starts) % trials,
+            variant: (k / (n_starts * trials)) % n_variants,
+            law: k / (n_starts * trials * n_variants),
+        }
+    }
+
+    /// The setup of run `k`: its law's and variant's, or, when `vary` draws values per
+    /// run, one resolved with the run's draws (`drawn` holds it).
+    pub(crate) fn setup_of<'a>(
+        &'a self,
+        sim: &SimSpec,
+        k: usize,
+        drawn: &'a mut Option<Setup>,
+    ) -> Result<&'a Setup, ScenarioError> {
+        let i = self.index_of(k);
+        if self.variation.has_draws() {
+            let settings = self.variation.settings(self.variants[i.variant], k as u64);
+            let setup = Setup::resolve(&with_settings(&self.tables[i.law], &settings)?, &self.law_path(i.law))?;
+            setup.check_step(sim.dt())?;
+            Ok(drawn.insert(setup))
+        } else {
+            Ok(&self.setups[i.law * self.variants.len() + i.variant])
+        }
+    }
+
+    /// `sweep.controllers[law]`: where errors of a law's runs point.
+    pub(crate) fn law_path(&self, law: usize) -> String {
+        format!("sweep.controllers[{law}]")
+    }
+
+    /// Run `k` of the sweep through the exact closed loop, asking `poll` about every
+    /// millisecond of work whether to go on.
+    pub(crate) fn run_exact(
+        &self,
+        sim: &SimSpec,
+        k: usize,
+        poll: impl FnMut() -> ControlFlow<()>,
+    ) -> Result<ControlFlow<(), SweepOutcome>, ScenarioError> {
+        let i = self.index_of(k);
+        let path = self.law_path(i.law);
+        let origin = Origin { run: "sweep", controller: &path };
+        let mut drawn = None;
+        let setup = self.setup_of(sim, k, &mut drawn)?;
+        let start = self.starts[i.start];
+        let mut lp = assemble::closed_loop(setup, k as u64, start, self.goal, sim, origin)?;
+        Ok(lp.try_run(sim.n_steps(), u32::MAX, |_| ControlFlow::Continue(()), poll).map_continue(|outcome| {
+            SweepOutcome {
+                law: i.law,
+                variant: i.variant,
+                trial: i.trial as u32,
+                run: k as u64,
+                start_index: i.start,
+                start,
+                outcome,
+            }
+        }))
     }
 
     /// One run of law `law` from start `start_index` (the first variant and trial, as the

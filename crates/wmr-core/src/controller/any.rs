@@ -10,6 +10,7 @@ use super::paper::{PaperLaw, PaperParams};
 use super::paper_bidirectional::{PaperBidirectionalLaw, PaperBidirectionalParams};
 use super::polar::{PolarLaw, PolarParams};
 use crate::error::ParamError;
+use crate::lane::Lane;
 use crate::math::Pose2;
 use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
@@ -52,24 +53,29 @@ macro_rules! laws {
             /// Validates the keys and builds the law for the controller's robot model and
             /// control period (s).
             pub fn build(&self, model: &RobotParams<T>, control_dt: T) -> Result<AnyLaw<T>, ParamError> {
+                self.build_lanes(model, control_dt)
+            }
+
+            /// [`LawParams::build`] for several runs side by side ([`crate::lane`]).
+            pub fn build_lanes<L: Lane<Scalar = T>>(&self, model: &RobotParams<T>, control_dt: T) -> Result<AnyLaw<L>, ParamError> {
                 Ok(match *self { $( LawParams::$variant($p) => { let ($model, $dt) = (model, control_dt); let _ = ($model, $dt); AnyLaw::$variant($new?) } )+ })
             }
         }
 
         /// Any law, dispatched by `match`. Implements [`Law`].
         #[derive(Clone, Copy, Debug, PartialEq)]
-        pub enum AnyLaw<T> {
+        pub enum AnyLaw<T: Lane> {
             $( $(#[$doc])* $variant($law<T>), )+
         }
 
-        impl<T: Real> AnyLaw<T> {
+        impl<T: Lane> AnyLaw<T> {
             /// The law's `kind` name.
             pub fn kind(&self) -> &'static str {
                 match self { $( AnyLaw::$variant(_) => $name, )+ }
             }
         }
 
-        impl<T: Real> Law<T> for AnyLaw<T> {
+        impl<T: Lane> Law<T> for AnyLaw<T> {
             #[inline]
             fn update(&mut self, t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
                 match self { $( AnyLaw::$variant(l) => l.update(t, m, goal), )+ }
@@ -79,7 +85,7 @@ macro_rules! laws {
                 match self { $( AnyLaw::$variant(l) => l.reset(), )+ }
             }
 
-            fn holding(&self) -> bool {
+            fn holding(&self) -> T::Mask {
                 match self { $( AnyLaw::$variant(l) => l.holding(), )+ }
             }
         }
@@ -88,13 +94,13 @@ macro_rules! laws {
 
 laws! {
     /// The paper's law (`"paper"`), [`PaperLaw`].
-    Paper(PaperParams, PaperLaw) = "paper", new(p, model, dt) => PaperLaw::new(p, model, dt);
+    Paper(PaperParams, PaperLaw) = "paper", new(p, model, dt) => PaperLaw::for_lanes(p, model, dt);
     /// The paper's law repaired (`"paper_bidirectional"`), [`PaperBidirectionalLaw`].
-    PaperBidirectional(PaperBidirectionalParams, PaperBidirectionalLaw) = "paper_bidirectional", new(p, model, dt) => PaperBidirectionalLaw::new(p, model, dt);
+    PaperBidirectional(PaperBidirectionalParams, PaperBidirectionalLaw) = "paper_bidirectional", new(p, model, dt) => PaperBidirectionalLaw::for_lanes(p, model, dt);
     /// Astolfi's polar law (`"polar"`), [`PolarLaw`].
-    Polar(PolarParams, PolarLaw) = "polar", new(p, model, dt) => PolarLaw::new(p);
+    Polar(PolarParams, PolarLaw) = "polar", new(p, model, dt) => PolarLaw::for_lanes(p);
     /// Aicardi et al.'s Lyapunov law (`"lyapunov"`), [`LyapunovLaw`].
-    Lyapunov(LyapunovParams, LyapunovLaw) = "lyapunov", new(p, model, dt) => LyapunovLaw::new(p);
+    Lyapunov(LyapunovParams, LyapunovLaw) = "lyapunov", new(p, model, dt) => LyapunovLaw::for_lanes(p);
 }
 
 impl<T: Real> Default for LawParams<T> {

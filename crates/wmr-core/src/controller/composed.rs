@@ -10,6 +10,7 @@ use super::paper::PaperParams;
 use super::wheel_stage::{WheelStage, WheelStageParams};
 use crate::drive::Drive;
 use crate::error::{ParamError, check};
+use crate::lane::Lane;
 use crate::math::{Pose2, Wheels};
 use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
@@ -54,9 +55,18 @@ impl<T: Real> ControllerParams<T> {
     /// Validates everything and builds the controller for the controller's idea of the
     /// robot (`model`: r and R) and the drive it commands.
     pub fn build(&self, model: &RobotParams<T>, drive: &Drive<T>) -> Result<Controller<T, AnyLaw<T>>, ParamError> {
+        self.build_lanes(model, drive)
+    }
+
+    /// [`ControllerParams::build`] for several runs side by side ([`crate::lane`]).
+    pub fn build_lanes<L: Lane<Scalar = T>>(
+        &self,
+        model: &RobotParams<T>,
+        drive: &Drive<T>,
+    ) -> Result<Controller<L, AnyLaw<L>>, ParamError> {
         let control_dt = check::positive("control_dt", self.control_dt)?;
-        let law = self.law.build(model, control_dt)?;
-        Ok(Controller::new(law, WheelStage::new(&self.wheels, model, drive, control_dt)?))
+        let law = self.law.build_lanes(model, control_dt)?;
+        Ok(Controller::new(law, WheelStage::for_lanes(&self.wheels, model, drive, control_dt)?))
     }
 }
 
@@ -68,13 +78,13 @@ impl<T: Real> Default for ControllerParams<T> {
 
 /// An outer law `L` and a wheel stage, run every `control_dt`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Controller<T, L> {
+pub struct Controller<T: Lane, L> {
     law: L,
     wheels: WheelStage<T>,
-    control_dt: T,
+    control_dt: T::Scalar,
 }
 
-impl<T: Real, L: Law<T>> Controller<T, L> {
+impl<T: Lane, L: Law<T>> Controller<T, L> {
     /// Composes a law and a wheel stage; the controller runs at the wheel stage's
     /// control period (build a law that integrates, like [`super::PaperLaw`], for the same).
     pub fn new(law: L, wheels: WheelStage<T>) -> Self {
@@ -97,12 +107,12 @@ impl<T: Real, L: Law<T>> Controller<T, L> {
     }
 
     /// Control period, s.
-    pub fn control_dt(&self) -> T {
+    pub fn control_dt(&self) -> T::Scalar {
         self.control_dt
     }
 
     /// True when the law holds ([`Law::holding`]).
-    pub fn holding(&self) -> bool {
+    pub fn holding(&self) -> T::Mask {
         self.law.holding()
     }
 

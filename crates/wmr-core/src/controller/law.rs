@@ -2,7 +2,7 @@
 //! wheels and the errors it logs. A new law is one file implementing [`Law`] plus one
 //! arm in [`super::any`].
 
-use crate::Real;
+use crate::lane::{Lane, Mask};
 use crate::math::{Pose2, Twist2, Wheels};
 use crate::sensor::Measurement;
 
@@ -15,7 +15,7 @@ pub enum WheelDemand<T> {
     Twist(Twist2<T>),
 }
 
-impl<T: Real> Default for WheelDemand<T> {
+impl<T: Lane> Default for WheelDemand<T> {
     fn default() -> Self {
         WheelDemand::Twist(Twist2::default())
     }
@@ -51,7 +51,7 @@ pub struct LawOutput<T> {
 }
 
 /// An outer stabilization law, run once per control period.
-pub trait Law<T: Real> {
+pub trait Law<T: Lane> {
     /// The demand on the wheels at time `t` (s) from measurement `m` and the goal pose
     /// (x, y in m, theta in rad, world frame); advances the law's memories by one period.
     fn update(&mut self, t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T>;
@@ -63,7 +63,8 @@ pub trait Law<T: Real> {
     /// and its demand stays the same while the measured pose stays in the hold. A law
     /// without a hold keeps the default, false, and its runs are never stopped early
     /// ([`crate::settle`]).
-    fn holding(&self) -> bool {
-        false
+    /// Per lane when the law runs several runs side by side ([`crate::lane`]).
+    fn holding(&self) -> T::Mask {
+        T::Mask::splat(false)
     }
 }

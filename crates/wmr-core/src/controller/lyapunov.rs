@@ -52,6 +52,7 @@
 use super::polar_frame::{Direction, PolarCoordinateLaw, PolarCoords, PolarGains, Steering};
 use crate::Real;
 use crate::error::{ParamError, check};
+use crate::lane::Lane;
 use crate::math::{Pose2, Twist2};
 
 /// `[controller] kind = "lyapunov"` parameters.
@@ -102,18 +103,19 @@ impl<T: Real> PolarGains<T> for LyapunovParams<T> {
     /// u = gamma cos(alpha) e, omega = k alpha + gamma (cos(alpha) sin(alpha) / alpha)
     /// (alpha + h theta_A) (module docs), v = s u.
     #[inline]
-    fn twist(&self, dir: Direction, c: &PolarCoords<T>) -> Twist2<T> {
+    fn twist<L: Lane<Scalar = T>>(&self, sign: L, c: &PolarCoords<L>) -> Twist2<L> {
         let (e, alpha, theta_a) = (c.rho, c.alpha, -c.beta);
-        let (sin_a, cos_a) = alpha.sin_cos_libm();
-        let sinc = if alpha.abs() < T::epsilon() { T::one() } else { sin_a / alpha };
-        let u = self.gamma * cos_a * e;
-        let omega = self.k * alpha + self.gamma * cos_a * sinc * (alpha + self.h * theta_a);
-        Twist2 { v: dir.sign::<T>() * u, omega }
+        let (sin_a, cos_a) = alpha.sin_cos();
+        let sinc = L::select(alpha.abs().lt(L::splat(T::epsilon())), L::lit(1.0), sin_a / alpha);
+        let gamma = L::splat(self.gamma);
+        let u = gamma * cos_a * e;
+        let omega = L::splat(self.k) * alpha + gamma * cos_a * sinc * (alpha + L::splat(self.h) * theta_a);
+        Twist2 { v: sign * u, omega }
     }
 }
 
 /// Aicardi et al.'s law. Implements [`super::Law`] with [`super::WheelDemand::Twist`].
-pub type LyapunovLaw<T> = PolarCoordinateLaw<T, LyapunovParams<T>>;
+pub type LyapunovLaw<T> = PolarCoordinateLaw<T, LyapunovParams<<T as Lane>::Scalar>>;
 
 impl<T: Real> LyapunovLaw<T> {
     /// W = alpha^2 + h theta_A^2 (rad^2) of `pose` towards `goal` in driving direction

@@ -16,9 +16,11 @@
 
 use super::law::{ControlErrors, Law, LawOutput, WheelDemand};
 use crate::error::{ParamError, check};
+use crate::lane::{Lane, Mask};
 use crate::math::{Pose2, Wheels, wrap_angle};
 use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
+use num_traits::Zero;
 
 /// Which of the paper's two problems to solve (section 2.3).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -113,8 +115,8 @@ impl<T: Real> Default for PaperParams<T> {
 
 /// The paper's outer law. Implements [`Law`] with [`WheelDemand::Angles`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PaperLaw<T> {
-    params: PaperParams<T>,
+pub struct PaperLaw<T: Lane> {
+    params: PaperParams<T::Scalar>,
     outer: OuterLoops<T>,
 }
 
@@ -123,6 +125,17 @@ impl<T: Real> PaperLaw<T> {
     /// `goal_radius`, `hold_radius`) for the controller's robot model (r and R) and the
     /// control period (s, `control_dt`).
     pub fn new(params: PaperParams<T>, model: &RobotParams<T>, control_dt: T) -> Result<Self, ParamError> {
+        Self::for_lanes(params, model, control_dt)
+    }
+}
+
+impl<T: Lane> PaperLaw<T> {
+    /// [`PaperLaw::new`] for several runs side by side ([`crate::lane`]).
+    pub fn for_lanes(
+        params: PaperParams<T::Scalar>,
+        model: &RobotParams<T::Scalar>,
+        control_dt: T::Scalar,
+    ) -> Result<Self, ParamError> {
         check::non_negative("kp_theta", params.kp_theta)?;
         check::non_negative("ki_theta", params.ki_theta)?;
         check::non_negative("kp_s", params.kp_s)?;
@@ -133,7 +146,7 @@ impl<T: Real> PaperLaw<T> {
     }
 
     /// The parameters.
-    pub fn params(&self) -> &PaperParams<T> {
+    pub fn params(&self) -> &PaperParams<T::Scalar> {
         &self.params
     }
 
@@ -158,12 +171,12 @@ impl<T: Real> PaperLaw<T> {
             };
             let diff = theta_ref - pose.theta;
             // (18), (23) and (21).
-            (dl * diff.cos_libm(), wrap_angle(diff))
+            (dl * diff.cos(), wrap_angle(diff))
         })
     }
 }
 
-impl<T: Real> Law<T> for PaperLaw<T> {
+impl<T: Lane> Law<T> for PaperLaw<T> {
     #[inline]
     fn update(&mut self, _t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
         let (refs, errors) = self.references(m.pose, goal);
@@ -174,7 +187,7 @@ impl<T: Real> Law<T> for PaperLaw<T> {
         self.outer.reset();
     }
 
-    fn holding(&self) -> bool {
+    fn holding(&self) -> T::Mask {
         self.outer.held
     }
 }
@@ -205,98 +218,112 @@ pub(crate) struct Hold<T> {
 /// memory at the goal, the hold, the two PI loops (22), (24) and the inverse of (20) to
 /// absolute wheel angle references. Only the errors differ between the two laws.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct OuterLoops<T> {
+pub(crate) struct OuterLoops<T: Lane> {
     /// r, m and R, m (the controller's model), for the inverse of (20).
-    wheel_radius: T,
-    half_track: T,
+    wheel_radius: T::Scalar,
+    half_track: T::Scalar,
     /// Control period, s: the PI integrators' step.
-    control_dt: T,
+    control_dt: T::Scalar,
     /// int e_theta dt, rad s.
     int_e_theta: T,
     /// int e_s dt, m s.
     int_e_s: T,
-    /// alpha of the last tick outside `goal_radius`, rad.
-    last_alpha: Option<T>,
-    /// Wheel references of the last tick, rad ([`HoldMode::Freeze`] keeps them).
-    last_refs: Option<Wheels<T>>,
+    /// alpha of the last tick outside `goal_radius`, rad, where `has_alpha`.
+    last_alpha: T,
+    has_alpha: T::Mask,
+    /// Wheel references of the last tick, rad, where `has_refs` ([`HoldMode::Freeze`]
+    /// keeps them).
+    last_refs: Wheels<T>,
+    has_refs: T::Mask,
     /// The last tick was inside the hold radius ([`Law::holding`]).
-    pub(crate) held: bool,
+    pub(crate) held: T::Mask,
 }
 
-impl<T: Real> OuterLoops<T> {
+impl<T: Lane> OuterLoops<T> {
     /// For the controller's robot model (r and R) and the control period (s, `control_dt`).
-    pub(crate) fn new(model: &RobotParams<T>, control_dt: T) -> Result<Self, ParamError> {
+    pub(crate) fn new(model: &RobotParams<T::Scalar>, control_dt: T::Scalar) -> Result<Self, ParamError> {
         check::positive("control_dt", control_dt)?;
+        let no = T::Mask::splat(false);
         Ok(Self {
             wheel_radius: model.wheel_radius,
             half_track: model.half_track,
             control_dt,
-            int_e_theta: T::zero(),
-            int_e_s: T::zero(),
-            last_alpha: None,
-            last_refs: None,
-            held: false,
+            int_e_theta: T::default(),
+            int_e_s: T::default(),
+            last_alpha: T::default(),
+            has_alpha: no,
+            last_refs: Wheels::default(),
+            has_refs: no,
+            held: no,
         })
     }
 
     /// One control period: `errors(dx, dy, dl, alpha)` gives (e_s in m, e_theta in rad)
     /// from the goal offset (m, world frame), the distance (m) and alpha (rad); the
-    /// result is the wheel angle references (rad) and the logged errors.
+    /// result is the wheel angle references (rad) and the logged errors. Per lane, the
+    /// branches of the scalar law are selects; where every lane takes the same branch
+    /// (always, for one run) only that branch is computed.
     #[inline(always)]
     pub(crate) fn step(
         &mut self,
-        g: &PiGains<T>,
-        hold: Hold<T>,
+        g: &PiGains<T::Scalar>,
+        hold: Hold<T::Scalar>,
         pose: Pose2<T>,
         goal: Pose2<T>,
         alpha_at_goal: T,
         errors: impl FnOnce(T, T, T, T) -> (T, T),
     ) -> (Wheels<T>, ControlErrors<T>) {
+        let zero = T::default();
         let dx = goal.x - pose.x;
         let dy = goal.y - pose.y;
-        let dl = dx.hypot_libm(dy);
-        let alpha = if dl > hold.goal_radius {
-            let a = dy.atan2_libm(dx);
-            self.last_alpha = Some(a);
-            a
-        } else {
-            self.last_alpha.unwrap_or(alpha_at_goal)
-        };
+        let dl = dx.hypot(dy);
+        // At the goal alpha is undefined: keep the last one (or the caller's start value).
+        let far = T::splat(hold.goal_radius).lt(dl);
+        let fresh = dy.atan2(dx);
+        let alpha = T::select(far, fresh, T::select(self.has_alpha, self.last_alpha, alpha_at_goal));
+        self.last_alpha = T::select(far, fresh, self.last_alpha);
+        self.has_alpha = self.has_alpha | far;
         // Hold: inside the radius the outer errors are taken as zero and the integrators
         // stop, so u = Ki * int and the references stay put (zero errors; note the step on
         // entry: the proportional parts Kp e drop out at once), or the references of the
         // last tick outside are kept (freeze).
-        let in_hold = hold.radius > T::zero() && dl < hold.radius;
+        let in_hold =
+            if hold.radius > T::Scalar::zero() { dl.lt(T::splat(hold.radius)) } else { T::Mask::splat(false) };
         self.held = in_hold;
-        if in_hold
-            && hold.mode == HoldMode::Freeze
-            && let Some(refs) = self.last_refs
-        {
-            return (refs, ControlErrors { e_s: T::zero(), e_theta: T::zero(), dl });
+        let freeze = if hold.mode == HoldMode::Freeze { in_hold & self.has_refs } else { T::Mask::splat(false) };
+        if freeze.all() {
+            return (self.last_refs, ControlErrors { e_s: zero, e_theta: zero, dl });
         }
-        let (e_s, e_theta) = if in_hold {
-            (T::zero(), T::zero())
+        let (e_s, e_theta) = if in_hold.all() {
+            (zero, zero)
         } else {
             let (e_s, e_theta) = errors(dx, dy, dl, alpha);
-            // Forward-Euler sums that include the current error.
-            self.int_e_s = self.int_e_s + e_s * self.control_dt;
-            self.int_e_theta = self.int_e_theta + e_theta * self.control_dt;
-            (e_s, e_theta)
+            (T::select(in_hold, zero, e_s), T::select(in_hold, zero, e_theta))
         };
-        let u_s = g.kp_s * e_s + g.ki_s * self.int_e_s;
-        let u_theta = g.kp_theta * e_theta + g.ki_theta * self.int_e_theta;
-        let turn = self.half_track * u_theta;
-        let refs = Wheels::new((u_s + turn) / self.wheel_radius, (u_s - turn) / self.wheel_radius);
-        self.last_refs = Some(refs);
+        // Forward-Euler sums that include the current error.
+        let dt = T::splat(self.control_dt);
+        self.int_e_s = T::select(in_hold, self.int_e_s, self.int_e_s + e_s * dt);
+        self.int_e_theta = T::select(in_hold, self.int_e_theta, self.int_e_theta + e_theta * dt);
+        let u_s = T::splat(g.kp_s) * e_s + T::splat(g.ki_s) * self.int_e_s;
+        let u_theta = T::splat(g.kp_theta) * e_theta + T::splat(g.ki_theta) * self.int_e_theta;
+        let turn = T::splat(self.half_track) * u_theta;
+        let r = T::splat(self.wheel_radius);
+        let refs = Wheels::new(
+            T::select(freeze, self.last_refs.right, (u_s + turn) / r),
+            T::select(freeze, self.last_refs.left, (u_s - turn) / r),
+        );
+        self.last_refs = refs;
+        self.has_refs = T::Mask::splat(true);
         (refs, ControlErrors { e_s, e_theta, dl })
     }
 
     /// Clears the integrators and memories, as at t = 0.
     pub(crate) fn reset(&mut self) {
-        self.int_e_theta = T::zero();
-        self.int_e_s = T::zero();
-        self.last_alpha = None;
-        self.last_refs = None;
-        self.held = false;
+        let no = T::Mask::splat(false);
+        self.int_e_theta = T::default();
+        self.int_e_s = T::default();
+        self.has_alpha = no;
+        self.has_refs = no;
+        self.held = no;
     }
 }

@@ -63,6 +63,7 @@
 use super::law::{ControlErrors, Law, LawOutput, WheelDemand};
 use super::paper::{Hold, HoldMode, OuterLoops, PiGains};
 use crate::error::{ParamError, check};
+use crate::lane::Lane;
 use crate::math::{Pose2, Wheels, wrap_angle};
 use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
@@ -148,8 +149,8 @@ impl<T: Real> PaperBidirectionalParams<T> {
 
 /// The repaired paper law. Implements [`Law`] with [`WheelDemand::Angles`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PaperBidirectionalLaw<T> {
-    params: PaperBidirectionalParams<T>,
+pub struct PaperBidirectionalLaw<T: Lane> {
+    params: PaperBidirectionalParams<T::Scalar>,
     outer: OuterLoops<T>,
 }
 
@@ -157,12 +158,23 @@ impl<T: Real> PaperBidirectionalLaw<T> {
     /// Validates `params` for the controller's robot model (r and R) and the control
     /// period (s, `control_dt`).
     pub fn new(params: PaperBidirectionalParams<T>, model: &RobotParams<T>, control_dt: T) -> Result<Self, ParamError> {
+        Self::for_lanes(params, model, control_dt)
+    }
+}
+
+impl<T: Lane> PaperBidirectionalLaw<T> {
+    /// [`PaperBidirectionalLaw::new`] for several runs side by side ([`crate::lane`]).
+    pub fn for_lanes(
+        params: PaperBidirectionalParams<T::Scalar>,
+        model: &RobotParams<T::Scalar>,
+        control_dt: T::Scalar,
+    ) -> Result<Self, ParamError> {
         params.validate()?;
         Ok(Self { params, outer: OuterLoops::new(model, control_dt)? })
     }
 
     /// The parameters.
-    pub fn params(&self) -> &PaperBidirectionalParams<T> {
+    pub fn params(&self) -> &PaperBidirectionalParams<T::Scalar> {
         &self.params
     }
 
@@ -177,7 +189,7 @@ impl<T: Real> PaperBidirectionalLaw<T> {
         let hold = Hold { goal_radius: p.goal_radius, radius: p.hold_radius, mode };
         // At the goal from the start, alpha = theta_d makes theta_R the goal heading.
         self.outer.step(&gains, hold, pose, goal, goal.theta, |dx, dy, _, alpha| {
-            let (sin, cos) = pose.theta.sin_cos_libm();
+            let (sin, cos) = pose.theta.sin_cos();
             let e_s = dx * cos + dy * sin;
             let e_theta = wrap_angle(alpha + alpha - goal.theta - pose.theta);
             (e_s, e_theta)
@@ -185,7 +197,7 @@ impl<T: Real> PaperBidirectionalLaw<T> {
     }
 }
 
-impl<T: Real> Law<T> for PaperBidirectionalLaw<T> {
+impl<T: Lane> Law<T> for PaperBidirectionalLaw<T> {
     #[inline]
     fn update(&mut self, _t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
         let (refs, errors) = self.references(m.pose, goal);
@@ -196,7 +208,7 @@ impl<T: Real> Law<T> for PaperBidirectionalLaw<T> {
         self.outer.reset();
     }
 
-    fn holding(&self) -> bool {
+    fn holding(&self) -> T::Mask {
         self.outer.held
     }
 }

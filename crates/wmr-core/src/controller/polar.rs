@@ -62,9 +62,10 @@
 //! heading error the law drives to zero (= alpha + beta); e_s = (x_d - x) cos(theta) +
 //! (y_d - y) sin(theta), the signed distance to the goal along the heading.
 
-use super::polar_frame::{Direction, PolarCoordinateLaw, PolarCoords, PolarGains, Steering};
+use super::polar_frame::{PolarCoordinateLaw, PolarCoords, PolarGains, Steering};
 use crate::Real;
 use crate::error::{ParamError, check};
+use crate::lane::Lane;
 use crate::math::Twist2;
 
 /// `[controller] kind = "polar"` parameters.
@@ -129,12 +130,12 @@ impl<T: Real> PolarGains<T> for PolarParams<T> {
 
     /// v = s k_rho rho, omega = k_alpha alpha + k_beta beta (module docs).
     #[inline]
-    fn twist(&self, dir: Direction, c: &PolarCoords<T>) -> Twist2<T> {
-        let v = dir.sign::<T>() * self.k_rho * c.rho;
-        let omega = self.k_alpha * c.alpha + self.k_beta * c.beta;
+    fn twist<L: Lane<Scalar = T>>(&self, sign: L, c: &PolarCoords<L>) -> Twist2<L> {
+        let v = sign * L::splat(self.k_rho) * c.rho;
+        let omega = L::splat(self.k_alpha) * c.alpha + L::splat(self.k_beta) * c.beta;
         Twist2 { v, omega }
     }
 }
 
 /// Astolfi's polar law. Implements [`super::Law`] with [`super::WheelDemand::Twist`].
-pub type PolarLaw<T> = PolarCoordinateLaw<T, PolarParams<T>>;
+pub type PolarLaw<T> = PolarCoordinateLaw<T, PolarParams<<T as Lane>::Scalar>>;

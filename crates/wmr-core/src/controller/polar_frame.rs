@@ -51,8 +51,10 @@
 use super::law::{ControlErrors, Law, LawOutput, WheelDemand};
 use crate::Real;
 use crate::error::{ParamError, check};
+use crate::lane::{Lane, Mask};
 use crate::math::{Pose2, Twist2, wrap_angle};
 use crate::sensor::Measurement;
+use num_traits::FloatConst;
 
 /// Which end of the robot leads.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -95,68 +97,106 @@ pub struct PolarCoords<T> {
     pub beta: T,
 }
 
-impl<T: Real> PolarCoords<T> {
+impl<T: Lane> PolarCoords<T> {
     /// Polar coordinates of `goal` seen from `pose` (both in the world frame) in driving
     /// direction `dir`. At rho = 0 the direction phi is taken as atan2(0, 0) = 0.
     #[inline]
     pub fn new(pose: Pose2<T>, goal: Pose2<T>, dir: Direction) -> Self {
+        let (phi, rho) = Self::bearing(pose, goal);
+        Self::in_frame(phi, rho, pose, goal, T::Mask::splat(dir == Direction::Backward))
+    }
+
+    /// phi = atan2(y_d - y, x_d - x) (rad) and rho = hypot(..) (m): the parts that do not
+    /// depend on the direction.
+    #[inline(always)]
+    fn bearing(pose: Pose2<T>, goal: Pose2<T>) -> (T, T) {
         let dx = goal.x - pose.x;
         let dy = goal.y - pose.y;
-        let phi = dy.atan2_libm(dx);
-        let (theta, theta_d) = match dir {
-            Direction::Forward => (pose.theta, goal.theta),
-            Direction::Backward => (pose.theta + T::PI(), goal.theta + T::PI()),
-        };
-        Self { rho: dx.hypot_libm(dy), alpha: wrap_angle(phi - theta), beta: wrap_angle(theta_d - phi) }
+        (dy.atan2(dx), dx.hypot(dy))
+    }
+
+    /// The coordinates from phi and rho, per lane in the backward frame where `backward`.
+    #[inline(always)]
+    fn in_frame(phi: T, rho: T, pose: Pose2<T>, goal: Pose2<T>, backward: T::Mask) -> Self {
+        let pi = T::lit(core::f64::consts::PI);
+        let theta = T::select(backward, pose.theta + pi, pose.theta);
+        let theta_d = T::select(backward, goal.theta + pi, goal.theta);
+        Self { rho, alpha: wrap_angle(phi - theta), beta: wrap_angle(theta_d - phi) }
     }
 
     /// True for alpha in I1 = (-pi/2, pi/2]: the goal is ahead in this frame.
     #[inline]
-    pub fn goal_ahead(&self) -> bool {
-        let half_pi = T::FRAC_PI_2();
-        self.alpha > -half_pi && self.alpha <= half_pi
+    pub fn goal_ahead(&self) -> T::Mask {
+        let half_pi = T::lit(core::f64::consts::FRAC_PI_2);
+        (-half_pi).lt(self.alpha) & self.alpha.le(half_pi)
+    }
+
+    /// Per lane `a` where `m`, else `b`.
+    #[inline(always)]
+    fn select(m: T::Mask, a: Self, b: Self) -> Self {
+        Self {
+            rho: T::select(m, a.rho, b.rho),
+            alpha: T::select(m, a.alpha, b.alpha),
+            beta: T::select(m, a.beta, b.beta),
+        }
     }
 }
 
-/// Chooses the driving direction once and switches it only with hysteresis (module docs).
+/// Chooses the driving direction once and switches it only with hysteresis (module docs);
+/// per lane for several runs side by side.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DirectionSelector<T> {
+pub struct DirectionSelector<T: Lane> {
     allow_reverse: bool,
-    hysteresis: T,
-    current: Option<Direction>,
+    hysteresis: T::Scalar,
+    /// The direction in use is backward, where `decided`.
+    backward: T::Mask,
+    decided: T::Mask,
 }
 
-impl<T: Real> DirectionSelector<T> {
+impl<T: Lane> DirectionSelector<T> {
     /// A selector; `allow_reverse = false` always drives forward. `hysteresis` (rad, >= 0)
     /// is the overshoot of |alpha| past pi/2 that triggers a later switch.
-    pub fn new(allow_reverse: bool, hysteresis: T) -> Self {
-        Self { allow_reverse, hysteresis, current: None }
+    pub fn new(allow_reverse: bool, hysteresis: T::Scalar) -> Self {
+        let no = T::Mask::splat(false);
+        Self { allow_reverse, hysteresis, backward: no, decided: no }
     }
 
-    /// The direction in use, if one has been chosen since construction or reset.
-    pub fn current(&self) -> Option<Direction> {
-        self.current
-    }
-
-    /// The direction for this tick and the polar coordinates in its frame.
+    /// The direction for this tick (per lane: backward or not) and the polar coordinates
+    /// in its frame.
     #[inline]
-    pub fn select(&mut self, pose: Pose2<T>, goal: Pose2<T>) -> (Direction, PolarCoords<T>) {
-        let dir = self.current.unwrap_or(Direction::Forward);
-        let c = PolarCoords::new(pose, goal, dir);
-        let switch = self.allow_reverse
-            && match self.current {
-                // First tick: decide from the sign of cos(alpha), I1 = (-pi/2, pi/2].
-                None => !c.goal_ahead(),
-                Some(_) => c.alpha.abs() > T::FRAC_PI_2() + self.hysteresis,
-            };
-        let (dir, c) = if switch { (dir.flipped(), PolarCoords::new(pose, goal, dir.flipped())) } else { (dir, c) };
-        self.current = Some(dir);
-        (dir, c)
+    pub fn select(&mut self, pose: Pose2<T>, goal: Pose2<T>) -> (T::Mask, PolarCoords<T>) {
+        let (phi, rho) = PolarCoords::bearing(pose, goal);
+        let c = PolarCoords::in_frame(phi, rho, pose, goal, self.backward);
+        let switch = if self.allow_reverse {
+            // First tick: decide from the sign of cos(alpha), I1 = (-pi/2, pi/2].
+            let limit = T::splat(<T::Scalar as FloatConst>::FRAC_PI_2() + self.hysteresis);
+            (!self.decided & !c.goal_ahead()) | (self.decided & limit.lt(c.alpha.abs()))
+        } else {
+            T::Mask::splat(false)
+        };
+        self.decided = T::Mask::splat(true);
+        if !switch.any() {
+            return (self.backward, c);
+        }
+        let flipped = (self.backward & !switch) | (!self.backward & switch);
+        let c = PolarCoords::select(switch, PolarCoords::in_frame(phi, rho, pose, goal, flipped), c);
+        self.backward = flipped;
+        (flipped, c)
     }
 
     /// Forgets the direction: the next tick decides afresh.
     pub fn reset(&mut self) {
-        self.current = None;
+        let no = T::Mask::splat(false);
+        self.backward = no;
+        self.decided = no;
+    }
+}
+
+impl<T: Real> DirectionSelector<T> {
+    /// The direction in use, if one has been chosen since construction or reset.
+    pub fn current(&self) -> Option<Direction> {
+        let dir = if self.backward { Direction::Backward } else { Direction::Forward };
+        self.decided.then_some(dir)
     }
 }
 
@@ -164,17 +204,17 @@ impl<T: Real> DirectionSelector<T> {
 /// e_s = (x_d - x) cos(theta) + (y_d - y) sin(theta), the signed distance to the goal
 /// along the heading.
 #[inline]
-pub fn polar_errors<T: Real>(pose: Pose2<T>, goal: Pose2<T>) -> ControlErrors<T> {
+pub fn polar_errors<T: Lane>(pose: Pose2<T>, goal: Pose2<T>) -> ControlErrors<T> {
     let dx = goal.x - pose.x;
     let dy = goal.y - pose.y;
-    let (s, c) = pose.theta.sin_cos_libm();
-    ControlErrors { e_s: dx * c + dy * s, e_theta: wrap_angle(goal.theta - pose.theta), dl: dx.hypot_libm(dy) }
+    let (s, c) = pose.theta.sin_cos();
+    ControlErrors { e_s: dx * c + dy * s, e_theta: wrap_angle(goal.theta - pose.theta), dl: dx.hypot(dy) }
 }
 
 /// Stop inside `radius`, resume beyond twice that: returns the new "held" flag.
 #[inline]
-fn goal_hold<T: Real>(held: bool, dl: T, radius: T) -> bool {
-    if held { dl <= radius + radius } else { dl <= radius }
+fn goal_hold<T: Lane>(held: T::Mask, dl: T, radius: T::Scalar) -> T::Mask {
+    (held & dl.le(T::splat(radius + radius))) | (!held & dl.le(T::splat(radius)))
 }
 
 /// The keys every law in polar coordinates has: how it picks its direction and where it stops.
@@ -194,33 +234,41 @@ pub trait PolarGains<T: Real>: Copy {
     fn check_gains(&self) -> Result<(), ParamError>;
     /// The keys it shares with every polar law.
     fn steering(&self) -> Steering<T>;
-    /// The twist (v in m/s, omega in rad/s) for the goal at `c` in driving direction `dir`.
-    fn twist(&self, dir: Direction, c: &PolarCoords<T>) -> Twist2<T>;
+    /// The twist (v in m/s, omega in rad/s) for the goal at `c` in the driving direction
+    /// whose `sign` is +1 (forward) or -1 (backward), per lane for several runs.
+    fn twist<L: Lane<Scalar = T>>(&self, sign: L, c: &PolarCoords<L>) -> Twist2<L>;
 }
 
 /// A law in polar coordinates with gains `G`: stops within `goal_radius` of the goal
 /// (resuming beyond twice that), chooses the driving direction ([`DirectionSelector`]),
 /// logs [`polar_errors`]. Implements [`Law`] with [`WheelDemand::Twist`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PolarCoordinateLaw<T, G> {
+pub struct PolarCoordinateLaw<T: Lane, G> {
     gains: G,
     direction: DirectionSelector<T>,
-    held: bool,
+    held: T::Mask,
 }
 
 impl<T: Real, G: PolarGains<T>> PolarCoordinateLaw<T, G> {
     /// Validates the gains and the shared keys (`reverse_hysteresis` in [0, pi/2),
     /// `goal_radius` >= 0).
     pub fn new(gains: G) -> Result<Self, ParamError> {
+        Self::for_lanes(gains)
+    }
+}
+
+impl<T: Lane, G: PolarGains<T::Scalar>> PolarCoordinateLaw<T, G> {
+    /// [`PolarCoordinateLaw::new`] for several runs side by side ([`crate::lane`]).
+    pub fn for_lanes(gains: G) -> Result<Self, ParamError> {
         gains.check_gains()?;
         let st = gains.steering();
         check::non_negative("reverse_hysteresis", st.reverse_hysteresis)?;
-        if st.reverse_hysteresis >= T::FRAC_PI_2() {
+        if st.reverse_hysteresis >= <T::Scalar as FloatConst>::FRAC_PI_2() {
             return Err(check::out_of_range("reverse_hysteresis", "must be < pi/2", st.reverse_hysteresis));
         }
         check::non_negative("goal_radius", st.goal_radius)?;
         let direction = DirectionSelector::new(st.reverse, st.reverse_hysteresis);
-        Ok(Self { gains, direction, held: false })
+        Ok(Self { gains, direction, held: T::Mask::splat(false) })
     }
 
     /// The parameters.
@@ -228,29 +276,41 @@ impl<T: Real, G: PolarGains<T>> PolarCoordinateLaw<T, G> {
         &self.gains
     }
 
-    /// The driving direction in use (None before the first tick).
-    pub fn direction(&self) -> Option<Direction> {
-        self.direction.current()
-    }
-
     /// The twist (v in m/s, omega in rad/s) for the measured `pose` and the `goal`.
     pub fn twist(&mut self, pose: Pose2<T>, goal: Pose2<T>) -> Twist2<T> {
-        self.twist_at(pose, goal, (goal.x - pose.x).hypot_libm(goal.y - pose.y))
+        self.twist_at(pose, goal, (goal.x - pose.x).hypot(goal.y - pose.y))
     }
 
     /// [`PolarCoordinateLaw::twist`] with the distance `dl` (m) from `pose` to `goal` known.
     #[inline]
     fn twist_at(&mut self, pose: Pose2<T>, goal: Pose2<T>, dl: T) -> Twist2<T> {
-        self.held = goal_hold(self.held, dl, self.gains.steering().goal_radius);
-        if self.held {
+        let held = goal_hold::<T>(self.held, dl, self.gains.steering().goal_radius);
+        self.held = held;
+        if held.all() {
             return Twist2::default();
         }
-        let (dir, c) = self.direction.select(pose, goal);
-        self.gains.twist(dir, &c)
+        // Lanes that hold keep their direction.
+        let before = self.direction;
+        let (backward, c) = self.direction.select(pose, goal);
+        if held.any() {
+            self.direction.backward = (held & before.backward) | (!held & self.direction.backward);
+            self.direction.decided = (held & before.decided) | (!held & self.direction.decided);
+        }
+        let sign = T::select(backward, T::lit(-1.0), T::lit(1.0));
+        let twist = self.gains.twist(sign, &c);
+        let zero = T::default();
+        Twist2 { v: T::select(held, zero, twist.v), omega: T::select(held, zero, twist.omega) }
     }
 }
 
-impl<T: Real, G: PolarGains<T>> Law<T> for PolarCoordinateLaw<T, G> {
+impl<T: Real, G: PolarGains<T>> PolarCoordinateLaw<T, G> {
+    /// The driving direction in use (None before the first tick).
+    pub fn direction(&self) -> Option<Direction> {
+        self.direction.current()
+    }
+}
+
+impl<T: Lane, G: PolarGains<T::Scalar>> Law<T> for PolarCoordinateLaw<T, G> {
     #[inline]
     fn update(&mut self, _t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
         let errors = polar_errors(m.pose, goal);
@@ -260,10 +320,10 @@ impl<T: Real, G: PolarGains<T>> Law<T> for PolarCoordinateLaw<T, G> {
 
     fn reset(&mut self) {
         self.direction.reset();
-        self.held = false;
+        self.held = T::Mask::splat(false);
     }
 
-    fn holding(&self) -> bool {
+    fn holding(&self) -> T::Mask {
         self.held
     }
 }

@@ -23,6 +23,7 @@
 
 use crate::Real;
 use crate::error::{ParamError, check};
+use crate::lane::{Lane, Mask};
 use crate::math::Wheels;
 
 /// Validates a wheel speed limit (rad/s): > 0, infinity allowed (off), not NaN.
@@ -33,17 +34,18 @@ pub(crate) fn check_wheel_speed_max<T: Real>(w_max: T) -> Result<T, ParamError> 
 /// The common factor s in (0, 1] that brings max(|w.right|, |w.left|) down to `w_max`
 /// (rad/s); 1 when already within the limit or when the limit is infinite.
 #[inline]
-pub fn wheel_speed_scale<T: Real>(w: Wheels<T>, w_max: T) -> T {
+pub fn wheel_speed_scale<L: Lane>(w: Wheels<L>, w_max: L) -> L {
     let m = w.right.abs().max(w.left.abs());
-    if m > w_max { w_max / m } else { T::one() }
+    L::select(w_max.lt(m), w_max / m, L::lit(1.0))
 }
 
 /// Wheel speeds (rad/s) scaled together so that neither exceeds `w_max` (rad/s); the
 /// ratio between them, hence the curvature, is kept. Unchanged when within the limit.
 #[inline]
-pub fn limit_wheel_speeds<T: Real>(w: Wheels<T>, w_max: T) -> Wheels<T> {
+pub fn limit_wheel_speeds<L: Lane>(w: Wheels<L>, w_max: L) -> Wheels<L> {
     let s = wheel_speed_scale(w, w_max);
-    if s < T::one() { w.map(|x| x * s) } else { w }
+    let scaled = s.lt(L::lit(1.0));
+    Wheels::new(L::select(scaled, w.right * s, w.right), L::select(scaled, w.left * s, w.left))
 }
 
 /// Rate limiter for a pair of wheel angle references (rad): each control tick the
@@ -58,22 +60,24 @@ pub fn limit_wheel_speeds<T: Real>(w: Wheels<T>, w_max: T) -> Wheels<T> {
 /// It starts from the measured wheel angles at the first tick after construction or
 /// reset, so a step in the target (the paper law's first tick) is spread over time.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct WheelRateLimiter<T> {
-    w_max: T,
-    dt: T,
-    phi_lim: Option<Wheels<T>>,
+pub struct WheelRateLimiter<T: Lane> {
+    w_max: T::Scalar,
+    dt: T::Scalar,
+    /// The limited references of the last tick, rad, where `started`.
+    phi_lim: Wheels<T>,
+    started: T::Mask,
 }
 
-impl<T: Real> WheelRateLimiter<T> {
+impl<T: Lane> WheelRateLimiter<T> {
     /// A limiter for speed `w_max` (rad/s, > 0, infinity allowed) and tick `dt` (s, > 0).
-    pub fn new(w_max: T, dt: T) -> Result<Self, ParamError> {
+    pub fn new(w_max: T::Scalar, dt: T::Scalar) -> Result<Self, ParamError> {
         check_wheel_speed_max(w_max)?;
         check::positive("control_dt", dt)?;
-        Ok(Self { w_max, dt, phi_lim: None })
+        Ok(Self { w_max, dt, phi_lim: Wheels::default(), started: T::Mask::splat(false) })
     }
 
     /// The speed limit, rad/s.
-    pub fn w_max(&self) -> T {
+    pub fn w_max(&self) -> T::Scalar {
         self.w_max
     }
 
@@ -81,23 +85,28 @@ impl<T: Real> WheelRateLimiter<T> {
     /// measured wheel angles (rad, used only on the first tick).
     #[inline]
     pub fn limit(&mut self, target: Wheels<T>, measured: Wheels<T>) -> Wheels<T> {
-        let prev = self.phi_lim.unwrap_or(measured);
+        let prev = Wheels::new(
+            T::select(self.started, self.phi_lim.right, measured.right),
+            T::select(self.started, self.phi_lim.left, measured.left),
+        );
         let delta = Wheels::new(target.right - prev.right, target.left - prev.left);
-        let rate = delta.map(|d| d / self.dt);
-        let s = wheel_speed_scale(rate, self.w_max);
-        let next = if s < T::one() {
-            Wheels::new(prev.right + delta.right * s, prev.left + delta.left * s)
-        } else {
-            // Within the limit: take the target exactly (no rounding drift).
-            target
-        };
-        self.phi_lim = Some(next);
+        let dt = T::splat(self.dt);
+        let rate = delta.map(|d| d / dt);
+        let s = wheel_speed_scale(rate, T::splat(self.w_max));
+        // Within the limit: take the target exactly (no rounding drift).
+        let limited = s.lt(T::lit(1.0));
+        let next = Wheels::new(
+            T::select(limited, prev.right + delta.right * s, target.right),
+            T::select(limited, prev.left + delta.left * s, target.left),
+        );
+        self.phi_lim = next;
+        self.started = T::Mask::splat(true);
         next
     }
 
     /// Forgets the limited references: the next tick starts from the measured angles.
     pub fn reset(&mut self) {
-        self.phi_lim = None;
+        self.started = T::Mask::splat(false);
     }
 }
 

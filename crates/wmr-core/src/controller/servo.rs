@@ -2,6 +2,8 @@
 
 use crate::Real;
 use crate::error::{ParamError, check};
+use crate::lane::Lane;
+use num_traits::Zero;
 
 /// Wheel position servo gains. Units follow the drive's command:
 /// N m/rad, N m s/rad and N m/(rad s) for the torque drive; V/rad, V s/rad and V/(rad s)
@@ -38,71 +40,70 @@ impl<T: Real> ServoGains<T> {
     }
 }
 
-/// One wheel's servo: command = Kp (phi_ref - phi) + Ki int(phi_ref - phi) - Kd omega.
-///
-/// Anti-windup: the integral term is clamped to the drive's command limit.
+/// One wheel's position servo: its gains and integrator, for one run or several side by
+/// side ([`crate::lane`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct WheelServo<T> {
-    gains: ServoGains<T>,
-    /// Largest useful |command| (N m or V).
-    limit: T,
-    /// Integral of the angle error, rad s.
+pub struct WheelServo<T: Lane> {
+    gains: ServoGains<T::Scalar>,
+    /// The drive's command limit (N m or V), which bounds the integral term.
+    limit: T::Scalar,
+    /// int (phi_ref - phi) dt, rad s.
     integral: T,
 }
 
 impl<T: Real> WheelServo<T> {
-    /// A servo with validated gains and the drive's command limit (may be infinite).
+    /// A servo with validated `gains` for a drive whose commands are limited to
+    /// +-`limit` (errors name `servo_kp`, `servo_kd`, `servo_ki`).
     pub fn new(gains: ServoGains<T>, limit: T) -> Result<Self, ParamError> {
-        Ok(Self { gains: gains.validate()?, limit, integral: T::zero() })
+        Self::for_lanes(gains, limit)
+    }
+}
+
+impl<T: Lane> WheelServo<T> {
+    /// [`WheelServo::new`] for several runs side by side ([`crate::lane`]).
+    pub fn for_lanes(gains: ServoGains<T::Scalar>, limit: T::Scalar) -> Result<Self, ParamError> {
+        Ok(Self { gains: gains.validate()?, limit, integral: T::default() })
     }
 
     /// The gains.
-    pub fn gains(&self) -> &ServoGains<T> {
+    pub fn gains(&self) -> &ServoGains<T::Scalar> {
         &self.gains
     }
 
-    /// Kp e + Ki int(e), advancing the clamped integral of the angle error `e` (rad) by `dt` (s).
+    /// Kp e + Ki int e, the integral advanced by e dt and kept within +-limit / Ki.
     #[inline(always)]
     fn proportional_integral(&mut self, e: T, dt: T) -> T {
-        let mut i_term = T::zero();
-        if self.gains.ki > T::zero() {
-            let bound = self.limit / self.gains.ki;
+        let ki = self.gains.ki;
+        let p = T::splat(self.gains.kp) * e;
+        if ki > T::Scalar::zero() {
+            let bound = T::splat(self.limit / ki);
             self.integral = (self.integral + e * dt).max(-bound).min(bound);
-            i_term = self.gains.ki * self.integral;
+            p + T::splat(ki) * self.integral
+        } else {
+            p + T::default()
         }
-        self.gains.kp * e + i_term
     }
 
-    /// Command for angle reference `phi_ref` (rad), measured angle `phi` (rad) and speed
-    /// `omega` (rad/s), advancing the integral by `dt` (s).
+    /// The paper's servo: Kp (phi_ref - phi) + Ki int(phi_ref - phi) - Kd omega, with the
+    /// angles in rad, omega in rad/s and dt (the control period) in s.
     #[inline(always)]
     pub fn update(&mut self, phi_ref: T, phi: T, omega: T, dt: T) -> T {
-        self.proportional_integral(phi_ref - phi, dt) - self.gains.kd * omega
+        self.proportional_integral(phi_ref - phi, dt) - T::splat(self.gains.kd) * omega
     }
 
-    /// Speed-tracking form (for laws that command wheel speeds): command for angle
-    /// reference `phi_ref` (rad) moving at `omega_ref` (rad/s), measured angle `phi` (rad)
-    /// and speed `omega` (rad/s), advancing the integral by `dt` (s):
-    ///
-    /// ```text
-    /// command = Kp (phi_ref - phi) + Ki int(phi_ref - phi) + Kd (omega_ref - omega)
-    /// ```
-    ///
-    /// The derivative acts on the speed error, so a reference ramp is followed without the
-    /// steady lag Kd omega / Kp that [`WheelServo::update`] (derivative on the measured
-    /// speed) would leave. With `omega_ref = 0` it equals [`WheelServo::update`].
+    /// Tracking a moving reference: Kp (phi_ref - phi) + Ki int(...) + Kd (omega_ref - omega).
     #[inline(always)]
     pub fn update_tracking(&mut self, phi_ref: T, omega_ref: T, phi: T, omega: T, dt: T) -> T {
-        self.proportional_integral(phi_ref - phi, dt) + self.gains.kd * (omega_ref - omega)
+        self.proportional_integral(phi_ref - phi, dt) + T::splat(self.gains.kd) * (omega_ref - omega)
     }
 
-    /// Largest useful |command| (N m or V), the drive's limit given at construction.
-    pub fn limit(&self) -> T {
+    /// The drive's command limit.
+    pub fn limit(&self) -> T::Scalar {
         self.limit
     }
 
-    /// Clears the integral.
+    /// Clears the integrator.
     pub fn reset(&mut self) {
-        self.integral = T::zero();
+        self.integral = T::default();
     }
 }

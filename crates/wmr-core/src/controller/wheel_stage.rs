@@ -51,10 +51,12 @@ use super::saturation::{WheelRateLimiter, check_wheel_speed_max, limit_wheel_spe
 use super::servo::{ServoGains, WheelServo};
 use crate::drive::{Drive, DriveParams};
 use crate::error::{ParamError, check};
-use crate::kinematics::wheel_speeds;
+use crate::kinematics::wheel_speeds_lanes;
+use crate::lane::{Lane, Mask};
 use crate::math::Wheels;
 use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
+use num_traits::{Float, Zero};
 
 /// The wheel stage's keys (flat in a scenario's `[controller]` table).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -95,28 +97,31 @@ impl<T: Real> Default for WheelStageParams<T> {
     }
 }
 
-/// Two wheel servos with the curvature-keeping speed limit (module docs).
+/// Two wheel servos with the curvature-keeping speed limit (module docs), for one run or
+/// several side by side ([`crate::lane`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct WheelStage<T> {
+pub struct WheelStage<T: Lane> {
     right: WheelServo<T>,
     left: WheelServo<T>,
     /// The controller's idea of the robot (r, R for twist to wheel speeds).
-    model: RobotParams<T>,
-    wheel_speed_max: T,
+    model: RobotParams<T::Scalar>,
+    wheel_speed_max: T::Scalar,
     /// Angle demands: the rate-limited references.
     limiter: WheelRateLimiter<T>,
-    /// Twist demands: the integrated angle references, rad; `None` until the first tick.
-    phi_ref: Option<Wheels<T>>,
+    /// Twist demands: the integrated angle references, rad, where `phi_ref_set`
+    /// (false until the first tick).
+    phi_ref: Wheels<T>,
+    phi_ref_set: T::Mask,
     /// Largest |phi_ref - phi|, rad (may be infinite).
-    max_gap: T,
+    max_gap: T::Scalar,
     /// Control period, s.
-    dt: T,
+    dt: T::Scalar,
     /// The wheel references of the last tick: angles (rad) or speeds (rad/s) by demand.
     last_refs: Wheels<T>,
     /// The drive, whose commands the speed guard bounds.
-    drive: Drive<T>,
+    drive: Drive<T::Scalar>,
     /// K_g of the speed guard, N m s/rad (zero when the limit is off).
-    guard_gain: T,
+    guard_gain: T::Scalar,
 }
 
 impl<T: Real> WheelStage<T> {
@@ -128,18 +133,30 @@ impl<T: Real> WheelStage<T> {
         drive: &Drive<T>,
         control_dt: T,
     ) -> Result<Self, ParamError> {
+        Self::for_lanes(params, model, drive, control_dt)
+    }
+}
+
+impl<T: Lane> WheelStage<T> {
+    /// [`WheelStage::new`] for several runs side by side ([`crate::lane`]).
+    pub fn for_lanes(
+        params: &WheelStageParams<T::Scalar>,
+        model: &RobotParams<T::Scalar>,
+        drive: &Drive<T::Scalar>,
+        control_dt: T::Scalar,
+    ) -> Result<Self, ParamError> {
         check::positive("control_dt", control_dt)?;
         let wheel_speed_max = check_wheel_speed_max(params.wheel_speed_max)?;
         let limit = drive.command_limit();
-        let servo = WheelServo::new(params.servo(), limit)?;
-        let guard_gain = if wheel_speed_max.is_finite() {
+        let servo = WheelServo::for_lanes(params.servo(), limit)?;
+        let guard_gain = if Float::is_finite(wheel_speed_max) {
             let (m11, m22) = model.validate()?.reduced_inertia();
             let r = model.wheel_radius;
             let big_r = model.half_track;
-            let wheel_inertia = r * r / (m11.recip() + big_r * big_r / m22);
-            wheel_inertia / (T::lit(2.0) * control_dt)
+            let wheel_inertia = r * r / (Float::recip(m11) + big_r * big_r / m22);
+            wheel_inertia / (<T::Scalar as Real>::lit(2.0) * control_dt)
         } else {
-            T::zero()
+            <T::Scalar as Zero>::zero()
         };
         Ok(Self {
             right: servo,
@@ -147,7 +164,8 @@ impl<T: Real> WheelStage<T> {
             model: *model,
             wheel_speed_max,
             limiter: WheelRateLimiter::new(wheel_speed_max, control_dt)?,
-            phi_ref: None,
+            phi_ref: Wheels::default(),
+            phi_ref_set: T::Mask::splat(false),
             max_gap: limit / servo.gains().kp,
             dt: control_dt,
             last_refs: Wheels::default(),
@@ -156,43 +174,44 @@ impl<T: Real> WheelStage<T> {
         })
     }
 
-    /// K_g of the speed guard, N m s/rad (module docs); zero when the limit is off.
-    pub fn guard_gain(&self) -> T {
+    /// K_g of the speed guard, N m s/rad (zero when `wheel_speed_max` is infinite).
+    pub fn guard_gain(&self) -> T::Scalar {
         self.guard_gain
     }
 
-    /// The speed guard (module docs): `command` (N m or V) clamped so that the wheel
-    /// torque keeps the measured speed `omega` (rad/s) within the limit.
+    /// `command` clamped so that the drive's wheel torque keeps the wheel speed `omega`
+    /// (rad/s) within the limit (module docs).
     #[inline(always)]
     fn guard(&self, command: T, omega: T) -> T {
-        let w = self.wheel_speed_max;
-        let up = self.drive.command_for_wheel_torque(self.guard_gain * (w - omega), omega);
-        let lo = self.drive.command_for_wheel_torque(-self.guard_gain * (w + omega), omega);
+        let w = T::splat(self.wheel_speed_max);
+        let k = T::splat(self.guard_gain);
+        let up = self.drive.command_for_wheel_torque(k * (w - omega), omega);
+        let lo = self.drive.command_for_wheel_torque(-k * (w + omega), omega);
         command.min(up).max(lo)
     }
 
     /// Control period, s.
-    pub fn control_dt(&self) -> T {
+    pub fn control_dt(&self) -> T::Scalar {
         self.dt
     }
 
-    /// The wheel speed limit, rad/s (infinite when off).
-    pub fn wheel_speed_max(&self) -> T {
+    /// The wheel speed limit, rad/s (infinite: off).
+    pub fn wheel_speed_max(&self) -> T::Scalar {
         self.wheel_speed_max
     }
 
-    /// The wheel references of the last tick, after the limit: angles in rad for an angle
-    /// demand, speeds in rad/s for a twist demand.
+    /// The wheel references of the last tick: angles (rad) for angle demands, speeds
+    /// (rad/s) for twist demands.
     pub fn last_refs(&self) -> Wheels<T> {
         self.last_refs
     }
 
-    /// Drive commands (N m or V per wheel) for `demand`, given the measurement; with a
-    /// finite `wheel_speed_max`, bounded by the speed guard.
+    /// Drive commands (N m or V per wheel) for `demand` given the measured wheel angles
+    /// (rad) and speeds (rad/s) in `m`.
     #[inline]
     pub fn command(&mut self, demand: WheelDemand<T>, m: &Measurement<T>) -> Wheels<T> {
         let command = self.servo_command(demand, m);
-        if self.wheel_speed_max.is_finite() {
+        if Float::is_finite(self.wheel_speed_max) {
             let w = m.wheel_speeds;
             Wheels::new(self.guard(command.right, w.right), self.guard(command.left, w.left))
         } else {
@@ -200,16 +219,15 @@ impl<T: Real> WheelStage<T> {
         }
     }
 
-    /// The servos' commands for `demand`, before the speed guard.
     #[inline(always)]
     fn servo_command(&mut self, demand: WheelDemand<T>, m: &Measurement<T>) -> Wheels<T> {
         let phi = m.wheel_angles;
         let w = m.wheel_speeds;
-        let dt = self.dt;
+        let dt = T::splat(self.dt);
         match demand {
             WheelDemand::Angles(target) => {
-                // Without a limit the limiter would return the targets unchanged: skip it.
-                let refs = if self.wheel_speed_max.is_finite() { self.limiter.limit(target, phi) } else { target };
+                let refs =
+                    if Float::is_finite(self.wheel_speed_max) { self.limiter.limit(target, phi) } else { target };
                 self.last_refs = refs;
                 Wheels::new(
                     self.right.update(refs.right, phi.right, w.right, dt),
@@ -217,28 +235,34 @@ impl<T: Real> WheelStage<T> {
                 )
             }
             WheelDemand::Twist(twist) => {
-                let omega_ref = limit_wheel_speeds(wheel_speeds(&self.model, twist), self.wheel_speed_max);
+                let speeds = wheel_speeds_lanes(&self.model, twist.v, twist.omega);
+                let omega_ref = limit_wheel_speeds(speeds, T::splat(self.wheel_speed_max));
                 self.last_refs = omega_ref;
-                let prev = self.phi_ref.unwrap_or(phi);
-                let g = self.max_gap;
+                let set = self.phi_ref_set;
+                let prev = Wheels::new(
+                    T::select(set, self.phi_ref.right, phi.right),
+                    T::select(set, self.phi_ref.left, phi.left),
+                );
+                let g = T::splat(self.max_gap);
                 let clamp = |r: T, p: T| r.max(p - g).min(p + g);
                 let r = Wheels::new(clamp(prev.right, phi.right), clamp(prev.left, phi.left));
                 let command = Wheels::new(
                     self.right.update_tracking(r.right, omega_ref.right, phi.right, w.right, dt),
                     self.left.update_tracking(r.left, omega_ref.left, phi.left, w.left, dt),
                 );
-                self.phi_ref = Some(Wheels::new(r.right + omega_ref.right * dt, r.left + omega_ref.left * dt));
+                self.phi_ref = Wheels::new(r.right + omega_ref.right * dt, r.left + omega_ref.left * dt);
+                self.phi_ref_set = T::Mask::splat(true);
                 command
             }
         }
     }
 
-    /// Clears the servo integrals and the references.
+    /// Clears the servos' integrals and the references, as at t = 0.
     pub fn reset(&mut self) {
         self.right.reset();
         self.left.reset();
         self.limiter.reset();
-        self.phi_ref = None;
+        self.phi_ref_set = T::Mask::splat(false);
         self.last_refs = Wheels::default();
     }
 }

@@ -5,6 +5,7 @@
 
 use crate::Real;
 use crate::error::{ParamError, check};
+use crate::lane::Lane;
 
 /// `[drive] kind = "dc_motor"` parameters, SI units.
 ///
@@ -76,19 +77,25 @@ impl<T: Real> DcMotor<T> {
     /// Wheel torque (N m) for a voltage command (V, clamped) at wheel speed (rad/s):
     /// k_tau i / k_t with i = (u - k_e omega_motor) / R_a clamped to +-current_max.
     #[inline(always)]
-    pub fn wheel_torque(&self, voltage: T, omega_wheel: T) -> T {
-        let u = voltage.max(-self.params.voltage_max).min(self.params.voltage_max);
-        let tau = (u - self.emf_per_wheel_speed * omega_wheel) * self.torque_per_volt;
+    pub fn wheel_torque<L: Lane<Scalar = T>>(&self, voltage: L, omega_wheel: L) -> L {
+        let u_max = L::splat(self.params.voltage_max);
+        let u = voltage.max(-u_max).min(u_max);
+        let tau = (u - L::splat(self.emf_per_wheel_speed) * omega_wheel) * L::splat(self.torque_per_volt);
         // Torque is proportional to current: clamping it clamps the current.
-        if self.wheel_torque_max.is_finite() { tau.max(-self.wheel_torque_max).min(self.wheel_torque_max) } else { tau }
+        if self.wheel_torque_max.is_finite() {
+            let tau_max = L::splat(self.wheel_torque_max);
+            tau.max(-tau_max).min(tau_max)
+        } else {
+            tau
+        }
     }
 
     /// The voltage (V) that makes the wheel torque `tau` (N m) at wheel speed
     /// `omega_wheel` (rad/s), the voltage and current limits aside: tau R_a k_t / k_tau +
     /// k_e omega_wheel / k_t.
     #[inline(always)]
-    pub fn voltage_for_wheel_torque(&self, tau: T, omega_wheel: T) -> T {
-        tau / self.torque_per_volt + self.emf_per_wheel_speed * omega_wheel
+    pub fn voltage_for_wheel_torque<L: Lane<Scalar = T>>(&self, tau: L, omega_wheel: L) -> L {
+        tau / L::splat(self.torque_per_volt) + L::splat(self.emf_per_wheel_speed) * omega_wheel
     }
 
     /// Back-EMF damping at the wheel, N m s/rad: k_tau k_e / (R_a k_t^2).

@@ -7,6 +7,7 @@ pub use dc_motor::{DcMotor, DcMotorParams};
 pub use torque::{TorqueDrive, TorqueDriveParams};
 
 use crate::error::ParamError;
+use crate::lane::Lane;
 use crate::{Real, Robot};
 
 /// Drive parameters as written in a scenario (`[drive]`), before validation.
@@ -81,7 +82,7 @@ impl<T: Real> Drive<T> {
     /// The command is a wheel-torque demand (N m) for [`Drive::Torque`] and a voltage (V)
     /// for [`Drive::DcMotor`].
     #[inline(always)]
-    pub fn wheel_torque(&self, command: T, omega_wheel: T) -> T {
+    pub fn wheel_torque<L: Lane<Scalar = T>>(&self, command: L, omega_wheel: L) -> L {
         match self {
             Drive::Torque(d) => d.wheel_torque(command),
             Drive::DcMotor(d) => d.wheel_torque(command, omega_wheel),
@@ -111,7 +112,7 @@ impl<T: Real> Drive<T> {
     /// [`Drive::wheel_torque`] where that is not saturated. The wheel stage's speed limit
     /// turns its torque bound into a command bound with it.
     #[inline(always)]
-    pub fn command_for_wheel_torque(&self, tau: T, omega_wheel: T) -> T {
+    pub fn command_for_wheel_torque<L: Lane<Scalar = T>>(&self, tau: L, omega_wheel: L) -> L {
         match self {
             Drive::Torque(_) => tau,
             Drive::DcMotor(d) => d.voltage_for_wheel_torque(tau, omega_wheel),

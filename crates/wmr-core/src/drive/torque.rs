@@ -2,6 +2,7 @@
 
 use crate::Real;
 use crate::error::{ParamError, check};
+use crate::lane::Lane;
 
 /// `[drive] kind = "torque"` parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,9 +50,10 @@ impl<T: Real> TorqueDrive<T> {
 
     /// Wheel torque (N m) for a wheel-torque demand (N m).
     #[inline(always)]
-    pub fn wheel_torque(&self, demand: T) -> T {
-        let k_t = self.gear_ratio;
-        let motor = (demand * k_t).max(-self.params.motor_torque_max).min(self.params.motor_torque_max);
+    pub fn wheel_torque<L: Lane<Scalar = T>>(&self, demand: L) -> L {
+        let k_t = L::splat(self.gear_ratio);
+        let max = L::splat(self.params.motor_torque_max);
+        let motor = (demand * k_t).max(-max).min(max);
         motor / k_t
     }
 }

@@ -1,0 +1,555 @@
+//! Numbers that may be several runs at once: the [`Lane`] trait the equations that run
+//! in lanes are written against, for one run (`f32`, `f64`: every [`Real`]) and for
+//! [`Lanes`]`<N>`, N runs side by side in `f64`.
+//!
+//! Why: a sweep runs thousands of independent runs of the same loop. Stepping N of them
+//! in lockstep turns each arithmetic operation into one SIMD instruction over N runs.
+//! The equations are written once, against this trait; a branch on the state becomes a
+//! [`Lane::select`] (both sides computed, one kept per lane), a branch on a parameter
+//! stays a branch. For a [`Real`] every operation is the scalar one, in the same order,
+//! with the same `libm` transcendentals: the exact path is unchanged, bit for bit.
+//!
+//! [`Lanes`] has its own transcendentals (Cody-Waite reduction and Cephes polynomials,
+//! branch-free so they vectorize), accurate to a few ulp rather than `libm`'s correctly
+//! rounded-in-practice results: the fast path is close to the exact one, not identical.
+
+// Index loops over fixed-size arrays: the form the compiler unrolls into SIMD lanes. The
+// constants are written as their sources (fdlibm, Cephes) print them.
+#![allow(clippy::needless_range_loop, clippy::excessive_precision)]
+
+use core::fmt::Debug;
+use core::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
+
+use crate::Real;
+
+/// A boolean per lane: `bool` for one run, [`LaneMask`] for [`Lanes`].
+pub trait Mask: Copy + Debug + PartialEq + BitAnd<Output = Self> + BitOr<Output = Self> + Not<Output = Self> {
+    /// True in every lane.
+    fn all(self) -> bool;
+    /// True in at least one lane.
+    fn any(self) -> bool;
+    /// `b` in every lane.
+    fn splat(b: bool) -> Self;
+}
+
+impl Mask for bool {
+    #[inline(always)]
+    fn all(self) -> bool {
+        self
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        self
+    }
+    #[inline(always)]
+    fn splat(b: bool) -> Self {
+        b
+    }
+}
+
+/// One run's number ([`Real`]) or several runs' ([`Lanes`]): what the lane-generic
+/// equations compute with. Parameters stay [`Lane::Scalar`] (shared by every lane) and
+/// enter through [`Lane::splat`].
+pub trait Lane:
+    Copy
+    + Debug
+    + Default
+    + PartialEq
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + Send
+    + Sync
+    + 'static
+{
+    /// The number of one lane.
+    type Scalar: Real;
+    /// A boolean per lane.
+    type Mask: Mask;
+
+    /// Every lane `x`.
+    fn splat(x: Self::Scalar) -> Self;
+    /// Every lane the `f64` constant `x` (rounded as [`Real::lit`]).
+    #[inline(always)]
+    fn lit(x: f64) -> Self {
+        Self::splat(<Self::Scalar as Real>::lit(x))
+    }
+    /// Per lane: `if m { a } else { b }`.
+    fn select(m: Self::Mask, a: Self, b: Self) -> Self;
+    /// self < o per lane.
+    fn lt(self, o: Self) -> Self::Mask;
+    /// self <= o per lane.
+    fn le(self, o: Self) -> Self::Mask;
+    /// self == o per lane.
+    fn eq(self, o: Self) -> Self::Mask;
+    /// |self|.
+    fn abs(self) -> Self;
+    /// The smaller of two (`Float::min` for one run).
+    fn min(self, o: Self) -> Self;
+    /// The larger of two (`Float::max` for one run).
+    fn max(self, o: Self) -> Self;
+    /// Square root.
+    fn sqrt(self) -> Self;
+    /// Largest whole number <= self.
+    fn floor(self) -> Self;
+    /// (sin, cos) of an angle in rad.
+    fn sin_cos(self) -> (Self, Self);
+    /// cos of an angle in rad.
+    fn cos(self) -> Self;
+    /// atan2(self, x), rad in (-pi, pi].
+    fn atan2(self, x: Self) -> Self;
+    /// sqrt(self^2 + y^2).
+    fn hypot(self, y: Self) -> Self;
+    /// Hyperbolic tangent.
+    fn tanh(self) -> Self;
+    /// Finite per lane (not NaN, not infinite).
+    fn is_finite(self) -> Self::Mask;
+}
+
+impl<T: Real> Lane for T {
+    type Scalar = T;
+    type Mask = bool;
+
+    #[inline(always)]
+    fn splat(x: T) -> Self {
+        x
+    }
+    #[inline(always)]
+    fn select(m: bool, a: Self, b: Self) -> Self {
+        if m { a } else { b }
+    }
+    #[inline(always)]
+    fn lt(self, o: Self) -> bool {
+        self < o
+    }
+    #[inline(always)]
+    fn le(self, o: Self) -> bool {
+        self <= o
+    }
+    #[inline(always)]
+    fn eq(self, o: Self) -> bool {
+        self == o
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        num_traits::Float::abs(self)
+    }
+    #[inline(always)]
+    fn min(self, o: Self) -> Self {
+        num_traits::Float::min(self, o)
+    }
+    #[inline(always)]
+    fn max(self, o: Self) -> Self {
+        num_traits::Float::max(self, o)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        num_traits::Float::sqrt(self)
+    }
+    #[inline(always)]
+    fn floor(self) -> Self {
+        num_traits::Float::floor(self)
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        self.sin_cos_libm()
+    }
+    #[inline(always)]
+    fn cos(self) -> Self {
+        self.cos_libm()
+    }
+    #[inline(always)]
+    fn atan2(self, x: Self) -> Self {
+        self.atan2_libm(x)
+    }
+    #[inline(always)]
+    fn hypot(self, y: Self) -> Self {
+        self.hypot_libm(y)
+    }
+    #[inline(always)]
+    fn tanh(self) -> Self {
+        self.tanh_libm()
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        num_traits::Float::is_finite(self)
+    }
+}
+
+/// N runs' `f64`s side by side. Every operation is a loop over the lanes that the
+/// compiler turns into SIMD instructions (4 lanes per AVX2 register).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(32))]
+pub struct Lanes<const N: usize>(pub [f64; N]);
+
+/// A boolean per lane of [`Lanes`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LaneMask<const N: usize>(pub [bool; N]);
+
+impl<const N: usize> Default for Lanes<N> {
+    fn default() -> Self {
+        Lanes([0.0; N])
+    }
+}
+
+// Plain loops over the lanes (not `array::from_fn`, which the compiler may leave as a
+// call): each unrolls into SIMD instructions.
+impl<const N: usize> Lanes<N> {
+    #[inline(always)]
+    fn map(self, f: impl Fn(f64) -> f64) -> Self {
+        let mut out = [0.0; N];
+        for i in 0..N {
+            out[i] = f(self.0[i]);
+        }
+        Lanes(out)
+    }
+    #[inline(always)]
+    fn zip(self, o: Self, f: impl Fn(f64, f64) -> f64) -> Self {
+        let mut out = [0.0; N];
+        for i in 0..N {
+            out[i] = f(self.0[i], o.0[i]);
+        }
+        Lanes(out)
+    }
+    #[inline(always)]
+    fn test(self, o: Self, f: impl Fn(f64, f64) -> bool) -> LaneMask<N> {
+        let mut out = [false; N];
+        for i in 0..N {
+            out[i] = f(self.0[i], o.0[i]);
+        }
+        LaneMask(out)
+    }
+}
+
+macro_rules! lanes_op {
+    ($tr:ident, $f:ident, $op:tt) => {
+        impl<const N: usize> $tr for Lanes<N> {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, o: Self) -> Self {
+                self.zip(o, |a, b| a $op b)
+            }
+        }
+    };
+}
+lanes_op!(Add, add, +);
+lanes_op!(Sub, sub, -);
+lanes_op!(Mul, mul, *);
+lanes_op!(Div, div, /);
+
+impl<const N: usize> Neg for Lanes<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        self.map(|a| -a)
+    }
+}
+
+impl<const N: usize> BitAnd for LaneMask<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn bitand(self, o: Self) -> Self {
+        let mut out = self.0;
+        for i in 0..N {
+            out[i] &= o.0[i];
+        }
+        LaneMask(out)
+    }
+}
+impl<const N: usize> BitOr for LaneMask<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn bitor(self, o: Self) -> Self {
+        let mut out = self.0;
+        for i in 0..N {
+            out[i] |= o.0[i];
+        }
+        LaneMask(out)
+    }
+}
+impl<const N: usize> Not for LaneMask<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn not(self) -> Self {
+        LaneMask(self.0.map(|b| !b))
+    }
+}
+impl<const N: usize> Mask for LaneMask<N> {
+    #[inline(always)]
+    fn all(self) -> bool {
+        self.0.iter().all(|&b| b)
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        self.0.iter().any(|&b| b)
+    }
+    #[inline(always)]
+    fn splat(b: bool) -> Self {
+        LaneMask([b; N])
+    }
+}
+
+/// 1.5 * 2^52: x + ROUNDER - ROUNDER rounds |x| < 2^51 to the nearest whole number (ties
+/// to even), and the low bits of x + ROUNDER hold that number.
+const ROUNDER: f64 = 6_755_399_441_055_744.0;
+
+/// pi/2 in three parts (fdlibm's pio2_1, pio2_2, pio2_2t): j * PIO2_1 and j * PIO2_2
+/// are exact for whole j < 2^20, so the reduction of an angle below about 1.6e6 rad
+/// keeps full precision.
+const PIO2_1: f64 = 1.570_796_326_734_125_614_17e0;
+const PIO2_2: f64 = 6.077_100_506_303_965_976_60e-11;
+const PIO2_2T: f64 = 2.022_266_248_795_950_631_54e-21;
+
+/// sin on [-pi/4, pi/4]: x + x^3 P(x^2) (Cephes `sin.c`).
+#[inline(always)]
+fn sin_poly(r: f64, z: f64) -> f64 {
+    const S: [f64; 6] = [
+        1.589_623_015_765_465_680_60e-10,
+        -2.505_074_776_285_780_728_66e-8,
+        2.755_731_362_138_572_452_13e-6,
+        -1.984_126_982_958_953_859_96e-4,
+        8.333_333_333_322_118_588_78e-3,
+        -1.666_666_666_666_663_072_95e-1,
+    ];
+    let p = ((((S[0] * z + S[1]) * z + S[2]) * z + S[3]) * z + S[4]) * z + S[5];
+    r + r * z * p
+}
+
+/// cos on [-pi/4, pi/4]: 1 - x^2/2 + x^4 Q(x^2) (Cephes `sin.c`).
+#[inline(always)]
+fn cos_poly(z: f64) -> f64 {
+    const C: [f64; 6] = [
+        -1.135_853_652_138_768_173_00e-11,
+        2.087_570_084_197_473_167_78e-9,
+        -2.755_731_417_929_673_881_12e-7,
+        2.480_158_728_885_170_453_48e-5,
+        -1.388_888_888_887_305_641_16e-3,
+        4.166_666_666_666_659_292_18e-2,
+    ];
+    let q = ((((C[0] * z + C[1]) * z + C[2]) * z + C[3]) * z + C[4]) * z + C[5];
+    1.0 - 0.5 * z + z * z * q
+}
+
+/// (sin, cos) without a branch: quadrant j = round(x 2/pi), r = x - j pi/2 in
+/// [-pi/4, pi/4], then the quadrant's swap and signs.
+#[inline(always)]
+fn sin_cos_lane(x: f64) -> (f64, f64) {
+    let shifted = x * core::f64::consts::FRAC_2_PI + ROUNDER;
+    let j = shifted - ROUNDER;
+    let q = shifted.to_bits();
+    let r = ((x - j * PIO2_1) - j * PIO2_2) - j * PIO2_2T;
+    let z = r * r;
+    let (s, c) = (sin_poly(r, z), cos_poly(z));
+    let swap = q & 1 != 0;
+    let (s, c) = if swap { (c, s) } else { (s, c) };
+    let sin_negative = q & 2 != 0;
+    let cos_negative = (q.wrapping_add(1)) & 2 != 0;
+    (if sin_negative { -s } else { s }, if cos_negative { -c } else { c })
+}
+
+/// atan on [0, 1] (Cephes `atan.c`: above 0.66, pi/4 + atan((a - 1)/(a + 1))).
+#[inline(always)]
+fn atan_unit(a: f64) -> f64 {
+    const P: [f64; 5] = [
+        -8.750_608_600_031_904_122_785e-1,
+        -1.615_753_718_733_365_076_637e1,
+        -7.500_855_792_314_704_667_340e1,
+        -1.228_866_684_490_136_173_410e2,
+        -6.485_021_904_942_025_371_773e1,
+    ];
+    const Q: [f64; 5] = [
+        2.485_846_490_142_306_297_962e1,
+        1.650_270_098_316_988_542_046e2,
+        4.328_810_604_912_902_668_951e2,
+        4.853_903_996_359_136_964_868e2,
+        1.945_506_571_482_613_964_425e2,
+    ];
+    /// The part of pi/4 that pi/4 in `f64` misses.
+    const PIO4_TAIL: f64 = 3.061_616_997_868_382_943_065e-17;
+    let big = a > 0.66;
+    let x = if big { (a - 1.0) / (a + 1.0) } else { a };
+    let base = if big { core::f64::consts::FRAC_PI_4 } else { 0.0 };
+    let tail = if big { PIO4_TAIL } else { 0.0 };
+    let z = x * x;
+    let p = (((P[0] * z + P[1]) * z + P[2]) * z + P[3]) * z + P[4];
+    let q = ((((z + Q[0]) * z + Q[1]) * z + Q[2]) * z + Q[3]) * z + Q[4];
+    base + (x + (x * z * p / q + tail))
+}
+
+/// atan2(y, x) without a branch: atan of min/max of |y|, |x|, then the octant.
+#[inline(always)]
+fn atan2_lane(y: f64, x: f64) -> f64 {
+    let (ay, ax) = (y.abs(), x.abs());
+    let hi = ay.max(ax);
+    let lo = ay.min(ax);
+    let a = if hi == 0.0 { 0.0 } else { lo / hi };
+    let t = atan_unit(a);
+    let t = if ay > ax { core::f64::consts::FRAC_PI_2 - t } else { t };
+    let t = if x.is_sign_negative() { core::f64::consts::PI - t } else { t };
+    if y.is_sign_negative() { -t } else { t }
+}
+
+/// e^x for |x| <= 708 (clamped beyond): x = n ln 2 + r, |r| <= ln2 / 2, a degree-13
+/// Taylor polynomial of e^r, times 2^n built from its bits.
+#[inline(always)]
+fn exp_lane(x: f64) -> f64 {
+    const LN2_HI: f64 = 6.931_471_803_691_238_164_90e-1;
+    const LN2_LO: f64 = 1.908_214_929_270_587_700_02e-10;
+    let x = x.clamp(-708.0, 708.0);
+    let shifted = x * core::f64::consts::LOG2_E + ROUNDER;
+    let n = shifted - ROUNDER;
+    let r = (x - n * LN2_HI) - n * LN2_LO;
+    let mut p = 1.0 / 6_227_020_800.0;
+    for k in (1..13).rev() {
+        p = p * r + 1.0 / FACTORIALS[k];
+    }
+    let e_r = p * r + 1.0;
+    // The low bits of `shifted` hold n mod 2^11; n + 1023 is the biased exponent of 2^n.
+    let biased = ((shifted.to_bits() & 0x7ff) + 1023) & 0x7ff;
+    e_r * f64::from_bits(biased << 52)
+}
+
+/// k! for k = 0..13.
+const FACTORIALS: [f64; 13] =
+    [1.0, 1.0, 2.0, 6.0, 24.0, 120.0, 720.0, 5040.0, 40320.0, 362_880.0, 3_628_800.0, 39_916_800.0, 479_001_600.0];
+
+impl<const N: usize> Lane for Lanes<N> {
+    type Scalar = f64;
+    type Mask = LaneMask<N>;
+
+    #[inline(always)]
+    fn splat(x: f64) -> Self {
+        Lanes([x; N])
+    }
+    #[inline(always)]
+    fn select(m: LaneMask<N>, a: Self, b: Self) -> Self {
+        let mut out = b.0;
+        for i in 0..N {
+            if m.0[i] {
+                out[i] = a.0[i];
+            }
+        }
+        Lanes(out)
+    }
+    #[inline(always)]
+    fn lt(self, o: Self) -> LaneMask<N> {
+        self.test(o, |a, b| a < b)
+    }
+    #[inline(always)]
+    fn le(self, o: Self) -> LaneMask<N> {
+        self.test(o, |a, b| a <= b)
+    }
+    #[inline(always)]
+    fn eq(self, o: Self) -> LaneMask<N> {
+        self.test(o, |a, b| a == b)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        self.map(f64::abs)
+    }
+    #[inline(always)]
+    fn min(self, o: Self) -> Self {
+        self.zip(o, f64::min)
+    }
+    #[inline(always)]
+    fn max(self, o: Self) -> Self {
+        self.zip(o, f64::max)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        self.map(num_traits::Float::sqrt)
+    }
+    #[inline(always)]
+    fn floor(self) -> Self {
+        self.map(num_traits::Float::floor)
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (Self, Self) {
+        let (mut s, mut c) = ([0.0; N], [0.0; N]);
+        for i in 0..N {
+            (s[i], c[i]) = sin_cos_lane(self.0[i]);
+        }
+        (Lanes(s), Lanes(c))
+    }
+    #[inline(always)]
+    fn cos(self) -> Self {
+        self.sin_cos().1
+    }
+    #[inline(always)]
+    fn atan2(self, x: Self) -> Self {
+        self.zip(x, atan2_lane)
+    }
+    #[inline(always)]
+    fn hypot(self, y: Self) -> Self {
+        self.zip(y, |a, b| num_traits::Float::sqrt(a * a + b * b))
+    }
+    #[inline(always)]
+    fn tanh(self) -> Self {
+        // 1 - 2 / (e^(2x) + 1): -1 and 1 at the ends, no NaN.
+        self.map(|a| 1.0 - 2.0 / (exp_lane(a + a) + 1.0))
+    }
+    #[inline(always)]
+    fn is_finite(self) -> LaneMask<N> {
+        LaneMask(self.0.map(f64::is_finite))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Relative (or, near zero, absolute) distance in ulp-ish units of 1e-16.
+    fn close(a: f64, b: f64, tol: f64) -> bool {
+        (a - b).abs() <= tol * b.abs().max(1.0)
+    }
+
+    /// Each transcendental against `libm` over the angles and ratios a run meets, and
+    /// far beyond: every quadrant, both signs, the octant edges of atan2.
+    #[test]
+    fn lane_transcendentals_match_libm() {
+        let mut worst = [0.0_f64; 5];
+        for k in -200_000..=200_000 {
+            let x = f64::from(k) * 1.37e-4 + 1e-9 * f64::from(k % 7);
+            let (s, c) = Lanes::<1>([x]).sin_cos();
+            let (ls, lc) = libm::sincos(x);
+            worst[0] = worst[0].max((s.0[0] - ls).abs());
+            worst[1] = worst[1].max((c.0[0] - lc).abs());
+            let y = f64::from(k % 1000) * 3.1e-3 - 1.5;
+            let a = Lanes::<1>([y]).atan2(Lanes([x]));
+            worst[2] = worst[2].max((a.0[0] - libm::atan2(y, x)).abs());
+            let t = x * 0.05;
+            let th = Lanes::<1>([t]).tanh();
+            worst[3] = worst[3].max((th.0[0] - libm::tanh(t)).abs());
+            let e = exp_lane(t);
+            worst[4] = worst[4].max(((e - libm::exp(t)) / libm::exp(t)).abs());
+        }
+        // At most 2 ulp of the result: sin, cos, tanh within 1 of magnitude 1, atan2 up to pi.
+        let bounds = [4.5e-16, 4.5e-16, 9e-16, 4.5e-16, 4.5e-16];
+        for ((name, w), bound) in ["sin", "cos", "atan2", "tanh", "exp (rel)"].iter().zip(worst).zip(bounds) {
+            assert!(w <= bound, "{name}: worst error {w:e}");
+        }
+        // Edges: zeros, exact quadrant angles, huge and tiny arguments of tanh.
+        assert_eq!(atan2_lane(0.0, 0.0), 0.0);
+        assert!(close(atan2_lane(1.0, -1.0), 3.0 * core::f64::consts::FRAC_PI_4, 1e-16));
+        assert!(close(atan2_lane(-1.0, 0.0), -core::f64::consts::FRAC_PI_2, 1e-16));
+        assert_eq!(Lanes::<1>([1e6]).tanh().0[0], 1.0);
+        assert_eq!(Lanes::<1>([-1e6]).tanh().0[0], -1.0);
+        assert!(close(Lanes::<1>([core::f64::consts::PI]).sin_cos().1.0[0], -1.0, 1e-16));
+    }
+
+    /// The scalar implementation is the plain arithmetic and `libm`: bit for bit.
+    #[test]
+    fn scalar_lanes_are_the_scalar_operations() {
+        for x in [-3.0_f64, -0.2, 0.0, 0.7, 2.9, 1e3] {
+            assert_eq!(Lane::sin_cos(x), libm::sincos(x));
+            assert_eq!(Lane::atan2(x, 0.3), libm::atan2(x, 0.3));
+            assert_eq!(Lane::tanh(x), libm::tanh(x));
+            assert_eq!(Lane::hypot(x, 0.3), libm::hypot(x, 0.3));
+        }
+        assert_eq!(<f64 as Lane>::select(true, 1.0, 2.0), 1.0);
+        let m = Lanes([1.0, 5.0]).lt(Lanes([2.0, 2.0]));
+        assert_eq!(Lanes::select(m, Lanes([10.0, 20.0]), Lanes([30.0, 40.0])), Lanes([10.0, 40.0]));
+    }
+}
