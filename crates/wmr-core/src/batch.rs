@@ -1,200 +1,206 @@
 //! Many runs of one loop stepped side by side: the fast path of sweeps.
 //!
-//! A [`LaneBatch`] holds N runs that share the robot, the drive, the world and the plant
-//! step (a sweep's runs of one law) and differ in start pose, controller memory, sensor
-//! noise stream and reference. The plant, where the time goes, is stepped for all N at
-//! once through the same equations as one run ([`crate::lane`], [`Plant`]); each run's
-//! controller, sensor, metrics and settle rule are the exact path's, run per lane. A run
-//! that ends (t_end reached, settled, diverged) hands back its [`Outcome`] and its lane
-//! takes the next run at once, so lanes do not wait for the slowest run.
+//! A [`LaneBatch`] holds N runs that share the robot, the drive, the world, the
+//! controller's keys, the plant step and the goal (a sweep's runs of one law) and differ
+//! in their start pose. The plant and the controller run for all N at once through the
+//! same code as one run ([`crate::lane`]): [`Plant`]'s RK4 step and a
+//! [`Controller`]`<Lanes<N>, _>`, whose memories are per lane. The controller sees the
+//! true state, as with [`crate::PerfectSensor`]. Each run's metrics and settle rule are
+//! the exact path's ([`crate::outcome`], [`crate::settle`]), per lane.
 //!
-//! Not bit-identical to [`crate::ClosedLoop`]: the lanes' sin and cos differ from `libm`
-//! in the last bits, and a closed loop carries such differences along. Everything else
-//! (the clock, the control ticks, the metrics, the three outcomes) is the same code.
+//! A run that ends (t_end reached, settled, diverged) hands back its [`Outcome`] and its
+//! lane takes the next run at the next control tick, so lanes do not wait for the
+//! slowest run.
+//!
+//! Not bit-identical to [`crate::ClosedLoop`]: the lanes' sin, cos and atan2 differ from
+//! `libm` in the last bits, and a closed loop carries such differences along. The clock,
+//! the control ticks, the metrics and the three outcomes are the same code.
 
 use crate::closed_loop::{StepClock, control_every};
 use crate::controller::{Controller, Law};
 use crate::error::ParamError;
-use crate::lane::{Lane, Lanes};
+use crate::kinematics::wheel_speeds_lanes;
+use crate::lane::{Lane, LaneMask, Lanes, Mask};
 use crate::math::{Pose2, Wheels};
 use crate::outcome::{Metrics, Outcome, Termination};
 use crate::plant::{DIVERGENCE_BOX_M, Plant};
-use crate::reference::Reference;
-use crate::sensor::Sensor;
+use crate::sensor::Measurement;
 use crate::settle::SettleWatch;
 use crate::state::State;
 
-/// One run for a lane: a caller's tag, where it starts, and its own controller (at t = 0),
-/// sensor and reference.
-#[derive(Clone, Debug)]
-pub struct LaneRun<L, S, R> {
-    /// The caller's name for the run, handed back with its outcome.
-    pub tag: u64,
-    /// Start pose of C (m, m, rad), at rest.
-    pub start: Pose2<f64>,
-    /// The run's controller, at t = 0.
-    pub controller: Controller<f64, L>,
-    /// The run's sensor.
-    pub sensor: S,
-    /// The run's reference.
-    pub reference: R,
-}
-
-/// A run in a lane, with everything [`crate::ClosedLoop::try_run`] keeps per run.
-#[derive(Clone, Debug)]
-struct Slot<L, S, R> {
-    run: LaneRun<L, S, R>,
+/// A run in a lane, with what [`crate::ClosedLoop::try_run`] keeps per run.
+#[derive(Clone, Copy, Debug)]
+struct Slot {
+    /// The caller's name for the run.
+    tag: u64,
+    /// Plant steps taken.
     step_index: u64,
-    steps_to_control: u32,
     metrics: Metrics<f64>,
     watch: Option<SettleWatch<f64>>,
 }
 
-/// N runs of one plant stepped side by side (module docs).
+/// N runs of one plant and controller stepped side by side (module docs).
 #[derive(Clone, Debug)]
-pub struct LaneBatch<const N: usize, L, S, R> {
+pub struct LaneBatch<const N: usize, L> {
     /// The parameters every lane shares; its own state is not used.
     plant: Plant<f64>,
+    controller: Controller<Lanes<N>, L>,
+    goal: Pose2<f64>,
     clock: StepClock<f64>,
     control_every: u32,
     n_steps: u64,
     stop_when_settled: bool,
+    /// Plant steps since the batch started: control ticks fall on multiples of
+    /// `control_every`, for every lane at once.
+    global_step: u64,
     state: State<Lanes<N>>,
     command: Wheels<Lanes<N>>,
     held_torque: Wheels<Lanes<N>>,
-    slots: [Option<Slot<L, S, R>>; N],
+    slots: [Option<Slot>; N],
 }
 
-impl<const N: usize, L: Law<f64>, S: Sensor<f64>, R: Reference<f64>> LaneBatch<N, L, S, R> {
-    /// Lanes for runs of `n_steps` plant steps of `dt` (s) on `plant`'s robot, drive and
-    /// world, with controllers ticking every `control_dt` (s), stopped once settled when
+impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
+    /// Lanes for runs towards `goal` (m, m, rad) of `n_steps` plant steps of `dt` (s) on
+    /// `plant`'s robot, drive and world, under `controller` (at t = 0; built for lanes
+    /// with [`crate::ControllerParams::build_lanes`]), stopped once settled when
     /// `stop_when_settled` ([`crate::settle`]). Errors as [`crate::ClosedLoop::new`]'s.
     pub fn new(
         plant: Plant<f64>,
-        control_dt: f64,
+        controller: Controller<Lanes<N>, L>,
+        goal: Pose2<f64>,
         dt: f64,
         n_steps: u64,
         stop_when_settled: bool,
     ) -> Result<Self, ParamError> {
-        let control_every = control_every(&plant, control_dt, dt)?;
+        let control_every = control_every(&plant, controller.control_dt(), dt)?;
         let zero = Lanes::splat(0.0);
         Ok(Self {
             plant,
+            controller,
+            goal,
             clock: StepClock::new(dt),
             control_every,
             n_steps,
             stop_when_settled,
-            state: State { x: zero, y: zero, theta: zero, v: zero, omega: zero, phi_r: zero, phi_l: zero },
+            global_step: 0,
+            state: State::from_array([zero; 7]),
             command: Wheels::new(zero, zero),
             held_torque: Wheels::new(zero, zero),
-            slots: core::array::from_fn(|_| None),
+            slots: [None; N],
         })
     }
 
-    /// Runs every run `next` gives, N at a time, handing each outcome to `done` with the
-    /// run's tag as soon as it ends (not in the order given). Returns when `next` has no
-    /// more runs and every lane has finished.
+    /// Runs every start pose `next` gives (with the caller's tag), N at a time, handing
+    /// each outcome to `done` with its tag as soon as the run ends (not in the order
+    /// given). Returns when `next` has no more and every lane has finished.
     #[inline(always)]
     pub fn run_all(
         &mut self,
-        mut next: impl FnMut() -> Option<LaneRun<L, S, R>>,
+        mut next: impl FnMut() -> Option<(u64, Pose2<f64>)>,
         mut done: impl FnMut(u64, Outcome<f64>),
     ) {
-        for i in 0..N {
-            self.load(i, next());
-        }
         let dt = self.clock.dt;
         let bound = Lanes::splat(DIVERGENCE_BOX_M);
-        while self.slots.iter().any(Option::is_some) {
-            // Before the step: the metrics of the present state; runs at t_end or settled end.
+        let mut more = self.load(&mut next);
+        self.control_tick();
+        loop {
+            // Before the step: the metrics of the present state; a run at t_end or
+            // settled ends.
             for i in 0..N {
                 let Some(slot) = &mut self.slots[i] else { continue };
                 let s = lane(&self.state, i);
                 let t = self.clock.time(slot.step_index);
-                let goal = slot.run.reference.goal_at(t);
                 if slot.step_index == self.n_steps {
                     self.finish(i, Termination::Completed, &mut done);
-                    self.load(i, next());
                     continue;
                 }
                 let speeds = s.wheel_speeds(self.plant.robot().params());
                 let torque =
                     self.plant.wheel_torque_lanes(&s, lane_wheels(&self.command, i), lane_wheels(&self.held_torque, i));
-                slot.metrics.add_step(t, &s, speeds, torque, goal, dt);
-                let holding = slot.run.controller.holding();
+                slot.metrics.add_step(t, &s, speeds, torque, self.goal, dt);
+                let holding = self.controller.holding().0[i];
                 if let Some(w) = &mut slot.watch
-                    && w.settled(t, &s, goal, holding)
+                    && w.settled(t, &s, self.goal, holding)
                 {
                     self.finish(i, Termination::Settled, &mut done);
-                    self.load(i, next());
                 }
             }
-            if self.slots.iter().all(Option::is_none) {
+            let idle = self.slots.iter().all(Option::is_none);
+            if idle && !more {
                 break;
             }
-            // One RK4 step of every lane; a lane whose step is not finite or leaves the box
-            // keeps its last good state and ends.
-            let stepped =
-                self.plant.advance(&self.state, self.command, self.held_torque, Lanes::splat(0.0), Lanes::splat(dt));
-            let finite =
-                stepped.to_array().iter().fold(Lanes::splat(0.0).eq(Lanes::splat(0.0)), |m, c| m & c.is_finite());
-            let inside = stepped.x.abs().le(bound) & stepped.y.abs().le(bound);
-            let ok = finite & inside;
-            self.state = State::from_array(core::array::from_fn(|k| {
-                Lanes::select(ok, stepped.to_array()[k], self.state.to_array()[k])
-            }));
-            for i in 0..N {
-                let Some(slot) = &mut self.slots[i] else { continue };
-                if !ok.0[i] {
-                    let termination = if finite.0[i] { Termination::LeftBox } else { Termination::NonFinite };
-                    self.finish(i, termination, &mut done);
-                    self.load(i, next());
-                    continue;
+            if !idle {
+                // One RK4 step of every lane; a lane whose step is not finite or leaves
+                // the box keeps its last good state and ends.
+                let stepped = self.plant.advance(
+                    &self.state,
+                    self.command,
+                    self.held_torque,
+                    Lanes::splat(0.0),
+                    Lanes::splat(dt),
+                );
+                let finite = stepped.to_array().iter().fold(LaneMask::splat(true), |m, c| m & c.is_finite());
+                let inside = stepped.x.abs().le(bound) & stepped.y.abs().le(bound);
+                let ok = finite & inside;
+                let (new, old) = (stepped.to_array(), self.state.to_array());
+                self.state = State::from_array(core::array::from_fn(|k| Lanes::select(ok, new[k], old[k])));
+                for i in 0..N {
+                    let Some(slot) = &mut self.slots[i] else { continue };
+                    if ok.0[i] {
+                        slot.step_index += 1;
+                    } else {
+                        let termination = if finite.0[i] { Termination::LeftBox } else { Termination::NonFinite };
+                        self.finish(i, termination, &mut done);
+                    }
                 }
-                slot.step_index += 1;
-                slot.steps_to_control -= 1;
-                if slot.steps_to_control == 0 {
-                    slot.steps_to_control = self.control_every;
-                    self.control_tick(i);
+            }
+            self.global_step += 1;
+            if self.global_step.is_multiple_of(u64::from(self.control_every)) {
+                if more {
+                    more = self.load(&mut next);
                 }
+                self.control_tick();
             }
         }
     }
 
-    /// Puts `run` (if any) into lane `i` at its start, at rest, and runs its first
-    /// control tick at t = 0.
-    fn load(&mut self, i: usize, run: Option<LaneRun<L, S, R>>) {
-        let start = run.as_ref().map_or(Pose2::default(), |r| r.start);
-        set_lane(&mut self.state, i, &State::at_rest(start));
-        set_lane_wheels(&mut self.command, i, Wheels::default());
-        set_lane_wheels(&mut self.held_torque, i, Wheels::default());
-        self.slots[i] = run.map(|run| {
-            let fixed = run.reference.fixed();
-            let deterministic = run.sensor.deterministic();
-            let t_end = self.clock.time(self.n_steps);
-            Slot {
-                run,
-                step_index: 0,
-                steps_to_control: self.control_every,
-                metrics: Metrics::default(),
-                watch: (self.stop_when_settled && deterministic && fixed).then(|| SettleWatch::new(t_end)),
+    /// Puts the next runs into the free lanes, each at its start at rest with its
+    /// controller memories cleared; false once `next` has no more.
+    fn load(&mut self, next: &mut impl FnMut() -> Option<(u64, Pose2<f64>)>) -> bool {
+        let mut fresh = [false; N];
+        let mut more = true;
+        for i in 0..N {
+            if self.slots[i].is_some() {
+                continue;
             }
-        });
-        if self.slots[i].is_some() {
-            self.control_tick(i);
+            let Some((tag, start)) = next() else {
+                more = false;
+                break;
+            };
+            set_lane(&mut self.state, i, &State::at_rest(start));
+            let watch = self.stop_when_settled.then(|| SettleWatch::new(self.clock.time(self.n_steps)));
+            self.slots[i] = Some(Slot { tag, step_index: 0, metrics: Metrics::default(), watch });
+            fresh[i] = true;
         }
+        self.controller.reset_lanes(LaneMask(fresh));
+        more
     }
 
-    /// Lane `i`'s control tick: its sensor, reference and controller, then its command held.
-    fn control_tick(&mut self, i: usize) {
-        let Some(slot) = &mut self.slots[i] else { return };
-        let s = lane(&self.state, i);
-        let t = self.clock.time(slot.step_index);
-        let m = slot.run.sensor.measure(t, &s, self.plant.robot().params());
-        let goal = slot.run.reference.goal_at(t);
-        let command = slot.run.controller.update(t, &m, goal).command;
-        set_lane_wheels(&mut self.command, i, command);
-        set_lane_wheels(&mut self.held_torque, i, self.plant.held_torque_lanes(command));
+    /// The control tick of every lane: the true state measured, the controller updated,
+    /// its commands held.
+    #[inline(always)]
+    fn control_tick(&mut self) {
+        let t = Lanes(core::array::from_fn(|i| self.slots[i].map_or(0.0, |s| self.clock.time(s.step_index))));
+        let s = &self.state;
+        let m = Measurement {
+            t,
+            pose: Pose2::new(s.x, s.y, s.theta),
+            wheel_angles: Wheels::new(s.phi_r, s.phi_l),
+            wheel_speeds: wheel_speeds_lanes(self.plant.robot().params(), s.v, s.omega),
+        };
+        let goal = Pose2::new(Lanes::splat(self.goal.x), Lanes::splat(self.goal.y), Lanes::splat(self.goal.theta));
+        self.command = self.controller.update(t, &m, goal).command;
+        self.held_torque = self.plant.held_torque_lanes(self.command);
     }
 
     /// Ends lane `i`'s run with `termination` at its present state and frees the lane.
@@ -202,9 +208,10 @@ impl<const N: usize, L: Law<f64>, S: Sensor<f64>, R: Reference<f64>> LaneBatch<N
         let Some(mut slot) = self.slots[i].take() else { return };
         let s = lane(&self.state, i);
         let t = self.clock.time(slot.step_index);
-        let goal = slot.run.reference.goal_at(t);
-        slot.metrics.observe(t, &s, s.wheel_speeds(self.plant.robot().params()), goal);
-        done(slot.run.tag, slot.metrics.finish(t, &s, goal, termination));
+        slot.metrics.observe(t, &s, s.wheel_speeds(self.plant.robot().params()), self.goal);
+        done(slot.tag, slot.metrics.finish(t, &s, self.goal, termination));
+        // A benign state until the lane takes its next run.
+        set_lane(&mut self.state, i, &State::at_rest(self.goal));
     }
 }
 
@@ -224,13 +231,8 @@ fn set_lane<const N: usize>(s: &mut State<Lanes<N>>, i: usize, v: &State<f64>) {
     *s = State::from_array(a);
 }
 
+/// Lane `i` of a wheel pair.
 #[inline(always)]
 fn lane_wheels<const N: usize>(w: &Wheels<Lanes<N>>, i: usize) -> Wheels<f64> {
     Wheels::new(w.right.0[i], w.left.0[i])
-}
-
-#[inline(always)]
-fn set_lane_wheels<const N: usize>(w: &mut Wheels<Lanes<N>>, i: usize, v: Wheels<f64>) {
-    w.right.0[i] = v.right;
-    w.left.0[i] = v.left;
 }

@@ -60,7 +60,7 @@ impl<T: Copy> Wheels<T> {
 }
 
 /// Wraps an angle (rad) into (-pi, pi].
-#[inline]
+#[inline(always)]
 pub fn wrap_angle<L: Lane>(a: L) -> L {
     let pi = L::lit(core::f64::consts::PI);
     // Fast path, bit-identical to the reduction below for these inputs: most angles a

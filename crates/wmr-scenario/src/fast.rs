@@ -2,18 +2,20 @@
 //! once ([`wmr_core::batch`]), on every core.
 //!
 //! The sweep's runs are cut into tasks of [`TASK_RUNS`] consecutive runs of one law and
-//! variant (they share a plant); each task feeds its runs through one [`LaneBatch`] of
-//! [`LANES`] lanes. On x86-64 with AVX2 the lanes are compiled for AVX2 (chosen at run
-//! time). Runs whose values `vary` draws one by one differ in their plant: they take the
-//! exact path.
+//! variant (they share a plant and a controller); each task feeds its runs through one
+//! [`LaneBatch`] of [`LANES`] lanes. On x86-64 with AVX2 the lanes are compiled for AVX2
+//! (chosen at run time). The lanes' controllers see the true state: runs with a real
+//! sensor (rate, latency, noise, encoders) take the exact path, as do runs whose values
+//! `vary` draws one by one (each has its own plant).
 //!
 //! Not bit-identical to [`SweepSpec::run`]: the lanes' sin and cos are not `libm`'s.
 //! `crates/wmr-scenario/tests/fast.rs` bounds the difference on `examples/compare.toml`.
 
 use std::ops::ControlFlow;
 
-use wmr_core::batch::{LaneBatch, LaneRun};
-use wmr_core::{AnyLaw, FixedGoal, PoseSensor};
+use wmr_core::batch::LaneBatch;
+use wmr_core::lane::Lanes;
+use wmr_core::{AnyLaw, Outcome, Pose2};
 
 use crate::assemble::Origin;
 use crate::error::ScenarioError;
@@ -28,7 +30,7 @@ pub const LANES: usize = 4;
 /// cores evenly and to stop soon after a Ctrl-C.
 pub const TASK_RUNS: usize = 64;
 
-type Batch = LaneBatch<LANES, AnyLaw<f64>, PoseSensor<f64>, FixedGoal<f64>>;
+type Batch = LaneBatch<LANES, AnyLaw<Lanes<LANES>>>;
 
 impl SweepSpec {
     /// [`SweepSpec::run_until`] on the fast path (module docs): the same runs, in the same
@@ -42,7 +44,9 @@ impl SweepSpec {
         let tasks = self.tasks();
         let parts = map_ordered(tasks.len(), |t| {
             let (first, end) = tasks[t];
-            if self.variation.has_draws() {
+            let mut drawn = None;
+            let exact = self.variation.has_draws() || !self.setup_of(sim, first, &mut drawn)?.sensor.is_perfect();
+            if exact {
                 let poll = || if stop() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
                 let mut out = Vec::with_capacity(end - first);
                 for k in first..end {
@@ -96,18 +100,11 @@ impl SweepSpec {
         let mut drawn = None;
         let setup = self.setup_of(sim, first, &mut drawn)?;
         let plant = setup.plant(self.goal).map_err(|e| origin.key_of(&e))?;
-        let goal = FixedGoal::new(self.goal).map_err(|e| origin.key_of(&e))?;
-        let mut batch =
-            Batch::new(plant, setup.controller.control_dt, sim.dt(), sim.n_steps(), sim.stop_when_settled())
-                .map_err(|e| origin.key_of(&e))?;
-        // Every run's sensor first, so that an error is found before any run.
-        let mut runs = Vec::with_capacity(range.len());
-        for k in range.clone() {
-            let sensor = setup.sensor_for(k as u64).map_err(|e| origin.key_of(&e))?;
-            let start = self.starts[self.index_of(k).start];
-            runs.push(LaneRun { tag: k as u64, start, controller: setup.built, sensor, reference: goal });
-        }
-        let mut runs = runs.into_iter();
+        let controller =
+            setup.controller.build_lanes(setup.model.params(), &setup.drive).map_err(|e| origin.key_of(&e))?;
+        let mut batch = Batch::new(plant, controller, self.goal, sim.dt(), sim.n_steps(), sim.stop_when_settled())
+            .map_err(|e| origin.key_of(&e))?;
+        let mut ks = range.clone();
         let mut outcomes = vec![None; range.len()];
         let mut stopped = false;
         let next = || {
@@ -115,7 +112,7 @@ impl SweepSpec {
                 stopped = true;
                 return None;
             }
-            runs.next()
+            ks.next().map(|k| (k as u64, self.starts[self.index_of(k).start]))
         };
         let finished = |tag: u64, outcome| {
             done();
@@ -148,11 +145,7 @@ impl SweepSpec {
 /// [`LaneBatch::run_all`], compiled for AVX2 when the processor has it. The one
 /// `unsafe` of the crate: calling a function compiled for AVX2, after checking for it.
 #[allow(unsafe_code)]
-fn run_batch(
-    batch: &mut Batch,
-    next: impl FnMut() -> Option<LaneRun<AnyLaw<f64>, PoseSensor<f64>, FixedGoal<f64>>>,
-    done: impl FnMut(u64, wmr_core::Outcome<f64>),
-) {
+fn run_batch(batch: &mut Batch, next: impl FnMut() -> Option<(u64, Pose2<f64>)>, done: impl FnMut(u64, Outcome<f64>)) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the processor has AVX2, checked just above.
@@ -166,8 +159,8 @@ fn run_batch(
 #[target_feature(enable = "avx2")]
 fn run_batch_avx2(
     batch: &mut Batch,
-    next: impl FnMut() -> Option<LaneRun<AnyLaw<f64>, PoseSensor<f64>, FixedGoal<f64>>>,
-    done: impl FnMut(u64, wmr_core::Outcome<f64>),
+    next: impl FnMut() -> Option<(u64, Pose2<f64>)>,
+    done: impl FnMut(u64, Outcome<f64>),
 ) {
     batch.run_all(next, done);
 }

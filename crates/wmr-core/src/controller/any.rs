@@ -76,13 +76,13 @@ macro_rules! laws {
         }
 
         impl<T: Lane> Law<T> for AnyLaw<T> {
-            #[inline]
+            #[inline(always)]
             fn update(&mut self, t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
                 match self { $( AnyLaw::$variant(l) => l.update(t, m, goal), )+ }
             }
 
-            fn reset(&mut self) {
-                match self { $( AnyLaw::$variant(l) => l.reset(), )+ }
+            fn reset_lanes(&mut self, lanes: T::Mask) {
+                match self { $( AnyLaw::$variant(l) => l.reset_lanes(lanes), )+ }
             }
 
             fn holding(&self) -> T::Mask {

@@ -10,7 +10,7 @@ use super::paper::PaperParams;
 use super::wheel_stage::{WheelStage, WheelStageParams};
 use crate::drive::Drive;
 use crate::error::{ParamError, check};
-use crate::lane::Lane;
+use crate::lane::{Lane, Mask};
 use crate::math::{Pose2, Wheels};
 use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
@@ -94,7 +94,7 @@ impl<T: Lane, L: Law<T>> Controller<T, L> {
     /// One control tick at time `t` (s): drive commands (N m or V per wheel) from the
     /// measurement and the goal pose (m, m, rad), and the law's errors. `t` is now; the
     /// measurement's own time `m.t` is when it was taken (earlier, for a late sensor).
-    #[inline]
+    #[inline(always)]
     pub fn update(&mut self, t: T, m: &Measurement<T>, goal: Pose2<T>) -> ControlOutput<T> {
         let out = self.law.update(t, m, goal);
         ControlOutput { command: self.wheels.command(out.demand, m), errors: out.errors }
@@ -102,8 +102,13 @@ impl<T: Lane, L: Law<T>> Controller<T, L> {
 
     /// Clears every integrator and memory, as at t = 0.
     pub fn reset(&mut self) {
-        self.law.reset();
-        self.wheels.reset();
+        self.reset_lanes(T::Mask::splat(true));
+    }
+
+    /// [`Controller::reset`] of the runs in `lanes` only (several runs side by side).
+    pub fn reset_lanes(&mut self, lanes: T::Mask) {
+        self.law.reset_lanes(lanes);
+        self.wheels.reset_lanes(lanes);
     }
 
     /// Control period, s.

@@ -57,7 +57,13 @@ pub trait Law<T: Lane> {
     fn update(&mut self, t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T>;
 
     /// Clears integrators and memories, as at t = 0.
-    fn reset(&mut self);
+    fn reset(&mut self) {
+        self.reset_lanes(T::Mask::splat(true));
+    }
+
+    /// [`Law::reset`] of the runs in `lanes` only (several runs side by side: a lane
+    /// that takes a new run starts it afresh).
+    fn reset_lanes(&mut self, lanes: T::Mask);
 
     /// True when the last update was inside the law's hold: its memories no longer move
     /// and its demand stays the same while the measured pose stays in the hold. A law

@@ -102,7 +102,7 @@ impl<T: Real> PolarGains<T> for LyapunovParams<T> {
 
     /// u = gamma cos(alpha) e, omega = k alpha + gamma (cos(alpha) sin(alpha) / alpha)
     /// (alpha + h theta_A) (module docs), v = s u.
-    #[inline]
+    #[inline(always)]
     fn twist<L: Lane<Scalar = T>>(&self, sign: L, c: &PolarCoords<L>) -> Twist2<L> {
         let (e, alpha, theta_a) = (c.rho, c.alpha, -c.beta);
         let (sin_a, cos_a) = alpha.sin_cos();

@@ -152,7 +152,7 @@ impl<T: Lane> PaperLaw<T> {
 
     /// The law itself: errors and wheel angle references (rad) for the measured `pose`
     /// and the `goal` (m, m, rad), advancing the PI integrators by one control period.
-    #[inline]
+    #[inline(always)]
     pub fn references(&mut self, pose: Pose2<T>, goal: Pose2<T>) -> (Wheels<T>, ControlErrors<T>) {
         let p = &self.params;
         let gains = PiGains { kp_s: p.kp_s, ki_s: p.ki_s, kp_theta: p.kp_theta, ki_theta: p.ki_theta };
@@ -177,14 +177,14 @@ impl<T: Lane> PaperLaw<T> {
 }
 
 impl<T: Lane> Law<T> for PaperLaw<T> {
-    #[inline]
+    #[inline(always)]
     fn update(&mut self, _t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
         let (refs, errors) = self.references(m.pose, goal);
         LawOutput { demand: WheelDemand::Angles(refs), errors }
     }
 
-    fn reset(&mut self) {
-        self.outer.reset();
+    fn reset_lanes(&mut self, lanes: T::Mask) {
+        self.outer.reset_lanes(lanes);
     }
 
     fn holding(&self) -> T::Mask {
@@ -318,12 +318,12 @@ impl<T: Lane> OuterLoops<T> {
     }
 
     /// Clears the integrators and memories, as at t = 0.
-    pub(crate) fn reset(&mut self) {
-        let no = T::Mask::splat(false);
-        self.int_e_theta = T::default();
-        self.int_e_s = T::default();
-        self.has_alpha = no;
-        self.has_refs = no;
-        self.held = no;
+    pub(crate) fn reset_lanes(&mut self, lanes: T::Mask) {
+        let keep = !lanes;
+        self.int_e_theta = T::select(lanes, T::default(), self.int_e_theta);
+        self.int_e_s = T::select(lanes, T::default(), self.int_e_s);
+        self.has_alpha = self.has_alpha & keep;
+        self.has_refs = self.has_refs & keep;
+        self.held = self.held & keep;
     }
 }

@@ -181,7 +181,7 @@ impl<T: Lane> PaperBidirectionalLaw<T> {
     /// The law itself: errors and wheel angle references (rad) for the measured `pose`
     /// and the `goal` (m, m, rad, world frame), advancing the PI integrators by one
     /// control period.
-    #[inline]
+    #[inline(always)]
     pub fn references(&mut self, pose: Pose2<T>, goal: Pose2<T>) -> (Wheels<T>, ControlErrors<T>) {
         let p = &self.params;
         let gains = PiGains { kp_s: p.kp_s, ki_s: p.ki_s, kp_theta: p.kp_theta, ki_theta: p.ki_theta };
@@ -198,14 +198,14 @@ impl<T: Lane> PaperBidirectionalLaw<T> {
 }
 
 impl<T: Lane> Law<T> for PaperBidirectionalLaw<T> {
-    #[inline]
+    #[inline(always)]
     fn update(&mut self, _t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
         let (refs, errors) = self.references(m.pose, goal);
         LawOutput { demand: WheelDemand::Angles(refs), errors }
     }
 
-    fn reset(&mut self) {
-        self.outer.reset();
+    fn reset_lanes(&mut self, lanes: T::Mask) {
+        self.outer.reset_lanes(lanes);
     }
 
     fn holding(&self) -> T::Mask {

@@ -33,7 +33,7 @@ pub(crate) fn check_wheel_speed_max<T: Real>(w_max: T) -> Result<T, ParamError> 
 
 /// The common factor s in (0, 1] that brings max(|w.right|, |w.left|) down to `w_max`
 /// (rad/s); 1 when already within the limit or when the limit is infinite.
-#[inline]
+#[inline(always)]
 pub fn wheel_speed_scale<L: Lane>(w: Wheels<L>, w_max: L) -> L {
     let m = w.right.abs().max(w.left.abs());
     L::select(w_max.lt(m), w_max / m, L::lit(1.0))
@@ -41,7 +41,7 @@ pub fn wheel_speed_scale<L: Lane>(w: Wheels<L>, w_max: L) -> L {
 
 /// Wheel speeds (rad/s) scaled together so that neither exceeds `w_max` (rad/s); the
 /// ratio between them, hence the curvature, is kept. Unchanged when within the limit.
-#[inline]
+#[inline(always)]
 pub fn limit_wheel_speeds<L: Lane>(w: Wheels<L>, w_max: L) -> Wheels<L> {
     let s = wheel_speed_scale(w, w_max);
     let scaled = s.lt(L::lit(1.0));
@@ -83,7 +83,7 @@ impl<T: Lane> WheelRateLimiter<T> {
 
     /// The limited references (rad) for this tick, given the targets (rad) and the
     /// measured wheel angles (rad, used only on the first tick).
-    #[inline]
+    #[inline(always)]
     pub fn limit(&mut self, target: Wheels<T>, measured: Wheels<T>) -> Wheels<T> {
         let prev = Wheels::new(
             T::select(self.started, self.phi_lim.right, measured.right),
@@ -106,7 +106,12 @@ impl<T: Lane> WheelRateLimiter<T> {
 
     /// Forgets the limited references: the next tick starts from the measured angles.
     pub fn reset(&mut self) {
-        self.started = T::Mask::splat(false);
+        self.reset_lanes(T::Mask::splat(true));
+    }
+
+    /// [`WheelRateLimiter::reset`] of the runs in `lanes` only.
+    pub fn reset_lanes(&mut self, lanes: T::Mask) {
+        self.started = self.started & !lanes;
     }
 }
 

@@ -106,4 +106,9 @@ impl<T: Lane> WheelServo<T> {
     pub fn reset(&mut self) {
         self.integral = T::default();
     }
+
+    /// Clears the integrator of the runs in `lanes` (several runs side by side).
+    pub fn reset_lanes(&mut self, lanes: T::Mask) {
+        self.integral = T::select(lanes, T::default(), self.integral);
+    }
 }

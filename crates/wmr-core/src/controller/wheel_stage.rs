@@ -208,7 +208,7 @@ impl<T: Lane> WheelStage<T> {
 
     /// Drive commands (N m or V per wheel) for `demand` given the measured wheel angles
     /// (rad) and speeds (rad/s) in `m`.
-    #[inline]
+    #[inline(always)]
     pub fn command(&mut self, demand: WheelDemand<T>, m: &Measurement<T>) -> Wheels<T> {
         let command = self.servo_command(demand, m);
         if Float::is_finite(self.wheel_speed_max) {
@@ -259,10 +259,17 @@ impl<T: Lane> WheelStage<T> {
 
     /// Clears the servos' integrals and the references, as at t = 0.
     pub fn reset(&mut self) {
-        self.right.reset();
-        self.left.reset();
-        self.limiter.reset();
-        self.phi_ref_set = T::Mask::splat(false);
-        self.last_refs = Wheels::default();
+        self.reset_lanes(T::Mask::splat(true));
+    }
+
+    /// [`WheelStage::reset`] of the runs in `lanes` only (several runs side by side).
+    pub fn reset_lanes(&mut self, lanes: T::Mask) {
+        self.right.reset_lanes(lanes);
+        self.left.reset_lanes(lanes);
+        self.limiter.reset_lanes(lanes);
+        self.phi_ref_set = self.phi_ref_set & !lanes;
+        let zero = T::default();
+        self.last_refs =
+            Wheels::new(T::select(lanes, zero, self.last_refs.right), T::select(lanes, zero, self.last_refs.left));
     }
 }
