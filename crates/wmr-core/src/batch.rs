@@ -169,8 +169,9 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
     fn load(&mut self, next: &mut impl FnMut() -> Option<(u64, Pose2<f64>)>) -> bool {
         let mut fresh = [false; N];
         let mut more = true;
-        for i in 0..N {
-            if self.slots[i].is_some() {
+        let t_end = self.clock.time(self.n_steps);
+        for (i, (slot, fresh)) in self.slots.iter_mut().zip(&mut fresh).enumerate() {
+            if slot.is_some() {
                 continue;
             }
             let Some((tag, start)) = next() else {
@@ -178,9 +179,9 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
                 break;
             };
             set_lane(&mut self.state, i, &State::at_rest(start));
-            let watch = self.stop_when_settled.then(|| SettleWatch::new(self.clock.time(self.n_steps)));
-            self.slots[i] = Some(Slot { tag, step_index: 0, metrics: Metrics::default(), watch });
-            fresh[i] = true;
+            let watch = self.stop_when_settled.then(|| SettleWatch::new(t_end));
+            *slot = Some(Slot { tag, step_index: 0, metrics: Metrics::default(), watch });
+            *fresh = true;
         }
         self.controller.reset_lanes(LaneMask(fresh));
         more
