@@ -669,7 +669,7 @@ fn outcome_dict<'py, 'a>(
 /// of a process pool or Dask must not start a thread pool per process); 0: rayon's pool.
 /// `progress`: as for `run_scenario`, counting runs.
 #[pyfunction(name = "_run_batch")]
-#[pyo3(signature = (base, starts, goals=None, first=0, threads=0, progress=None))]
+#[pyo3(signature = (base, starts, goals=None, first=0, threads=0, progress=None, fast=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn run_batch_native<'py>(
     py: Python<'py>,
@@ -679,6 +679,7 @@ pub fn run_batch_native<'py>(
     first: usize,
     threads: usize,
     progress: Option<&Bound<'py, PyAny>>,
+    fast: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     if threads > 1 {
         return Err(parameter_error("threads", format_args!("0 (rayon's pool) or 1, got {threads}")));
@@ -749,6 +750,18 @@ pub fn run_batch_native<'py>(
     if let Some(p) = progress {
         p.call1((-(sc.runs().len() as i64),))?;
     }
+    if fast {
+        let count = || {
+            done.fetch_add(1, Ordering::Relaxed);
+        };
+        let n = sc.runs().len();
+        let outcomes = interruptible_with(py, progress.map(|callback| Progress { done: &done, callback }), |stop| {
+            sc.run_fast(0..n, first as u64, threads != 1, &count, &|| stop.requested())
+        })?
+        .map_err(to_py)?;
+        // `None` only when stopped, and then `interruptible` returned the signal's error.
+        return outcome_dict(py, outcomes.unwrap_or_default().iter());
+    }
     let results: Result<Vec<Option<RunResult>>, ScenarioError> =
         interruptible_with(py, progress.map(|callback| Progress { done: &done, callback }), |stop| {
             let poll = || if stop.requested() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
@@ -805,11 +818,12 @@ fn sweep_of(sc: &Scenario) -> PyResult<&SweepSpec> {
 /// `table`, the comparison `wmr-cli sweep` prints; `_meta`: the laws, the varied keys, the
 /// resolved scenario (TOML) and the seeds. `progress`: as for `run_scenario`, counting runs.
 #[pyfunction(name = "_sweep")]
-#[pyo3(signature = (scenario, progress=None))]
+#[pyo3(signature = (scenario, progress=None, fast=false))]
 pub fn sweep<'py>(
     py: Python<'py>,
     scenario: &Bound<'py, PyAny>,
     progress: Option<&Bound<'py, PyAny>>,
+    fast: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let sc = scenario_arg(scenario)?;
     let spec = sweep_of(&sc)?;
@@ -821,7 +835,11 @@ pub fn sweep<'py>(
         done.fetch_add(1, Ordering::Relaxed);
     };
     let outcomes = interruptible_with(py, progress.map(|callback| Progress { done: &done, callback }), |stop| {
-        spec.run_until(sc.sim(), &count, &|| stop.requested())
+        if fast {
+            spec.run_fast_until(sc.sim(), &count, &|| stop.requested())
+        } else {
+            spec.run_until(sc.sim(), &count, &|| stop.requested())
+        }
     })?
     .map_err(to_py)?;
     // `None` only when stopped, and then `interruptible` returned the signal's error.
@@ -921,13 +939,25 @@ fn parse_text(text: &str) -> PyResult<Scenario> {
 /// released: the work of one outside executor's task. Returns an (n, 22) float64 array,
 /// one row per run, which `_sweep_gather` puts together.
 #[pyfunction(name = "_sweep_part")]
-pub fn sweep_part<'py>(py: Python<'py>, text: &str, first: usize, last: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+#[pyo3(signature = (text, first, last, fast=false))]
+pub fn sweep_part<'py>(
+    py: Python<'py>,
+    text: &str,
+    first: usize,
+    last: usize,
+    fast: bool,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let sc = parse_text(text)?;
     let spec = sweep_of(&sc)?;
     if first > last {
         return Err(parameter_error("first", format_args!("must be <= last ({first} > {last})")));
     }
     let flow = interruptible(py, |stop| {
+        if fast {
+            return spec
+                .run_fast_range(sc.sim(), first..last, &|| stop.requested())
+                .map(|o| o.map_or(ControlFlow::Break(()), ControlFlow::Continue));
+        }
         spec.run_range(sc.sim(), first..last, || {
             if stop.requested() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
         })

@@ -15,11 +15,13 @@ use std::ops::ControlFlow;
 
 use wmr_core::batch::LaneBatch;
 use wmr_core::lane::Lanes;
-use wmr_core::{AnyLaw, Outcome, Pose2};
+use wmr_core::{AnyLaw, FixedGoal, Outcome, Pose2};
 
 use crate::assemble::Origin;
 use crate::error::ScenarioError;
 use crate::executor::map_ordered;
+use crate::scenario::Scenario;
+use crate::setup::Setup;
 use crate::sim::SimSpec;
 use crate::sweep::{SweepOutcome, SweepSpec};
 
@@ -41,32 +43,54 @@ impl SweepSpec {
         done: &(dyn Fn() + Sync),
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<Option<Vec<SweepOutcome>>, ScenarioError> {
-        let tasks = self.tasks();
-        let parts = map_ordered(tasks.len(), |t| {
-            let (first, end) = tasks[t];
-            let mut drawn = None;
-            let exact = self.variation.has_draws() || !self.setup_of(sim, first, &mut drawn)?.sensor.is_perfect();
-            if exact {
-                let poll = || if stop() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
-                let mut out = Vec::with_capacity(end - first);
-                for k in first..end {
-                    let ControlFlow::Continue(o) = self.run_exact(sim, k, poll)? else { return Ok(None) };
-                    done();
-                    out.push(o);
-                }
-                Ok(Some(out))
-            } else {
-                self.run_lanes(sim, first..end, done, stop)
-            }
-        });
-        let mut all = Vec::with_capacity(self.len());
-        for part in parts {
-            match part? {
-                Some(outcomes) => all.extend(outcomes),
-                None => return Ok(None),
-            }
+        let tasks = self.tasks(0..self.len());
+        let parts = map_ordered(tasks.len(), |t| self.run_task(sim, tasks[t], done, stop));
+        gather(parts, self.len())
+    }
+
+    /// Runs `range` of the sweep (numbered as [`SweepSpec::run_until`] numbers them) on
+    /// the fast path, on the calling thread: what one worker of an outside executor runs
+    /// (`wmr_py.sweep(..., fast=True, executor=...)`). The outcomes are those
+    /// [`SweepSpec::run_fast`] gives for the same runs, bit for bit: a task never spans
+    /// two ranges' worth of lanes differently, since lanes do not interact.
+    pub fn run_fast_range(
+        &self,
+        sim: &SimSpec,
+        range: std::ops::Range<usize>,
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Option<Vec<SweepOutcome>>, ScenarioError> {
+        if range.end > self.len() || range.start > range.end {
+            return Err(ScenarioError::new(
+                "sweep",
+                format!("runs {}..{} asked of a sweep of {} runs", range.start, range.end, self.len()),
+            ));
         }
-        Ok(Some(all))
+        let n = range.len();
+        let parts = self.tasks(range).into_iter().map(|task| self.run_task(sim, task, &|| {}, stop)).collect();
+        gather(parts, n)
+    }
+
+    /// One task (module docs): its runs through the lanes, or the exact path.
+    fn run_task(
+        &self,
+        sim: &SimSpec,
+        (first, end): (usize, usize),
+        done: &(dyn Fn() + Sync),
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Option<Vec<SweepOutcome>>, ScenarioError> {
+        let mut drawn = None;
+        let exact = self.variation.has_draws() || !self.setup_of(sim, first, &mut drawn)?.sensor.is_perfect();
+        if !exact {
+            return self.run_lanes(sim, first..end, done, stop);
+        }
+        let poll = || if stop() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
+        let mut out = Vec::with_capacity(end - first);
+        for k in first..end {
+            let ControlFlow::Continue(o) = self.run_exact(sim, k, poll)? else { return Ok(None) };
+            done();
+            out.push(o);
+        }
+        Ok(Some(out))
     }
 
     /// [`SweepSpec::run`] on the fast path.
@@ -74,13 +98,17 @@ impl SweepSpec {
         Ok(self.run_fast_until(sim, done, &|| false)?.unwrap_or_default())
     }
 
-    /// The tasks: ranges of at most [`TASK_RUNS`] runs that share law and variant.
-    fn tasks(&self) -> Vec<(usize, usize)> {
-        let group = self.variation.trials as usize * self.starts.len();
+    /// The tasks of `range`: pieces of at most [`TASK_RUNS`] runs that share law and
+    /// variant.
+    fn tasks(&self, range: std::ops::Range<usize>) -> Vec<(usize, usize)> {
+        let group = (self.variation.trials as usize * self.starts.len()).max(1);
         let mut tasks = Vec::new();
-        for g in (0..self.len()).step_by(group.max(1)) {
-            let end = (g + group).min(self.len());
-            tasks.extend((g..end).step_by(TASK_RUNS).map(|k| (k, (k + TASK_RUNS).min(end))));
+        let mut k = range.start;
+        while k < range.end {
+            let group_end = (k / group + 1) * group;
+            let end = (k + TASK_RUNS).min(group_end).min(range.end);
+            tasks.push((k, end));
+            k = end;
         }
         tasks
     }
@@ -99,29 +127,8 @@ impl SweepSpec {
         let origin = Origin { run: "sweep", controller: &path };
         let mut drawn = None;
         let setup = self.setup_of(sim, first, &mut drawn)?;
-        let plant = setup.plant(self.goal).map_err(|e| origin.key_of(&e))?;
-        let controller =
-            setup.controller.build_lanes(setup.model.params(), &setup.drive).map_err(|e| origin.key_of(&e))?;
-        let mut batch = Batch::new(plant, controller, self.goal, sim.dt(), sim.n_steps(), sim.stop_when_settled())
-            .map_err(|e| origin.key_of(&e))?;
-        let mut ks = range.clone();
-        let mut outcomes = vec![None; range.len()];
-        let mut stopped = false;
-        let next = || {
-            if stop() {
-                stopped = true;
-                return None;
-            }
-            ks.next().map(|k| (k as u64, self.starts[self.index_of(k).start]))
-        };
-        let finished = |tag: u64, outcome| {
-            done();
-            outcomes[tag as usize - first] = Some(outcome);
-        };
-        run_batch(&mut batch, next, finished);
-        if stopped {
-            return Ok(None);
-        }
+        let starts: Vec<Pose2<f64>> = range.clone().map(|k| self.starts[self.index_of(k).start]).collect();
+        let Some(outcomes) = lanes(setup, sim, &starts, self.goal, origin, done, stop)? else { return Ok(None) };
         Ok(Some(
             range
                 .zip(outcomes)
@@ -134,12 +141,112 @@ impl SweepSpec {
                         run: k as u64,
                         start_index: i.start,
                         start: self.starts[i.start],
-                        outcome: outcome.expect("every run of the batch ended"),
+                        outcome,
                     }
                 })
                 .collect(),
         ))
     }
+}
+
+impl Scenario {
+    /// The outcomes of the scenario's runs `range` on the fast path (module docs), in
+    /// order: consecutive runs towards the same goal share lanes; runs with a real sensor
+    /// take the exact path, with the sensor noise of their index plus `stream_offset`
+    /// (as [`Scenario::try_run_as`]). On rayon's pool when `parallel`, else on the calling
+    /// thread (an outside executor's worker). `None` when `stop` said so.
+    pub fn run_fast(
+        &self,
+        range: std::ops::Range<usize>,
+        stream_offset: u64,
+        parallel: bool,
+        done: &(dyn Fn() + Sync),
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Option<Vec<Outcome<f64>>>, ScenarioError> {
+        let runs = self.runs();
+        let mut tasks = Vec::new();
+        let mut k = range.start;
+        while k < range.end {
+            let mut end = k + 1;
+            while end < range.end && end - k < TASK_RUNS && runs[end].goal == runs[k].goal {
+                end += 1;
+            }
+            tasks.push((k, end));
+            k = end;
+        }
+        let task = |t: usize| -> Result<Option<Vec<Outcome<f64>>>, ScenarioError> {
+            let (first, end) = tasks[t];
+            if !self.setup().sensor.is_perfect() {
+                let poll = || if stop() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
+                let mut out = Vec::with_capacity(end - first);
+                for i in first..end {
+                    let stream = i as u64 + stream_offset;
+                    let ControlFlow::Continue(r) = self.try_run_as(i, stream, |_| ControlFlow::Continue(()), poll)?
+                    else {
+                        return Ok(None);
+                    };
+                    done();
+                    out.push(r.outcome);
+                }
+                return Ok(Some(out));
+            }
+            let path = format!("run[{first}]");
+            let origin = Origin { run: &path, controller: "controller" };
+            let starts: Vec<Pose2<f64>> = runs[first..end].iter().map(|r| r.start).collect();
+            lanes(self.setup(), self.sim(), &starts, runs[first].goal, origin, done, stop)
+        };
+        let parts = if parallel { map_ordered(tasks.len(), task) } else { (0..tasks.len()).map(task).collect() };
+        gather(parts, range.len())
+    }
+}
+
+/// Runs from `starts` towards `goal` with `setup` and `sim` through one lane batch: their
+/// outcomes in order, or `None` when `stop` said so.
+fn lanes(
+    setup: &Setup,
+    sim: &SimSpec,
+    starts: &[Pose2<f64>],
+    goal: Pose2<f64>,
+    origin: Origin<'_>,
+    done: &(dyn Fn() + Sync),
+    stop: &(dyn Fn() -> bool + Sync),
+) -> Result<Option<Vec<Outcome<f64>>>, ScenarioError> {
+    let plant = setup.plant(goal).map_err(|e| origin.key_of(&e))?;
+    let goal = FixedGoal::new(goal).map_err(|e| origin.key_of(&e))?.pose();
+    let controller = setup.controller.build_lanes(setup.model.params(), &setup.drive).map_err(|e| origin.key_of(&e))?;
+    let mut batch = Batch::new(plant, controller, goal, sim.dt(), sim.n_steps(), sim.stop_when_settled())
+        .map_err(|e| origin.key_of(&e))?;
+    let mut next_start = starts.iter().enumerate();
+    let mut outcomes = vec![None; starts.len()];
+    let mut stopped = false;
+    let next = || {
+        if stop() {
+            stopped = true;
+            return None;
+        }
+        next_start.next().map(|(i, &p)| (i as u64, p))
+    };
+    let finished = |tag: u64, outcome| {
+        done();
+        outcomes[tag as usize] = Some(outcome);
+    };
+    run_batch(&mut batch, next, finished);
+    if stopped {
+        return Ok(None);
+    }
+    Ok(Some(outcomes.into_iter().map(|o| o.expect("every run of the batch ended")).collect()))
+}
+
+/// The tasks' outcomes in order, or `None` if one was stopped.
+fn gather<O>(parts: Vec<Result<Option<Vec<O>>, ScenarioError>>, n: usize) -> Result<Option<Vec<O>>, ScenarioError> {
+    let mut all = Vec::with_capacity(n);
+    for part in parts {
+        match part? {
+            Some(outcomes) => all.extend(outcomes),
+            None => return Ok(None),
+        }
+    }
+    Ok(Some(all))
 }
 
 /// [`LaneBatch::run_all`], compiled for AVX2 when the processor has it. The one

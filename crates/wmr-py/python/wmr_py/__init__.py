@@ -195,6 +195,7 @@ def run_batch(
     progress: bool = False,
     executor: Any = None,
     chunk_size: Optional[int] = None,
+    fast: bool = False,
 ) -> BatchResult:
     """Run the closed loop from many starts to one goal in parallel (rayon, the GIL
     released) and return a BatchResult: a dict of 1-D arrays, one entry per start, in order:
@@ -214,6 +215,10 @@ def run_batch(
     (``concurrent.futures.ProcessPoolExecutor``, ``dask.distributed.Client``): the starts
     go in parts of ``chunk_size`` (default: about 32 parts), each run on one thread in a
     worker; the result is the local call's, bit for bit, in order.
+    fast: step the runs in SIMD lanes, several at once (as ``wmr-cli sweep --fast``):
+    several times faster, not bit-identical to the exact path (final poses within about
+    1e-9 relative; docs/scenario.md, "The fast path"). Runs with a real sensor take the
+    exact path.
     """
     arr = np.ascontiguousarray(_real_array(starts, "starts", "an array of shape (N, 3) of (x, y, theta_rad)"))
     if arr.ndim != 2 or arr.shape[1] != 3 or arr.shape[0] == 0:
@@ -233,7 +238,7 @@ def run_batch(
     bar = _results.progress_bar(progress, "run_batch", "run")
     try:
         if executor is None:
-            out = _native._run_batch(base, arr, None, 0, 0, bar)
+            out = _native._run_batch(base, arr, None, 0, 0, bar, fast)
         else:
             _results.check_executor(executor)
             # Checked here as the local call checks them, so an error names starts[i, j]
@@ -243,7 +248,7 @@ def run_batch(
             for (i, j) in zip(*np.nonzero(np.abs(arr[:, :2]) > 1000.0)):
                 raise _error(f"starts[{i}, {j}]", f"{('x', 'y')[j]} must be within 1000 m of the origin (got {arr[i, j]:e})")
             parts = _results.chunks(len(arr), chunk_size)
-            tasks = [(base, arr[a:b], None, a) for a, b in parts]
+            tasks = [(base, arr[a:b], None, a, fast) for a, b in parts]
             outs = _results.run_tasks(executor, _results.batch_task, tasks, bar, [b - a for a, b in parts])
             out = {k: np.concatenate([o[k] for o in outs]) for k in outs[0]}
     finally:
@@ -283,6 +288,7 @@ def sweep(
     progress: bool = False,
     executor: Any = None,
     chunk_size: Optional[int] = None,
+    fast: bool = False,
 ) -> SweepResult:
     """Run a scenario's ``[sweep]``: every law from every start (and every variant and
     trial of ``vary``), in parallel with the GIL released, and return a SweepResult (a
@@ -295,15 +301,17 @@ def sweep(
     about 32 parts), each run on one thread in a worker, which parses the scenario's
     text again (a file need not exist on the workers); the result is the local call's,
     bit for bit, in order.
+    fast: step the runs in SIMD lanes (``wmr-cli sweep --fast``): several times faster,
+    not bit-identical to the exact path; with an executor, the local fast call's result.
     """
     bar = _results.progress_bar(progress, "sweep", "run")
     try:
         if executor is None:
-            return SweepResult(_native._sweep(scenario, bar))
+            return SweepResult(_native._sweep(scenario, bar, fast))
         _results.check_executor(executor)
         text, n = _native._sweep_plan(scenario)
         parts = _results.chunks(n, chunk_size)
-        tasks = [(text, a, b) for a, b in parts]
+        tasks = [(text, a, b, fast) for a, b in parts]
         rows = _results.run_tasks(executor, _results.sweep_task, tasks, bar, [b - a for a, b in parts])
         stacked = np.concatenate(rows) if rows else np.zeros((0, 22))
         return SweepResult(_native._sweep_gather(text, stacked))

@@ -306,11 +306,11 @@ def run_tasks(executor: Any, fn: Callable, tasks: Sequence[tuple], bar: Optional
 # running its part on one thread in the worker.
 
 
-def sweep_task(text: str, first: int, last: int) -> np.ndarray:
+def sweep_task(text: str, first: int, last: int, fast: bool = False) -> np.ndarray:
     """Runs first..last of a sweep on one thread: an (n, 22) array of outcome rows."""
-    return _native._sweep_part(text, first, last)
+    return _native._sweep_part(text, first, last, fast)
 
 
-def batch_task(base: dict, starts: np.ndarray, goals: Optional[np.ndarray], first: int) -> dict:
+def batch_task(base: dict, starts: np.ndarray, goals: Optional[np.ndarray], first: int, fast: bool = False) -> dict:
     """Runs a part of a batch (starts[first:...] of the whole) on one thread."""
-    return _native._run_batch(base, starts, goals, first, 1)
+    return _native._run_batch(base, starts, goals, first, 1, None, fast)
