@@ -28,15 +28,11 @@ use crate::sensor::Measurement;
 use crate::settle::SettleWatch;
 use crate::state::State;
 
-/// A run in a lane, with what [`crate::ClosedLoop::try_run`] keeps per run.
+/// A run in a lane: the caller's name for it and the plant steps it has taken.
 #[derive(Clone, Copy, Debug)]
 struct Slot {
-    /// The caller's name for the run.
     tag: u64,
-    /// Plant steps taken.
     step_index: u64,
-    metrics: Metrics<f64>,
-    watch: Option<SettleWatch<f64>>,
 }
 
 /// N runs of one plant and controller stepped side by side (module docs).
@@ -56,6 +52,9 @@ pub struct LaneBatch<const N: usize, L> {
     state: State<Lanes<N>>,
     command: Wheels<Lanes<N>>,
     held_torque: Wheels<Lanes<N>>,
+    /// Each lane's metrics and settle rule, as [`crate::ClosedLoop::try_run`] keeps them.
+    metrics: Metrics<Lanes<N>>,
+    watch: SettleWatch<Lanes<N>>,
     slots: [Option<Slot>; N],
 }
 
@@ -86,6 +85,8 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
             state: State::from_array([zero; 7]),
             command: Wheels::new(zero, zero),
             held_torque: Wheels::new(zero, zero),
+            metrics: Metrics::default(),
+            watch: SettleWatch::new(0.0),
             slots: [None; N],
         })
     }
@@ -101,28 +102,27 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
     ) {
         let dt = self.clock.dt;
         let bound = Lanes::splat(DIVERGENCE_BOX_M);
+        let goal = self.goal_lanes();
         let mut more = self.load(&mut next);
         self.control_tick();
         loop {
-            // Before the step: the metrics of the present state; a run at t_end or
-            // settled ends.
+            // Before the step: a run at t_end ends; the metrics of the present state; a
+            // settled run ends.
             for i in 0..N {
-                let Some(slot) = &mut self.slots[i] else { continue };
-                let s = lane(&self.state, i);
-                let t = self.clock.time(slot.step_index);
-                if slot.step_index == self.n_steps {
+                if self.slots[i].is_some_and(|slot| slot.step_index == self.n_steps) {
                     self.finish(i, Termination::Completed, &mut done);
-                    continue;
                 }
-                let speeds = s.wheel_speeds(self.plant.robot().params());
-                let torque =
-                    self.plant.wheel_torque_lanes(&s, lane_wheels(&self.command, i), lane_wheels(&self.held_torque, i));
-                slot.metrics.add_step(t, &s, speeds, torque, self.goal, dt);
-                let holding = self.controller.holding().0[i];
-                if let Some(w) = &mut slot.watch
-                    && w.settled(t, &s, self.goal, holding)
-                {
-                    self.finish(i, Termination::Settled, &mut done);
+            }
+            let t = self.times();
+            let speeds = wheel_speeds_lanes(self.plant.robot().params(), self.state.v, self.state.omega);
+            let torque = self.plant.wheel_torque_lanes(&self.state, self.command, self.held_torque);
+            self.metrics.add_step(t, &self.state, speeds, torque, goal, Lanes::splat(dt));
+            if self.stop_when_settled {
+                let settled = self.watch.settled(t, &self.state, goal, self.controller.holding());
+                if settled.any() {
+                    for i in (0..N).filter(|&i| settled.0[i]) {
+                        self.finish(i, Termination::Settled, &mut done);
+                    }
                 }
             }
             let idle = self.slots.iter().all(Option::is_none);
@@ -167,9 +167,11 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
     /// Puts the next runs into the free lanes, each at its start at rest with its
     /// controller memories cleared; false once `next` has no more.
     fn load(&mut self, next: &mut impl FnMut() -> Option<(u64, Pose2<f64>)>) -> bool {
+        if self.slots.iter().all(Option::is_some) {
+            return true;
+        }
         let mut fresh = [false; N];
         let mut more = true;
-        let t_end = self.clock.time(self.n_steps);
         for (i, (slot, fresh)) in self.slots.iter_mut().zip(&mut fresh).enumerate() {
             if slot.is_some() {
                 continue;
@@ -179,10 +181,11 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
                 break;
             };
             set_lane(&mut self.state, i, &State::at_rest(start));
-            let watch = self.stop_when_settled.then(|| SettleWatch::new(t_end));
-            *slot = Some(Slot { tag, step_index: 0, metrics: Metrics::default(), watch });
+            *slot = Some(Slot { tag, step_index: 0 });
             *fresh = true;
         }
+        self.metrics.reset_lanes(LaneMask(fresh));
+        self.watch.reset_lanes(LaneMask(fresh));
         self.controller.reset_lanes(LaneMask(fresh));
         more
     }
@@ -191,7 +194,7 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
     /// its commands held.
     #[inline(always)]
     fn control_tick(&mut self) {
-        let t = Lanes(core::array::from_fn(|i| self.slots[i].map_or(0.0, |s| self.clock.time(s.step_index))));
+        let t = self.times();
         let s = &self.state;
         let m = Measurement {
             t,
@@ -199,18 +202,30 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
             wheel_angles: Wheels::new(s.phi_r, s.phi_l),
             wheel_speeds: wheel_speeds_lanes(self.plant.robot().params(), s.v, s.omega),
         };
-        let goal = Pose2::new(Lanes::splat(self.goal.x), Lanes::splat(self.goal.y), Lanes::splat(self.goal.theta));
-        self.command = self.controller.update(t, &m, goal).command;
+        self.command = self.controller.update(t, &m, self.goal_lanes()).command;
         self.held_torque = self.plant.held_torque_lanes(self.command);
+    }
+
+    /// Each lane's time, s (0 in a free lane).
+    #[inline(always)]
+    fn times(&self) -> Lanes<N> {
+        Lanes(core::array::from_fn(|i| self.slots[i].map_or(0.0, |s| self.clock.time(s.step_index))))
+    }
+
+    /// The goal in every lane.
+    #[inline(always)]
+    fn goal_lanes(&self) -> Pose2<Lanes<N>> {
+        Pose2::new(Lanes::splat(self.goal.x), Lanes::splat(self.goal.y), Lanes::splat(self.goal.theta))
     }
 
     /// Ends lane `i`'s run with `termination` at its present state and frees the lane.
     fn finish(&mut self, i: usize, termination: Termination, done: &mut impl FnMut(u64, Outcome<f64>)) {
-        let Some(mut slot) = self.slots[i].take() else { return };
+        let Some(slot) = self.slots[i].take() else { return };
         let s = lane(&self.state, i);
         let t = self.clock.time(slot.step_index);
-        slot.metrics.observe(t, &s, s.wheel_speeds(self.plant.robot().params()), self.goal);
-        done(slot.tag, slot.metrics.finish(t, &s, self.goal, termination));
+        let mut metrics = self.metrics.lane(i);
+        metrics.observe(t, &s, s.wheel_speeds(self.plant.robot().params()), self.goal);
+        done(slot.tag, metrics.finish(t, &s, self.goal, termination));
         // A benign state until the lane takes its next run.
         set_lane(&mut self.state, i, &State::at_rest(self.goal));
     }
@@ -230,10 +245,4 @@ fn set_lane<const N: usize>(s: &mut State<Lanes<N>>, i: usize, v: &State<f64>) {
         c.0[i] = x;
     }
     *s = State::from_array(a);
-}
-
-/// Lane `i` of a wheel pair.
-#[inline(always)]
-fn lane_wheels<const N: usize>(w: &Wheels<Lanes<N>>, i: usize) -> Wheels<f64> {
-    Wheels::new(w.right.0[i], w.left.0[i])
 }

@@ -332,23 +332,6 @@ fn cos_poly(z: f64) -> f64 {
     1.0 - 0.5 * z + z * z * q
 }
 
-/// (sin, cos) without a branch: quadrant j = round(x 2/pi), r = x - j pi/2 in
-/// [-pi/4, pi/4], then the quadrant's swap and signs.
-#[inline(always)]
-fn sin_cos_lane(x: f64) -> (f64, f64) {
-    let shifted = x * core::f64::consts::FRAC_2_PI + ROUNDER;
-    let j = shifted - ROUNDER;
-    let q = shifted.to_bits();
-    let r = ((x - j * PIO2_1) - j * PIO2_2) - j * PIO2_2T;
-    let z = r * r;
-    let (s, c) = (sin_poly(r, z), cos_poly(z));
-    let swap = q & 1 != 0;
-    let (s, c) = if swap { (c, s) } else { (s, c) };
-    let sin_negative = q & 2 != 0;
-    let cos_negative = (q.wrapping_add(1)) & 2 != 0;
-    (if sin_negative { -s } else { s }, if cos_negative { -c } else { c })
-}
-
 /// atan on [0, 1] (Cephes `atan.c`: above 0.66, pi/4 + atan((a - 1)/(a + 1))).
 #[inline(always)]
 fn atan_unit(a: f64) -> f64 {
@@ -376,19 +359,6 @@ fn atan_unit(a: f64) -> f64 {
     let p = (((P[0] * z + P[1]) * z + P[2]) * z + P[3]) * z + P[4];
     let q = ((((z + Q[0]) * z + Q[1]) * z + Q[2]) * z + Q[3]) * z + Q[4];
     base + (x + (x * z * p / q + tail))
-}
-
-/// atan2(y, x) without a branch: atan of min/max of |y|, |x|, then the octant.
-#[inline(always)]
-fn atan2_lane(y: f64, x: f64) -> f64 {
-    let (ay, ax) = (y.abs(), x.abs());
-    let hi = ay.max(ax);
-    let lo = ay.min(ax);
-    let a = if hi == 0.0 { 0.0 } else { lo / hi };
-    let t = atan_unit(a);
-    let t = if ay > ax { core::f64::consts::FRAC_PI_2 - t } else { t };
-    let t = if x.is_sign_negative() { core::f64::consts::PI - t } else { t };
-    if y.is_sign_negative() { -t } else { t }
 }
 
 /// e^x for |x| <= 708 (clamped beyond): x = n ln 2 + r, |r| <= ln2 / 2, a degree-13
@@ -463,15 +433,37 @@ impl<const N: usize> Lane for Lanes<N> {
     }
     #[inline(always)]
     fn floor(self) -> Self {
-        self.map(num_traits::Float::floor)
+        // Round |x| to nearest by adding and taking off 2^52, then down where that went
+        // up: no library call, so it vectorizes. From 2^52 on every f64 is whole.
+        const TWO_52: f64 = 4_503_599_627_370_496.0;
+        self.map(|x| {
+            let r = ((x.abs() + TWO_52) - TWO_52).copysign(x);
+            let r = if r > x { r - 1.0 } else { r };
+            if x.abs() < TWO_52 { r } else { x }
+        })
     }
     #[inline(always)]
     fn sin_cos(self) -> (Self, Self) {
-        let (mut s, mut c) = ([0.0; N], [0.0; N]);
+        // Quadrant j = round(x 2/pi) (ROUNDER), r = x - j pi/2 in [-pi/4, pi/4] (PIO2_*),
+        // the two polynomials, then the quadrant's swap and signs, all without a branch;
+        // written as whole-vector steps, each a loop the compiler turns into SIMD
+        // instructions (a per-lane function returning a pair does not vectorize).
+        let shifted = self.map(|x| x * core::f64::consts::FRAC_2_PI + ROUNDER);
+        let j = shifted.map(|s| s - ROUNDER);
+        let r = self.zip(j, |x, j| ((x - j * PIO2_1) - j * PIO2_2) - j * PIO2_2T);
+        let z = r * r;
+        let s = r.zip(z, sin_poly);
+        let c = z.map(cos_poly);
+        let (mut sin, mut cos) = ([0.0; N], [0.0; N]);
         for i in 0..N {
-            (s[i], c[i]) = sin_cos_lane(self.0[i]);
+            let q = shifted.0[i].to_bits();
+            let swap = q & 1 != 0;
+            let (a, b) = (if swap { c.0[i] } else { s.0[i] }, if swap { s.0[i] } else { c.0[i] });
+            // Bit 1 of q (and of q + 1) is the sign of sin (cos): moved to the sign bit.
+            sin[i] = f64::from_bits(a.to_bits() ^ ((q & 2) << 62));
+            cos[i] = f64::from_bits(b.to_bits() ^ ((q.wrapping_add(1) & 2) << 62));
         }
-        (Lanes(s), Lanes(c))
+        (Lanes(sin), Lanes(cos))
     }
     #[inline(always)]
     fn cos(self) -> Self {
@@ -479,7 +471,14 @@ impl<const N: usize> Lane for Lanes<N> {
     }
     #[inline(always)]
     fn atan2(self, x: Self) -> Self {
-        self.zip(x, atan2_lane)
+        // atan of min/max of |y|, |x| (in [0, 1]), then the octant, as whole-vector steps.
+        let (ay, ax) = (self.abs(), x.abs());
+        let (hi, lo) = (ay.max(ax), ay.min(ax));
+        let a = lo.zip(hi, |l, h| if h == 0.0 { 0.0 } else { l / h });
+        let t = a.map(atan_unit);
+        let t = Lanes::select(ax.lt(ay), Lanes::splat(core::f64::consts::FRAC_PI_2) - t, t);
+        let t = x.zip(t, |x, t| if x.is_sign_negative() { core::f64::consts::PI - t } else { t });
+        self.zip(t, |y, t| if y.is_sign_negative() { -t } else { t })
     }
     #[inline(always)]
     fn hypot(self, y: Self) -> Self {
@@ -531,9 +530,10 @@ mod tests {
             assert!(w <= bound, "{name}: worst error {w:e}");
         }
         // Edges: zeros, exact quadrant angles, huge and tiny arguments of tanh.
-        assert_eq!(atan2_lane(0.0, 0.0), 0.0);
-        assert!(close(atan2_lane(1.0, -1.0), 3.0 * core::f64::consts::FRAC_PI_4, 1e-16));
-        assert!(close(atan2_lane(-1.0, 0.0), -core::f64::consts::FRAC_PI_2, 1e-16));
+        let atan2 = |y: f64, x: f64| Lanes::<1>([y]).atan2(Lanes([x])).0[0];
+        assert_eq!(atan2(0.0, 0.0), 0.0);
+        assert!(close(atan2(1.0, -1.0), 3.0 * core::f64::consts::FRAC_PI_4, 1e-16));
+        assert!(close(atan2(-1.0, 0.0), -core::f64::consts::FRAC_PI_2, 1e-16));
         assert_eq!(Lanes::<1>([1e6]).tanh().0[0], 1.0);
         assert_eq!(Lanes::<1>([-1e6]).tanh().0[0], -1.0);
         assert!(close(Lanes::<1>([core::f64::consts::PI]).sin_cos().1.0[0], -1.0, 1e-16));
@@ -549,6 +549,23 @@ mod tests {
             assert_eq!(Lane::hypot(x, 0.3), libm::hypot(x, 0.3));
         }
         assert_eq!(<f64 as Lane>::select(true, 1.0, 2.0), 1.0);
+        for x in [
+            -3.5,
+            -3.0,
+            -2.9999999999999996,
+            -0.5,
+            -0.0,
+            0.0,
+            0.5,
+            0.9999999999999999,
+            2.5,
+            7.0,
+            1e300,
+            -1e300,
+            4.5e15 + 0.5,
+        ] {
+            assert_eq!(Lanes::<1>([x]).floor().0[0], libm::floor(x), "floor({x})");
+        }
         let m = Lanes([1.0, 5.0]).lt(Lanes([2.0, 2.0]));
         assert_eq!(Lanes::select(m, Lanes([10.0, 20.0]), Lanes([30.0, 40.0])), Lanes([10.0, 40.0]));
     }

@@ -53,7 +53,7 @@ impl<T: Copy> Wheels<T> {
     }
 
     /// Applies `f` to both wheels.
-    #[inline]
+    #[inline(always)]
     pub fn map<U>(self, mut f: impl FnMut(T) -> U) -> Wheels<U> {
         Wheels { right: f(self.right), left: f(self.left) }
     }

@@ -2,6 +2,7 @@
 //! final errors, peaks and integrals, accumulated step by step without allocating.
 
 use crate::Real;
+use crate::lane::{Lane, Lanes, Mask};
 use crate::math::{Pose2, Wheels, wrap_angle};
 use crate::state::State;
 
@@ -98,26 +99,36 @@ impl<T: Real> Outcome<T> {
     }
 }
 
-/// Accumulates an [`Outcome`] from the true state at every plant step.
+/// Accumulates an [`Outcome`] from the true state at every plant step; per lane for
+/// several runs side by side ([`crate::lane`]).
 #[derive(Clone, Copy, Debug)]
-pub struct Metrics<T> {
+pub struct Metrics<T: Lane> {
     /// ARRIVAL_RADIUS_M^2, m^2: arrival is decided on the squared distance (no root per step).
-    arrival_radius_sq: T,
-    arrived_since: Option<T>,
+    arrival_radius_sq: T::Scalar,
+    /// Within the arrival radius since `arrived_since` (s), where `arrived`.
+    arrived: T::Mask,
+    arrived_since: T,
     peak_wheel_speed: T,
     path_length: T,
     energy: T,
 }
 
-impl<T: Real> Default for Metrics<T> {
+impl<T: Lane> Default for Metrics<T> {
     fn default() -> Self {
-        let z = T::zero();
-        let r = T::lit(ARRIVAL_RADIUS_M);
-        Self { arrival_radius_sq: r * r, arrived_since: None, peak_wheel_speed: z, path_length: z, energy: z }
+        let z = T::default();
+        let r = <T::Scalar as Real>::lit(ARRIVAL_RADIUS_M);
+        Self {
+            arrival_radius_sq: r * r,
+            arrived: T::Mask::splat(false),
+            arrived_since: z,
+            peak_wheel_speed: z,
+            path_length: z,
+            energy: z,
+        }
     }
 }
 
-impl<T: Real> Metrics<T> {
+impl<T: Lane> Metrics<T> {
     /// Adds the instant `t` (s) at the start of a plant step of length `dt` (s): the true
     /// state, the wheel speeds (rad/s) and torques (N m) held over the step, the goal.
     #[inline(always)]
@@ -141,17 +152,38 @@ impl<T: Real> Metrics<T> {
     pub fn observe(&mut self, t: T, state: &State<T>, wheel_speeds: Wheels<T>, goal: Pose2<T>) {
         let dx = goal.x - state.x;
         let dy = goal.y - state.y;
-        if dx * dx + dy * dy < self.arrival_radius_sq {
-            if self.arrived_since.is_none() {
-                self.arrived_since = Some(t);
-            }
-        } else {
-            self.arrived_since = None;
-        }
+        let inside = (dx * dx + dy * dy).lt(T::splat(self.arrival_radius_sq));
+        self.arrived_since = T::select(inside & !self.arrived, t, self.arrived_since);
+        self.arrived = inside;
         let w = wheel_speeds.right.abs().max(wheel_speeds.left.abs());
         self.peak_wheel_speed = self.peak_wheel_speed.max(w);
     }
 
+    /// Clears the runs in `lanes`, as at the start of a run.
+    pub fn reset_lanes(&mut self, lanes: T::Mask) {
+        let fresh = Self::default();
+        self.arrived = self.arrived & !lanes;
+        self.peak_wheel_speed = T::select(lanes, fresh.peak_wheel_speed, self.peak_wheel_speed);
+        self.path_length = T::select(lanes, fresh.path_length, self.path_length);
+        self.energy = T::select(lanes, fresh.energy, self.energy);
+    }
+}
+
+impl<const N: usize> Metrics<Lanes<N>> {
+    /// The metrics of lane `i`.
+    pub fn lane(&self, i: usize) -> Metrics<f64> {
+        Metrics {
+            arrival_radius_sq: self.arrival_radius_sq,
+            arrived: self.arrived.0[i],
+            arrived_since: self.arrived_since.0[i],
+            peak_wheel_speed: self.peak_wheel_speed.0[i],
+            path_length: self.path_length.0[i],
+            energy: self.energy.0[i],
+        }
+    }
+}
+
+impl<T: Real> Metrics<T> {
     /// The outcome, given the last time (s), true state and goal, and how the run ended.
     pub fn finish(&self, t: T, state: &State<T>, goal: Pose2<T>, termination: Termination) -> Outcome<T> {
         let pose = state.pose();
@@ -162,7 +194,7 @@ impl<T: Real> Metrics<T> {
             goal,
             final_dl: (goal.x - pose.x).hypot_libm(goal.y - pose.y),
             final_heading_error: wrap_angle(goal.theta - pose.theta),
-            time_to_arrival: self.arrived_since,
+            time_to_arrival: self.arrived.then_some(self.arrived_since),
             peak_wheel_speed: self.peak_wheel_speed,
             path_length: self.path_length,
             energy: self.energy,

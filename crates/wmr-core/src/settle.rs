@@ -19,7 +19,7 @@
 //! those of the full-length run; its final pose differs by what the robot would still
 //! have crept (tested on every start of `examples/compare.toml`).
 
-use crate::Real;
+use crate::lane::{Lane, Mask};
 use crate::math::Pose2;
 use crate::outcome::ARRIVAL_RADIUS_M;
 use crate::state::State;
@@ -31,36 +31,46 @@ pub const SETTLE_TURN_RAD_S: f64 = 1e-3;
 /// How long the conditions must hold before the run stops, s.
 pub const SETTLE_WINDOW_S: f64 = 1.0;
 
-/// Watches a run for the settle rule (module docs), one plant step at a time.
+/// Watches a run for the settle rule (module docs), one plant step at a time; per lane
+/// for several runs side by side ([`crate::lane`]).
 #[derive(Clone, Copy, Debug)]
-pub struct SettleWatch<T> {
+pub struct SettleWatch<T: Lane> {
     /// t_end, s.
-    t_end: T,
-    /// Since when (s) conditions 1 to 3 have held without a break.
-    since: Option<T>,
+    t_end: T::Scalar,
+    /// Conditions 1 to 3 have held without a break since `since` (s), where `watching`.
+    since: T,
+    watching: T::Mask,
 }
 
-impl<T: Real> SettleWatch<T> {
+impl<T: Lane> SettleWatch<T> {
     /// A watch for a run that ends at `t_end` (s).
-    pub fn new(t_end: T) -> Self {
-        Self { t_end, since: None }
+    pub fn new(t_end: T::Scalar) -> Self {
+        Self { t_end, since: T::default(), watching: T::Mask::splat(false) }
     }
 
     /// Sees the true `state` at `t` (s) against `goal`, with the law `holding` or not;
     /// true when the run is settled and may stop here.
     #[inline(always)]
-    pub fn settled(&mut self, t: T, state: &State<T>, goal: Pose2<T>, holding: bool) -> bool {
+    pub fn settled(&mut self, t: T, state: &State<T>, goal: Pose2<T>, holding: T::Mask) -> T::Mask {
         let r = T::lit(ARRIVAL_RADIUS_M);
         let dx = goal.x - state.x;
         let dy = goal.y - state.y;
         let dl_sq = dx * dx + dy * dy;
-        let at_rest = state.v.abs() < T::lit(SETTLE_SPEED_M_S) && state.omega.abs() < T::lit(SETTLE_TURN_RAD_S);
-        if !(holding && at_rest && dl_sq < r * r) {
-            self.since = None;
-            return false;
+        let at_rest = state.v.abs().lt(T::lit(SETTLE_SPEED_M_S)) & state.omega.abs().lt(T::lit(SETTLE_TURN_RAD_S));
+        let held = holding & at_rest & dl_sq.lt(r * r);
+        if !held.any() {
+            self.watching = held;
+            return held;
         }
-        let since = *self.since.get_or_insert(t);
-        t - since >= T::lit(SETTLE_WINDOW_S) && dl_sq.sqrt() + state.v.abs() * (self.t_end - t) < r
+        self.since = T::select(held & !self.watching, t, self.since);
+        self.watching = held;
+        let creep = dl_sq.sqrt() + state.v.abs() * (T::splat(self.t_end) - t);
+        held & T::lit(SETTLE_WINDOW_S).le(t - self.since) & creep.lt(r)
+    }
+
+    /// Forgets the runs in `lanes`, as at the start of a run.
+    pub fn reset_lanes(&mut self, lanes: T::Mask) {
+        self.watching = self.watching & !lanes;
     }
 }
 

@@ -1,6 +1,7 @@
 //! CPU time per run-step of a sweep, exact path against lanes (benches/compare runs it):
-//! `time_lanes [LAW] [N_STARTS] [T_END_S]` prints `key=value` lines. One thread; no
-//! settling, so every run is t_end / dt steps.
+//! `time_lanes [LAW] [N_STARTS] [T_END_S] [both|exact|fast]` prints `key=value` lines.
+//! One thread; no settling, so every run is t_end / dt steps. `exact` or `fast` alone
+//! (under `valgrind --tool=callgrind`: instructions per run-step, whatever the load).
 
 use std::time::Instant;
 
@@ -11,6 +12,7 @@ fn main() {
     let law = args.get(1).map_or("paper", String::as_str);
     let n: usize = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(64);
     let t_end: f64 = args.get(3).and_then(|a| a.parse().ok()).unwrap_or(60.0);
+    let which = args.get(4).map_or("both", String::as_str);
     let text = format!(
         "[sim]\nt_end = {t_end}\n[sweep]\ngoal = {{ x = 0.0, y = 0.0 }}\ncontrollers = [{{ kind = \"{law}\" }}]\n\
          random = {{ n = {n}, seed = 2026, radius = 2.0 }}\n"
@@ -19,6 +21,14 @@ fn main() {
     let spec = s.sweep().expect("sweep");
     let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("pool");
     let run_steps = (spec.len() as u64 * s.sim().n_steps()) as f64;
+    if which != "both" {
+        let t0 = Instant::now();
+        let o =
+            pool.install(|| if which == "fast" { spec.run_fast(s.sim(), &|| {}) } else { spec.run(s.sim(), &|| {}) });
+        let secs = t0.elapsed().as_secs_f64();
+        println!("{which}: runs={} ns_per_run_step={:.1}", o.expect("runs").len(), secs * 1e9 / run_steps);
+        return;
+    }
     let (exact, exact_s) = pool.install(|| {
         let t0 = Instant::now();
         let o = spec.run(s.sim(), &|| {}).expect("exact");

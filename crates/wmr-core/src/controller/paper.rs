@@ -164,15 +164,23 @@ impl<T: Lane> PaperLaw<T> {
         };
         let mode = p.mode;
         let hold = Hold { goal_radius: p.goal_radius, radius: p.hold_radius, mode: p.hold.resolve(mode) };
-        self.outer.step(&gains, hold, pose, goal, alpha_at_goal, |_, _, dl, alpha| {
-            let theta_ref = match mode {
-                PaperMode::Pose => alpha + alpha - goal.theta,
-                PaperMode::Position => alpha,
-            };
-            let diff = theta_ref - pose.theta;
-            // (18), (23) and (21).
-            (dl * diff.cos(), wrap_angle(diff))
-        })
+        self.outer.step(
+            &gains,
+            hold,
+            pose,
+            goal,
+            alpha_at_goal,
+            #[inline(always)]
+            |_, _, dl, alpha| {
+                let theta_ref = match mode {
+                    PaperMode::Pose => alpha + alpha - goal.theta,
+                    PaperMode::Position => alpha,
+                };
+                let diff = theta_ref - pose.theta;
+                // (18), (23) and (21).
+                (dl * diff.cos(), wrap_angle(diff))
+            },
+        )
     }
 }
 

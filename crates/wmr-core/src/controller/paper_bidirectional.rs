@@ -188,12 +188,20 @@ impl<T: Lane> PaperBidirectionalLaw<T> {
         let mode = if p.hold == HoldMode::ZeroErrors { HoldMode::ZeroErrors } else { HoldMode::Freeze };
         let hold = Hold { goal_radius: p.goal_radius, radius: p.hold_radius, mode };
         // At the goal from the start, alpha = theta_d makes theta_R the goal heading.
-        self.outer.step(&gains, hold, pose, goal, goal.theta, |dx, dy, _, alpha| {
-            let (sin, cos) = pose.theta.sin_cos();
-            let e_s = dx * cos + dy * sin;
-            let e_theta = wrap_angle(alpha + alpha - goal.theta - pose.theta);
-            (e_s, e_theta)
-        })
+        self.outer.step(
+            &gains,
+            hold,
+            pose,
+            goal,
+            goal.theta,
+            #[inline(always)]
+            |dx, dy, _, alpha| {
+                let (sin, cos) = pose.theta.sin_cos();
+                let e_s = dx * cos + dy * sin;
+                let e_theta = wrap_angle(alpha + alpha - goal.theta - pose.theta);
+                (e_s, e_theta)
+            },
+        )
     }
 }
 
