@@ -129,7 +129,8 @@ OUTPUTS
         Converged = not diverged and final dl < 1 cm; unsettled = neither by t_end.
   sweep: CSV law,start,x0,y0,theta0_deg,status,time_to_1cm_s,final_dl_m,
         final_heading_error_deg,peak_wheel_speed_rad_s,path_length_m,energy_j; a comparison
-        table on stdout; --plots DIR: region-<law>.svg per law.
+        table on stdout; --plots DIR: region-<law>.svg per law; --fast: runs in SIMD
+        lanes, not bit-identical (docs/scenario.md, "The fast path").
   plot:  DIR/paths.svg, DIR/run<i>-wheel-speeds.svg, DIR/run<i>-errors.svg.
 
 A diverged run (state not finite, or C outside a 1 km box) keeps its rows up to that
