@@ -14,7 +14,6 @@ use crate::assemble::{self, Origin};
 use crate::error::ScenarioError;
 use crate::output::RunResult;
 use crate::scenario::Scenario;
-use crate::setup::{Setup, Tables};
 use crate::sim::SimSpec;
 use crate::sweep::{SweepOutcome, SweepSpec};
 
@@ -36,39 +35,12 @@ impl SweepSpec {
                 format!("runs {}..{} asked of a sweep of {} runs", range.start, range.end, self.len()),
             ));
         }
-        let n_starts = self.starts.len();
-        let trials = self.variation.trials as usize;
-        let n_variants = self.variants.len();
         let mut out = Vec::with_capacity(range.len());
         for k in range {
-            let start_index = k % n_starts;
-            let trial = (k / n_starts) % trials;
-            let variant = (k / (n_starts * trials)) % n_variants;
-            let law = k / (n_starts * trials * n_variants);
-            let start = self.starts[start_index];
-            let run = k as u64;
-            let path = format!("sweep.controllers[{law}]");
-            let origin = Origin { run: "sweep", controller: &path };
-            let drawn;
-            let setup = if self.variation.has_draws() {
-                let settings = self.variation.settings(self.variants[variant], run);
-                let mut t: Tables = self.tables[law].clone();
-                for (key, value) in settings {
-                    t.set(key, value)?;
-                }
-                drawn = Setup::resolve(&t, &path)?;
-                drawn.check_step(sim.dt())?;
-                &drawn
-            } else {
-                &self.setups[law * n_variants + variant]
-            };
-            let mut lp = assemble::closed_loop(setup, run, start, self.goal, sim, origin)?;
-            let ControlFlow::Continue(outcome) =
-                lp.try_run(sim.n_steps(), u32::MAX, |_| ControlFlow::Continue(()), &mut poll)
-            else {
-                return Ok(ControlFlow::Break(()));
-            };
-            out.push(SweepOutcome { law, variant, trial: trial as u32, run, start_index, start, outcome });
+            match self.run_exact(sim, k, &mut poll)? {
+                ControlFlow::Continue(o) => out.push(o),
+                ControlFlow::Break(()) => return Ok(ControlFlow::Break(())),
+            }
         }
         Ok(ControlFlow::Continue(out))
     }
