@@ -53,14 +53,16 @@ impl<T: Copy> Wheels<T> {
     }
 
     /// Applies `f` to both wheels.
-    #[inline(always)]
+    #[cfg_attr(target_os = "none", inline)]
+    #[cfg_attr(not(target_os = "none"), inline(always))]
     pub fn map<U>(self, mut f: impl FnMut(T) -> U) -> Wheels<U> {
         Wheels { right: f(self.right), left: f(self.left) }
     }
 }
 
 /// Wraps an angle (rad) into (-pi, pi].
-#[inline(always)]
+#[cfg_attr(target_os = "none", inline)]
+#[cfg_attr(not(target_os = "none"), inline(always))]
 pub fn wrap_angle<L: Lane>(a: L) -> L {
     let pi = L::lit(core::f64::consts::PI);
     // Fast path, bit-identical to the reduction below for these inputs: most angles a

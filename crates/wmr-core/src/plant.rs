@@ -217,7 +217,10 @@ struct PlantRhs<'a, T, L> {
 }
 
 impl<T: Real, L: Lane<Scalar = T>> Rhs<L, STATE_LEN> for PlantRhs<'_, T, L> {
-    #[inline(always)]
+    // Inlined into each RK4 stage on hosts (the lanes need it); a size-optimized firmware
+    // keeps one copy.
+    #[cfg_attr(target_os = "none", inline)]
+    #[cfg_attr(not(target_os = "none"), inline(always))]
     fn eval(&mut self, _t: L, y: &[L; STATE_LEN]) -> [L; STATE_LEN] {
         let model = &self.plant.model;
         let s = State::from_array(*y);

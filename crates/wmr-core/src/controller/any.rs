@@ -76,7 +76,8 @@ macro_rules! laws {
         }
 
         impl<T: Lane> Law<T> for AnyLaw<T> {
-            #[inline(always)]
+            #[cfg_attr(target_os = "none", inline)]
+            #[cfg_attr(not(target_os = "none"), inline(always))]
             fn update(&mut self, t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
                 match self { $( AnyLaw::$variant(l) => l.update(t, m, goal), )+ }
             }

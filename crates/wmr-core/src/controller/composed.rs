@@ -94,7 +94,8 @@ impl<T: Lane, L: Law<T>> Controller<T, L> {
     /// One control tick at time `t` (s): drive commands (N m or V per wheel) from the
     /// measurement and the goal pose (m, m, rad), and the law's errors. `t` is now; the
     /// measurement's own time `m.t` is when it was taken (earlier, for a late sensor).
-    #[inline(always)]
+    #[cfg_attr(target_os = "none", inline)]
+    #[cfg_attr(not(target_os = "none"), inline(always))]
     pub fn update(&mut self, t: T, m: &Measurement<T>, goal: Pose2<T>) -> ControlOutput<T> {
         let out = self.law.update(t, m, goal);
         ControlOutput { command: self.wheels.command(out.demand, m), errors: out.errors }

@@ -102,7 +102,8 @@ impl<T: Real> PolarGains<T> for LyapunovParams<T> {
 
     /// u = gamma cos(alpha) e, omega = k alpha + gamma (cos(alpha) sin(alpha) / alpha)
     /// (alpha + h theta_A) (module docs), v = s u.
-    #[inline(always)]
+    #[cfg_attr(target_os = "none", inline)]
+    #[cfg_attr(not(target_os = "none"), inline(always))]
     fn twist<L: Lane<Scalar = T>>(&self, sign: L, c: &PolarCoords<L>) -> Twist2<L> {
         let (e, alpha, theta_a) = (c.rho, c.alpha, -c.beta);
         let (sin_a, cos_a) = alpha.sin_cos();

@@ -152,7 +152,8 @@ impl<T: Lane> PaperLaw<T> {
 
     /// The law itself: errors and wheel angle references (rad) for the measured `pose`
     /// and the `goal` (m, m, rad), advancing the PI integrators by one control period.
-    #[inline(always)]
+    #[cfg_attr(target_os = "none", inline)]
+    #[cfg_attr(not(target_os = "none"), inline(always))]
     pub fn references(&mut self, pose: Pose2<T>, goal: Pose2<T>) -> (Wheels<T>, ControlErrors<T>) {
         let p = &self.params;
         let gains = PiGains { kp_s: p.kp_s, ki_s: p.ki_s, kp_theta: p.kp_theta, ki_theta: p.ki_theta };
@@ -170,7 +171,7 @@ impl<T: Lane> PaperLaw<T> {
             pose,
             goal,
             alpha_at_goal,
-            #[inline(always)]
+            #[cfg_attr(not(target_os = "none"), inline(always))]
             |_, _, dl, alpha| {
                 let theta_ref = match mode {
                     PaperMode::Pose => alpha + alpha - goal.theta,
@@ -185,7 +186,8 @@ impl<T: Lane> PaperLaw<T> {
 }
 
 impl<T: Lane> Law<T> for PaperLaw<T> {
-    #[inline(always)]
+    #[cfg_attr(target_os = "none", inline)]
+    #[cfg_attr(not(target_os = "none"), inline(always))]
     fn update(&mut self, _t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
         let (refs, errors) = self.references(m.pose, goal);
         LawOutput { demand: WheelDemand::Angles(refs), errors }

@@ -181,7 +181,8 @@ impl<T: Lane> PaperBidirectionalLaw<T> {
     /// The law itself: errors and wheel angle references (rad) for the measured `pose`
     /// and the `goal` (m, m, rad, world frame), advancing the PI integrators by one
     /// control period.
-    #[inline(always)]
+    #[cfg_attr(target_os = "none", inline)]
+    #[cfg_attr(not(target_os = "none"), inline(always))]
     pub fn references(&mut self, pose: Pose2<T>, goal: Pose2<T>) -> (Wheels<T>, ControlErrors<T>) {
         let p = &self.params;
         let gains = PiGains { kp_s: p.kp_s, ki_s: p.ki_s, kp_theta: p.kp_theta, ki_theta: p.ki_theta };
@@ -194,7 +195,7 @@ impl<T: Lane> PaperBidirectionalLaw<T> {
             pose,
             goal,
             goal.theta,
-            #[inline(always)]
+            #[cfg_attr(not(target_os = "none"), inline(always))]
             |dx, dy, _, alpha| {
                 let (sin, cos) = pose.theta.sin_cos();
                 let e_s = dx * cos + dy * sin;
@@ -206,7 +207,8 @@ impl<T: Lane> PaperBidirectionalLaw<T> {
 }
 
 impl<T: Lane> Law<T> for PaperBidirectionalLaw<T> {
-    #[inline(always)]
+    #[cfg_attr(target_os = "none", inline)]
+    #[cfg_attr(not(target_os = "none"), inline(always))]
     fn update(&mut self, _t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
         let (refs, errors) = self.references(m.pose, goal);
         LawOutput { demand: WheelDemand::Angles(refs), errors }

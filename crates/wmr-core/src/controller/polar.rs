@@ -129,7 +129,8 @@ impl<T: Real> PolarGains<T> for PolarParams<T> {
     }
 
     /// v = s k_rho rho, omega = k_alpha alpha + k_beta beta (module docs).
-    #[inline(always)]
+    #[cfg_attr(target_os = "none", inline)]
+    #[cfg_attr(not(target_os = "none"), inline(always))]
     fn twist<L: Lane<Scalar = T>>(&self, sign: L, c: &PolarCoords<L>) -> Twist2<L> {
         let v = sign * L::splat(self.k_rho) * c.rho;
         let omega = L::splat(self.k_alpha) * c.alpha + L::splat(self.k_beta) * c.beta;

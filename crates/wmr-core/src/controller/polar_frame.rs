@@ -125,7 +125,8 @@ impl<T: Lane> PolarCoords<T> {
     }
 
     /// True for alpha in I1 = (-pi/2, pi/2]: the goal is ahead in this frame.
-    #[inline(always)]
+    #[cfg_attr(target_os = "none", inline)]
+    #[cfg_attr(not(target_os = "none"), inline(always))]
     pub fn goal_ahead(&self) -> T::Mask {
         let half_pi = T::lit(core::f64::consts::FRAC_PI_2);
         (-half_pi).lt(self.alpha) & self.alpha.le(half_pi)
@@ -163,7 +164,8 @@ impl<T: Lane> DirectionSelector<T> {
 
     /// The direction for this tick (per lane: backward or not) and the polar coordinates
     /// in its frame.
-    #[inline(always)]
+    #[cfg_attr(target_os = "none", inline)]
+    #[cfg_attr(not(target_os = "none"), inline(always))]
     pub fn select(&mut self, pose: Pose2<T>, goal: Pose2<T>) -> (T::Mask, PolarCoords<T>) {
         let (phi, rho) = PolarCoords::bearing(pose, goal);
         let c = PolarCoords::in_frame(phi, rho, pose, goal, self.backward);
@@ -207,7 +209,8 @@ impl<T: Real> DirectionSelector<T> {
 /// The errors every polar-coordinate law logs: dl = rho; e_theta = wrap(theta_d - theta);
 /// e_s = (x_d - x) cos(theta) + (y_d - y) sin(theta), the signed distance to the goal
 /// along the heading.
-#[inline(always)]
+#[cfg_attr(target_os = "none", inline)]
+#[cfg_attr(not(target_os = "none"), inline(always))]
 pub fn polar_errors<T: Lane>(pose: Pose2<T>, goal: Pose2<T>) -> ControlErrors<T> {
     let dx = goal.x - pose.x;
     let dy = goal.y - pose.y;
@@ -216,7 +219,8 @@ pub fn polar_errors<T: Lane>(pose: Pose2<T>, goal: Pose2<T>) -> ControlErrors<T>
 }
 
 /// Stop inside `radius`, resume beyond twice that: returns the new "held" flag.
-#[inline(always)]
+#[cfg_attr(target_os = "none", inline)]
+#[cfg_attr(not(target_os = "none"), inline(always))]
 fn goal_hold<T: Lane>(held: T::Mask, dl: T, radius: T::Scalar) -> T::Mask {
     (held & dl.le(T::splat(radius + radius))) | (!held & dl.le(T::splat(radius)))
 }
@@ -286,7 +290,8 @@ impl<T: Lane, G: PolarGains<T::Scalar>> PolarCoordinateLaw<T, G> {
     }
 
     /// [`PolarCoordinateLaw::twist`] with the distance `dl` (m) from `pose` to `goal` known.
-    #[inline(always)]
+    #[cfg_attr(target_os = "none", inline)]
+    #[cfg_attr(not(target_os = "none"), inline(always))]
     fn twist_at(&mut self, pose: Pose2<T>, goal: Pose2<T>, dl: T) -> Twist2<T> {
         let held = goal_hold::<T>(self.held, dl, self.gains.steering().goal_radius);
         self.held = held;
@@ -315,7 +320,8 @@ impl<T: Real, G: PolarGains<T>> PolarCoordinateLaw<T, G> {
 }
 
 impl<T: Lane, G: PolarGains<T::Scalar>> Law<T> for PolarCoordinateLaw<T, G> {
-    #[inline(always)]
+    #[cfg_attr(target_os = "none", inline)]
+    #[cfg_attr(not(target_os = "none"), inline(always))]
     fn update(&mut self, _t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
         let errors = polar_errors(m.pose, goal);
         let twist = self.twist_at(m.pose, goal, errors.dl);

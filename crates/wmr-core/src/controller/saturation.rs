@@ -33,7 +33,8 @@ pub(crate) fn check_wheel_speed_max<T: Real>(w_max: T) -> Result<T, ParamError> 
 
 /// The common factor s in (0, 1] that brings max(|w.right|, |w.left|) down to `w_max`
 /// (rad/s); 1 when already within the limit or when the limit is infinite.
-#[inline(always)]
+#[cfg_attr(target_os = "none", inline)]
+#[cfg_attr(not(target_os = "none"), inline(always))]
 pub fn wheel_speed_scale<L: Lane>(w: Wheels<L>, w_max: L) -> L {
     let m = w.right.abs().max(w.left.abs());
     L::select(w_max.lt(m), w_max / m, L::lit(1.0))
@@ -41,7 +42,8 @@ pub fn wheel_speed_scale<L: Lane>(w: Wheels<L>, w_max: L) -> L {
 
 /// Wheel speeds (rad/s) scaled together so that neither exceeds `w_max` (rad/s); the
 /// ratio between them, hence the curvature, is kept. Unchanged when within the limit.
-#[inline(always)]
+#[cfg_attr(target_os = "none", inline)]
+#[cfg_attr(not(target_os = "none"), inline(always))]
 pub fn limit_wheel_speeds<L: Lane>(w: Wheels<L>, w_max: L) -> Wheels<L> {
     let s = wheel_speed_scale(w, w_max);
     let scaled = s.lt(L::lit(1.0));
@@ -83,7 +85,8 @@ impl<T: Lane> WheelRateLimiter<T> {
 
     /// The limited references (rad) for this tick, given the targets (rad) and the
     /// measured wheel angles (rad, used only on the first tick).
-    #[inline(always)]
+    #[cfg_attr(target_os = "none", inline)]
+    #[cfg_attr(not(target_os = "none"), inline(always))]
     pub fn limit(&mut self, target: Wheels<T>, measured: Wheels<T>) -> Wheels<T> {
         let prev = Wheels::new(
             T::select(self.started, self.phi_lim.right, measured.right),

@@ -208,7 +208,8 @@ impl<T: Lane> WheelStage<T> {
 
     /// Drive commands (N m or V per wheel) for `demand` given the measured wheel angles
     /// (rad) and speeds (rad/s) in `m`.
-    #[inline(always)]
+    #[cfg_attr(target_os = "none", inline)]
+    #[cfg_attr(not(target_os = "none"), inline(always))]
     pub fn command(&mut self, demand: WheelDemand<T>, m: &Measurement<T>) -> Wheels<T> {
         let command = self.servo_command(demand, m);
         if Float::is_finite(self.wheel_speed_max) {
