@@ -32,9 +32,9 @@
 //! and, for TOML, the line.
 
 mod assemble;
+pub mod chunk;
 mod controller;
 mod error;
-pub mod chunk;
 pub mod executor;
 pub mod fast;
 mod file;
