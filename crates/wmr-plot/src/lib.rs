@@ -17,7 +17,7 @@ mod share;
 mod svg;
 
 pub use figures::{errors_svg, paths_svg, wheel_speeds_svg};
-pub use region::{CellOutcome, SweepCell, region_svg};
+pub use region::{BINS, CellOutcome, MAX_MARKERS, SweepCell, region_svg};
 pub use share::{ShareSeries, share_svg};
 
 use wmr_core::{Pose2, Sample, Status};

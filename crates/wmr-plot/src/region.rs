@@ -1,5 +1,7 @@
 //! Region-of-attraction map: every start of a sweep, drawn as a small arrowhead pointing
-//! along its start heading and coloured by how the run ended.
+//! along its start heading and coloured by how the run ended; beyond [`MAX_MARKERS`]
+//! starts (a million-start sweep would make a 100 MB file), a grid of bins, each
+//! coloured by the most common outcome of the starts in it.
 
 use wmr_core::{Pose2, Status};
 
@@ -9,6 +11,12 @@ use crate::chart::{
 };
 use crate::svg::{Anchor, Stroke, Svg};
 use crate::{PlotError, status_color};
+
+/// Most starts drawn one marker each; more are drawn as [`BINS`] x [`BINS`] bins.
+pub const MAX_MARKERS: usize = 20_000;
+
+/// Bins per axis of a map of more than [`MAX_MARKERS`] starts.
+pub const BINS: usize = 120;
 
 /// How one start of a sweep ended: the core's three outcomes.
 pub type CellOutcome = Status;
@@ -57,7 +65,11 @@ pub fn region_svg(title_text: &str, cells: &[SweepCell], goal: Pose2<f64>) -> Re
     let len = (0.9 * (area / cells.len().max(1) as f64).sqrt()).clamp(3.5, 8.0);
     let clip = panel.clip(&mut svg);
     svg.begin_clip(&clip);
-    for status in order {
+    let binned = cells.len() > MAX_MARKERS;
+    if binned {
+        draw_bins(&mut svg, &panel, cells);
+    }
+    for status in order.into_iter().filter(|_| !binned) {
         let fill = status_color(status);
         for c in cells.iter().filter(|c| c.outcome == status) {
             let (cx, cy) = panel.p((c.x, c.y));
@@ -76,7 +88,36 @@ pub fn region_svg(title_text: &str, cells: &[SweepCell], goal: Pose2<f64>) -> Re
     svg.arrow(g, (g.0 + arrow * goal.theta.cos(), g.1 - arrow * goal.theta.sin()), 6.0, Stroke::solid("#000000", 1.6));
     svg.circle(g, 3.6, "#ffffff", Some(Stroke::solid("#000000", 1.6)));
     legend_rows(&mut svg, LEFT, legend_y, w, &entries);
-    let note = "Each marker is a start, pointing along the robot's start heading.";
+    let note = if binned {
+        "Each square: the most common outcome of the starts in it."
+    } else {
+        "Each marker is a start, pointing along the robot's start heading."
+    };
     svg.text((LEFT, height - 6.0), note, FONT, Anchor::Start, 0.0, false);
     Ok(svg.finish())
+}
+
+/// The starts as a grid of [`BINS`] x [`BINS`] squares over the panel, each coloured by the
+/// most common outcome of the starts in it (a tie goes to the outcome listed first in
+/// [`Status::ALL`]); empty squares are left blank.
+fn draw_bins(svg: &mut Svg, panel: &Panel, cells: &[SweepCell]) {
+    let mut counts = vec![[0u32; 3]; BINS * BINS];
+    let bin =
+        |v: f64, (lo, hi): (f64, f64)| (((v - lo) / (hi - lo) * BINS as f64).floor().max(0.0) as usize).min(BINS - 1);
+    for c in cells {
+        let (i, j) = (bin(c.x, panel.xr), bin(c.y, panel.yr));
+        let k = Status::ALL.iter().position(|s| *s == c.outcome).unwrap_or(0);
+        counts[j * BINS + i][k] += 1;
+    }
+    let (bw, bh) = (panel.w / BINS as f64, panel.h / BINS as f64);
+    for (n, count) in counts.iter().enumerate() {
+        let Some((k, _)) = count.iter().enumerate().filter(|(_, c)| **c > 0).max_by_key(|(k, c)| (**c, usize::MAX - k))
+        else {
+            continue;
+        };
+        let (i, j) = (n % BINS, n / BINS);
+        // Row j counts up from the bottom of the panel (y up); a hair of overlap hides seams.
+        let y = panel.y + panel.h - (j + 1) as f64 * bh;
+        svg.rect(panel.x + i as f64 * bw, y, bw + 0.05, bh + 0.05, status_color(Status::ALL[k]), None);
+    }
 }

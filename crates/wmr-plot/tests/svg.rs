@@ -173,3 +173,53 @@ fn share_curves_one_per_law() {
     // The key is user text: written as is.
     assert!(svg.contains("sensor.position_noise (m)"));
 }
+
+/// A sweep of more starts than [`wmr_plot::MAX_MARKERS`] is drawn as bins: no marker per
+/// start, a bounded file, each bin the colour of its starts' most common outcome.
+#[test]
+fn a_region_map_of_many_starts_is_drawn_as_bins() {
+    let n = 300;
+    let mut cells = Vec::new();
+    for i in 0..n {
+        for j in 0..n / 3 {
+            let x = i as f64 / n as f64 * 4.0 - 2.0;
+            let y = j as f64 / (n / 3) as f64 * 4.0 - 2.0;
+            // Left half converged, right half diverged.
+            let outcome = if x < 0.0 { Status::Converged } else { Status::Diverged };
+            cells.push(SweepCell { x, y, theta: 0.0, outcome });
+        }
+    }
+    assert!(cells.len() > wmr_plot::MAX_MARKERS);
+    let svg = region_svg("many starts", &cells, Pose2::default()).unwrap();
+    assert!(svg.len() < 3_000_000, "{} bytes", svg.len());
+    let doc = roxmltree::Document::parse(&svg).expect("valid XML");
+    let colour_of = |s: Status| status_color(s);
+    let polygons = doc.descendants().filter(|n| n.has_tag_name("polygon")).count();
+    assert!(polygons < 10, "{polygons} polygons: markers were drawn");
+    let rects: Vec<_> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("rect"))
+        .filter(|n| {
+            n.attribute("fill").is_some_and(|f| f == colour_of(Status::Converged) || f == colour_of(Status::Diverged))
+        })
+        .collect();
+    assert!(rects.len() > 100 && rects.len() <= wmr_plot::BINS * wmr_plot::BINS, "{} bins", rects.len());
+    // Bins left of the goal are converged, right of it diverged.
+    let x_of = |n: &roxmltree::Node| n.attribute("x").and_then(|v| v.parse::<f64>().ok()).unwrap();
+    let mid = {
+        let xs: Vec<f64> = rects.iter().map(x_of).collect();
+        (xs.iter().cloned().fold(f64::INFINITY, f64::min) + xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max)) / 2.0
+    };
+    for r in &rects {
+        let expected = if x_of(r) < mid - 5.0 {
+            Some(Status::Converged)
+        } else if x_of(r) > mid + 5.0 {
+            Some(Status::Diverged)
+        } else {
+            None
+        };
+        if let Some(s) = expected {
+            assert_eq!(r.attribute("fill"), Some(colour_of(s)));
+        }
+    }
+}
