@@ -130,23 +130,7 @@ impl SweepSpec {
         let setup = self.setup_of(sim, first, &mut drawn)?;
         let starts: Vec<Pose2<f64>> = range.clone().map(|k| self.starts[self.index_of(k).start]).collect();
         let Some(outcomes) = lanes(setup, sim, &starts, self.goal, origin, done, stop)? else { return Ok(None) };
-        Ok(Some(
-            range
-                .zip(outcomes)
-                .map(|(k, outcome)| {
-                    let i = self.index_of(k);
-                    SweepOutcome {
-                        law: i.law,
-                        variant: i.variant,
-                        trial: i.trial as u32,
-                        run: k as u64,
-                        start_index: i.start,
-                        start: self.starts[i.start],
-                        outcome,
-                    }
-                })
-                .collect(),
-        ))
+        Ok(Some(range.zip(outcomes).map(|(k, outcome)| self.outcome_of(k, outcome)).collect()))
     }
 }
 
@@ -235,7 +219,9 @@ fn lanes(
     if stopped {
         return Ok(None);
     }
-    Ok(Some(outcomes.into_iter().map(|o| o.expect("every run of the batch ended")).collect()))
+    // `run_all` ends every run it takes; a missing outcome would be a bug, reported as one.
+    let outcomes: Option<Vec<Outcome<f64>>> = outcomes.into_iter().collect();
+    outcomes.map(Some).ok_or_else(|| ScenarioError::new("sweep", "internal error: a run of the lanes did not end"))
 }
 
 /// The tasks' outcomes in order, or `None` if one was stopped.

@@ -519,17 +519,23 @@ impl SweepSpec {
         let setup = self.setup_of(sim, k, &mut drawn)?;
         let start = self.starts[i.start];
         let mut lp = assemble::closed_loop(setup, k as u64, start, self.goal, sim, origin)?;
-        Ok(lp.try_run(sim.n_steps(), u32::MAX, |_| ControlFlow::Continue(()), poll).map_continue(|outcome| {
-            SweepOutcome {
-                law: i.law,
-                variant: i.variant,
-                trial: i.trial as u32,
-                run: k as u64,
-                start_index: i.start,
-                start,
-                outcome,
-            }
-        }))
+        Ok(lp
+            .try_run(sim.n_steps(), u32::MAX, |_| ControlFlow::Continue(()), poll)
+            .map_continue(|outcome| self.outcome_of(k, outcome)))
+    }
+
+    /// Run `k`'s outcome with where it sits in the sweep.
+    pub(crate) fn outcome_of(&self, k: usize, outcome: Outcome<f64>) -> SweepOutcome {
+        let i = self.index_of(k);
+        SweepOutcome {
+            law: i.law,
+            variant: i.variant,
+            trial: i.trial as u32,
+            run: k as u64,
+            start_index: i.start,
+            start: self.starts[i.start],
+            outcome,
+        }
     }
 
     /// One run of law `law` from start `start_index` (the first variant and trial, as the
