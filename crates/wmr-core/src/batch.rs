@@ -28,13 +28,6 @@ use crate::sensor::Measurement;
 use crate::settle::SettleWatch;
 use crate::state::State;
 
-/// A run in a lane: the caller's name for it and the plant steps it has taken.
-#[derive(Clone, Copy, Debug)]
-struct Slot {
-    tag: u64,
-    step_index: u64,
-}
-
 /// N runs of one plant and controller stepped side by side (module docs).
 #[derive(Clone, Debug)]
 pub struct LaneBatch<const N: usize, L> {
@@ -55,7 +48,13 @@ pub struct LaneBatch<const N: usize, L> {
     /// Each lane's metrics and settle rule, as [`crate::ClosedLoop::try_run`] keeps them.
     metrics: Metrics<Lanes<N>>,
     watch: SettleWatch<Lanes<N>>,
-    slots: [Option<Slot>; N],
+    /// The plant steps each lane's run has taken, as whole `f64`s (0 in a free lane):
+    /// vector arithmetic for the clock and the t_end check.
+    steps: Lanes<N>,
+    /// The lanes that hold a run.
+    active: LaneMask<N>,
+    /// The caller's tag of each lane's run.
+    tags: [u64; N],
 }
 
 impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
@@ -87,7 +86,9 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
             held_torque: Wheels::new(zero, zero),
             metrics: Metrics::default(),
             watch: SettleWatch::new(0.0),
-            slots: [None; N],
+            steps: zero,
+            active: LaneMask::splat(false),
+            tags: [0; N],
         })
     }
 
@@ -102,34 +103,38 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
     ) {
         let dt = self.clock.dt;
         let bound = Lanes::splat(DIVERGENCE_BOX_M);
+        // Exact as an f64 for any count a scenario allows (t_end / dt <= 1e9).
+        let last_step = Lanes::splat(self.n_steps as f64);
+        let (one, zero) = (Lanes::splat(1.0), Lanes::splat(0.0));
         let goal = self.goal_lanes();
         let mut more = self.load(&mut next);
         self.control_tick();
         loop {
             // Before the step: a run at t_end ends; the metrics of the present state; a
             // settled run ends.
-            for i in 0..N {
-                if self.slots[i].is_some_and(|slot| slot.step_index == self.n_steps) {
+            let ended = self.active & self.steps.eq(last_step);
+            if ended.any() {
+                for i in (0..N).filter(|&i| ended.lane(i)) {
                     self.finish(i, Termination::Completed, &mut done);
                 }
             }
-            let t = self.times();
+            let t = self.clock.time_lanes(self.steps);
             let speeds = wheel_speeds_lanes(self.plant.robot().params(), self.state.v, self.state.omega);
             let torque = self.plant.wheel_torque_lanes(&self.state, self.command, self.held_torque);
             self.metrics.add_step(t, &self.state, speeds, torque, goal, Lanes::splat(dt));
             if self.stop_when_settled {
                 let settled = self.watch.settled(t, &self.state, goal, self.controller.holding());
                 if settled.any() {
-                    for i in (0..N).filter(|&i| settled.0[i]) {
+                    for i in (0..N).filter(|&i| settled.lane(i)) {
                         self.finish(i, Termination::Settled, &mut done);
                     }
                 }
             }
-            let idle = self.slots.iter().all(Option::is_none);
-            if idle && !more {
+            let busy = self.active.any();
+            if !busy && !more {
                 break;
             }
-            if !idle {
+            if busy {
                 // One RK4 step of every lane; a lane whose step is not finite or leaves
                 // the box keeps its last good state and ends.
                 let stepped = self.plant.advance(
@@ -139,17 +144,17 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
                     Lanes::splat(0.0),
                     Lanes::splat(dt),
                 );
-                let finite = stepped.to_array().iter().fold(LaneMask::splat(true), |m, c| m & c.is_finite());
+                let (new, old) = (stepped.to_array(), self.state.to_array());
+                // 0 * c is 0 for a finite c and NaN otherwise: one check for the whole state.
+                let finite = new.iter().fold(zero, |acc, &c| acc + c * zero).eq(zero);
                 let inside = stepped.x.abs().le(bound) & stepped.y.abs().le(bound);
                 let ok = finite & inside;
-                let (new, old) = (stepped.to_array(), self.state.to_array());
                 self.state = State::from_array(core::array::from_fn(|k| Lanes::select(ok, new[k], old[k])));
-                for i in 0..N {
-                    let Some(slot) = &mut self.slots[i] else { continue };
-                    if ok.0[i] {
-                        slot.step_index += 1;
-                    } else {
-                        let termination = if finite.0[i] { Termination::LeftBox } else { Termination::NonFinite };
+                self.steps = self.steps + Lanes::select(ok & self.active, one, zero);
+                let failed = self.active & !ok;
+                if failed.any() {
+                    for i in (0..N).filter(|&i| failed.lane(i)) {
+                        let termination = if finite.lane(i) { Termination::LeftBox } else { Termination::NonFinite };
                         self.finish(i, termination, &mut done);
                     }
                 }
@@ -167,13 +172,13 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
     /// Puts the next runs into the free lanes, each at its start at rest with its
     /// controller memories cleared; false once `next` has no more.
     fn load(&mut self, next: &mut impl FnMut() -> Option<(u64, Pose2<f64>)>) -> bool {
-        if self.slots.iter().all(Option::is_some) {
+        if self.active.all() {
             return true;
         }
         let mut fresh = [false; N];
         let mut more = true;
-        for (i, (slot, fresh)) in self.slots.iter_mut().zip(&mut fresh).enumerate() {
-            if slot.is_some() {
+        for (i, fresh) in fresh.iter_mut().enumerate() {
+            if self.active.lane(i) {
                 continue;
             }
             let Some((tag, start)) = next() else {
@@ -181,12 +186,15 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
                 break;
             };
             set_lane(&mut self.state, i, &State::at_rest(start));
-            *slot = Some(Slot { tag, step_index: 0 });
+            self.tags[i] = tag;
+            self.steps.0[i] = 0.0;
             *fresh = true;
         }
-        self.metrics.reset_lanes(LaneMask(fresh));
-        self.watch.reset_lanes(LaneMask(fresh));
-        self.controller.reset_lanes(LaneMask(fresh));
+        let fresh = LaneMask::from_bools(fresh);
+        self.active = self.active | fresh;
+        self.metrics.reset_lanes(fresh);
+        self.watch.reset_lanes(fresh);
+        self.controller.reset_lanes(fresh);
         more
     }
 
@@ -194,7 +202,7 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
     /// its commands held.
     #[inline(always)]
     fn control_tick(&mut self) {
-        let t = self.times();
+        let t = self.clock.time_lanes(self.steps);
         let s = &self.state;
         let m = Measurement {
             t,
@@ -206,12 +214,6 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
         self.held_torque = self.plant.held_torque_lanes(self.command);
     }
 
-    /// Each lane's time, s (0 in a free lane).
-    #[inline(always)]
-    fn times(&self) -> Lanes<N> {
-        Lanes(core::array::from_fn(|i| self.slots[i].map_or(0.0, |s| self.clock.time(s.step_index))))
-    }
-
     /// The goal in every lane.
     #[inline(always)]
     fn goal_lanes(&self) -> Pose2<Lanes<N>> {
@@ -220,12 +222,16 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
 
     /// Ends lane `i`'s run with `termination` at its present state and frees the lane.
     fn finish(&mut self, i: usize, termination: Termination, done: &mut impl FnMut(u64, Outcome<f64>)) {
-        let Some(slot) = self.slots[i].take() else { return };
+        if !self.active.lane(i) {
+            return;
+        }
+        self.active = self.active & !LaneMask::lane_only(i);
         let s = lane(&self.state, i);
-        let t = self.clock.time(slot.step_index);
+        // Whole and below 2^53: the cast is exact.
+        let t = self.clock.time(self.steps.0[i] as u64);
         let mut metrics = self.metrics.lane(i);
         metrics.observe(t, &s, s.wheel_speeds(self.plant.robot().params()), self.goal);
-        done(slot.tag, metrics.finish(t, &s, self.goal, termination));
+        done(self.tags[i], metrics.finish(t, &s, self.goal, termination));
         // A benign state until the lane takes its next run.
         set_lane(&mut self.state, i, &State::at_rest(self.goal));
     }

@@ -17,6 +17,7 @@ use core::ops::ControlFlow;
 use crate::Real;
 use crate::controller::{ControlOutput, Controller, Law};
 use crate::error::{ParamError, check};
+use crate::lane::{Lane, Lanes};
 use crate::math::Pose2;
 use crate::outcome::{Metrics, Outcome, Termination};
 use crate::plant::Plant;
@@ -304,6 +305,23 @@ impl<T: Real> StepClock<T> {
             // i * m < 2^53 is exact in f64, so one rounding: the division.
             Some((m, scale)) if i < (1u64 << 53) / m => T::lit((i * m) as f64 / scale),
             _ => T::lit(i as f64) * self.dt,
+        }
+    }
+}
+
+impl StepClock<f64> {
+    /// [`StepClock::time`] of every lane's step, each given as a whole `f64` (exact below
+    /// 2^53): the same operations on the same numbers, so the same bits, without a
+    /// per-lane integer conversion.
+    #[inline(always)]
+    pub(crate) fn time_lanes<const N: usize>(&self, i: Lanes<N>) -> Lanes<N> {
+        let plain = i * Lanes::splat(self.dt);
+        match self.decimal_dt {
+            Some((m, scale)) => {
+                let decimal = i * Lanes::splat(m as f64) / Lanes::splat(scale);
+                Lanes::select(i.lt(Lanes::splat(((1u64 << 53) / m) as f64)), decimal, plain)
+            }
+            None => plain,
         }
     }
 }

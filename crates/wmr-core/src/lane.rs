@@ -184,9 +184,38 @@ impl<T: Real> Lane for T {
 #[repr(C, align(32))]
 pub struct Lanes<const N: usize>(pub [f64; N]);
 
-/// A boolean per lane of [`Lanes`].
+/// A boolean per lane of [`Lanes`], stored as SIMD compare results are: all ones
+/// (true) or all zeros (false) per 64-bit lane, so a select is a bitwise blend and a
+/// compare is one instruction (a `[bool; N]` costs a conversion each way).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct LaneMask<const N: usize>(pub [bool; N]);
+#[repr(C, align(32))]
+pub struct LaneMask<const N: usize>([u64; N]);
+
+impl<const N: usize> LaneMask<N> {
+    /// The mask of `bools`.
+    #[inline(always)]
+    pub fn from_bools(bools: [bool; N]) -> Self {
+        let mut out = [0; N];
+        for i in 0..N {
+            out[i] = u64::from(bools[i]).wrapping_neg();
+        }
+        LaneMask(out)
+    }
+
+    /// True in lane `i` only.
+    #[inline(always)]
+    pub fn lane_only(i: usize) -> Self {
+        let mut out = [0; N];
+        out[i] = !0;
+        LaneMask(out)
+    }
+
+    /// Lane `i`.
+    #[inline(always)]
+    pub fn lane(self, i: usize) -> bool {
+        self.0[i] != 0
+    }
+}
 
 impl<const N: usize> Default for Lanes<N> {
     fn default() -> Self {
@@ -215,9 +244,9 @@ impl<const N: usize> Lanes<N> {
     }
     #[inline(always)]
     fn test(self, o: Self, f: impl Fn(f64, f64) -> bool) -> LaneMask<N> {
-        let mut out = [false; N];
+        let mut out = [0; N];
         for i in 0..N {
-            out[i] = f(self.0[i], o.0[i]);
+            out[i] = u64::from(f(self.0[i], o.0[i])).wrapping_neg();
         }
         LaneMask(out)
     }
@@ -273,21 +302,33 @@ impl<const N: usize> Not for LaneMask<N> {
     type Output = Self;
     #[inline(always)]
     fn not(self) -> Self {
-        LaneMask(self.0.map(|b| !b))
+        let mut out = self.0;
+        for i in 0..N {
+            out[i] = !out[i];
+        }
+        LaneMask(out)
     }
 }
 impl<const N: usize> Mask for LaneMask<N> {
     #[inline(always)]
     fn all(self) -> bool {
-        self.0.iter().all(|&b| b)
+        let mut acc = !0;
+        for i in 0..N {
+            acc &= self.0[i];
+        }
+        acc != 0
     }
     #[inline(always)]
     fn any(self) -> bool {
-        self.0.iter().any(|&b| b)
+        let mut acc = 0;
+        for i in 0..N {
+            acc |= self.0[i];
+        }
+        acc != 0
     }
     #[inline(always)]
     fn splat(b: bool) -> Self {
-        LaneMask([b; N])
+        LaneMask([u64::from(b).wrapping_neg(); N])
     }
 }
 
@@ -395,11 +436,9 @@ impl<const N: usize> Lane for Lanes<N> {
     }
     #[inline(always)]
     fn select(m: LaneMask<N>, a: Self, b: Self) -> Self {
-        let mut out = b.0;
+        let mut out = [0.0; N];
         for i in 0..N {
-            if m.0[i] {
-                out[i] = a.0[i];
-            }
+            out[i] = f64::from_bits((a.0[i].to_bits() & m.0[i]) | (b.0[i].to_bits() & !m.0[i]));
         }
         Lanes(out)
     }
@@ -457,11 +496,13 @@ impl<const N: usize> Lane for Lanes<N> {
         let (mut sin, mut cos) = ([0.0; N], [0.0; N]);
         for i in 0..N {
             let q = shifted.0[i].to_bits();
-            let swap = q & 1 != 0;
-            let (a, b) = (if swap { c.0[i] } else { s.0[i] }, if swap { s.0[i] } else { c.0[i] });
+            // Odd quadrants swap sin and cos (a bitwise blend, so it vectorizes).
+            let swap = (q & 1).wrapping_neg();
+            let (s, c) = (s.0[i].to_bits(), c.0[i].to_bits());
+            let (a, b) = ((c & swap) | (s & !swap), (s & swap) | (c & !swap));
             // Bit 1 of q (and of q + 1) is the sign of sin (cos): moved to the sign bit.
-            sin[i] = f64::from_bits(a.to_bits() ^ ((q & 2) << 62));
-            cos[i] = f64::from_bits(b.to_bits() ^ ((q.wrapping_add(1) & 2) << 62));
+            sin[i] = f64::from_bits(a ^ ((q & 2) << 62));
+            cos[i] = f64::from_bits(b ^ ((q.wrapping_add(1) & 2) << 62));
         }
         (Lanes(sin), Lanes(cos))
     }
@@ -491,7 +532,8 @@ impl<const N: usize> Lane for Lanes<N> {
     }
     #[inline(always)]
     fn is_finite(self) -> LaneMask<N> {
-        LaneMask(self.0.map(f64::is_finite))
+        // 0 x is (+-)0 for a finite x and NaN for an infinite or NaN one.
+        (self * Lanes::splat(0.0)).eq(Lanes::splat(0.0))
     }
 }
 
@@ -568,5 +610,31 @@ mod tests {
         }
         let m = Lanes([1.0, 5.0]).lt(Lanes([2.0, 2.0]));
         assert_eq!(Lanes::select(m, Lanes([10.0, 20.0]), Lanes([30.0, 40.0])), Lanes([10.0, 40.0]));
+    }
+
+    /// Masks: finiteness, a select that keeps every bit (signed zeros, NaN), the lane
+    /// logic, and the conversions the batch uses.
+    #[test]
+    fn masks_per_lane() {
+        let x = Lanes([0.0, -0.0, 1e308, -5e-324, f64::INFINITY, f64::NEG_INFINITY, f64::NAN, -1.0]);
+        let finite = x.is_finite();
+        let expected = [true, true, true, true, false, false, false, true];
+        assert_eq!(finite, LaneMask::from_bools(expected));
+        for (i, e) in expected.iter().enumerate() {
+            assert_eq!(finite.lane(i), *e, "lane {i}");
+            assert_eq!(finite.lane(i), x.0[i].is_finite(), "lane {i}");
+        }
+        let picked = Lanes::select(finite, x, Lanes::splat(7.0));
+        let bits = |l: Lanes<8>| l.0.map(f64::to_bits);
+        let want = [0.0, -0.0, 1e308, -5e-324, 7.0, 7.0, 7.0, -1.0];
+        assert_eq!(bits(picked), want.map(f64::to_bits));
+        let nan_kept = Lanes::select(!finite, x, Lanes::splat(0.0));
+        assert!(nan_kept.0[6].is_nan() && nan_kept.0[4] == f64::INFINITY && nan_kept.0[0] == 0.0);
+        assert!(finite.any() && !finite.all() && (finite | !finite).all() && !(finite & !finite).any());
+        assert_eq!(
+            LaneMask::<8>::lane_only(4),
+            LaneMask::from_bools([false, false, false, false, true, false, false, false])
+        );
+        assert!(LaneMask::<8>::splat(true).all() && !LaneMask::<8>::splat(false).any());
     }
 }

@@ -174,7 +174,7 @@ impl<const N: usize> Metrics<Lanes<N>> {
     pub fn lane(&self, i: usize) -> Metrics<f64> {
         Metrics {
             arrival_radius_sq: self.arrival_radius_sq,
-            arrived: self.arrived.0[i],
+            arrived: self.arrived.lane(i),
             arrived_since: self.arrived_since.0[i],
             peak_wheel_speed: self.peak_wheel_speed.0[i],
             path_length: self.path_length.0[i],

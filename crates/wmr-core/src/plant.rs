@@ -160,7 +160,12 @@ impl<T: Real> Plant<T> {
     #[inline(always)]
     pub(crate) fn held_torque_lanes<L: Lane<Scalar = T>>(&self, command: Wheels<L>) -> Wheels<L> {
         let d = self.drive;
-        if d.is_speed_independent() { command.map(|c| d.wheel_torque(c, L::splat(T::zero()))) } else { command }
+        if d.is_speed_independent() {
+            let zero = L::splat(T::zero());
+            Wheels::new(d.wheel_torque(command.right, zero), d.wheel_torque(command.left, zero))
+        } else {
+            command
+        }
     }
 
     /// One RK4 step of `dt` (s) from `state` at `t` (s) under `command` (held
