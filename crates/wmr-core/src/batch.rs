@@ -149,7 +149,13 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
                 let finite = new.iter().fold(zero, |acc, &c| acc + c * zero).eq(zero);
                 let inside = stepped.x.abs().le(bound) & stepped.y.abs().le(bound);
                 let ok = finite & inside;
-                self.state = State::from_array(core::array::from_fn(|k| Lanes::select(ok, new[k], old[k])));
+                // Almost always every lane is fine: a plain store (the compiler turns a
+                // select into a masked store, which costs more than the rest of the update).
+                self.state = if ok.all() {
+                    stepped
+                } else {
+                    State::from_array(core::array::from_fn(|k| Lanes::select(ok, new[k], old[k])))
+                };
                 self.steps = self.steps + Lanes::select(ok & self.active, one, zero);
                 let failed = self.active & !ok;
                 if failed.any() {
