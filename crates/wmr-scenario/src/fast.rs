@@ -84,14 +84,7 @@ impl SweepSpec {
         if !exact {
             return self.run_lanes(sim, first..end, done, stop);
         }
-        let poll = || if stop() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
-        let mut out = Vec::with_capacity(end - first);
-        for k in first..end {
-            let ControlFlow::Continue(o) = self.run_exact(sim, k, poll)? else { return Ok(None) };
-            done();
-            out.push(o);
-        }
-        Ok(Some(out))
+        one_by_one(first..end, done, stop, |k, poll| self.run_exact(sim, k, poll))
     }
 
     /// [`SweepSpec::run`] on the fast path.
@@ -162,18 +155,12 @@ impl Scenario {
         let task = |t: usize| -> Result<Option<Vec<Outcome<f64>>>, ScenarioError> {
             let (first, end) = tasks[t];
             if !self.setup().sensor.is_perfect() {
-                let poll = || if stop() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
-                let mut out = Vec::with_capacity(end - first);
-                for i in first..end {
-                    let stream = i as u64 + stream_offset;
-                    let ControlFlow::Continue(r) = self.try_run_as(i, stream, |_| ControlFlow::Continue(()), poll)?
-                    else {
-                        return Ok(None);
-                    };
-                    done();
-                    out.push(r.outcome);
-                }
-                return Ok(Some(out));
+                return one_by_one(first..end, done, stop, |i, poll| {
+                    Ok(match self.try_run_as(i, i as u64 + stream_offset, |_| ControlFlow::Continue(()), poll)? {
+                        ControlFlow::Continue(r) => ControlFlow::Continue(r.outcome),
+                        ControlFlow::Break(()) => ControlFlow::Break(()),
+                    })
+                });
             }
             let path = format!("run[{first}]");
             let origin = Origin { run: &path, controller: "controller" };
@@ -222,6 +209,24 @@ fn lanes(
     // `run_all` ends every run it takes; a missing outcome would be a bug, reported as one.
     let outcomes: Option<Vec<Outcome<f64>>> = outcomes.into_iter().collect();
     outcomes.map(Some).ok_or_else(|| ScenarioError::new("sweep", "internal error: a run of the lanes did not end"))
+}
+
+/// Runs `range` one by one on the exact path (`run(k, poll)`, the runs that lanes cannot
+/// take), calling `done` after each: their outcomes in order, or `None` when `stop` said so.
+fn one_by_one<O>(
+    range: std::ops::Range<usize>,
+    done: &(dyn Fn() + Sync),
+    stop: &(dyn Fn() -> bool + Sync),
+    mut run: impl FnMut(usize, &dyn Fn() -> ControlFlow<()>) -> Result<ControlFlow<(), O>, ScenarioError>,
+) -> Result<Option<Vec<O>>, ScenarioError> {
+    let poll = || if stop() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
+    let mut out = Vec::with_capacity(range.len());
+    for k in range {
+        let ControlFlow::Continue(o) = run(k, &poll)? else { return Ok(None) };
+        done();
+        out.push(o);
+    }
+    Ok(Some(out))
 }
 
 /// The tasks' outcomes in order, or `None` if one was stopped.
