@@ -39,9 +39,15 @@ const LONG_WORK_STEPS: u64 = 2_000_000;
 /// (about a minute and more).
 pub const ANNOUNCE_WORK_STEPS: u128 = 100_000_000;
 
-/// Plant steps per second of one core, roughly (release build; the benches measure it):
-/// only for the announcement of long work.
+/// Plant steps per second of one core for logged runs and plots, roughly and on the slow
+/// side (release build; the benches measure it): only for the announcement of long work.
 const STEPS_PER_CORE_SECOND: f64 = 1e6;
+
+/// Plant steps per second of one core in a sweep (no samples kept), on the slow side of
+/// benches/README.md's figures: the exact path (about 150 ns per step) and the SIMD
+/// lanes of `--fast` (about 45 ns per run-step with AVX2).
+const SWEEP_STEPS_PER_CORE_SECOND: f64 = 5e6;
+const FAST_SWEEP_STEPS_PER_CORE_SECOND: f64 = 1.5e7;
 
 /// Output bytes per logged sample, by format: (below which no moving robot writes, typical).
 /// The free-space check refuses only work that surely cannot fit, on the first figure.
@@ -81,12 +87,25 @@ pub fn human_seconds(s: f64) -> String {
 
 /// Announces long work (more than [`ANNOUNCE_WORK_STEPS`]) with a rough duration.
 pub fn announce_work(steps: u128, what: &str) {
+    announce(steps, what, STEPS_PER_CORE_SECOND, false);
+}
+
+/// [`announce_work`] for a sweep, stepped `fast` or not; where runs stop once settled
+/// (`sim.stop_when_settled`), the steps and the time are upper bounds.
+pub fn announce_sweep(steps: u128, what: &str, fast: bool, stops_early: bool) {
+    let rate = if fast { FAST_SWEEP_STEPS_PER_CORE_SECOND } else { SWEEP_STEPS_PER_CORE_SECOND };
+    announce(steps, what, rate, stops_early);
+}
+
+fn announce(steps: u128, what: &str, steps_per_core_second: f64, at_most: bool) {
     if steps > ANNOUNCE_WORK_STEPS {
         let threads = rayon::current_num_threads().max(1) as f64;
-        let secs = steps as f64 / STEPS_PER_CORE_SECOND / threads;
+        let secs = steps as f64 / steps_per_core_second / threads;
+        let (up_to, roughly, why) =
+            if at_most { ("up to ", "at most roughly", " (runs stop once settled)") } else { ("", "roughly", "") };
         note(&format!(
-            "wmr-cli: {what}: {steps:.2e} plant steps, roughly {} on {threads} threads; Ctrl-C stops it and leaves \
-             OUT as it was",
+            "wmr-cli: {what}: {up_to}{steps:.2e} plant steps{why}, {roughly} {} on {threads} threads; Ctrl-C stops \
+             it and leaves OUT as it was",
             human_seconds(secs)
         ));
     }

@@ -11,7 +11,7 @@ use wmr_scenario::{SWEEP_COLUMNS, Scenario, SweepOutcome, SweepSpec, shown, summ
 
 use crate::atomic::{Output, write_text};
 use crate::errors::{bad_input, is_broken_pipe, note, say_raw};
-use crate::exec::announce_work;
+use crate::exec::announce_sweep;
 
 /// Output bytes per sweep CSV row below which no row is written (a row holds a law
 /// name, ten numbers and a status): the free-space check refuses only what surely
@@ -67,9 +67,11 @@ pub fn sweep(
     if let Some(dir) = plots {
         crate::plot_cmd::prepare_dir(dir)?;
     }
-    announce_work(
+    announce_sweep(
         u128::from(scenario.sim().n_steps()) * spec.len() as u128,
         &format!("{} laws x {} starts", spec.laws.len(), spec.starts.len()),
+        fast,
+        scenario.sim().stop_when_settled(),
     );
     let bar = if show_progress && spec.len() > 50 {
         let bar = ProgressBar::with_draw_target(Some(spec.len() as u64), ProgressDrawTarget::stderr());
