@@ -116,8 +116,12 @@ fn draw_bins(svg: &mut Svg, panel: &Panel, cells: &[SweepCell]) {
             continue;
         };
         let (i, j) = (n % BINS, n / BINS);
-        // Row j counts up from the bottom of the panel (y up); a hair of overlap hides seams.
-        let y = panel.y + panel.h - (j + 1) as f64 * bh;
-        svg.rect(panel.x + i as f64 * bw, y, bw + 0.05, bh + 0.05, status_color(Status::ALL[k]), None);
+        // Row j counts up from the bottom of the panel (y up). Each square reaches 0.4 pt
+        // under its right and upper neighbours (drawn after it, on top), which hides the
+        // seams a renderer draws between abutting squares (0.05 pt did not, in rsvg); the
+        // last column and row stay inside the panel.
+        let (ox, oy) = (if i + 1 < BINS { 0.4 } else { 0.0 }, if j + 1 < BINS { 0.4 } else { 0.0 });
+        let y = panel.y + panel.h - (j + 1) as f64 * bh - oy;
+        svg.rect(panel.x + i as f64 * bw, y, bw + ox, bh + oy, status_color(Status::ALL[k]), None);
     }
 }
