@@ -99,7 +99,8 @@ pub fn region_svg(title_text: &str, cells: &[SweepCell], goal: Pose2<f64>) -> Re
 
 /// The starts as a grid of [`BINS`] x [`BINS`] squares over the panel, each coloured by the
 /// most common outcome of the starts in it (a tie goes to the outcome listed first in
-/// [`Status::ALL`]); empty squares are left blank.
+/// [`Status::ALL`]); empty squares are left blank. Neighbours of one colour in a row are
+/// drawn as one rectangle: a map of one outcome is [`BINS`] rectangles, not BINS^2.
 fn draw_bins(svg: &mut Svg, panel: &Panel, cells: &[SweepCell]) {
     let mut counts = vec![[0u32; 3]; BINS * BINS];
     let bin =
@@ -109,19 +110,33 @@ fn draw_bins(svg: &mut Svg, panel: &Panel, cells: &[SweepCell]) {
         let k = Status::ALL.iter().position(|s| *s == c.outcome).unwrap_or(0);
         counts[j * BINS + i][k] += 1;
     }
+    // The outcome drawn in each square, if any start fell in it.
+    let shown: Vec<Option<usize>> = counts
+        .iter()
+        .map(|count| {
+            let best = count.iter().enumerate().filter(|(_, c)| **c > 0).max_by_key(|(k, c)| (**c, usize::MAX - k));
+            best.map(|(k, _)| k)
+        })
+        .collect();
     let (bw, bh) = (panel.w / BINS as f64, panel.h / BINS as f64);
-    for (n, count) in counts.iter().enumerate() {
-        let Some((k, _)) = count.iter().enumerate().filter(|(_, c)| **c > 0).max_by_key(|(k, c)| (**c, usize::MAX - k))
-        else {
-            continue;
-        };
-        let (i, j) = (n % BINS, n / BINS);
-        // Row j counts up from the bottom of the panel (y up). Each square reaches 0.4 pt
-        // under its right and upper neighbours (drawn after it, on top), which hides the
-        // seams a renderer draws between abutting squares (0.05 pt did not, in rsvg); the
-        // last column and row stay inside the panel.
-        let (ox, oy) = (if i + 1 < BINS { 0.4 } else { 0.0 }, if j + 1 < BINS { 0.4 } else { 0.0 });
-        let y = panel.y + panel.h - (j + 1) as f64 * bh - oy;
-        svg.rect(panel.x + i as f64 * bw, y, bw + ox, bh + oy, status_color(Status::ALL[k]), None);
+    for j in 0..BINS {
+        let row = &shown[j * BINS..(j + 1) * BINS];
+        let mut i = 0;
+        while i < BINS {
+            let Some(k) = row[i] else {
+                i += 1;
+                continue;
+            };
+            let run = row[i..].iter().take_while(|s| **s == Some(k)).count();
+            // Row j counts up from the bottom of the panel (y up). Each rectangle reaches
+            // 0.4 pt under its right and upper neighbours (drawn after it, on top), which
+            // hides the seams a renderer draws between abutting shapes (0.05 pt did not, in
+            // rsvg); the last column and row stay inside the panel.
+            let ox = if i + run < BINS { 0.4 } else { 0.0 };
+            let oy = if j + 1 < BINS { 0.4 } else { 0.0 };
+            let y = panel.y + panel.h - (j + 1) as f64 * bh - oy;
+            svg.rect(panel.x + i as f64 * bw, y, run as f64 * bw + ox, bh + oy, status_color(Status::ALL[k]), None);
+            i += run;
+        }
     }
 }
