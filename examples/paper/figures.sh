@@ -2,7 +2,11 @@
 # Regenerates every figure in examples/paper/figures/ (SVG) from the scenarios here and
 # examples/compare.toml, and prints the summary lines and tables quoted in README.md.
 #   examples/paper/figures.sh            # from the repository root; about 5 min on 2 cores
+#   examples/paper/figures.sh --maps     # also the two 1,000,000-start maps (map-*.toml,
+#                                        # --fast): about 40 min more on 2 cores
 set -euo pipefail
+maps=false
+if [ "${1:-}" = "--maps" ]; then maps=true; fi
 cd "$(dirname "$0")/../.."
 cargo build --release -q -p wmr-cli
 w=./target/release/wmr-cli
@@ -34,4 +38,11 @@ echo "== compare (1,000 starts x 4 laws, 180 s)"
 for law in paper paper_bidirectional polar lyapunov; do
   cp "$out/compare/region-$law.svg" "$figs/region-$law.svg"
 done
+if $maps; then
+  for law in paper_bidirectional paper; do
+    echo "== map-$law (1,000,000 starts, --fast)"
+    "$w" sweep "examples/paper/map-$law.toml" --fast -o "$out/map-$law.csv" --plots "$out/map-$law"
+    cp "$out/map-$law/region-$law.svg" "$figs/map-$law.svg"
+  done
+fi
 echo "figures written to $figs"
