@@ -18,12 +18,12 @@
 
 use crate::closed_loop::{StepClock, control_every};
 use crate::controller::{Controller, Law};
-use crate::error::ParamError;
+use crate::error::{ParamError, check};
 use crate::kinematics::wheel_speeds_lanes;
 use crate::lane::{Lane, LaneMask, Lanes, Mask};
 use crate::math::{Pose2, Wheels};
 use crate::outcome::{Metrics, Outcome, Termination};
-use crate::plant::{DIVERGENCE_BOX_M, Plant};
+use crate::plant::{DIVERGENCE_BOX_M, Plant, all_finite};
 use crate::sensor::Measurement;
 use crate::settle::SettleWatch;
 use crate::state::State;
@@ -71,6 +71,10 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
         stop_when_settled: bool,
     ) -> Result<Self, ParamError> {
         let control_every = control_every(&plant, controller.control_dt(), dt)?;
+        // Each lane counts its steps in an f64, exact up to 2^53 (a scenario allows 1e9).
+        if n_steps > 1 << 53 {
+            return Err(check::out_of_range("t_end", "more than 2^53 plant steps", n_steps as f64));
+        }
         let zero = Lanes::splat(0.0);
         Ok(Self {
             plant,
@@ -103,7 +107,7 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
     ) {
         let dt = self.clock.dt;
         let bound = Lanes::splat(DIVERGENCE_BOX_M);
-        // Exact as an f64 for any count a scenario allows (t_end / dt <= 1e9).
+        // Exact as an f64: `new` refuses more than 2^53 steps.
         let last_step = Lanes::splat(self.n_steps as f64);
         let (one, zero) = (Lanes::splat(1.0), Lanes::splat(0.0));
         let goal = self.goal_lanes();
@@ -145,8 +149,7 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
                     Lanes::splat(dt),
                 );
                 let (new, old) = (stepped.to_array(), self.state.to_array());
-                // 0 * c is 0 for a finite c and NaN otherwise: one check for the whole state.
-                let finite = new.iter().fold(zero, |acc, &c| acc + c * zero).eq(zero);
+                let finite = all_finite(&stepped);
                 let inside = stepped.x.abs().le(bound) & stepped.y.abs().le(bound);
                 let ok = finite & inside;
                 // Almost always every lane is fine: a plain store (the compiler turns a

@@ -203,15 +203,15 @@ impl<T: Real> Plant<T> {
     }
 }
 
-/// True when every component of `s` is finite: the same test as [`State::is_finite`],
-/// written branch-free for the hot path. 0 c is a zero for a finite c and NaN for an
-/// infinite or NaN one, and a sum of zeros cannot overflow, so the sum is zero exactly
-/// when all seven components are finite.
+/// True (per lane) when every component of `s` is finite: the same test as
+/// [`State::is_finite`], written branch-free for the hot path. 0 c is a zero for a finite
+/// c and NaN for an infinite or NaN one, and a sum of zeros cannot overflow, so the sum is
+/// zero exactly when all seven components are finite.
 #[inline(always)]
-fn all_finite<T: Real>(s: &State<T>) -> bool {
-    let z = T::zero();
+pub(crate) fn all_finite<L: Lane>(s: &State<L>) -> L::Mask {
+    let z = L::default();
     let sum = s.x * z + s.y * z + s.theta * z + s.v * z + s.omega * z + s.phi_r * z + s.phi_l * z;
-    sum == z
+    sum.eq(z)
 }
 
 /// The plant's right-hand side under a held command, for one run or several side by side.
