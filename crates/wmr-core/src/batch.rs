@@ -148,17 +148,14 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
                     Lanes::splat(0.0),
                     Lanes::splat(dt),
                 );
-                let (new, old) = (stepped.to_array(), self.state.to_array());
                 let finite = all_finite(&stepped);
                 let inside = stepped.x.abs().le(bound) & stepped.y.abs().le(bound);
                 let ok = finite & inside;
-                // Almost always every lane is fine: a plain store (the compiler turns a
-                // select into a masked store, which costs more than the rest of the update).
-                self.state = if ok.all() {
-                    stepped
-                } else {
-                    State::from_array(core::array::from_fn(|k| Lanes::select(ok, new[k], old[k])))
-                };
+                let mut state = self.state.to_array();
+                for (c, new) in state.iter_mut().zip(stepped.to_array()) {
+                    c.assign_where(ok, new);
+                }
+                self.state = State::from_array(state);
                 self.steps = self.steps + Lanes::select(ok & self.active, one, zero);
                 let failed = self.active & !ok;
                 if failed.any() {

@@ -291,15 +291,8 @@ impl<T: Lane> OuterLoops<T> {
         let far = T::splat(hold.goal_radius).lt(dl);
         let fresh = dy.atan2(dx);
         let alpha = T::select(far, fresh, T::select(self.has_alpha, self.last_alpha, alpha_at_goal));
-        if far.all() {
-            // The common case, as plain stores (a select into memory becomes a masked
-            // store, dearer than the rest of the tick's bookkeeping).
-            self.last_alpha = fresh;
-            self.has_alpha = far;
-        } else {
-            self.last_alpha = T::select(far, fresh, self.last_alpha);
-            self.has_alpha = self.has_alpha | far;
-        }
+        self.last_alpha.assign_where(far, fresh);
+        self.has_alpha = self.has_alpha | far;
         // Hold: inside the radius the outer errors are taken as zero and the integrators
         // stop, so u = Ki * int and the references stay put (zero errors; note the step on
         // entry: the proportional parts Kp e drop out at once), or the references of the
