@@ -8,8 +8,8 @@ use std::time::Duration;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use wmr_core::integrator::rk4_step;
 use wmr_core::{
-    ClosedLoop, Controller, DriveParams, FixedGoal, Measurement, PaperLaw, PaperParams, Plant, Pose2, Real, Robot,
-    State, WheelStage, WheelStageParams, Wheels,
+    ClosedLoop, Controller, DriveParams, FixedGoal, Measurement, PaperLaw, PaperParams, Plant, Pose2, Real,
+    ReferenceState, Robot, State, WheelStage, WheelStageParams, Wheels,
 };
 
 /// Fig. 7: (0, 0, 0) -> (1, 1, 120 deg), every default, dt = control_dt = 1 ms.
@@ -68,10 +68,10 @@ fn controller_update_at<T: Real>(
     let t = sim.time();
     let m =
         Measurement { t, pose: s.pose(), wheel_angles: s.wheel_angles(), wheel_speeds: s.wheel_speeds(robot.params()) };
-    let goal = fig7_goal::<T>();
+    let r = ReferenceState::at_rest(fig7_goal::<T>());
     let mut ctrl = *sim.controller();
     group.bench_function(BenchmarkId::from_parameter(name), |b| {
-        b.iter(|| ctrl.update(black_box(t), black_box(&m), black_box(goal)))
+        b.iter(|| ctrl.update(black_box(t), black_box(&m), black_box(&r)))
     });
 }
 

@@ -6,7 +6,8 @@ use wmr_core::controller::Law;
 use wmr_core::sensor::Sensor as _;
 use wmr_core::{
     ControlOutput, Controller, DriveParams, LyapunovLaw, LyapunovParams, Measurement, PaperLaw, PaperParams,
-    PerfectSensor, Plant, PolarLaw, PolarParams, Pose2, Robot, Termination, WheelStage, WheelStageParams, Wheels,
+    PerfectSensor, Plant, PolarLaw, PolarParams, Pose2, ReferenceState, Robot, Termination, WheelStage,
+    WheelStageParams, Wheels,
 };
 
 /// Plant steps: 60 s at 1 ms.
@@ -87,13 +88,13 @@ pub fn run<L: FirmwareLaw>(meter: &mut impl Meter) -> Option<Ran> {
     let wheels = WheelStage::new(&WheelStageParams::for_drive(&drive_params), robot.params(), &drive, DT).ok()?;
     let mut ctrl = Controller::new(L::build()?, wheels);
     let mut plant = Plant::new(robot, drive, Pose2::default()).ok()?;
-    let goal = goal();
+    let goal = ReferenceState::at_rest(goal());
     let mut sensor = PerfectSensor;
     let mut k = 0;
     loop {
         let t = k as f32 * DT;
         let m: Measurement<f32> = sensor.measure(t, plant.state(), robot.params());
-        let out = meter.update(&mut || ctrl.update(t, &m, goal));
+        let out = meter.update(&mut || ctrl.update(t, &m, &goal));
         plant.apply(out.command);
         if k == core::hint::black_box(STEPS) {
             break;

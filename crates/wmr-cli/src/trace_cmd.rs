@@ -10,15 +10,15 @@
 //!
 //! The scenario's values (f64) are rounded to f32 once, by writing the configuration
 //! words; the loop here is then built from the words read back, so the file describes
-//! exactly what ran. The loop is `ClosedLoop`'s: a control tick at t = 0 (measure,
-//! update, hold the command), then `control_dt / dt` RK4 steps between ticks, time as
-//! step count times dt.
+//! exactly what ran. The loop is `ClosedLoop` itself: a control tick at t = 0 (measure,
+//! update, hold the command), then `control_dt / dt` RK4 steps between ticks, time from
+//! the loop's clock (in f32, step count times dt).
 
 use std::io::Write as _;
 use std::path::Path;
 
 use anyhow::{Context as _, Result, anyhow};
-use wmr_core::{Controller, ParamError, Plant, PoseSensor, Sensor as _, SensorParams, State, WheelStage, Wheels};
+use wmr_core::{ClosedLoop, Controller, FixedGoal, ParamError, Plant, PoseSensor, SensorParams, WheelStage, Wheels};
 use wmr_ffi::trace::{self, Config, ConfigOf, Record};
 use wmr_scenario::{Scenario, ScenarioError};
 
@@ -102,7 +102,8 @@ fn sensor_f32(p: &SensorParams<f64>) -> SensorParams<f32> {
     }
 }
 
-/// Runs the loop of `config` in f32 for `n_steps` plant steps and returns every tick.
+/// Runs the loop of `config` in f32 for `n_steps` plant steps and returns every tick: the
+/// one loop ([`ClosedLoop`]), read at each control tick.
 pub fn run_f32(
     config: &Config,
     sensor: SensorParams<f32>,
@@ -113,39 +114,35 @@ pub fn run_f32(
     let model = config.model.validate()?;
     let drive = config.drive.validate(&robot)?;
     let world = config.world.validate()?;
-    let mut plant = Plant::on(robot, drive, world, config.start)?;
+    let plant = Plant::on(robot, drive, world, config.start)?;
     let law = config.law.build(model.params(), config.control_dt)?;
     let wheels = WheelStage::new(&config.wheels, model.params(), &drive, config.control_dt)?;
-    let mut controller = Controller::new(law, wheels);
-    let mut sensor = PoseSensor::<f32>::new(sensor, config.control_dt, run)?;
-    let dt = config.dt;
+    let controller = Controller::new(law, wheels);
+    let sensor = PoseSensor::<f32>::new(sensor, config.control_dt, run)?;
+    let goal = FixedGoal::new(config.goal)?;
+    let mut lp = ClosedLoop::with_sensor(plant, sensor, controller, goal, config.dt)?;
     let per_tick = u64::from(config.steps_per_tick);
-    let time = |step: u64| (step as f64) as f32 * dt;
     let mut records = Vec::with_capacity(usize::try_from(n_steps / per_tick + 1).unwrap_or(0));
-    let mut step = 0u64;
     loop {
-        let t = time(step);
-        let s: State<f32> = *plant.state();
-        let m = sensor.measure(t, &s, plant.robot().params());
-        let out = controller.update(t, &m, config.goal);
-        plant.apply(out.command);
+        // Right after a tick the plant still holds the state the sensor measured.
+        let tick = lp.last_tick();
+        let (m, r, out) = (tick.measurement, tick.reference.pose, tick.output);
         let Wheels { right: wr, left: wl } = m.wheel_speeds;
         records.push(Record {
-            t,
-            state: s.to_array(),
+            t: tick.t,
+            state: lp.state().to_array(),
             measurement: [m.t, m.pose.x, m.pose.y, m.pose.theta, m.wheel_angles.right, m.wheel_angles.left, wr, wl],
-            goal: [config.goal.x, config.goal.y, config.goal.theta],
+            goal: [r.x, r.y, r.theta],
             command: [out.command.right, out.command.left],
             errors: [out.errors.e_s, out.errors.e_theta, out.errors.dl],
         });
-        if step + per_tick > n_steps {
+        if lp.steps() + per_tick > n_steps {
             return Ok((records, false));
         }
         for _ in 0..per_tick {
-            if plant.step(time(step), dt).is_err() {
+            if lp.step().is_err() {
                 return Ok((records, true));
             }
-            step += 1;
         }
     }
 }

@@ -16,7 +16,8 @@
 //! `libm` in the last bits, and a closed loop carries such differences along. The clock,
 //! the control ticks, the metrics and the three outcomes are the same code.
 
-use crate::closed_loop::{StepClock, control_every};
+use crate::clock::StepClock;
+use crate::closed_loop::control_every;
 use crate::controller::{Controller, Law};
 use crate::error::{ParamError, check};
 use crate::kinematics::wheel_speeds_lanes;
@@ -24,6 +25,7 @@ use crate::lane::{Lane, LaneMask, Lanes, Mask};
 use crate::math::{Pose2, Wheels};
 use crate::outcome::{Metrics, Outcome, Termination};
 use crate::plant::{DIVERGENCE_BOX_M, Plant, all_finite};
+use crate::reference::ReferenceState;
 use crate::sensor::Measurement;
 use crate::settle::SettleWatch;
 use crate::state::State;
@@ -110,7 +112,7 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
         // Exact as an f64: `new` refuses more than 2^53 steps.
         let last_step = Lanes::splat(self.n_steps as f64);
         let (one, zero) = (Lanes::splat(1.0), Lanes::splat(0.0));
-        let goal = self.goal_lanes();
+        let goal = ReferenceState::at_rest(self.goal).splat().pose;
         let mut more = self.load(&mut next);
         self.control_tick();
         loop {
@@ -216,14 +218,8 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
             wheel_angles: Wheels::new(s.phi_r, s.phi_l),
             wheel_speeds: wheel_speeds_lanes(self.plant.robot().params(), s.v, s.omega),
         };
-        self.command = self.controller.update(t, &m, self.goal_lanes()).command;
+        self.command = self.controller.update(t, &m, &ReferenceState::at_rest(self.goal).splat()).command;
         self.held_torque = self.plant.held_torque_lanes(self.command);
-    }
-
-    /// The goal in every lane.
-    #[inline(always)]
-    fn goal_lanes(&self) -> Pose2<Lanes<N>> {
-        Pose2::new(Lanes::splat(self.goal.x), Lanes::splat(self.goal.y), Lanes::splat(self.goal.theta))
     }
 
     /// Ends lane `i`'s run with `termination` at its present state and frees the lane.

@@ -1,12 +1,16 @@
 //! The closed loop: plant stepped by RK4 at `dt`; every `control_dt` the sensor measures,
-//! the reference gives the goal, the controller updates and its command is held
+//! the reference gives its state, the controller updates and its command is held
 //! (zero-order hold). Samples go to a caller's sink; the outcome is judged from the
 //! true state against the reference. Nothing here allocates.
 //!
+//! This is the one stepping function of a single run: the scenario runner, the f32 trace
+//! (`wmr-cli trace`, replayed on the firmware) and the Python `simulate` all step a
+//! [`ClosedLoop`]; each control tick's inputs and outputs are kept as a [`Tick`].
+//!
 //! ```text
-//!   reference.goal_at(t) ─────────────┐
-//!                                     v
-//!   plant.state ─> sensor.measure ─> controller.update(t, m, goal) ─> plant.apply(command)
+//!   reference.state_at(t) ─────────────┐
+//!                                      v
+//!   plant.state ─> sensor.measure ─> controller.update(t, m, r) ─> plant.apply(command)
 //!        ^                                                                  │
 //!        └──────────────────── plant.step(t, dt) (RK4) <────────────────────┘
 //! ```
@@ -15,16 +19,28 @@ use core::convert::Infallible;
 use core::ops::ControlFlow;
 
 use crate::Real;
+use crate::clock::StepClock;
 use crate::controller::{ControlOutput, Controller, Law};
 use crate::error::{ParamError, check};
-use crate::lane::{Lane, Lanes};
-use crate::math::Pose2;
 use crate::outcome::{Metrics, Outcome, Termination};
 use crate::plant::Plant;
-use crate::reference::{FixedGoal, Reference};
+use crate::reference::{FixedGoal, Reference, ReferenceState};
 use crate::sample::Sample;
-use crate::sensor::{PerfectSensor, Sensor};
+use crate::sensor::{Measurement, PerfectSensor, Sensor};
 use crate::settle::SettleWatch;
+
+/// One control tick: what the controller was given and what it answered.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Tick<T> {
+    /// Time of the tick, s.
+    pub t: T,
+    /// What the sensor gave the controller.
+    pub measurement: Measurement<T>,
+    /// The reference state at `t`.
+    pub reference: ReferenceState<T>,
+    /// The drive commands, held until the next tick, and the law's errors.
+    pub output: ControlOutput<T>,
+}
 
 /// Why a step was refused: the run has diverged.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -48,9 +64,8 @@ pub struct ClosedLoop<T: Real, L, S = PerfectSensor, R = FixedGoal<T>> {
     control_every: u32,
     /// Plant steps left until the next control tick (a countdown instead of a `%` per step).
     steps_to_control: u32,
-    output: ControlOutput<T>,
-    /// The pose the controller used at the last tick.
-    measured: Pose2<T>,
+    /// The last control tick.
+    tick: Tick<T>,
     diverged: Option<Diverged<T>>,
     /// Stop a run once it has settled ([`crate::settle`]).
     stop_when_settled: bool,
@@ -85,8 +100,7 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
             step_index: 0,
             control_every,
             steps_to_control: control_every,
-            output: ControlOutput::default(),
-            measured: Pose2::default(),
+            tick: Tick::default(),
             diverged: None,
             stop_when_settled: false,
         };
@@ -151,13 +165,19 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
         self.diverged
     }
 
+    /// The last control tick (the first one runs at t = 0, in the constructor). The
+    /// plant's state is still the one measured until the next [`ClosedLoop::step`].
+    pub fn last_tick(&self) -> &Tick<T> {
+        &self.tick
+    }
+
     fn control_tick(&mut self) {
         let t = self.time();
-        let m = self.sensor.measure(t, self.plant.state(), self.plant.robot().params());
-        let goal = self.reference.goal_at(t);
-        self.measured = m.pose;
-        self.output = self.controller.update(t, &m, goal);
-        self.plant.apply(self.output.command);
+        let measurement = self.sensor.measure(t, self.plant.state(), self.plant.robot().params());
+        let reference = self.reference.state_at(t);
+        let output = self.controller.update(t, &measurement, &reference);
+        self.plant.apply(output.command);
+        self.tick = Tick { t, measurement, reference, output };
     }
 
     /// The sample at the current time.
@@ -168,8 +188,8 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
             state: *self.plant.state(),
             wheel_speeds: self.plant.wheel_speeds(),
             torque: self.plant.wheel_torque(),
-            errors: self.output.errors,
-            measured: self.measured,
+            errors: self.tick.output.errors,
+            measured: self.tick.measurement.pose,
         }
     }
 
@@ -240,7 +260,7 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
                     sink(&s)?;
                     last_logged = Some(self.step_index);
                 }
-                let goal = self.reference.goal_at(s.t);
+                let goal = self.reference.pose_at(s.t);
                 metrics.add_step(s.t, &s.state, s.wheel_speeds, s.torque, goal, self.clock.dt);
                 if let Some(w) = &mut watch
                     && w.settled(s.t, &s.state, goal, self.controller.holding())
@@ -256,7 +276,7 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
             done += chunk;
         }
         let last = self.sample();
-        let goal = self.reference.goal_at(last.t);
+        let goal = self.reference.pose_at(last.t);
         metrics.observe(last.t, &last.state, last.wheel_speeds, goal);
         if last_logged != Some(self.step_index) {
             sink(&last)?;
@@ -280,69 +300,4 @@ pub(crate) fn control_every<T: Real>(plant: &Plant<T>, control_dt: T, dt: T) -> 
         ));
     }
     check::whole_multiple("control_dt", control_dt, dt)
-}
-
-/// The time of step i, s: `i * dt`, exact for a short decimal `dt` in `f64` (see
-/// [`ClosedLoop::time`]). Shared with the lane batch ([`crate::batch`]), whose runs keep
-/// the same clock.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct StepClock<T> {
-    /// Plant step, s.
-    pub(crate) dt: T,
-    /// `dt` as an exact decimal `m / scale` (1 ms: m = 1, scale = 1e3), when it is one.
-    decimal_dt: Option<(u64, f64)>,
-}
-
-impl<T: Real> StepClock<T> {
-    pub(crate) fn new(dt: T) -> Self {
-        Self { dt, decimal_dt: decimal(dt) }
-    }
-
-    /// The time of step `i`, s.
-    #[inline(always)]
-    pub(crate) fn time(&self, i: u64) -> T {
-        match self.decimal_dt {
-            // i * m < 2^53 is exact in f64, so one rounding: the division.
-            Some((m, scale)) if i < (1u64 << 53) / m => T::lit((i * m) as f64 / scale),
-            _ => T::lit(i as f64) * self.dt,
-        }
-    }
-}
-
-impl StepClock<f64> {
-    /// [`StepClock::time`] of every lane's step, each given as a whole `f64` (exact below
-    /// 2^53): the same operations on the same numbers, so the same bits, without a
-    /// per-lane integer conversion.
-    #[inline(always)]
-    pub(crate) fn time_lanes<const N: usize>(&self, i: Lanes<N>) -> Lanes<N> {
-        let plain = i * Lanes::splat(self.dt);
-        match self.decimal_dt {
-            Some((m, scale)) => {
-                let decimal = i * Lanes::splat(m as f64) / Lanes::splat(scale);
-                Lanes::select(i.lt(Lanes::splat(((1u64 << 53) / m) as f64)), decimal, plain)
-            }
-            None => plain,
-        }
-    }
-}
-
-/// `dt` as `m / 10^k` with a whole `m` of at most 1e6 and k <= 12, when that quotient,
-/// rounded to `T`, is `dt` itself (1e-3 -> (1, 1e3); 2.5e-4 -> (25, 1e5)). Only for
-/// `f64`: in `f32` (firmware) the time stays the plain product `steps * dt`, the formula
-/// f32 traces replay tick for tick.
-fn decimal<T: Real>(dt: T) -> Option<(u64, f64)> {
-    // T is f64 exactly when it holds 0.1 as f64 does.
-    if T::lit(0.1).to_f64_lossless() != 0.1 {
-        return None;
-    }
-    let dt64 = dt.to_f64_lossless();
-    let mut scale = 1.0_f64;
-    for _ in 0..=12 {
-        let m = num_traits::Float::round(dt64 * scale);
-        if (1.0..=1e6).contains(&m) && <T as Real>::lit(m / scale) == dt {
-            return Some((m as u64, scale));
-        }
-        scale *= 10.0;
-    }
-    None
 }

@@ -24,7 +24,8 @@
 //! ```
 //!
 //! The loop is made of parts, each its own module: [`plant`] (the truth: robot, drive,
-//! RK4), [`sensor`] (what the controller sees), [`reference`](mod@reference) (the goal over time),
+//! RK4), [`sensor`] (what the controller sees), [`reference`](mod@reference) (the reference's
+//! pose, twist and acceleration over time),
 //! [`controller`] (an outer law and a wheel stage), [`closed_loop`] (ties them together
 //! and logs [`Sample`]s) and [`outcome`] (how the run went, from the true state).
 //!
@@ -39,6 +40,7 @@
 #![warn(missing_docs)]
 
 pub mod batch;
+pub mod clock;
 pub mod closed_loop;
 pub mod controller;
 pub mod drive;
@@ -61,7 +63,8 @@ pub mod settle;
 pub mod state;
 pub mod world;
 
-pub use closed_loop::{ClosedLoop, Diverged};
+pub use clock::StepClock;
+pub use closed_loop::{ClosedLoop, Diverged, Tick};
 pub use controller::{
     AnyLaw, ControlErrors, ControlOutput, Controller, ControllerParams, HoldMode, Law, LawParams, LyapunovLaw,
     LyapunovParams, PaperBidirectionalLaw, PaperBidirectionalParams, PaperLaw, PaperMode, PaperParams, PolarLaw,
@@ -74,7 +77,7 @@ pub use outcome::{ARRIVAL_RADIUS_M, Outcome, Status, Termination};
 pub use params::{Robot, RobotParams};
 pub use plant::Plant;
 pub use real::Real;
-pub use reference::{FixedGoal, Reference};
+pub use reference::{FixedGoal, Reference, ReferenceState};
 pub use sample::Sample;
 pub use sensor::{Measurement, PerfectSensor, PoseSensor, Sensor, SensorParams};
 pub use state::State;

@@ -1,26 +1,70 @@
-//! Where the robot should be: a [`Reference`] gives the goal pose at each time.
+//! Where the robot should be: a [`Reference`] gives, at each time, the state of a
+//! reference point C_ref ([`ReferenceState`]): its pose, its twist and its acceleration.
 //!
-//! Point stabilization needs only a [`FixedGoal`]; a time-varying reference (a moving
-//! target, a path) is another implementation, and the laws, which receive the goal at
-//! every tick, do not change.
+//! Point stabilization is the reference at rest ([`FixedGoal`]); a trajectory is a
+//! reference that moves, and a law that tracks it reads the twist and the acceleration as
+//! feedforward. The laws receive the whole state at every tick, so a new kind of reference
+//! is one more implementation of [`Reference`] and no law changes.
 
 use crate::Real;
 use crate::error::{ParamError, check};
-use crate::math::Pose2;
+use crate::lane::Lane;
+use crate::math::{Pose2, Twist2};
 
-/// The goal pose of C at time t.
+/// The reference point C_ref at one instant: what a law may follow.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ReferenceState<T> {
+    /// Pose of C_ref: x, y in m, theta in rad (world frame). For point stabilization, the goal.
+    pub pose: Pose2<T>,
+    /// Twist of C_ref: forward speed v in m/s along `pose.theta`, yaw rate omega in rad/s.
+    pub twist: Twist2<T>,
+    /// Its time derivative: v' in m/s^2, omega' in rad/s^2.
+    pub accel: Twist2<T>,
+}
+
+impl<T: Lane> ReferenceState<T> {
+    /// C_ref at rest at `pose` (point stabilization): zero twist and acceleration.
+    #[inline(always)]
+    pub fn at_rest(pose: Pose2<T>) -> Self {
+        Self { pose, twist: Twist2::default(), accel: Twist2::default() }
+    }
+
+    /// The same state in every lane ([`crate::lane`]): runs side by side that follow one
+    /// reference.
+    #[inline(always)]
+    pub fn splat<L: Lane<Scalar = T>>(&self) -> ReferenceState<L>
+    where
+        T: Real,
+    {
+        let twist = |t: Twist2<T>| Twist2 { v: L::splat(t.v), omega: L::splat(t.omega) };
+        ReferenceState {
+            pose: Pose2::new(L::splat(self.pose.x), L::splat(self.pose.y), L::splat(self.pose.theta)),
+            twist: twist(self.twist),
+            accel: twist(self.accel),
+        }
+    }
+}
+
+/// The state of C_ref at time t.
 pub trait Reference<T: Real> {
-    /// Goal pose of C (x, y in m, theta in rad, world frame) at time `t` (s).
-    fn goal_at(&self, t: T) -> Pose2<T>;
+    /// Pose, twist and acceleration of C_ref at time `t` (s).
+    fn state_at(&self, t: T) -> ReferenceState<T>;
 
-    /// True when the goal never moves: only then can a run that has come to rest be
+    /// Pose of C_ref (x, y in m, theta in rad, world frame) at time `t` (s): what the
+    /// outcome of a run is judged against.
+    #[inline(always)]
+    fn pose_at(&self, t: T) -> Pose2<T> {
+        self.state_at(t).pose
+    }
+
+    /// True when the reference never moves: only then can a run that has come to rest be
     /// stopped early ([`crate::settle`]).
     fn fixed(&self) -> bool {
         false
     }
 }
 
-/// A goal pose that does not move (point stabilization).
+/// A goal pose that does not move (point stabilization): the reference at rest.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FixedGoal<T>(Pose2<T>);
 
@@ -41,11 +85,43 @@ impl<T: Real> FixedGoal<T> {
 
 impl<T: Real> Reference<T> for FixedGoal<T> {
     #[inline(always)]
-    fn goal_at(&self, _t: T) -> Pose2<T> {
-        self.0
+    fn state_at(&self, _t: T) -> ReferenceState<T> {
+        ReferenceState::at_rest(self.0)
     }
 
     fn fixed(&self) -> bool {
         true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lane::Lanes;
+
+    #[test]
+    fn a_fixed_goal_is_the_reference_at_rest() {
+        let g = FixedGoal::new(Pose2::new(1.0, -2.0, 0.5)).unwrap();
+        let s = g.state_at(7.0);
+        assert_eq!(s.pose, Pose2::new(1.0, -2.0, 0.5));
+        assert_eq!(s.twist, Twist2 { v: 0.0, omega: 0.0 });
+        assert_eq!(s.accel, Twist2 { v: 0.0, omega: 0.0 });
+        assert_eq!(g.pose_at(3.0), s.pose);
+        assert!(g.fixed());
+    }
+
+    #[test]
+    fn splat_puts_every_component_in_every_lane() {
+        let s = ReferenceState {
+            pose: Pose2::new(1.0, 2.0, 3.0),
+            twist: Twist2 { v: 4.0, omega: 5.0 },
+            accel: Twist2 { v: 6.0, omega: 7.0 },
+        };
+        let l: ReferenceState<Lanes<4>> = s.splat();
+        for i in 0..4 {
+            let got =
+                [l.pose.x, l.pose.y, l.pose.theta, l.twist.v, l.twist.omega, l.accel.v, l.accel.omega].map(|c| c.0[i]);
+            assert_eq!(got, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
+        }
     }
 }

@@ -15,8 +15,8 @@ use wmr_core::sensor::{PerfectSensor, Sensor};
 use wmr_core::{
     ARRIVAL_RADIUS_M, AnyLaw, ClosedLoop, Controller, ControllerParams, DriveParams, FixedGoal, Law, LawParams,
     LyapunovLaw, LyapunovParams, Outcome, PaperLaw, PaperParams, ParamError, Plant, PolarLaw, PolarParams, Pose2, Real,
-    Reason, Robot, RobotParams, Sample, Status, Termination, Twist2, WheelDemand, WheelStage, WheelStageParams, Wheels,
-    wrap_angle,
+    Reason, ReferenceState, Robot, RobotParams, Sample, Status, Termination, Twist2, WheelDemand, WheelStage,
+    WheelStageParams, Wheels, wrap_angle,
 };
 
 const DT: f64 = 1e-3;
@@ -394,7 +394,7 @@ fn saturation_keeps_curvature_along_runs() {
             track_arrival(&mut arrived, sim.time(), miss(sim.state().pose(), goal).0);
             // dt = control_dt: every step ends with a control tick on the new state.
             let m = PerfectSensor.measure(sim.time(), sim.state(), robot.params());
-            let out = replay.update(sim.time(), &m, goal);
+            let out = replay.update(sim.time(), &m, &ReferenceState::at_rest(goal));
             let s = sim.sample();
             assert_eq!(out.errors, s.errors, "{what}: the replay is out of step");
             let WheelDemand::Twist(asked) = out.demand else { panic!("{what}: not a twist demand") };

@@ -10,7 +10,7 @@ use wmr_core::integrator::RK4_REAL_STABILITY_LIMIT;
 use wmr_core::world::STANDARD_GRAVITY;
 use wmr_core::{
     ClosedLoop, ControllerParams, DcMotorParams, DriveParams, FixedGoal, Measurement, PaperParams, Plant, Pose2,
-    PoseSensor, Robot, RobotParams, Sensor, SensorParams, State, WheelStageParams, Wheels, WorldParams,
+    PoseSensor, ReferenceState, Robot, RobotParams, Sensor, SensorParams, State, WheelStageParams, Wheels, WorldParams,
 };
 
 const DT: f64 = 1e-3;
@@ -106,7 +106,7 @@ fn late_and_slow_pose_equals_a_replay_by_hand() {
             wheel_angles: s.wheel_angles(),
             wheel_speeds: s.wheel_speeds(robot.params()),
         };
-        let out = ctrl.update(k as f64 * DT, &m, goal);
+        let out = ctrl.update(k as f64 * DT, &m, &ReferenceState::at_rest(goal));
         plant.apply(out.command);
         by_hand.push((s, seen));
         if k < n {

@@ -10,8 +10,8 @@ use wmr_core::controller::Law;
 use wmr_core::{
     Controller, DcMotorParams, Drive, DriveParams, HoldMode, LyapunovLaw, LyapunovParams, Measurement, PaperLaw,
     PaperMode, PaperParams, ParamError, PerfectSensor, Plant, PolarLaw, PolarParams, Pose2, PoseSensor, Real, Reason,
-    Robot, RobotParams, Sensor, SensorParams, State, Termination, TorqueDriveParams, WheelStage, WheelStageParams,
-    Wheels, WorldParams,
+    ReferenceState, Robot, RobotParams, Sensor, SensorParams, State, Termination, TorqueDriveParams, WheelStage,
+    WheelStageParams, Wheels, WorldParams,
 };
 
 use crate::*;
@@ -785,7 +785,7 @@ pub fn controller_update<T: Prec, L: CLaw<T>>(
             wheel_angles: Wheels::new(m.wheel_angles.right, m.wheel_angles.left),
             wheel_speeds: Wheels::new(m.wheel_speeds.right, m.wheel_speeds.left),
         };
-        let o = ctrl.update(t, &m, pose(goal));
+        let o = ctrl.update(t, &m, &ReferenceState::at_rest(pose(goal)));
         let out_value = wmr_control_output {
             command: c_wheels(o.command),
             e_s: o.errors.e_s,

@@ -11,7 +11,7 @@ use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyFloatingPointError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
-use wmr_core::{ControlOutput, Measurement, Pose2, Wheels};
+use wmr_core::{ControlOutput, Measurement, Pose2, ReferenceState, StepClock, Wheels};
 use wmr_scenario::BuiltController;
 
 use crate::convert::{finite_array, pose_table, type_name};
@@ -103,7 +103,8 @@ pub struct Lanes {
     /// The outputs of the tick being computed.
     next_last: Vec<ControlOutput<f64>>,
     goal: Pose2<f64>,
-    /// Control ticks since construction or reset: the time of a tick is ticks * control_dt.
+    /// Control ticks since construction or reset: the time of a tick is the loop's clock
+    /// ([`StepClock`]) at control_dt.
     ticks: u64,
     /// Whether the last update was batched (then `errors` is an array).
     batched: bool,
@@ -206,14 +207,16 @@ impl Lanes {
     /// One tick of every lane, from the measurement of lane i given by `m(i)`. All or
     /// nothing: a tick whose commands or errors are not finite leaves every lane as it was.
     fn tick(&mut self, n: usize, m: impl Fn(usize, f64) -> Measurement<f64>) -> PyResult<()> {
-        let t = self.ticks as f64 * self.proto.control_dt();
+        // The loop's own clock at control_dt: the bits a scenario run gives the law at this tick.
+        let t = StepClock::new(self.proto.control_dt()).time(self.ticks);
+        let r = ReferenceState::at_rest(self.goal);
         // The tick is computed into `next` and `next_last` and swapped in when every lane
         // is finite; the buffers are kept, so a tick allocates nothing after the first.
         self.next.clear();
         self.next.extend_from_slice(&self.lanes[..n]);
         self.next_last.clear();
         for (i, lane) in self.next.iter_mut().enumerate() {
-            let out = lane.update(t, &m(i, t), self.goal);
+            let out = lane.update(t, &m(i, t), &r);
             let e = out.errors;
             if ![out.command.right, out.command.left, e.e_s, e.e_theta, e.dl].iter().all(|v| v.is_finite()) {
                 return Err(PyFloatingPointError::new_err(format!(

@@ -8,7 +8,7 @@
 #![no_std]
 #![no_main]
 
-use wmr_core::{Controller, Measurement, Plant, Pose2, WheelStage, Wheels};
+use wmr_core::{Controller, Measurement, Plant, Pose2, ReferenceState, WheelStage, Wheels};
 use wmr_ffi::trace::{self, CONFIG_WORDS, Config, HEADER_WORDS, RECORD_WORDS, Record};
 use wmr_firmware::semi::{self, File};
 
@@ -85,7 +85,7 @@ fn main() -> ! {
             wheel_speeds: Wheels::new(wr, wl),
         };
         let goal = Pose2::new(r.goal[0], r.goal[1], r.goal[2]);
-        let out = ctrl.update(r.t, &m, goal);
+        let out = ctrl.update(r.t, &m, &ReferenceState::at_rest(goal));
         let got = [out.command.right, out.command.left, out.errors.e_s, out.errors.e_theta, out.errors.dl];
         let want = [r.command[0], r.command[1], r.errors[0], r.errors[1], r.errors[2]];
         if bits(got) == bits(want) {

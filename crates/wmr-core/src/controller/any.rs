@@ -11,7 +11,7 @@ use super::paper_bidirectional::{PaperBidirectionalLaw, PaperBidirectionalParams
 use super::polar::{PolarLaw, PolarParams};
 use crate::error::ParamError;
 use crate::lane::Lane;
-use crate::math::Pose2;
+use crate::reference::ReferenceState;
 use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
 
@@ -78,8 +78,8 @@ macro_rules! laws {
         impl<T: Lane> Law<T> for AnyLaw<T> {
             #[cfg_attr(target_os = "none", inline)]
             #[cfg_attr(not(target_os = "none"), inline(always))]
-            fn update(&mut self, t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
-                match self { $( AnyLaw::$variant(l) => l.update(t, m, goal), )+ }
+            fn update(&mut self, t: T, m: &Measurement<T>, r: &ReferenceState<T>) -> LawOutput<T> {
+                match self { $( AnyLaw::$variant(l) => l.update(t, m, r), )+ }
             }
 
             fn reset_lanes(&mut self, lanes: T::Mask) {

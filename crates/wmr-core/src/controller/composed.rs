@@ -1,6 +1,7 @@
 //! The controller: an outer law composed with a wheel stage, run every `control_dt`.
 //!
-//! `update(t, measurement, goal)`: the law turns the measurement and the goal into a
+//! `update(t, measurement, reference)`: the law turns the measurement and the reference
+//! state into a
 //! [`super::WheelDemand`]; the wheel stage turns that into one drive command per wheel,
 //! which the plant holds until the next tick.
 
@@ -11,7 +12,8 @@ use super::wheel_stage::{WheelStage, WheelStageParams};
 use crate::drive::Drive;
 use crate::error::{ParamError, check};
 use crate::lane::{Lane, Mask};
-use crate::math::{Pose2, Wheels};
+use crate::math::Wheels;
+use crate::reference::ReferenceState;
 use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
 
@@ -92,12 +94,12 @@ impl<T: Lane, L: Law<T>> Controller<T, L> {
     }
 
     /// One control tick at time `t` (s): drive commands (N m or V per wheel) from the
-    /// measurement and the goal pose (m, m, rad), and the law's errors. `t` is now; the
+    /// measurement and the reference state at `t`, and the law's errors. `t` is now; the
     /// measurement's own time `m.t` is when it was taken (earlier, for a late sensor).
     #[cfg_attr(target_os = "none", inline)]
     #[cfg_attr(not(target_os = "none"), inline(always))]
-    pub fn update(&mut self, t: T, m: &Measurement<T>, goal: Pose2<T>) -> ControlOutput<T> {
-        let out = self.law.update(t, m, goal);
+    pub fn update(&mut self, t: T, m: &Measurement<T>, r: &ReferenceState<T>) -> ControlOutput<T> {
+        let out = self.law.update(t, m, r);
         ControlOutput { command: self.wheels.command(out.demand, m), errors: out.errors }
     }
 

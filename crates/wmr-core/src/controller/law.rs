@@ -1,18 +1,23 @@
-//! The contract of an outer law: from (time, measurement, goal) to a demand on the
-//! wheels and the errors it logs. A new law is one file implementing [`Law`] plus one
+//! The contract of an outer law: from (time, measurement, reference state) to a demand
+//! on the wheels and the errors it logs. A new law is one file implementing [`Law`] plus one
 //! arm in [`super::any`].
 
 use crate::lane::{Lane, Mask};
-use crate::math::{Pose2, Twist2, Wheels};
+use crate::math::{Twist2, Wheels};
+use crate::reference::ReferenceState;
 use crate::sensor::Measurement;
 
 /// What a law asks of the wheel stage.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum WheelDemand<T> {
     /// Absolute wheel angle references (right, left), rad: the paper's law, (20)^-1.
     Angles(Wheels<T>),
     /// A body twist: v in m/s, omega in rad/s (laws in polar coordinates).
     Twist(Twist2<T>),
+    /// Wheel torques (right, left), N m at the wheel: laws that compute the torques from
+    /// the robot's dynamic model.
+    Torques(Wheels<T>),
 }
 
 impl<T: Lane> Default for WheelDemand<T> {
@@ -50,11 +55,12 @@ pub struct LawOutput<T> {
     pub errors: ControlErrors<T>,
 }
 
-/// An outer stabilization law, run once per control period.
+/// An outer law, run once per control period.
 pub trait Law<T: Lane> {
-    /// The demand on the wheels at time `t` (s) from measurement `m` and the goal pose
-    /// (x, y in m, theta in rad, world frame); advances the law's memories by one period.
-    fn update(&mut self, t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T>;
+    /// The demand on the wheels at time `t` (s) from measurement `m` and the reference
+    /// state `r` at `t` (pose in the world frame, twist and acceleration; a stabilization
+    /// law reads only `r.pose`, the goal); advances the law's memories by one period.
+    fn update(&mut self, t: T, m: &Measurement<T>, r: &ReferenceState<T>) -> LawOutput<T>;
 
     /// Clears integrators and memories, as at t = 0.
     fn reset(&mut self) {

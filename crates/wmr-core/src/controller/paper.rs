@@ -18,6 +18,7 @@ use super::law::{ControlErrors, Law, LawOutput, WheelDemand};
 use crate::error::{ParamError, check};
 use crate::lane::{Lane, Mask};
 use crate::math::{Pose2, Wheels, wrap_angle};
+use crate::reference::ReferenceState;
 use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
 use num_traits::Zero;
@@ -188,8 +189,8 @@ impl<T: Lane> PaperLaw<T> {
 impl<T: Lane> Law<T> for PaperLaw<T> {
     #[cfg_attr(target_os = "none", inline)]
     #[cfg_attr(not(target_os = "none"), inline(always))]
-    fn update(&mut self, _t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
-        let (refs, errors) = self.references(m.pose, goal);
+    fn update(&mut self, _t: T, m: &Measurement<T>, r: &ReferenceState<T>) -> LawOutput<T> {
+        let (refs, errors) = self.references(m.pose, r.pose);
         LawOutput { demand: WheelDemand::Angles(refs), errors }
     }
 

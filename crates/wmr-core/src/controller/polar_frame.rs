@@ -53,6 +53,7 @@ use crate::Real;
 use crate::error::{ParamError, check};
 use crate::lane::{Lane, Mask};
 use crate::math::{Pose2, Twist2, wrap_angle};
+use crate::reference::ReferenceState;
 use crate::sensor::Measurement;
 use num_traits::FloatConst;
 
@@ -322,9 +323,9 @@ impl<T: Real, G: PolarGains<T>> PolarCoordinateLaw<T, G> {
 impl<T: Lane, G: PolarGains<T::Scalar>> Law<T> for PolarCoordinateLaw<T, G> {
     #[cfg_attr(target_os = "none", inline)]
     #[cfg_attr(not(target_os = "none"), inline(always))]
-    fn update(&mut self, _t: T, m: &Measurement<T>, goal: Pose2<T>) -> LawOutput<T> {
-        let errors = polar_errors(m.pose, goal);
-        let twist = self.twist_at(m.pose, goal, errors.dl);
+    fn update(&mut self, _t: T, m: &Measurement<T>, r: &ReferenceState<T>) -> LawOutput<T> {
+        let errors = polar_errors(m.pose, r.pose);
+        let twist = self.twist_at(m.pose, r.pose, errors.dl);
         LawOutput { demand: WheelDemand::Twist(twist), errors }
     }
 

@@ -25,6 +25,10 @@
 //! angle error that alone saturates the drive; no clamp when the limit is infinite), so
 //! no lunge follows. Unlike a pure speed loop this keeps the position servo's stiffness.
 //!
+//! **Torque demands** (laws that compute wheel torques from the dynamic model): each
+//! wheel torque becomes the drive command that gives it at the measured wheel speed
+//! ([`Drive::command_for_wheel_torque`]); no servo runs.
+//!
 //! **The speed guard.** Limiting the references alone does not bound the wheels: a wheel
 //! catching up with its reference, or pushed by the other wheel through the chassis
 //! (the inertia coupling of (15)), overshoots it (the polar law on a 12 kg robot with DC
@@ -116,7 +120,8 @@ pub struct WheelStage<T: Lane> {
     max_gap: T::Scalar,
     /// Control period, s.
     dt: T::Scalar,
-    /// The wheel references of the last tick: angles (rad) or speeds (rad/s) by demand.
+    /// The wheel references of the last tick: angles (rad), speeds (rad/s) or torques
+    /// (N m) by demand.
     last_refs: Wheels<T>,
     /// The drive, whose commands the speed guard bounds.
     drive: Drive<T::Scalar>,
@@ -201,7 +206,7 @@ impl<T: Lane> WheelStage<T> {
     }
 
     /// The wheel references of the last tick: angles (rad) for angle demands, speeds
-    /// (rad/s) for twist demands.
+    /// (rad/s) for twist demands, wheel torques (N m) for torque demands.
     pub fn last_refs(&self) -> Wheels<T> {
         self.last_refs
     }
@@ -255,6 +260,13 @@ impl<T: Lane> WheelStage<T> {
                 self.phi_ref_set = T::Mask::splat(true);
                 command
             }
+            WheelDemand::Torques(tau) => {
+                self.last_refs = tau;
+                Wheels::new(
+                    self.drive.command_for_wheel_torque(tau.right, w.right),
+                    self.drive.command_for_wheel_torque(tau.left, w.left),
+                )
+            }
         }
     }
 
@@ -272,5 +284,43 @@ impl<T: Lane> WheelStage<T> {
         let zero = T::default();
         self.last_refs =
             Wheels::new(T::select(lanes, zero, self.last_refs.right), T::select(lanes, zero, self.last_refs.left));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Robot;
+    use crate::drive::DcMotorParams;
+    use crate::math::Pose2;
+
+    /// A torque demand becomes the command whose wheel torque, by the drive's own model at
+    /// the measured wheel speed, is the torque asked for.
+    #[test]
+    fn torque_demands_give_the_asked_wheel_torques_through_either_drive() {
+        let robot = Robot::<f64>::paper();
+        for params in [DriveParams::default(), DriveParams::DcMotor(DcMotorParams::default())] {
+            let drive = params.validate(&robot).unwrap();
+            let wheels = WheelStageParams::for_drive(&params);
+            let mut stage = WheelStage::new(&wheels, robot.params(), &drive, 1e-3).unwrap();
+            let speeds = Wheels::new(3.0, -1.5);
+            let m = Measurement {
+                t: 0.0,
+                pose: Pose2::default(),
+                wheel_angles: Wheels::new(0.4, 0.1),
+                wheel_speeds: speeds,
+            };
+            let tau = Wheels::new(0.35, -0.2);
+            let command = stage.command(WheelDemand::Torques(tau), &m);
+            let got = Wheels::new(
+                drive.wheel_torque(command.right, speeds.right),
+                drive.wheel_torque(command.left, speeds.left),
+            );
+            assert!(
+                (got.right - tau.right).abs() < 1e-12 && (got.left - tau.left).abs() < 1e-12,
+                "{params:?}: {got:?}"
+            );
+            assert_eq!(stage.last_refs(), tau);
+        }
     }
 }
