@@ -148,7 +148,7 @@ pub fn check_trace_memory(scenario: &Scenario) -> Result<()> {
     let sim = scenario.sim();
     let per_tick = (scenario.setup().controller.control_dt / sim.dt()).round().max(1.0) as u64;
     let ticks = u128::from(sim.n_steps() / per_tick + 1);
-    let bytes = ticks * size_of::<wmr_ffi::trace::Record>() as u128;
+    let bytes = ticks * size_of::<wmr_core::trace::Record>() as u128;
     match wmr_scenario::available_memory_bytes() {
         Some(avail) if bytes > u128::from(avail) => Err(bad_input(format!(
             "sim.t_end: a trace keeps every control tick in memory: {ticks} ticks take {} but only {} are \

@@ -112,7 +112,7 @@ enum Command {
     Trace {
         /// The scenario file (TOML).
         file: PathBuf,
-        /// Output file: .bin (the trace format of wmr_ffi::trace) or .csv.
+        /// Output file: .bin (the trace format of wmr_core::trace) or .csv.
         #[arg(short, long, value_name = "OUT")]
         output: PathBuf,
         /// Which [[run]] (0 = the first).

@@ -2,7 +2,7 @@
 //! as a microcontroller runs it, with every control tick's inputs (true state,
 //! measurement, goal) and outputs (drive command, the law's errors).
 //!
-//! The binary form is the trace format of `wmr_ffi::trace` (little-endian 32-bit words:
+//! The binary form is the trace format of `wmr_core::trace` (little-endian 32-bit words:
 //! header, the loop's configuration, one record per tick); the firmware's `replay`
 //! program checks it on the Cortex-M4F under QEMU, tick by tick, bit for bit. The CSV
 //! form has the same records, one row per tick, each f32 printed so it reads back to the
@@ -18,8 +18,8 @@ use std::io::Write as _;
 use std::path::Path;
 
 use anyhow::{Context as _, Result, anyhow};
+use wmr_core::trace::{self, Config, ConfigOf, Record};
 use wmr_core::{ClosedLoop, Controller, FixedGoal, ParamError, Plant, PoseSensor, SensorParams, WheelStage, Wheels};
-use wmr_ffi::trace::{self, Config, ConfigOf, Record};
 use wmr_scenario::{Scenario, ScenarioError};
 
 use crate::atomic::AtomicOut;
@@ -27,7 +27,7 @@ use crate::atomic::AtomicOut;
 /// The trace's file format, from OUT's extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TraceFormat {
-    /// `wmr_ffi::trace` words.
+    /// `wmr_core::trace` words.
     Bin,
     /// One row per tick.
     Csv,

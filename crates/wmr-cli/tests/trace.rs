@@ -5,8 +5,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use wmr_core::trace::{self, CONFIG_WORDS, Config, HEADER_WORDS, RECORD_WORDS, Record};
 use wmr_core::{ClosedLoop, Controller, FixedGoal, Plant, PoseSensor, SensorParams, WheelStage};
-use wmr_ffi::trace::{self, CONFIG_WORDS, Config, HEADER_WORDS, RECORD_WORDS, Record};
 
 fn cli(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wmr-cli")).args(args).output().expect("wmr-cli runs")

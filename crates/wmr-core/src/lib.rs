@@ -61,6 +61,7 @@ pub mod sample;
 pub mod sensor;
 pub mod settle;
 pub mod state;
+pub mod trace;
 pub mod world;
 
 pub use clock::StepClock;

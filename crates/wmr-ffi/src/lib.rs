@@ -48,10 +48,6 @@ extern crate std;
 mod api_f32;
 mod api_f64;
 mod imp;
-/// The control trace format (Rust only, not part of the C header).
-///
-/// cbindgen:ignore
-pub mod trace;
 
 pub use api_f32::*;
 pub use api_f64::*;

@@ -9,7 +9,7 @@
 #![no_main]
 
 use wmr_core::{Controller, Measurement, Plant, Pose2, ReferenceState, WheelStage, Wheels};
-use wmr_ffi::trace::{self, CONFIG_WORDS, Config, HEADER_WORDS, RECORD_WORDS, Record};
+use wmr_core::trace::{self, CONFIG_WORDS, Config, HEADER_WORDS, RECORD_WORDS, Record};
 use wmr_firmware::semi::{self, File};
 
 fn fail(what: &str) -> ! {

@@ -24,7 +24,7 @@
 //! commands, must reach each recorded state (the zero-order hold of `ClosedLoop`:
 //! control tick at t = 0, then `plant steps per tick` RK4 steps of `dt` between ticks).
 
-use wmr_core::{
+use crate::{
     DcMotorParams, DriveParams, HoldMode, LawParams, LyapunovParams, PaperBidirectionalParams, PaperMode, PaperParams,
     PolarParams, Pose2, Real, RobotParams, TorqueDriveParams, WheelStageParams, WorldParams,
 };
