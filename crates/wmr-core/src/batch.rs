@@ -1,8 +1,9 @@
 //! Many runs of one loop stepped side by side: the fast path of sweeps.
 //!
 //! A [`LaneBatch`] holds N runs that share the robot, the drive, the world, the
-//! controller's keys, the plant step and the goal (a sweep's runs of one law) and differ
-//! in their start pose. The plant and the controller run for all N at once through the
+//! controller's keys, the plant step and the reference (a sweep's runs of one law) and
+//! differ in their start pose. Each lane reads the reference at its own run's time (a
+//! fixed goal is read once). The plant and the controller run for all N at once through the
 //! same code as one run ([`crate::lane`]): [`Plant`]'s RK4 step and a
 //! [`Controller`]`<Lanes<N>, _>`, whose memories are per lane. The controller sees the
 //! true state, as with [`crate::PerfectSensor`]. Each run's metrics and settle rule are
@@ -22,21 +23,23 @@ use crate::controller::{Controller, Law};
 use crate::error::{ParamError, check};
 use crate::kinematics::wheel_speeds_lanes;
 use crate::lane::{Lane, LaneMask, Lanes, Mask};
-use crate::math::{Pose2, Wheels};
+use crate::math::{Pose2, Twist2, Wheels};
 use crate::outcome::{Metrics, Outcome, Termination};
 use crate::plant::{DIVERGENCE_BOX_M, Plant, all_finite};
-use crate::reference::ReferenceState;
+use crate::reference::{FixedGoal, Reference, ReferenceState};
 use crate::sensor::Measurement;
 use crate::settle::SettleWatch;
 use crate::state::State;
 
 /// N runs of one plant and controller stepped side by side (module docs).
 #[derive(Clone, Debug)]
-pub struct LaneBatch<const N: usize, L> {
+pub struct LaneBatch<const N: usize, L, R = FixedGoal<f64>> {
     /// The parameters every lane shares; its own state is not used.
     plant: Plant<f64>,
     controller: Controller<Lanes<N>, L>,
-    goal: Pose2<f64>,
+    reference: R,
+    /// The reference in every lane when it is fixed (read once).
+    fixed: Option<ReferenceState<Lanes<N>>>,
     clock: StepClock<f64>,
     control_every: u32,
     n_steps: u64,
@@ -59,15 +62,15 @@ pub struct LaneBatch<const N: usize, L> {
     tags: [u64; N],
 }
 
-impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
-    /// Lanes for runs towards `goal` (m, m, rad) of `n_steps` plant steps of `dt` (s) on
+impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
+    /// Lanes for runs following `reference` for `n_steps` plant steps of `dt` (s) on
     /// `plant`'s robot, drive and world, under `controller` (at t = 0; built for lanes
     /// with [`crate::ControllerParams::build_lanes`]), stopped once settled when
     /// `stop_when_settled` ([`crate::settle`]). Errors as [`crate::ClosedLoop::new`]'s.
     pub fn new(
         plant: Plant<f64>,
         controller: Controller<Lanes<N>, L>,
-        goal: Pose2<f64>,
+        reference: R,
         dt: f64,
         n_steps: u64,
         stop_when_settled: bool,
@@ -81,11 +84,13 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
         Ok(Self {
             plant,
             controller,
-            goal,
+            fixed: reference.fixed().then(|| reference.state_at(0.0).splat()),
+            // The settle rule needs a reference that does not move.
+            stop_when_settled: stop_when_settled && reference.fixed(),
+            reference,
             clock: StepClock::new(dt),
             control_every,
             n_steps,
-            stop_when_settled,
             global_step: 0,
             state: State::from_array([zero; 7]),
             command: Wheels::new(zero, zero),
@@ -112,7 +117,6 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
         // Exact as an f64: `new` refuses more than 2^53 steps.
         let last_step = Lanes::splat(self.n_steps as f64);
         let (one, zero) = (Lanes::splat(1.0), Lanes::splat(0.0));
-        let goal = ReferenceState::at_rest(self.goal).splat().pose;
         let mut more = self.load(&mut next);
         self.control_tick();
         loop {
@@ -125,6 +129,7 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
                 }
             }
             let t = self.clock.time_lanes(self.steps);
+            let goal = self.reference_lanes(t).pose;
             let speeds = wheel_speeds_lanes(self.plant.robot().params(), self.state.v, self.state.omega);
             let torque = self.plant.wheel_torque_lanes(&self.state, self.command, self.held_torque);
             self.metrics.add_step(t, &self.state, speeds, torque, goal, Lanes::splat(dt));
@@ -218,8 +223,24 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
             wheel_angles: Wheels::new(s.phi_r, s.phi_l),
             wheel_speeds: wheel_speeds_lanes(self.plant.robot().params(), s.v, s.omega),
         };
-        self.command = self.controller.update(t, &m, &ReferenceState::at_rest(self.goal).splat()).command;
+        let r = self.reference_lanes(t);
+        self.command = self.controller.update(t, &m, &r).command;
         self.held_torque = self.plant.held_torque_lanes(self.command);
+    }
+
+    /// The reference state of every lane at its own time `t` (s).
+    #[inline(always)]
+    fn reference_lanes(&self, t: Lanes<N>) -> ReferenceState<Lanes<N>> {
+        if let Some(fixed) = self.fixed {
+            return fixed;
+        }
+        let at: [ReferenceState<f64>; N] = core::array::from_fn(|i| self.reference.state_at(t.0[i]));
+        let lanes = |f: fn(&ReferenceState<f64>) -> f64| Lanes(core::array::from_fn(|i| f(&at[i])));
+        ReferenceState {
+            pose: Pose2::new(lanes(|r| r.pose.x), lanes(|r| r.pose.y), lanes(|r| r.pose.theta)),
+            twist: Twist2 { v: lanes(|r| r.twist.v), omega: lanes(|r| r.twist.omega) },
+            accel: Twist2 { v: lanes(|r| r.accel.v), omega: lanes(|r| r.accel.omega) },
+        }
     }
 
     /// Ends lane `i`'s run with `termination` at its present state and frees the lane.
@@ -232,10 +253,11 @@ impl<const N: usize, L: Law<Lanes<N>>> LaneBatch<N, L> {
         // Whole and below 2^53: the cast is exact.
         let t = self.clock.time(self.steps.0[i] as u64);
         let mut metrics = self.metrics.lane(i);
-        metrics.observe(t, &s, s.wheel_speeds(self.plant.robot().params()), self.goal);
-        done(self.tags[i], metrics.finish(t, &s, self.goal, termination));
+        let goal = self.reference.pose_at(t);
+        metrics.observe(t, &s, s.wheel_speeds(self.plant.robot().params()), goal);
+        done(self.tags[i], metrics.finish(t, &s, goal, termination));
         // A benign state until the lane takes its next run.
-        set_lane(&mut self.state, i, &State::at_rest(self.goal));
+        set_lane(&mut self.state, i, &State::at_rest(goal));
     }
 }
 

@@ -184,7 +184,7 @@ fn lanes(
     stop: &(dyn Fn() -> bool + Sync),
 ) -> Result<Option<Vec<Outcome<f64>>>, ScenarioError> {
     let plant = setup.plant(goal).map_err(|e| origin.key_of(&e))?;
-    let goal = FixedGoal::new(goal).map_err(|e| origin.key_of(&e))?.pose();
+    let goal = FixedGoal::new(goal).map_err(|e| origin.key_of(&e))?;
     let controller = setup.controller.build_lanes(setup.model.params(), &setup.drive).map_err(|e| origin.key_of(&e))?;
     let mut batch = Batch::new(plant, controller, goal, sim.dt(), sim.n_steps(), sim.stop_when_settled())
         .map_err(|e| origin.key_of(&e))?;
