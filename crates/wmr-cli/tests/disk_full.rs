@@ -1,5 +1,6 @@
 //! Issue 12, defects 6 and 7 on a real full disk: a small tmpfs mounted for the test
-//! (needs root; skipped with a message where mounting is not allowed).
+//! (needs root and mount permission; where mounting is not allowed the tests record a skip,
+//! a failure under `WMR_REQUIRE=tmpfs`: `tests/skip/mod.rs`).
 //!
 //! - Output that cannot fit is refused before any work, naming the key to change.
 //! - Output that fits by the estimate but not in fact stops at the first failed write
@@ -10,24 +11,33 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
+mod skip;
+
 /// A tmpfs of `size` mounted on a fresh folder, unmounted when dropped.
 struct Tmpfs {
     dir: tempfile::TempDir,
 }
 
 impl Tmpfs {
+    /// The mounted tmpfs, or `None` after recording a skip (capability `tmpfs`).
     fn mount(size: &str) -> Option<Self> {
-        let dir = tempfile::tempdir().ok()?;
-        let ok = Command::new("mount")
-            .args(["-t", "tmpfs", "-o", &format!("size={size}"), "tmpfs", dir.path().to_str()?])
-            .stderr(std::process::Stdio::null())
-            .status()
-            .is_ok_and(|s| s.success());
-        if !ok {
-            eprintln!("SKIPPED: cannot mount a tmpfs here (not root, or no mount permission)");
-            return None;
+        let dir = tempfile::tempdir().unwrap();
+        let o = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", &format!("size={size}"), "tmpfs"])
+            .arg(dir.path())
+            .output();
+        match o {
+            Ok(o) if o.status.success() => Some(Self { dir }),
+            Ok(o) => {
+                let why = text(&o.stderr);
+                skip::missing("tmpfs", &format!("cannot mount a tmpfs (needs root): {}", why.trim()));
+                None
+            }
+            Err(e) => {
+                skip::missing("tmpfs", &format!("cannot run mount: {e}"));
+                None
+            }
         }
-        Some(Self { dir })
     }
 
     fn path(&self) -> &Path {

@@ -3,7 +3,8 @@
 //! grid, the path the 3D panel shows after a seek (Foxglove reads back only the latest
 //! message of each topic), the bytes a seek decompresses, and a layout that names only
 //! topics and fields the file has. The file is also read by Foxglove's own TypeScript
-//! readers (`tests/foxglove-js/check.mjs`) when they are installed.
+//! readers (`tests/foxglove-js/check.mjs`); where node or its packages are missing that
+//! test records a skip, a failure under `WMR_REQUIRE=node` (`tests/skip/mod.rs`).
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::fs;
@@ -15,6 +16,8 @@ use prost::Message as _;
 use prost_types::FileDescriptorSet;
 use prost_types::field_descriptor_proto::Type;
 use wmr_scenario::{MEASURED_COLUMNS, SAMPLE_COLUMNS};
+
+mod skip;
 
 fn run(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wmr-cli")).args(args).output().expect("spawn wmr-cli")
@@ -653,10 +656,8 @@ fn foxglove_typescript_readers_read_every_message() {
     let js = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/foxglove-js");
     let node_ok = Command::new("node").arg("--version").output().is_ok_and(|o| o.status.success());
     if !node_ok || !js.join("node_modules/@mcap/core").is_dir() {
-        eprintln!(
-            "skipped: Foxglove's TypeScript readers are not installed (needs node, then `npm ci --ignore-scripts` in {})",
-            js.display()
-        );
+        let what = if node_ok { "Foxglove's npm packages are not installed" } else { "node is not on PATH" };
+        skip::missing("node", &format!("{what} (needs node, then `npm ci --ignore-scripts` in {})", js.display()));
         return;
     }
     let dir = tempfile::tempdir().unwrap();

@@ -59,7 +59,9 @@ fn sweep_outcomes_match_single_runs() {
         assert_eq!(r.outcome, o.outcome, "start {i}");
         diverged += usize::from(r.diverged());
     }
-    println!("{diverged} of 12 diverged");
+    // Both outcomes are compared: 2 of these 12 starts diverge (the exact path is
+    // deterministic, so the count is exact).
+    assert_eq!(diverged, 2, "of 12 starts");
 }
 
 #[test]
@@ -78,11 +80,11 @@ fn bad_sweeps_name_their_key() {
             "[sweep]\ncontrollers = [{ kind = \"paper\" }, { kind = \"polar\", k_rho = -1.0 }]\nrandom = { n = 5, radius = 1.0 }\n",
             "sweep.controllers[1].k_rho",
         ),
-        ("[sweep]\nrandom = { n = 5, radius = 1.0, colour = 3 }\n", "colour"),
+        ("[sweep]\nrandom = { n = 5, radius = 1.0, colour = 3 }\n", "sweep.random.colour"),
     ];
     for (text, key) in cases {
         let e = Scenario::from_toml_str(text, "bad").expect_err(text);
-        assert!(e.key.contains(key) || e.to_string().contains(key), "{text:?}: {e} does not name {key}");
+        assert_eq!(e.key, key, "{text:?}: {e}");
     }
 }
 
