@@ -52,7 +52,7 @@ mod stop;
 mod sweep;
 pub mod vary;
 
-pub use assemble::{BuiltController, RunLoop};
+pub use assemble::RunLoop;
 pub use controller::{controller_keys, law_kinds};
 pub use error::{ScenarioError, escape_controls, is_unsafe_char};
 pub use file::{GridFile, PoseFile, RandomFile, RunFile, ScenarioFile, SimFile, SweepFile};
@@ -65,7 +65,7 @@ pub use output::{
 pub use run::RunSpec;
 pub use scenario::Scenario;
 pub use schema::{SchemaKey, schema};
-pub use setup::{Setup, Tables};
+pub use setup::{BuiltController, Setup, Tables};
 pub use sim::{DEFAULT_LOG_DT_S, DEFAULT_T_END_S, MAX_STEPS, MAX_T_END_S, SimSpec};
 pub use sweep::{
     LawSummary, MAX_SWEEP_RUNS, SWEEP_COLUMNS, Spread, StartsSource, SweepOutcome, SweepSpec, summarize, summary_table,

@@ -7,13 +7,13 @@ use std::path::Path;
 use toml::Value;
 use wmr_core::{ControllerParams, Drive, Pose2, Robot, RobotParams, Sample, SensorParams, WorldParams};
 
-use crate::assemble::{self, BuiltController, Origin, RunLoop};
+use crate::assemble::{self, Origin, RunLoop};
 use crate::error::ScenarioError;
 use crate::file::{RunFile, ScenarioFile, SimFile};
 use crate::keys::{fields_of, fields_read_by, join, to_table, toml_f64, write_keys};
 use crate::output::RunResult;
 use crate::run::{RunSpec, short};
-use crate::setup::{Setup, Tables};
+use crate::setup::{BuiltController, Setup, Tables};
 use crate::sim::SimSpec;
 use crate::sweep::SweepSpec;
 use crate::{controller, limits, locate};
