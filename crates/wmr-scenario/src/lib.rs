@@ -32,6 +32,8 @@
 //! and, for TOML, the line.
 
 mod assemble;
+mod bounds;
+mod budget;
 pub mod chunk;
 mod controller;
 mod error;
@@ -39,9 +41,10 @@ pub mod executor;
 pub mod fast;
 mod file;
 pub mod keys;
-mod limits;
 mod locate;
+mod memory;
 mod output;
+mod read;
 pub mod robustness;
 mod run;
 mod scenario;
@@ -51,23 +54,24 @@ mod sim;
 mod stop;
 mod sweep;
 pub mod vary;
+mod warnings;
 
 pub use assemble::RunLoop;
+pub use budget::{MAX_SWEEP_RUNS, MAX_TOTAL_STEPS};
 pub use controller::{controller_keys, law_kinds};
-pub use error::{ScenarioError, escape_controls, is_unsafe_char};
+pub use error::{ScenarioError, escape_controls, is_unsafe_char, shown};
 pub use file::{GridFile, PoseFile, RandomFile, RunFile, ScenarioFile, SimFile, SweepFile};
-pub use limits::{
-    MAX_FILE_BYTES, MAX_TOTAL_STEPS, available_memory_bytes, default_name, read_text, shown, total_steps, warnings,
-};
+pub use memory::available_memory_bytes;
 pub use output::{
     CSV_COLUMNS, MEASURED_COLUMNS, RunResult, SAMPLE_COLUMNS, Sink, SinkError, measured_values, sample_values,
 };
+pub use read::{MAX_FILE_BYTES, default_name, read_text};
 pub use run::RunSpec;
-pub use scenario::Scenario;
+pub use scenario::{Scenario, total_steps};
 pub use schema::{SchemaKey, schema};
 pub use setup::{BuiltController, Setup, Tables};
 pub use sim::{DEFAULT_LOG_DT_S, DEFAULT_T_END_S, MAX_STEPS, MAX_T_END_S, SimSpec};
 pub use sweep::{
-    LawSummary, MAX_SWEEP_RUNS, SWEEP_COLUMNS, Spread, StartsSource, SweepOutcome, SweepSpec, summarize, summary_table,
-    sweep_row,
+    LawSummary, SWEEP_COLUMNS, Spread, StartsSource, SweepOutcome, SweepSpec, summarize, summary_table, sweep_row,
 };
+pub use warnings::warnings;

@@ -16,7 +16,7 @@ use crate::run::{RunSpec, short};
 use crate::setup::{BuiltController, Setup, Tables};
 use crate::sim::SimSpec;
 use crate::sweep::SweepSpec;
-use crate::{controller, limits, locate};
+use crate::{bounds, budget, controller, locate, read};
 
 /// A complete, validated scenario: every default filled in, every key checked once.
 #[derive(Clone, Debug, PartialEq)]
@@ -26,6 +26,11 @@ pub struct Scenario {
     sim: SimSpec,
     runs: Vec<RunSpec>,
     sweep: Option<SweepSpec>,
+}
+
+/// Plant steps of all the scenario's runs and sweep runs.
+pub fn total_steps(scenario: &Scenario) -> u128 {
+    budget::steps(scenario.sim(), scenario.all_runs())
 }
 
 impl ScenarioFile {
@@ -95,25 +100,37 @@ impl Scenario {
             let inner = e.into_inner();
             locate::deser_error(&path, inner.message(), inner.span(), text)
         })?;
-        file.resolve(default_name).and_then(|s| limits::check(&s).map(|()| s)).map_err(|e| {
+        file.resolve(default_name).and_then(|s| s.check_limits().map(|()| s)).map_err(|e| {
             let line = locate::span_of_key(text, &e.key).map(|s| locate::line_of(text, s.start));
             e.at_line(line)
         })
     }
 
-    /// Reads a TOML file (a regular file of at most [`limits::MAX_FILE_BYTES`]); the
+    /// Reads a TOML file (a regular file of at most [`read::MAX_FILE_BYTES`]); the
     /// name defaults to the file's stem. Read errors name the path.
     pub fn from_path(path: impl AsRef<Path>) -> Result<Self, ScenarioError> {
         let path = path.as_ref();
-        Self::from_toml_str(&limits::read_text(path)?, &limits::default_name(path))
+        Self::from_toml_str(&read::read_text(path)?, &read::default_name(path))
     }
 
     /// The same scenario with other runs, each checked (Python's batches of starts).
     pub fn with_runs(mut self, runs: Vec<RunSpec>) -> Result<Self, ScenarioError> {
         self.runs = runs;
         self.check_runs()?;
-        limits::check(&self)?;
+        self.check_limits()?;
         Ok(self)
+    }
+
+    /// The limits every scenario is held to after it is resolved: poses in the box, total
+    /// work at most [`budget::MAX_TOTAL_STEPS`].
+    fn check_limits(&self) -> Result<(), ScenarioError> {
+        bounds::check_runs(&self.runs)?;
+        budget::check(&self.sim, self.all_runs())
+    }
+
+    /// Runs of `[[run]]` and of `[sweep]` together.
+    fn all_runs(&self) -> usize {
+        self.runs.len() + self.sweep.as_ref().map_or(0, SweepSpec::len)
     }
 
     /// Builds every run's loop once: the core's own checks are the truth.

@@ -22,17 +22,15 @@ use wmr_core::plant::DIVERGENCE_BOX_M;
 use wmr_core::{Outcome, Pose2, Status};
 
 use crate::assemble::{self, Origin};
+use crate::bounds::check_in_box;
+use crate::budget::MAX_SWEEP_RUNS;
 use crate::controller::{self as controller_table, law_kinds};
 use crate::error::{ScenarioError, num};
 use crate::executor::map_ordered;
 use crate::file::{GridFile, RandomFile, SweepFile};
-use crate::limits::check_in_box;
 use crate::setup::{Setup, Tables};
 use crate::sim::SimSpec;
 use crate::vary::{Variant, Variation};
-
-/// Most (law, start) runs one sweep may hold.
-pub const MAX_SWEEP_RUNS: usize = 1_000_000;
 
 /// A checked sweep: the goal, the laws (with their names) and every start.
 #[derive(Clone, Debug)]
