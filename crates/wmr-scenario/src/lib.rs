@@ -34,7 +34,6 @@
 mod assemble;
 mod bounds;
 mod budget;
-pub mod chunk;
 mod controller;
 mod error;
 pub mod executor;
@@ -51,7 +50,6 @@ mod scenario;
 pub mod schema;
 mod setup;
 mod sim;
-mod stop;
 mod sweep;
 pub mod vary;
 mod warnings;

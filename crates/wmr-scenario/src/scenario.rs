@@ -1,7 +1,10 @@
-//! The resolved, checked scenario: parsing entry points, validation once, running and
-//! the TOML dump. Its parts are stored validated and read through accessors.
+//! The resolved, checked scenario: parsing entry points, validation once, running (to
+//! the end, stoppable, as a part of a larger batch) and the TOML dump. Its parts are
+//! stored validated and read through accessors. The fast path of its runs is in
+//! `fast.rs`, which builds on this one.
 
 use std::fmt::Write as _;
+use std::ops::ControlFlow;
 use std::path::Path;
 
 use toml::Value;
@@ -200,6 +203,56 @@ impl Scenario {
         let outcome = lp.run(self.sim.n_steps(), self.sim.log_every(), sink);
         let label = self.runs.get(run_index).map(|r| r.label.clone()).unwrap_or_default();
         Ok(RunResult::new(run_index, label, outcome))
+    }
+
+    /// [`Scenario::run`] that may be stopped part-way, by its output (a write failed, the
+    /// disk is full) or from outside (Ctrl-C in Python), within about a millisecond of
+    /// work ([`wmr_core::closed_loop::POLL_EVERY_STEPS`] plant steps) instead of at the
+    /// end: `sink` gets the same samples and may answer [`ControlFlow::Break`]; `poll` is
+    /// asked about every millisecond of work whether to go on. `Ok(Break(b))`: stopped with `b`, no result. Run to the end, the
+    /// samples and the result are those of [`Scenario::run`], bit for bit.
+    pub fn try_run<B>(
+        &self,
+        run_index: usize,
+        sink: impl FnMut(&Sample<f64>) -> ControlFlow<B>,
+        poll: impl FnMut() -> ControlFlow<B>,
+    ) -> Result<ControlFlow<B, RunResult>, ScenarioError> {
+        let mut lp = self.closed_loop(run_index)?;
+        let sim = self.sim();
+        Ok(match lp.try_run(sim.n_steps(), sim.log_every(), sink, poll) {
+            ControlFlow::Continue(outcome) => {
+                let label = self.runs().get(run_index).map(|r| r.label.clone()).unwrap_or_default();
+                ControlFlow::Continue(RunResult::new(run_index, label, outcome))
+            }
+            ControlFlow::Break(b) => ControlFlow::Break(b),
+        })
+    }
+
+    /// [`Scenario::try_run`] of run `run_index` with the sensor noise of run `stream`: the
+    /// run as it goes when it is run `stream` of a larger batch that was split into parts.
+    /// `try_run_as(i, i as u64, ..)` is `try_run(i, ..)`, bit for bit. A run's result depends
+    /// on its index only through the sensor's noise stream, so a part that gives every run
+    /// its stream in the whole puts together to the whole, bit for bit (tests/chunk.rs).
+    pub fn try_run_as<B>(
+        &self,
+        run_index: usize,
+        stream: u64,
+        sink: impl FnMut(&Sample<f64>) -> ControlFlow<B>,
+        poll: impl FnMut() -> ControlFlow<B>,
+    ) -> Result<ControlFlow<B, RunResult>, ScenarioError> {
+        let run = self.runs().get(run_index).ok_or_else(|| {
+            ScenarioError::new("run", format!("no run {run_index}: the scenario has {}", self.runs().len()))
+        })?;
+        let path = format!("run[{run_index}]");
+        let origin = Origin { run: &path, controller: "controller" };
+        let sim = self.sim();
+        let mut lp = assemble::closed_loop(self.setup(), stream, run.start, run.goal, sim, origin)?;
+        Ok(match lp.try_run(sim.n_steps(), sim.log_every(), sink, poll) {
+            ControlFlow::Continue(outcome) => {
+                ControlFlow::Continue(RunResult::new(run_index, run.label.clone(), outcome))
+            }
+            ControlFlow::Break(b) => ControlFlow::Break(b),
+        })
     }
 
     /// The scenario as TOML with every default filled in (`wmr-cli check`). Reading it

@@ -15,7 +15,7 @@
 //! `min_radius <= |C - goal| <= radius` with a uniform heading in [-180, 180) deg, drawn
 //! from `fastrand`'s generator seeded with `seed` (the same file gives the same starts).
 
-use std::ops::ControlFlow;
+use std::ops::{ControlFlow, Range};
 
 use toml::{Table, Value};
 use wmr_core::plant::DIVERGENCE_BOX_M;
@@ -462,6 +462,35 @@ impl SweepSpec {
         .into_iter()
         .collect();
         Ok(runs?.into_iter().collect())
+    }
+
+    /// Runs `k` of the sweep (numbered as [`SweepSpec::run_until`] numbers them: law, then
+    /// variant, trial and start), one after the other on the calling thread. `poll` is
+    /// asked about every millisecond of work whether to go on: `Ok(Break(()))` when it
+    /// said stop. The outcomes are those `run_until` gives for the same indices, bit for
+    /// bit (tests/chunk.rs): the draws of `vary` and the sensor noise take the run's index
+    /// in the whole sweep, so parts put together are the whole. What one worker of an
+    /// outside executor (a process pool, Dask) runs, without a thread pool of its own.
+    pub fn run_range(
+        &self,
+        sim: &SimSpec,
+        range: Range<usize>,
+        mut poll: impl FnMut() -> ControlFlow<()>,
+    ) -> Result<ControlFlow<(), Vec<SweepOutcome>>, ScenarioError> {
+        if range.end > self.len() {
+            return Err(ScenarioError::new(
+                "sweep",
+                format!("runs {}..{} asked of a sweep of {} runs", range.start, range.end, self.len()),
+            ));
+        }
+        let mut out = Vec::with_capacity(range.len());
+        for k in range {
+            match self.run_exact(sim, k, &mut poll)? {
+                ControlFlow::Continue(o) => out.push(o),
+                ControlFlow::Break(()) => return Ok(ControlFlow::Break(())),
+            }
+        }
+        Ok(ControlFlow::Continue(out))
     }
 
     /// Which (law, variant, trial, start) run `k` of the sweep is: law, then variant,
