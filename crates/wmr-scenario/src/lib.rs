@@ -7,6 +7,8 @@
 //! - [`keys`]: how `[robot]`, `[drive]` and `[controller]` are read through the core's
 //!   own parameter types (every key a field name there, spelled once).
 //! - `file`: the raw tables; `scenario`: the validated [`Scenario`]; `sweep`: `[sweep]`.
+//! - `read`, `bounds`, `budget`: what a scenario may ask for, checked before any work
+//!   starts (a file within [`MAX_FILE_BYTES`], poses in the box, [`MAX_TOTAL_STEPS`]).
 //! - [`executor`]: the one ordered parallel runner (CLI, sweeps, Python).
 //! - `output`: sample columns, the [`Sink`] trait and [`RunResult`].
 //!
