@@ -18,7 +18,7 @@ use wmr_scenario::{
     measured_values, sample_values,
 };
 
-use crate::convert::type_name;
+use crate::convert::{is_real_number, type_name};
 use crate::error::{from_scenario, parameter_error, scenario_error};
 use crate::interrupt::{Progress, Stop, check_memory, interruptible, interruptible_with, try_vec};
 
@@ -166,13 +166,6 @@ impl Source {
             _ => None,
         }
     }
-}
-
-/// True for real numbers Python knows as such (`numbers.Real`: int, float, numpy's
-/// integer and floating scalars), not complex ones.
-pub fn is_real_number(obj: &Bound<'_, PyAny>) -> bool {
-    let py = obj.py();
-    py.import("numbers").and_then(|m| m.getattr("Real")).and_then(|real| obj.is_instance(&real)).unwrap_or(false)
 }
 
 /// Parses a scenario from a path (str or os.PathLike), TOML text, or a dict; its
