@@ -7,89 +7,17 @@
 //! a loop closed in Python costs a few Python calls per step whatever N is.
 
 use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{IntoPyArray, PyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyFloatingPointError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyTuple};
+use pyo3::types::{PyDict, PyTuple};
 use wmr_core::{ControlOutput, Measurement, Pose2, ReferenceState, StepClock, Wheels};
 use wmr_scenario::BuiltController;
 
-use crate::convert::{finite_array, pose_table, type_name};
+use crate::convert::{batch_arg, finite_array, pose_table, same_rows, type_name};
 use crate::error::parameter_error;
 use crate::robot::{PyRobot, one_run_scenario, wheels_arg};
 use crate::scenario::scenario_arg;
-
-/// A (N, K) float64 argument of a batched call, or `None` for a single (1-D) one.
-///
-/// A float64 ndarray is read in place; a 2-D array of other real numbers or a list of
-/// rows is converted with numpy. Every value must be finite: `ParameterError` naming
-/// `arg[i, j]` otherwise.
-pub fn batch_arg<'py, const K: usize>(
-    obj: &Bound<'py, PyAny>,
-    arg: &str,
-    names: [&str; K],
-) -> PyResult<Option<PyReadonlyArray2<'py, f64>>> {
-    let arr = match obj.extract::<PyReadonlyArray2<'py, f64>>() {
-        Ok(a) => a,
-        Err(_) => {
-            let ndim = match obj.getattr("ndim") {
-                Ok(n) => n.extract::<usize>().unwrap_or(0),
-                // A list of rows (lists or arrays) is a batch; a flat list is one robot.
-                Err(_) => {
-                    let nested = (obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>())
-                        && obj.get_item(0).is_ok_and(|r| {
-                            r.is_instance_of::<PyList>()
-                                || r.is_instance_of::<PyTuple>()
-                                || r.hasattr("ndim").unwrap_or(false)
-                        });
-                    if nested { 2 } else { 1 }
-                }
-            };
-            if ndim != 2 {
-                return Ok(None);
-            }
-            if let Some(kind) = crate::convert::dtype_kind(obj)
-                && !"iuf".contains(kind)
-            {
-                return Err(parameter_error(
-                    arg,
-                    format_args!("expected an (N, {K}) array of real numbers, got dtype kind {kind:?}"),
-                ));
-            }
-            let np = obj.py().import("numpy")?;
-            let converted = np
-                .call_method1("asarray", (obj, "float64"))
-                .map_err(|e| parameter_error(arg, format_args!("expected an (N, {K}) array of real numbers: {e}")))?;
-            converted
-                .extract::<PyReadonlyArray2<'py, f64>>()
-                .map_err(|_| parameter_error(arg, format_args!("expected an (N, {K}) array, got {}", type_name(obj))))?
-        }
-    };
-    let shape = arr.shape();
-    if shape[1] != K || shape[0] == 0 {
-        return Err(parameter_error(
-            arg,
-            format_args!("expected shape (N, {K}) of ({}), N >= 1, got {shape:?}", names.join(", ")),
-        ));
-    }
-    let view = arr.as_array();
-    if let Some(((i, j), v)) = view.indexed_iter().find(|(_, v)| !v.is_finite()) {
-        return Err(parameter_error(
-            &format!("{arg}[{i}, {j}]"),
-            format_args!("{} must be a finite number (got {v})", names[j]),
-        ));
-    }
-    Ok(Some(arr))
-}
-
-/// Checks that a batched argument has `n` rows.
-pub fn same_rows(arr: &PyReadonlyArray2<'_, f64>, arg: &str, n: usize, first: &str) -> PyResult<()> {
-    let rows = arr.shape()[0];
-    if rows != n {
-        return Err(parameter_error(arg, format_args!("has {rows} rows but {first} has {n}: one row per robot")));
-    }
-    Ok(())
-}
 
 /// The controller of one law and its lanes (one per robot of a batch).
 pub struct Lanes {

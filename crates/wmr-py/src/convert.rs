@@ -1,12 +1,12 @@
-//! Python arguments to fixed-size float arrays, checked: right length, every value finite.
+//! Python arguments to fixed-size float arrays and (N, K) batches of them, checked: right
+//! length, every value finite.
 //!
 //! A NaN or an infinity never enters the models from Python: it is refused here with a
 //! `ParameterError` naming the argument and the component (e.g. `state[3]`: `v must be a finite number`).
 
-use numpy::PyReadonlyArray1;
-use numpy::PyUntypedArrayMethods;
+use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyByteArray, PyBytes, PyDict, PyString};
+use pyo3::types::{PyBool, PyByteArray, PyBytes, PyDict, PyList, PyString, PyTuple};
 
 use crate::error::parameter_error;
 
@@ -83,7 +83,7 @@ fn kind_name(kind: char) -> &'static str {
 /// One real number (int, float, numpy's integer and floating scalars); text, complex
 /// numbers, None and the like are a `ParameterError` naming `arg`.
 pub fn real_number(obj: &Bound<'_, PyAny>, arg: &str) -> PyResult<f64> {
-    if !crate::scenario::is_real_number(obj) || obj.is_instance_of::<PyBool>() {
+    if !is_real_number(obj) || obj.is_instance_of::<PyBool>() {
         return Err(parameter_error(arg, format_args!("expected a real number, got {}", type_name(obj))));
     }
     obj.extract::<f64>().map_err(|_| parameter_error(arg, format_args!("is too large (more than 1.8e308)")))
@@ -122,4 +122,83 @@ pub fn pose_table<'py>(obj: &Bound<'py, PyAny>, arg: &str) -> PyResult<Bound<'py
     d.set_item("y", y)?;
     d.set_item("theta", theta)?;
     Ok(d.into_any())
+}
+
+/// True for real numbers Python knows as such (`numbers.Real`: int, float, numpy's
+/// integer and floating scalars), not complex ones.
+pub fn is_real_number(obj: &Bound<'_, PyAny>) -> bool {
+    let py = obj.py();
+    py.import("numbers").and_then(|m| m.getattr("Real")).and_then(|real| obj.is_instance(&real)).unwrap_or(false)
+}
+
+/// A (N, K) float64 argument of a batched call, or `None` for a single (1-D) one.
+///
+/// A float64 ndarray is read in place; a 2-D array of other real numbers or a list of
+/// rows is converted with numpy. Every value must be finite: `ParameterError` naming
+/// `arg[i, j]` otherwise.
+pub fn batch_arg<'py, const K: usize>(
+    obj: &Bound<'py, PyAny>,
+    arg: &str,
+    names: [&str; K],
+) -> PyResult<Option<PyReadonlyArray2<'py, f64>>> {
+    let arr = match obj.extract::<PyReadonlyArray2<'py, f64>>() {
+        Ok(a) => a,
+        Err(_) => {
+            let ndim = match obj.getattr("ndim") {
+                Ok(n) => n.extract::<usize>().unwrap_or(0),
+                // A list of rows (lists or arrays) is a batch; a flat list is one robot.
+                Err(_) => {
+                    let nested = (obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>())
+                        && obj.get_item(0).is_ok_and(|r| {
+                            r.is_instance_of::<PyList>()
+                                || r.is_instance_of::<PyTuple>()
+                                || r.hasattr("ndim").unwrap_or(false)
+                        });
+                    if nested { 2 } else { 1 }
+                }
+            };
+            if ndim != 2 {
+                return Ok(None);
+            }
+            if let Some(kind) = dtype_kind(obj)
+                && !"iuf".contains(kind)
+            {
+                return Err(parameter_error(
+                    arg,
+                    format_args!("expected an (N, {K}) array of real numbers, got dtype kind {kind:?}"),
+                ));
+            }
+            let np = obj.py().import("numpy")?;
+            let converted = np
+                .call_method1("asarray", (obj, "float64"))
+                .map_err(|e| parameter_error(arg, format_args!("expected an (N, {K}) array of real numbers: {e}")))?;
+            converted
+                .extract::<PyReadonlyArray2<'py, f64>>()
+                .map_err(|_| parameter_error(arg, format_args!("expected an (N, {K}) array, got {}", type_name(obj))))?
+        }
+    };
+    let shape = arr.shape();
+    if shape[1] != K || shape[0] == 0 {
+        return Err(parameter_error(
+            arg,
+            format_args!("expected shape (N, {K}) of ({}), N >= 1, got {shape:?}", names.join(", ")),
+        ));
+    }
+    let view = arr.as_array();
+    if let Some(((i, j), v)) = view.indexed_iter().find(|(_, v)| !v.is_finite()) {
+        return Err(parameter_error(
+            &format!("{arg}[{i}, {j}]"),
+            format_args!("{} must be a finite number (got {v})", names[j]),
+        ));
+    }
+    Ok(Some(arr))
+}
+
+/// Checks that a batched argument has `n` rows.
+pub fn same_rows(arr: &PyReadonlyArray2<'_, f64>, arg: &str, n: usize, first: &str) -> PyResult<()> {
+    let rows = arr.shape()[0];
+    if rows != n {
+        return Err(parameter_error(arg, format_args!("has {rows} rows but {first} has {n}: one row per robot")));
+    }
+    Ok(())
 }

@@ -76,3 +76,9 @@ fn with_attrs(err: PyErr, key: &str, line: Option<usize>) -> PyErr {
     });
     err
 }
+
+/// A `wmr_scenario::ScenarioError` as a Python exception (see [`from_scenario`]), for errors
+/// that are about the contents, not a file.
+pub fn to_py(e: wmr_scenario::ScenarioError) -> PyErr {
+    from_scenario(&e, None)
+}

@@ -9,8 +9,7 @@ use wmr_core::integrator::rk4_step;
 use wmr_core::state::STATE_LEN;
 use wmr_core::{Robot, RobotParams, State, Wheels};
 
-use crate::controller::{batch_arg, same_rows};
-use crate::convert::{finite_array, finite_scalar};
+use crate::convert::{batch_arg, finite_array, finite_scalar, same_rows};
 use crate::error::parameter_error;
 
 /// Names of the state components, in order, for messages.

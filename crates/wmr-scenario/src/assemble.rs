@@ -1,15 +1,12 @@
 //! One run's closed loop from a validated [`Setup`]: the plant at its start pose, the
 //! run's sensor, a fresh copy of the built controller, a fixed goal and the plant step.
 
-use wmr_core::{AnyLaw, ClosedLoop, Controller, FixedGoal, ParamError, Pose2, PoseSensor};
+use wmr_core::{AnyLaw, ClosedLoop, FixedGoal, ParamError, Pose2, PoseSensor};
 
 use crate::error::ScenarioError;
 use crate::keys::join;
 use crate::setup::Setup;
 use crate::sim::SimSpec;
-
-/// A built controller of any law, at t = 0.
-pub type BuiltController = Controller<f64, AnyLaw<f64>>;
 
 /// The closed loop of one run.
 pub type RunLoop = ClosedLoop<f64, AnyLaw<f64>, PoseSensor<f64>>;

@@ -2,6 +2,7 @@
 
 use std::fmt;
 use std::io;
+use std::path::Path;
 
 use wmr_core::ParamError;
 
@@ -113,6 +114,11 @@ pub fn escape_controls(text: &str) -> String {
         }
     }
     out
+}
+
+/// A path as it may be shown in a message: control characters escaped.
+pub fn shown(path: &Path) -> String {
+    escape_controls(&path.display().to_string())
 }
 
 #[cfg(test)]

@@ -7,6 +7,8 @@
 //! - [`keys`]: how `[robot]`, `[drive]` and `[controller]` are read through the core's
 //!   own parameter types (every key a field name there, spelled once).
 //! - `file`: the raw tables; `scenario`: the validated [`Scenario`]; `sweep`: `[sweep]`.
+//! - `read`, `bounds`, `budget`: what a scenario may ask for, checked before any work
+//!   starts (a file within [`MAX_FILE_BYTES`], poses in the box, [`MAX_TOTAL_STEPS`]).
 //! - [`executor`]: the one ordered parallel runner (CLI, sweeps, Python).
 //! - `output`: sample columns, the [`Sink`] trait and [`RunResult`].
 //!
@@ -32,42 +34,44 @@
 //! and, for TOML, the line.
 
 mod assemble;
-pub mod chunk;
+mod bounds;
+mod budget;
 mod controller;
 mod error;
 pub mod executor;
 pub mod fast;
 mod file;
 pub mod keys;
-mod limits;
 mod locate;
+mod memory;
 mod output;
+mod read;
 pub mod robustness;
 mod run;
 mod scenario;
 pub mod schema;
 mod setup;
 mod sim;
-mod stop;
 mod sweep;
 pub mod vary;
+mod warnings;
 
-pub use assemble::{BuiltController, RunLoop};
+pub use assemble::RunLoop;
+pub use budget::{MAX_SWEEP_RUNS, MAX_TOTAL_STEPS};
 pub use controller::{controller_keys, law_kinds};
-pub use error::{ScenarioError, escape_controls, is_unsafe_char};
+pub use error::{ScenarioError, escape_controls, is_unsafe_char, shown};
 pub use file::{GridFile, PoseFile, RandomFile, RunFile, ScenarioFile, SimFile, SweepFile};
-pub use limits::{
-    MAX_FILE_BYTES, MAX_TOTAL_STEPS, available_memory_bytes, default_name, read_text, shown, total_steps, warnings,
-};
+pub use memory::available_memory_bytes;
 pub use output::{
     CSV_COLUMNS, MEASURED_COLUMNS, RunResult, SAMPLE_COLUMNS, Sink, SinkError, measured_values, sample_values,
 };
+pub use read::{MAX_FILE_BYTES, default_name, read_text};
 pub use run::RunSpec;
-pub use scenario::Scenario;
+pub use scenario::{Scenario, total_steps};
 pub use schema::{SchemaKey, schema};
-pub use setup::{Setup, Tables};
+pub use setup::{BuiltController, Setup, Tables};
 pub use sim::{DEFAULT_LOG_DT_S, DEFAULT_T_END_S, MAX_STEPS, MAX_T_END_S, SimSpec};
 pub use sweep::{
-    LawSummary, MAX_SWEEP_RUNS, SWEEP_COLUMNS, Spread, StartsSource, SweepOutcome, SweepSpec, summarize, summary_table,
-    sweep_row,
+    LawSummary, SWEEP_COLUMNS, Spread, StartsSource, SweepOutcome, SweepSpec, summarize, summary_table, sweep_row,
 };
+pub use warnings::warnings;

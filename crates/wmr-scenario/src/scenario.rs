@@ -1,22 +1,25 @@
-//! The resolved, checked scenario: parsing entry points, validation once, running and
-//! the TOML dump. Its parts are stored validated and read through accessors.
+//! The resolved, checked scenario: parsing entry points, validation once, running (to
+//! the end, stoppable, as a part of a larger batch) and the TOML dump. Its parts are
+//! stored validated and read through accessors. The fast path of its runs is in
+//! `fast.rs`, which builds on this one.
 
 use std::fmt::Write as _;
+use std::ops::ControlFlow;
 use std::path::Path;
 
 use toml::Value;
 use wmr_core::{ControllerParams, Drive, Pose2, Robot, RobotParams, Sample, SensorParams, WorldParams};
 
-use crate::assemble::{self, BuiltController, Origin, RunLoop};
+use crate::assemble::{self, Origin, RunLoop};
 use crate::error::ScenarioError;
 use crate::file::{RunFile, ScenarioFile, SimFile};
 use crate::keys::{fields_of, fields_read_by, join, to_table, toml_f64, write_keys};
 use crate::output::RunResult;
 use crate::run::{RunSpec, short};
-use crate::setup::{Setup, Tables};
+use crate::setup::{BuiltController, Setup, Tables};
 use crate::sim::SimSpec;
 use crate::sweep::SweepSpec;
-use crate::{controller, limits, locate};
+use crate::{bounds, budget, controller, locate, read};
 
 /// A complete, validated scenario: every default filled in, every key checked once.
 #[derive(Clone, Debug, PartialEq)]
@@ -26,6 +29,11 @@ pub struct Scenario {
     sim: SimSpec,
     runs: Vec<RunSpec>,
     sweep: Option<SweepSpec>,
+}
+
+/// Plant steps of all the scenario's runs and sweep runs.
+pub fn total_steps(scenario: &Scenario) -> u128 {
+    budget::steps(scenario.sim(), scenario.all_runs())
 }
 
 impl ScenarioFile {
@@ -95,25 +103,37 @@ impl Scenario {
             let inner = e.into_inner();
             locate::deser_error(&path, inner.message(), inner.span(), text)
         })?;
-        file.resolve(default_name).and_then(|s| limits::check(&s).map(|()| s)).map_err(|e| {
+        file.resolve(default_name).and_then(|s| s.check_limits().map(|()| s)).map_err(|e| {
             let line = locate::span_of_key(text, &e.key).map(|s| locate::line_of(text, s.start));
             e.at_line(line)
         })
     }
 
-    /// Reads a TOML file (a regular file of at most [`limits::MAX_FILE_BYTES`]); the
+    /// Reads a TOML file (a regular file of at most [`read::MAX_FILE_BYTES`]); the
     /// name defaults to the file's stem. Read errors name the path.
     pub fn from_path(path: impl AsRef<Path>) -> Result<Self, ScenarioError> {
         let path = path.as_ref();
-        Self::from_toml_str(&limits::read_text(path)?, &limits::default_name(path))
+        Self::from_toml_str(&read::read_text(path)?, &read::default_name(path))
     }
 
     /// The same scenario with other runs, each checked (Python's batches of starts).
     pub fn with_runs(mut self, runs: Vec<RunSpec>) -> Result<Self, ScenarioError> {
         self.runs = runs;
         self.check_runs()?;
-        limits::check(&self)?;
+        self.check_limits()?;
         Ok(self)
+    }
+
+    /// The limits every scenario is held to after it is resolved: poses in the box, total
+    /// work at most [`budget::MAX_TOTAL_STEPS`].
+    fn check_limits(&self) -> Result<(), ScenarioError> {
+        bounds::check_runs(&self.runs)?;
+        budget::check(&self.sim, self.all_runs())
+    }
+
+    /// Runs of `[[run]]` and of `[sweep]` together.
+    fn all_runs(&self) -> usize {
+        self.runs.len() + self.sweep.as_ref().map_or(0, SweepSpec::len)
     }
 
     /// Builds every run's loop once: the core's own checks are the truth.
@@ -183,6 +203,56 @@ impl Scenario {
         let outcome = lp.run(self.sim.n_steps(), self.sim.log_every(), sink);
         let label = self.runs.get(run_index).map(|r| r.label.clone()).unwrap_or_default();
         Ok(RunResult::new(run_index, label, outcome))
+    }
+
+    /// [`Scenario::run`] that may be stopped part-way, by its output (a write failed, the
+    /// disk is full) or from outside (Ctrl-C in Python), within about a millisecond of
+    /// work ([`wmr_core::closed_loop::POLL_EVERY_STEPS`] plant steps) instead of at the
+    /// end: `sink` gets the same samples and may answer [`ControlFlow::Break`]; `poll` is
+    /// asked about every millisecond of work whether to go on. `Ok(Break(b))`: stopped with `b`, no result. Run to the end, the
+    /// samples and the result are those of [`Scenario::run`], bit for bit.
+    pub fn try_run<B>(
+        &self,
+        run_index: usize,
+        sink: impl FnMut(&Sample<f64>) -> ControlFlow<B>,
+        poll: impl FnMut() -> ControlFlow<B>,
+    ) -> Result<ControlFlow<B, RunResult>, ScenarioError> {
+        let mut lp = self.closed_loop(run_index)?;
+        let sim = self.sim();
+        Ok(match lp.try_run(sim.n_steps(), sim.log_every(), sink, poll) {
+            ControlFlow::Continue(outcome) => {
+                let label = self.runs().get(run_index).map(|r| r.label.clone()).unwrap_or_default();
+                ControlFlow::Continue(RunResult::new(run_index, label, outcome))
+            }
+            ControlFlow::Break(b) => ControlFlow::Break(b),
+        })
+    }
+
+    /// [`Scenario::try_run`] of run `run_index` with the sensor noise of run `stream`: the
+    /// run as it goes when it is run `stream` of a larger batch that was split into parts.
+    /// `try_run_as(i, i as u64, ..)` is `try_run(i, ..)`, bit for bit. A run's result depends
+    /// on its index only through the sensor's noise stream, so a part that gives every run
+    /// its stream in the whole puts together to the whole, bit for bit (tests/chunk.rs).
+    pub fn try_run_as<B>(
+        &self,
+        run_index: usize,
+        stream: u64,
+        sink: impl FnMut(&Sample<f64>) -> ControlFlow<B>,
+        poll: impl FnMut() -> ControlFlow<B>,
+    ) -> Result<ControlFlow<B, RunResult>, ScenarioError> {
+        let run = self.runs().get(run_index).ok_or_else(|| {
+            ScenarioError::new("run", format!("no run {run_index}: the scenario has {}", self.runs().len()))
+        })?;
+        let path = format!("run[{run_index}]");
+        let origin = Origin { run: &path, controller: "controller" };
+        let sim = self.sim();
+        let mut lp = assemble::closed_loop(self.setup(), stream, run.start, run.goal, sim, origin)?;
+        Ok(match lp.try_run(sim.n_steps(), sim.log_every(), sink, poll) {
+            ControlFlow::Continue(outcome) => {
+                ControlFlow::Continue(RunResult::new(run_index, run.label.clone(), outcome))
+            }
+            ControlFlow::Break(b) => ControlFlow::Break(b),
+        })
     }
 
     /// The scenario as TOML with every default filled in (`wmr-cli check`). Reading it

@@ -5,14 +5,16 @@
 
 use toml::{Table, Value};
 use wmr_core::{
-    ControllerParams, Drive, DriveParams, Plant, Pose2, PoseSensor, Robot, RobotParams, SensorParams, World,
-    WorldParams,
+    AnyLaw, Controller, ControllerParams, Drive, DriveParams, Plant, Pose2, PoseSensor, Robot, RobotParams,
+    SensorParams, World, WorldParams,
 };
 
-use crate::assemble::BuiltController;
 use crate::controller;
 use crate::error::ScenarioError;
 use crate::keys::{join, kind_of, overlay, overlay_table, read_with, to_table};
+
+/// A built controller of any law, at t = 0.
+pub type BuiltController = Controller<f64, AnyLaw<f64>>;
 
 /// The tables of one configuration, as written (absent tables are empty).
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -155,3 +155,24 @@ fn hold_mode_is_a_paper_key() {
     let e = Scenario::from_toml_str("[controller]\nhold = \"stop\"\n[[run]]\ngoal = {}\n", "x").unwrap_err();
     assert_eq!(e.key, "controller.hold");
 }
+
+/// The step budget counts the runs of `[sweep]` with those of `[[run]]`: (250,000 starts
+/// x 4 laws + 1 run) x 200,000 steps = 2e11 plant steps, more than `MAX_TOTAL_STEPS`
+/// (1e11), while the one `[[run]]` alone is far below it.
+#[test]
+fn a_sweep_counts_in_the_step_budget() {
+    let text = r#"
+[sim]
+t_end = 200.0
+[[run]]
+goal = { x = 1.0 }
+[sweep]
+goal = {}
+random = { n = 250000, seed = 1, radius = 1.0 }
+"#;
+    assert_eq!(wmr_scenario::law_kinds().len(), 4);
+    let Err(err) = Scenario::from_toml_str(text, "big") else { panic!("2e11 plant steps accepted") };
+    assert_eq!(err.key, "sim.t_end");
+    assert!(err.message.starts_with("1000001 runs x 200000 steps (t_end / dt) = 2.000e11 plant steps"), "{err}");
+    assert!(u128::from(wmr_scenario::MAX_TOTAL_STEPS) < 1_000_001 * 200_000);
+}

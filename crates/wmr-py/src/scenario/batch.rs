@@ -1,0 +1,142 @@
+//! `run_batch`: one scenario run from many starts (towards one goal or one per start),
+//! in parallel or on the calling thread for an outside executor's part, on the exact or
+//! the fast path.
+
+use std::ops::ControlFlow;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use numpy::{PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use wmr_core::Pose2;
+use wmr_core::plant::DIVERGENCE_BOX_M;
+use wmr_scenario::{RunResult, RunSpec, ScenarioError, executor};
+
+use super::outcomes::outcome_dict;
+use super::source::scenario_arg;
+use crate::error::{parameter_error, to_py};
+use crate::interrupt::{Progress, check_memory, interruptible_with};
+
+/// Runs the scenario `base` (a dict or path, validated like `run_scenario`; its runs give
+/// the goal if `goals` is None) from every start in `starts` in parallel, GIL released.
+///
+/// `first`: the index of `starts[0]` in the whole batch when this is a part of it (an
+/// outside executor's chunk): run i draws its sensor noise from stream `first + i`, as in
+/// the whole. `threads = 1` runs the starts one after the other on one thread (a worker
+/// of a process pool or Dask must not start a thread pool per process); 0: rayon's pool.
+/// `progress`: as for `run_scenario`, counting runs.
+#[pyfunction(name = "_run_batch")]
+#[pyo3(signature = (base, starts, goals=None, first=0, threads=0, progress=None, fast=false))]
+#[allow(clippy::too_many_arguments)]
+pub fn run_batch_native<'py>(
+    py: Python<'py>,
+    base: &Bound<'py, PyAny>,
+    starts: PyReadonlyArray2<'py, f64>,
+    goals: Option<PyReadonlyArray2<'py, f64>>,
+    first: usize,
+    threads: usize,
+    progress: Option<&Bound<'py, PyAny>>,
+    fast: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    if threads > 1 {
+        return Err(parameter_error("threads", format_args!("0 (rayon's pool) or 1, got {threads}")));
+    }
+    let sc = scenario_arg(base)?;
+    let poses = |a: &PyReadonlyArray2<'py, f64>, arg: &str| -> PyResult<Vec<Pose2<f64>>> {
+        let shape = a.shape();
+        if shape.len() != 2 || shape[1] != 3 {
+            return Err(parameter_error(
+                arg,
+                format_args!("expected shape (N, 3) of (x, y, theta_rad), got {shape:?}"),
+            ));
+        }
+        let arr = a.as_array();
+        let names = ["x", "y", "theta"];
+        let mut out = Vec::with_capacity(shape[0]);
+        for (i, row) in arr.rows().into_iter().enumerate() {
+            for (j, v) in row.iter().enumerate() {
+                if !v.is_finite() {
+                    return Err(parameter_error(
+                        &format!("{arg}[{i}, {j}]"),
+                        format_args!("{} must be a finite number (got {v})", names[j]),
+                    ));
+                }
+                if j < 2 && v.abs() > DIVERGENCE_BOX_M {
+                    return Err(parameter_error(
+                        &format!("{arg}[{i}, {j}]"),
+                        format_args!(
+                            "{} must be within {DIVERGENCE_BOX_M} m of the origin (got {v:e}): a run that leaves \
+                             |x|, |y| <= {DIVERGENCE_BOX_M} m counts as diverged",
+                            names[j]
+                        ),
+                    ));
+                }
+            }
+            out.push(Pose2::new(row[0], row[1], row[2]));
+        }
+        Ok(out)
+    };
+    let starts = poses(&starts, "starts")?;
+    // Every run's result is held until the arrays are made: refuse what memory cannot hold.
+    let per_run = (std::mem::size_of::<RunSpec>() + std::mem::size_of::<Option<RunResult>>() + 32 + 12 * 8) as u128;
+    let n = starts.len();
+    check_memory(per_run * n as u128, "starts", |share| {
+        format!("pass at most {} starts per call ({n} given)", (n as f64 * share).floor())
+    })?;
+    let default_goal = sc.runs().first().map(|r| r.goal).unwrap_or_default();
+    let goals = match goals {
+        Some(g) => {
+            let g = poses(&g, "goals")?;
+            if g.len() != starts.len() && g.len() != 1 {
+                return Err(parameter_error(
+                    "goals",
+                    format_args!("expected 1 or {} rows (one per start), got {}", starts.len(), g.len()),
+                ));
+            }
+            g
+        }
+        None => vec![default_goal],
+    };
+    let runs = starts
+        .iter()
+        .enumerate()
+        .map(|(i, &start)| RunSpec { label: format!("start {i}"), start, goal: goals[i % goals.len()] })
+        .collect();
+    let sc = sc.with_runs(runs).map_err(to_py)?;
+    let done = AtomicUsize::new(0);
+    if let Some(p) = progress {
+        p.call1((-(sc.runs().len() as i64),))?;
+    }
+    if fast {
+        let count = || {
+            done.fetch_add(1, Ordering::Relaxed);
+        };
+        let n = sc.runs().len();
+        let outcomes = interruptible_with(py, progress.map(|callback| Progress { done: &done, callback }), |stop| {
+            sc.run_fast(0..n, first as u64, threads != 1, &count, &|| stop.requested())
+        })?
+        .map_err(to_py)?;
+        // `None` only when stopped, and then `interruptible` returned the signal's error.
+        return outcome_dict(py, outcomes.unwrap_or_default().iter());
+    }
+    let results: Result<Vec<Option<RunResult>>, ScenarioError> =
+        interruptible_with(py, progress.map(|callback| Progress { done: &done, callback }), |stop| {
+            let poll = || if stop.requested() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
+            let job = |i: usize| {
+                let r = match sc.try_run_as(i, (first + i) as u64, |_| ControlFlow::Continue(()), poll)? {
+                    ControlFlow::Continue(r) => Some(r),
+                    ControlFlow::Break(()) => None,
+                };
+                done.fetch_add(1, Ordering::Relaxed);
+                Ok(r)
+            };
+            if threads == 1 {
+                (0..sc.runs().len()).map(job).collect()
+            } else {
+                executor::map_ordered(sc.runs().len(), job).into_iter().collect()
+            }
+        })?;
+    // `None` only when stopped, and then `interruptible` returned the signal's error.
+    let results: Vec<RunResult> = results.map_err(to_py)?.into_iter().flatten().collect();
+    outcome_dict(py, results.iter().map(|r| &r.outcome))
+}

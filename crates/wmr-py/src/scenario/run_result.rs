@@ -1,0 +1,355 @@
+//! `wmr_py.RunResult`: one run's columns, built once in Rust and handed to numpy without
+//! a copy, with the run's summary; pickled as its fields.
+
+use numpy::{PyArray1, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+use wmr_core::Status;
+use wmr_scenario::{RunResult, SAMPLE_COLUMNS, measured_values, sample_values};
+
+use crate::error::parameter_error;
+use crate::interrupt::try_vec;
+
+/// Number of sample columns (the CSV columns after `run`).
+pub(super) const N_COLS: usize = SAMPLE_COLUMNS.len();
+
+/// One run's columns, built once in Rust: the CSV columns and the measured pose.
+pub(super) struct Columns {
+    pub(super) cols: [Vec<f64>; N_COLS],
+    pub(super) measured: [Vec<f64>; 3],
+}
+
+impl Columns {
+    /// Room for `n` samples in every column, or `MemoryError`.
+    pub(super) fn try_with_capacity(n: usize) -> PyResult<Self> {
+        let mut cols = Self { cols: [(); N_COLS].map(|()| Vec::new()), measured: [(); 3].map(|()| Vec::new()) };
+        for c in cols.cols.iter_mut().chain(cols.measured.iter_mut()) {
+            *c = try_vec(n)?;
+        }
+        Ok(cols)
+    }
+
+    pub(super) fn push(&mut self, s: &wmr_core::Sample<f64>) {
+        for (col, v) in self.cols.iter_mut().zip(sample_values(s)) {
+            col.push(v);
+        }
+        for (col, v) in self.measured.iter_mut().zip(measured_values(s)) {
+            col.push(v);
+        }
+    }
+}
+
+/// One run of a scenario: every CSV column (docs/scenario.md) as a float64 ndarray, plus the
+/// run's summary.
+///
+/// Columns (one value per logged sample): t (s), x, y (m, point C, world frame),
+/// theta (rad), v (m/s), omega (rad/s), phi_r, phi_l (rad), omega_r, omega_l (rad/s),
+/// tau_r, tau_l (N m, wheel torques applied from this sample on), e_s (m),
+/// e_theta (rad), dl (m). `result["x"]` reads a column by name; `columns()` gives a dict
+/// of all CSV columns (with `run`).
+#[pyclass(name = "RunResult", module = "wmr_py", frozen)]
+pub struct PyRunResult {
+    /// 0-based index of the `[[run]]` (the CSV `run` column).
+    #[pyo3(get)]
+    run: usize,
+    /// The run's label.
+    #[pyo3(get)]
+    label: String,
+    /// `"converged"` (final dl < 1 cm, not diverged), `"diverged"` or `"unsettled"` (neither).
+    #[pyo3(get)]
+    status: &'static str,
+    /// True when not diverged and the final dl < 1 cm.
+    #[pyo3(get)]
+    converged: bool,
+    /// True when the state stopped being finite or C left the 1 km box.
+    #[pyo3(get)]
+    diverged: bool,
+    /// First time (s) from which dl stays below 1 cm to the end; None if never.
+    #[pyo3(get)]
+    time_to_1cm: Option<f64>,
+    /// Final distance from C to the goal position, m.
+    #[pyo3(get)]
+    final_dl: f64,
+    /// Final heading error wrap(theta_d - theta), rad.
+    #[pyo3(get)]
+    final_heading_error: f64,
+    /// Final heading error, degrees.
+    #[pyo3(get)]
+    final_heading_error_deg: f64,
+    /// Time of the last state, s (t_end unless diverged).
+    #[pyo3(get)]
+    t_final: f64,
+    /// Largest |wheel speed| seen, rad/s.
+    #[pyo3(get)]
+    peak_wheel_speed: f64,
+    /// Path length of C, m.
+    #[pyo3(get)]
+    path_length: f64,
+    /// Mechanical energy the drives put into the wheels, J.
+    #[pyo3(get)]
+    energy: f64,
+    /// The summary line the CLI prints.
+    #[pyo3(get)]
+    summary: String,
+    #[pyo3(get)]
+    t: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    x: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    y: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    theta: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    v: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    omega: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    phi_r: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    phi_l: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    omega_r: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    omega_l: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    tau_r: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    tau_l: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    e_s: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    e_theta: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    dl: Py<PyArray1<f64>>,
+    /// x of the pose the controller used at its last tick, m (= x without a `[sensor]`).
+    #[pyo3(get)]
+    x_meas: Py<PyArray1<f64>>,
+    /// y of the pose the controller used, m.
+    #[pyo3(get)]
+    y_meas: Py<PyArray1<f64>>,
+    /// theta of the pose the controller used, rad.
+    #[pyo3(get)]
+    theta_meas: Py<PyArray1<f64>>,
+}
+
+impl PyRunResult {
+    pub(super) fn new(py: Python<'_>, r: RunResult, cols: Columns) -> Self {
+        // from_vec hands each Vec's buffer to numpy: no copy.
+        let [t, x, y, theta, v, omega, phi_r, phi_l, omega_r, omega_l, tau_r, tau_l, e_s, e_theta, dl] =
+            cols.cols.map(|c| PyArray1::from_vec(py, c).unbind());
+        let [x_meas, y_meas, theta_meas] = cols.measured.map(|c| PyArray1::from_vec(py, c).unbind());
+        let o = &r.outcome;
+        Self {
+            run: r.index,
+            status: r.status().name(),
+            converged: r.converged(),
+            diverged: r.diverged(),
+            time_to_1cm: o.time_to_arrival,
+            final_dl: o.final_dl,
+            final_heading_error: o.final_heading_error,
+            final_heading_error_deg: o.final_heading_error.to_degrees(),
+            t_final: o.t_final,
+            peak_wheel_speed: o.peak_wheel_speed,
+            path_length: o.path_length,
+            energy: o.energy,
+            summary: r.summary_line(),
+            label: r.label,
+            t,
+            x,
+            y,
+            theta,
+            v,
+            omega,
+            phi_r,
+            phi_l,
+            omega_r,
+            omega_l,
+            tau_r,
+            tau_l,
+            e_s,
+            e_theta,
+            dl,
+            x_meas,
+            y_meas,
+            theta_meas,
+        }
+    }
+
+    fn column(&self, name: &str) -> Option<&Py<PyArray1<f64>>> {
+        Some(match name {
+            "t" => &self.t,
+            "x" => &self.x,
+            "y" => &self.y,
+            "theta" => &self.theta,
+            "v" => &self.v,
+            "omega" => &self.omega,
+            "phi_r" => &self.phi_r,
+            "phi_l" => &self.phi_l,
+            "omega_r" => &self.omega_r,
+            "omega_l" => &self.omega_l,
+            "tau_r" => &self.tau_r,
+            "tau_l" => &self.tau_l,
+            "e_s" => &self.e_s,
+            "e_theta" => &self.e_theta,
+            "dl" => &self.dl,
+            "x_meas" => &self.x_meas,
+            "y_meas" => &self.y_meas,
+            "theta_meas" => &self.theta_meas,
+            _ => return None,
+        })
+    }
+}
+
+#[pymethods]
+impl PyRunResult {
+    /// Every field as a dict (scalars, `summary` and the columns as arrays): what pickling
+    /// carries.
+    fn __getstate__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        d.set_item("run", self.run)?;
+        d.set_item("label", &self.label)?;
+        d.set_item("status", self.status)?;
+        d.set_item("converged", self.converged)?;
+        d.set_item("diverged", self.diverged)?;
+        d.set_item("time_to_1cm", self.time_to_1cm)?;
+        d.set_item("final_dl", self.final_dl)?;
+        d.set_item("final_heading_error", self.final_heading_error)?;
+        d.set_item("final_heading_error_deg", self.final_heading_error_deg)?;
+        d.set_item("t_final", self.t_final)?;
+        d.set_item("peak_wheel_speed", self.peak_wheel_speed)?;
+        d.set_item("path_length", self.path_length)?;
+        d.set_item("energy", self.energy)?;
+        d.set_item("summary", &self.summary)?;
+        for name in RESULT_COLUMNS {
+            if let Some(c) = self.column(name) {
+                d.set_item(name, c.bind(py))?;
+            }
+        }
+        Ok(d)
+    }
+
+    /// Pickles as `wmr_py._restore_run_result(state)`, state from `__getstate__`.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        let restore = py.import("wmr_py")?.getattr("_restore_run_result")?;
+        PyTuple::new(py, [restore, PyTuple::new(py, [self.__getstate__(py)?])?.into_any()])
+    }
+
+    /// Every column (with `run` and `label`) as a pandas DataFrame, one row per logged
+    /// sample. Needs pandas (ImportError naming it otherwise).
+    fn to_pandas<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        slf.py().import("wmr_py._results")?.getattr("run_result_to_pandas")?.call1((slf,))
+    }
+
+    /// A column by its CSV name, e.g. result["omega_r"].
+    fn __getitem__(&self, py: Python<'_>, name: &str) -> PyResult<Py<PyArray1<f64>>> {
+        self.column(name).map(|c| c.clone_ref(py)).ok_or_else(|| {
+            pyo3::exceptions::PyKeyError::new_err(format!("no column {name:?}; columns are {:?}", SAMPLE_COLUMNS))
+        })
+    }
+
+    /// Every CSV column of docs/scenario.md (`run` first, as float64 like the others), in order.
+    fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        let n = self.t.bind(py).len();
+        d.set_item("run", PyArray1::from_vec(py, vec![self.run as f64; n]))?;
+        for name in SAMPLE_COLUMNS {
+            if let Some(c) = self.column(name) {
+                d.set_item(name, c.bind(py))?;
+            }
+        }
+        Ok(d)
+    }
+
+    /// Number of logged samples.
+    fn __len__(&self, py: Python<'_>) -> usize {
+        self.t.bind(py).len()
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "<RunResult run={} label={:?} samples={}: {}>",
+            self.run,
+            self.label,
+            self.t.bind(py).len(),
+            self.summary
+        )
+    }
+}
+
+/// Names of a RunResult's columns, in order: the CSV columns, then the measured pose.
+const RESULT_COLUMNS: [&str; N_COLS + 3] = [
+    "t",
+    "x",
+    "y",
+    "theta",
+    "v",
+    "omega",
+    "phi_r",
+    "phi_l",
+    "omega_r",
+    "omega_l",
+    "tau_r",
+    "tau_l",
+    "e_s",
+    "e_theta",
+    "dl",
+    "x_meas",
+    "y_meas",
+    "theta_meas",
+];
+
+/// A RunResult from the state its `__getstate__` gave (unpickling); every field checked.
+#[pyfunction(name = "_run_result_from_state")]
+pub fn run_result_from_state(state: &Bound<'_, PyDict>) -> PyResult<PyRunResult> {
+    let get = |k: &str| -> PyResult<Bound<'_, PyAny>> {
+        state.get_item(k)?.ok_or_else(|| parameter_error("state", format_args!("no {k:?}")))
+    };
+    let status: String = get("status")?.extract()?;
+    let status = Status::ALL
+        .into_iter()
+        .map(Status::name)
+        .find(|n| *n == status)
+        .ok_or_else(|| parameter_error("state.status", format_args!("unknown status {status:?}")))?;
+    let mut cols: Vec<Py<PyArray1<f64>>> = Vec::with_capacity(RESULT_COLUMNS.len());
+    for name in RESULT_COLUMNS {
+        let a = get(name)?;
+        let a = a.cast_into::<PyArray1<f64>>().map_err(|_| parameter_error(name, "expected a float64 array"))?;
+        cols.push(a.unbind());
+    }
+    let mut it = cols.into_iter();
+    let mut next = || it.next().ok_or_else(|| parameter_error("state", "too few columns"));
+    Ok(PyRunResult {
+        run: get("run")?.extract()?,
+        label: get("label")?.extract()?,
+        status,
+        converged: get("converged")?.extract()?,
+        diverged: get("diverged")?.extract()?,
+        time_to_1cm: get("time_to_1cm")?.extract()?,
+        final_dl: get("final_dl")?.extract()?,
+        final_heading_error: get("final_heading_error")?.extract()?,
+        final_heading_error_deg: get("final_heading_error_deg")?.extract()?,
+        t_final: get("t_final")?.extract()?,
+        peak_wheel_speed: get("peak_wheel_speed")?.extract()?,
+        path_length: get("path_length")?.extract()?,
+        energy: get("energy")?.extract()?,
+        summary: get("summary")?.extract()?,
+        t: next()?,
+        x: next()?,
+        y: next()?,
+        theta: next()?,
+        v: next()?,
+        omega: next()?,
+        phi_r: next()?,
+        phi_l: next()?,
+        omega_r: next()?,
+        omega_l: next()?,
+        tau_r: next()?,
+        tau_l: next()?,
+        e_s: next()?,
+        e_theta: next()?,
+        dl: next()?,
+        x_meas: next()?,
+        y_meas: next()?,
+        theta_meas: next()?,
+    })
+}

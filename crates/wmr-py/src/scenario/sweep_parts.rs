@@ -1,0 +1,173 @@
+//! A sweep for an outside executor (a process pool, Dask): the plan (the scenario's text
+//! and its number of runs), the parts each worker runs on one thread (rows of floats
+//! that carry every outcome exactly), and the whole put together from them, the same
+//! as `sweep` gives.
+
+use std::ops::ControlFlow;
+
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use wmr_core::{Outcome, Pose2, Termination};
+use wmr_scenario::{Scenario, SweepOutcome};
+
+use super::source::{Source, scenario_arg};
+use super::sweep_run::{sweep_dict, sweep_of};
+use crate::error::{from_scenario, parameter_error, to_py};
+use crate::interrupt::interruptible;
+
+/// Checks a sweep scenario for an outside executor: `(text, runs)`, the scenario's text
+/// (each worker parses it again, so a file need not be on the workers' machines) and the
+/// number of runs of the sweep.
+#[pyfunction(name = "_sweep_plan")]
+pub fn sweep_plan(scenario: &Bound<'_, PyAny>) -> PyResult<(String, usize)> {
+    let source = Source::from_py(scenario)?;
+    let sc = scenario_arg(scenario)?;
+    let text = source.text().map_err(|e| from_scenario(&e, source.path()))?;
+    Ok((text, sweep_of(&sc)?.len()))
+}
+
+/// Values per run in the rows of `_sweep_part` (see [`outcome_row`]).
+const ROW_LEN: usize = 22;
+
+/// One sweep outcome as floats (exact: indices below 2^53, f64 values as they are):
+/// law, variant, trial, run, start index, start (3), diverged, t_final, final pose (3),
+/// goal (3), final_dl, final heading error, time to 1 cm (NaN: never), peak wheel speed,
+/// path length, energy.
+fn outcome_row(o: &SweepOutcome) -> [f64; ROW_LEN] {
+    let u = &o.outcome;
+    let termination = match u.termination {
+        Termination::Completed => 0.0,
+        Termination::Settled => 1.0,
+        Termination::NonFinite => 2.0,
+        Termination::LeftBox => 3.0,
+    };
+    [
+        o.law as f64,
+        o.variant as f64,
+        f64::from(o.trial),
+        o.run as f64,
+        o.start_index as f64,
+        o.start.x,
+        o.start.y,
+        o.start.theta,
+        termination,
+        u.t_final,
+        u.final_pose.x,
+        u.final_pose.y,
+        u.final_pose.theta,
+        u.goal.x,
+        u.goal.y,
+        u.goal.theta,
+        u.final_dl,
+        u.final_heading_error,
+        u.time_to_arrival.unwrap_or(f64::NAN),
+        u.peak_wheel_speed,
+        u.path_length,
+        u.energy,
+    ]
+}
+
+/// The outcome a row of [`outcome_row`] holds, or `None` for a row that is no outcome.
+fn row_outcome(r: &[f64]) -> Option<SweepOutcome> {
+    let index = |v: f64| (v >= 0.0 && v.fract() == 0.0 && v < 9.0e15).then_some(v as usize);
+    let termination = match r[8] as u8 {
+        0 => Termination::Completed,
+        1 => Termination::Settled,
+        2 => Termination::NonFinite,
+        3 => Termination::LeftBox,
+        _ => return None,
+    };
+    Some(SweepOutcome {
+        law: index(r[0])?,
+        variant: index(r[1])?,
+        trial: u32::try_from(index(r[2])?).ok()?,
+        run: index(r[3])? as u64,
+        start_index: index(r[4])?,
+        start: Pose2::new(r[5], r[6], r[7]),
+        outcome: Outcome {
+            termination,
+            t_final: r[9],
+            final_pose: Pose2::new(r[10], r[11], r[12]),
+            goal: Pose2::new(r[13], r[14], r[15]),
+            final_dl: r[16],
+            final_heading_error: r[17],
+            time_to_arrival: (!r[18].is_nan()).then_some(r[18]),
+            peak_wheel_speed: r[19],
+            path_length: r[20],
+            energy: r[21],
+        },
+    })
+}
+
+/// Parses the text `_sweep_plan` gave (no warnings: the caller had them).
+fn parse_text(text: &str) -> PyResult<Scenario> {
+    Scenario::from_toml_str(text, "scenario").map_err(to_py)
+}
+
+/// Runs `first..last` of the sweep of `text` (from `_sweep_plan`) on one thread, GIL
+/// released: the work of one outside executor's task. Returns an (n, 22) float64 array,
+/// one row per run, which `_sweep_gather` puts together.
+#[pyfunction(name = "_sweep_part")]
+#[pyo3(signature = (text, first, last, fast=false))]
+pub fn sweep_part<'py>(
+    py: Python<'py>,
+    text: &str,
+    first: usize,
+    last: usize,
+    fast: bool,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let sc = parse_text(text)?;
+    let spec = sweep_of(&sc)?;
+    if first > last {
+        return Err(parameter_error("first", format_args!("must be <= last ({first} > {last})")));
+    }
+    let flow = interruptible(py, |stop| {
+        if fast {
+            return spec
+                .run_fast_range(sc.sim(), first..last, &|| stop.requested())
+                .map(|o| o.map_or(ControlFlow::Break(()), ControlFlow::Continue));
+        }
+        spec.run_range(sc.sim(), first..last, || {
+            if stop.requested() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) }
+        })
+    })?
+    .map_err(to_py)?;
+    // Stopped only when `interruptible` returned the signal's error.
+    let outcomes = match flow {
+        ControlFlow::Continue(o) => o,
+        ControlFlow::Break(()) => Vec::new(),
+    };
+    let mut rows = Array2::<f64>::zeros((outcomes.len(), ROW_LEN));
+    for (mut row, o) in rows.rows_mut().into_iter().zip(&outcomes) {
+        row.iter_mut().zip(outcome_row(o)).for_each(|(a, v)| *a = v);
+    }
+    Ok(rows.into_pyarray(py))
+}
+
+/// The result of `sweep` from the rows of every part (`_sweep_part`), in run order.
+#[pyfunction(name = "_sweep_gather")]
+pub fn sweep_gather<'py>(
+    py: Python<'py>,
+    text: &str,
+    rows: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let sc = parse_text(text)?;
+    let spec = sweep_of(&sc)?;
+    let rows = rows.as_array();
+    if rows.ncols() != ROW_LEN || rows.nrows() != spec.len() {
+        return Err(parameter_error(
+            "rows",
+            format_args!("expected ({}, {ROW_LEN}) rows, got {:?}", spec.len(), rows.shape()),
+        ));
+    }
+    let mut outcomes = Vec::with_capacity(rows.nrows());
+    for (k, r) in rows.rows().into_iter().enumerate() {
+        let r = r.to_vec();
+        let o =
+            row_outcome(&r).filter(|o| o.run == k as u64 && o.law < spec.laws.len() && o.variant < spec.variants.len());
+        outcomes.push(o.ok_or_else(|| parameter_error(&format!("rows[{k}]"), "is not the outcome of run {k}"))?);
+    }
+    sweep_dict(py, &sc, spec, &outcomes)
+}

@@ -1,0 +1,60 @@
+//! Reading a scenario file within limits, so that a file (typed by hand, downloaded, or
+//! mutated by a fuzzer) gets one clear error instead of an exhausted memory or a read
+//! that never ends: a regular file of at most [`MAX_FILE_BYTES`], UTF-8 text, named by
+//! its stem.
+
+use std::fs::File;
+use std::io::{self, Read as _};
+use std::path::Path;
+
+use crate::error::{ScenarioError, shown};
+
+/// Largest scenario file read, bytes (16 MiB: a million `[[run]]`s fit).
+pub const MAX_FILE_BYTES: u64 = 16 << 20;
+
+/// The scenario name a file gets when it has no `name`: its stem (`fig7` for
+/// `examples/paper/fig7.toml`), or `scenario`.
+pub fn default_name(path: &Path) -> String {
+    path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scenario".to_owned())
+}
+
+/// Reads a scenario file: a regular file (not a FIFO, a device or a directory, which
+/// could block or never end) of at most [`MAX_FILE_BYTES`], UTF-8 text. Errors name the
+/// path; for a file that cannot be opened, [`ScenarioError::io`] holds the reason.
+pub fn read_text(path: &Path) -> Result<String, ScenarioError> {
+    let name = shown(path);
+    let io_err = |e: io::Error| ScenarioError::unreadable(e.kind(), format!("cannot read {name}: {e}"));
+    let meta = std::fs::metadata(path).map_err(io_err)?;
+    if meta.is_dir() {
+        return Err(ScenarioError::unreadable(
+            io::ErrorKind::IsADirectory,
+            format!("cannot read {name}: it is a directory, not a scenario file"),
+        ));
+    }
+    if !meta.is_file() {
+        return Err(ScenarioError::unreadable(
+            io::ErrorKind::InvalidInput,
+            format!("cannot read {name}: not a regular file (a FIFO, a device or a socket); give a scenario file"),
+        ));
+    }
+    let too_big = |len: u64| {
+        ScenarioError::new(
+            "",
+            format!("{name} is {len} bytes: a scenario file may be at most {} MiB", MAX_FILE_BYTES >> 20),
+        )
+    };
+    if meta.len() > MAX_FILE_BYTES {
+        return Err(too_big(meta.len()));
+    }
+    let mut bytes = Vec::with_capacity(usize::try_from(meta.len()).unwrap_or(0));
+    // The file may grow while it is read: never read more than the limit.
+    File::open(path).and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes)).map_err(io_err)?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(too_big(bytes.len() as u64));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let line = e.as_bytes()[..at].iter().filter(|&&b| b == b'\n').count() + 1;
+        ScenarioError::new("", format!("{name} is not UTF-8 text (a bad byte at offset {at})")).at_line(Some(line))
+    })
+}

@@ -1,0 +1,36 @@
+//! Sweeps (`[sweep]`): many starts, several laws, one outcome per (law, start), run in
+//! parallel (rayon, one run per task) with results in a fixed order.
+//!
+//! ```toml
+//! [sweep]
+//! goal = { x = 0.0, y = 0.0, theta_deg = 0.0 }
+//! controllers = [{ kind = "paper" }, { kind = "polar" }, { kind = "lyapunov", h = 9.0 }]
+//! # exactly one of:
+//! grid = { x_min = -2.0, x_max = 2.0, nx = 21, y_min = -2.0, y_max = 2.0, ny = 21, theta_deg = [0.0] }
+//! random = { n = 1000, seed = 1, radius = 2.0, min_radius = 0.1 }
+//! ```
+//!
+//! Each entry of `controllers` takes the keys of `[controller]` for its kind; absent, every
+//! law runs with its defaults. How the starts are drawn: `starts`.
+//!
+//! - `spec`: the checked sweep ([`SweepSpec`]): laws, variants, where run k sits;
+//! - `starts`: the start poses, from a grid or drawn at random;
+//! - `exact`: running it on the exact path ([`SweepOutcome`] per run; the fast path is
+//!   `crate::fast`);
+//! - `outcome`: one run's outcome and where it sits;
+//! - `row`: an outcome as a CSV row; `write`: the table written back as TOML;
+//! - `summary`: the per-law comparison table.
+
+mod exact;
+mod outcome;
+mod row;
+mod spec;
+mod starts;
+mod summary;
+mod write;
+
+pub use outcome::SweepOutcome;
+pub use row::{SWEEP_COLUMNS, sweep_row};
+pub use spec::SweepSpec;
+pub use starts::StartsSource;
+pub use summary::{LawSummary, Spread, summarize, summary_table};

@@ -1,0 +1,29 @@
+//! The outcome of one run of a sweep, with where it sits in the sweep.
+
+use wmr_core::{Outcome, Pose2, Status};
+
+/// The outcome of one (law, variant, trial, start) run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SweepOutcome {
+    /// Index into [`SweepSpec::laws`](crate::SweepSpec::laws).
+    pub law: usize,
+    /// Index into [`SweepSpec::variants`](crate::SweepSpec::variants).
+    pub variant: usize,
+    /// 0-based trial.
+    pub trial: u32,
+    /// The run's index in the sweep (it selects the sensor noise and the draws).
+    pub run: u64,
+    /// Index into [`SweepSpec::starts`](crate::SweepSpec::starts).
+    pub start_index: usize,
+    /// Start pose of C.
+    pub start: Pose2<f64>,
+    /// The core's outcome.
+    pub outcome: Outcome<f64>,
+}
+
+impl SweepOutcome {
+    /// Converged, diverged or unsettled (decided by the core).
+    pub fn status(&self) -> Status {
+        self.outcome.status()
+    }
+}

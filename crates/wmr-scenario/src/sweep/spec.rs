@@ -1,0 +1,244 @@
+//! A checked sweep: the goal, every law with its configuration for every variant of
+//! `vary`, the starts, and where run k of the sweep sits (law, variant, trial, start),
+//! the order of every sweep output.
+
+use toml::{Table, Value};
+use wmr_core::Pose2;
+
+use super::outcome::SweepOutcome;
+use super::starts::{StartsSource, grid_starts, random_starts};
+use crate::assemble::{self, Origin};
+use crate::bounds::check_in_box;
+use crate::budget::MAX_SWEEP_RUNS;
+use crate::controller::law_kinds;
+use crate::error::ScenarioError;
+use crate::file::{GridFile, SweepFile};
+use crate::setup::{Setup, Tables};
+use crate::sim::SimSpec;
+use crate::vary::{Variant, Variation};
+
+/// A checked sweep: the goal, the laws (with their names) and every start.
+#[derive(Clone, Debug)]
+pub struct SweepSpec {
+    /// Goal pose of C: m, m, rad.
+    pub goal: Pose2<f64>,
+    /// The laws, in file order: a unique name for each (`kind`, or `kind#2` ...) and its
+    /// nominal configuration (the scenario's robot, drive, sensor and world, the law's
+    /// controller table).
+    pub laws: Vec<(String, Setup)>,
+    /// Each law's tables, from which varied runs are resolved.
+    pub tables: Vec<Tables>,
+    /// The varied keys (`vary`), the trials and the seed of the draws.
+    pub variation: Variation,
+    /// The variants of [`Variation::variants`], in order.
+    pub variants: Vec<Variant>,
+    /// The configuration of each (law, variant), index law * variants + variant.
+    pub setups: Vec<Setup>,
+    /// Start poses of C: m, m, rad.
+    pub starts: Vec<Pose2<f64>>,
+    /// Where the starts come from, every default filled in (written back by `to_toml`).
+    pub source: StartsSource,
+}
+
+/// Two sweeps are equal when they run the same: the tables as written may differ.
+impl PartialEq for SweepSpec {
+    fn eq(&self, other: &Self) -> bool {
+        (&self.goal, &self.laws, &self.variation, &self.variants, &self.setups, &self.starts, &self.source)
+            == (
+                &other.goal,
+                &other.laws,
+                &other.variation,
+                &other.variants,
+                &other.setups,
+                &other.starts,
+                &other.source,
+            )
+    }
+}
+
+impl SweepSpec {
+    /// Checks a `[sweep]` table and draws the starts; every law is validated, for every
+    /// variant, with the scenario's tables (`base`) and its own controller table, and its
+    /// loop assembled towards the goal.
+    pub(crate) fn resolve(sw: &SweepFile, base: &Tables, sim: &SimSpec) -> Result<Self, ScenarioError> {
+        let goal = sw.goal.clone().unwrap_or_default().resolve("sweep.goal")?;
+        check_in_box("sweep.goal", goal)?;
+        let controllers: Vec<Table> = match &sw.controllers {
+            Some(v) if v.is_empty() => return Err(ScenarioError::new("sweep.controllers", "name at least one law")),
+            Some(v) => v.clone(),
+            None => law_kinds()
+                .into_iter()
+                .map(|k| Table::from_iter([("kind".to_owned(), Value::String(k.to_owned()))]))
+                .collect(),
+        };
+        let variation =
+            Variation::resolve(sw.vary.as_deref().unwrap_or_default(), sw.seed.unwrap_or(0), sw.trials.unwrap_or(1))?;
+        let variants = variation.variants();
+        let mut laws: Vec<(String, Setup)> = Vec::with_capacity(controllers.len());
+        let mut tables = Vec::with_capacity(controllers.len());
+        let mut setups = Vec::with_capacity(controllers.len() * variants.len());
+        for (i, controller) in controllers.into_iter().enumerate() {
+            let path = format!("sweep.controllers[{i}]");
+            let mut t = Tables { controller, ..base.clone() };
+            // A law without its own model takes the scenario's [controller.model].
+            if let (None, Some(model)) = (t.controller.get("model"), base.controller.get("model")) {
+                t.controller.insert("model".to_owned(), model.clone());
+            }
+            let setup = check_setup(&t, &path, sim, goal, None)?;
+            for v in &variants {
+                let vt = with_settings(&t, &variation.settings(*v, 0))?;
+                let blame = v.map(|(k, x)| (format!("sweep.vary[{k}]"), format!("{} = {x}", variation.keys[k].key)));
+                setups.push(check_setup(&vt, &path, sim, goal, blame)?);
+            }
+            if variation.has_draws() {
+                // The draws of the first run, as a sample of what the distributions give.
+                let blame = Some(("sweep.vary".to_owned(), "a drawn value".to_owned()));
+                check_setup(&with_settings(&t, &variation.settings(None, 0))?, &path, sim, goal, blame)?;
+            }
+            let kind = setup.controller.law.kind();
+            let same = laws.iter().filter(|(_, s)| s.controller.law.kind() == kind).count();
+            let name = if same == 0 { kind.to_owned() } else { format!("{kind}#{}", same + 1) };
+            laws.push((name, setup));
+            tables.push(t);
+        }
+        let (starts, source) = match (&sw.grid, &sw.random) {
+            (Some(g), None) => {
+                let g = GridFile { theta_deg: Some(g.theta_deg.clone().unwrap_or_else(|| vec![0.0])), ..g.clone() };
+                (grid_starts(&g)?, StartsSource::Grid(g))
+            }
+            (None, Some(r)) => (random_starts(r, goal)?, StartsSource::Random(r.clone())),
+            (Some(_), Some(_)) => {
+                return Err(ScenarioError::new("sweep.random", "give either grid or random, not both"));
+            }
+            (None, None) => {
+                return Err(ScenarioError::new("sweep", "missing the starts: give a grid or a random table"));
+            }
+        };
+        let runs = starts
+            .len()
+            .saturating_mul(laws.len())
+            .saturating_mul(variants.len())
+            .saturating_mul(variation.trials as usize);
+        if runs > MAX_SWEEP_RUNS {
+            return Err(ScenarioError::new(
+                "sweep",
+                format!(
+                    "{} starts x {} laws x {} variants x {} trials is more than {MAX_SWEEP_RUNS} runs",
+                    starts.len(),
+                    laws.len(),
+                    variants.len(),
+                    variation.trials
+                ),
+            ));
+        }
+        Ok(SweepSpec { goal, laws, tables, variation, variants, setups, starts, source })
+    }
+}
+
+/// `t` with every (key, value) of `settings` set.
+pub(super) fn with_settings(t: &Tables, settings: &[(&str, Value)]) -> Result<Tables, ScenarioError> {
+    let mut t = t.clone();
+    for (k, v) in settings {
+        t.set(k, v.clone())?;
+    }
+    Ok(t)
+}
+
+/// Resolves `t` and assembles its loop at the goal, so every check a run makes is made
+/// now. With `blame` (the `vary` entry's key path and the value it set), an error names
+/// that entry, which is what the file says, and quotes the key and reason inside.
+fn check_setup(
+    t: &Tables,
+    path: &str,
+    sim: &SimSpec,
+    goal: Pose2<f64>,
+    blame: Option<(String, String)>,
+) -> Result<Setup, ScenarioError> {
+    let prefix = |e: ScenarioError| match &blame {
+        None => e,
+        Some((key, what)) => ScenarioError::new(key, format!("{what}: {}: {}", e.key, e.message)),
+    };
+    let setup = Setup::resolve(t, path).map_err(prefix)?;
+    setup.check_step(sim.dt()).map_err(prefix)?;
+    assemble::closed_loop(&setup, 0, goal, goal, sim, Origin { run: "sweep", controller: path }).map_err(prefix)?;
+    Ok(setup)
+}
+
+/// Where run k sits in a sweep: indices into [`SweepSpec::laws`], [`SweepSpec::variants`],
+/// the trials and [`SweepSpec::starts`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct RunIndex {
+    pub law: usize,
+    pub variant: usize,
+    pub trial: usize,
+    pub start: usize,
+}
+
+impl SweepSpec {
+    /// Number of runs: laws x variants x trials x starts.
+    pub fn len(&self) -> usize {
+        self.laws.len() * self.variants.len() * self.variation.trials as usize * self.starts.len()
+    }
+
+    /// True when there is nothing to run.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Which (law, variant, trial, start) run `k` of the sweep is: law, then variant,
+    /// trial and start, the order of every sweep output.
+    pub(crate) fn index_of(&self, k: usize) -> RunIndex {
+        let n_starts = self.starts.len();
+        let trials = self.variation.trials as usize;
+        let n_variants = self.variants.len();
+        RunIndex {
+            start: k % n_starts,
+            trial: (k / n_starts) % trials,
+            variant: (k / (n_starts * trials)) % n_variants,
+            law: k / (n_starts * trials * n_variants),
+        }
+    }
+
+    /// The setup of run `k`: its law's and variant's, or, when `vary` draws values per
+    /// run, one resolved with the run's draws (`drawn` holds it).
+    pub(crate) fn setup_of<'a>(
+        &'a self,
+        sim: &SimSpec,
+        k: usize,
+        drawn: &'a mut Option<Setup>,
+    ) -> Result<&'a Setup, ScenarioError> {
+        let i = self.index_of(k);
+        if self.variation.has_draws() {
+            let settings = self.variation.settings(self.variants[i.variant], k as u64);
+            let setup = Setup::resolve(&with_settings(&self.tables[i.law], &settings)?, &self.law_path(i.law))?;
+            setup.check_step(sim.dt())?;
+            Ok(drawn.insert(setup))
+        } else {
+            Ok(&self.setups[i.law * self.variants.len() + i.variant])
+        }
+    }
+
+    /// `sweep.controllers[law]`: where errors of a law's runs point.
+    pub(crate) fn law_path(&self, law: usize) -> String {
+        format!("sweep.controllers[{law}]")
+    }
+
+    /// The value of every varied key in a run (in `vary` order): its variant's axis value,
+    /// its draw, or the nominal value.
+    pub fn varied_values(&self, o: &SweepOutcome) -> Vec<f64> {
+        let settings = self.variation.settings(self.variants[o.variant], o.run);
+        let nominal = &self.laws[o.law].1;
+        self.variation
+            .keys
+            .iter()
+            .map(|k| {
+                settings
+                    .iter()
+                    .find(|(key, _)| *key == k.key)
+                    .and_then(|(_, v)| v.as_float())
+                    .or_else(|| nominal.value_of(&k.key))
+                    .unwrap_or(f64::NAN)
+            })
+            .collect()
+    }
+}

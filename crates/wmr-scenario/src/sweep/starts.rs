@@ -1,0 +1,133 @@
+//! The start poses of a sweep: a grid, or random starts uniform over the annulus
+//! `min_radius <= |C - goal| <= radius` with a uniform heading in [-180, 180) deg, drawn
+//! from `fastrand`'s generator seeded with `seed` (the same file gives the same starts).
+//! Every start lies inside the box a run may not leave.
+
+use wmr_core::Pose2;
+use wmr_core::plant::DIVERGENCE_BOX_M;
+
+use crate::bounds::check_in_box;
+use crate::budget::MAX_SWEEP_RUNS;
+use crate::error::{ScenarioError, num};
+use crate::file::{GridFile, RandomFile};
+
+/// The `grid` or `random` table a sweep's starts were drawn from, defaults filled in.
+#[derive(Clone, Debug, PartialEq)]
+pub enum StartsSource {
+    /// `grid = { ... }`.
+    Grid(GridFile),
+    /// `random = { ... }`.
+    Random(RandomFile),
+}
+
+fn finite_key(key: &str, v: f64) -> Result<f64, ScenarioError> {
+    if v.is_finite() { Ok(v) } else { Err(ScenarioError::new(key, format!("must be a finite number (got {v})"))) }
+}
+
+pub(super) fn grid_starts(g: &GridFile) -> Result<Vec<Pose2<f64>>, ScenarioError> {
+    let x_min = finite_key("sweep.grid.x_min", g.x_min)?;
+    let x_max = finite_key("sweep.grid.x_max", g.x_max)?;
+    let y_min = finite_key("sweep.grid.y_min", g.y_min)?;
+    let y_max = finite_key("sweep.grid.y_max", g.y_max)?;
+    if g.nx == 0 {
+        return Err(ScenarioError::new("sweep.grid.nx", "must be >= 1"));
+    }
+    if g.ny == 0 {
+        return Err(ScenarioError::new("sweep.grid.ny", "must be >= 1"));
+    }
+    let thetas = g.theta_deg.clone().unwrap_or_else(|| vec![0.0]);
+    if thetas.is_empty() {
+        return Err(ScenarioError::new("sweep.grid.theta_deg", "give at least one heading"));
+    }
+    // Counted in u128: nx * ny * headings cannot wrap (each factor is below 2^32 or a
+    // length), and nothing is allocated before the count is known to be allowed.
+    let total = u128::from(g.nx) * u128::from(g.ny) * thetas.len() as u128;
+    if total > MAX_SWEEP_RUNS as u128 {
+        return Err(ScenarioError::new(
+            "sweep.grid",
+            format!(
+                "nx x ny x headings = {} x {} x {} = {total} starts, more than the limit of {MAX_SWEEP_RUNS}",
+                g.nx,
+                g.ny,
+                thetas.len()
+            ),
+        ));
+    }
+    if x_max < x_min {
+        return Err(ScenarioError::new(
+            "sweep.grid.x_max",
+            format!("must be >= x_min = {} (got {})", num(x_min), num(x_max)),
+        ));
+    }
+    if y_max < y_min {
+        return Err(ScenarioError::new(
+            "sweep.grid.y_max",
+            format!("must be >= y_min = {} (got {})", num(y_min), num(y_max)),
+        ));
+    }
+    // Every start inside the box (so hi - lo below cannot overflow either).
+    for (key, v) in [("x_min", x_min), ("x_max", x_max), ("y_min", y_min), ("y_max", y_max)] {
+        check_in_box("sweep.grid", Pose2::new(v, 0.0, 0.0))
+            .map_err(|e| ScenarioError { key: format!("sweep.grid.{key}"), ..e })?;
+    }
+    for (i, t) in thetas.iter().enumerate() {
+        finite_key(&format!("sweep.grid.theta_deg[{i}]"), *t)?;
+    }
+    let at = |lo: f64, hi: f64, n: u32, i: u32| {
+        if n == 1 { 0.5 * (lo + hi) } else { lo + (hi - lo) * f64::from(i) / f64::from(n - 1) }
+    };
+    let mut starts = Vec::with_capacity(total as usize);
+    for j in 0..g.ny {
+        for i in 0..g.nx {
+            for t in &thetas {
+                starts.push(Pose2::new(at(x_min, x_max, g.nx, i), at(y_min, y_max, g.ny, j), t.to_radians()));
+            }
+        }
+    }
+    Ok(starts)
+}
+
+pub(super) fn random_starts(r: &RandomFile, goal: Pose2<f64>) -> Result<Vec<Pose2<f64>>, ScenarioError> {
+    let radius = finite_key("sweep.random.radius", r.radius)?;
+    let min_radius = finite_key("sweep.random.min_radius", r.min_radius)?;
+    if radius <= 0.0 {
+        return Err(ScenarioError::new("sweep.random.radius", format!("must be > 0 (got {})", num(radius))));
+    }
+    if !(0.0..=radius).contains(&min_radius) {
+        return Err(ScenarioError::new(
+            "sweep.random.min_radius",
+            format!("must be in [0, radius] (got {})", num(min_radius)),
+        ));
+    }
+    if r.n == 0 || r.n as usize > MAX_SWEEP_RUNS {
+        return Err(ScenarioError::new("sweep.random.n", format!("must be in 1..={MAX_SWEEP_RUNS} (got {})", r.n)));
+    }
+    // Every start inside the box: the circle of `radius` around the goal must be (this
+    // also keeps radius^2 below from overflowing).
+    let reach = goal.x.abs().max(goal.y.abs()) + radius;
+    if reach > DIVERGENCE_BOX_M {
+        return Err(ScenarioError::new(
+            "sweep.random.radius",
+            format!(
+                "starts up to {} m from the goal ({}, {}) would lie outside the box a run may not leave \
+                 (|x|, |y| <= {DIVERGENCE_BOX_M} m): at most {} m here",
+                num(radius),
+                num(goal.x),
+                num(goal.y),
+                num(DIVERGENCE_BOX_M - goal.x.abs().max(goal.y.abs()))
+            ),
+        ));
+    }
+    let mut rng = fastrand::Rng::with_seed(r.seed);
+    let tau = std::f64::consts::TAU;
+    let (a2, b2) = (min_radius * min_radius, radius * radius);
+    Ok((0..r.n)
+        .map(|_| {
+            // Uniform over the annulus: r^2 uniform between the radii squared.
+            let rho = (a2 + (b2 - a2) * rng.f64()).sqrt();
+            let phi = tau * rng.f64();
+            let theta = tau * rng.f64() - std::f64::consts::PI;
+            Pose2::new(goal.x + rho * phi.cos(), goal.y + rho * phi.sin(), theta)
+        })
+        .collect())
+}

@@ -1,0 +1,118 @@
+//! The comparison of the laws of a sweep: per law, the shares of the outcomes and median
+//! and worst of the other figures over the converged runs, as values and as a table.
+
+use wmr_core::{Outcome, Status};
+
+use super::outcome::SweepOutcome;
+use super::spec::SweepSpec;
+
+/// Median and worst of one figure over a law's runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spread {
+    /// Median (NaN when no run counts).
+    pub median: f64,
+    /// Worst: the largest value (NaN when no run counts).
+    pub worst: f64,
+}
+
+fn spread(mut v: Vec<f64>) -> Spread {
+    v.retain(|x| x.is_finite());
+    if v.is_empty() {
+        return Spread { median: f64::NAN, worst: f64::NAN };
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    let median = if n % 2 == 1 { v[n / 2] } else { 0.5 * (v[n / 2 - 1] + v[n / 2]) };
+    Spread { median, worst: v[n - 1] }
+}
+
+/// Comparison of one law over all starts. Figures other than the shares are taken over
+/// the converged runs only (a diverged run has no meaningful time or heading error).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LawSummary {
+    /// The law's name.
+    pub name: String,
+    /// Runs.
+    pub n: usize,
+    /// Share of runs that converged (0..1).
+    pub converged: f64,
+    /// Share of runs that diverged (0..1): the state stopped being finite or C left the box.
+    pub diverged: f64,
+    /// Share of runs that are unsettled (0..1): neither converged nor diverged at t_end.
+    pub unsettled: f64,
+    /// Time to 1 cm, s.
+    pub time_to_1cm: Spread,
+    /// |final heading error|, deg.
+    pub heading_error_deg: Spread,
+    /// Peak wheel speed, rad/s.
+    pub peak_wheel_speed: Spread,
+    /// Path length, m.
+    pub path_length: Spread,
+    /// Drive energy, J.
+    pub energy: Spread,
+}
+
+/// Per-law comparison of sweep outcomes, in law order.
+pub fn summarize(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<LawSummary> {
+    spec.laws
+        .iter()
+        .enumerate()
+        .map(|(i, (name, _))| {
+            let runs: Vec<&SweepOutcome> = outcomes.iter().filter(|o| o.law == i).collect();
+            let ok: Vec<&SweepOutcome> = runs.iter().copied().filter(|o| o.status() == Status::Converged).collect();
+            let n = runs.len().max(1) as f64;
+            let share = |status: Status| runs.iter().filter(|o| o.status() == status).count() as f64 / n;
+            let over = |f: fn(&Outcome<f64>) -> f64| spread(ok.iter().map(|o| f(&o.outcome)).collect());
+            LawSummary {
+                name: name.clone(),
+                n: runs.len(),
+                converged: ok.len() as f64 / n,
+                diverged: share(Status::Diverged),
+                unsettled: share(Status::Unsettled),
+                time_to_1cm: over(|o| o.time_to_arrival.unwrap_or(f64::NAN)),
+                heading_error_deg: over(|o| o.final_heading_error.to_degrees().abs()),
+                peak_wheel_speed: over(|o| o.peak_wheel_speed),
+                path_length: over(|o| o.path_length),
+                energy: over(|o| o.energy),
+            }
+        })
+        .collect()
+}
+
+/// The comparison table as aligned text, one line per law: the shares of the three
+/// outcomes, then "median / worst" of the other figures over the converged runs.
+pub fn summary_table(rows: &[LawSummary]) -> String {
+    let fmt = |s: Spread, prec: usize| {
+        if s.median.is_nan() { "-".to_owned() } else { format!("{:.p$} / {:.p$}", s.median, s.worst, p = prec) }
+    };
+    let w = rows.iter().map(|r| r.name.len()).max().unwrap_or(0).max(3);
+    let mut out = format!(
+        "{:<w$} {:>6} {:>10} {:>9} {:>10} {:>17} {:>15} {:>15} {:>13} {:>15}\n",
+        "law",
+        "runs",
+        "converged",
+        "diverged",
+        "unsettled",
+        "t_1cm s (med/max)",
+        "|e_th| deg",
+        "peak w rad/s",
+        "path m",
+        "energy J"
+    );
+    for r in rows {
+        out.push_str(&format!(
+            "{:<w$} {:>6} {:>9.1}% {:>8.1}% {:>9.1}% {:>17} {:>15} {:>15} {:>13} {:>15}\n",
+            r.name,
+            r.n,
+            100.0 * r.converged,
+            100.0 * r.diverged,
+            100.0 * r.unsettled,
+            fmt(r.time_to_1cm, 2),
+            fmt(r.heading_error_deg, 2),
+            fmt(r.peak_wheel_speed, 1),
+            fmt(r.path_length, 2),
+            fmt(r.energy, 1),
+        ));
+    }
+    out
+}
