@@ -41,6 +41,7 @@
 pub mod batch;
 pub mod closed_loop;
 pub mod controller;
+pub mod describe;
 pub mod drive;
 mod dynamics;
 pub mod error;
