@@ -27,7 +27,7 @@ crate::params! {
         pub gear_ratio: T [unit = "", rule = "> 0"],
         /// b_v, viscous friction at each wheel: tau_f = b_v * omega_wheel.
         pub viscous_friction: T [unit = "N m s", rule = ">= 0"],
-        /// tau_c, Coulomb friction at each wheel, smoothed by `coulomb_speed`.
+        /// tau_c, Coulomb friction at each wheel, smoothed by coulomb_speed.
         pub coulomb_friction: T [unit = "N m", rule = ">= 0"],
         /// omega_eps: Coulomb friction is tau_c * tanh(omega_wheel / omega_eps).
         pub coulomb_speed: T [unit = "rad/s", rule = "> 0"],

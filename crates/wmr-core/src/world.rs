@@ -19,8 +19,8 @@ crate::params! {
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
     pub struct WorldParams<T> {
-        /// Tilt of the ground plane (0: flat); x and y lie in the plane.
-        pub slope_deg: T [unit = "deg", rule = "between -90 and 90 (exclusive)"],
+        /// Tilt of the ground plane (0: flat).
+        pub slope_deg: T [unit = "deg", rule = "-90 < slope_deg < 90"],
         /// World direction (in the plane, from the x axis) in which the ground descends.
         pub slope_direction_deg: T [unit = "deg", rule = "finite"],
     }

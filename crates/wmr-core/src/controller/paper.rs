@@ -71,7 +71,7 @@ crate::params! {
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
     pub struct PaperParams<T> {
-        /// "pose" (reach x, y, theta: theta_R = 2 alpha - theta_d) or "position" (heading free: theta_R = alpha).
+        /// Pose mode (reach x, y, theta: theta_R = 2 alpha - theta_d) or position mode (heading free: theta_R = alpha).
         pub mode: PaperMode [unit = "", rule = "\"pose\" or \"position\""],
         /// Kp_theta, rad of heading command per rad of error (paper: 2).
         pub kp_theta: T [unit = "rad/rad", rule = ">= 0"],
@@ -85,7 +85,7 @@ crate::params! {
         pub goal_radius: T [unit = "m", rule = ">= 0"],
         /// Within this distance of the goal the outer errors are zero and the outer integrators stop (0: off).
         pub hold_radius: T [unit = "m", rule = ">= 0"],
-        /// How the hold behaves: auto (zero_errors in pose mode, freeze in position mode), zero_errors or freeze.
+        /// The hold: auto (zero_errors in pose mode, freeze in position mode), zero_errors (references step on entry) or freeze (bumpless).
         ///
         /// [`HoldMode::ZeroErrors`] takes the errors as zero, so the wheel references
         /// step on entry; [`HoldMode::Freeze`] keeps the last references (bumpless).

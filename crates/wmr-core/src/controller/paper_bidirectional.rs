@@ -85,7 +85,7 @@ crate::params! {
         pub goal_radius: T [unit = "m", rule = ">= 0"],
         /// Within this distance of the goal the outer loops hold (0: off).
         pub hold_radius: T [unit = "m", rule = ">= 0"],
-        /// How the hold behaves: freeze (bumpless; auto is the same) or zero_errors.
+        /// The hold: freeze (bumpless; auto is the same) or zero_errors.
         pub hold: HoldMode [unit = "", rule = "\"freeze\", \"auto\" or \"zero_errors\""],
     }
 }

@@ -63,11 +63,11 @@ crate::params! {
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
     pub struct WheelStageParams<T> {
-        /// Wheel servo Kp (N m/rad for the torque drive, V/rad for the DC motor).
+        /// Wheel servo Kp (the unit follows the drive: torque or dc_motor).
         pub servo_kp: T [unit = "N m/rad or V/rad", rule = "> 0"],
-        /// Wheel servo Kd (N m s/rad or V s/rad).
+        /// Wheel servo Kd.
         pub servo_kd: T [unit = "N m s/rad or V s/rad", rule = ">= 0"],
-        /// Wheel servo Ki (N m/(rad s) or V/(rad s)).
+        /// Wheel servo Ki.
         pub servo_ki: T [unit = "N m/(rad s) or V/(rad s)", rule = ">= 0"],
         /// Per-wheel speed limit (inf: off), on the references with the curvature kept.
         ///
