@@ -7,7 +7,7 @@
 //! use wmr_core::describe::Described;
 //!
 //! let mass = &RobotParams::<f64>::FIELDS[0];
-//! assert_eq!((mass.name, mass.unit, mass.rule), ("mass", "kg", "> 0"));
+//! assert_eq!((mass.name, mass.ty, mass.unit, mass.rule), ("mass", "T", "kg", "> 0"));
 //! let f32_robot: RobotParams<f32> = RobotParams::<f64>::paper().cast();
 //! assert_eq!(f32_robot.mass, 5.0);
 //! ```
@@ -17,6 +17,8 @@
 pub struct ParamField {
     /// The field's name: the scenario key, the C struct member, the Python keyword.
     pub name: &'static str,
+    /// Its type as declared: `T` (the float parameter) or a fixed type (`u32`, `bool`, an enum).
+    pub ty: &'static str,
     /// Its unit (`""` for a name, a flag or a count).
     pub unit: &'static str,
     /// What it is, in one line (the first line of the field's doc).
@@ -96,6 +98,7 @@ macro_rules! params {
             const FIELDS: &'static [$crate::describe::ParamField] = &[$(
                 $crate::describe::ParamField {
                     name: stringify!($field),
+                    ty: stringify!($fty),
                     unit: $unit,
                     doc: $crate::describe::doc_line($doc),
                     rule: $rule,

@@ -8,6 +8,8 @@ crate::params! {
     ///
     /// Field names match the `[robot]` keys of a scenario file. Build a checked [`Robot`]
     /// with [`RobotParams::validate`]; the raw struct is never used by the models.
+    // repr(C): the C API hands this very struct across (wmr-ffi, include/wmr.h).
+    #[repr(C)]
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
     pub struct RobotParams<T> {

@@ -16,6 +16,8 @@ pub const STANDARD_GRAVITY: f64 = 9.80665;
 
 crate::params! {
     /// `[world]` keys.
+    // repr(C): the C API hands this very struct across (wmr-ffi, include/wmr.h).
+    #[repr(C)]
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
     pub struct WorldParams<T> {

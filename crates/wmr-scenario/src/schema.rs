@@ -69,12 +69,14 @@ impl SchemaKey {
 /// `control_dt`, `model`), described here.
 const CONTROL_DT: ParamField = ParamField {
     name: "control_dt",
+    ty: "T",
     unit: "s",
     doc: "Control period: the law, the servos and the sensor tick at this rate.",
     rule: "> 0, a whole multiple of sim.dt",
 };
 const MODEL: ParamField = ParamField {
     name: "model",
+    ty: "table",
     unit: "",
     doc: "The subtable [controller.model]: what the controller believes about the robot (any [robot] key; a key not given takes the [robot] value).",
     rule: "[robot] keys",

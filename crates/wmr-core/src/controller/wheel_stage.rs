@@ -60,6 +60,8 @@ use num_traits::{Float, Zero};
 
 crate::params! {
     /// The wheel stage's keys (flat in a scenario's `[controller]` table).
+    // repr(C): the C API hands this very struct across (wmr-ffi, include/wmr.h).
+    #[repr(C)]
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
     pub struct WheelStageParams<T> {

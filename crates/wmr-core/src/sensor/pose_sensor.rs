@@ -26,6 +26,8 @@ use crate::{Real, RobotParams};
 
 crate::params! {
     /// `[sensor]` keys: what the controller sees.
+    // repr(C): the C API hands this very struct across (wmr-ffi, include/wmr.h).
+    #[repr(C)]
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
     pub struct SensorParams<T> {
