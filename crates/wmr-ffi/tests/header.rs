@@ -97,7 +97,11 @@ fn shared_structs_source() -> String {
 #[test]
 fn shared_structs_have_the_core_layout() {
     // The C declarations list the fields in declaration order; repr(C) lays them out so.
-    assert_eq!(std::mem::size_of::<wmr_ffi::wmr_robot_params<f32>>(), 10 * 4);
+    // All-float structs: one float per declared field, nothing else.
+    let floats = |fields: &[ParamField]| fields.len() * 4;
+    assert_eq!(std::mem::size_of::<wmr_ffi::wmr_robot_params<f32>>(), floats(RobotParams::<f64>::FIELDS));
+    assert_eq!(std::mem::size_of::<wmr_ffi::wmr_world_params<f32>>(), floats(WorldParams::<f64>::FIELDS));
+    assert_eq!(std::mem::size_of::<wmr_ffi::wmr_wheel_stage_params<f32>>(), floats(WheelStageParams::<f64>::FIELDS));
     assert_eq!(std::mem::size_of::<wmr_ffi::wmr_sensor_params<f32>>(), 4 * 4 + 4 + 4 + 8);
     assert_eq!(std::mem::offset_of!(wmr_ffi::wmr_sensor_params<f64>, seed), 4 * 8 + 8);
     for (_, _, fields) in shared_structs() {
