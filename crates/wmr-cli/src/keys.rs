@@ -1,5 +1,5 @@
 //! The long help: every scenario key with its unit, default and rule, the tables of the
-//! core's parameters generated from their declarations (through [`wmr_scenario::schema`]),
+//! core's parameters generated from their declarations (through [`wmr_scenario::schema()`]),
 //! the MCAP topics from [`crate::foxglove_topics::Kind`]; docs/scenario.md has more.
 
 use std::fmt::Write as _;
