@@ -6,14 +6,9 @@
 //! from the Unix epoch (t = 0 is 1970-01-01T00:00:00Z), exactly `k * dt` for the `k`-th
 //! plant step, so every sample lies on the log grid.
 //!
-//! | topic | schema | messages |
-//! |---|---|---|
-//! | `/runN/tf` | `foxglove.FrameTransform` | every sample: `world` -> `runN/base_link` (pose of C) |
-//! | `/runN/sample` | `wmr.Sample` (protobuf) | every sample: every CSV column after `run`, same f64 |
-//! | `/runN/scene` | `foxglove.SceneUpdate` | at t = 0: the robot's body (locked to `runN/base_link`), the goal arrow; again whenever the oldest piece of the path grows |
-//! | `/runN/path` | `foxglove.SceneUpdate` | the middle piece of the path, whenever it grows |
-//! | `/runN/path_tip` | `foxglove.SceneUpdate` | the newest piece of the path, up to C, whenever C has moved [`PATH_PUBLISH_STEP_M`] |
-//! | `/runN/pose_meas` | `foxglove.PoseInFrame` | with a `[sensor]`: the pose the controller used, whenever it changes |
+//! The topics are [`Kind::ALL`], each `/runN/<`[`Kind::name`]`>` with the schema
+//! [`Kind::schema`] and the messages [`Kind::messages`] says: that list is also what
+//! `wmr-cli --help` prints (a test reads the topics back from an MCAP file).
 //!
 //! **Why the path is three topics.** On a seek, Foxglove clears the 3D scene and reads
 //! back only the latest message of each topic. So the latest messages of `scene`, `path`
@@ -79,6 +74,20 @@ impl Kind {
             Kind::Path => "path",
             Kind::PathTip => "path_tip",
             Kind::PoseMeas => "pose_meas",
+        }
+    }
+
+    /// When this topic gets a message, and what it holds.
+    pub fn messages(self) -> &'static str {
+        match self {
+            Kind::Tf => "every sample: world -> runN/base_link (pose of C)",
+            Kind::Sample => "every sample: every CSV column after run, same f64",
+            Kind::Scene => {
+                "at t = 0: the robot's body, the goal arrow; again whenever the oldest piece of the path grows"
+            }
+            Kind::Path => "the middle piece of the path, whenever it grows",
+            Kind::PathTip => "the newest piece of the path, up to C, whenever C has moved on by a few mm",
+            Kind::PoseMeas => "with a [sensor]: the pose the controller used, whenever it changes",
         }
     }
 

@@ -27,7 +27,7 @@ use crate::exec::load;
 
 /// Simulate and control two-wheeled differential-drive robots from scenario files.
 #[derive(Parser, Debug)]
-#[command(name = "wmr-cli", version, about, after_long_help = keys::KEYS_HELP)]
+#[command(name = "wmr-cli", version, about, after_long_help = keys::keys_help())]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -37,7 +37,7 @@ struct Cli {
 enum Command {
     /// Run every [[run]] of a scenario and write OUT (MCAP or CSV), then print one
     /// summary line per run.
-    #[command(after_long_help = keys::KEYS_HELP)]
+    #[command(after_long_help = keys::keys_help())]
     Run {
         /// The scenario file (TOML).
         file: PathBuf,
@@ -73,7 +73,7 @@ enum Command {
     },
     /// Run the sweep table of a scenario: every law from every start, in parallel; write one CSV
     /// row per (law, start) and print a comparison table (median / worst per law).
-    #[command(after_long_help = keys::KEYS_HELP)]
+    #[command(after_long_help = keys::keys_help())]
     Sweep {
         /// The scenario file (TOML) with a sweep table.
         file: PathBuf,
@@ -101,7 +101,7 @@ enum Command {
         output: PathBuf,
     },
     /// Validate a scenario and print it with every default filled in (TOML).
-    #[command(after_long_help = keys::KEYS_HELP)]
+    #[command(after_long_help = keys::keys_help())]
     Check {
         /// The scenario file (TOML).
         file: PathBuf,

@@ -43,6 +43,7 @@ pub mod batch;
 pub mod clock;
 pub mod closed_loop;
 pub mod controller;
+pub mod describe;
 pub mod drive;
 mod dynamics;
 pub mod error;

@@ -3,33 +3,37 @@
 use crate::Real;
 use crate::error::{ParamError, check};
 
-/// Physical parameters of the differential-drive robot, SI units.
-///
-/// Field names match the `[robot]` keys of a scenario file. Build a checked [`Robot`]
-/// with [`RobotParams::validate`]; the raw struct is never used by the models.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct RobotParams<T> {
-    /// m, total mass, kg.
-    pub mass: T,
-    /// r, wheel radius, m.
-    pub wheel_radius: T,
-    /// R, half the distance between the wheels (axle midpoint C to each wheel), m.
-    pub half_track: T,
-    /// d, distance from C forward to the centre of mass G, m (may be negative: G behind C).
-    pub com_offset: T,
-    /// I_m, inertia of one wheel plus its motor rotor about the wheel axis, kg m^2.
-    pub wheel_inertia: T,
-    /// I_p, platform inertia about G, kg m^2.
-    pub platform_inertia: T,
-    /// k_t, gear reduction: wheel speed = k_t * motor speed (dimensionless).
-    pub gear_ratio: T,
-    /// b_v, viscous friction at each wheel, N m s: tau_f = b_v * omega_wheel.
-    pub viscous_friction: T,
-    /// tau_c, Coulomb friction at each wheel, N m, smoothed by `coulomb_speed`.
-    pub coulomb_friction: T,
-    /// omega_eps, rad/s: Coulomb friction is tau_c * tanh(omega_wheel / omega_eps).
-    pub coulomb_speed: T,
+crate::params! {
+    /// Physical parameters of the differential-drive robot, SI units.
+    ///
+    /// Field names match the `[robot]` keys of a scenario file. Build a checked [`Robot`]
+    /// with [`RobotParams::validate`]; the raw struct is never used by the models.
+    // repr(C): the C API hands this very struct across (wmr-ffi, include/wmr.h).
+    #[repr(C)]
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    pub struct RobotParams<T> {
+        /// m, total mass.
+        pub mass: T [unit = "kg", rule = "> 0"],
+        /// r, wheel radius.
+        pub wheel_radius: T [unit = "m", rule = "> 0"],
+        /// R, half the distance between the wheels (axle midpoint C to each wheel).
+        pub half_track: T [unit = "m", rule = "> 0"],
+        /// d, distance from C forward to the centre of mass G (negative: G behind C).
+        pub com_offset: T [unit = "m", rule = "finite, any sign"],
+        /// I_m, inertia of one wheel plus its motor rotor about the wheel axis.
+        pub wheel_inertia: T [unit = "kg m^2", rule = ">= 0"],
+        /// I_p, platform inertia about G.
+        pub platform_inertia: T [unit = "kg m^2", rule = ">= 0, and I_p + m d^2 > 0"],
+        /// k_t, gear reduction: wheel speed = k_t * motor speed.
+        pub gear_ratio: T [unit = "", rule = "> 0"],
+        /// b_v, viscous friction at each wheel: tau_f = b_v * omega_wheel.
+        pub viscous_friction: T [unit = "N m s", rule = ">= 0"],
+        /// tau_c, Coulomb friction at each wheel, smoothed by coulomb_speed.
+        pub coulomb_friction: T [unit = "N m", rule = ">= 0"],
+        /// omega_eps: Coulomb friction is tau_c * tanh(omega_wheel / omega_eps).
+        pub coulomb_speed: T [unit = "rad/s", rule = "> 0"],
+    }
 }
 
 impl<T: Real> RobotParams<T> {

@@ -14,15 +14,18 @@ use crate::error::{ParamError, check};
 /// Standard gravity, m/s^2.
 pub const STANDARD_GRAVITY: f64 = 9.80665;
 
-/// `[world]` keys.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct WorldParams<T> {
-    /// Tilt of the ground plane, degrees, |slope_deg| < 90. Default 0 (flat).
-    pub slope_deg: T,
-    /// World direction (in the plane, from the x axis) in which the ground descends,
-    /// degrees. Default 0.
-    pub slope_direction_deg: T,
+crate::params! {
+    /// `[world]` keys.
+    // repr(C): the C API hands this very struct across (wmr-ffi, include/wmr.h).
+    #[repr(C)]
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    pub struct WorldParams<T> {
+        /// Tilt of the ground plane (0: flat).
+        pub slope_deg: T [unit = "deg", rule = "-90 < slope_deg < 90"],
+        /// World direction (in the plane, from the x axis) in which the ground descends.
+        pub slope_direction_deg: T [unit = "deg", rule = "finite"],
+    }
 }
 
 impl<T: Real> Default for WorldParams<T> {

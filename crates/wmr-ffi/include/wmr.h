@@ -133,21 +133,21 @@ typedef struct {
   float mass;
   // r, wheel radius, m (> 0).
   float wheel_radius;
-  // R, half the distance between the wheels, m (> 0).
+  // R, half the distance between the wheels (axle midpoint C to each wheel), m (> 0).
   float half_track;
-  // d, distance from C forward to the centre of mass G, m.
+  // d, distance from C forward to the centre of mass G (negative: G behind C), m (finite, any sign).
   float com_offset;
-  // I_m, inertia of one wheel plus its rotor about the wheel axis, kg m^2 (>= 0).
+  // I_m, inertia of one wheel plus its motor rotor about the wheel axis, kg m^2 (>= 0).
   float wheel_inertia;
-  // I_p, platform inertia about G, kg m^2 (>= 0).
+  // I_p, platform inertia about G, kg m^2 (>= 0, and I_p + m d^2 > 0).
   float platform_inertia;
-  // k_t, gear reduction: wheel speed = k_t motor speed (> 0).
+  // k_t, gear reduction: wheel speed = k_t * motor speed (> 0).
   float gear_ratio;
-  // b_v, viscous friction at each wheel, N m s (>= 0).
+  // b_v, viscous friction at each wheel: tau_f = b_v * omega_wheel, N m s (>= 0).
   float viscous_friction;
-  // tau_c, Coulomb friction at each wheel, N m (>= 0).
+  // tau_c, Coulomb friction at each wheel, smoothed by coulomb_speed, N m (>= 0).
   float coulomb_friction;
-  // omega_eps, rad/s: Coulomb friction is tau_c tanh(omega / omega_eps) (> 0).
+  // omega_eps: Coulomb friction is tau_c * tanh(omega_wheel / omega_eps), rad/s (> 0).
   float coulomb_speed;
 } wmr_robot_params_f32;
 
@@ -196,13 +196,13 @@ typedef struct {
 
 // The wheel stage: two wheel position servos and the curvature-keeping speed limit.
 typedef struct {
-  // Servo Kp: N m/rad (torque drive) or V/rad (DC motor), > 0.
+  // Wheel servo Kp (the unit follows the drive: torque or dc_motor), N m/rad or V/rad (> 0).
   float servo_kp;
-  // Servo Kd: N m s/rad or V s/rad, >= 0.
+  // Wheel servo Kd, N m s/rad or V s/rad (>= 0).
   float servo_kd;
-  // Servo Ki: N m/(rad s) or V/(rad s), >= 0.
+  // Wheel servo Ki, N m/(rad s) or V/(rad s) (>= 0).
   float servo_ki;
-  // Per-wheel limit on the reference speeds, rad/s; infinity = off.
+  // Per-wheel speed limit (inf: off), on the references with the curvature kept, rad/s (> 0, inf allowed).
   float wheel_speed_max;
 } wmr_wheel_stage_params_f32;
 
@@ -265,12 +265,11 @@ typedef struct {
   uint64_t opaque[WMR_PLANT_F32_WORDS];
 } wmr_plant_f32;
 
-// The ground (the `[world]` keys): a plane tilted by `slope_deg`, descending towards
-// `slope_direction_deg`.
+// The ground (the `[world]` keys): a plane tilted by `slope_deg`, descending towards `slope_direction_deg`.
 typedef struct {
-  // Tilt of the ground plane, degrees, |slope_deg| < 90 (0: flat).
+  // Tilt of the ground plane (0: flat), deg (-90 < slope_deg < 90).
   float slope_deg;
-  // World direction in which the ground descends, degrees from the x axis.
+  // World direction (in the plane, from the x axis) in which the ground descends, deg (finite).
   float slope_direction_deg;
 } wmr_world_params_f32;
 
@@ -317,23 +316,19 @@ typedef struct {
   uint64_t opaque[WMR_SENSOR_F32_WORDS];
 } wmr_sensor_f32;
 
-// The pose sensor (the `[sensor]` keys): a pose sampled at `rate_hz`, arriving after
-// `latency`, with Gaussian noise, and wheel encoders quantized to `encoder_counts`.
-// Every default: the perfect sensor, bit for bit.
+// The pose sensor (the `[sensor]` keys); every default: the perfect sensor, bit for bit. Here latency * rate_hz must be below `WMR_SENSOR_SAMPLES_IN_FLIGHT` - 1.
 typedef struct {
-  // Pose samples per second, Hz; 1 / rate_hz a whole multiple of control_dt.
-  // Infinity: a sample at every control tick.
+  // Pose samples per second (inf, the default: a sample at every control tick), Hz (> 0; 1 / rate_hz a whole multiple of control_dt).
   float rate_hz;
-  // Latency, s, a whole multiple of control_dt; latency * rate_hz below
-  // `WMR_SENSOR_SAMPLES_IN_FLIGHT` - 1.
+  // Latency: a sample taken at t reaches the controller at t + latency, s (>= 0, a whole multiple of control_dt; latency * rate_hz < 250).
   float latency;
-  // Standard deviation of the noise on x and on y, m.
+  // Standard deviation of the Gaussian noise on x and on y of each sample, m (>= 0).
   float position_noise;
-  // Standard deviation of the noise on theta, degrees.
+  // Standard deviation of the Gaussian noise on theta of each sample, deg (>= 0).
   float heading_noise_deg;
-  // Encoder counts per wheel revolution; 0 = ideal encoders.
+  // Encoder counts per wheel revolution (0, the default: ideal encoders), counts/rev (whole number).
   uint32_t encoder_counts;
-  // Seed of the noise (with the run index passed to init, it selects the stream).
+  // Seed of the noise: the noise of a run is a function of (seed, run index) (whole number).
   uint64_t seed;
 } wmr_sensor_params_f32;
 
@@ -387,21 +382,21 @@ typedef struct {
   double mass;
   // r, wheel radius, m (> 0).
   double wheel_radius;
-  // R, half the distance between the wheels, m (> 0).
+  // R, half the distance between the wheels (axle midpoint C to each wheel), m (> 0).
   double half_track;
-  // d, distance from C forward to the centre of mass G, m.
+  // d, distance from C forward to the centre of mass G (negative: G behind C), m (finite, any sign).
   double com_offset;
-  // I_m, inertia of one wheel plus its rotor about the wheel axis, kg m^2 (>= 0).
+  // I_m, inertia of one wheel plus its motor rotor about the wheel axis, kg m^2 (>= 0).
   double wheel_inertia;
-  // I_p, platform inertia about G, kg m^2 (>= 0).
+  // I_p, platform inertia about G, kg m^2 (>= 0, and I_p + m d^2 > 0).
   double platform_inertia;
-  // k_t, gear reduction: wheel speed = k_t motor speed (> 0).
+  // k_t, gear reduction: wheel speed = k_t * motor speed (> 0).
   double gear_ratio;
-  // b_v, viscous friction at each wheel, N m s (>= 0).
+  // b_v, viscous friction at each wheel: tau_f = b_v * omega_wheel, N m s (>= 0).
   double viscous_friction;
-  // tau_c, Coulomb friction at each wheel, N m (>= 0).
+  // tau_c, Coulomb friction at each wheel, smoothed by coulomb_speed, N m (>= 0).
   double coulomb_friction;
-  // omega_eps, rad/s: Coulomb friction is tau_c tanh(omega / omega_eps) (> 0).
+  // omega_eps: Coulomb friction is tau_c * tanh(omega_wheel / omega_eps), rad/s (> 0).
   double coulomb_speed;
 } wmr_robot_params_f64;
 
@@ -437,13 +432,13 @@ typedef struct {
 
 // The wheel stage: two wheel position servos and the curvature-keeping speed limit.
 typedef struct {
-  // Servo Kp: N m/rad (torque drive) or V/rad (DC motor), > 0.
+  // Wheel servo Kp (the unit follows the drive: torque or dc_motor), N m/rad or V/rad (> 0).
   double servo_kp;
-  // Servo Kd: N m s/rad or V s/rad, >= 0.
+  // Wheel servo Kd, N m s/rad or V s/rad (>= 0).
   double servo_kd;
-  // Servo Ki: N m/(rad s) or V/(rad s), >= 0.
+  // Wheel servo Ki, N m/(rad s) or V/(rad s) (>= 0).
   double servo_ki;
-  // Per-wheel limit on the reference speeds, rad/s; infinity = off.
+  // Per-wheel speed limit (inf: off), on the references with the curvature kept, rad/s (> 0, inf allowed).
   double wheel_speed_max;
 } wmr_wheel_stage_params_f64;
 
@@ -506,12 +501,11 @@ typedef struct {
   uint64_t opaque[WMR_PLANT_F64_WORDS];
 } wmr_plant_f64;
 
-// The ground (the `[world]` keys): a plane tilted by `slope_deg`, descending towards
-// `slope_direction_deg`.
+// The ground (the `[world]` keys): a plane tilted by `slope_deg`, descending towards `slope_direction_deg`.
 typedef struct {
-  // Tilt of the ground plane, degrees, |slope_deg| < 90 (0: flat).
+  // Tilt of the ground plane (0: flat), deg (-90 < slope_deg < 90).
   double slope_deg;
-  // World direction in which the ground descends, degrees from the x axis.
+  // World direction (in the plane, from the x axis) in which the ground descends, deg (finite).
   double slope_direction_deg;
 } wmr_world_params_f64;
 
@@ -558,23 +552,19 @@ typedef struct {
   uint64_t opaque[WMR_SENSOR_F64_WORDS];
 } wmr_sensor_f64;
 
-// The pose sensor (the `[sensor]` keys): a pose sampled at `rate_hz`, arriving after
-// `latency`, with Gaussian noise, and wheel encoders quantized to `encoder_counts`.
-// Every default: the perfect sensor, bit for bit.
+// The pose sensor (the `[sensor]` keys); every default: the perfect sensor, bit for bit. Here latency * rate_hz must be below `WMR_SENSOR_SAMPLES_IN_FLIGHT` - 1.
 typedef struct {
-  // Pose samples per second, Hz; 1 / rate_hz a whole multiple of control_dt.
-  // Infinity: a sample at every control tick.
+  // Pose samples per second (inf, the default: a sample at every control tick), Hz (> 0; 1 / rate_hz a whole multiple of control_dt).
   double rate_hz;
-  // Latency, s, a whole multiple of control_dt; latency * rate_hz below
-  // `WMR_SENSOR_SAMPLES_IN_FLIGHT` - 1.
+  // Latency: a sample taken at t reaches the controller at t + latency, s (>= 0, a whole multiple of control_dt; latency * rate_hz < 250).
   double latency;
-  // Standard deviation of the noise on x and on y, m.
+  // Standard deviation of the Gaussian noise on x and on y of each sample, m (>= 0).
   double position_noise;
-  // Standard deviation of the noise on theta, degrees.
+  // Standard deviation of the Gaussian noise on theta of each sample, deg (>= 0).
   double heading_noise_deg;
-  // Encoder counts per wheel revolution; 0 = ideal encoders.
+  // Encoder counts per wheel revolution (0, the default: ideal encoders), counts/rev (whole number).
   uint32_t encoder_counts;
-  // Seed of the noise (with the run index passed to init, it selects the stream).
+  // Seed of the noise: the noise of a run is a function of (seed, run index) (whole number).
   uint64_t seed;
 } wmr_sensor_params_f64;
 

@@ -328,36 +328,6 @@ fn c_wheels<T: Real>(w: Wheels<T>) -> wmr_wheels<T> {
     wmr_wheels { right: w.right, left: w.left }
 }
 
-fn robot_params<T: Real>(p: &wmr_robot_params<T>) -> RobotParams<T> {
-    RobotParams {
-        mass: p.mass,
-        wheel_radius: p.wheel_radius,
-        half_track: p.half_track,
-        com_offset: p.com_offset,
-        wheel_inertia: p.wheel_inertia,
-        platform_inertia: p.platform_inertia,
-        gear_ratio: p.gear_ratio,
-        viscous_friction: p.viscous_friction,
-        coulomb_friction: p.coulomb_friction,
-        coulomb_speed: p.coulomb_speed,
-    }
-}
-
-fn c_robot_params<T: Real>(p: &RobotParams<T>) -> wmr_robot_params<T> {
-    wmr_robot_params {
-        mass: p.mass,
-        wheel_radius: p.wheel_radius,
-        half_track: p.half_track,
-        com_offset: p.com_offset,
-        wheel_inertia: p.wheel_inertia,
-        platform_inertia: p.platform_inertia,
-        gear_ratio: p.gear_ratio,
-        viscous_friction: p.viscous_friction,
-        coulomb_friction: p.coulomb_friction,
-        coulomb_speed: p.coulomb_speed,
-    }
-}
-
 fn drive_params<T: Real>(p: &wmr_drive_params<T>) -> Result<DriveParams<T>, Fail> {
     match p.kind {
         WMR_DRIVE_TORQUE => Ok(DriveParams::Torque(TorqueDriveParams { motor_torque_max: p.motor_torque_max })),
@@ -386,24 +356,6 @@ fn c_drive_params<T: Real>(kind: u32) -> Result<wmr_drive_params<T>, Fail> {
         armature_resistance: d.armature_resistance,
         current_max: d.current_max,
     })
-}
-
-fn wheel_params<T: Real>(p: &wmr_wheel_stage_params<T>) -> WheelStageParams<T> {
-    WheelStageParams {
-        servo_kp: p.servo_kp,
-        servo_kd: p.servo_kd,
-        servo_ki: p.servo_ki,
-        wheel_speed_max: p.wheel_speed_max,
-    }
-}
-
-fn c_wheel_params<T: Real>(p: &WheelStageParams<T>) -> wmr_wheel_stage_params<T> {
-    wmr_wheel_stage_params {
-        servo_kp: p.servo_kp,
-        servo_kd: p.servo_kd,
-        servo_ki: p.servo_ki,
-        wheel_speed_max: p.wheel_speed_max,
-    }
 }
 
 fn flag(field: &'static str, v: u32) -> Result<bool, Fail> {
@@ -561,12 +513,12 @@ impl<T: Prec> CLaw<T> for Lyapunov {
 // The entry points, generic; `api_f32.rs` and `api_f64.rs` export them.
 
 pub fn robot_params_paper<T: Prec>(out: *mut wmr_robot_params<T>) -> wmr_status {
-    guard(core::ptr::null_mut(), || write(out, "out", c_robot_params(&RobotParams::paper())))
+    guard(core::ptr::null_mut(), || write(out, "out", RobotParams::<T>::paper()))
 }
 
 pub fn robot_init<T: Prec>(out: *mut T::Robot, params: *const wmr_robot_params<T>, err: *mut wmr_error) -> wmr_status {
     guard(err, || {
-        let robot = robot_params(read(params, "params")?).validate()?;
+        let robot = read(params, "params")?.validate()?;
         put(out, "out", robot)
     })
 }
@@ -594,7 +546,7 @@ pub fn wheel_stage_params_default<T: Prec>(
 ) -> wmr_status {
     guard(core::ptr::null_mut(), || {
         let drive = drive_params(read(drive, "drive")?)?;
-        write(out, "out", c_wheel_params(&WheelStageParams::for_drive(&drive)))
+        write(out, "out", WheelStageParams::for_drive(&drive))
     })
 }
 
@@ -614,7 +566,7 @@ pub fn plant_init<T: Prec>(
         // SAFETY: NULL (flat ground) or valid for reads (caller contract).
         let world = match unsafe { world.as_ref() } {
             None => WorldParams::default(),
-            Some(w) => WorldParams { slope_deg: w.slope_deg, slope_direction_deg: w.slope_direction_deg },
+            Some(w) => *w,
         };
         let world = world.validate()?;
         let plant = Plant::on(*get(robot, "robot")?, *get(drive, "drive")?, world, pose(start))?;
@@ -658,18 +610,7 @@ pub fn sensor_init_perfect<T: Prec>(out: *mut T::Sensor) -> wmr_status {
 }
 
 pub fn sensor_params_default<T: Prec>(out: *mut wmr_sensor_params<T>) -> wmr_status {
-    guard(core::ptr::null_mut(), || {
-        let p = SensorParams::<T>::default();
-        let c = wmr_sensor_params {
-            rate_hz: p.rate_hz,
-            latency: p.latency,
-            position_noise: p.position_noise,
-            heading_noise_deg: p.heading_noise_deg,
-            encoder_counts: p.encoder_counts,
-            seed: p.seed,
-        };
-        write(out, "out", c)
-    })
+    guard(core::ptr::null_mut(), || write(out, "out", SensorParams::<T>::default()))
 }
 
 pub fn sensor_init_pose<T: Prec>(
@@ -680,15 +621,7 @@ pub fn sensor_init_pose<T: Prec>(
     err: *mut wmr_error,
 ) -> wmr_status {
     guard(err, || {
-        let p = read(params, "params")?;
-        let params = SensorParams {
-            rate_hz: p.rate_hz,
-            latency: p.latency,
-            position_noise: p.position_noise,
-            heading_noise_deg: p.heading_noise_deg,
-            encoder_counts: p.encoder_counts,
-            seed: p.seed,
-        };
+        let params = *read(params, "params")?;
         let sensor = PoseSensor::new(params, control_dt, run).map_err(|e| {
             let mut fail = Fail::from(e);
             if e.field == "latency" && matches!(e.reason, Reason::OutOfRange(_)) {
@@ -738,7 +671,7 @@ pub fn controller_init<T: Prec, L: CLaw<T>>(
 ) -> wmr_status {
     guard(err, || {
         let params = read(params, "params")?;
-        let wheels = wheel_params(read(wheels, "wheels")?);
+        let wheels = *read(wheels, "wheels")?;
         let model = get(model, "model")?.params();
         let drive = get(drive, "drive")?;
         let law = L::build(params, model, control_dt)?;

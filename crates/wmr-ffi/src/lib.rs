@@ -204,31 +204,22 @@ pub struct wmr_control_output<T> {
     pub dl: T,
 }
 
-/// Physical robot parameters, SI units (the `[robot]` keys of a scenario).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct wmr_robot_params<T> {
-    /// m, total mass, kg (> 0).
-    pub mass: T,
-    /// r, wheel radius, m (> 0).
-    pub wheel_radius: T,
-    /// R, half the distance between the wheels, m (> 0).
-    pub half_track: T,
-    /// d, distance from C forward to the centre of mass G, m.
-    pub com_offset: T,
-    /// I_m, inertia of one wheel plus its rotor about the wheel axis, kg m^2 (>= 0).
-    pub wheel_inertia: T,
-    /// I_p, platform inertia about G, kg m^2 (>= 0).
-    pub platform_inertia: T,
-    /// k_t, gear reduction: wheel speed = k_t motor speed (> 0).
-    pub gear_ratio: T,
-    /// b_v, viscous friction at each wheel, N m s (>= 0).
-    pub viscous_friction: T,
-    /// tau_c, Coulomb friction at each wheel, N m (>= 0).
-    pub coulomb_friction: T,
-    /// omega_eps, rad/s: Coulomb friction is tau_c tanh(omega / omega_eps) (> 0).
-    pub coulomb_speed: T,
-}
+// The parameter structs the C API shares with the core: the core's own `#[repr(C)]`
+// types (declared with `wmr_core::params!`). cbindgen does not see through the alias or
+// the macro, so tests/header.rs writes their C declarations from the core's field tables
+// (`wmr_core::describe::Described::FIELDS`).
+/// The robot (the `[robot]` keys): `wmr_core::RobotParams`.
+/// cbindgen:ignore
+pub type wmr_robot_params<T> = wmr_core::RobotParams<T>;
+/// The ground (the `[world]` keys): `wmr_core::WorldParams`.
+/// cbindgen:ignore
+pub type wmr_world_params<T> = wmr_core::WorldParams<T>;
+/// The pose sensor (the `[sensor]` keys): `wmr_core::SensorParams`.
+/// cbindgen:ignore
+pub type wmr_sensor_params<T> = wmr_core::SensorParams<T>;
+/// The wheel stage: `wmr_core::WheelStageParams`.
+/// cbindgen:ignore
+pub type wmr_wheel_stage_params<T> = wmr_core::WheelStageParams<T>;
 
 /// Drive parameters (the `[drive]` keys). `kind` selects which fields are read.
 #[repr(C)]
@@ -248,53 +239,6 @@ pub struct wmr_drive_params<T> {
     pub armature_resistance: T,
     /// DC motor: armature current limit of the motor driver, A (> 0, infinity = none).
     pub current_max: T,
-}
-
-/// The ground (the `[world]` keys): a plane tilted by `slope_deg`, descending towards
-/// `slope_direction_deg`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct wmr_world_params<T> {
-    /// Tilt of the ground plane, degrees, |slope_deg| < 90 (0: flat).
-    pub slope_deg: T,
-    /// World direction in which the ground descends, degrees from the x axis.
-    pub slope_direction_deg: T,
-}
-
-/// The pose sensor (the `[sensor]` keys): a pose sampled at `rate_hz`, arriving after
-/// `latency`, with Gaussian noise, and wheel encoders quantized to `encoder_counts`.
-/// Every default: the perfect sensor, bit for bit.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct wmr_sensor_params<T> {
-    /// Pose samples per second, Hz; 1 / rate_hz a whole multiple of control_dt.
-    /// Infinity: a sample at every control tick.
-    pub rate_hz: T,
-    /// Latency, s, a whole multiple of control_dt; latency * rate_hz below
-    /// `WMR_SENSOR_SAMPLES_IN_FLIGHT` - 1.
-    pub latency: T,
-    /// Standard deviation of the noise on x and on y, m.
-    pub position_noise: T,
-    /// Standard deviation of the noise on theta, degrees.
-    pub heading_noise_deg: T,
-    /// Encoder counts per wheel revolution; 0 = ideal encoders.
-    pub encoder_counts: u32,
-    /// Seed of the noise (with the run index passed to init, it selects the stream).
-    pub seed: u64,
-}
-
-/// The wheel stage: two wheel position servos and the curvature-keeping speed limit.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct wmr_wheel_stage_params<T> {
-    /// Servo Kp: N m/rad (torque drive) or V/rad (DC motor), > 0.
-    pub servo_kp: T,
-    /// Servo Kd: N m s/rad or V s/rad, >= 0.
-    pub servo_kd: T,
-    /// Servo Ki: N m/(rad s) or V/(rad s), >= 0.
-    pub servo_ki: T,
-    /// Per-wheel limit on the reference speeds, rad/s; infinity = off.
-    pub wheel_speed_max: T,
 }
 
 /// The paper's law: PI loops on (e_s, e_theta) towards a moving false target.

@@ -3,6 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
+use wmr_core::describe::{Described, ParamField};
+use wmr_core::{RobotParams, SensorParams, WheelStageParams, WorldParams};
+
 fn crate_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
@@ -43,14 +46,81 @@ fn f64_api_is_the_f32_api() {
     );
 }
 
+/// The core parameter structs the C API takes as they are (`pub type` aliases in
+/// `src/lib.rs`): C name, doc, fields.
+fn shared_structs() -> [(&'static str, &'static str, &'static [ParamField]); 4] {
+    [
+        (
+            "wmr_robot_params",
+            "Physical robot parameters, SI units (the `[robot]` keys of a scenario).",
+            RobotParams::<f64>::FIELDS,
+        ),
+        (
+            "wmr_world_params",
+            "The ground (the `[world]` keys): a plane tilted by `slope_deg`, descending towards `slope_direction_deg`.",
+            WorldParams::<f64>::FIELDS,
+        ),
+        (
+            "wmr_sensor_params",
+            "The pose sensor (the `[sensor]` keys); every default: the perfect sensor, bit for bit. Here latency * rate_hz must be below `WMR_SENSOR_SAMPLES_IN_FLIGHT` - 1.",
+            SensorParams::<f64>::FIELDS,
+        ),
+        (
+            "wmr_wheel_stage_params",
+            "The wheel stage: two wheel position servos and the curvature-keeping speed limit.",
+            WheelStageParams::<f64>::FIELDS,
+        ),
+    ]
+}
+
+/// Rust declarations of [`shared_structs`] for cbindgen (which cannot see through the
+/// core's `params!` macro): the same fields, order and types, so the same C layout.
+fn shared_structs_source() -> String {
+    let mut out = String::new();
+    for (name, doc, fields) in shared_structs() {
+        out.push_str(&format!("/// {doc}\n#[repr(C)]\npub struct {name}<T> {{\n"));
+        for f in fields {
+            let unit = if f.unit.is_empty() { String::new() } else { format!(", {}", f.unit) };
+            out.push_str(&format!(
+                "    /// {}{unit} ({}).\n    pub {}: {},\n",
+                f.doc.trim_end_matches('.'),
+                f.rule,
+                f.name,
+                f.ty
+            ));
+        }
+        out.push_str("}\n\n");
+    }
+    out
+}
+
+#[test]
+fn shared_structs_have_the_core_layout() {
+    // The C declarations list the fields in declaration order; repr(C) lays them out so.
+    // All-float structs: one float per declared field, nothing else.
+    let floats = |fields: &[ParamField]| fields.len() * 4;
+    assert_eq!(std::mem::size_of::<wmr_ffi::wmr_robot_params<f32>>(), floats(RobotParams::<f64>::FIELDS));
+    assert_eq!(std::mem::size_of::<wmr_ffi::wmr_world_params<f32>>(), floats(WorldParams::<f64>::FIELDS));
+    assert_eq!(std::mem::size_of::<wmr_ffi::wmr_wheel_stage_params<f32>>(), floats(WheelStageParams::<f64>::FIELDS));
+    assert_eq!(std::mem::size_of::<wmr_ffi::wmr_sensor_params<f32>>(), 4 * 4 + 4 + 4 + 8);
+    assert_eq!(std::mem::offset_of!(wmr_ffi::wmr_sensor_params<f64>, seed), 4 * 8 + 8);
+    for (_, _, fields) in shared_structs() {
+        assert!(fields.iter().all(|f| matches!(f.ty, "T" | "u32" | "u64")), "{fields:?}");
+    }
+}
+
 fn generate() -> String {
     let dir = crate_dir();
+    let shared = std::env::temp_dir().join(format!("wmr-ffi-shared-{}.rs", std::process::id()));
+    std::fs::write(&shared, shared_structs_source()).expect("temporary source");
     let config = cbindgen::Config::from_file(dir.join("cbindgen.toml")).expect("cbindgen.toml");
     let bindings = cbindgen::Builder::new()
         .with_config(config)
         .with_src(dir.join("src/lib.rs"))
+        .with_src(&shared)
         .generate()
         .expect("cbindgen parses the crate");
+    let _ = std::fs::remove_file(&shared);
     let mut out = Vec::new();
     bindings.write(&mut out);
     String::from_utf8(out).expect("UTF-8 header")

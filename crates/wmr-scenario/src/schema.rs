@@ -1,11 +1,18 @@
-//! Every key the parser accepts, listed from the types that read them: what `--help`,
-//! `docs/scenario.md` and the Python stubs are checked against.
+//! Every key the parser accepts, listed from the types that read them, with the unit,
+//! rule and doc line each type declares (`wmr_core::params!`): what `--help` and the
+//! `docs/scenario.md` tables are generated from, and the Python stubs checked against.
+
+use std::borrow::Cow;
 
 use toml::Value;
-use wmr_core::{DriveParams, LawParams, RobotParams, SensorParams, WheelStageParams, WorldParams};
+use wmr_core::describe::{Described, ParamField};
+use wmr_core::{
+    DriveParams, LawParams, LyapunovParams, PaperBidirectionalParams, PaperParams, PolarParams, RobotParams,
+    SensorParams, WheelStageParams, WorldParams,
+};
 
 use crate::file::{GridFile, PoseFile, RandomFile, RunFile, ScenarioFile, SimFile, SweepFile};
-use crate::keys::{fields_of, fields_read_by, to_table};
+use crate::keys::{fields_of, to_table};
 use crate::vary::VaryFile;
 
 /// One accepted key.
@@ -22,74 +29,137 @@ pub struct SchemaKey {
     pub key: &'static str,
     /// Its default (as the file would write it), where it has a fixed one.
     pub default: Option<Value>,
+    /// Where the default follows the drive (the wheel servo gains): each drive kind with
+    /// its default; empty otherwise.
+    pub default_by_drive: Vec<(&'static str, Value)>,
+    /// Unit, doc line and rule, as declared; empty for keys of the tables the core does
+    /// not declare (`[sim]`, `[[run]]`, `[sweep]`).
+    pub unit: &'static str,
+    /// See [`SchemaKey::unit`].
+    pub doc: &'static str,
+    /// See [`SchemaKey::unit`].
+    pub rule: Cow<'static, str>,
 }
 
-fn plain(table: &'static str, keys: &'static [&'static str]) -> impl Iterator<Item = SchemaKey> {
-    keys.iter().map(move |&key| SchemaKey { table, kind: None, key, default: None })
+impl SchemaKey {
+    fn bare(table: &'static str, key: &'static str) -> Self {
+        SchemaKey {
+            table,
+            kind: None,
+            key,
+            default: None,
+            default_by_drive: Vec::new(),
+            unit: "",
+            doc: "",
+            rule: Cow::Borrowed(""),
+        }
+    }
+
+    fn described(table: &'static str, kind: Option<&'static str>, f: &ParamField, default: Option<Value>) -> Self {
+        SchemaKey { kind, default, unit: f.unit, doc: f.doc, rule: Cow::Borrowed(f.rule), ..Self::bare(table, f.name) }
+    }
+
+    /// True for the keys a parameter struct of the core declares.
+    pub fn is_described(&self) -> bool {
+        !self.doc.is_empty()
+    }
+}
+
+/// The keys a file names that are no field of a core parameter struct (`kind`,
+/// `control_dt`, `model`), described here.
+const CONTROL_DT: ParamField = ParamField {
+    name: "control_dt",
+    ty: "T",
+    unit: "s",
+    doc: "Control period: the law, the servos and the sensor tick at this rate.",
+    rule: "> 0, a whole multiple of sim.dt",
+};
+const MODEL: ParamField = ParamField {
+    name: "model",
+    ty: "table",
+    unit: "",
+    doc: "The subtable [controller.model]: what the controller believes about the robot (any [robot] key; a key not given takes the [robot] value).",
+    rule: "[robot] keys",
+};
+
+/// The `kind` key of a tagged table whose kinds are `kinds` (the first the default).
+fn kind_key(table: &'static str, doc: &'static str, kinds: &[&'static str]) -> SchemaKey {
+    let quoted: Vec<String> = kinds.iter().map(|k| format!("\"{k}\"")).collect();
+    let rule = match quoted.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+        _ => quoted.join(""),
+    };
+    SchemaKey {
+        default: kinds.first().map(|&k| Value::from(k)),
+        doc,
+        rule: Cow::Owned(rule),
+        ..SchemaKey::bare(table, "kind")
+    }
+}
+
+/// The declared fields of `law`'s parameters.
+// A law's one list line is `laws!` in wmr-core's controller/any.rs; this match belongs
+// there (a new law fails to compile here until it is added).
+fn law_fields(law: &LawParams<f64>) -> &'static [ParamField] {
+    match law {
+        LawParams::Paper(_) => PaperParams::<f64>::FIELDS,
+        LawParams::PaperBidirectional(_) => PaperBidirectionalParams::<f64>::FIELDS,
+        LawParams::Polar(_) => PolarParams::<f64>::FIELDS,
+        LawParams::Lyapunov(_) => LyapunovParams::<f64>::FIELDS,
+    }
+}
+
+/// The keys of a declared struct with the defaults of `defaults`.
+fn declared<P: serde::Serialize>(
+    table: &'static str,
+    kind: Option<&'static str>,
+    fields: &'static [ParamField],
+    defaults: &P,
+) -> impl Iterator<Item = SchemaKey> {
+    let t = to_table(defaults);
+    fields.iter().map(move |f| SchemaKey::described(table, kind, f, t.get(f.name).cloned()))
 }
 
 /// Every key of every table, in file order.
 pub fn schema() -> Vec<SchemaKey> {
+    let plain = |table, keys: &'static [&'static str]| keys.iter().map(move |&key| SchemaKey::bare(table, key));
     let mut out: Vec<SchemaKey> = Vec::new();
     out.extend(plain("", fields_of::<ScenarioFile>()).filter(|k| k.key == "name"));
-    let robot = to_table(&RobotParams::<f64>::paper());
-    out.extend(fields_of::<RobotParams<f64>>().iter().map(|&key| SchemaKey {
-        table: "robot",
-        kind: None,
-        key,
-        default: robot.get(key).cloned(),
-    }));
-    out.push(SchemaKey { table: "drive", kind: None, key: "kind", default: Some(Value::from("torque")) });
-    for d in DriveParams::<f64>::defaults() {
-        let t = to_table(&d);
-        let fields = fields_read_by(|p| d.deserialize_variant(p).map(|_| ()));
-        out.extend(fields.iter().map(|&key| SchemaKey {
-            table: "drive",
-            kind: Some(d.kind()),
-            key,
-            default: t.get(key).cloned(),
-        }));
+    out.extend(declared("robot", None, RobotParams::<f64>::FIELDS, &RobotParams::<f64>::paper()));
+    let drives = DriveParams::<f64>::defaults();
+    out.push(kind_key(
+        "drive",
+        "The drive model: what turns a servo command into a wheel torque.",
+        &drives.map(|d| d.kind()),
+    ));
+    for d in drives {
+        out.extend(declared("drive", Some(d.kind()), d.fields(), &d));
     }
-    out.push(SchemaKey { table: "controller", kind: None, key: "kind", default: Some(Value::from("paper")) });
-    for law in LawParams::<f64>::defaults() {
-        let t = to_table(&law);
-        let fields = fields_read_by(|p| law.deserialize_variant(p).map(|_| ()));
-        out.extend(fields.iter().map(|&key| SchemaKey {
-            table: "controller",
-            kind: Some(law.kind()),
-            key,
-            default: t.get(key).cloned(),
-        }));
+    let laws = LawParams::<f64>::defaults();
+    out.push(kind_key("controller", "The outer law.", &laws.map(|l| l.kind())));
+    for law in laws {
+        out.extend(declared("controller", Some(law.kind()), law_fields(&law), &law));
     }
-    // Servo defaults follow the drive: only the limit has one fixed default.
-    let wheels = to_table(&WheelStageParams::<f64>::default());
-    out.extend(fields_of::<WheelStageParams<f64>>().iter().map(|&key| SchemaKey {
-        table: "controller",
-        kind: None,
-        key,
-        default: (key == "wheel_speed_max").then(|| wheels.get(key).cloned()).flatten(),
-    }));
-    out.push(SchemaKey {
-        table: "controller",
-        kind: None,
-        key: "control_dt",
-        default: Some(Value::Float(wmr_core::ControllerParams::<f64>::default_control_dt())),
-    });
-    out.push(SchemaKey { table: "controller", kind: None, key: "model", default: None });
-    let sensor = to_table(&SensorParams::<f64>::default());
-    out.extend(fields_of::<SensorParams<f64>>().iter().map(|&key| SchemaKey {
-        table: "sensor",
-        kind: None,
-        key,
-        default: sensor.get(key).cloned(),
-    }));
-    let world = to_table(&WorldParams::<f64>::default());
-    out.extend(fields_of::<WorldParams<f64>>().iter().map(|&key| SchemaKey {
-        table: "world",
-        kind: None,
-        key,
-        default: world.get(key).cloned(),
-    }));
+    // The wheel stage's defaults follow the drive: fixed where every drive agrees.
+    let by_drive: Vec<(&'static str, toml::Table)> =
+        drives.iter().map(|d| (d.kind(), to_table(&WheelStageParams::for_drive(d)))).collect();
+    for f in WheelStageParams::<f64>::FIELDS {
+        let values: Vec<(&'static str, Value)> =
+            by_drive.iter().filter_map(|(kind, t)| Some((*kind, t.get(f.name)?.clone()))).collect();
+        let same = values.windows(2).all(|w| w[0].1 == w[1].1);
+        let mut key = SchemaKey::described("controller", None, f, None);
+        if same {
+            key.default = values.first().map(|(_, v)| v.clone());
+        } else {
+            key.default_by_drive = values;
+        }
+        out.push(key);
+    }
+    let control_dt = Value::Float(wmr_core::ControllerParams::<f64>::default_control_dt());
+    out.push(SchemaKey::described("controller", None, &CONTROL_DT, Some(control_dt)));
+    out.push(SchemaKey::described("controller", None, &MODEL, None));
+    out.extend(declared("sensor", None, SensorParams::<f64>::FIELDS, &SensorParams::<f64>::default()));
+    out.extend(declared("world", None, WorldParams::<f64>::FIELDS, &WorldParams::<f64>::default()));
     out.extend(plain("sim", fields_of::<SimFile>()));
     out.extend(plain("run", fields_of::<RunFile>()));
     out.extend(plain("pose", fields_of::<PoseFile>()));
@@ -98,4 +168,41 @@ pub fn schema() -> Vec<SchemaKey> {
     out.extend(plain("sweep.random", fields_of::<RandomFile>()));
     out.extend(plain("sweep.vary", fields_of::<VaryFile>()));
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::keys::fields_read_by;
+
+    fn names(fields: &[ParamField]) -> Vec<&'static str> {
+        fields.iter().map(|f| f.name).collect()
+    }
+
+    /// The declared fields are the keys serde reads, in the same order: the parser
+    /// accepts exactly what the tables document.
+    #[test]
+    fn declared_fields_are_the_keys_serde_reads() {
+        assert_eq!(names(RobotParams::<f64>::FIELDS), fields_of::<RobotParams<f64>>());
+        assert_eq!(names(SensorParams::<f64>::FIELDS), fields_of::<SensorParams<f64>>());
+        assert_eq!(names(WorldParams::<f64>::FIELDS), fields_of::<WorldParams<f64>>());
+        assert_eq!(names(WheelStageParams::<f64>::FIELDS), fields_of::<WheelStageParams<f64>>());
+        for d in DriveParams::<f64>::defaults() {
+            assert_eq!(names(d.fields()), fields_read_by(|p| d.deserialize_variant(p).map(|_| ())), "{}", d.kind());
+        }
+        for law in LawParams::<f64>::defaults() {
+            let read = fields_read_by(|p| law.deserialize_variant(p).map(|_| ()));
+            assert_eq!(names(law_fields(&law)), read, "{}", law.kind());
+        }
+    }
+
+    #[test]
+    fn servo_defaults_follow_the_drive_and_the_limit_is_fixed() {
+        let keys = schema();
+        let key = |name: &str| keys.iter().find(|k| k.key == name).unwrap();
+        assert_eq!(key("servo_kd").default, None);
+        assert_eq!(key("servo_kd").default_by_drive, [("torque", Value::Float(1.4)), ("dc_motor", Value::Float(1.1))]);
+        assert_eq!(key("servo_kp").default, Some(Value::Float(14.0)));
+        assert_eq!(key("wheel_speed_max").default, Some(Value::Float(f64::INFINITY)));
+    }
 }

@@ -55,22 +55,24 @@ use crate::error::{ParamError, check};
 use crate::lane::Lane;
 use crate::math::{Pose2, Twist2};
 
-/// `[controller] kind = "lyapunov"` parameters.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct LyapunovParams<T> {
-    /// gamma, 1/s (`gamma`): forward speed per metre of distance, times cos(alpha). > 0.
-    pub gamma: T,
-    /// k, 1/s (`k`): yaw rate per rad of alpha. > 0.
-    pub k: T,
-    /// h, dimensionless (`h`): weight of theta_A against alpha in V. > 0.
-    pub h: T,
-    /// Drive backwards when the goal is behind (`reverse`); false always starts forward.
-    pub reverse: bool,
-    /// Overshoot of |alpha| past pi/2, rad, before a later direction switch (`reverse_hysteresis`).
-    pub reverse_hysteresis: T,
-    /// Within this distance of the goal, m, the law stops (`goal_radius`).
-    pub goal_radius: T,
+crate::params! {
+    /// `[controller] kind = "lyapunov"` parameters.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    pub struct LyapunovParams<T> {
+        /// gamma: forward speed per metre of distance, times cos(alpha).
+        pub gamma: T [unit = "1/s", rule = "> 0"],
+        /// k: yaw rate per rad of alpha.
+        pub k: T [unit = "1/s", rule = "> 0"],
+        /// h: weight of theta_A against alpha in V.
+        pub h: T [unit = "", rule = "> 0"],
+        /// Drive backwards when the goal is behind (false: always start forward).
+        pub reverse: bool [unit = "", rule = "true or false"],
+        /// Overshoot of |alpha| past pi/2 before a later direction switch.
+        pub reverse_hysteresis: T [unit = "rad", rule = "in [0, pi/2)"],
+        /// Within this distance of the goal the law stops.
+        pub goal_radius: T [unit = "m", rule = ">= 0"],
+    }
 }
 
 impl<T: Real> Default for LyapunovParams<T> {

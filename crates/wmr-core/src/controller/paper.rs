@@ -67,28 +67,31 @@ impl HoldMode {
     }
 }
 
-/// `[controller] kind = "paper"`: the law's own keys.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct PaperParams<T> {
-    /// Pose or position mode.
-    pub mode: PaperMode,
-    /// Kp_theta, rad of heading command per rad of error (paper: 2).
-    pub kp_theta: T,
-    /// Ki_theta, 1/s (paper: 0.1).
-    pub ki_theta: T,
-    /// Kp_s, m of path command per m of error (paper: 1).
-    pub kp_s: T,
-    /// Ki_s, 1/s (paper: 0.25).
-    pub ki_s: T,
-    /// Within this distance of the goal (m) alpha keeps its last value.
-    pub goal_radius: T,
-    /// Within this distance of the goal (m) the outer errors are zero and the outer
-    /// integrators stop; 0 turns the hold off.
-    pub hold_radius: T,
-    /// How the hold behaves (`hold`): [`HoldMode::Auto`] (the default: zero errors in
-    /// pose mode, freeze in position mode), [`HoldMode::ZeroErrors`] or [`HoldMode::Freeze`].
-    pub hold: HoldMode,
+crate::params! {
+    /// `[controller] kind = "paper"`: the law's own keys.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    pub struct PaperParams<T> {
+        /// Pose mode (reach x, y, theta: theta_R = 2 alpha - theta_d) or position mode (heading free: theta_R = alpha).
+        pub mode: PaperMode [unit = "", rule = "\"pose\" or \"position\""],
+        /// Kp_theta, rad of heading command per rad of error (paper: 2).
+        pub kp_theta: T [unit = "rad/rad", rule = ">= 0"],
+        /// Ki_theta (paper: 0.1).
+        pub ki_theta: T [unit = "1/s", rule = ">= 0"],
+        /// Kp_s, m of path command per m of error (paper: 1).
+        pub kp_s: T [unit = "m/m", rule = ">= 0"],
+        /// Ki_s (paper: 0.25).
+        pub ki_s: T [unit = "1/s", rule = ">= 0"],
+        /// Within this distance of the goal alpha keeps its last value.
+        pub goal_radius: T [unit = "m", rule = ">= 0"],
+        /// Within this distance of the goal the outer errors are zero and the outer integrators stop (0: off).
+        pub hold_radius: T [unit = "m", rule = ">= 0"],
+        /// The hold: auto (zero_errors in pose mode, freeze in position mode), zero_errors (references step on entry) or freeze (bumpless).
+        ///
+        /// [`HoldMode::ZeroErrors`] takes the errors as zero, so the wheel references
+        /// step on entry; [`HoldMode::Freeze`] keeps the last references (bumpless).
+        pub hold: HoldMode [unit = "", rule = "\"auto\", \"zero_errors\" or \"freeze\""],
+    }
 }
 
 impl<T: Real> PaperParams<T> {

@@ -69,25 +69,26 @@ use crate::reference::ReferenceState;
 use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
 
-/// `[controller] kind = "paper_bidirectional"`: the law's own keys.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct PaperBidirectionalParams<T> {
-    /// Kp_theta, rad of heading command per rad of error (`kp_theta`). >= 0.
-    pub kp_theta: T,
-    /// Ki_theta, 1/s (`ki_theta`). > ki_s (1 - kp_theta) / (1 + kp_s), and > 0.
-    pub ki_theta: T,
-    /// Kp_s, m of path command per m of error (`kp_s`). >= 0.
-    pub kp_s: T,
-    /// Ki_s, 1/s (`ki_s`). > 0.
-    pub ki_s: T,
-    /// Within this distance of the goal (m) alpha keeps its last value (`goal_radius`).
-    pub goal_radius: T,
-    /// Within this distance of the goal (m) the outer loops hold (`hold_radius`); 0 = off.
-    pub hold_radius: T,
-    /// How the hold behaves (`hold`): [`HoldMode::Freeze`] (default; `auto` is the same)
-    /// or [`HoldMode::ZeroErrors`].
-    pub hold: HoldMode,
+crate::params! {
+    /// `[controller] kind = "paper_bidirectional"`: the law's own keys.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    pub struct PaperBidirectionalParams<T> {
+        /// Kp_theta, rad of heading command per rad of error (0: no step when e_theta jumps).
+        pub kp_theta: T [unit = "rad/rad", rule = ">= 0"],
+        /// Ki_theta; below the bound the approach to the goal is unstable.
+        pub ki_theta: T [unit = "1/s", rule = "> 0 and > ki_s (1 - kp_theta) / (1 + kp_s)"],
+        /// Kp_s, m of path command per m of error (0: no lunge when e_s swings as the robot turns).
+        pub kp_s: T [unit = "m/m", rule = ">= 0"],
+        /// Ki_s.
+        pub ki_s: T [unit = "1/s", rule = "> 0"],
+        /// Within this distance of the goal alpha keeps its last value.
+        pub goal_radius: T [unit = "m", rule = ">= 0"],
+        /// Within this distance of the goal the outer loops hold (0: off).
+        pub hold_radius: T [unit = "m", rule = ">= 0"],
+        /// The hold: freeze (bumpless; auto is the same) or zero_errors.
+        pub hold: HoldMode [unit = "", rule = "\"freeze\", \"auto\" or \"zero_errors\""],
+    }
 }
 
 impl<T: Real> Default for PaperBidirectionalParams<T> {

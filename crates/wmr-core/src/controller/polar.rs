@@ -68,23 +68,24 @@ use crate::error::{ParamError, check};
 use crate::lane::Lane;
 use crate::math::Twist2;
 
-/// `[controller] kind = "polar"` parameters.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct PolarParams<T> {
-    /// k_rho, 1/s (`k_rho`): forward speed per metre of distance. Must be > 0.
-    pub k_rho: T,
-    /// k_alpha, 1/s (`k_alpha`): yaw rate per rad of alpha. Must exceed k_rho and satisfy
-    /// k_alpha + 5/3 k_beta - 2/pi k_rho > 0.
-    pub k_alpha: T,
-    /// k_beta, 1/s (`k_beta`): yaw rate per rad of beta. Must be < 0.
-    pub k_beta: T,
-    /// Drive backwards when the goal is behind (`reverse`); false always drives forward.
-    pub reverse: bool,
-    /// Overshoot of |alpha| past pi/2, rad, before a later direction switch (`reverse_hysteresis`).
-    pub reverse_hysteresis: T,
-    /// Within this distance of the goal, m, the law stops (`goal_radius`).
-    pub goal_radius: T,
+crate::params! {
+    /// `[controller] kind = "polar"` parameters.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    pub struct PolarParams<T> {
+        /// k_rho: forward speed per metre of distance.
+        pub k_rho: T [unit = "1/s", rule = "> 0"],
+        /// k_alpha: yaw rate per rad of alpha.
+        pub k_alpha: T [unit = "1/s", rule = "> k_rho, and k_alpha + 5/3 k_beta - 2/pi k_rho > 0"],
+        /// k_beta: yaw rate per rad of beta.
+        pub k_beta: T [unit = "1/s", rule = "< 0"],
+        /// Drive backwards when the goal is behind (false: always forward).
+        pub reverse: bool [unit = "", rule = "true or false"],
+        /// Overshoot of |alpha| past pi/2 before a later direction switch.
+        pub reverse_hysteresis: T [unit = "rad", rule = "in [0, pi/2)"],
+        /// Within this distance of the goal the law stops; it resumes beyond twice that.
+        pub goal_radius: T [unit = "m", rule = ">= 0"],
+    }
 }
 
 impl<T: Real> Default for PolarParams<T> {

@@ -62,19 +62,24 @@ use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
 use num_traits::{Float, Zero};
 
-/// The wheel stage's keys (flat in a scenario's `[controller]` table).
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct WheelStageParams<T> {
-    /// Servo Kp: N m/rad (torque drive) or V/rad (DC motor). > 0.
-    pub servo_kp: T,
-    /// Servo Kd: N m s/rad or V s/rad. >= 0.
-    pub servo_kd: T,
-    /// Servo Ki: N m/(rad s) or V/(rad s). >= 0.
-    pub servo_ki: T,
-    /// Per-wheel speed limit, rad/s (`wheel_speed_max`): on the references (curvature
-    /// kept) and, by the speed guard, on the measured wheel speeds; infinity = off.
-    pub wheel_speed_max: T,
+crate::params! {
+    /// The wheel stage's keys (flat in a scenario's `[controller]` table).
+    // repr(C): the C API hands this very struct across (wmr-ffi, include/wmr.h).
+    #[repr(C)]
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    pub struct WheelStageParams<T> {
+        /// Wheel servo Kp (the unit follows the drive: torque or dc_motor).
+        pub servo_kp: T [unit = "N m/rad or V/rad", rule = "> 0"],
+        /// Wheel servo Kd.
+        pub servo_kd: T [unit = "N m s/rad or V s/rad", rule = ">= 0"],
+        /// Wheel servo Ki.
+        pub servo_ki: T [unit = "N m/(rad s) or V/(rad s)", rule = ">= 0"],
+        /// Per-wheel speed limit (inf: off), on the references with the curvature kept.
+        ///
+        /// The speed guard keeps the measured wheel speeds within 2 % of it too.
+        pub wheel_speed_max: T [unit = "rad/s", rule = "> 0, inf allowed"],
+    }
 }
 
 impl<T: Real> WheelStageParams<T> {

@@ -7,27 +7,30 @@ use crate::Real;
 use crate::error::{ParamError, check};
 use crate::lane::Lane;
 
-/// `[drive] kind = "dc_motor"` parameters, SI units.
-///
-/// Defaults: maxon RE 40 (40 mm, graphite brushes, 150 W), catalogue part 148867,
-/// 24 V winding: torque constant 30.2 mN m/A, speed constant 317 rpm/V
-/// (k_e = 30.2 mV s/rad, the same number in SI), terminal resistance 0.299 Ohm.
-/// With the paper's gear k_t = 0.1 it stalls at about 24 N m at the wheel and runs
-/// free at about 79 rad/s at the wheel (7,600 rpm at the motor) on 24 V.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct DcMotorParams<T> {
-    /// u_max, supply voltage limit, V (`voltage_max`).
-    pub voltage_max: T,
-    /// k_tau, torque constant, N m/A (`torque_constant`).
-    pub torque_constant: T,
-    /// k_e, back-EMF constant, V s/rad at the motor shaft (`back_emf_constant`).
-    pub back_emf_constant: T,
-    /// R_a, armature (terminal) resistance, Ohm (`armature_resistance`).
-    pub armature_resistance: T,
-    /// i_max, armature current limit of the motor driver, A (`current_max`): the current
-    /// is clamped to +-i_max, so the wheel torque to +-k_tau i_max / k_t. Infinity = no limit.
-    pub current_max: T,
+crate::params! {
+    /// `[drive] kind = "dc_motor"` parameters, SI units.
+    ///
+    /// Defaults: maxon RE 40 (40 mm, graphite brushes, 150 W), catalogue part 148867,
+    /// 24 V winding: torque constant 30.2 mN m/A, speed constant 317 rpm/V
+    /// (k_e = 30.2 mV s/rad, the same number in SI), terminal resistance 0.299 Ohm.
+    /// With the paper's gear k_t = 0.1 it stalls at about 24 N m at the wheel and runs
+    /// free at about 79 rad/s at the wheel (7,600 rpm at the motor) on 24 V.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    pub struct DcMotorParams<T> {
+        /// u_max, supply voltage limit.
+        pub voltage_max: T [unit = "V", rule = "> 0"],
+        /// k_tau, torque constant.
+        pub torque_constant: T [unit = "N m/A", rule = "> 0"],
+        /// k_e, back-EMF constant at the motor shaft.
+        pub back_emf_constant: T [unit = "V s/rad", rule = ">= 0"],
+        /// R_a, armature (terminal) resistance.
+        pub armature_resistance: T [unit = "Ohm", rule = "> 0"],
+        /// i_max, armature current limit of the motor driver (inf: none).
+        ///
+        /// The current is clamped to +-i_max, so the wheel torque to +-k_tau i_max / k_t.
+        pub current_max: T [unit = "A", rule = "> 0, inf allowed"],
+    }
 }
 
 impl<T: Real> Default for DcMotorParams<T> {

@@ -6,6 +6,7 @@ mod torque;
 pub use dc_motor::{DcMotor, DcMotorParams};
 pub use torque::{TorqueDrive, TorqueDriveParams};
 
+use crate::describe::{Described, ParamField};
 use crate::error::ParamError;
 use crate::lane::Lane;
 use crate::{Real, Robot};
@@ -41,6 +42,14 @@ impl<T: Real> DriveParams<T> {
         match self {
             DriveParams::Torque(_) => "torque",
             DriveParams::DcMotor(_) => "dc_motor",
+        }
+    }
+
+    /// The declared fields of this kind's parameters ([`crate::params!`]).
+    pub fn fields(&self) -> &'static [ParamField] {
+        match self {
+            DriveParams::Torque(_) => TorqueDriveParams::<T>::FIELDS,
+            DriveParams::DcMotor(_) => DcMotorParams::<T>::FIELDS,
         }
     }
 

@@ -4,12 +4,14 @@ use crate::Real;
 use crate::error::{ParamError, check};
 use crate::lane::Lane;
 
-/// `[drive] kind = "torque"` parameters.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct TorqueDriveParams<T> {
-    /// |tau_motor| limit at the motor shaft, N m (`motor_torque_max`); infinity allowed.
-    pub motor_torque_max: T,
+crate::params! {
+    /// `[drive] kind = "torque"` parameters.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    pub struct TorqueDriveParams<T> {
+        /// |tau_motor| limit at the motor shaft (the wheel gets it / k_t).
+        pub motor_torque_max: T [unit = "N m", rule = "> 0, inf allowed"],
+    }
 }
 
 impl<T: Real> Default for TorqueDriveParams<T> {

@@ -24,24 +24,26 @@ use crate::math::{Pose2, Wheels};
 use crate::state::State;
 use crate::{Real, RobotParams};
 
-/// `[sensor]` keys: what the controller sees.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct SensorParams<T> {
-    /// Pose samples per second, Hz; 1 / rate_hz a whole multiple of `control_dt`.
-    /// Infinity (the default): a sample at every control tick.
-    pub rate_hz: T,
-    /// Latency, s: a sample taken at t reaches the controller at t + latency; a whole
-    /// multiple of `control_dt`. Default 0.
-    pub latency: T,
-    /// Standard deviation of the Gaussian noise on x and on y of each sample, m. Default 0.
-    pub position_noise: T,
-    /// Standard deviation of the Gaussian noise on theta of each sample, degrees. Default 0.
-    pub heading_noise_deg: T,
-    /// Encoder counts per wheel revolution; 0 (the default) = ideal encoders.
-    pub encoder_counts: u32,
-    /// Seed of the noise; the noise of a run is a function of (seed, run index).
-    pub seed: u64,
+crate::params! {
+    /// `[sensor]` keys: what the controller sees.
+    // repr(C): the C API hands this very struct across (wmr-ffi, include/wmr.h).
+    #[repr(C)]
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    pub struct SensorParams<T> {
+        /// Pose samples per second (inf, the default: a sample at every control tick).
+        pub rate_hz: T [unit = "Hz", rule = "> 0; 1 / rate_hz a whole multiple of control_dt"],
+        /// Latency: a sample taken at t reaches the controller at t + latency.
+        pub latency: T [unit = "s", rule = ">= 0, a whole multiple of control_dt; latency * rate_hz < 250"],
+        /// Standard deviation of the Gaussian noise on x and on y of each sample.
+        pub position_noise: T [unit = "m", rule = ">= 0"],
+        /// Standard deviation of the Gaussian noise on theta of each sample.
+        pub heading_noise_deg: T [unit = "deg", rule = ">= 0"],
+        /// Encoder counts per wheel revolution (0, the default: ideal encoders).
+        pub encoder_counts: u32 [unit = "counts/rev", rule = "whole number"],
+        /// Seed of the noise: the noise of a run is a function of (seed, run index).
+        pub seed: u64 [unit = "", rule = "whole number"],
+    }
 }
 
 impl<T: Real> Default for SensorParams<T> {
