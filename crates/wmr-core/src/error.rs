@@ -4,6 +4,7 @@ use core::fmt;
 
 /// Why a parameter was rejected.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Reason {
     /// NaN or infinite where a finite number is needed.
     NotFinite,
@@ -37,6 +38,7 @@ impl fmt::Display for Reason {
 /// can use it too. Whoever knows where the value came from (a scenario file, a C struct)
 /// adds the path: `robot.mass`, `run[2].goal.x`.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct ParamError {
     /// The field of the struct or argument that was checked, e.g. `"wheel_radius"`.
     pub field: &'static str,

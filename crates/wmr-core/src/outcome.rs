@@ -11,6 +11,7 @@ pub const ARRIVAL_RADIUS_M: f64 = 0.01;
 
 /// How a run ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Termination {
     /// Reached t_end with a finite state inside the box.
     Completed,
@@ -24,6 +25,26 @@ pub enum Termination {
 }
 
 impl Termination {
+    /// Every termination, in the order of their codes ([`Termination::code`]).
+    pub const ALL: [Termination; 4] =
+        [Termination::Completed, Termination::Settled, Termination::NonFinite, Termination::LeftBox];
+
+    /// A small number for the termination (its index in [`Termination::ALL`]), for
+    /// number-only records (the Python sweep's outcome rows).
+    pub fn code(self) -> u8 {
+        match self {
+            Termination::Completed => 0,
+            Termination::Settled => 1,
+            Termination::NonFinite => 2,
+            Termination::LeftBox => 3,
+        }
+    }
+
+    /// The termination of `code`, if it is one.
+    pub fn of_code(code: u8) -> Option<Self> {
+        Self::ALL.get(usize::from(code)).copied()
+    }
+
     /// True for the two divergence cases.
     pub fn diverged(self) -> bool {
         !matches!(self, Termination::Completed | Termination::Settled)
@@ -36,6 +57,7 @@ impl Termination {
 /// arrive later, wander for ever, or circle; only a longer run can tell. It is not
 /// counted as a divergence.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Status {
     /// Not diverged, and the final distance to the goal is below [`ARRIVAL_RADIUS_M`].
     /// The heading is not part of it: the paper's law leaves several degrees.
@@ -205,6 +227,15 @@ impl<T: Real> Metrics<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn termination_codes_round_trip() {
+        for (i, t) in Termination::ALL.into_iter().enumerate() {
+            assert_eq!(usize::from(t.code()), i);
+            assert_eq!(Termination::of_code(t.code()), Some(t));
+        }
+        assert_eq!(Termination::of_code(4), None);
+    }
 
     fn outcome_at(x: f64, termination: Termination) -> Outcome<f64> {
         let state = State::at_rest(Pose2::new(x, 0.0, 0.0));

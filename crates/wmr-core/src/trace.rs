@@ -69,6 +69,7 @@ pub struct Config {
 
 /// Why a trace could not be read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct FormatError(pub &'static str);
 
 fn f<T: Real>(v: T) -> u32 {

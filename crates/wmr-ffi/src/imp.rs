@@ -64,6 +64,8 @@ impl From<ParamError> for Fail {
             }
             Reason::NaN => (wmr_status::WMR_NAN, "must not be NaN"),
             Reason::OutOfRange(why) => (wmr_status::WMR_OUT_OF_RANGE, why),
+            // A reason added to the core later: still out of range, with a plain message.
+            _ => (wmr_status::WMR_OUT_OF_RANGE, "is out of range"),
         };
         Fail { code, field: e.field, reason, value: e.value }
     }
@@ -587,9 +589,7 @@ pub fn plant_step<T: Prec>(plant: *mut T::Plant, t: T, dt: T) -> wmr_status {
         plant.step(t, dt).map_err(|term| {
             let code = match term {
                 Termination::LeftBox => wmr_status::WMR_DIVERGED_LEFT_BOX,
-                Termination::NonFinite | Termination::Completed | Termination::Settled => {
-                    wmr_status::WMR_DIVERGED_NON_FINITE
-                }
+                _ => wmr_status::WMR_DIVERGED_NON_FINITE,
             };
             Fail { code, field: "state", reason: "the step diverged; the state is unchanged", value: 0.0 }
         })

@@ -22,6 +22,7 @@ fn code_of(e: &ParamError) -> wmr_status {
         Reason::NotMultipleOfDt => wmr_status::WMR_NOT_MULTIPLE_OF_DT,
         Reason::NaN => wmr_status::WMR_NAN,
         Reason::OutOfRange(_) => wmr_status::WMR_OUT_OF_RANGE,
+        other => panic!("a reason this test does not know: {other:?}"),
     }
 }
 

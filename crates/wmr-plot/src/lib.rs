@@ -58,5 +58,7 @@ pub fn status_color(s: Status) -> &'static str {
         Status::Converged => "#009E73",
         Status::Diverged => "#000000",
         Status::Unsettled => "#E69F00",
+        // A status added later: grey until it is given a colour of its own.
+        _ => "#999999",
     }
 }

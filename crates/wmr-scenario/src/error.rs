@@ -13,6 +13,7 @@ use wmr_core::ParamError;
 /// came from the file (keys, quoted source) is shown with control characters escaped
 /// (see [`escape_controls`]), so a file cannot inject terminal escapes or break the line.
 #[derive(Clone, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct ScenarioError {
     /// The scenario key, dotted, runs indexed: `sim.dt`, `run[0].goal.theta_deg`, `run`.
     /// Empty when the file could not be read or parsed at all.

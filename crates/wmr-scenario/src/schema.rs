@@ -6,10 +6,7 @@ use std::borrow::Cow;
 
 use toml::Value;
 use wmr_core::describe::{Described, ParamField};
-use wmr_core::{
-    DriveParams, LawParams, LyapunovParams, PaperBidirectionalParams, PaperParams, PolarParams, RobotParams,
-    SensorParams, WheelStageParams, WorldParams,
-};
+use wmr_core::{DriveParams, LawParams, RobotParams, SensorParams, WheelStageParams, WorldParams};
 
 use crate::file::{GridFile, PoseFile, RandomFile, RunFile, ScenarioFile, SimFile, SweepFile};
 use crate::keys::{fields_of, to_table};
@@ -97,18 +94,6 @@ fn kind_key(table: &'static str, doc: &'static str, kinds: &[&'static str]) -> S
     }
 }
 
-/// The declared fields of `law`'s parameters.
-// A law's one list line is `laws!` in wmr-core's controller/any.rs; this match belongs
-// there (a new law fails to compile here until it is added).
-fn law_fields(law: &LawParams<f64>) -> &'static [ParamField] {
-    match law {
-        LawParams::Paper(_) => PaperParams::<f64>::FIELDS,
-        LawParams::PaperBidirectional(_) => PaperBidirectionalParams::<f64>::FIELDS,
-        LawParams::Polar(_) => PolarParams::<f64>::FIELDS,
-        LawParams::Lyapunov(_) => LyapunovParams::<f64>::FIELDS,
-    }
-}
-
 /// The keys of a declared struct with the defaults of `defaults`.
 fn declared<P: serde::Serialize>(
     table: &'static str,
@@ -138,7 +123,7 @@ pub fn schema() -> Vec<SchemaKey> {
     let laws = LawParams::<f64>::defaults();
     out.push(kind_key("controller", "The outer law.", &laws.map(|l| l.kind())));
     for law in laws {
-        out.extend(declared("controller", Some(law.kind()), law_fields(&law), &law));
+        out.extend(declared("controller", Some(law.kind()), law.fields(), &law));
     }
     // The wheel stage's defaults follow the drive: fixed where every drive agrees.
     let by_drive: Vec<(&'static str, toml::Table)> =
@@ -192,7 +177,7 @@ mod tests {
         }
         for law in LawParams::<f64>::defaults() {
             let read = fields_read_by(|p| law.deserialize_variant(p).map(|_| ()));
-            assert_eq!(names(law_fields(&law)), read, "{}", law.kind());
+            assert_eq!(names(law.fields()), read, "{}", law.kind());
         }
     }
 

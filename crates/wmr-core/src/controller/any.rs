@@ -9,6 +9,7 @@ use super::lyapunov::{LyapunovLaw, LyapunovParams};
 use super::paper::{PaperLaw, PaperParams};
 use super::paper_bidirectional::{PaperBidirectionalLaw, PaperBidirectionalParams};
 use super::polar::{PolarLaw, PolarParams};
+use crate::describe::{Described, ParamField};
 use crate::error::ParamError;
 use crate::lane::Lane;
 use crate::reference::ReferenceState;
@@ -25,6 +26,7 @@ macro_rules! laws {
         #[derive(Clone, Copy, Debug, PartialEq)]
         #[cfg_attr(feature = "serde", derive(serde::Serialize))]
         #[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "snake_case"))]
+        #[non_exhaustive]
         pub enum LawParams<T> {
             $( $(#[$doc])* $variant($params<T>), )+
         }
@@ -38,6 +40,12 @@ macro_rules! laws {
             /// The law's `kind` name.
             pub fn kind(&self) -> &'static str {
                 match self { $( LawParams::$variant(_) => $name, )+ }
+            }
+
+            /// The declared keys of the law ([`crate::describe`]): what `--help`, the
+            /// docs tables and the C header are made from.
+            pub fn fields(&self) -> &'static [ParamField] {
+                match self { $( LawParams::$variant(_) => <$params<T> as Described>::FIELDS, )+ }
             }
 
             /// Reads the keys of the same law as `self` (without `kind`) from `d`.
@@ -64,6 +72,7 @@ macro_rules! laws {
 
         /// Any law, dispatched by `match`. Implements [`Law`].
         #[derive(Clone, Copy, Debug, PartialEq)]
+        #[non_exhaustive]
         pub enum AnyLaw<T: Lane> {
             $( $(#[$doc])* $variant($law<T>), )+
         }

@@ -17,6 +17,7 @@ use crate::{Real, Robot};
 /// tagged-enum reader needs an allocator).
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 #[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "snake_case"))]
+#[non_exhaustive]
 pub enum DriveParams<T> {
     /// Ideal torque source with a motor torque limit (the default).
     Torque(TorqueDriveParams<T>),
@@ -78,6 +79,7 @@ impl<T: Real> DriveParams<T> {
 
 /// A validated drive, one per wheel (both wheels use the same model).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum Drive<T> {
     /// See [`TorqueDrive`].
     Torque(TorqueDrive<T>),

@@ -37,12 +37,7 @@ const ROW_LEN: usize = 22;
 /// path length, energy.
 fn outcome_row(o: &SweepOutcome) -> [f64; ROW_LEN] {
     let u = &o.outcome;
-    let termination = match u.termination {
-        Termination::Completed => 0.0,
-        Termination::Settled => 1.0,
-        Termination::NonFinite => 2.0,
-        Termination::LeftBox => 3.0,
-    };
+    let termination = f64::from(u.termination.code());
     [
         o.law as f64,
         o.variant as f64,
@@ -72,13 +67,7 @@ fn outcome_row(o: &SweepOutcome) -> [f64; ROW_LEN] {
 /// The outcome a row of [`outcome_row`] holds, or `None` for a row that is no outcome.
 fn row_outcome(r: &[f64]) -> Option<SweepOutcome> {
     let index = |v: f64| (v >= 0.0 && v.fract() == 0.0 && v < 9.0e15).then_some(v as usize);
-    let termination = match r[8] as u8 {
-        0 => Termination::Completed,
-        1 => Termination::Settled,
-        2 => Termination::NonFinite,
-        3 => Termination::LeftBox,
-        _ => return None,
-    };
+    let termination = Termination::of_code(r[8] as u8)?;
     Some(SweepOutcome {
         law: index(r[0])?,
         variant: index(r[1])?,
