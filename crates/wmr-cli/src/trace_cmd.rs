@@ -90,18 +90,6 @@ fn config_of(scenario: &Scenario, run: usize) -> Result<ConfigOf<f64>, ScenarioE
     })
 }
 
-/// The sensor's keys in f32.
-fn sensor_f32(p: &SensorParams<f64>) -> SensorParams<f32> {
-    SensorParams {
-        rate_hz: p.rate_hz as f32,
-        latency: p.latency as f32,
-        position_noise: p.position_noise as f32,
-        heading_noise_deg: p.heading_noise_deg as f32,
-        encoder_counts: p.encoder_counts,
-        seed: p.seed,
-    }
-}
-
 /// Runs the loop of `config` in f32 for `n_steps` plant steps and returns every tick: the
 /// one loop ([`ClosedLoop`]), read at each control tick.
 pub fn run_f32(
@@ -152,7 +140,7 @@ pub fn trace(scenario: &Scenario, run: usize, output: &Path) -> Result<Traced> {
     let format = TraceFormat::of(output)?;
     let config_words = config_of(scenario, run)?.encode();
     let config = Config::decode(&config_words).map_err(|e| anyhow!("trace config: {}", e.0))?;
-    let sensor = sensor_f32(&scenario.setup().sensor);
+    let sensor = scenario.setup().sensor.cast::<f32>();
     let (records, diverged) = run_f32(&config, sensor, run as u64, scenario.sim().n_steps()).map_err(f32_error)?;
     let ticks = u32::try_from(records.len()).context("too many ticks for a trace")?;
 
