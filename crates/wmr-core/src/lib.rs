@@ -24,10 +24,14 @@
 //! ```
 //!
 //! The loop is made of parts, each its own module: [`plant`] (the truth: robot, drive,
-//! RK4), [`sensor`] (what the controller sees), [`reference`](mod@reference) (the reference's
-//! pose, twist and acceleration over time),
-//! [`controller`] (an outer law and a wheel stage), [`closed_loop`] (ties them together
-//! and logs [`Sample`]s) and [`outcome`] (how the run went, from the true state).
+//! RK4), [`sensor`] (what the controller sees), [`reference`](mod@reference) (the
+//! reference's pose, twist and acceleration over time), [`controller`] (an outer law and
+//! a wheel stage), [`closed_loop`] (the one stepping function: ties them together on one
+//! [`clock`] and logs [`Sample`]s), [`batch`] (the same loop over SIMD lanes) and
+//! [`outcome`] (how the run went, from the true state against the reference).
+//! Every parameter type is declared once ([`describe`]): its field table gives the
+//! scenario schema, `--help`, the docs tables and the C header; [`trace`] is the f32
+//! tick record the firmware replays.
 //!
 //! **Stability** (0.x: a minor version may break the API): the equations and their
 //! results, the parameter types and their field names, [`ParamError`]'s field names and

@@ -41,31 +41,7 @@ pub const CONFIG_WORDS: usize = 51;
 pub const RECORD_WORDS: usize = 24;
 
 /// What was run: everything the replay needs to build the same loop, in f32.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Config {
-    /// The outer law and its keys.
-    pub law: LawParams<f32>,
-    /// The drive.
-    pub drive: DriveParams<f32>,
-    /// The robot (the plant's truth and the controller's model).
-    pub robot: RobotParams<f32>,
-    /// The controller's idea of the robot (`[controller.model]`).
-    pub model: RobotParams<f32>,
-    /// The ground.
-    pub world: WorldParams<f32>,
-    /// The wheel stage.
-    pub wheels: WheelStageParams<f32>,
-    /// Control period, s.
-    pub control_dt: f32,
-    /// Plant step, s.
-    pub dt: f32,
-    /// Plant steps per control tick.
-    pub steps_per_tick: u32,
-    /// Start pose of C (m, m, rad).
-    pub start: Pose2<f32>,
-    /// Goal pose of C (m, m, rad).
-    pub goal: Pose2<f32>,
-}
+pub type Config = ConfigOf<f32>;
 
 /// Why a trace could not be read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -118,7 +94,7 @@ fn robot_of(w: &[u32]) -> RobotParams<f32> {
     }
 }
 
-/// `Config` before rounding to f32: the loop as the scenario gives it (f64), or f32.
+/// The loop as the scenario gives it (f64) or as it ran ([`Config`], f32).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ConfigOf<T> {
     /// The outer law and its keys.
