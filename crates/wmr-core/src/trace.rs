@@ -24,6 +24,7 @@
 //! commands, must reach each recorded state (the zero-order hold of `ClosedLoop`:
 //! control tick at t = 0, then `plant steps per tick` RK4 steps of `dt` between ticks).
 
+use crate::describe::Described;
 use crate::{
     DcMotorParams, DriveParams, HoldMode, LawParams, LyapunovParams, PaperBidirectionalParams, PaperMode, PaperParams,
     PolarParams, Pose2, Real, RobotParams, TorqueDriveParams, WheelStageParams, WorldParams,
@@ -36,7 +37,7 @@ pub const VERSION: u32 = 1;
 /// Words of the header before the config: magic (2), version, config words, record words, ticks.
 pub const HEADER_WORDS: usize = 6;
 /// Words of [`Config`].
-pub const CONFIG_WORDS: usize = 51;
+pub const CONFIG_WORDS: usize = WORLD_AT + WORLD;
 /// Words of one [`Record`].
 pub const RECORD_WORDS: usize = 24;
 
@@ -64,35 +65,50 @@ fn flag(w: u32, what: &'static str) -> Result<bool, FormatError> {
     }
 }
 
-fn robot_words<T: Real>(p: &RobotParams<T>) -> [u32; 10] {
-    [
-        f(p.mass),
-        f(p.wheel_radius),
-        f(p.half_track),
-        f(p.com_offset),
-        f(p.wheel_inertia),
-        f(p.platform_inertia),
-        f(p.gear_ratio),
-        f(p.viscous_friction),
-        f(p.coulomb_friction),
-        f(p.coulomb_speed),
-    ]
+/// For a parameter struct whose fields are all `T`: its number of words (one per
+/// declared field), a writer of its fields in declaration order ([`crate::params!`]),
+/// each rounded to f32, and a reader of the struct from those words. A key declared
+/// there is in the trace with no edit here.
+macro_rules! real_words {
+    ($len:ident, $put:ident, $read:ident, $ty:ident, $template:expr) => {
+        const $len: usize = <$ty<f32> as Described>::FIELDS.len();
+
+        fn $put<T: Real>(p: &$ty<T>, out: &mut [u32]) {
+            let mut i = 0;
+            let _ = p.map(|v| {
+                out[i] = f(v);
+                i += 1;
+            });
+        }
+
+        fn $read(w: &[u32]) -> $ty<f32> {
+            let mut i = 0;
+            let template: $ty<f32> = $template;
+            template.map(|_| {
+                i += 1;
+                r(w[i - 1])
+            })
+        }
+    };
 }
 
-fn robot_of(w: &[u32]) -> RobotParams<f32> {
-    RobotParams {
-        mass: r(w[0]),
-        wheel_radius: r(w[1]),
-        half_track: r(w[2]),
-        com_offset: r(w[3]),
-        wheel_inertia: r(w[4]),
-        platform_inertia: r(w[5]),
-        gear_ratio: r(w[6]),
-        viscous_friction: r(w[7]),
-        coulomb_friction: r(w[8]),
-        coulomb_speed: r(w[9]),
-    }
-}
+real_words!(ROBOT, put_robot, read_robot, RobotParams, RobotParams::paper());
+real_words!(WHEELS, put_wheels, read_wheels, WheelStageParams, WheelStageParams::default());
+real_words!(WORLD, put_world, read_world, WorldParams, WorldParams::default());
+real_words!(TORQUE, put_torque, read_torque, TorqueDriveParams, TorqueDriveParams::default());
+real_words!(DC_MOTOR, put_dc_motor, read_dc_motor, DcMotorParams, DcMotorParams::default());
+
+/// Words of the law: its kind, then at most 8 keys.
+const LAW: usize = 9;
+/// Where each part of the config starts (word index).
+const DRIVE_AT: usize = LAW;
+const ROBOT_AT: usize = DRIVE_AT + 1 + TORQUE + DC_MOTOR;
+const MODEL_AT: usize = ROBOT_AT + ROBOT;
+const WHEELS_AT: usize = MODEL_AT + ROBOT;
+const TIMING_AT: usize = WHEELS_AT + WHEELS;
+const START_AT: usize = TIMING_AT + 3;
+const GOAL_AT: usize = START_AT + 3;
+const WORLD_AT: usize = GOAL_AT + 3;
 
 /// The loop as the scenario gives it (f64) or as it ran ([`Config`], f32).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -166,42 +182,26 @@ impl<T: Real> ConfigOf<T> {
                 0,
             ],
         };
-        w[0..9].copy_from_slice(&law);
-        let drive: [u32; 7] = match self.drive {
-            DriveParams::Torque(p) => [0, f(p.motor_torque_max), 0, 0, 0, 0, 0],
-            DriveParams::DcMotor(p) => [
-                1,
-                0,
-                f(p.voltage_max),
-                f(p.torque_constant),
-                f(p.back_emf_constant),
-                f(p.armature_resistance),
-                f(p.current_max),
-            ],
-        };
-        w[9..16].copy_from_slice(&drive);
-        w[16..26].copy_from_slice(&robot_words(&self.robot));
-        w[26..36].copy_from_slice(&robot_words(&self.model));
-        let s = &self.wheels;
-        for (d, v) in w[36..40].iter_mut().zip([s.servo_kp, s.servo_kd, s.servo_ki, s.wheel_speed_max]) {
+        w[0..LAW].copy_from_slice(&law);
+        let d = &mut w[DRIVE_AT..ROBOT_AT];
+        match self.drive {
+            DriveParams::Torque(p) => put_torque(&p, &mut d[1..]),
+            DriveParams::DcMotor(p) => {
+                d[0] = 1;
+                put_dc_motor(&p, &mut d[1 + TORQUE..]);
+            }
+        }
+        put_robot(&self.robot, &mut w[ROBOT_AT..]);
+        put_robot(&self.model, &mut w[MODEL_AT..]);
+        put_wheels(&self.wheels, &mut w[WHEELS_AT..]);
+        w[TIMING_AT] = f(self.control_dt);
+        w[TIMING_AT + 1] = f(self.dt);
+        w[TIMING_AT + 2] = self.steps_per_tick;
+        let poses = [self.start.x, self.start.y, self.start.theta, self.goal.x, self.goal.y, self.goal.theta];
+        for (d, v) in w[START_AT..WORLD_AT].iter_mut().zip(poses) {
             *d = f(v);
         }
-        w[40] = f(self.control_dt);
-        w[41] = f(self.dt);
-        w[42] = self.steps_per_tick;
-        let rest = [
-            self.start.x,
-            self.start.y,
-            self.start.theta,
-            self.goal.x,
-            self.goal.y,
-            self.goal.theta,
-            self.world.slope_deg,
-            self.world.slope_direction_deg,
-        ];
-        for (d, v) in w[43..51].iter_mut().zip(rest) {
-            *d = f(v);
-        }
+        put_world(&self.world, &mut w[WORLD_AT..]);
         w
     }
 }
@@ -251,34 +251,28 @@ impl Config {
             }),
             _ => return Err(FormatError("unknown law kind")),
         };
-        let drive = match w[9] {
-            0 => DriveParams::Torque(TorqueDriveParams { motor_torque_max: r(w[10]) }),
-            1 => DriveParams::DcMotor(DcMotorParams {
-                voltage_max: r(w[11]),
-                torque_constant: r(w[12]),
-                back_emf_constant: r(w[13]),
-                armature_resistance: r(w[14]),
-                current_max: r(w[15]),
-            }),
+        let d = &w[DRIVE_AT..ROBOT_AT];
+        let drive = match d[0] {
+            0 => DriveParams::Torque(read_torque(&d[1..])),
+            1 => DriveParams::DcMotor(read_dc_motor(&d[1 + TORQUE..])),
             _ => return Err(FormatError("unknown drive kind")),
         };
-        let wheels =
-            WheelStageParams { servo_kp: r(w[36]), servo_kd: r(w[37]), servo_ki: r(w[38]), wheel_speed_max: r(w[39]) };
-        if w[42] == 0 {
+        if w[TIMING_AT + 2] == 0 {
             return Err(FormatError("zero plant steps per tick"));
         }
+        let pose = |at: usize| Pose2::new(r(w[at]), r(w[at + 1]), r(w[at + 2]));
         Ok(Config {
             law,
             drive,
-            robot: robot_of(&w[16..26]),
-            model: robot_of(&w[26..36]),
-            world: WorldParams { slope_deg: r(w[49]), slope_direction_deg: r(w[50]) },
-            wheels,
-            control_dt: r(w[40]),
-            dt: r(w[41]),
-            steps_per_tick: w[42],
-            start: Pose2::new(r(w[43]), r(w[44]), r(w[45])),
-            goal: Pose2::new(r(w[46]), r(w[47]), r(w[48])),
+            robot: read_robot(&w[ROBOT_AT..]),
+            model: read_robot(&w[MODEL_AT..]),
+            world: read_world(&w[WORLD_AT..]),
+            wheels: read_wheels(&w[WHEELS_AT..]),
+            control_dt: r(w[TIMING_AT]),
+            dt: r(w[TIMING_AT + 1]),
+            steps_per_tick: w[TIMING_AT + 2],
+            start: pose(START_AT),
+            goal: pose(GOAL_AT),
         })
     }
 }
@@ -459,6 +453,37 @@ mod tests {
                 };
                 assert_eq!(Config::decode(&again.encode()).unwrap(), d);
             }
+        }
+    }
+
+    /// Every declared field of the robots, the wheel stage, the ground and both drives
+    /// carries its own value through the words: a field dropped, swapped or laid over
+    /// another breaks the equality. The old `Config` (a hand copy) was itself just such
+    /// a place to forget one.
+    #[test]
+    fn every_declared_field_survives_the_words() {
+        let mut n = 0.0_f32;
+        let mut next = |_: f32| {
+            n += 1.0;
+            n
+        };
+        let dc = DcMotorParams::<f32>::default().map(&mut next);
+        let torque = TorqueDriveParams::<f32>::default().map(&mut next);
+        for drive in [DriveParams::DcMotor(dc), DriveParams::Torque(torque)] {
+            let c: Config = ConfigOf {
+                law: LawParams::default(),
+                drive,
+                robot: RobotParams::paper().map(&mut next),
+                model: RobotParams::paper().map(&mut next),
+                world: WorldParams::default().map(&mut next),
+                wheels: WheelStageParams::default().map(&mut next),
+                control_dt: next(0.0),
+                dt: next(0.0),
+                steps_per_tick: 3,
+                start: Pose2::new(next(0.0), next(0.0), next(0.0)),
+                goal: Pose2::new(next(0.0), next(0.0), next(0.0)),
+            };
+            assert_eq!(Config::decode(&c.encode()).unwrap(), c);
         }
     }
 
