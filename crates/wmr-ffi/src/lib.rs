@@ -220,6 +220,24 @@ pub type wmr_sensor_params<T> = wmr_core::SensorParams<T>;
 /// The wheel stage: `wmr_core::WheelStageParams`.
 /// cbindgen:ignore
 pub type wmr_wheel_stage_params<T> = wmr_core::WheelStageParams<T>;
+/// The paper's law (`[controller] kind = "paper"`): `wmr_core::PaperParams`. Its enum
+/// fields are `uint32_t` in C (`WMR_PAPER_MODE_*`, `WMR_HOLD_*`); a value that is not one
+/// of the constants is refused by `*_init` before the struct is read as the core's type.
+/// cbindgen:ignore
+pub type wmr_paper_params<T> = wmr_core::PaperParams<T>;
+/// The paper's law repaired (`kind = "paper_bidirectional"`):
+/// `wmr_core::PaperBidirectionalParams`, `hold` a `WMR_HOLD_*` constant.
+/// cbindgen:ignore
+pub type wmr_paper_bidirectional_params<T> = wmr_core::PaperBidirectionalParams<T>;
+
+// The C constants are the core enums' discriminants (`#[repr(u32)]`).
+const _: () = {
+    assert!(wmr_core::PaperMode::Pose as u32 == WMR_PAPER_MODE_POSE);
+    assert!(wmr_core::PaperMode::Position as u32 == WMR_PAPER_MODE_POSITION);
+    assert!(wmr_core::HoldMode::ZeroErrors as u32 == WMR_HOLD_ZERO_ERRORS);
+    assert!(wmr_core::HoldMode::Freeze as u32 == WMR_HOLD_FREEZE);
+    assert!(wmr_core::HoldMode::Auto as u32 == WMR_HOLD_AUTO);
+};
 
 /// Drive parameters (the `[drive]` keys). `kind` selects which fields are read.
 #[repr(C)]
@@ -241,28 +259,9 @@ pub struct wmr_drive_params<T> {
     pub current_max: T,
 }
 
-/// The paper's law: PI loops on (e_s, e_theta) towards a moving false target.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct wmr_paper_params<T> {
-    /// `WMR_PAPER_MODE_POSE` or `WMR_PAPER_MODE_POSITION`.
-    pub mode: u32,
-    /// Kp_theta, rad per rad (>= 0).
-    pub kp_theta: T,
-    /// Ki_theta, 1/s (>= 0).
-    pub ki_theta: T,
-    /// Kp_s, m per m (>= 0).
-    pub kp_s: T,
-    /// Ki_s, 1/s (>= 0).
-    pub ki_s: T,
-    /// Within this distance of the goal, m, alpha keeps its last value (>= 0).
-    pub goal_radius: T,
-    /// Within this distance of the goal, m, the outer loop holds (>= 0; 0 = off).
-    pub hold_radius: T,
-    /// `WMR_HOLD_AUTO` (default: zero errors in pose mode, freeze in position mode),
-    /// `WMR_HOLD_ZERO_ERRORS` or `WMR_HOLD_FREEZE`.
-    pub hold: u32,
-}
+// The polar and Lyapunov laws' C structs are not the core's types: their `reverse` is a
+// Rust `bool` (1 byte) and a `uint32_t` here, so an alias would change the C layout.
+// tests/header.rs checks that their fields are the core's, in the core's order.
 
 /// Astolfi's polar-coordinates law: v = k_rho rho, omega = k_alpha alpha + k_beta beta.
 #[repr(C)]
@@ -322,6 +321,10 @@ pub const WMR_SENSOR_F64_WORDS: usize = 112;
 pub const WMR_PAPER_CONTROLLER_F32_WORDS: usize = 32;
 /// Words of the paper's law with its wheel stage, `wmr_paper_controller_f64`.
 pub const WMR_PAPER_CONTROLLER_F64_WORDS: usize = 64;
+/// Words of the bidirectional paper law with its wheel stage, `wmr_paper_bidirectional_controller_f32`.
+pub const WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F32_WORDS: usize = 32;
+/// Words of the bidirectional paper law with its wheel stage, `wmr_paper_bidirectional_controller_f64`.
+pub const WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F64_WORDS: usize = 64;
 /// Words of the polar law with its wheel stage, `wmr_polar_controller_f32`.
 pub const WMR_POLAR_CONTROLLER_F32_WORDS: usize = 32;
 /// Words of the polar law with its wheel stage, `wmr_polar_controller_f64`.
@@ -390,6 +393,18 @@ pub struct wmr_paper_controller_f32 {
 pub struct wmr_paper_controller_f64 {
     /// Opaque: only the library reads or writes it.
     pub opaque: [u64; WMR_PAPER_CONTROLLER_F64_WORDS],
+}
+/// The paper's law repaired (`paper_bidirectional`) with its wheel stage (f32).
+#[repr(C)]
+pub struct wmr_paper_bidirectional_controller_f32 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F32_WORDS],
+}
+/// The paper's law repaired (`paper_bidirectional`) with its wheel stage (f64).
+#[repr(C)]
+pub struct wmr_paper_bidirectional_controller_f64 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F64_WORDS],
 }
 /// The polar law with its wheel stage (f32).
 #[repr(C)]

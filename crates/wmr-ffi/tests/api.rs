@@ -386,3 +386,116 @@ compare_loop!(
     wmr_paper_controller_f64,
     wmr_core::PaperLaw::new(wmr_core::PaperParams::paper(), Robot::<f64>::paper().params(), 1e-3).unwrap()
 );
+compare_loop!(
+    paper_bidirectional_loop_equals_closed_loop,
+    wmr_paper_bidirectional_params_f64_default,
+    wmr_paper_bidirectional_controller_f64_init,
+    wmr_paper_bidirectional_controller_f64_update,
+    wmr_paper_bidirectional_controller_f64_reset,
+    wmr_paper_bidirectional_controller_f64,
+    wmr_core::PaperBidirectionalLaw::new(
+        wmr_core::PaperBidirectionalParams::default(),
+        Robot::<f64>::paper().params(),
+        1e-3
+    )
+    .unwrap()
+);
+
+/// The law structs that are the core's own types hold the core's enums as `uint32_t`
+/// codes: a code that is no constant is refused by its field name before the struct is
+/// read as the core's type (which would be undefined behaviour).
+#[test]
+fn enum_codes_outside_the_constants_are_refused_by_name() {
+    let robot_c = valid_robot();
+    let (dp, drive_c) = valid_drive(&robot_c, WMR_DRIVE_TORQUE);
+    let mut wp = MaybeUninit::uninit();
+    let mut err = new_err();
+    // SAFETY: valid pointers; the bad codes are written through raw u32 pointers into
+    // C-layout structs, as C would write them.
+    unsafe {
+        wmr_wheel_stage_params_f64_default(&dp, wp.as_mut_ptr());
+        let mut pp = MaybeUninit::<wmr_paper_params<f64>>::uninit();
+        let mut ctrl = MaybeUninit::<wmr_paper_controller_f64>::uninit();
+        for (offset, code, name) in [
+            (std::mem::offset_of!(wmr_paper_params<f64>, mode), 2u32, "mode"),
+            (std::mem::offset_of!(wmr_paper_params<f64>, hold), 3u32, "hold"),
+        ] {
+            wmr_paper_params_f64_default(pp.as_mut_ptr());
+            pp.as_mut_ptr().cast::<u8>().add(offset).cast::<u32>().write(code);
+            let c = wmr_paper_controller_f64_init(
+                ctrl.as_mut_ptr(),
+                pp.as_ptr(),
+                wp.as_ptr(),
+                &robot_c,
+                &drive_c,
+                1e-3,
+                &mut err,
+            );
+            assert_eq!(c, wmr_status::WMR_OUT_OF_RANGE, "{name}");
+            assert_eq!(field(&err), name);
+            assert_eq!(err.value, f64::from(code));
+        }
+        let mut bp = MaybeUninit::<wmr_paper_bidirectional_params<f64>>::uninit();
+        let mut bctrl = MaybeUninit::<wmr_paper_bidirectional_controller_f64>::uninit();
+        wmr_paper_bidirectional_params_f64_default(bp.as_mut_ptr());
+        let hold = std::mem::offset_of!(wmr_paper_bidirectional_params<f64>, hold);
+        bp.as_mut_ptr().cast::<u8>().add(hold).cast::<u32>().write(0xdead_beef);
+        let c = wmr_paper_bidirectional_controller_f64_init(
+            bctrl.as_mut_ptr(),
+            bp.as_ptr(),
+            wp.as_ptr(),
+            &robot_c,
+            &drive_c,
+            1e-3,
+            &mut err,
+        );
+        assert_eq!(c, wmr_status::WMR_OUT_OF_RANGE);
+        assert_eq!(field(&err), "hold");
+        // Every constant is accepted, and the defaults are the core's.
+        for h in [WMR_HOLD_ZERO_ERRORS, WMR_HOLD_FREEZE, WMR_HOLD_AUTO] {
+            bp.as_mut_ptr().cast::<u8>().add(hold).cast::<u32>().write(h);
+            let c = wmr_paper_bidirectional_controller_f64_init(
+                bctrl.as_mut_ptr(),
+                bp.as_ptr(),
+                wp.as_ptr(),
+                &robot_c,
+                &drive_c,
+                1e-3,
+                &mut err,
+            );
+            assert_eq!(c, wmr_status::WMR_OK, "hold {h}");
+        }
+        wmr_paper_bidirectional_params_f64_default(bp.as_mut_ptr());
+        assert_eq!(bp.assume_init(), wmr_core::PaperBidirectionalParams::<f64>::default());
+        let mut f32p = MaybeUninit::<wmr_paper_bidirectional_params<f32>>::uninit();
+        assert_eq!(wmr_paper_bidirectional_params_f32_default(f32p.as_mut_ptr()), wmr_status::WMR_OK);
+        assert_eq!(f32p.assume_init(), wmr_core::PaperBidirectionalParams::<f32>::default());
+    }
+}
+
+/// A gain the core refuses is refused with the core's field name (ki_theta below its bound).
+#[test]
+fn paper_bidirectional_gains_are_checked_by_the_core() {
+    let robot_c = valid_robot();
+    let (dp, drive_c) = valid_drive(&robot_c, WMR_DRIVE_TORQUE);
+    let mut wp = MaybeUninit::uninit();
+    let mut err = new_err();
+    let p = wmr_paper_bidirectional_params::<f64> { ki_theta: 0.1, ..Default::default() };
+    let core = wmr_core::PaperBidirectionalLaw::new(p, Robot::<f64>::paper().params(), 1e-3).unwrap_err();
+    let mut ctrl = MaybeUninit::<wmr_paper_bidirectional_controller_f64>::uninit();
+    // SAFETY: valid pointers.
+    let c = unsafe {
+        wmr_wheel_stage_params_f64_default(&dp, wp.as_mut_ptr());
+        wmr_paper_bidirectional_controller_f64_init(
+            ctrl.as_mut_ptr(),
+            &p,
+            wp.as_ptr(),
+            &robot_c,
+            &drive_c,
+            1e-3,
+            &mut err,
+        )
+    };
+    assert_eq!(c, code_of(&core));
+    assert_eq!(field(&err), core.field);
+}
