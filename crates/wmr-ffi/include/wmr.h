@@ -387,6 +387,34 @@ typedef struct {
   float dl;
 } wmr_control_output_f32;
 
+// Body-frame velocity of a point: forward speed v in m/s, yaw rate omega in rad/s.
+typedef struct {
+  // Forward speed along the heading, m/s.
+  float v;
+  // Yaw rate, rad/s.
+  float omega;
+} wmr_twist_f32;
+
+// The time derivative of a `wmr_twist`: v' in m/s^2, omega' in rad/s^2.
+typedef struct {
+  // Forward acceleration dv/dt, m/s^2.
+  float v;
+  // Yaw acceleration d(omega)/dt, rad/s^2.
+  float omega;
+} wmr_accel_f32;
+
+// The reference point C_ref at one instant: what a law follows (the core's
+// `wmr_core::ReferenceState`). Point stabilization is the reference at rest: the goal
+// as `pose`, zero `twist` and `accel`.
+typedef struct {
+  // Pose of C_ref in the world frame: x, y in m, theta in rad (CCW from +x).
+  wmr_pose_f32 pose;
+  // Twist of C_ref: v in m/s along `pose.theta`, omega in rad/s.
+  wmr_twist_f32 twist;
+  // Acceleration of C_ref: v' in m/s^2, omega' in rad/s^2.
+  wmr_accel_f32 accel;
+} wmr_reference_state_f32;
+
 // The paper's law repaired (`paper_bidirectional`) with its wheel stage (f32).
 typedef struct {
   // Opaque: only the library reads or writes it.
@@ -646,6 +674,34 @@ typedef struct {
   double dl;
 } wmr_control_output_f64;
 
+// Body-frame velocity of a point: forward speed v in m/s, yaw rate omega in rad/s.
+typedef struct {
+  // Forward speed along the heading, m/s.
+  double v;
+  // Yaw rate, rad/s.
+  double omega;
+} wmr_twist_f64;
+
+// The time derivative of a `wmr_twist`: v' in m/s^2, omega' in rad/s^2.
+typedef struct {
+  // Forward acceleration dv/dt, m/s^2.
+  double v;
+  // Yaw acceleration d(omega)/dt, rad/s^2.
+  double omega;
+} wmr_accel_f64;
+
+// The reference point C_ref at one instant: what a law follows (the core's
+// `wmr_core::ReferenceState`). Point stabilization is the reference at rest: the goal
+// as `pose`, zero `twist` and `accel`.
+typedef struct {
+  // Pose of C_ref in the world frame: x, y in m, theta in rad (CCW from +x).
+  wmr_pose_f64 pose;
+  // Twist of C_ref: v in m/s along `pose.theta`, omega in rad/s.
+  wmr_twist_f64 twist;
+  // Acceleration of C_ref: v' in m/s^2, omega' in rad/s^2.
+  wmr_accel_f64 accel;
+} wmr_reference_state_f64;
+
 // The paper's law repaired (`paper_bidirectional`) with its wheel stage (f64).
 typedef struct {
   // Opaque: only the library reads or writes it.
@@ -770,13 +826,25 @@ wmr_status wmr_paper_controller_f32_init(wmr_paper_controller_f32 *out,
                                          wmr_error *err);
 
 // One control tick at time `t` (s): drive commands and errors from the measurement and
-// the goal pose (m, m, rad). Non-finite inputs are refused (`WMR_NOT_FINITE`) and leave
-// the controller unchanged.
+// the goal pose (m, m, rad), the reference at rest there (as `_update_reference` with
+// zero twist and acceleration). Non-finite inputs are refused (`WMR_NOT_FINITE`) and
+// leave the controller unchanged.
 wmr_status wmr_paper_controller_f32_update(wmr_paper_controller_f32 *ctrl,
                                            float t,
                                            const wmr_measurement_f32 *measurement,
                                            wmr_pose_f32 goal,
                                            wmr_control_output_f32 *out);
+
+// One control tick at time `t` (s) following `reference`: the pose (m, m, rad), twist
+// (m/s, rad/s) and acceleration (m/s^2, rad/s^2) of the reference point at `t`.
+// Non-finite inputs are refused (`WMR_NOT_FINITE`; `err`, may be NULL, names the field,
+// as `reference.twist.v`) and leave the controller unchanged.
+wmr_status wmr_paper_controller_f32_update_reference(wmr_paper_controller_f32 *ctrl,
+                                                     float t,
+                                                     const wmr_measurement_f32 *measurement,
+                                                     const wmr_reference_state_f32 *reference,
+                                                     wmr_control_output_f32 *out,
+                                                     wmr_error *err);
 
 // Clears the integrators and memories, as at t = 0.
 wmr_status wmr_paper_controller_f32_reset(wmr_paper_controller_f32 *ctrl);
@@ -799,6 +867,14 @@ wmr_status wmr_paper_bidirectional_controller_f32_update(wmr_paper_bidirectional
                                                          wmr_pose_f32 goal,
                                                          wmr_control_output_f32 *out);
 
+// One control tick following a reference (see `wmr_paper_controller_f32_update_reference`).
+wmr_status wmr_paper_bidirectional_controller_f32_update_reference(wmr_paper_bidirectional_controller_f32 *ctrl,
+                                                                   float t,
+                                                                   const wmr_measurement_f32 *measurement,
+                                                                   const wmr_reference_state_f32 *reference,
+                                                                   wmr_control_output_f32 *out,
+                                                                   wmr_error *err);
+
 // Clears the integrators and memories, as at t = 0.
 wmr_status wmr_paper_bidirectional_controller_f32_reset(wmr_paper_bidirectional_controller_f32 *ctrl);
 
@@ -818,6 +894,14 @@ wmr_status wmr_polar_controller_f32_update(wmr_polar_controller_f32 *ctrl,
                                            wmr_pose_f32 goal,
                                            wmr_control_output_f32 *out);
 
+// One control tick following a reference (see `wmr_paper_controller_f32_update_reference`).
+wmr_status wmr_polar_controller_f32_update_reference(wmr_polar_controller_f32 *ctrl,
+                                                     float t,
+                                                     const wmr_measurement_f32 *measurement,
+                                                     const wmr_reference_state_f32 *reference,
+                                                     wmr_control_output_f32 *out,
+                                                     wmr_error *err);
+
 // Clears the direction choice, the servos and the references, as at t = 0.
 wmr_status wmr_polar_controller_f32_reset(wmr_polar_controller_f32 *ctrl);
 
@@ -836,6 +920,14 @@ wmr_status wmr_lyapunov_controller_f32_update(wmr_lyapunov_controller_f32 *ctrl,
                                               const wmr_measurement_f32 *measurement,
                                               wmr_pose_f32 goal,
                                               wmr_control_output_f32 *out);
+
+// One control tick following a reference (see `wmr_paper_controller_f32_update_reference`).
+wmr_status wmr_lyapunov_controller_f32_update_reference(wmr_lyapunov_controller_f32 *ctrl,
+                                                        float t,
+                                                        const wmr_measurement_f32 *measurement,
+                                                        const wmr_reference_state_f32 *reference,
+                                                        wmr_control_output_f32 *out,
+                                                        wmr_error *err);
 
 // Clears the direction choice, the servos and the references, as at t = 0.
 wmr_status wmr_lyapunov_controller_f32_reset(wmr_lyapunov_controller_f32 *ctrl);
@@ -934,13 +1026,25 @@ wmr_status wmr_paper_controller_f64_init(wmr_paper_controller_f64 *out,
                                          wmr_error *err);
 
 // One control tick at time `t` (s): drive commands and errors from the measurement and
-// the goal pose (m, m, rad). Non-finite inputs are refused (`WMR_NOT_FINITE`) and leave
-// the controller unchanged.
+// the goal pose (m, m, rad), the reference at rest there (as `_update_reference` with
+// zero twist and acceleration). Non-finite inputs are refused (`WMR_NOT_FINITE`) and
+// leave the controller unchanged.
 wmr_status wmr_paper_controller_f64_update(wmr_paper_controller_f64 *ctrl,
                                            double t,
                                            const wmr_measurement_f64 *measurement,
                                            wmr_pose_f64 goal,
                                            wmr_control_output_f64 *out);
+
+// One control tick at time `t` (s) following `reference`: the pose (m, m, rad), twist
+// (m/s, rad/s) and acceleration (m/s^2, rad/s^2) of the reference point at `t`.
+// Non-finite inputs are refused (`WMR_NOT_FINITE`; `err`, may be NULL, names the field,
+// as `reference.twist.v`) and leave the controller unchanged.
+wmr_status wmr_paper_controller_f64_update_reference(wmr_paper_controller_f64 *ctrl,
+                                                     double t,
+                                                     const wmr_measurement_f64 *measurement,
+                                                     const wmr_reference_state_f64 *reference,
+                                                     wmr_control_output_f64 *out,
+                                                     wmr_error *err);
 
 // Clears the integrators and memories, as at t = 0.
 wmr_status wmr_paper_controller_f64_reset(wmr_paper_controller_f64 *ctrl);
@@ -963,6 +1067,14 @@ wmr_status wmr_paper_bidirectional_controller_f64_update(wmr_paper_bidirectional
                                                          wmr_pose_f64 goal,
                                                          wmr_control_output_f64 *out);
 
+// One control tick following a reference (see `wmr_paper_controller_f64_update_reference`).
+wmr_status wmr_paper_bidirectional_controller_f64_update_reference(wmr_paper_bidirectional_controller_f64 *ctrl,
+                                                                   double t,
+                                                                   const wmr_measurement_f64 *measurement,
+                                                                   const wmr_reference_state_f64 *reference,
+                                                                   wmr_control_output_f64 *out,
+                                                                   wmr_error *err);
+
 // Clears the integrators and memories, as at t = 0.
 wmr_status wmr_paper_bidirectional_controller_f64_reset(wmr_paper_bidirectional_controller_f64 *ctrl);
 
@@ -982,6 +1094,14 @@ wmr_status wmr_polar_controller_f64_update(wmr_polar_controller_f64 *ctrl,
                                            wmr_pose_f64 goal,
                                            wmr_control_output_f64 *out);
 
+// One control tick following a reference (see `wmr_paper_controller_f64_update_reference`).
+wmr_status wmr_polar_controller_f64_update_reference(wmr_polar_controller_f64 *ctrl,
+                                                     double t,
+                                                     const wmr_measurement_f64 *measurement,
+                                                     const wmr_reference_state_f64 *reference,
+                                                     wmr_control_output_f64 *out,
+                                                     wmr_error *err);
+
 // Clears the direction choice, the servos and the references, as at t = 0.
 wmr_status wmr_polar_controller_f64_reset(wmr_polar_controller_f64 *ctrl);
 
@@ -1000,6 +1120,14 @@ wmr_status wmr_lyapunov_controller_f64_update(wmr_lyapunov_controller_f64 *ctrl,
                                               const wmr_measurement_f64 *measurement,
                                               wmr_pose_f64 goal,
                                               wmr_control_output_f64 *out);
+
+// One control tick following a reference (see `wmr_paper_controller_f64_update_reference`).
+wmr_status wmr_lyapunov_controller_f64_update_reference(wmr_lyapunov_controller_f64 *ctrl,
+                                                        double t,
+                                                        const wmr_measurement_f64 *measurement,
+                                                        const wmr_reference_state_f64 *reference,
+                                                        wmr_control_output_f64 *out,
+                                                        wmr_error *err);
 
 // Clears the direction choice, the servos and the references, as at t = 0.
 wmr_status wmr_lyapunov_controller_f64_reset(wmr_lyapunov_controller_f64 *ctrl);

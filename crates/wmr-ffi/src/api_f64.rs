@@ -166,8 +166,9 @@ pub unsafe extern "C" fn wmr_paper_controller_f64_init(
 }
 
 /// One control tick at time `t` (s): drive commands and errors from the measurement and
-/// the goal pose (m, m, rad). Non-finite inputs are refused (`WMR_NOT_FINITE`) and leave
-/// the controller unchanged.
+/// the goal pose (m, m, rad), the reference at rest there (as `_update_reference` with
+/// zero twist and acceleration). Non-finite inputs are refused (`WMR_NOT_FINITE`) and
+/// leave the controller unchanged.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_paper_controller_f64_update(
     ctrl: *mut wmr_paper_controller_f64,
@@ -177,6 +178,22 @@ pub unsafe extern "C" fn wmr_paper_controller_f64_update(
     out: *mut wmr_control_output<f64>,
 ) -> wmr_status {
     imp::controller_update::<f64, Paper>(ctrl, t, measurement, goal, out)
+}
+
+/// One control tick at time `t` (s) following `reference`: the pose (m, m, rad), twist
+/// (m/s, rad/s) and acceleration (m/s^2, rad/s^2) of the reference point at `t`.
+/// Non-finite inputs are refused (`WMR_NOT_FINITE`; `err`, may be NULL, names the field,
+/// as `reference.twist.v`) and leave the controller unchanged.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_controller_f64_update_reference(
+    ctrl: *mut wmr_paper_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    reference: *const wmr_reference_state<f64>,
+    out: *mut wmr_control_output<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_reference::<f64, Paper>(ctrl, t, measurement, reference, out, err)
 }
 
 /// Clears the integrators and memories, as at t = 0.
@@ -213,6 +230,19 @@ pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f64_update(
     imp::controller_update::<f64, PaperBidirectional>(ctrl, t, measurement, goal, out)
 }
 
+/// One control tick following a reference (see `wmr_paper_controller_f64_update_reference`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f64_update_reference(
+    ctrl: *mut wmr_paper_bidirectional_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    reference: *const wmr_reference_state<f64>,
+    out: *mut wmr_control_output<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_reference::<f64, PaperBidirectional>(ctrl, t, measurement, reference, out, err)
+}
+
 /// Clears the integrators and memories, as at t = 0.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f64_reset(
@@ -247,6 +277,19 @@ pub unsafe extern "C" fn wmr_polar_controller_f64_update(
     imp::controller_update::<f64, Polar>(ctrl, t, measurement, goal, out)
 }
 
+/// One control tick following a reference (see `wmr_paper_controller_f64_update_reference`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_polar_controller_f64_update_reference(
+    ctrl: *mut wmr_polar_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    reference: *const wmr_reference_state<f64>,
+    out: *mut wmr_control_output<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_reference::<f64, Polar>(ctrl, t, measurement, reference, out, err)
+}
+
 /// Clears the direction choice, the servos and the references, as at t = 0.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_polar_controller_f64_reset(ctrl: *mut wmr_polar_controller_f64) -> wmr_status {
@@ -277,6 +320,19 @@ pub unsafe extern "C" fn wmr_lyapunov_controller_f64_update(
     out: *mut wmr_control_output<f64>,
 ) -> wmr_status {
     imp::controller_update::<f64, Lyapunov>(ctrl, t, measurement, goal, out)
+}
+
+/// One control tick following a reference (see `wmr_paper_controller_f64_update_reference`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_lyapunov_controller_f64_update_reference(
+    ctrl: *mut wmr_lyapunov_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    reference: *const wmr_reference_state<f64>,
+    out: *mut wmr_control_output<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_reference::<f64, Lyapunov>(ctrl, t, measurement, reference, out, err)
 }
 
 /// Clears the direction choice, the servos and the references, as at t = 0.

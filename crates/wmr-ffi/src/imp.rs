@@ -11,7 +11,7 @@ use wmr_core::{
     Controller, DcMotorParams, Drive, DriveParams, HoldMode, LyapunovLaw, LyapunovParams, Measurement,
     PaperBidirectionalLaw, PaperBidirectionalParams, PaperLaw, PaperMode, PaperParams, ParamError, PerfectSensor,
     Plant, PolarLaw, PolarParams, Pose2, PoseSensor, Real, Reason, ReferenceState, Robot, RobotParams, Sensor,
-    SensorParams, State, Termination, TorqueDriveParams, WheelStage, WheelStageParams, Wheels, WorldParams,
+    SensorParams, State, Termination, TorqueDriveParams, Twist2, WheelStage, WheelStageParams, Wheels, WorldParams,
 };
 
 use crate::*;
@@ -699,40 +699,80 @@ pub fn controller_update<T: Prec, L: CLaw<T>>(
 ) -> wmr_status {
     guard(core::ptr::null_mut(), || {
         let m = read(m, "measurement")?;
-        if out.is_null() {
-            return Err(Fail::null("out"));
-        }
-        let values = [
-            ("t", t),
-            ("measurement.t", m.t),
-            ("measurement.pose.x", m.pose.x),
-            ("measurement.pose.y", m.pose.y),
-            ("measurement.pose.theta", m.pose.theta),
-            ("measurement.wheel_angles.right", m.wheel_angles.right),
-            ("measurement.wheel_angles.left", m.wheel_angles.left),
-            ("measurement.wheel_speeds.right", m.wheel_speeds.right),
-            ("measurement.wheel_speeds.left", m.wheel_speeds.left),
-            ("goal.x", goal.x),
-            ("goal.y", goal.y),
-            ("goal.theta", goal.theta),
-        ];
-        values.iter().try_for_each(|&(f, v)| finite(f, v))?;
-        let ctrl = get_mut(ctrl, "ctrl")?;
-        let m = Measurement {
-            t: m.t,
-            pose: pose(m.pose),
-            wheel_angles: Wheels::new(m.wheel_angles.right, m.wheel_angles.left),
-            wheel_speeds: Wheels::new(m.wheel_speeds.right, m.wheel_speeds.left),
-        };
-        let o = ctrl.update(t, &m, &ReferenceState::at_rest(pose(goal)));
-        let out_value = wmr_control_output {
-            command: c_wheels(o.command),
-            e_s: o.errors.e_s,
-            e_theta: o.errors.e_theta,
-            dl: o.errors.dl,
-        };
-        write(out, "out", out_value)
+        let goal_fields = [("goal.x", goal.x), ("goal.y", goal.y), ("goal.theta", goal.theta)];
+        tick::<T, L>(ctrl, t, m, &goal_fields, &ReferenceState::at_rest(pose(goal)), out)
     })
+}
+
+pub fn controller_update_reference<T: Prec, L: CLaw<T>>(
+    ctrl: *mut L::Storage,
+    t: T,
+    m: *const wmr_measurement<T>,
+    reference: *const wmr_reference_state<T>,
+    out: *mut wmr_control_output<T>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    guard(err, || {
+        let m = read(m, "measurement")?;
+        let r = read(reference, "reference")?;
+        let fields = [
+            ("reference.pose.x", r.pose.x),
+            ("reference.pose.y", r.pose.y),
+            ("reference.pose.theta", r.pose.theta),
+            ("reference.twist.v", r.twist.v),
+            ("reference.twist.omega", r.twist.omega),
+            ("reference.accel.v", r.accel.v),
+            ("reference.accel.omega", r.accel.omega),
+        ];
+        let state = ReferenceState {
+            pose: pose(r.pose),
+            twist: Twist2 { v: r.twist.v, omega: r.twist.omega },
+            accel: Twist2 { v: r.accel.v, omega: r.accel.omega },
+        };
+        tick::<T, L>(ctrl, t, m, &fields, &state, out)
+    })
+}
+
+/// One control tick: refuses a non-finite input by its field name (the reference's
+/// fields in `reference_fields`), then updates the controller and writes `out`.
+fn tick<T: Prec, L: CLaw<T>>(
+    ctrl: *mut L::Storage,
+    t: T,
+    m: &wmr_measurement<T>,
+    reference_fields: &[(&'static str, T)],
+    reference: &ReferenceState<T>,
+    out: *mut wmr_control_output<T>,
+) -> Result<(), Fail> {
+    if out.is_null() {
+        return Err(Fail::null("out"));
+    }
+    let values = [
+        ("t", t),
+        ("measurement.t", m.t),
+        ("measurement.pose.x", m.pose.x),
+        ("measurement.pose.y", m.pose.y),
+        ("measurement.pose.theta", m.pose.theta),
+        ("measurement.wheel_angles.right", m.wheel_angles.right),
+        ("measurement.wheel_angles.left", m.wheel_angles.left),
+        ("measurement.wheel_speeds.right", m.wheel_speeds.right),
+        ("measurement.wheel_speeds.left", m.wheel_speeds.left),
+    ];
+    values.iter().chain(reference_fields).try_for_each(|&(f, v)| finite(f, v))?;
+    let ctrl = get_mut(ctrl, "ctrl")?;
+    let m = Measurement {
+        t: m.t,
+        pose: pose(m.pose),
+        wheel_angles: Wheels::new(m.wheel_angles.right, m.wheel_angles.left),
+        wheel_speeds: Wheels::new(m.wheel_speeds.right, m.wheel_speeds.left),
+    };
+    let o = ctrl.update(t, &m, reference);
+    let out_value = wmr_control_output {
+        command: c_wheels(o.command),
+        e_s: o.errors.e_s,
+        e_theta: o.errors.e_theta,
+        dl: o.errors.dl,
+    };
+    write(out, "out", out_value)
 }
 
 pub fn controller_reset<T: Prec, L: CLaw<T>>(ctrl: *mut L::Storage) -> wmr_status {

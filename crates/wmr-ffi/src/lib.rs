@@ -143,6 +143,40 @@ pub struct wmr_pose<T> {
     pub theta: T,
 }
 
+/// Body-frame velocity of a point: forward speed v in m/s, yaw rate omega in rad/s.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_twist<T> {
+    /// Forward speed along the heading, m/s.
+    pub v: T,
+    /// Yaw rate, rad/s.
+    pub omega: T,
+}
+
+/// The time derivative of a `wmr_twist`: v' in m/s^2, omega' in rad/s^2.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_accel<T> {
+    /// Forward acceleration dv/dt, m/s^2.
+    pub v: T,
+    /// Yaw acceleration d(omega)/dt, rad/s^2.
+    pub omega: T,
+}
+
+/// The reference point C_ref at one instant: what a law follows (the core's
+/// `wmr_core::ReferenceState`). Point stabilization is the reference at rest: the goal
+/// as `pose`, zero `twist` and `accel`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_reference_state<T> {
+    /// Pose of C_ref in the world frame: x, y in m, theta in rad (CCW from +x).
+    pub pose: wmr_pose<T>,
+    /// Twist of C_ref: v in m/s along `pose.theta`, omega in rad/s.
+    pub twist: wmr_twist<T>,
+    /// Acceleration of C_ref: v' in m/s^2, omega' in rad/s^2.
+    pub accel: wmr_accel<T>,
+}
+
 /// One value per driven wheel (angles, speeds, torques, commands).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

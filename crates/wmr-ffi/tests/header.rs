@@ -182,7 +182,10 @@ fn every_law_struct_has_the_core_fields_in_order() {
 
 fn generate() -> String {
     let dir = crate_dir();
-    let shared = std::env::temp_dir().join(format!("wmr-ffi-shared-{}.rs", std::process::id()));
+    // One file per call: tests run generate() on several threads at once.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let shared = std::env::temp_dir().join(format!("wmr-ffi-shared-{}-{call}.rs", std::process::id()));
     std::fs::write(&shared, shared_structs_source()).expect("temporary source");
     let config = cbindgen::Config::from_file(dir.join("cbindgen.toml")).expect("cbindgen.toml");
     let bindings = cbindgen::Builder::new()
