@@ -538,7 +538,8 @@ macro_rules! reference_at_rest {
                 );
                 let mut sensor = MaybeUninit::<$sensor>::uninit();
                 $sensor_init(sensor.as_mut_ptr());
-                let goal = wmr_pose { x: -1.0, y: 0.5, theta: -1.0 };
+                // Distinct coordinates, so a swapped or dropped one shows.
+                let goal = wmr_pose { x: -1.0, y: 0.5, theta: -0.7 };
                 let at_rest = wmr_reference_state { pose: goal, ..Default::default() };
                 let mut m = wmr_measurement::default();
                 let (mut out_a, mut out_b) = (wmr_control_output::default(), wmr_control_output::default());
