@@ -30,6 +30,12 @@
 //! either NULL (refused with `WMR_NULL_POINTER`) or valid for reads (inputs) or writes
 //! (outputs) of its type, and storage is not used from two threads at once.
 //!
+//! Laws: every law of the core (`paper`, `paper_bidirectional`, `polar`, `lyapunov`) has
+//! a parameter struct with defaults and `*_controller_*_init`, `_update`,
+//! `_update_reference` and `_reset`. `_update_reference` follows a
+//! [`wmr_reference_state`] (pose, twist, acceleration of the reference point);
+//! `_update(..., goal, ...)` is the reference at rest at `goal`.
+//!
 //! Sensors: `wmr_sensor_*` is one storage type for every sensor model, created by a
 //! per-model init function (`_init_perfect`: the paper's assumption; `_init_pose`: the
 //! core's [`wmr_core::PoseSensor`] with rate, latency, noise and encoder counts) and used
