@@ -76,6 +76,12 @@
 // Words of the paper's law with its wheel stage, `wmr_paper_controller_f64`.
 #define WMR_PAPER_CONTROLLER_F64_WORDS 64
 
+// Words of the bidirectional paper law with its wheel stage, `wmr_paper_bidirectional_controller_f32`.
+#define WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F32_WORDS 32
+
+// Words of the bidirectional paper law with its wheel stage, `wmr_paper_bidirectional_controller_f64`.
+#define WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F64_WORDS 64
+
 // Words of the polar law with its wheel stage, `wmr_polar_controller_f32`.
 #define WMR_POLAR_CONTROLLER_F32_WORDS 32
 
@@ -206,26 +212,43 @@ typedef struct {
   float wheel_speed_max;
 } wmr_wheel_stage_params_f32;
 
-// The paper's law: PI loops on (e_s, e_theta) towards a moving false target.
+// The paper's law (`[controller] kind = "paper"`): PI loops on (e_s, e_theta) towards a moving false target.
 typedef struct {
-  // `WMR_PAPER_MODE_POSE` or `WMR_PAPER_MODE_POSITION`.
+  // Pose mode (reach x, y, theta: theta_R = 2 alpha - theta_d) or position mode (heading free: theta_R = alpha) (`WMR_PAPER_MODE_POSE` or `WMR_PAPER_MODE_POSITION`).
   uint32_t mode;
-  // Kp_theta, rad per rad (>= 0).
+  // Kp_theta, rad of heading command per rad of error (paper: 2), rad/rad (>= 0).
   float kp_theta;
-  // Ki_theta, 1/s (>= 0).
+  // Ki_theta (paper: 0.1), 1/s (>= 0).
   float ki_theta;
-  // Kp_s, m per m (>= 0).
+  // Kp_s, m of path command per m of error (paper: 1), m/m (>= 0).
   float kp_s;
-  // Ki_s, 1/s (>= 0).
+  // Ki_s (paper: 0.25), 1/s (>= 0).
   float ki_s;
-  // Within this distance of the goal, m, alpha keeps its last value (>= 0).
+  // Within this distance of the goal alpha keeps its last value, m (>= 0).
   float goal_radius;
-  // Within this distance of the goal, m, the outer loop holds (>= 0; 0 = off).
+  // Within this distance of the goal the outer errors are zero and the outer integrators stop (0: off), m (>= 0).
   float hold_radius;
-  // `WMR_HOLD_AUTO` (default: zero errors in pose mode, freeze in position mode),
-  // `WMR_HOLD_ZERO_ERRORS` or `WMR_HOLD_FREEZE`.
+  // The hold: auto (zero_errors in pose mode, freeze in position mode), zero_errors (references step on entry) or freeze (bumpless) (`WMR_HOLD_AUTO`, `WMR_HOLD_ZERO_ERRORS` or `WMR_HOLD_FREEZE`).
   uint32_t hold;
 } wmr_paper_params_f32;
+
+// The paper's law repaired (`[controller] kind = "paper_bidirectional"`).
+typedef struct {
+  // Kp_theta, rad of heading command per rad of error (0: no step when e_theta jumps), rad/rad (>= 0).
+  float kp_theta;
+  // Ki_theta; below the bound the approach to the goal is unstable, 1/s (> 0 and > ki_s (1 - kp_theta) / (1 + kp_s)).
+  float ki_theta;
+  // Kp_s, m of path command per m of error (0: no lunge when e_s swings as the robot turns), m/m (>= 0).
+  float kp_s;
+  // Ki_s, 1/s (> 0).
+  float ki_s;
+  // Within this distance of the goal alpha keeps its last value, m (>= 0).
+  float goal_radius;
+  // Within this distance of the goal the outer loops hold (0: off), m (>= 0).
+  float hold_radius;
+  // The hold: freeze (bumpless; auto is the same) or zero_errors (`WMR_HOLD_AUTO`, `WMR_HOLD_ZERO_ERRORS` or `WMR_HOLD_FREEZE`).
+  uint32_t hold;
+} wmr_paper_bidirectional_params_f32;
 
 // Astolfi's polar-coordinates law: v = k_rho rho, omega = k_alpha alpha + k_beta beta.
 typedef struct {
@@ -364,6 +387,40 @@ typedef struct {
   float dl;
 } wmr_control_output_f32;
 
+// Body-frame velocity of a point: forward speed v in m/s, yaw rate omega in rad/s.
+typedef struct {
+  // Forward speed along the heading, m/s.
+  float v;
+  // Yaw rate, rad/s.
+  float omega;
+} wmr_twist_f32;
+
+// The time derivative of a `wmr_twist`: v' in m/s^2, omega' in rad/s^2.
+typedef struct {
+  // Forward acceleration dv/dt, m/s^2.
+  float v;
+  // Yaw acceleration d(omega)/dt, rad/s^2.
+  float omega;
+} wmr_accel_f32;
+
+// The reference point C_ref at one instant: what a law follows (the core's
+// `wmr_core::ReferenceState`). Point stabilization is the reference at rest: the goal
+// as `pose`, zero `twist` and `accel`.
+typedef struct {
+  // Pose of C_ref in the world frame: x, y in m, theta in rad (CCW from +x).
+  wmr_pose_f32 pose;
+  // Twist of C_ref: v in m/s along `pose.theta`, omega in rad/s.
+  wmr_twist_f32 twist;
+  // Acceleration of C_ref: v' in m/s^2, omega' in rad/s^2.
+  wmr_accel_f32 accel;
+} wmr_reference_state_f32;
+
+// The paper's law repaired (`paper_bidirectional`) with its wheel stage (f32).
+typedef struct {
+  // Opaque: only the library reads or writes it.
+  uint64_t opaque[WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F32_WORDS];
+} wmr_paper_bidirectional_controller_f32;
+
 // The polar law with its wheel stage (f32).
 typedef struct {
   // Opaque: only the library reads or writes it.
@@ -442,26 +499,43 @@ typedef struct {
   double wheel_speed_max;
 } wmr_wheel_stage_params_f64;
 
-// The paper's law: PI loops on (e_s, e_theta) towards a moving false target.
+// The paper's law (`[controller] kind = "paper"`): PI loops on (e_s, e_theta) towards a moving false target.
 typedef struct {
-  // `WMR_PAPER_MODE_POSE` or `WMR_PAPER_MODE_POSITION`.
+  // Pose mode (reach x, y, theta: theta_R = 2 alpha - theta_d) or position mode (heading free: theta_R = alpha) (`WMR_PAPER_MODE_POSE` or `WMR_PAPER_MODE_POSITION`).
   uint32_t mode;
-  // Kp_theta, rad per rad (>= 0).
+  // Kp_theta, rad of heading command per rad of error (paper: 2), rad/rad (>= 0).
   double kp_theta;
-  // Ki_theta, 1/s (>= 0).
+  // Ki_theta (paper: 0.1), 1/s (>= 0).
   double ki_theta;
-  // Kp_s, m per m (>= 0).
+  // Kp_s, m of path command per m of error (paper: 1), m/m (>= 0).
   double kp_s;
-  // Ki_s, 1/s (>= 0).
+  // Ki_s (paper: 0.25), 1/s (>= 0).
   double ki_s;
-  // Within this distance of the goal, m, alpha keeps its last value (>= 0).
+  // Within this distance of the goal alpha keeps its last value, m (>= 0).
   double goal_radius;
-  // Within this distance of the goal, m, the outer loop holds (>= 0; 0 = off).
+  // Within this distance of the goal the outer errors are zero and the outer integrators stop (0: off), m (>= 0).
   double hold_radius;
-  // `WMR_HOLD_AUTO` (default: zero errors in pose mode, freeze in position mode),
-  // `WMR_HOLD_ZERO_ERRORS` or `WMR_HOLD_FREEZE`.
+  // The hold: auto (zero_errors in pose mode, freeze in position mode), zero_errors (references step on entry) or freeze (bumpless) (`WMR_HOLD_AUTO`, `WMR_HOLD_ZERO_ERRORS` or `WMR_HOLD_FREEZE`).
   uint32_t hold;
 } wmr_paper_params_f64;
+
+// The paper's law repaired (`[controller] kind = "paper_bidirectional"`).
+typedef struct {
+  // Kp_theta, rad of heading command per rad of error (0: no step when e_theta jumps), rad/rad (>= 0).
+  double kp_theta;
+  // Ki_theta; below the bound the approach to the goal is unstable, 1/s (> 0 and > ki_s (1 - kp_theta) / (1 + kp_s)).
+  double ki_theta;
+  // Kp_s, m of path command per m of error (0: no lunge when e_s swings as the robot turns), m/m (>= 0).
+  double kp_s;
+  // Ki_s, 1/s (> 0).
+  double ki_s;
+  // Within this distance of the goal alpha keeps its last value, m (>= 0).
+  double goal_radius;
+  // Within this distance of the goal the outer loops hold (0: off), m (>= 0).
+  double hold_radius;
+  // The hold: freeze (bumpless; auto is the same) or zero_errors (`WMR_HOLD_AUTO`, `WMR_HOLD_ZERO_ERRORS` or `WMR_HOLD_FREEZE`).
+  uint32_t hold;
+} wmr_paper_bidirectional_params_f64;
 
 // Astolfi's polar-coordinates law: v = k_rho rho, omega = k_alpha alpha + k_beta beta.
 typedef struct {
@@ -600,6 +674,40 @@ typedef struct {
   double dl;
 } wmr_control_output_f64;
 
+// Body-frame velocity of a point: forward speed v in m/s, yaw rate omega in rad/s.
+typedef struct {
+  // Forward speed along the heading, m/s.
+  double v;
+  // Yaw rate, rad/s.
+  double omega;
+} wmr_twist_f64;
+
+// The time derivative of a `wmr_twist`: v' in m/s^2, omega' in rad/s^2.
+typedef struct {
+  // Forward acceleration dv/dt, m/s^2.
+  double v;
+  // Yaw acceleration d(omega)/dt, rad/s^2.
+  double omega;
+} wmr_accel_f64;
+
+// The reference point C_ref at one instant: what a law follows (the core's
+// `wmr_core::ReferenceState`). Point stabilization is the reference at rest: the goal
+// as `pose`, zero `twist` and `accel`.
+typedef struct {
+  // Pose of C_ref in the world frame: x, y in m, theta in rad (CCW from +x).
+  wmr_pose_f64 pose;
+  // Twist of C_ref: v in m/s along `pose.theta`, omega in rad/s.
+  wmr_twist_f64 twist;
+  // Acceleration of C_ref: v' in m/s^2, omega' in rad/s^2.
+  wmr_accel_f64 accel;
+} wmr_reference_state_f64;
+
+// The paper's law repaired (`paper_bidirectional`) with its wheel stage (f64).
+typedef struct {
+  // Opaque: only the library reads or writes it.
+  uint64_t opaque[WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F64_WORDS];
+} wmr_paper_bidirectional_controller_f64;
+
 // The polar law with its wheel stage (f64).
 typedef struct {
   // Opaque: only the library reads or writes it.
@@ -649,6 +757,10 @@ wmr_status wmr_wheel_stage_params_f32_default(const wmr_drive_params_f32 *drive,
 
 // Fills `out` with the paper's gains (section 4) and the default radii and hold.
 wmr_status wmr_paper_params_f32_default(wmr_paper_params_f32 *out);
+
+// Fills `out` with the bidirectional paper law's defaults (Kp_theta 0, Ki_theta 1,
+// Kp_s 0, Ki_s 0.25, goal_radius 1 mm, hold_radius 5 mm, `WMR_HOLD_FREEZE`).
+wmr_status wmr_paper_bidirectional_params_f32_default(wmr_paper_bidirectional_params_f32 *out);
 
 // Fills `out` with the polar law's defaults (k_rho 0.5, k_alpha 3, k_beta -1.2).
 wmr_status wmr_polar_params_f32_default(wmr_polar_params_f32 *out);
@@ -714,16 +826,57 @@ wmr_status wmr_paper_controller_f32_init(wmr_paper_controller_f32 *out,
                                          wmr_error *err);
 
 // One control tick at time `t` (s): drive commands and errors from the measurement and
-// the goal pose (m, m, rad). Non-finite inputs are refused (`WMR_NOT_FINITE`) and leave
-// the controller unchanged.
+// the goal pose (m, m, rad), the reference at rest there (as `_update_reference` with
+// zero twist and acceleration). Non-finite inputs are refused (`WMR_NOT_FINITE`) and
+// leave the controller unchanged.
 wmr_status wmr_paper_controller_f32_update(wmr_paper_controller_f32 *ctrl,
                                            float t,
                                            const wmr_measurement_f32 *measurement,
                                            wmr_pose_f32 goal,
                                            wmr_control_output_f32 *out);
 
+// One control tick at time `t` (s) following `reference`: the pose (m, m, rad), twist
+// (m/s, rad/s) and acceleration (m/s^2, rad/s^2) of the reference point at `t`.
+// Non-finite inputs are refused (`WMR_NOT_FINITE`; `err`, may be NULL, names the field,
+// as `reference.twist.v`) and leave the controller unchanged.
+wmr_status wmr_paper_controller_f32_update_reference(wmr_paper_controller_f32 *ctrl,
+                                                     float t,
+                                                     const wmr_measurement_f32 *measurement,
+                                                     const wmr_reference_state_f32 *reference,
+                                                     wmr_control_output_f32 *out,
+                                                     wmr_error *err);
+
 // Clears the integrators and memories, as at t = 0.
 wmr_status wmr_paper_controller_f32_reset(wmr_paper_controller_f32 *ctrl);
+
+// The paper's law repaired (`paper_bidirectional`: a position error that never feeds
+// back positively, gains for which the heading settles before the position) with its
+// wheel stage (see `wmr_paper_controller_f32_init`).
+wmr_status wmr_paper_bidirectional_controller_f32_init(wmr_paper_bidirectional_controller_f32 *out,
+                                                       const wmr_paper_bidirectional_params_f32 *params,
+                                                       const wmr_wheel_stage_params_f32 *wheels,
+                                                       const wmr_robot_f32 *model,
+                                                       const wmr_drive_f32 *drive,
+                                                       float control_dt,
+                                                       wmr_error *err);
+
+// One control tick (see `wmr_paper_controller_f32_update`).
+wmr_status wmr_paper_bidirectional_controller_f32_update(wmr_paper_bidirectional_controller_f32 *ctrl,
+                                                         float t,
+                                                         const wmr_measurement_f32 *measurement,
+                                                         wmr_pose_f32 goal,
+                                                         wmr_control_output_f32 *out);
+
+// One control tick following a reference (see `wmr_paper_controller_f32_update_reference`).
+wmr_status wmr_paper_bidirectional_controller_f32_update_reference(wmr_paper_bidirectional_controller_f32 *ctrl,
+                                                                   float t,
+                                                                   const wmr_measurement_f32 *measurement,
+                                                                   const wmr_reference_state_f32 *reference,
+                                                                   wmr_control_output_f32 *out,
+                                                                   wmr_error *err);
+
+// Clears the integrators and memories, as at t = 0.
+wmr_status wmr_paper_bidirectional_controller_f32_reset(wmr_paper_bidirectional_controller_f32 *ctrl);
 
 // Astolfi's polar law with its wheel stage (see `wmr_paper_controller_f32_init`).
 wmr_status wmr_polar_controller_f32_init(wmr_polar_controller_f32 *out,
@@ -740,6 +893,14 @@ wmr_status wmr_polar_controller_f32_update(wmr_polar_controller_f32 *ctrl,
                                            const wmr_measurement_f32 *measurement,
                                            wmr_pose_f32 goal,
                                            wmr_control_output_f32 *out);
+
+// One control tick following a reference (see `wmr_paper_controller_f32_update_reference`).
+wmr_status wmr_polar_controller_f32_update_reference(wmr_polar_controller_f32 *ctrl,
+                                                     float t,
+                                                     const wmr_measurement_f32 *measurement,
+                                                     const wmr_reference_state_f32 *reference,
+                                                     wmr_control_output_f32 *out,
+                                                     wmr_error *err);
 
 // Clears the direction choice, the servos and the references, as at t = 0.
 wmr_status wmr_polar_controller_f32_reset(wmr_polar_controller_f32 *ctrl);
@@ -759,6 +920,14 @@ wmr_status wmr_lyapunov_controller_f32_update(wmr_lyapunov_controller_f32 *ctrl,
                                               const wmr_measurement_f32 *measurement,
                                               wmr_pose_f32 goal,
                                               wmr_control_output_f32 *out);
+
+// One control tick following a reference (see `wmr_paper_controller_f32_update_reference`).
+wmr_status wmr_lyapunov_controller_f32_update_reference(wmr_lyapunov_controller_f32 *ctrl,
+                                                        float t,
+                                                        const wmr_measurement_f32 *measurement,
+                                                        const wmr_reference_state_f32 *reference,
+                                                        wmr_control_output_f32 *out,
+                                                        wmr_error *err);
 
 // Clears the direction choice, the servos and the references, as at t = 0.
 wmr_status wmr_lyapunov_controller_f32_reset(wmr_lyapunov_controller_f32 *ctrl);
@@ -788,6 +957,10 @@ wmr_status wmr_wheel_stage_params_f64_default(const wmr_drive_params_f64 *drive,
 
 // Fills `out` with the paper's gains (section 4) and the default radii and hold.
 wmr_status wmr_paper_params_f64_default(wmr_paper_params_f64 *out);
+
+// Fills `out` with the bidirectional paper law's defaults (Kp_theta 0, Ki_theta 1,
+// Kp_s 0, Ki_s 0.25, goal_radius 1 mm, hold_radius 5 mm, `WMR_HOLD_FREEZE`).
+wmr_status wmr_paper_bidirectional_params_f64_default(wmr_paper_bidirectional_params_f64 *out);
 
 // Fills `out` with the polar law's defaults (k_rho 0.5, k_alpha 3, k_beta -1.2).
 wmr_status wmr_polar_params_f64_default(wmr_polar_params_f64 *out);
@@ -853,16 +1026,57 @@ wmr_status wmr_paper_controller_f64_init(wmr_paper_controller_f64 *out,
                                          wmr_error *err);
 
 // One control tick at time `t` (s): drive commands and errors from the measurement and
-// the goal pose (m, m, rad). Non-finite inputs are refused (`WMR_NOT_FINITE`) and leave
-// the controller unchanged.
+// the goal pose (m, m, rad), the reference at rest there (as `_update_reference` with
+// zero twist and acceleration). Non-finite inputs are refused (`WMR_NOT_FINITE`) and
+// leave the controller unchanged.
 wmr_status wmr_paper_controller_f64_update(wmr_paper_controller_f64 *ctrl,
                                            double t,
                                            const wmr_measurement_f64 *measurement,
                                            wmr_pose_f64 goal,
                                            wmr_control_output_f64 *out);
 
+// One control tick at time `t` (s) following `reference`: the pose (m, m, rad), twist
+// (m/s, rad/s) and acceleration (m/s^2, rad/s^2) of the reference point at `t`.
+// Non-finite inputs are refused (`WMR_NOT_FINITE`; `err`, may be NULL, names the field,
+// as `reference.twist.v`) and leave the controller unchanged.
+wmr_status wmr_paper_controller_f64_update_reference(wmr_paper_controller_f64 *ctrl,
+                                                     double t,
+                                                     const wmr_measurement_f64 *measurement,
+                                                     const wmr_reference_state_f64 *reference,
+                                                     wmr_control_output_f64 *out,
+                                                     wmr_error *err);
+
 // Clears the integrators and memories, as at t = 0.
 wmr_status wmr_paper_controller_f64_reset(wmr_paper_controller_f64 *ctrl);
+
+// The paper's law repaired (`paper_bidirectional`: a position error that never feeds
+// back positively, gains for which the heading settles before the position) with its
+// wheel stage (see `wmr_paper_controller_f64_init`).
+wmr_status wmr_paper_bidirectional_controller_f64_init(wmr_paper_bidirectional_controller_f64 *out,
+                                                       const wmr_paper_bidirectional_params_f64 *params,
+                                                       const wmr_wheel_stage_params_f64 *wheels,
+                                                       const wmr_robot_f64 *model,
+                                                       const wmr_drive_f64 *drive,
+                                                       double control_dt,
+                                                       wmr_error *err);
+
+// One control tick (see `wmr_paper_controller_f64_update`).
+wmr_status wmr_paper_bidirectional_controller_f64_update(wmr_paper_bidirectional_controller_f64 *ctrl,
+                                                         double t,
+                                                         const wmr_measurement_f64 *measurement,
+                                                         wmr_pose_f64 goal,
+                                                         wmr_control_output_f64 *out);
+
+// One control tick following a reference (see `wmr_paper_controller_f64_update_reference`).
+wmr_status wmr_paper_bidirectional_controller_f64_update_reference(wmr_paper_bidirectional_controller_f64 *ctrl,
+                                                                   double t,
+                                                                   const wmr_measurement_f64 *measurement,
+                                                                   const wmr_reference_state_f64 *reference,
+                                                                   wmr_control_output_f64 *out,
+                                                                   wmr_error *err);
+
+// Clears the integrators and memories, as at t = 0.
+wmr_status wmr_paper_bidirectional_controller_f64_reset(wmr_paper_bidirectional_controller_f64 *ctrl);
 
 // Astolfi's polar law with its wheel stage (see `wmr_paper_controller_f64_init`).
 wmr_status wmr_polar_controller_f64_init(wmr_polar_controller_f64 *out,
@@ -879,6 +1093,14 @@ wmr_status wmr_polar_controller_f64_update(wmr_polar_controller_f64 *ctrl,
                                            const wmr_measurement_f64 *measurement,
                                            wmr_pose_f64 goal,
                                            wmr_control_output_f64 *out);
+
+// One control tick following a reference (see `wmr_paper_controller_f64_update_reference`).
+wmr_status wmr_polar_controller_f64_update_reference(wmr_polar_controller_f64 *ctrl,
+                                                     double t,
+                                                     const wmr_measurement_f64 *measurement,
+                                                     const wmr_reference_state_f64 *reference,
+                                                     wmr_control_output_f64 *out,
+                                                     wmr_error *err);
 
 // Clears the direction choice, the servos and the references, as at t = 0.
 wmr_status wmr_polar_controller_f64_reset(wmr_polar_controller_f64 *ctrl);
@@ -898,6 +1120,14 @@ wmr_status wmr_lyapunov_controller_f64_update(wmr_lyapunov_controller_f64 *ctrl,
                                               const wmr_measurement_f64 *measurement,
                                               wmr_pose_f64 goal,
                                               wmr_control_output_f64 *out);
+
+// One control tick following a reference (see `wmr_paper_controller_f64_update_reference`).
+wmr_status wmr_lyapunov_controller_f64_update_reference(wmr_lyapunov_controller_f64 *ctrl,
+                                                        double t,
+                                                        const wmr_measurement_f64 *measurement,
+                                                        const wmr_reference_state_f64 *reference,
+                                                        wmr_control_output_f64 *out,
+                                                        wmr_error *err);
 
 // Clears the direction choice, the servos and the references, as at t = 0.
 wmr_status wmr_lyapunov_controller_f64_reset(wmr_lyapunov_controller_f64 *ctrl);

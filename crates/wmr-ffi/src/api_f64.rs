@@ -1,7 +1,7 @@
 //! The f64 entry points: `api_f32.rs` with every `f32` replaced by `f64`. Generated;
 //! edit `api_f32.rs` and run `WMR_BLESS=1 cargo test -p wmr-ffi --test header`.
 
-use crate::imp::{self, Lyapunov, Paper, Polar};
+use crate::imp::{self, Lyapunov, Paper, PaperBidirectional, Polar};
 use crate::*;
 
 /// Fills `out` with the paper's robot: m = 5 kg, r = 0.1 m, R = 0.2 m, d = 0.25 m,
@@ -51,6 +51,15 @@ pub unsafe extern "C" fn wmr_wheel_stage_params_f64_default(
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_paper_params_f64_default(out: *mut wmr_paper_params<f64>) -> wmr_status {
     imp::law_params_default::<f64, Paper>(out)
+}
+
+/// Fills `out` with the bidirectional paper law's defaults (Kp_theta 0, Ki_theta 1,
+/// Kp_s 0, Ki_s 0.25, goal_radius 1 mm, hold_radius 5 mm, `WMR_HOLD_FREEZE`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_bidirectional_params_f64_default(
+    out: *mut wmr_paper_bidirectional_params<f64>,
+) -> wmr_status {
+    imp::law_params_default::<f64, PaperBidirectional>(out)
 }
 
 /// Fills `out` with the polar law's defaults (k_rho 0.5, k_alpha 3, k_beta -1.2).
@@ -157,8 +166,9 @@ pub unsafe extern "C" fn wmr_paper_controller_f64_init(
 }
 
 /// One control tick at time `t` (s): drive commands and errors from the measurement and
-/// the goal pose (m, m, rad). Non-finite inputs are refused (`WMR_NOT_FINITE`) and leave
-/// the controller unchanged.
+/// the goal pose (m, m, rad), the reference at rest there (as `_update_reference` with
+/// zero twist and acceleration). Non-finite inputs are refused (`WMR_NOT_FINITE`) and
+/// leave the controller unchanged.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_paper_controller_f64_update(
     ctrl: *mut wmr_paper_controller_f64,
@@ -170,10 +180,75 @@ pub unsafe extern "C" fn wmr_paper_controller_f64_update(
     imp::controller_update::<f64, Paper>(ctrl, t, measurement, goal, out)
 }
 
+/// One control tick at time `t` (s) following `reference`: the pose (m, m, rad), twist
+/// (m/s, rad/s) and acceleration (m/s^2, rad/s^2) of the reference point at `t`.
+/// Non-finite inputs are refused (`WMR_NOT_FINITE`; `err`, may be NULL, names the field,
+/// as `reference.twist.v`) and leave the controller unchanged.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_controller_f64_update_reference(
+    ctrl: *mut wmr_paper_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    reference: *const wmr_reference_state<f64>,
+    out: *mut wmr_control_output<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_reference::<f64, Paper>(ctrl, t, measurement, reference, out, err)
+}
+
 /// Clears the integrators and memories, as at t = 0.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_paper_controller_f64_reset(ctrl: *mut wmr_paper_controller_f64) -> wmr_status {
     imp::controller_reset::<f64, Paper>(ctrl)
+}
+
+/// The paper's law repaired (`paper_bidirectional`: a position error that never feeds
+/// back positively, gains for which the heading settles before the position) with its
+/// wheel stage (see `wmr_paper_controller_f64_init`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f64_init(
+    out: *mut wmr_paper_bidirectional_controller_f64,
+    params: *const wmr_paper_bidirectional_params<f64>,
+    wheels: *const wmr_wheel_stage_params<f64>,
+    model: *const wmr_robot_f64,
+    drive: *const wmr_drive_f64,
+    control_dt: f64,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init::<f64, PaperBidirectional>(out, params, wheels, model, drive, control_dt, err)
+}
+
+/// One control tick (see `wmr_paper_controller_f64_update`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f64_update(
+    ctrl: *mut wmr_paper_bidirectional_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    goal: wmr_pose<f64>,
+    out: *mut wmr_control_output<f64>,
+) -> wmr_status {
+    imp::controller_update::<f64, PaperBidirectional>(ctrl, t, measurement, goal, out)
+}
+
+/// One control tick following a reference (see `wmr_paper_controller_f64_update_reference`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f64_update_reference(
+    ctrl: *mut wmr_paper_bidirectional_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    reference: *const wmr_reference_state<f64>,
+    out: *mut wmr_control_output<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_reference::<f64, PaperBidirectional>(ctrl, t, measurement, reference, out, err)
+}
+
+/// Clears the integrators and memories, as at t = 0.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f64_reset(
+    ctrl: *mut wmr_paper_bidirectional_controller_f64,
+) -> wmr_status {
+    imp::controller_reset::<f64, PaperBidirectional>(ctrl)
 }
 
 /// Astolfi's polar law with its wheel stage (see `wmr_paper_controller_f64_init`).
@@ -200,6 +275,19 @@ pub unsafe extern "C" fn wmr_polar_controller_f64_update(
     out: *mut wmr_control_output<f64>,
 ) -> wmr_status {
     imp::controller_update::<f64, Polar>(ctrl, t, measurement, goal, out)
+}
+
+/// One control tick following a reference (see `wmr_paper_controller_f64_update_reference`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_polar_controller_f64_update_reference(
+    ctrl: *mut wmr_polar_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    reference: *const wmr_reference_state<f64>,
+    out: *mut wmr_control_output<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_reference::<f64, Polar>(ctrl, t, measurement, reference, out, err)
 }
 
 /// Clears the direction choice, the servos and the references, as at t = 0.
@@ -232,6 +320,19 @@ pub unsafe extern "C" fn wmr_lyapunov_controller_f64_update(
     out: *mut wmr_control_output<f64>,
 ) -> wmr_status {
     imp::controller_update::<f64, Lyapunov>(ctrl, t, measurement, goal, out)
+}
+
+/// One control tick following a reference (see `wmr_paper_controller_f64_update_reference`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_lyapunov_controller_f64_update_reference(
+    ctrl: *mut wmr_lyapunov_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    reference: *const wmr_reference_state<f64>,
+    out: *mut wmr_control_output<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_reference::<f64, Lyapunov>(ctrl, t, measurement, reference, out, err)
 }
 
 /// Clears the direction choice, the servos and the references, as at t = 0.

@@ -8,10 +8,10 @@ use core::mem::{align_of, size_of};
 
 use wmr_core::controller::Law;
 use wmr_core::{
-    Controller, DcMotorParams, Drive, DriveParams, HoldMode, LyapunovLaw, LyapunovParams, Measurement, PaperLaw,
-    PaperMode, PaperParams, ParamError, PerfectSensor, Plant, PolarLaw, PolarParams, Pose2, PoseSensor, Real, Reason,
-    ReferenceState, Robot, RobotParams, Sensor, SensorParams, State, Termination, TorqueDriveParams, WheelStage,
-    WheelStageParams, Wheels, WorldParams,
+    Controller, DcMotorParams, Drive, DriveParams, HoldMode, LyapunovLaw, LyapunovParams, Measurement,
+    PaperBidirectionalLaw, PaperBidirectionalParams, PaperLaw, PaperMode, PaperParams, ParamError, PerfectSensor,
+    Plant, PolarLaw, PolarParams, Pose2, PoseSensor, Real, Reason, ReferenceState, Robot, RobotParams, Sensor,
+    SensorParams, State, Termination, TorqueDriveParams, Twist2, WheelStage, WheelStageParams, Wheels, WorldParams,
 };
 
 use crate::*;
@@ -214,12 +214,6 @@ storage_of! {
     wmr_plant_f64 => Plant<f64>, 0x574d_5203_0000_0f64;
     wmr_sensor_f32 => AnySensor<f32>, 0x574d_5204_0000_0f32;
     wmr_sensor_f64 => AnySensor<f64>, 0x574d_5204_0000_0f64;
-    wmr_paper_controller_f32 => Controller<f32, PaperLaw<f32>>, 0x574d_5205_0000_0f32;
-    wmr_paper_controller_f64 => Controller<f64, PaperLaw<f64>>, 0x574d_5205_0000_0f64;
-    wmr_polar_controller_f32 => Controller<f32, PolarLaw<f32>>, 0x574d_5206_0000_0f32;
-    wmr_polar_controller_f64 => Controller<f64, PolarLaw<f64>>, 0x574d_5206_0000_0f64;
-    wmr_lyapunov_controller_f32 => Controller<f32, LyapunovLaw<f32>>, 0x574d_5207_0000_0f32;
-    wmr_lyapunov_controller_f64 => Controller<f64, LyapunovLaw<f64>>, 0x574d_5207_0000_0f64;
 }
 
 /// Fills `out` with `value` and its tag.
@@ -275,47 +269,6 @@ fn write<X>(p: *mut X, arg: &'static str, value: X) -> Result<(), Fail> {
 }
 
 // ---------------------------------------------------------------------------------------
-// Per precision: the storage types of f32 and of f64.
-
-/// f32 or f64 with the storage types of that precision.
-pub trait Prec: Real {
-    /// `wmr_robot_*`.
-    type Robot: Storage<Value = Robot<Self>>;
-    /// `wmr_drive_*`.
-    type Drive: Storage<Value = Drive<Self>>;
-    /// `wmr_plant_*`.
-    type Plant: Storage<Value = Plant<Self>>;
-    /// `wmr_sensor_*`.
-    type Sensor: Storage<Value = AnySensor<Self>>;
-    /// `wmr_paper_controller_*`.
-    type Paper: Storage<Value = Controller<Self, PaperLaw<Self>>>;
-    /// `wmr_polar_controller_*`.
-    type Polar: Storage<Value = Controller<Self, PolarLaw<Self>>>;
-    /// `wmr_lyapunov_controller_*`.
-    type Lyapunov: Storage<Value = Controller<Self, LyapunovLaw<Self>>>;
-}
-
-impl Prec for f32 {
-    type Robot = wmr_robot_f32;
-    type Drive = wmr_drive_f32;
-    type Plant = wmr_plant_f32;
-    type Sensor = wmr_sensor_f32;
-    type Paper = wmr_paper_controller_f32;
-    type Polar = wmr_polar_controller_f32;
-    type Lyapunov = wmr_lyapunov_controller_f32;
-}
-
-impl Prec for f64 {
-    type Robot = wmr_robot_f64;
-    type Drive = wmr_drive_f64;
-    type Plant = wmr_plant_f64;
-    type Sensor = wmr_sensor_f64;
-    type Paper = wmr_paper_controller_f64;
-    type Polar = wmr_polar_controller_f64;
-    type Lyapunov = wmr_lyapunov_controller_f64;
-}
-
-// ---------------------------------------------------------------------------------------
 // Conversions.
 
 fn pose<T: Real>(p: wmr_pose<T>) -> Pose2<T> {
@@ -368,10 +321,109 @@ fn flag(field: &'static str, v: u32) -> Result<bool, Fail> {
     }
 }
 
+/// A core enum a C struct holds as a `uint32_t` (`#[repr(u32)]` in the core): the codes
+/// C may write there.
+trait CEnum: Copy + 'static {
+    /// Every variant.
+    const ALL: &'static [Self];
+    /// Why another code is refused.
+    const REASON: &'static str;
+    /// The variant's C code (its discriminant).
+    fn code(self) -> u32;
+}
+
+impl CEnum for PaperMode {
+    const ALL: &'static [Self] = &[PaperMode::Pose, PaperMode::Position];
+    const REASON: &'static str = "must be WMR_PAPER_MODE_POSE (0) or WMR_PAPER_MODE_POSITION (1)";
+    fn code(self) -> u32 {
+        self as u32
+    }
+}
+
+impl CEnum for HoldMode {
+    const ALL: &'static [Self] = &[HoldMode::ZeroErrors, HoldMode::Freeze, HoldMode::Auto];
+    const REASON: &'static str = "must be WMR_HOLD_ZERO_ERRORS (0), WMR_HOLD_FREEZE (1) or WMR_HOLD_AUTO (2)";
+    fn code(self) -> u32 {
+        self as u32
+    }
+}
+
+/// Refuses a `uint32_t` that is not a code of `E`.
+fn enum_code<E: CEnum>(field: &'static str, code: u32) -> Result<(), Fail> {
+    if E::ALL.iter().any(|e| e.code() == code) {
+        Ok(())
+    } else {
+        Err(Fail::out_of_range(field, E::REASON, f64::from(code)))
+    }
+}
+
+/// A law's C parameter struct and the core's parameters it stands for.
+pub trait CParams: Copy {
+    /// The core's parameter struct.
+    type Core: Copy;
+    /// Reads the C struct at `p` as the core's parameters, refusing a code that is not
+    /// one of the C constants by its field name.
+    ///
+    /// # Safety
+    /// `p` is not NULL and valid for reads of `Self`.
+    unsafe fn read_core(p: *const Self) -> Result<Self::Core, Fail>;
+    /// The C struct of the core's parameters.
+    fn from_core(core: Self::Core) -> Self;
+}
+
+/// [`CParams`] for the C structs. `alias Core { enum fields }`: the C struct is the
+/// core's `#[repr(C)]` type, its enum fields checked as `uint32_t` before the struct is
+/// read. `mirror C = Core { float fields; flags }`: a C struct of the core's fields, its
+/// `bool`s as 0/1 `uint32_t`.
+macro_rules! c_params {
+    ($(alias $core:ident { $($enum_field:ident: $enum:ty),* $(,)? };)*
+     $(mirror $c:ident = $mcore:ident { $($float:ident),* ; flags $($flag:ident),* $(,)? };)*) => {
+        $(
+            impl<T: Real> CParams for $core<T> {
+                type Core = Self;
+                unsafe fn read_core(p: *const Self) -> Result<Self, Fail> {
+                    $(
+                        // SAFETY: `p` is valid for reads (contract) and the field is a
+                        // `#[repr(u32)]` enum, so 4 readable bytes; read as a plain u32.
+                        let code = unsafe { core::ptr::addr_of!((*p).$enum_field).cast::<u32>().read() };
+                        enum_code::<$enum>(stringify!($enum_field), code)?;
+                    )*
+                    // SAFETY: every enum field holds a valid discriminant (checked above)
+                    // and the other fields are floats, valid for any bits.
+                    Ok(unsafe { p.read() })
+                }
+                fn from_core(core: Self) -> Self {
+                    core
+                }
+            }
+        )*
+        $(
+            impl<T: Real> CParams for $c<T> {
+                type Core = $mcore<T>;
+                unsafe fn read_core(p: *const Self) -> Result<$mcore<T>, Fail> {
+                    // SAFETY: valid for reads (contract); plain numbers, any bits valid.
+                    let c = unsafe { p.read() };
+                    Ok($mcore { $($float: c.$float,)* $($flag: flag(stringify!($flag), c.$flag)?,)* })
+                }
+                fn from_core(core: $mcore<T>) -> Self {
+                    $c { $($float: core.$float,)* $($flag: u32::from(core.$flag),)* }
+                }
+            }
+        )*
+    };
+}
+
+c_params! {
+    alias PaperParams { mode: PaperMode, hold: HoldMode };
+    alias PaperBidirectionalParams { hold: HoldMode };
+    mirror wmr_polar_params = PolarParams { k_rho, k_alpha, k_beta, reverse_hysteresis, goal_radius; flags reverse };
+    mirror wmr_lyapunov_params = LyapunovParams { gamma, k, h, reverse_hysteresis, goal_radius; flags reverse };
+}
+
 /// A law of the C API: its C parameter struct and how it becomes the core's law.
 pub trait CLaw<T: Prec> {
     /// The C parameter struct.
-    type Params: Copy;
+    type Params: CParams;
     /// The core's law.
     type Law: Law<T> + Copy;
     /// The storage of the law with its wheel stage.
@@ -379,136 +431,86 @@ pub trait CLaw<T: Prec> {
     /// The default parameters.
     fn defaults() -> Self::Params;
     /// Validates and builds the law for the controller's robot model and period (s).
-    fn build(p: &Self::Params, model: &RobotParams<T>, control_dt: T) -> Result<Self::Law, Fail>;
+    fn build(p: <Self::Params as CParams>::Core, model: &RobotParams<T>, control_dt: T) -> Result<Self::Law, Fail>;
 }
 
-/// The paper's law.
-pub struct Paper;
-/// Astolfi's polar law.
-pub struct Polar;
-/// Aicardi et al.'s Lyapunov law.
-pub struct Lyapunov;
+/// Defines, from one list of the laws: a marker type per law with its [`CLaw`], the
+/// storage of each law per precision ([`Storage`], [`Prec`]), and [`Prec`] itself. The
+/// C entry points of a law are `law_params_default`, `controller_init`,
+/// `controller_update`, `controller_update_reference` and `controller_reset` with its
+/// marker (`api_f32.rs`).
+macro_rules! c_laws {
+    ($( $(#[$doc:meta])* $marker:ident($params:ident, $law:ident) storage($s32:ident = $tag32:literal, $s64:ident = $tag64:literal), new($p:ident, $model:ident, $dt:ident) => $new:expr; )+) => {
+        $( $(#[$doc])* pub struct $marker; )+
 
-impl<T: Prec> CLaw<T> for Paper {
-    type Params = wmr_paper_params<T>;
-    type Law = PaperLaw<T>;
-    type Storage = T::Paper;
-
-    fn defaults() -> Self::Params {
-        let p = PaperParams::<T>::paper();
-        wmr_paper_params {
-            mode: match p.mode {
-                PaperMode::Pose => WMR_PAPER_MODE_POSE,
-                PaperMode::Position => WMR_PAPER_MODE_POSITION,
-            },
-            kp_theta: p.kp_theta,
-            ki_theta: p.ki_theta,
-            kp_s: p.kp_s,
-            ki_s: p.ki_s,
-            goal_radius: p.goal_radius,
-            hold_radius: p.hold_radius,
-            hold: match p.hold {
-                HoldMode::Auto => WMR_HOLD_AUTO,
-                HoldMode::ZeroErrors => WMR_HOLD_ZERO_ERRORS,
-                HoldMode::Freeze => WMR_HOLD_FREEZE,
-            },
+        storage_of! {
+            $(
+                $s32 => Controller<f32, $law<f32>>, $tag32;
+                $s64 => Controller<f64, $law<f64>>, $tag64;
+            )+
         }
-    }
 
-    fn build(p: &Self::Params, model: &RobotParams<T>, control_dt: T) -> Result<Self::Law, Fail> {
-        let mode = match p.mode {
-            WMR_PAPER_MODE_POSE => PaperMode::Pose,
-            WMR_PAPER_MODE_POSITION => PaperMode::Position,
-            m => {
-                return Err(Fail::out_of_range(
-                    "mode",
-                    "must be WMR_PAPER_MODE_POSE (0) or WMR_PAPER_MODE_POSITION (1)",
-                    f64::from(m),
-                ));
+        /// f32 or f64 with the storage types of that precision.
+        #[allow(non_camel_case_types)]
+        pub trait Prec: Real {
+            /// `wmr_robot_*`.
+            type Robot: Storage<Value = Robot<Self>>;
+            /// `wmr_drive_*`.
+            type Drive: Storage<Value = Drive<Self>>;
+            /// `wmr_plant_*`.
+            type Plant: Storage<Value = Plant<Self>>;
+            /// `wmr_sensor_*`.
+            type Sensor: Storage<Value = AnySensor<Self>>;
+            $(
+                /// The controller storage of this law.
+                type $marker: Storage<Value = Controller<Self, $law<Self>>>;
+            )+
+        }
+
+        impl Prec for f32 {
+            type Robot = wmr_robot_f32;
+            type Drive = wmr_drive_f32;
+            type Plant = wmr_plant_f32;
+            type Sensor = wmr_sensor_f32;
+            $( type $marker = $s32; )+
+        }
+
+        impl Prec for f64 {
+            type Robot = wmr_robot_f64;
+            type Drive = wmr_drive_f64;
+            type Plant = wmr_plant_f64;
+            type Sensor = wmr_sensor_f64;
+            $( type $marker = $s64; )+
+        }
+
+        $(
+            impl<T: Prec> CLaw<T> for $marker {
+                type Params = $params<T>;
+                type Law = $law<T>;
+                type Storage = <T as Prec>::$marker;
+
+                fn defaults() -> Self::Params {
+                    CParams::from_core(Default::default())
+                }
+
+                fn build($p: <Self::Params as CParams>::Core, $model: &RobotParams<T>, $dt: T) -> Result<Self::Law, Fail> {
+                    let _ = ($model, $dt);
+                    Ok($new?)
+                }
             }
-        };
-        let hold = match p.hold {
-            WMR_HOLD_ZERO_ERRORS => HoldMode::ZeroErrors,
-            WMR_HOLD_FREEZE => HoldMode::Freeze,
-            WMR_HOLD_AUTO => HoldMode::Auto,
-            h => {
-                return Err(Fail::out_of_range(
-                    "hold",
-                    "must be WMR_HOLD_ZERO_ERRORS (0), WMR_HOLD_FREEZE (1) or WMR_HOLD_AUTO (2)",
-                    f64::from(h),
-                ));
-            }
-        };
-        let params = PaperParams {
-            mode,
-            kp_theta: p.kp_theta,
-            ki_theta: p.ki_theta,
-            kp_s: p.kp_s,
-            ki_s: p.ki_s,
-            goal_radius: p.goal_radius,
-            hold_radius: p.hold_radius,
-            hold,
-        };
-        Ok(PaperLaw::new(params, model, control_dt)?)
-    }
+        )+
+    };
 }
 
-impl<T: Prec> CLaw<T> for Polar {
-    type Params = wmr_polar_params<T>;
-    type Law = PolarLaw<T>;
-    type Storage = T::Polar;
-
-    fn defaults() -> Self::Params {
-        let p = PolarParams::<T>::default();
-        wmr_polar_params {
-            k_rho: p.k_rho,
-            k_alpha: p.k_alpha,
-            k_beta: p.k_beta,
-            reverse: u32::from(p.reverse),
-            reverse_hysteresis: p.reverse_hysteresis,
-            goal_radius: p.goal_radius,
-        }
-    }
-
-    fn build(p: &Self::Params, _model: &RobotParams<T>, _control_dt: T) -> Result<Self::Law, Fail> {
-        Ok(PolarLaw::new(PolarParams {
-            k_rho: p.k_rho,
-            k_alpha: p.k_alpha,
-            k_beta: p.k_beta,
-            reverse: flag("reverse", p.reverse)?,
-            reverse_hysteresis: p.reverse_hysteresis,
-            goal_radius: p.goal_radius,
-        })?)
-    }
-}
-
-impl<T: Prec> CLaw<T> for Lyapunov {
-    type Params = wmr_lyapunov_params<T>;
-    type Law = LyapunovLaw<T>;
-    type Storage = T::Lyapunov;
-
-    fn defaults() -> Self::Params {
-        let p = LyapunovParams::<T>::default();
-        wmr_lyapunov_params {
-            gamma: p.gamma,
-            k: p.k,
-            h: p.h,
-            reverse: u32::from(p.reverse),
-            reverse_hysteresis: p.reverse_hysteresis,
-            goal_radius: p.goal_radius,
-        }
-    }
-
-    fn build(p: &Self::Params, _model: &RobotParams<T>, _control_dt: T) -> Result<Self::Law, Fail> {
-        Ok(LyapunovLaw::new(LyapunovParams {
-            gamma: p.gamma,
-            k: p.k,
-            h: p.h,
-            reverse: flag("reverse", p.reverse)?,
-            reverse_hysteresis: p.reverse_hysteresis,
-            goal_radius: p.goal_radius,
-        })?)
-    }
+c_laws! {
+    /// The paper's law.
+    Paper(wmr_paper_params, PaperLaw) storage(wmr_paper_controller_f32 = 0x574d_5205_0000_0f32, wmr_paper_controller_f64 = 0x574d_5205_0000_0f64), new(p, model, dt) => PaperLaw::new(p, model, dt);
+    /// The paper's law repaired (`paper_bidirectional`).
+    PaperBidirectional(wmr_paper_bidirectional_params, PaperBidirectionalLaw) storage(wmr_paper_bidirectional_controller_f32 = 0x574d_5208_0000_0f32, wmr_paper_bidirectional_controller_f64 = 0x574d_5208_0000_0f64), new(p, model, dt) => PaperBidirectionalLaw::new(p, model, dt);
+    /// Astolfi's polar law.
+    Polar(wmr_polar_params, PolarLaw) storage(wmr_polar_controller_f32 = 0x574d_5206_0000_0f32, wmr_polar_controller_f64 = 0x574d_5206_0000_0f64), new(p, model, dt) => PolarLaw::new(p);
+    /// Aicardi et al.'s Lyapunov law.
+    Lyapunov(wmr_lyapunov_params, LyapunovLaw) storage(wmr_lyapunov_controller_f32 = 0x574d_5207_0000_0f32, wmr_lyapunov_controller_f64 = 0x574d_5207_0000_0f64), new(p, model, dt) => LyapunovLaw::new(p);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -670,10 +672,14 @@ pub fn controller_init<T: Prec, L: CLaw<T>>(
     err: *mut wmr_error,
 ) -> wmr_status {
     guard(err, || {
-        let params = read(params, "params")?;
+        if params.is_null() {
+            return Err(Fail::null("params"));
+        }
         let wheels = *read(wheels, "wheels")?;
         let model = get(model, "model")?.params();
         let drive = get(drive, "drive")?;
+        // SAFETY: not NULL, and valid for reads of the C struct (caller contract).
+        let params = unsafe { L::Params::read_core(params) }?;
         let law = L::build(params, model, control_dt)?;
         let stage = WheelStage::new(&wheels, model, drive, control_dt)?;
         put(out, "out", Controller::new(law, stage))
@@ -693,40 +699,80 @@ pub fn controller_update<T: Prec, L: CLaw<T>>(
 ) -> wmr_status {
     guard(core::ptr::null_mut(), || {
         let m = read(m, "measurement")?;
-        if out.is_null() {
-            return Err(Fail::null("out"));
-        }
-        let values = [
-            ("t", t),
-            ("measurement.t", m.t),
-            ("measurement.pose.x", m.pose.x),
-            ("measurement.pose.y", m.pose.y),
-            ("measurement.pose.theta", m.pose.theta),
-            ("measurement.wheel_angles.right", m.wheel_angles.right),
-            ("measurement.wheel_angles.left", m.wheel_angles.left),
-            ("measurement.wheel_speeds.right", m.wheel_speeds.right),
-            ("measurement.wheel_speeds.left", m.wheel_speeds.left),
-            ("goal.x", goal.x),
-            ("goal.y", goal.y),
-            ("goal.theta", goal.theta),
-        ];
-        values.iter().try_for_each(|&(f, v)| finite(f, v))?;
-        let ctrl = get_mut(ctrl, "ctrl")?;
-        let m = Measurement {
-            t: m.t,
-            pose: pose(m.pose),
-            wheel_angles: Wheels::new(m.wheel_angles.right, m.wheel_angles.left),
-            wheel_speeds: Wheels::new(m.wheel_speeds.right, m.wheel_speeds.left),
-        };
-        let o = ctrl.update(t, &m, &ReferenceState::at_rest(pose(goal)));
-        let out_value = wmr_control_output {
-            command: c_wheels(o.command),
-            e_s: o.errors.e_s,
-            e_theta: o.errors.e_theta,
-            dl: o.errors.dl,
-        };
-        write(out, "out", out_value)
+        let goal_fields = [("goal.x", goal.x), ("goal.y", goal.y), ("goal.theta", goal.theta)];
+        tick::<T, L>(ctrl, t, m, &goal_fields, &ReferenceState::at_rest(pose(goal)), out)
     })
+}
+
+pub fn controller_update_reference<T: Prec, L: CLaw<T>>(
+    ctrl: *mut L::Storage,
+    t: T,
+    m: *const wmr_measurement<T>,
+    reference: *const wmr_reference_state<T>,
+    out: *mut wmr_control_output<T>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    guard(err, || {
+        let m = read(m, "measurement")?;
+        let r = read(reference, "reference")?;
+        let fields = [
+            ("reference.pose.x", r.pose.x),
+            ("reference.pose.y", r.pose.y),
+            ("reference.pose.theta", r.pose.theta),
+            ("reference.twist.v", r.twist.v),
+            ("reference.twist.omega", r.twist.omega),
+            ("reference.accel.v", r.accel.v),
+            ("reference.accel.omega", r.accel.omega),
+        ];
+        let state = ReferenceState {
+            pose: pose(r.pose),
+            twist: Twist2 { v: r.twist.v, omega: r.twist.omega },
+            accel: Twist2 { v: r.accel.v, omega: r.accel.omega },
+        };
+        tick::<T, L>(ctrl, t, m, &fields, &state, out)
+    })
+}
+
+/// One control tick: refuses a non-finite input by its field name (the reference's
+/// fields in `reference_fields`), then updates the controller and writes `out`.
+fn tick<T: Prec, L: CLaw<T>>(
+    ctrl: *mut L::Storage,
+    t: T,
+    m: &wmr_measurement<T>,
+    reference_fields: &[(&'static str, T)],
+    reference: &ReferenceState<T>,
+    out: *mut wmr_control_output<T>,
+) -> Result<(), Fail> {
+    if out.is_null() {
+        return Err(Fail::null("out"));
+    }
+    let values = [
+        ("t", t),
+        ("measurement.t", m.t),
+        ("measurement.pose.x", m.pose.x),
+        ("measurement.pose.y", m.pose.y),
+        ("measurement.pose.theta", m.pose.theta),
+        ("measurement.wheel_angles.right", m.wheel_angles.right),
+        ("measurement.wheel_angles.left", m.wheel_angles.left),
+        ("measurement.wheel_speeds.right", m.wheel_speeds.right),
+        ("measurement.wheel_speeds.left", m.wheel_speeds.left),
+    ];
+    values.iter().chain(reference_fields).try_for_each(|&(f, v)| finite(f, v))?;
+    let ctrl = get_mut(ctrl, "ctrl")?;
+    let m = Measurement {
+        t: m.t,
+        pose: pose(m.pose),
+        wheel_angles: Wheels::new(m.wheel_angles.right, m.wheel_angles.left),
+        wheel_speeds: Wheels::new(m.wheel_speeds.right, m.wheel_speeds.left),
+    };
+    let o = ctrl.update(t, &m, reference);
+    let out_value = wmr_control_output {
+        command: c_wheels(o.command),
+        e_s: o.errors.e_s,
+        e_theta: o.errors.e_theta,
+        dl: o.errors.dl,
+    };
+    write(out, "out", out_value)
 }
 
 pub fn controller_reset<T: Prec, L: CLaw<T>>(ctrl: *mut L::Storage) -> wmr_status {

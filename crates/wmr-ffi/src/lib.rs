@@ -30,6 +30,12 @@
 //! either NULL (refused with `WMR_NULL_POINTER`) or valid for reads (inputs) or writes
 //! (outputs) of its type, and storage is not used from two threads at once.
 //!
+//! Laws: every law of the core (`paper`, `paper_bidirectional`, `polar`, `lyapunov`) has
+//! a parameter struct with defaults and `*_controller_*_init`, `_update`,
+//! `_update_reference` and `_reset`. `_update_reference` follows a
+//! [`wmr_reference_state`] (pose, twist, acceleration of the reference point);
+//! `_update(..., goal, ...)` is the reference at rest at `goal`.
+//!
 //! Sensors: `wmr_sensor_*` is one storage type for every sensor model, created by a
 //! per-model init function (`_init_perfect`: the paper's assumption; `_init_pose`: the
 //! core's [`wmr_core::PoseSensor`] with rate, latency, noise and encoder counts) and used
@@ -143,6 +149,40 @@ pub struct wmr_pose<T> {
     pub theta: T,
 }
 
+/// Body-frame velocity of a point: forward speed v in m/s, yaw rate omega in rad/s.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_twist<T> {
+    /// Forward speed along the heading, m/s.
+    pub v: T,
+    /// Yaw rate, rad/s.
+    pub omega: T,
+}
+
+/// The time derivative of a `wmr_twist`: v' in m/s^2, omega' in rad/s^2.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_accel<T> {
+    /// Forward acceleration dv/dt, m/s^2.
+    pub v: T,
+    /// Yaw acceleration d(omega)/dt, rad/s^2.
+    pub omega: T,
+}
+
+/// The reference point C_ref at one instant: what a law follows (the core's
+/// `wmr_core::ReferenceState`). Point stabilization is the reference at rest: the goal
+/// as `pose`, zero `twist` and `accel`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_reference_state<T> {
+    /// Pose of C_ref in the world frame: x, y in m, theta in rad (CCW from +x).
+    pub pose: wmr_pose<T>,
+    /// Twist of C_ref: v in m/s along `pose.theta`, omega in rad/s.
+    pub twist: wmr_twist<T>,
+    /// Acceleration of C_ref: v' in m/s^2, omega' in rad/s^2.
+    pub accel: wmr_accel<T>,
+}
+
 /// One value per driven wheel (angles, speeds, torques, commands).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -220,6 +260,24 @@ pub type wmr_sensor_params<T> = wmr_core::SensorParams<T>;
 /// The wheel stage: `wmr_core::WheelStageParams`.
 /// cbindgen:ignore
 pub type wmr_wheel_stage_params<T> = wmr_core::WheelStageParams<T>;
+/// The paper's law (`[controller] kind = "paper"`): `wmr_core::PaperParams`. Its enum
+/// fields are `uint32_t` in C (`WMR_PAPER_MODE_*`, `WMR_HOLD_*`); a value that is not one
+/// of the constants is refused by `*_init` before the struct is read as the core's type.
+/// cbindgen:ignore
+pub type wmr_paper_params<T> = wmr_core::PaperParams<T>;
+/// The paper's law repaired (`kind = "paper_bidirectional"`):
+/// `wmr_core::PaperBidirectionalParams`, `hold` a `WMR_HOLD_*` constant.
+/// cbindgen:ignore
+pub type wmr_paper_bidirectional_params<T> = wmr_core::PaperBidirectionalParams<T>;
+
+// The C constants are the core enums' discriminants (`#[repr(u32)]`).
+const _: () = {
+    assert!(wmr_core::PaperMode::Pose as u32 == WMR_PAPER_MODE_POSE);
+    assert!(wmr_core::PaperMode::Position as u32 == WMR_PAPER_MODE_POSITION);
+    assert!(wmr_core::HoldMode::ZeroErrors as u32 == WMR_HOLD_ZERO_ERRORS);
+    assert!(wmr_core::HoldMode::Freeze as u32 == WMR_HOLD_FREEZE);
+    assert!(wmr_core::HoldMode::Auto as u32 == WMR_HOLD_AUTO);
+};
 
 /// Drive parameters (the `[drive]` keys). `kind` selects which fields are read.
 #[repr(C)]
@@ -241,28 +299,9 @@ pub struct wmr_drive_params<T> {
     pub current_max: T,
 }
 
-/// The paper's law: PI loops on (e_s, e_theta) towards a moving false target.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct wmr_paper_params<T> {
-    /// `WMR_PAPER_MODE_POSE` or `WMR_PAPER_MODE_POSITION`.
-    pub mode: u32,
-    /// Kp_theta, rad per rad (>= 0).
-    pub kp_theta: T,
-    /// Ki_theta, 1/s (>= 0).
-    pub ki_theta: T,
-    /// Kp_s, m per m (>= 0).
-    pub kp_s: T,
-    /// Ki_s, 1/s (>= 0).
-    pub ki_s: T,
-    /// Within this distance of the goal, m, alpha keeps its last value (>= 0).
-    pub goal_radius: T,
-    /// Within this distance of the goal, m, the outer loop holds (>= 0; 0 = off).
-    pub hold_radius: T,
-    /// `WMR_HOLD_AUTO` (default: zero errors in pose mode, freeze in position mode),
-    /// `WMR_HOLD_ZERO_ERRORS` or `WMR_HOLD_FREEZE`.
-    pub hold: u32,
-}
+// The polar and Lyapunov laws' C structs are not the core's types: their `reverse` is a
+// Rust `bool` (1 byte) and a `uint32_t` here, so an alias would change the C layout.
+// tests/header.rs checks that their fields are the core's, in the core's order.
 
 /// Astolfi's polar-coordinates law: v = k_rho rho, omega = k_alpha alpha + k_beta beta.
 #[repr(C)]
@@ -322,6 +361,10 @@ pub const WMR_SENSOR_F64_WORDS: usize = 112;
 pub const WMR_PAPER_CONTROLLER_F32_WORDS: usize = 32;
 /// Words of the paper's law with its wheel stage, `wmr_paper_controller_f64`.
 pub const WMR_PAPER_CONTROLLER_F64_WORDS: usize = 64;
+/// Words of the bidirectional paper law with its wheel stage, `wmr_paper_bidirectional_controller_f32`.
+pub const WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F32_WORDS: usize = 32;
+/// Words of the bidirectional paper law with its wheel stage, `wmr_paper_bidirectional_controller_f64`.
+pub const WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F64_WORDS: usize = 64;
 /// Words of the polar law with its wheel stage, `wmr_polar_controller_f32`.
 pub const WMR_POLAR_CONTROLLER_F32_WORDS: usize = 32;
 /// Words of the polar law with its wheel stage, `wmr_polar_controller_f64`.
@@ -390,6 +433,18 @@ pub struct wmr_paper_controller_f32 {
 pub struct wmr_paper_controller_f64 {
     /// Opaque: only the library reads or writes it.
     pub opaque: [u64; WMR_PAPER_CONTROLLER_F64_WORDS],
+}
+/// The paper's law repaired (`paper_bidirectional`) with its wheel stage (f32).
+#[repr(C)]
+pub struct wmr_paper_bidirectional_controller_f32 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F32_WORDS],
+}
+/// The paper's law repaired (`paper_bidirectional`) with its wheel stage (f64).
+#[repr(C)]
+pub struct wmr_paper_bidirectional_controller_f64 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F64_WORDS],
 }
 /// The polar law with its wheel stage (f32).
 #[repr(C)]

@@ -387,3 +387,384 @@ compare_loop!(
     wmr_paper_controller_f64,
     wmr_core::PaperLaw::new(wmr_core::PaperParams::paper(), Robot::<f64>::paper().params(), 1e-3).unwrap()
 );
+compare_loop!(
+    paper_bidirectional_loop_equals_closed_loop,
+    wmr_paper_bidirectional_params_f64_default,
+    wmr_paper_bidirectional_controller_f64_init,
+    wmr_paper_bidirectional_controller_f64_update,
+    wmr_paper_bidirectional_controller_f64_reset,
+    wmr_paper_bidirectional_controller_f64,
+    wmr_core::PaperBidirectionalLaw::new(
+        wmr_core::PaperBidirectionalParams::default(),
+        Robot::<f64>::paper().params(),
+        1e-3
+    )
+    .unwrap()
+);
+
+/// The law structs that are the core's own types hold the core's enums as `uint32_t`
+/// codes: a code that is no constant is refused by its field name before the struct is
+/// read as the core's type (which would be undefined behaviour).
+#[test]
+fn enum_codes_outside_the_constants_are_refused_by_name() {
+    let robot_c = valid_robot();
+    let (dp, drive_c) = valid_drive(&robot_c, WMR_DRIVE_TORQUE);
+    let mut wp = MaybeUninit::uninit();
+    let mut err = new_err();
+    // SAFETY: valid pointers; the bad codes are written through raw u32 pointers into
+    // C-layout structs, as C would write them.
+    unsafe {
+        wmr_wheel_stage_params_f64_default(&dp, wp.as_mut_ptr());
+        let mut pp = MaybeUninit::<wmr_paper_params<f64>>::uninit();
+        let mut ctrl = MaybeUninit::<wmr_paper_controller_f64>::uninit();
+        for (offset, code, name) in [
+            (std::mem::offset_of!(wmr_paper_params<f64>, mode), 2u32, "mode"),
+            (std::mem::offset_of!(wmr_paper_params<f64>, hold), 3u32, "hold"),
+        ] {
+            wmr_paper_params_f64_default(pp.as_mut_ptr());
+            pp.as_mut_ptr().cast::<u8>().add(offset).cast::<u32>().write(code);
+            let c = wmr_paper_controller_f64_init(
+                ctrl.as_mut_ptr(),
+                pp.as_ptr(),
+                wp.as_ptr(),
+                &robot_c,
+                &drive_c,
+                1e-3,
+                &mut err,
+            );
+            assert_eq!(c, wmr_status::WMR_OUT_OF_RANGE, "{name}");
+            assert_eq!(field(&err), name);
+            assert_eq!(err.value, f64::from(code));
+        }
+        let mut bp = MaybeUninit::<wmr_paper_bidirectional_params<f64>>::uninit();
+        let mut bctrl = MaybeUninit::<wmr_paper_bidirectional_controller_f64>::uninit();
+        wmr_paper_bidirectional_params_f64_default(bp.as_mut_ptr());
+        let hold = std::mem::offset_of!(wmr_paper_bidirectional_params<f64>, hold);
+        bp.as_mut_ptr().cast::<u8>().add(hold).cast::<u32>().write(0xdead_beef);
+        let c = wmr_paper_bidirectional_controller_f64_init(
+            bctrl.as_mut_ptr(),
+            bp.as_ptr(),
+            wp.as_ptr(),
+            &robot_c,
+            &drive_c,
+            1e-3,
+            &mut err,
+        );
+        assert_eq!(c, wmr_status::WMR_OUT_OF_RANGE);
+        assert_eq!(field(&err), "hold");
+        // Every constant is accepted, and the defaults are the core's.
+        for h in [WMR_HOLD_ZERO_ERRORS, WMR_HOLD_FREEZE, WMR_HOLD_AUTO] {
+            bp.as_mut_ptr().cast::<u8>().add(hold).cast::<u32>().write(h);
+            let c = wmr_paper_bidirectional_controller_f64_init(
+                bctrl.as_mut_ptr(),
+                bp.as_ptr(),
+                wp.as_ptr(),
+                &robot_c,
+                &drive_c,
+                1e-3,
+                &mut err,
+            );
+            assert_eq!(c, wmr_status::WMR_OK, "hold {h}");
+        }
+        wmr_paper_bidirectional_params_f64_default(bp.as_mut_ptr());
+        assert_eq!(bp.assume_init(), wmr_core::PaperBidirectionalParams::<f64>::default());
+        let mut f32p = MaybeUninit::<wmr_paper_bidirectional_params<f32>>::uninit();
+        assert_eq!(wmr_paper_bidirectional_params_f32_default(f32p.as_mut_ptr()), wmr_status::WMR_OK);
+        assert_eq!(f32p.assume_init(), wmr_core::PaperBidirectionalParams::<f32>::default());
+    }
+}
+
+/// A gain the core refuses is refused with the core's field name (ki_theta below its bound).
+#[test]
+fn paper_bidirectional_gains_are_checked_by_the_core() {
+    let robot_c = valid_robot();
+    let (dp, drive_c) = valid_drive(&robot_c, WMR_DRIVE_TORQUE);
+    let mut wp = MaybeUninit::uninit();
+    let mut err = new_err();
+    let p = wmr_paper_bidirectional_params::<f64> { ki_theta: 0.1, ..Default::default() };
+    let core = wmr_core::PaperBidirectionalLaw::new(p, Robot::<f64>::paper().params(), 1e-3).unwrap_err();
+    let mut ctrl = MaybeUninit::<wmr_paper_bidirectional_controller_f64>::uninit();
+    // SAFETY: valid pointers.
+    let c = unsafe {
+        wmr_wheel_stage_params_f64_default(&dp, wp.as_mut_ptr());
+        wmr_paper_bidirectional_controller_f64_init(
+            ctrl.as_mut_ptr(),
+            &p,
+            wp.as_ptr(),
+            &robot_c,
+            &drive_c,
+            1e-3,
+            &mut err,
+        )
+    };
+    assert_eq!(c, code_of(&core));
+    assert_eq!(field(&err), core.field);
+}
+
+/// `_update_reference` with the reference at rest at the goal equals `_update` with that
+/// goal, bit for bit, tick after tick of a closed loop (in f64 and f32); a NaN in the
+/// reference is refused by its field name and leaves the controller unchanged.
+macro_rules! reference_at_rest {
+    ($name:ident, $prec:ty, $default:ident, $init:ident, $update:ident, $update_ref:ident, $storage:ty, $params:ty,
+     $robot:ident, $robot_init:ident, $drive_default:ident, $drive_init:ident, $wheels_default:ident,
+     $plant:ty, $plant_init:ident, $apply:ident, $step:ident, $sensor:ty, $sensor_init:ident, $measure:ident) => {
+        #[test]
+        fn $name() {
+            let null = std::ptr::null_mut();
+            let dt: $prec = 1e-3;
+            // SAFETY: valid pointers, every init checked.
+            unsafe {
+                let (mut rp, mut robot) = (MaybeUninit::uninit(), MaybeUninit::uninit());
+                $robot(rp.as_mut_ptr());
+                assert_eq!($robot_init(robot.as_mut_ptr(), rp.as_ptr(), null), wmr_status::WMR_OK);
+                let (mut dp, mut drive) = (MaybeUninit::uninit(), MaybeUninit::uninit());
+                $drive_default(WMR_DRIVE_DC_MOTOR, dp.as_mut_ptr());
+                assert_eq!($drive_init(drive.as_mut_ptr(), dp.as_ptr(), robot.as_ptr(), null), wmr_status::WMR_OK);
+                let (mut wp, mut lp) = (MaybeUninit::uninit(), MaybeUninit::<$params>::uninit());
+                $wheels_default(dp.as_ptr(), wp.as_mut_ptr());
+                $default(lp.as_mut_ptr());
+                let mut a = MaybeUninit::<$storage>::uninit();
+                let mut b = MaybeUninit::<$storage>::uninit();
+                for c in [a.as_mut_ptr(), b.as_mut_ptr()] {
+                    assert_eq!(
+                        $init(c, lp.as_ptr(), wp.as_ptr(), robot.as_ptr(), drive.as_ptr(), dt, null),
+                        wmr_status::WMR_OK
+                    );
+                }
+                let mut plant = MaybeUninit::<$plant>::uninit();
+                let start = wmr_pose { x: 0.3, y: -0.2, theta: 2.5 };
+                assert_eq!(
+                    $plant_init(plant.as_mut_ptr(), robot.as_ptr(), drive.as_ptr(), std::ptr::null(), start, null),
+                    wmr_status::WMR_OK
+                );
+                let mut sensor = MaybeUninit::<$sensor>::uninit();
+                $sensor_init(sensor.as_mut_ptr());
+                // Distinct coordinates, so a swapped or dropped one shows.
+                let goal = wmr_pose { x: -1.0, y: 0.5, theta: -0.7 };
+                let at_rest = wmr_reference_state { pose: goal, ..Default::default() };
+                let mut m = wmr_measurement::default();
+                let (mut out_a, mut out_b) = (wmr_control_output::default(), wmr_control_output::default());
+                for k in 0..3_000 {
+                    let t = k as $prec * dt;
+                    assert_eq!($measure(sensor.as_mut_ptr(), t, plant.as_ptr(), &mut m), wmr_status::WMR_OK);
+                    assert_eq!($update(a.as_mut_ptr(), t, &m, goal, &mut out_a), wmr_status::WMR_OK);
+                    assert_eq!($update_ref(b.as_mut_ptr(), t, &m, &at_rest, &mut out_b, null), wmr_status::WMR_OK);
+                    let bits = |o: &wmr_control_output<$prec>| {
+                        [o.command.right, o.command.left, o.e_s, o.e_theta, o.dl].map(<$prec>::to_bits)
+                    };
+                    assert_eq!(bits(&out_a), bits(&out_b), "tick {k}");
+                    assert_eq!($apply(plant.as_mut_ptr(), out_a.command), wmr_status::WMR_OK);
+                    assert_eq!($step(plant.as_mut_ptr(), t, dt), wmr_status::WMR_OK);
+                }
+                // Refused by name, the controller unchanged: the next tick still agrees.
+                let t = 3_000 as $prec * dt;
+                let mut e = new_err();
+                for (field_name, bad) in [
+                    (
+                        "reference.accel.omega",
+                        wmr_reference_state { accel: wmr_accel { v: 0.0, omega: <$prec>::NAN }, ..at_rest },
+                    ),
+                    (
+                        "reference.twist.v",
+                        wmr_reference_state { twist: wmr_twist { v: <$prec>::INFINITY, omega: 0.0 }, ..at_rest },
+                    ),
+                    (
+                        "reference.pose.theta",
+                        wmr_reference_state { pose: wmr_pose { theta: <$prec>::NAN, ..goal }, ..at_rest },
+                    ),
+                ] {
+                    let mut kept = out_b;
+                    assert_eq!($update_ref(b.as_mut_ptr(), t, &m, &bad, &mut kept, &mut e), wmr_status::WMR_NOT_FINITE);
+                    assert_eq!(field(&e), field_name);
+                    assert_eq!(kept, out_b, "a refused tick writes nothing");
+                }
+                let mut kept = out_b;
+                assert_eq!(
+                    $update_ref(b.as_mut_ptr(), t, &m, std::ptr::null(), &mut kept, &mut e),
+                    wmr_status::WMR_NULL_POINTER
+                );
+                assert_eq!(field(&e), "reference");
+                assert_eq!($update(a.as_mut_ptr(), t, &m, goal, &mut out_a), wmr_status::WMR_OK);
+                assert_eq!($update_ref(b.as_mut_ptr(), t, &m, &at_rest, &mut out_b, &mut e), wmr_status::WMR_OK);
+                assert_eq!(out_a, out_b);
+            }
+        }
+    };
+}
+
+reference_at_rest!(
+    paper_f64_update_reference_at_rest_is_update,
+    f64,
+    wmr_paper_params_f64_default,
+    wmr_paper_controller_f64_init,
+    wmr_paper_controller_f64_update,
+    wmr_paper_controller_f64_update_reference,
+    wmr_paper_controller_f64,
+    wmr_paper_params<f64>,
+    wmr_robot_params_f64_paper,
+    wmr_robot_f64_init,
+    wmr_drive_params_f64_default,
+    wmr_drive_f64_init,
+    wmr_wheel_stage_params_f64_default,
+    wmr_plant_f64,
+    wmr_plant_f64_init,
+    wmr_plant_f64_apply,
+    wmr_plant_f64_step,
+    wmr_sensor_f64,
+    wmr_sensor_f64_init_perfect,
+    wmr_sensor_f64_measure
+);
+reference_at_rest!(
+    paper_f32_update_reference_at_rest_is_update,
+    f32,
+    wmr_paper_params_f32_default,
+    wmr_paper_controller_f32_init,
+    wmr_paper_controller_f32_update,
+    wmr_paper_controller_f32_update_reference,
+    wmr_paper_controller_f32,
+    wmr_paper_params<f32>,
+    wmr_robot_params_f32_paper,
+    wmr_robot_f32_init,
+    wmr_drive_params_f32_default,
+    wmr_drive_f32_init,
+    wmr_wheel_stage_params_f32_default,
+    wmr_plant_f32,
+    wmr_plant_f32_init,
+    wmr_plant_f32_apply,
+    wmr_plant_f32_step,
+    wmr_sensor_f32,
+    wmr_sensor_f32_init_perfect,
+    wmr_sensor_f32_measure
+);
+reference_at_rest!(
+    paper_bidirectional_f64_update_reference_at_rest_is_update,
+    f64,
+    wmr_paper_bidirectional_params_f64_default,
+    wmr_paper_bidirectional_controller_f64_init,
+    wmr_paper_bidirectional_controller_f64_update,
+    wmr_paper_bidirectional_controller_f64_update_reference,
+    wmr_paper_bidirectional_controller_f64,
+    wmr_paper_bidirectional_params<f64>,
+    wmr_robot_params_f64_paper,
+    wmr_robot_f64_init,
+    wmr_drive_params_f64_default,
+    wmr_drive_f64_init,
+    wmr_wheel_stage_params_f64_default,
+    wmr_plant_f64,
+    wmr_plant_f64_init,
+    wmr_plant_f64_apply,
+    wmr_plant_f64_step,
+    wmr_sensor_f64,
+    wmr_sensor_f64_init_perfect,
+    wmr_sensor_f64_measure
+);
+reference_at_rest!(
+    paper_bidirectional_f32_update_reference_at_rest_is_update,
+    f32,
+    wmr_paper_bidirectional_params_f32_default,
+    wmr_paper_bidirectional_controller_f32_init,
+    wmr_paper_bidirectional_controller_f32_update,
+    wmr_paper_bidirectional_controller_f32_update_reference,
+    wmr_paper_bidirectional_controller_f32,
+    wmr_paper_bidirectional_params<f32>,
+    wmr_robot_params_f32_paper,
+    wmr_robot_f32_init,
+    wmr_drive_params_f32_default,
+    wmr_drive_f32_init,
+    wmr_wheel_stage_params_f32_default,
+    wmr_plant_f32,
+    wmr_plant_f32_init,
+    wmr_plant_f32_apply,
+    wmr_plant_f32_step,
+    wmr_sensor_f32,
+    wmr_sensor_f32_init_perfect,
+    wmr_sensor_f32_measure
+);
+reference_at_rest!(
+    polar_f64_update_reference_at_rest_is_update,
+    f64,
+    wmr_polar_params_f64_default,
+    wmr_polar_controller_f64_init,
+    wmr_polar_controller_f64_update,
+    wmr_polar_controller_f64_update_reference,
+    wmr_polar_controller_f64,
+    wmr_polar_params<f64>,
+    wmr_robot_params_f64_paper,
+    wmr_robot_f64_init,
+    wmr_drive_params_f64_default,
+    wmr_drive_f64_init,
+    wmr_wheel_stage_params_f64_default,
+    wmr_plant_f64,
+    wmr_plant_f64_init,
+    wmr_plant_f64_apply,
+    wmr_plant_f64_step,
+    wmr_sensor_f64,
+    wmr_sensor_f64_init_perfect,
+    wmr_sensor_f64_measure
+);
+reference_at_rest!(
+    polar_f32_update_reference_at_rest_is_update,
+    f32,
+    wmr_polar_params_f32_default,
+    wmr_polar_controller_f32_init,
+    wmr_polar_controller_f32_update,
+    wmr_polar_controller_f32_update_reference,
+    wmr_polar_controller_f32,
+    wmr_polar_params<f32>,
+    wmr_robot_params_f32_paper,
+    wmr_robot_f32_init,
+    wmr_drive_params_f32_default,
+    wmr_drive_f32_init,
+    wmr_wheel_stage_params_f32_default,
+    wmr_plant_f32,
+    wmr_plant_f32_init,
+    wmr_plant_f32_apply,
+    wmr_plant_f32_step,
+    wmr_sensor_f32,
+    wmr_sensor_f32_init_perfect,
+    wmr_sensor_f32_measure
+);
+reference_at_rest!(
+    lyapunov_f64_update_reference_at_rest_is_update,
+    f64,
+    wmr_lyapunov_params_f64_default,
+    wmr_lyapunov_controller_f64_init,
+    wmr_lyapunov_controller_f64_update,
+    wmr_lyapunov_controller_f64_update_reference,
+    wmr_lyapunov_controller_f64,
+    wmr_lyapunov_params<f64>,
+    wmr_robot_params_f64_paper,
+    wmr_robot_f64_init,
+    wmr_drive_params_f64_default,
+    wmr_drive_f64_init,
+    wmr_wheel_stage_params_f64_default,
+    wmr_plant_f64,
+    wmr_plant_f64_init,
+    wmr_plant_f64_apply,
+    wmr_plant_f64_step,
+    wmr_sensor_f64,
+    wmr_sensor_f64_init_perfect,
+    wmr_sensor_f64_measure
+);
+reference_at_rest!(
+    lyapunov_f32_update_reference_at_rest_is_update,
+    f32,
+    wmr_lyapunov_params_f32_default,
+    wmr_lyapunov_controller_f32_init,
+    wmr_lyapunov_controller_f32_update,
+    wmr_lyapunov_controller_f32_update_reference,
+    wmr_lyapunov_controller_f32,
+    wmr_lyapunov_params<f32>,
+    wmr_robot_params_f32_paper,
+    wmr_robot_f32_init,
+    wmr_drive_params_f32_default,
+    wmr_drive_f32_init,
+    wmr_wheel_stage_params_f32_default,
+    wmr_plant_f32,
+    wmr_plant_f32_init,
+    wmr_plant_f32_apply,
+    wmr_plant_f32_step,
+    wmr_sensor_f32,
+    wmr_sensor_f32_init_perfect,
+    wmr_sensor_f32_measure
+);

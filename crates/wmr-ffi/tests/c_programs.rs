@@ -147,3 +147,11 @@ fn errors_name_the_field_in_c() {
     assert!(out.ends_with("ok\n"), "{out}");
     assert!(!out.contains("FAIL"), "{out}");
 }
+
+#[test]
+fn reference_at_rest_is_the_goal_in_c() {
+    let out = build_and_run("reference", &[crate_dir().join("tests/c/reference.c")]);
+    assert!(out.contains("pass f64:") && out.contains("pass f32:"), "{out}");
+    assert!(out.ends_with("ok\n"), "{out}");
+    assert!(!out.contains("FAIL"), "{out}");
+}

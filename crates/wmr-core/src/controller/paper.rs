@@ -26,17 +26,19 @@ use num_traits::Zero;
 /// Which of the paper's two problems to solve (section 2.3).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize), serde(rename_all = "snake_case"))]
+#[repr(u32)]
 pub enum PaperMode {
     /// Orientating control: reach (x_d, y_d, theta_d); theta_R = 2 alpha - theta_d.
     #[default]
-    Pose,
+    Pose = 0,
     /// Positioning control: reach (x_d, y_d), heading free; theta_R = alpha.
-    Position,
+    Position = 1,
 }
 
 /// What the law does inside `hold_radius`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize), serde(rename_all = "snake_case"))]
+#[repr(u32)]
 pub enum HoldMode {
     /// The default: [`HoldMode::ZeroErrors`] in pose mode (the paper's hold, so the
     /// paper's runs are unchanged) and [`HoldMode::Freeze`] in position mode, where the
@@ -45,15 +47,15 @@ pub enum HoldMode {
     /// to (1, 1) the distance was 0.25 m at 60 s and 0.42 m at 120 s). See
     /// [`HoldMode::resolve`].
     #[default]
-    Auto,
+    Auto = 2,
     /// The paper's hold: the outer errors are taken as zero and the integrators
     /// stop, so u = Ki int. The wheel references step on entry (the Kp e parts drop
     /// out); on Fig. 7 that kick is what brings the heading error from 28 to 5 deg.
-    ZeroErrors,
+    ZeroErrors = 0,
     /// Bumpless: the wheel references of the last tick outside the radius are kept and
     /// the integrators stop. The robot stays where it entered the radius (position mode
     /// then converges; pose mode keeps the heading error it had at entry).
-    Freeze,
+    Freeze = 1,
 }
 
 impl HoldMode {
@@ -71,6 +73,7 @@ crate::params! {
     /// `[controller] kind = "paper"`: the law's own keys.
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    #[repr(C)]
     pub struct PaperParams<T> {
         /// Pose mode (reach x, y, theta: theta_R = 2 alpha - theta_d) or position mode (heading free: theta_R = alpha).
         pub mode: PaperMode [unit = "", rule = "\"pose\" or \"position\""],

@@ -73,6 +73,7 @@ crate::params! {
     /// `[controller] kind = "paper_bidirectional"`: the law's own keys.
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    #[repr(C)]
     pub struct PaperBidirectionalParams<T> {
         /// Kp_theta, rad of heading command per rad of error (0: no step when e_theta jumps).
         pub kp_theta: T [unit = "rad/rad", rule = ">= 0"],
