@@ -266,25 +266,42 @@ class RunResult:
     path_length: float
     energy: float
     summary: str
-    t: _FloatArray
-    x: _FloatArray
-    y: _FloatArray
-    theta: _FloatArray
-    v: _FloatArray
-    omega: _FloatArray
-    phi_r: _FloatArray
-    phi_l: _FloatArray
-    omega_r: _FloatArray
-    omega_l: _FloatArray
-    tau_r: _FloatArray
-    tau_l: _FloatArray
-    e_s: _FloatArray
-    e_theta: _FloatArray
-    dl: _FloatArray
-    x_meas: _FloatArray
-    """x of the pose the controller used at its last tick, m (equal to x without [sensor])."""
-    y_meas: _FloatArray
-    theta_meas: _FloatArray
+    @property
+    def t(self) -> _FloatArray: ...
+    @property
+    def x(self) -> _FloatArray: ...
+    @property
+    def y(self) -> _FloatArray: ...
+    @property
+    def theta(self) -> _FloatArray: ...
+    @property
+    def v(self) -> _FloatArray: ...
+    @property
+    def omega(self) -> _FloatArray: ...
+    @property
+    def phi_r(self) -> _FloatArray: ...
+    @property
+    def phi_l(self) -> _FloatArray: ...
+    @property
+    def omega_r(self) -> _FloatArray: ...
+    @property
+    def omega_l(self) -> _FloatArray: ...
+    @property
+    def tau_r(self) -> _FloatArray: ...
+    @property
+    def tau_l(self) -> _FloatArray: ...
+    @property
+    def e_s(self) -> _FloatArray: ...
+    @property
+    def e_theta(self) -> _FloatArray: ...
+    @property
+    def dl(self) -> _FloatArray: ...
+    @property
+    def x_meas(self) -> _FloatArray: ...
+    @property
+    def y_meas(self) -> _FloatArray: ...
+    @property
+    def theta_meas(self) -> _FloatArray: ...
     def __getitem__(self, name: str, /) -> _FloatArray: ...
     def __len__(self) -> int: ...
     def columns(self) -> dict[str, _FloatArray]:
@@ -294,6 +311,12 @@ class RunResult:
     def __getstate__(self) -> dict[str, Any]: ...
 
 __version__: str
+COLUMNS: Tuple[str, ...]
+COLUMN_UNITS: Tuple[str, ...]
+CSV_COLUMNS: Tuple[str, ...]
+MEASURED_COLUMNS: Tuple[str, ...]
+OUTCOME_FIELDS: Tuple[str, ...]
+ARRIVAL_RADIUS_M: float
 
 _Progress = Optional[Callable[[int], Any]]
 
@@ -337,4 +360,10 @@ __all__ = [
     "_sweep_plan",
     "_time_run_rust",
     "__version__",
+    "COLUMNS",
+    "COLUMN_UNITS",
+    "CSV_COLUMNS",
+    "MEASURED_COLUMNS",
+    "OUTCOME_FIELDS",
+    "ARRIVAL_RADIUS_M",
 ]
