@@ -9,6 +9,7 @@ pub mod controller;
 pub mod convert;
 pub mod error;
 pub mod interrupt;
+pub mod reference;
 pub mod robot;
 pub mod scenario;
 

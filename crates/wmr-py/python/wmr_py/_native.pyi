@@ -15,6 +15,10 @@ _ArrayLike = Union[Sequence[float], _FloatArray]
 _PoseLike = Union[Sequence[float], Mapping[str, float]]
 _ScenarioLike = Union[str, os.PathLike[str], Mapping[str, Any]]
 
+#: A controller reference: {"pose": .., "twist": .., "accel": ..} or rows of
+#: (x, y, theta, v, omega, v', omega').
+_ReferenceLike = Union[Mapping[str, Any], _ArrayLike]
+
 class ParameterError(ValueError):
     """A bad argument or parameter value; ``key`` names it (``robot.mass``, ``state[3]``)."""
 
@@ -105,9 +109,18 @@ class PaperController:
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
         # end of generated keys
     ) -> Self: ...
-    def update(self, pose: _ArrayLike, wheel_angles: _ArrayLike, wheel_speeds: _ArrayLike) -> Any:
+    def update(
+        self,
+        pose: _ArrayLike,
+        wheel_angles: _ArrayLike,
+        wheel_speeds: _ArrayLike,
+        reference: Optional[_ReferenceLike] = None,
+    ) -> Any:
         """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
-        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds."""
+        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds.
+        reference: the reference tracked at this tick (default: the goal at rest), a dict
+        {"pose": (x, y, theta rad), "twist": (v m/s, omega rad/s), "accel": (v' m/s^2,
+        omega' rad/s^2)}, a row of those 7 numbers or an (N, 7) array (or one row for all)."""
     def reset(self) -> None: ...
     @property
     def errors(self) -> Any:
@@ -150,9 +163,18 @@ class PaperBidirectionalController:
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
         # end of generated keys
     ) -> Self: ...
-    def update(self, pose: _ArrayLike, wheel_angles: _ArrayLike, wheel_speeds: _ArrayLike) -> Any:
+    def update(
+        self,
+        pose: _ArrayLike,
+        wheel_angles: _ArrayLike,
+        wheel_speeds: _ArrayLike,
+        reference: Optional[_ReferenceLike] = None,
+    ) -> Any:
         """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
-        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds."""
+        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds.
+        reference: the reference tracked at this tick (default: the goal at rest), a dict
+        {"pose": (x, y, theta rad), "twist": (v m/s, omega rad/s), "accel": (v' m/s^2,
+        omega' rad/s^2)}, a row of those 7 numbers or an (N, 7) array (or one row for all)."""
     def reset(self) -> None: ...
     @property
     def errors(self) -> Any:
@@ -194,9 +216,18 @@ class PolarController:
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
         # end of generated keys
     ) -> Self: ...
-    def update(self, pose: _ArrayLike, wheel_angles: _ArrayLike, wheel_speeds: _ArrayLike) -> Any:
+    def update(
+        self,
+        pose: _ArrayLike,
+        wheel_angles: _ArrayLike,
+        wheel_speeds: _ArrayLike,
+        reference: Optional[_ReferenceLike] = None,
+    ) -> Any:
         """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
-        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds."""
+        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds.
+        reference: the reference tracked at this tick (default: the goal at rest), a dict
+        {"pose": (x, y, theta rad), "twist": (v m/s, omega rad/s), "accel": (v' m/s^2,
+        omega' rad/s^2)}, a row of those 7 numbers or an (N, 7) array (or one row for all)."""
     def reset(self) -> None: ...
     @property
     def errors(self) -> Any:
@@ -238,9 +269,18 @@ class LyapunovController:
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
         # end of generated keys
     ) -> Self: ...
-    def update(self, pose: _ArrayLike, wheel_angles: _ArrayLike, wheel_speeds: _ArrayLike) -> Any:
+    def update(
+        self,
+        pose: _ArrayLike,
+        wheel_angles: _ArrayLike,
+        wheel_speeds: _ArrayLike,
+        reference: Optional[_ReferenceLike] = None,
+    ) -> Any:
         """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
-        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds."""
+        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds.
+        reference: the reference tracked at this tick (default: the goal at rest), a dict
+        {"pose": (x, y, theta rad), "twist": (v m/s, omega rad/s), "accel": (v' m/s^2,
+        omega' rad/s^2)}, a row of those 7 numbers or an (N, 7) array (or one row for all)."""
     def reset(self) -> None: ...
     @property
     def errors(self) -> Any:
