@@ -1,7 +1,10 @@
 //! Every key the parser accepts (listed by `wmr_scenario::schema`, from the types that
 //! read them) is documented in `wmr-cli --help`, in `docs/scenario.md` and, for the
 //! Python building blocks, in the stubs, each in its own section; where `--help` and the
-//! stubs show a default, it is the real one.
+//! stubs show a default, it is the real one. The stubs' keyword blocks (every key of
+//! `[robot]` and of each controller kind, with its default, unit and doc line) are
+//! generated from the schema between markers: `WMR_BLESS=1` rewrites them, and the test
+//! fails while they are stale.
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -50,6 +53,8 @@ fn same_value(shown: &str, real: &toml::Value) -> bool {
             };
             v == *f
         }
+        // The stubs spell booleans the Python way.
+        toml::Value::Boolean(b) if matches!(shown, "True" | "False") => (shown == "True") == *b,
         other => shown.trim_end_matches(',') == other.to_string(),
     }
 }
@@ -132,16 +137,18 @@ fn init_kwargs<'a>(stub: &'a str, class: &str) -> Vec<(&'a str, &'a str)> {
     let star = init.find('*').expect("keyword-only arguments");
     init[star..]
         .lines()
+        .filter(|l| !l.trim().starts_with('#'))
         .filter_map(|l| {
             let (name, rest) = l.trim().split_once(':')?;
-            let default = rest.split_once('=').map_or("", |(_, d)| d.trim().trim_end_matches(','));
+            // `name: type = default,  # [unit] doc`: the default ends at the comma.
+            let default = rest.split_once('=').map_or("", |(_, d)| d.split(',').next().unwrap_or("").trim());
             Some((name.trim(), default))
         })
         .collect()
 }
 
 #[test]
-fn stubs_list_the_robot_and_paper_controller_keys_with_their_defaults() {
+fn stubs_list_every_robot_and_controller_key_with_its_default() {
     let stub = repo_file("crates/wmr-py/python/wmr_py/_native.pyi");
     let keys = schema();
     let check = |class: &str, expected: Vec<&SchemaKey>| {
@@ -158,13 +165,89 @@ fn stubs_list_the_robot_and_paper_controller_keys_with_their_defaults() {
             }
         }
     };
-    check("Robot", keys.iter().filter(|k| k.table == "robot").collect());
-    check(
-        "PaperController",
-        keys.iter()
-            .filter(|k| {
-                k.table == "controller" && !matches!(k.key, "kind" | "model") && matches!(k.kind, None | Some("paper"))
-            })
-            .collect(),
+    for (class, table, kind) in STUB_CLASSES {
+        check(class, class_keys(&keys, table, kind).iter().collect());
+    }
+}
+
+/// The stub classes whose `__new__` keywords are the keys of a schema table (and kind).
+const STUB_CLASSES: [(&str, &str, Option<&str>); 5] = [
+    ("Robot", "robot", None),
+    ("PaperController", "controller", Some("paper")),
+    ("PaperBidirectionalController", "controller", Some("paper_bidirectional")),
+    ("PolarController", "controller", Some("polar")),
+    ("LyapunovController", "controller", Some("lyapunov")),
+];
+
+const GEN_BEGIN: &str =
+    "# keys from wmr_scenario::schema(), generated: WMR_BLESS=1 cargo test -p wmr-cli --test keys_documented\n";
+const GEN_END: &str = "# end of generated keys\n";
+
+/// The schema keys a stub class takes: the table's keys for every kind and for its own.
+fn class_keys(keys: &[SchemaKey], table: &str, kind: Option<&str>) -> Vec<SchemaKey> {
+    keys.iter()
+        .filter(|k| k.table == table && !matches!(k.key, "kind" | "model") && (k.kind.is_none() || k.kind == kind))
+        .cloned()
+        .collect()
+}
+
+/// A default as Python writes it.
+fn py_value(v: &toml::Value) -> (&'static str, String) {
+    match v {
+        toml::Value::Float(f) if f.is_infinite() => {
+            ("float", if *f > 0.0 { "math.inf".into() } else { "-math.inf".into() })
+        }
+        toml::Value::Float(f) => ("float", format!("{f:?}")),
+        toml::Value::Integer(i) => ("int", i.to_string()),
+        toml::Value::Boolean(b) => ("bool", if *b { "True".into() } else { "False".into() }),
+        toml::Value::String(s) => ("str", format!("{s:?}")),
+        other => panic!("no Python spelling for the default {other}"),
+    }
+}
+
+/// The generated keyword lines of a stub class: `name: type = default,  # unit: doc`.
+fn keyword_block(keys: &[SchemaKey], indent: &str) -> String {
+    let mut out = String::new();
+    for k in keys {
+        let default = k.default.as_ref().or(k.default_by_drive.first().map(|(_, v)| v));
+        let default = default.unwrap_or_else(|| panic!("{} has no default to show", k.key));
+        let (ty, value) = py_value(default);
+        let unit = if k.unit.is_empty() { String::new() } else { format!(" [{}]", k.unit) };
+        out.push_str(&format!("{indent}{}: {ty} = {value},  #{unit} {}\n", k.key, k.doc.trim()));
+    }
+    out
+}
+
+/// The stub with every class's generated block written from the schema.
+fn generated_stub(stub: &str) -> String {
+    let keys = schema();
+    let mut out = stub.to_owned();
+    for (class, table, kind) in STUB_CLASSES {
+        let start = out.find(&format!("class {class}:")).unwrap_or_else(|| panic!("no class {class}"));
+        let a = start + out[start..].find(GEN_BEGIN).unwrap_or_else(|| panic!("{class}: no {GEN_BEGIN:?}"));
+        let indent_start = out[..a].rfind('\n').map_or(0, |i| i + 1);
+        let indent = out[indent_start..a].to_owned();
+        let body = a + GEN_BEGIN.len();
+        let b = body + out[body..].find(GEN_END).unwrap_or_else(|| panic!("{class}: no {GEN_END:?}"));
+        let b = out[..b].rfind('\n').map_or(b, |i| i + 1);
+        out.replace_range(body..b, &keyword_block(&class_keys(&keys, table, kind), &indent));
+    }
+    out
+}
+
+#[test]
+fn stub_keywords_are_generated_from_the_schema() {
+    let rel = "crates/wmr-py/python/wmr_py/_native.pyi";
+    let stub = repo_file(rel);
+    let want = generated_stub(&stub);
+    if std::env::var_os("WMR_BLESS").is_some() {
+        let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..").join(rel);
+        std::fs::write(path, &want).unwrap();
+        return;
+    }
+    assert!(
+        stub == want,
+        "{rel}: the keyword blocks are stale; rerun with WMR_BLESS=1 (first differing line: {:?})",
+        stub.lines().zip(want.lines()).find(|(a, b)| a != b)
     );
 }

@@ -16,6 +16,7 @@ use wmr_scenario::BuiltController;
 
 use crate::convert::{batch_arg, finite_array, pose_table, same_rows, type_name};
 use crate::error::parameter_error;
+use crate::reference::reference_arg;
 use crate::robot::{PyRobot, one_run_scenario, wheels_arg};
 use crate::scenario::scenario_arg;
 
@@ -134,17 +135,22 @@ impl Lanes {
 
     /// One tick of every lane, from the measurement of lane i given by `m(i)`. All or
     /// nothing: a tick whose commands or errors are not finite leaves every lane as it was.
-    fn tick(&mut self, n: usize, m: impl Fn(usize, f64) -> Measurement<f64>) -> PyResult<()> {
+    fn tick(
+        &mut self,
+        n: usize,
+        refs: &[ReferenceState<f64>],
+        m: impl Fn(usize, f64) -> Measurement<f64>,
+    ) -> PyResult<()> {
         // The loop's own clock at control_dt: the bits a scenario run gives the law at this tick.
         let t = StepClock::new(self.proto.control_dt()).time(self.ticks);
-        let r = ReferenceState::at_rest(self.goal);
         // The tick is computed into `next` and `next_last` and swapped in when every lane
         // is finite; the buffers are kept, so a tick allocates nothing after the first.
         self.next.clear();
         self.next.extend_from_slice(&self.lanes[..n]);
         self.next_last.clear();
         for (i, lane) in self.next.iter_mut().enumerate() {
-            let out = lane.update(t, &m(i, t), &r);
+            // One reference for every robot, or one each (`reference_arg` gives 1 or n).
+            let out = lane.update(t, &m(i, t), &refs[i % refs.len()]);
             let e = out.errors;
             if ![out.command.right, out.command.left, e.e_s, e.e_theta, e.dl].iter().all(|v| v.is_finite()) {
                 return Err(PyFloatingPointError::new_err(format!(
@@ -165,6 +171,7 @@ impl Lanes {
         pose: &Bound<'py, PyAny>,
         wheel_angles: &Bound<'py, PyAny>,
         wheel_speeds: &Bound<'py, PyAny>,
+        reference: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Py<PyAny>> {
         let py = pose.py();
         if let Some(p) = batch_arg(pose, "pose", ["x", "y", "theta"])? {
@@ -177,9 +184,10 @@ impl Lanes {
             })?;
             same_rows(&a, "wheel_angles", n, "pose")?;
             same_rows(&w, "wheel_speeds", n, "pose")?;
+            let refs = reference_arg(reference, self.goal, n)?;
             self.lanes_for(n, "pose")?;
             let (p, a, w) = (p.as_array(), a.as_array(), w.as_array());
-            self.tick(n, |i, t| Measurement {
+            self.tick(n, &refs, |i, t| Measurement {
                 t,
                 pose: Pose2::new(p[[i, 0]], p[[i, 1]], p[[i, 2]]),
                 wheel_angles: Wheels::new(a[[i, 0]], a[[i, 1]]),
@@ -196,8 +204,9 @@ impl Lanes {
         let [x, y, theta] = finite_array(pose, "pose", ["x", "y", "theta"])?;
         let angles = wheels_arg(wheel_angles, "wheel_angles", ["phi_r", "phi_l"])?;
         let speeds = wheels_arg(wheel_speeds, "wheel_speeds", ["omega_r", "omega_l"])?;
+        let refs = reference_arg(reference, self.goal, 1)?;
         self.lanes_for(1, "pose")?;
-        self.tick(1, |_, t| Measurement {
+        self.tick(1, &refs, |_, t| Measurement {
             t,
             pose: Pose2::new(x, y, theta),
             wheel_angles: angles,
@@ -283,13 +292,22 @@ macro_rules! law_class {
             /// batched call (or the first after reset()) fixes N. With the torque drive the
             /// commands are wheel torque demands in N m before the drive's clamp
             /// (|tau| <= motor_torque_max / gear_ratio); with dc_motor, volts.
+            ///
+            /// reference: what the law tracks at this tick, the goal at rest when None: a
+            /// dict {"pose": (x_m, y_m, theta_rad), "twist": (v m/s, omega rad/s),
+            /// "accel": (v' m/s^2, omega' rad/s^2)} (parts as dicts or sequences; a
+            /// missing part is the goal's pose or zero), a row of those 7 numbers, or for
+            /// a batch an (N, 7) array (one row for every robot also works). A bad or
+            /// non-finite value raises ParameterError naming it (reference.twist.v).
+            #[pyo3(signature = (pose, wheel_angles, wheel_speeds, reference=None))]
             fn update(
                 &mut self,
                 pose: &Bound<'_, PyAny>,
                 wheel_angles: &Bound<'_, PyAny>,
                 wheel_speeds: &Bound<'_, PyAny>,
+                reference: Option<&Bound<'_, PyAny>>,
             ) -> PyResult<Py<PyAny>> {
-                self.inner.update(pose, wheel_angles, wheel_speeds)
+                self.inner.update(pose, wheel_angles, wheel_speeds, reference)
             }
 
             /// Errors of the last update, (e_s in m, e_theta in rad, dl in m) (docs/model.md,

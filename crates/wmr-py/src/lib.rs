@@ -9,6 +9,7 @@ pub mod controller;
 pub mod convert;
 pub mod error;
 pub mod interrupt;
+pub mod reference;
 pub mod robot;
 pub mod scenario;
 
@@ -35,9 +36,18 @@ mod _native {
     /// pending, and rust-numpy panics when that import fails.
     #[pymodule_init]
     fn init(m: &pyo3::Bound<'_, pyo3::types::PyModule>) -> pyo3::PyResult<()> {
-        use pyo3::types::PyModuleMethods as _;
+        use pyo3::types::{PyModuleMethods as _, PyTuple};
         // The version of wmr: the workspace's, which `wmr-cli --version` prints.
         m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+        // The column and outcome names, each from its one list (wmr-scenario's output
+        // module, wmr-core's arrival radius): `_results.py` and the tests read them here.
+        m.add("COLUMNS", PyTuple::new(m.py(), wmr_scenario::SAMPLE_COLUMNS)?)?;
+        m.add("COLUMN_UNITS", PyTuple::new(m.py(), wmr_scenario::SAMPLE_UNITS)?)?;
+        m.add("CSV_COLUMNS", PyTuple::new(m.py(), wmr_scenario::CSV_COLUMNS)?)?;
+        m.add("MEASURED_COLUMNS", PyTuple::new(m.py(), wmr_scenario::MEASURED_COLUMNS)?)?;
+        m.add("OUTCOME_FIELDS", PyTuple::new(m.py(), crate::scenario::outcome_fields().collect::<Vec<_>>())?)?;
+        m.add("ARRIVAL_RADIUS_M", wmr_core::ARRIVAL_RADIUS_M)?;
+        crate::scenario::add_column_properties(&m.py().get_type::<crate::scenario::PyRunResult>())?;
         crate::interrupt::load_numpy_api(m.py())
     }
 }

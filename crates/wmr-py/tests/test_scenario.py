@@ -17,6 +17,8 @@ import wmr_py
 from conftest import REPO
 
 CSV_COLUMNS = ["run", "t", "x", "y", "theta", "v", "omega", "phi_r", "phi_l", "omega_r", "omega_l", "tau_r", "tau_l", "e_s", "e_theta", "dl"]
+# The golden header (outputs unchanged); the package gives the same list from its one source.
+assert list(wmr_py.CSV_COLUMNS) == CSV_COLUMNS, wmr_py.CSV_COLUMNS
 
 
 def read_csv(path: pathlib.Path) -> dict[str, np.ndarray]:

@@ -7,17 +7,27 @@ use wmr_core::{Outcome, Sample, Status};
 
 use crate::run::RunSpec;
 
-/// The CSV header, in order: `run`, then [`SAMPLE_COLUMNS`].
-pub const CSV_COLUMNS: [&str; 16] = [
-    "run", "t", "x", "y", "theta", "v", "omega", "phi_r", "phi_l", "omega_r", "omega_l", "tau_r", "tau_l", "e_s",
-    "e_theta", "dl",
-];
+/// The CSV header, in order: `run`, then [`SAMPLE_COLUMNS`] (built from it, not copied).
+pub const CSV_COLUMNS: [&str; 1 + SAMPLE_COLUMNS.len()] = {
+    let mut out = ["run"; 1 + SAMPLE_COLUMNS.len()];
+    let mut i = 0;
+    while i < SAMPLE_COLUMNS.len() {
+        out[i + 1] = SAMPLE_COLUMNS[i];
+        i += 1;
+    }
+    out
+};
 
-/// The columns of one sample, the values of [`sample_values`] (CSV columns after `run`).
+/// The columns of one sample, the values of [`sample_values`] (CSV columns after `run`):
+/// the one list of sample column names that the CSV, the MCAP and Python use.
 pub const SAMPLE_COLUMNS: [&str; 15] = [
     "t", "x", "y", "theta", "v", "omega", "phi_r", "phi_l", "omega_r", "omega_l", "tau_r", "tau_l", "e_s", "e_theta",
     "dl",
 ];
+
+/// The unit of each of [`SAMPLE_COLUMNS`], in order.
+pub const SAMPLE_UNITS: [&str; SAMPLE_COLUMNS.len()] =
+    ["s", "m", "m", "rad", "m/s", "rad/s", "rad", "rad", "rad/s", "rad/s", "N m", "N m", "m", "rad", "m"];
 
 /// A sample's values in [`SAMPLE_COLUMNS`] order: t (s), x, y (m), theta (rad),
 /// v (m/s), omega (rad/s), phi_r, phi_l (rad), omega_r, omega_l (rad/s),
@@ -47,6 +57,9 @@ pub fn sample_values(s: &Sample<f64>) -> [f64; 15] {
 /// The columns a run with a `[sensor]` table adds after [`CSV_COLUMNS`]: the pose the
 /// controller used at its last tick (m, m, rad).
 pub const MEASURED_COLUMNS: [&str; 3] = ["x_meas", "y_meas", "theta_meas"];
+
+/// The unit of each of [`MEASURED_COLUMNS`], in order.
+pub const MEASURED_UNITS: [&str; MEASURED_COLUMNS.len()] = ["m", "m", "rad"];
 
 /// A sample's values in [`MEASURED_COLUMNS`] order.
 #[inline]

@@ -50,9 +50,28 @@ from ._results import BatchResult, SweepResult
 
 __version__: str = _native.__version__
 
+#: The sample columns of a RunResult and of the CSV after ``run``, in order (wmr-scenario's list).
+COLUMNS: tuple = _native.COLUMNS
+#: The unit of each of COLUMNS.
+COLUMN_UNITS: tuple = _native.COLUMN_UNITS
+#: The CSV header: ``run``, then COLUMNS.
+CSV_COLUMNS: tuple = _native.CSV_COLUMNS
+#: The measured-pose columns a RunResult has after COLUMNS (and the CSV with a [sensor]).
+MEASURED_COLUMNS: tuple = _native.MEASURED_COLUMNS
+#: The outcome arrays of run_batch and sweep, in order.
+OUTCOME_FIELDS: tuple = _native.OUTCOME_FIELDS
+#: A run has converged when its final distance to the goal is below this, m.
+ARRIVAL_RADIUS_M: float = _native.ARRIVAL_RADIUS_M
+
 __all__ = [
+    "ARRIVAL_RADIUS_M",
     "BatchResult",
+    "COLUMNS",
+    "COLUMN_UNITS",
+    "CSV_COLUMNS",
     "LyapunovController",
+    "MEASURED_COLUMNS",
+    "OUTCOME_FIELDS",
     "PaperBidirectionalController",
     "PaperController",
     "ParameterError",

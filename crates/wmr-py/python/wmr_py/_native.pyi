@@ -15,6 +15,10 @@ _ArrayLike = Union[Sequence[float], _FloatArray]
 _PoseLike = Union[Sequence[float], Mapping[str, float]]
 _ScenarioLike = Union[str, os.PathLike[str], Mapping[str, Any]]
 
+#: A controller reference: {"pose": .., "twist": .., "accel": ..} or rows of
+#: (x, y, theta, v, omega, v', omega').
+_ReferenceLike = Union[Mapping[str, Any], _ArrayLike]
+
 class ParameterError(ValueError):
     """A bad argument or parameter value; ``key`` names it (``robot.mass``, ``state[3]``)."""
 
@@ -32,16 +36,18 @@ class Robot:
     def __new__(
         cls,
         *,
-        mass: float = 5.0,
-        wheel_radius: float = 0.1,
-        half_track: float = 0.2,
-        com_offset: float = 0.25,
-        wheel_inertia: float = 0.002,
-        platform_inertia: float = 0.005,
-        gear_ratio: float = 0.1,
-        viscous_friction: float = 0.0,
-        coulomb_friction: float = 0.0,
-        coulomb_speed: float = 0.001,
+        # keys from wmr_scenario::schema(), generated: WMR_BLESS=1 cargo test -p wmr-cli --test keys_documented
+        mass: float = 5.0,  # [kg] m, total mass.
+        wheel_radius: float = 0.1,  # [m] r, wheel radius.
+        half_track: float = 0.2,  # [m] R, half the distance between the wheels (axle midpoint C to each wheel).
+        com_offset: float = 0.25,  # [m] d, distance from C forward to the centre of mass G (negative: G behind C).
+        wheel_inertia: float = 0.002,  # [kg m^2] I_m, inertia of one wheel plus its motor rotor about the wheel axis.
+        platform_inertia: float = 0.005,  # [kg m^2] I_p, platform inertia about G.
+        gear_ratio: float = 0.1,  # k_t, gear reduction: wheel speed = k_t * motor speed.
+        viscous_friction: float = 0.0,  # [N m s] b_v, viscous friction at each wheel: tau_f = b_v * omega_wheel.
+        coulomb_friction: float = 0.0,  # [N m] tau_c, Coulomb friction at each wheel, smoothed by coulomb_speed.
+        coulomb_speed: float = 0.001,  # [rad/s] omega_eps: Coulomb friction is tau_c * tanh(omega_wheel / omega_eps).
+        # end of generated keys
     ) -> Self: ...
     def derivative(self, state: _ArrayLike, tau: _ArrayLike) -> _FloatArray:
         """d/dt of [x, y, theta, v, omega, phi_r, phi_l] under wheel torques (tau_r, tau_l), N m;
@@ -87,23 +93,34 @@ class PaperController:
         robot: Union[None, Robot, Mapping[str, float]] = None,
         drive: Optional[Mapping[str, Any]] = None,
         *,
-        mode: str = "pose",
-        kp_theta: float = 2.0,
-        ki_theta: float = 0.1,
-        kp_s: float = 1.0,
-        ki_s: float = 0.25,
-        goal_radius: float = 0.001,
-        hold_radius: float = 0.005,
-        hold: str = "auto",
-        servo_kp: float = 14.0,
-        servo_kd: float = 1.4,
-        servo_ki: float = 0.0,
-        wheel_speed_max: float = math.inf,
-        control_dt: float = 0.001,
+        # keys from wmr_scenario::schema(), generated: WMR_BLESS=1 cargo test -p wmr-cli --test keys_documented
+        mode: str = "pose",  # Pose mode (reach x, y, theta: theta_R = 2 alpha - theta_d) or position mode (heading free: theta_R = alpha).
+        kp_theta: float = 2.0,  # [rad/rad] Kp_theta, rad of heading command per rad of error (paper: 2).
+        ki_theta: float = 0.1,  # [1/s] Ki_theta (paper: 0.1).
+        kp_s: float = 1.0,  # [m/m] Kp_s, m of path command per m of error (paper: 1).
+        ki_s: float = 0.25,  # [1/s] Ki_s (paper: 0.25).
+        goal_radius: float = 0.001,  # [m] Within this distance of the goal alpha keeps its last value.
+        hold_radius: float = 0.005,  # [m] Within this distance of the goal the outer errors are zero and the outer integrators stop (0: off).
+        hold: str = "auto",  # The hold: auto (zero_errors in pose mode, freeze in position mode), zero_errors (references step on entry) or freeze (bumpless).
+        servo_kp: float = 14.0,  # [N m/rad or V/rad] Wheel servo Kp (the unit follows the drive: torque or dc_motor).
+        servo_kd: float = 1.4,  # [N m s/rad or V s/rad] Wheel servo Kd.
+        servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
+        wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
+        control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
+        # end of generated keys
     ) -> Self: ...
-    def update(self, pose: _ArrayLike, wheel_angles: _ArrayLike, wheel_speeds: _ArrayLike) -> Any:
+    def update(
+        self,
+        pose: _ArrayLike,
+        wheel_angles: _ArrayLike,
+        wheel_speeds: _ArrayLike,
+        reference: Optional[_ReferenceLike] = None,
+    ) -> Any:
         """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
-        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds."""
+        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds.
+        reference: the reference tracked at this tick (default: the goal at rest), a dict
+        {"pose": (x, y, theta rad), "twist": (v m/s, omega rad/s), "accel": (v' m/s^2,
+        omega' rad/s^2)}, a row of those 7 numbers or an (N, 7) array (or one row for all)."""
     def reset(self) -> None: ...
     @property
     def errors(self) -> Any:
@@ -131,22 +148,33 @@ class PaperBidirectionalController:
         robot: Union[None, Robot, Mapping[str, float]] = None,
         drive: Optional[Mapping[str, Any]] = None,
         *,
-        kp_theta: float = 0.0,
-        ki_theta: float = 1.0,
-        kp_s: float = 0.0,
-        ki_s: float = 0.25,
-        goal_radius: float = 0.001,
-        hold_radius: float = 0.005,
-        hold: str = "freeze",
-        servo_kp: float = 14.0,
-        servo_kd: float = 1.4,
-        servo_ki: float = 0.0,
-        wheel_speed_max: float = math.inf,
-        control_dt: float = 0.001,
+        # keys from wmr_scenario::schema(), generated: WMR_BLESS=1 cargo test -p wmr-cli --test keys_documented
+        kp_theta: float = 0.0,  # [rad/rad] Kp_theta, rad of heading command per rad of error (0: no step when e_theta jumps).
+        ki_theta: float = 1.0,  # [1/s] Ki_theta; below the bound the approach to the goal is unstable.
+        kp_s: float = 0.0,  # [m/m] Kp_s, m of path command per m of error (0: no lunge when e_s swings as the robot turns).
+        ki_s: float = 0.25,  # [1/s] Ki_s.
+        goal_radius: float = 0.001,  # [m] Within this distance of the goal alpha keeps its last value.
+        hold_radius: float = 0.005,  # [m] Within this distance of the goal the outer loops hold (0: off).
+        hold: str = "freeze",  # The hold: freeze (bumpless; auto is the same) or zero_errors.
+        servo_kp: float = 14.0,  # [N m/rad or V/rad] Wheel servo Kp (the unit follows the drive: torque or dc_motor).
+        servo_kd: float = 1.4,  # [N m s/rad or V s/rad] Wheel servo Kd.
+        servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
+        wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
+        control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
+        # end of generated keys
     ) -> Self: ...
-    def update(self, pose: _ArrayLike, wheel_angles: _ArrayLike, wheel_speeds: _ArrayLike) -> Any:
+    def update(
+        self,
+        pose: _ArrayLike,
+        wheel_angles: _ArrayLike,
+        wheel_speeds: _ArrayLike,
+        reference: Optional[_ReferenceLike] = None,
+    ) -> Any:
         """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
-        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds."""
+        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds.
+        reference: the reference tracked at this tick (default: the goal at rest), a dict
+        {"pose": (x, y, theta rad), "twist": (v m/s, omega rad/s), "accel": (v' m/s^2,
+        omega' rad/s^2)}, a row of those 7 numbers or an (N, 7) array (or one row for all)."""
     def reset(self) -> None: ...
     @property
     def errors(self) -> Any:
@@ -174,21 +202,32 @@ class PolarController:
         robot: Union[None, Robot, Mapping[str, float]] = None,
         drive: Optional[Mapping[str, Any]] = None,
         *,
-        k_rho: float = 0.5,
-        k_alpha: float = 3.0,
-        k_beta: float = -1.2,
-        reverse: bool = True,
-        reverse_hysteresis: float = 0.5235987755982989,
-        goal_radius: float = 0.001,
-        servo_kp: float = 14.0,
-        servo_kd: float = 1.4,
-        servo_ki: float = 0.0,
-        wheel_speed_max: float = math.inf,
-        control_dt: float = 0.001,
+        # keys from wmr_scenario::schema(), generated: WMR_BLESS=1 cargo test -p wmr-cli --test keys_documented
+        k_rho: float = 0.5,  # [1/s] k_rho: forward speed per metre of distance.
+        k_alpha: float = 3.0,  # [1/s] k_alpha: yaw rate per rad of alpha.
+        k_beta: float = -1.2,  # [1/s] k_beta: yaw rate per rad of beta.
+        reverse: bool = True,  # Drive backwards when the goal is behind (false: always forward).
+        reverse_hysteresis: float = 0.5235987755982989,  # [rad] Overshoot of |alpha| past pi/2 before a later direction switch.
+        goal_radius: float = 0.001,  # [m] Within this distance of the goal the law stops; it resumes beyond twice that.
+        servo_kp: float = 14.0,  # [N m/rad or V/rad] Wheel servo Kp (the unit follows the drive: torque or dc_motor).
+        servo_kd: float = 1.4,  # [N m s/rad or V s/rad] Wheel servo Kd.
+        servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
+        wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
+        control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
+        # end of generated keys
     ) -> Self: ...
-    def update(self, pose: _ArrayLike, wheel_angles: _ArrayLike, wheel_speeds: _ArrayLike) -> Any:
+    def update(
+        self,
+        pose: _ArrayLike,
+        wheel_angles: _ArrayLike,
+        wheel_speeds: _ArrayLike,
+        reference: Optional[_ReferenceLike] = None,
+    ) -> Any:
         """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
-        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds."""
+        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds.
+        reference: the reference tracked at this tick (default: the goal at rest), a dict
+        {"pose": (x, y, theta rad), "twist": (v m/s, omega rad/s), "accel": (v' m/s^2,
+        omega' rad/s^2)}, a row of those 7 numbers or an (N, 7) array (or one row for all)."""
     def reset(self) -> None: ...
     @property
     def errors(self) -> Any:
@@ -216,21 +255,32 @@ class LyapunovController:
         robot: Union[None, Robot, Mapping[str, float]] = None,
         drive: Optional[Mapping[str, Any]] = None,
         *,
-        gamma: float = 0.5,
-        k: float = 3.0,
-        h: float = 9.0,
-        reverse: bool = True,
-        reverse_hysteresis: float = 0.5235987755982989,
-        goal_radius: float = 0.001,
-        servo_kp: float = 14.0,
-        servo_kd: float = 1.4,
-        servo_ki: float = 0.0,
-        wheel_speed_max: float = math.inf,
-        control_dt: float = 0.001,
+        # keys from wmr_scenario::schema(), generated: WMR_BLESS=1 cargo test -p wmr-cli --test keys_documented
+        gamma: float = 0.5,  # [1/s] gamma: forward speed per metre of distance, times cos(alpha).
+        k: float = 3.0,  # [1/s] k: yaw rate per rad of alpha.
+        h: float = 9.0,  # h: weight of theta_A against alpha in V.
+        reverse: bool = True,  # Drive backwards when the goal is behind (false: always start forward).
+        reverse_hysteresis: float = 0.5235987755982989,  # [rad] Overshoot of |alpha| past pi/2 before a later direction switch.
+        goal_radius: float = 0.001,  # [m] Within this distance of the goal the law stops.
+        servo_kp: float = 14.0,  # [N m/rad or V/rad] Wheel servo Kp (the unit follows the drive: torque or dc_motor).
+        servo_kd: float = 1.4,  # [N m s/rad or V s/rad] Wheel servo Kd.
+        servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
+        wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
+        control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
+        # end of generated keys
     ) -> Self: ...
-    def update(self, pose: _ArrayLike, wheel_angles: _ArrayLike, wheel_speeds: _ArrayLike) -> Any:
+    def update(
+        self,
+        pose: _ArrayLike,
+        wheel_angles: _ArrayLike,
+        wheel_speeds: _ArrayLike,
+        reference: Optional[_ReferenceLike] = None,
+    ) -> Any:
         """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
-        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds."""
+        (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds.
+        reference: the reference tracked at this tick (default: the goal at rest), a dict
+        {"pose": (x, y, theta rad), "twist": (v m/s, omega rad/s), "accel": (v' m/s^2,
+        omega' rad/s^2)}, a row of those 7 numbers or an (N, 7) array (or one row for all)."""
     def reset(self) -> None: ...
     @property
     def errors(self) -> Any:
@@ -266,25 +316,42 @@ class RunResult:
     path_length: float
     energy: float
     summary: str
-    t: _FloatArray
-    x: _FloatArray
-    y: _FloatArray
-    theta: _FloatArray
-    v: _FloatArray
-    omega: _FloatArray
-    phi_r: _FloatArray
-    phi_l: _FloatArray
-    omega_r: _FloatArray
-    omega_l: _FloatArray
-    tau_r: _FloatArray
-    tau_l: _FloatArray
-    e_s: _FloatArray
-    e_theta: _FloatArray
-    dl: _FloatArray
-    x_meas: _FloatArray
-    """x of the pose the controller used at its last tick, m (equal to x without [sensor])."""
-    y_meas: _FloatArray
-    theta_meas: _FloatArray
+    @property
+    def t(self) -> _FloatArray: ...
+    @property
+    def x(self) -> _FloatArray: ...
+    @property
+    def y(self) -> _FloatArray: ...
+    @property
+    def theta(self) -> _FloatArray: ...
+    @property
+    def v(self) -> _FloatArray: ...
+    @property
+    def omega(self) -> _FloatArray: ...
+    @property
+    def phi_r(self) -> _FloatArray: ...
+    @property
+    def phi_l(self) -> _FloatArray: ...
+    @property
+    def omega_r(self) -> _FloatArray: ...
+    @property
+    def omega_l(self) -> _FloatArray: ...
+    @property
+    def tau_r(self) -> _FloatArray: ...
+    @property
+    def tau_l(self) -> _FloatArray: ...
+    @property
+    def e_s(self) -> _FloatArray: ...
+    @property
+    def e_theta(self) -> _FloatArray: ...
+    @property
+    def dl(self) -> _FloatArray: ...
+    @property
+    def x_meas(self) -> _FloatArray: ...
+    @property
+    def y_meas(self) -> _FloatArray: ...
+    @property
+    def theta_meas(self) -> _FloatArray: ...
     def __getitem__(self, name: str, /) -> _FloatArray: ...
     def __len__(self) -> int: ...
     def columns(self) -> dict[str, _FloatArray]:
@@ -294,6 +361,12 @@ class RunResult:
     def __getstate__(self) -> dict[str, Any]: ...
 
 __version__: str
+COLUMNS: Tuple[str, ...]
+COLUMN_UNITS: Tuple[str, ...]
+CSV_COLUMNS: Tuple[str, ...]
+MEASURED_COLUMNS: Tuple[str, ...]
+OUTCOME_FIELDS: Tuple[str, ...]
+ARRIVAL_RADIUS_M: float
 
 _Progress = Optional[Callable[[int], Any]]
 
@@ -337,4 +410,10 @@ __all__ = [
     "_sweep_plan",
     "_time_run_rust",
     "__version__",
+    "COLUMNS",
+    "COLUMN_UNITS",
+    "CSV_COLUMNS",
+    "MEASURED_COLUMNS",
+    "OUTCOME_FIELDS",
+    "ARRIVAL_RADIUS_M",
 ]

@@ -15,24 +15,12 @@ import numpy as np
 
 from . import _native
 
-#: Outcome arrays of run_batch and sweep, in order (float64 except converged/diverged).
-OUTCOME_FIELDS = (
-    "final_x",
-    "final_y",
-    "final_theta",
-    "final_dl",
-    "final_heading_error",
-    "time_to_1cm",
-    "t_final",
-    "peak_wheel_speed",
-    "path_length",
-    "energy",
-    "converged",
-    "diverged",
-)
+#: Outcome arrays of run_batch and sweep, in order (float64 except converged/diverged):
+#: the native module's list, named once next to the values in Rust.
+OUTCOME_FIELDS: tuple = _native.OUTCOME_FIELDS
 
-#: A run has converged when its final distance to the goal is below this, m.
-ARRIVAL_RADIUS_M = 0.01
+#: A run has converged when its final distance to the goal is below this, m (wmr-core's).
+ARRIVAL_RADIUS_M: float = _native.ARRIVAL_RADIUS_M
 
 
 def require(package: str, what: str) -> Any:
@@ -62,7 +50,7 @@ def run_result_to_pandas(r: Any) -> Any:
     for name, col in cols.items():
         if name != "run":
             data[name] = col
-    for name in ("x_meas", "y_meas", "theta_meas"):
+    for name in _native.MEASURED_COLUMNS:
         data[name] = r[name]
     return pd.DataFrame(data)
 

@@ -4,58 +4,58 @@
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use wmr_core::Status;
+use wmr_core::{Outcome, Status};
 
-/// Names of the run_batch outputs, in order.
-const BATCH_FIELDS: [&str; 12] = [
-    "final_x",
-    "final_y",
-    "final_theta",
-    "final_dl",
-    "final_heading_error",
-    "time_to_1cm",
-    "t_final",
-    "peak_wheel_speed",
-    "path_length",
-    "energy",
-    "converged",
-    "diverged",
+/// A float outcome array: its name and how it is read from an outcome.
+type FloatField = (&'static str, fn(&Outcome<f64>) -> f64);
+
+/// The float outcome arrays of `run_batch` and `sweep`, in order: each name written once,
+/// next to the value it names.
+const FLOAT_FIELDS: [FloatField; 10] = [
+    ("final_x", |o| o.final_pose.x),
+    ("final_y", |o| o.final_pose.y),
+    ("final_theta", |o| o.final_pose.theta),
+    ("final_dl", |o| o.final_dl),
+    ("final_heading_error", |o| o.final_heading_error),
+    ("time_to_1cm", |o| o.time_to_arrival.unwrap_or(f64::NAN)),
+    ("t_final", |o| o.t_final),
+    ("peak_wheel_speed", |o| o.peak_wheel_speed),
+    ("path_length", |o| o.path_length),
+    ("energy", |o| o.energy),
 ];
 
-/// The per-run outcome arrays of `run_batch` and `sweep` ([`BATCH_FIELDS`]), one entry
+/// The bool outcome arrays, after the float ones: the run's status is this one.
+const BOOL_FIELDS: [(&str, Status); 2] = [("converged", Status::Converged), ("diverged", Status::Diverged)];
+
+/// Names of the run_batch and sweep outcome arrays, in order (`wmr_py.OUTCOME_FIELDS`).
+pub fn outcome_fields() -> impl Iterator<Item = &'static str> {
+    FLOAT_FIELDS.iter().map(|f| f.0).chain(BOOL_FIELDS.iter().map(|f| f.0))
+}
+
+/// The per-run outcome arrays of `run_batch` and `sweep` ([`outcome_fields`]), one entry
 /// per outcome, in order.
 pub(super) fn outcome_dict<'py, 'a>(
     py: Python<'py>,
-    outcomes: impl ExactSizeIterator<Item = &'a wmr_core::Outcome<f64>>,
+    outcomes: impl ExactSizeIterator<Item = &'a Outcome<f64>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let n = outcomes.len();
-    let mut cols: [Vec<f64>; 10] = std::array::from_fn(|_| Vec::with_capacity(n));
-    let mut converged = Vec::with_capacity(n);
-    let mut diverged = Vec::with_capacity(n);
+    let mut cols: [Vec<f64>; FLOAT_FIELDS.len()] = std::array::from_fn(|_| Vec::with_capacity(n));
+    let mut flags: [Vec<bool>; BOOL_FIELDS.len()] = std::array::from_fn(|_| Vec::with_capacity(n));
     for o in outcomes {
-        let vals = [
-            o.final_pose.x,
-            o.final_pose.y,
-            o.final_pose.theta,
-            o.final_dl,
-            o.final_heading_error,
-            o.time_to_arrival.unwrap_or(f64::NAN),
-            o.t_final,
-            o.peak_wheel_speed,
-            o.path_length,
-            o.energy,
-        ];
-        for (c, v) in cols.iter_mut().zip(vals) {
-            c.push(v);
+        for (c, (_, get)) in cols.iter_mut().zip(FLOAT_FIELDS) {
+            c.push(get(o));
         }
-        converged.push(o.status() == Status::Converged);
-        diverged.push(o.status() == Status::Diverged);
+        let status = o.status();
+        for (c, (_, s)) in flags.iter_mut().zip(BOOL_FIELDS) {
+            c.push(status == s);
+        }
     }
     let d = PyDict::new(py);
-    for (name, c) in BATCH_FIELDS.iter().zip(cols) {
+    for ((name, _), c) in FLOAT_FIELDS.iter().zip(cols) {
         d.set_item(name, PyArray1::from_vec(py, c))?;
     }
-    d.set_item(BATCH_FIELDS[10], PyArray1::from_vec(py, converged))?;
-    d.set_item(BATCH_FIELDS[11], PyArray1::from_vec(py, diverged))?;
+    for ((name, _), c) in BOOL_FIELDS.iter().zip(flags) {
+        d.set_item(name, PyArray1::from_vec(py, c))?;
+    }
     Ok(d)
 }

@@ -5,13 +5,41 @@ use numpy::{PyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use wmr_core::Status;
-use wmr_scenario::{RunResult, SAMPLE_COLUMNS, measured_values, sample_values};
+use wmr_scenario::{
+    MEASURED_COLUMNS, MEASURED_UNITS, RunResult, SAMPLE_COLUMNS, SAMPLE_UNITS, measured_values, sample_values,
+};
 
 use crate::error::parameter_error;
 use crate::interrupt::try_vec;
 
 /// Number of sample columns (the CSV columns after `run`).
 pub(super) const N_COLS: usize = SAMPLE_COLUMNS.len();
+
+/// Number of a RunResult's columns: the sample columns, then the measured pose.
+const N_ALL: usize = N_COLS + MEASURED_COLUMNS.len();
+
+/// Names of a RunResult's columns, in order: wmr-scenario's [`SAMPLE_COLUMNS`], then its
+/// [`MEASURED_COLUMNS`] (built from them, not copied).
+pub const RESULT_COLUMNS: [&str; N_ALL] = {
+    let mut out = [""; N_ALL];
+    let mut i = 0;
+    while i < N_ALL {
+        out[i] = if i < N_COLS { SAMPLE_COLUMNS[i] } else { MEASURED_COLUMNS[i - N_COLS] };
+        i += 1;
+    }
+    out
+};
+
+/// The unit of each of [`RESULT_COLUMNS`], in order.
+pub const RESULT_UNITS: [&str; N_ALL] = {
+    let mut out = [""; N_ALL];
+    let mut i = 0;
+    while i < N_ALL {
+        out[i] = if i < N_COLS { SAMPLE_UNITS[i] } else { MEASURED_UNITS[i - N_COLS] };
+        i += 1;
+    }
+    out
+};
 
 /// One run's columns, built once in Rust: the CSV columns and the measured pose.
 pub(super) struct Columns {
@@ -42,11 +70,10 @@ impl Columns {
 /// One run of a scenario: every CSV column (docs/scenario.md) as a float64 ndarray, plus the
 /// run's summary.
 ///
-/// Columns (one value per logged sample): t (s), x, y (m, point C, world frame),
-/// theta (rad), v (m/s), omega (rad/s), phi_r, phi_l (rad), omega_r, omega_l (rad/s),
-/// tau_r, tau_l (N m, wheel torques applied from this sample on), e_s (m),
-/// e_theta (rad), dl (m). `result["x"]` reads a column by name; `columns()` gives a dict
-/// of all CSV columns (with `run`).
+/// Columns (one value per logged sample): `wmr_py.COLUMNS` (the CSV columns after `run`,
+/// units in `wmr_py.COLUMN_UNITS`), then `wmr_py.MEASURED_COLUMNS`, each an attribute.
+/// `result["x"]` reads a column by name; `columns()` gives a dict of all CSV columns
+/// (with `run`).
 #[pyclass(name = "RunResult", module = "wmr_py", frozen)]
 pub struct PyRunResult {
     /// 0-based index of the `[[run]]` (the CSV `run` column).
@@ -91,53 +118,16 @@ pub struct PyRunResult {
     /// The summary line the CLI prints.
     #[pyo3(get)]
     summary: String,
-    #[pyo3(get)]
-    t: Py<PyArray1<f64>>,
-    #[pyo3(get)]
-    x: Py<PyArray1<f64>>,
-    #[pyo3(get)]
-    y: Py<PyArray1<f64>>,
-    #[pyo3(get)]
-    theta: Py<PyArray1<f64>>,
-    #[pyo3(get)]
-    v: Py<PyArray1<f64>>,
-    #[pyo3(get)]
-    omega: Py<PyArray1<f64>>,
-    #[pyo3(get)]
-    phi_r: Py<PyArray1<f64>>,
-    #[pyo3(get)]
-    phi_l: Py<PyArray1<f64>>,
-    #[pyo3(get)]
-    omega_r: Py<PyArray1<f64>>,
-    #[pyo3(get)]
-    omega_l: Py<PyArray1<f64>>,
-    #[pyo3(get)]
-    tau_r: Py<PyArray1<f64>>,
-    #[pyo3(get)]
-    tau_l: Py<PyArray1<f64>>,
-    #[pyo3(get)]
-    e_s: Py<PyArray1<f64>>,
-    #[pyo3(get)]
-    e_theta: Py<PyArray1<f64>>,
-    #[pyo3(get)]
-    dl: Py<PyArray1<f64>>,
-    /// x of the pose the controller used at its last tick, m (= x without a `[sensor]`).
-    #[pyo3(get)]
-    x_meas: Py<PyArray1<f64>>,
-    /// y of the pose the controller used, m.
-    #[pyo3(get)]
-    y_meas: Py<PyArray1<f64>>,
-    /// theta of the pose the controller used, rad.
-    #[pyo3(get)]
-    theta_meas: Py<PyArray1<f64>>,
+    /// The columns, in [`RESULT_COLUMNS`] order; each is also an attribute of the class
+    /// (a property that `add_column_properties` adds from the same list).
+    cols: Vec<Py<PyArray1<f64>>>,
 }
 
 impl PyRunResult {
     pub(super) fn new(py: Python<'_>, r: RunResult, cols: Columns) -> Self {
         // from_vec hands each Vec's buffer to numpy: no copy.
-        let [t, x, y, theta, v, omega, phi_r, phi_l, omega_r, omega_l, tau_r, tau_l, e_s, e_theta, dl] =
-            cols.cols.map(|c| PyArray1::from_vec(py, c).unbind());
-        let [x_meas, y_meas, theta_meas] = cols.measured.map(|c| PyArray1::from_vec(py, c).unbind());
+        let cols: Vec<Py<PyArray1<f64>>> =
+            cols.cols.into_iter().chain(cols.measured).map(|c| PyArray1::from_vec(py, c).unbind()).collect();
         let o = &r.outcome;
         Self {
             run: r.index,
@@ -154,49 +144,16 @@ impl PyRunResult {
             energy: o.energy,
             summary: r.summary_line(),
             label: r.label,
-            t,
-            x,
-            y,
-            theta,
-            v,
-            omega,
-            phi_r,
-            phi_l,
-            omega_r,
-            omega_l,
-            tau_r,
-            tau_l,
-            e_s,
-            e_theta,
-            dl,
-            x_meas,
-            y_meas,
-            theta_meas,
+            cols,
         }
     }
 
     fn column(&self, name: &str) -> Option<&Py<PyArray1<f64>>> {
-        Some(match name {
-            "t" => &self.t,
-            "x" => &self.x,
-            "y" => &self.y,
-            "theta" => &self.theta,
-            "v" => &self.v,
-            "omega" => &self.omega,
-            "phi_r" => &self.phi_r,
-            "phi_l" => &self.phi_l,
-            "omega_r" => &self.omega_r,
-            "omega_l" => &self.omega_l,
-            "tau_r" => &self.tau_r,
-            "tau_l" => &self.tau_l,
-            "e_s" => &self.e_s,
-            "e_theta" => &self.e_theta,
-            "dl" => &self.dl,
-            "x_meas" => &self.x_meas,
-            "y_meas" => &self.y_meas,
-            "theta_meas" => &self.theta_meas,
-            _ => return None,
-        })
+        RESULT_COLUMNS.iter().position(|c| *c == name).map(|i| &self.cols[i])
+    }
+
+    fn len(&self, py: Python<'_>) -> usize {
+        self.cols[0].bind(py).len()
     }
 }
 
@@ -250,7 +207,7 @@ impl PyRunResult {
     /// Every CSV column of docs/scenario.md (`run` first, as float64 like the others), in order.
     fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
-        let n = self.t.bind(py).len();
+        let n = self.len(py);
         d.set_item("run", PyArray1::from_vec(py, vec![self.run as f64; n]))?;
         for name in SAMPLE_COLUMNS {
             if let Some(c) = self.column(name) {
@@ -262,41 +219,34 @@ impl PyRunResult {
 
     /// Number of logged samples.
     fn __len__(&self, py: Python<'_>) -> usize {
-        self.t.bind(py).len()
+        self.len(py)
     }
 
     fn __repr__(&self, py: Python<'_>) -> String {
-        format!(
-            "<RunResult run={} label={:?} samples={}: {}>",
-            self.run,
-            self.label,
-            self.t.bind(py).len(),
-            self.summary
-        )
+        format!("<RunResult run={} label={:?} samples={}: {}>", self.run, self.label, self.len(py), self.summary)
     }
 }
 
-/// Names of a RunResult's columns, in order: the CSV columns, then the measured pose.
-const RESULT_COLUMNS: [&str; N_COLS + 3] = [
-    "t",
-    "x",
-    "y",
-    "theta",
-    "v",
-    "omega",
-    "phi_r",
-    "phi_l",
-    "omega_r",
-    "omega_l",
-    "tau_r",
-    "tau_l",
-    "e_s",
-    "e_theta",
-    "dl",
-    "x_meas",
-    "y_meas",
-    "theta_meas",
-];
+/// Adds to `RunResult` one read-only property per column of [`RESULT_COLUMNS`]
+/// (`result.x` is `result["x"]`, the same array object), with its unit as the doc.
+pub fn add_column_properties(cls: &Bound<'_, pyo3::types::PyType>) -> PyResult<()> {
+    let py = cls.py();
+    let property = py.import("builtins")?.getattr("property")?;
+    let itemgetter = py.import("operator")?.getattr("itemgetter")?;
+    for (name, unit) in RESULT_COLUMNS.iter().zip(RESULT_UNITS) {
+        let doc = if MEASURED_COLUMNS.contains(name) {
+            format!(
+                "{name} of the pose the controller used at its last tick, {unit} (= {} without a [sensor]).",
+                &name[..name.len() - 5]
+            )
+        } else {
+            format!("The {name} column, {unit}, one value per logged sample.")
+        };
+        let prop = property.call1((itemgetter.call1((*name,))?, py.None(), py.None(), doc))?;
+        cls.setattr(*name, prop)?;
+    }
+    Ok(())
+}
 
 /// A RunResult from the state its `__getstate__` gave (unpickling); every field checked.
 #[pyfunction(name = "_run_result_from_state")]
@@ -316,8 +266,6 @@ pub fn run_result_from_state(state: &Bound<'_, PyDict>) -> PyResult<PyRunResult>
         let a = a.cast_into::<PyArray1<f64>>().map_err(|_| parameter_error(name, "expected a float64 array"))?;
         cols.push(a.unbind());
     }
-    let mut it = cols.into_iter();
-    let mut next = || it.next().ok_or_else(|| parameter_error("state", "too few columns"));
     Ok(PyRunResult {
         run: get("run")?.extract()?,
         label: get("label")?.extract()?,
@@ -333,23 +281,6 @@ pub fn run_result_from_state(state: &Bound<'_, PyDict>) -> PyResult<PyRunResult>
         path_length: get("path_length")?.extract()?,
         energy: get("energy")?.extract()?,
         summary: get("summary")?.extract()?,
-        t: next()?,
-        x: next()?,
-        y: next()?,
-        theta: next()?,
-        v: next()?,
-        omega: next()?,
-        phi_r: next()?,
-        phi_l: next()?,
-        omega_r: next()?,
-        omega_l: next()?,
-        tau_r: next()?,
-        tau_l: next()?,
-        e_s: next()?,
-        e_theta: next()?,
-        dl: next()?,
-        x_meas: next()?,
-        y_meas: next()?,
-        theta_meas: next()?,
+        cols,
     })
 }
