@@ -1,0 +1,302 @@
+//! The per-run encoder: a run's samples to the messages of every topic, with the path's
+//! pieces, the clock's stamps and the run's colour; its bytes go to the MCAP file and the
+//! live server alike.
+
+use foxglove::messages::{
+    ArrowPrimitive, CubePrimitive, FrameTransform, LinePrimitive, Point3, Pose, PoseInFrame, Quaternion, SceneEntity,
+    SceneEntityDeletion, SceneUpdate, Vector3, line_primitive, scene_entity_deletion,
+};
+use wmr_core::{Pose2, RobotParams, Sample};
+use wmr_scenario::RunSpec;
+
+use super::clock::{LogClock, stamp};
+use super::colour::run_color;
+use super::path::{P2, PathPieces, RECENT_VERTICES};
+use super::sample::encode_sample;
+use super::topics::{Kind, WORLD_FRAME, base_link};
+
+fn yaw(theta: f64) -> Quaternion {
+    let h = 0.5 * theta;
+    Quaternion { x: 0.0, y: 0.0, z: h.sin(), w: h.cos() }
+}
+
+fn pose(p: Pose2<f64>) -> Pose {
+    Pose { position: Some(Vector3 { x: p.x, y: p.y, z: 0.0 }), orientation: Some(yaw(p.theta)) }
+}
+
+/// Line width of the drawn path, screen pixels.
+const PATH_WIDTH_PX: f64 = 2.5;
+
+/// The entity id of a path piece on its topic.
+pub const PATH_ENTITY: &str = "path";
+
+/// Encodes one run's messages.
+pub struct RunEncoder {
+    clock: LogClock,
+    measured: bool,
+    tf: FrameTransform,
+    meas: PoseInFrame,
+    last_meas: Option<Pose2<f64>>,
+    body: SceneEntity,
+    goal: SceneEntity,
+    line: LinePrimitive,
+    path: Option<PathPieces>,
+    points: Vec<Point3>,
+    buf: Vec<u8>,
+}
+
+impl RunEncoder {
+    /// The encoder of run `run` (`spec`) of robot `robot`; `measured`: the scenario has a
+    /// `[sensor]`, so `pose_meas` and the measured fields are written.
+    pub fn new(run: usize, spec: &RunSpec, robot: &RobotParams<f64>, measured: bool, clock: LogClock) -> Self {
+        let r = robot;
+        let colour = run_color(run, 1.0);
+        // The body: a box of the track's width, locked to base_link (C at the axle).
+        let body = CubePrimitive {
+            pose: Some(Pose {
+                position: Some(Vector3 { x: 0.5 * r.com_offset, y: 0.0, z: r.wheel_radius }),
+                orientation: Some(yaw(0.0)),
+            }),
+            size: Some(Vector3 {
+                x: (2.0 * r.com_offset.abs()).max(2.0 * r.wheel_radius) + 2.0 * r.wheel_radius,
+                y: 2.0 * r.half_track,
+                z: r.wheel_radius,
+            }),
+            color: Some(run_color(run, 0.6)),
+        };
+        let scale = r.half_track;
+        let arrow = ArrowPrimitive {
+            pose: Some(pose(spec.goal)),
+            shaft_length: 1.5 * scale,
+            shaft_diameter: 0.12 * scale,
+            head_length: 0.5 * scale,
+            head_diameter: 0.35 * scale,
+            color: Some(colour),
+        };
+        Self {
+            clock,
+            measured,
+            tf: FrameTransform {
+                timestamp: None,
+                parent_frame_id: WORLD_FRAME.into(),
+                child_frame_id: base_link(run),
+                translation: None,
+                rotation: None,
+            },
+            meas: PoseInFrame { timestamp: None, frame_id: WORLD_FRAME.into(), pose: None },
+            last_meas: None,
+            body: SceneEntity {
+                frame_id: base_link(run),
+                id: "body".into(),
+                frame_locked: true,
+                cubes: vec![body],
+                ..Default::default()
+            },
+            goal: SceneEntity {
+                frame_id: WORLD_FRAME.into(),
+                id: "goal".into(),
+                arrows: vec![arrow],
+                ..Default::default()
+            },
+            line: LinePrimitive {
+                r#type: line_primitive::Type::LineStrip as i32,
+                pose: Some(pose(Pose2::new(0.0, 0.0, 0.0))),
+                thickness: PATH_WIDTH_PX,
+                scale_invariant: true,
+                points: Vec::new(),
+                color: Some(colour),
+                ..Default::default()
+            },
+            path: None,
+            points: Vec::with_capacity(RECENT_VERTICES + 2),
+            buf: Vec::with_capacity(1024),
+        }
+    }
+
+    /// Encodes sample `s`, handing each message to `out(kind, log time ns, bytes)`.
+    pub fn sample<E>(
+        &mut self,
+        s: &Sample<f64>,
+        out: &mut impl FnMut(Kind, u64, &[u8]) -> Result<(), E>,
+    ) -> Result<(), E> {
+        let ns = self.clock.nanos(s.t);
+        let ts = Some(stamp(ns));
+        let p = s.state.pose();
+        let here = P2 { x: p.x, y: p.y };
+        let first = self.path.is_none();
+        if first {
+            self.path = Some(PathPieces::new(here));
+            self.send_scene(ns, out)?;
+        }
+
+        self.tf.timestamp = ts;
+        self.tf.translation = Some(Vector3 { x: p.x, y: p.y, z: 0.0 });
+        self.tf.rotation = Some(yaw(p.theta));
+        self.buf.clear();
+        let _ = prost::Message::encode(&self.tf, &mut self.buf);
+        out(Kind::Tf, ns, &self.buf)?;
+
+        self.buf.clear();
+        encode_sample(s, self.measured, &mut self.buf);
+        out(Kind::Sample, ns, &self.buf)?;
+
+        if self.measured && self.last_meas != Some(s.measured) {
+            self.last_meas = Some(s.measured);
+            self.meas.timestamp = ts;
+            self.meas.pose = Some(pose(s.measured));
+            self.buf.clear();
+            let _ = prost::Message::encode(&self.meas, &mut self.buf);
+            out(Kind::PoseMeas, ns, &self.buf)?;
+        }
+
+        if let Some(path) = self.path.as_mut()
+            && !first
+        {
+            path.push(here);
+            if path.tip_due() {
+                self.send_path(ns, out)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// After the last sample: sends `path_tip` once more if C moved since it was sent.
+    pub fn finish<E>(&mut self, last_t: f64, out: &mut impl FnMut(Kind, u64, &[u8]) -> Result<(), E>) -> Result<(), E> {
+        match &self.path {
+            Some(path) if path.sent_end != Some(path.end) && path.end != path.old[0] => {
+                self.send_path(self.clock.nanos(last_t), out)
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Fills `self.points` with `pts`.
+    fn set_points(&mut self, pts: impl IntoIterator<Item = P2>) {
+        self.points.clear();
+        self.points.extend(pts.into_iter().map(|p| Point3 { x: p.x, y: p.y, z: 0.0 }));
+    }
+
+    fn path_entity(&mut self, ns: u64) -> SceneEntity {
+        let mut line = self.line.clone();
+        line.points = std::mem::take(&mut self.points);
+        SceneEntity {
+            timestamp: Some(stamp(ns)),
+            frame_id: WORLD_FRAME.into(),
+            id: PATH_ENTITY.into(),
+            lines: vec![line],
+            ..Default::default()
+        }
+    }
+
+    /// Sends one piece: the entity, or its deletion when it has no segment.
+    fn send_piece<E>(
+        &mut self,
+        kind: Kind,
+        ns: u64,
+        out: &mut impl FnMut(Kind, u64, &[u8]) -> Result<(), E>,
+    ) -> Result<(), E> {
+        let update = if self.points.len() >= 2 {
+            SceneUpdate { deletions: vec![], entities: vec![self.path_entity(ns)] }
+        } else {
+            SceneUpdate {
+                deletions: vec![SceneEntityDeletion {
+                    timestamp: Some(stamp(ns)),
+                    r#type: scene_entity_deletion::Type::MatchingId as i32,
+                    id: PATH_ENTITY.into(),
+                }],
+                entities: vec![],
+            }
+        };
+        self.buf.clear();
+        let _ = prost::Message::encode(&update, &mut self.buf);
+        // Give the point buffer back for the next message.
+        if let Some(mut e) = update.entities.into_iter().next()
+            && let Some(line) = e.lines.pop()
+        {
+            self.points = line.points;
+        }
+        out(kind, ns, &self.buf)
+    }
+
+    /// `scene`: body, goal and the oldest piece of the path.
+    fn send_scene<E>(&mut self, ns: u64, out: &mut impl FnMut(Kind, u64, &[u8]) -> Result<(), E>) -> Result<(), E> {
+        let old = self.path.as_ref().map(|p| p.old.clone()).unwrap_or_default();
+        self.set_points(old);
+        let mut entities = Vec::with_capacity(3);
+        let mut body = self.body.clone();
+        body.timestamp = Some(stamp(ns));
+        let mut goal = self.goal.clone();
+        goal.timestamp = Some(stamp(ns));
+        entities.push(body);
+        entities.push(goal);
+        if self.points.len() >= 2 {
+            entities.push(self.path_entity(ns));
+        }
+        let update = SceneUpdate { deletions: vec![], entities };
+        self.buf.clear();
+        let _ = prost::Message::encode(&update, &mut self.buf);
+        out(Kind::Scene, ns, &self.buf)
+    }
+
+    /// The pieces that changed, then `path_tip`.
+    fn send_path<E>(&mut self, ns: u64, out: &mut impl FnMut(Kind, u64, &[u8]) -> Result<(), E>) -> Result<(), E> {
+        let Some(path) = self.path.as_mut() else { return Ok(()) };
+        let (old_changed, recent_changed) = (path.old_changed, path.recent_changed);
+        path.old_changed = false;
+        path.recent_changed = false;
+        path.sent_end = Some(path.end);
+        if old_changed {
+            self.send_scene(ns, out)?;
+        }
+        let Some(path) = self.path.as_ref() else { return Ok(()) };
+        if old_changed || recent_changed {
+            let piece: Vec<P2> = std::iter::once(path.last_old()).chain(path.recent.iter().copied()).collect();
+            self.set_points(piece);
+            self.send_piece(Kind::Path, ns, out)?;
+        }
+        let Some(path) = self.path.as_ref() else { return Ok(()) };
+        let piece: Vec<P2> = std::iter::once(path.last_recent())
+            .chain(path.tip.iter().copied())
+            .chain(std::iter::once(path.end))
+            .collect();
+        self.set_points(piece);
+        self.send_piece(Kind::PathTip, ns, out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Bytes of the path topics (`scene`, `path`, `path_tip`) for `laps` laps of a circle
+    /// of radius 1 m at 0.5 m/s, logged every 10 ms.
+    fn path_bytes_for_laps(laps: usize) -> usize {
+        let robot = RobotParams::<f64>::default();
+        let spec = RunSpec::new(Pose2::new(1.0, 0.0, 0.0), Pose2::new(0.0, 0.0, 0.0));
+        let mut enc = RunEncoder::new(0, &spec, &robot, false, LogClock::new(1e-3));
+        let mut bytes = 0;
+        let mut out = |kind: Kind, _ns: u64, data: &[u8]| -> Result<(), ()> {
+            if matches!(kind, Kind::Scene | Kind::Path | Kind::PathTip) {
+                bytes += data.len();
+            }
+            Ok(())
+        };
+        let per_lap = (std::f64::consts::TAU / 0.5 / 0.01).round() as usize;
+        for k in 0..=laps * per_lap {
+            let a = k as f64 * std::f64::consts::TAU / per_lap as f64;
+            let mut s = Sample::<f64> { t: k as f64 * 0.01, ..Default::default() };
+            s.state.x = a.cos();
+            s.state.y = a.sin();
+            let _ = enc.sample(&s, &mut out);
+        }
+        bytes
+    }
+
+    #[test]
+    fn path_bytes_grow_linearly_with_the_path() {
+        // 10 laps: about 400 vertices, 40 laps: 1,600 (the oldest piece is re-sent 3 times).
+        let (short, long) = (path_bytes_for_laps(10), path_bytes_for_laps(40));
+        let ratio = long as f64 / short as f64;
+        assert!((3.9..4.4).contains(&ratio), "40 laps: {long} B, 10 laps: {short} B, ratio {ratio}");
+    }
+}

@@ -1,0 +1,119 @@
+//! The topics of a run: their names, frames, encoding and schemas, in one list that the
+//! MCAP file, the live server and `wmr-cli --help` all read.
+//!
+//! Topics, per run `N` (0-based index of the `[[run]]`). Log time = simulation time in ns
+//! from the Unix epoch (t = 0 is 1970-01-01T00:00:00Z), exactly `k * dt` for the `k`-th
+//! plant step, so every sample lies on the log grid.
+//!
+//! The topics are [`Kind::ALL`], each `/runN/<`[`Kind::name`]`>` with the schema
+//! [`Kind::schema`] and the messages [`Kind::messages`] says: that list is also what
+//! `wmr-cli --help` prints (a test reads the topics back from an MCAP file).
+
+use foxglove::messages::{FrameTransform, PoseInFrame, SceneUpdate};
+use foxglove::{Encode, Schema};
+
+use super::sample::sample_schema;
+
+/// The frame every run is drawn in.
+pub const WORLD_FRAME: &str = "world";
+
+/// One kind of topic of a run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Kind {
+    /// `foxglove.FrameTransform`, every sample.
+    Tf,
+    /// `wmr.Sample`, every sample.
+    Sample,
+    /// `foxglove.SceneUpdate`: body, goal, oldest piece of the path.
+    Scene,
+    /// `foxglove.SceneUpdate`: middle piece of the path.
+    Path,
+    /// `foxglove.SceneUpdate`: newest piece of the path, up to C.
+    PathTip,
+    /// `foxglove.PoseInFrame`: the measured pose (runs with a `[sensor]`).
+    PoseMeas,
+}
+
+impl Kind {
+    /// Every kind, in the order channels are created.
+    pub const ALL: [Kind; 6] = [Kind::Tf, Kind::Sample, Kind::Scene, Kind::Path, Kind::PathTip, Kind::PoseMeas];
+
+    /// The last part of the topic name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Tf => "tf",
+            Kind::Sample => "sample",
+            Kind::Scene => "scene",
+            Kind::Path => "path",
+            Kind::PathTip => "path_tip",
+            Kind::PoseMeas => "pose_meas",
+        }
+    }
+
+    /// When this topic gets a message, and what it holds.
+    pub fn messages(self) -> &'static str {
+        match self {
+            Kind::Tf => "every sample: world -> runN/base_link (pose of C)",
+            Kind::Sample => "every sample: every CSV column after run, same f64",
+            Kind::Scene => {
+                "at t = 0: the robot's body, the goal arrow; again whenever the oldest piece of the path grows"
+            }
+            Kind::Path => "the middle piece of the path, whenever it grows",
+            Kind::PathTip => "the newest piece of the path, up to C, whenever C has moved on by a few mm",
+            Kind::PoseMeas => "with a [sensor]: the pose the controller used, whenever it changes",
+        }
+    }
+
+    /// The kinds a file has: [`Kind::PoseMeas`] only with a `[sensor]`.
+    pub fn present(measured: bool) -> impl Iterator<Item = Kind> {
+        Kind::ALL.into_iter().filter(move |k| measured || *k != Kind::PoseMeas)
+    }
+
+    /// The schema of this kind's messages.
+    pub fn schema(self, schemas: &Schemas) -> &Schema {
+        match self {
+            Kind::Tf => &schemas.frame_transform,
+            Kind::Sample => &schemas.sample,
+            Kind::Scene | Kind::Path | Kind::PathTip => &schemas.scene_update,
+            Kind::PoseMeas => &schemas.pose_in_frame,
+        }
+    }
+}
+
+/// The topic of `kind` for run `run`: `/run3/tf`.
+pub fn topic(run: usize, kind: Kind) -> String {
+    format!("/run{run}/{}", kind.name())
+}
+
+/// The child frame of run `run`'s transforms: `run3/base_link` (C, x forward).
+pub fn base_link(run: usize) -> String {
+    format!("run{run}/base_link")
+}
+
+/// Message encoding of every topic.
+pub const MESSAGE_ENCODING: &str = "protobuf";
+
+/// The schemas of a file (protobuf `FileDescriptorSet`s).
+pub struct Schemas {
+    /// `foxglove.FrameTransform`.
+    pub frame_transform: Schema,
+    /// `foxglove.SceneUpdate`.
+    pub scene_update: Schema,
+    /// `foxglove.PoseInFrame`.
+    pub pose_in_frame: Schema,
+    /// `wmr.Sample`.
+    pub sample: Schema,
+}
+
+impl Schemas {
+    /// The schemas; `measured`: `wmr.Sample` has the measured pose's fields too.
+    pub fn new(measured: bool) -> Self {
+        let fox = |s: Option<Schema>, name: &str| s.unwrap_or_else(|| Schema::new(name, "protobuf", Vec::new()));
+        Self {
+            frame_transform: fox(FrameTransform::get_schema(), "foxglove.FrameTransform"),
+            scene_update: fox(SceneUpdate::get_schema(), "foxglove.SceneUpdate"),
+            pose_in_frame: fox(PoseInFrame::get_schema(), "foxglove.PoseInFrame"),
+            sample: sample_schema(measured),
+        }
+    }
+}
