@@ -111,10 +111,13 @@ fn docs_key_tables_are_generated_from_the_schema() {
         };
         assert!(ids.contains(&id), "docs/scenario.md has no block keys:{id} for {}", k.key);
     }
-    if std::env::var_os("WMR_BLESS").is_some() {
-        std::fs::write(&path, fresh).unwrap();
-        return;
-    }
+    // Blessing writes the tables, then checks the file as written (never a silent pass).
+    let doc = if std::env::var_os("WMR_BLESS").is_some() {
+        std::fs::write(&path, &fresh).unwrap();
+        std::fs::read_to_string(&path).unwrap()
+    } else {
+        doc
+    };
     assert!(fresh == doc, "docs/scenario.md's key tables are stale; regenerate with `{BLESS}`");
 }
 
