@@ -11,7 +11,7 @@ use wmr_core::{
     Controller, DcMotorParams, Drive, DriveParams, HoldMode, LyapunovLaw, LyapunovParams, Measurement,
     PaperBidirectionalLaw, PaperBidirectionalParams, PaperLaw, PaperMode, PaperParams, ParamError, PerfectSensor,
     Plant, PolarLaw, PolarParams, Pose2, PoseSensor, Real, Reason, ReferenceState, Robot, RobotParams, Sensor,
-    SensorParams, State, Termination, TorqueDriveParams, Twist2, WheelStage, WheelStageParams, Wheels, WorldParams,
+    SensorParams, State, Termination, TorqueDriveParams, Twist2, WheelStage, WheelStageParams, Wheels,
 };
 
 use crate::*;
@@ -45,6 +45,24 @@ impl Fail {
 
     fn not_finite(field: &'static str, value: f64) -> Self {
         Fail { code: wmr_status::WMR_NOT_FINITE, field, reason: "must be a finite number", value }
+    }
+
+    fn misaligned(arg: &'static str) -> Self {
+        Fail {
+            code: wmr_status::WMR_MISALIGNED,
+            field: arg,
+            reason: "is not aligned for its type (storage: WMR_STORAGE_ALIGN bytes)",
+            value: 0.0,
+        }
+    }
+
+    fn corrupted(arg: &'static str, reason: &'static str) -> Self {
+        Fail { code: wmr_status::WMR_CORRUPTED, field: arg, reason, value: 0.0 }
+    }
+
+    /// A non-finite value the library computed, refused instead of returned.
+    fn not_finite_output(field: &'static str, value: f64) -> Self {
+        Fail { code: wmr_status::WMR_NOT_FINITE, field, reason: "came out non-finite; nothing was changed", value }
     }
 
     #[cfg(feature = "std")]
@@ -88,7 +106,12 @@ fn report(err: *mut wmr_error, r: Result<(), Fail>) -> wmr_status {
         Ok(()) => Fail { code: wmr_status::WMR_OK, field: "", reason: "", value: 0.0 },
         Err(f) => f,
     };
-    // SAFETY: the caller passes NULL or a pointer valid for writes of a wmr_error.
+    if !err.is_null() && !err.is_aligned() {
+        // Nowhere to write the details: the code says why.
+        return wmr_status::WMR_MISALIGNED;
+    }
+    // SAFETY: the caller passes NULL or a pointer valid for writes of a wmr_error
+    // (aligned: checked above).
     if let Some(e) = unsafe { err.as_mut() } {
         e.code = fail.code;
         e.value = fail.value;
@@ -129,7 +152,7 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
 /// The name of a status code as a C string.
 pub fn status_name(code: i32) -> &'static CStr {
     use wmr_status::*;
-    const ALL: [(wmr_status, &CStr); 12] = [
+    const ALL: [(wmr_status, &CStr); 14] = [
         (WMR_OK, c"WMR_OK"),
         (WMR_NOT_FINITE, c"WMR_NOT_FINITE"),
         (WMR_NOT_POSITIVE, c"WMR_NOT_POSITIVE"),
@@ -142,6 +165,8 @@ pub fn status_name(code: i32) -> &'static CStr {
         (WMR_DIVERGED_NON_FINITE, c"WMR_DIVERGED_NON_FINITE"),
         (WMR_DIVERGED_LEFT_BOX, c"WMR_DIVERGED_LEFT_BOX"),
         (WMR_PANIC, c"WMR_PANIC"),
+        (WMR_MISALIGNED, c"WMR_MISALIGNED"),
+        (WMR_CORRUPTED, c"WMR_CORRUPTED"),
     ];
     ALL.iter().find(|(s, _)| *s as i32 == code).map_or(c"WMR_UNKNOWN", |(_, n)| n)
 }
@@ -158,6 +183,11 @@ pub trait Storage {
     const TAG: u64;
     /// Compile-time proof that the value fits (evaluated where the storage is used).
     const FITS: ();
+    /// What can be checked of a stored value whose tag is intact (a caller's stray write
+    /// may have changed its body): `WMR_CORRUPTED` when it fails.
+    fn check(_value: &Self::Value) -> Result<(), &'static str> {
+        Ok(())
+    }
 }
 
 #[repr(C)]
@@ -167,7 +197,7 @@ struct Slot<V> {
 }
 
 macro_rules! storage_of {
-    ($($s:ty => $v:ty, $tag:literal;)+) => {$(
+    ($($s:ty => $v:ty, $tag:literal $(, check $check:path)?;)+) => {$(
         impl Storage for $s {
             type Value = $v;
             const TAG: u64 = $tag;
@@ -175,8 +205,34 @@ macro_rules! storage_of {
                 size_of::<Slot<$v>>() <= size_of::<$s>() && align_of::<Slot<$v>>() <= WMR_STORAGE_ALIGN,
                 "storage too small: raise its WORDS constant in lib.rs and WMR_ABI_VERSION"
             );
+            $(
+                fn check(value: &Self::Value) -> Result<(), &'static str> {
+                    $check(value)
+                }
+            )?
         }
     )+};
+}
+
+/// A stored robot is its parameters validated: validating them again gives it back.
+fn check_robot<T: Real>(robot: &Robot<T>) -> Result<(), &'static str> {
+    match robot.params().validate() {
+        Ok(again) if again == *robot => Ok(()),
+        _ => Err("was overwritten: its parameters no longer validate to it"),
+    }
+}
+
+/// A stored plant: its robot checks, its state is finite and inside the divergence box,
+/// its held command is finite.
+fn check_plant<T: Real>(plant: &Plant<T>) -> Result<(), &'static str> {
+    check_robot(plant.robot())?;
+    let s = plant.state();
+    let bound = T::lit(wmr_core::plant::DIVERGENCE_BOX_M);
+    let c = plant.command();
+    if !s.is_finite() || s.x.abs() > bound || s.y.abs() > bound || !c.right.is_finite() || !c.left.is_finite() {
+        return Err("was overwritten: its state or held command is not finite, or C is outside the 1 km box");
+    }
+    Ok(())
 }
 
 /// The sensor models behind `wmr_sensor_*`. A new model is a variant here, an init
@@ -206,12 +262,12 @@ impl<T: Real> AnySensor<T> {
 }
 
 storage_of! {
-    wmr_robot_f32 => Robot<f32>, 0x574d_5201_0000_0f32;
-    wmr_robot_f64 => Robot<f64>, 0x574d_5201_0000_0f64;
+    wmr_robot_f32 => Robot<f32>, 0x574d_5201_0000_0f32, check check_robot;
+    wmr_robot_f64 => Robot<f64>, 0x574d_5201_0000_0f64, check check_robot;
     wmr_drive_f32 => Drive<f32>, 0x574d_5202_0000_0f32;
     wmr_drive_f64 => Drive<f64>, 0x574d_5202_0000_0f64;
-    wmr_plant_f32 => Plant<f32>, 0x574d_5203_0000_0f32;
-    wmr_plant_f64 => Plant<f64>, 0x574d_5203_0000_0f64;
+    wmr_plant_f32 => Plant<f32>, 0x574d_5203_0000_0f32, check check_plant;
+    wmr_plant_f64 => Plant<f64>, 0x574d_5203_0000_0f64, check check_plant;
     wmr_sensor_f32 => AnySensor<f32>, 0x574d_5204_0000_0f32;
     wmr_sensor_f64 => AnySensor<f64>, 0x574d_5204_0000_0f64;
 }
@@ -222,7 +278,10 @@ fn put<S: Storage>(out: *mut S, arg: &'static str, value: S::Value) -> Result<()
     if out.is_null() {
         return Err(Fail::null(arg));
     }
-    // SAFETY: `out` is valid for writes of S (caller contract), S is at least as large
+    if !out.is_aligned() {
+        return Err(Fail::misaligned(arg));
+    }
+    // SAFETY: `out` is valid for writes of S (caller contract), aligned (checked), S is at least as large
     // and as aligned as Slot<Value> (FITS), and Slot is plain data.
     unsafe { out.cast::<Slot<S::Value>>().write(Slot { tag: S::TAG, value }) };
     Ok(())
@@ -234,14 +293,20 @@ fn get<'a, S: Storage>(p: *const S, arg: &'static str) -> Result<&'a S::Value, F
     if p.is_null() {
         return Err(Fail::null(arg));
     }
+    if !p.is_aligned() {
+        return Err(Fail::misaligned(arg));
+    }
     let slot = p.cast::<Slot<S::Value>>();
-    // SAFETY: `p` is valid for reads of S (caller contract); the tag is a plain u64.
+    // SAFETY: `p` is valid for reads of S (caller contract) and aligned (checked); the
+    // tag is a plain u64.
     let tag = unsafe { core::ptr::addr_of!((*slot).tag).read() };
     if tag != S::TAG {
         return Err(Fail::not_initialized(arg));
     }
     // SAFETY: the tag says `put` wrote a valid value of this type here.
-    Ok(unsafe { &(*slot).value })
+    let value = unsafe { &(*slot).value };
+    S::check(value).map_err(|why| Fail::corrupted(arg, why))?;
+    Ok(value)
 }
 
 /// The value in initialized storage, mutably.
@@ -253,9 +318,17 @@ fn get_mut<'a, S: Storage>(p: *mut S, arg: &'static str) -> Result<&'a mut S::Va
 
 /// Reads a C input struct.
 fn read<'a, X>(p: *const X, arg: &'static str) -> Result<&'a X, Fail> {
-    // SAFETY: NULL or valid for reads of X (caller contract); the C structs here are
-    // plain numbers, valid for any bit pattern.
-    unsafe { p.as_ref() }.ok_or(Fail::null(arg))
+    read_or_null(p, arg)?.ok_or(Fail::null(arg))
+}
+
+/// Reads a C input struct that may be NULL (`None`).
+fn read_or_null<'a, X>(p: *const X, arg: &'static str) -> Result<Option<&'a X>, Fail> {
+    if !p.is_aligned() {
+        return Err(Fail::misaligned(arg));
+    }
+    // SAFETY: NULL or valid for reads of X (caller contract) and aligned (checked); the C
+    // structs here are plain numbers, valid for any bit pattern.
+    Ok(unsafe { p.as_ref() })
 }
 
 /// Writes a C output struct.
@@ -263,7 +336,10 @@ fn write<X>(p: *mut X, arg: &'static str, value: X) -> Result<(), Fail> {
     if p.is_null() {
         return Err(Fail::null(arg));
     }
-    // SAFETY: valid for writes of X (caller contract).
+    if !p.is_aligned() {
+        return Err(Fail::misaligned(arg));
+    }
+    // SAFETY: valid for writes of X (caller contract) and aligned (checked).
     unsafe { p.write(value) };
     Ok(())
 }
@@ -567,19 +643,20 @@ pub fn plant_init<T: Prec>(
     err: *mut wmr_error,
 ) -> wmr_status {
     guard(err, || {
-        // SAFETY: NULL (flat ground) or valid for reads (caller contract).
-        let world = match unsafe { world.as_ref() } {
-            None => WorldParams::default(),
-            Some(w) => *w,
-        };
-        let world = world.validate()?;
+        // NULL: flat ground.
+        let world = read_or_null(world, "world")?.copied().unwrap_or_default().validate()?;
         let plant = Plant::on(*get(robot, "robot")?, *get(drive, "drive")?, world, pose(start))?;
+        in_box(["start.x", "start.y"], start.x, start.y)?;
         put(out, "out", plant)
     })
 }
 
 pub fn plant_apply<T: Prec>(plant: *mut T::Plant, command: wmr_wheels<T>) -> wmr_status {
     guard(core::ptr::null_mut(), || {
+        // A NaN would reach the drive's clamp, which keeps the larger of NaN and -limit:
+        // full reverse. Refused here, the held command unchanged.
+        finite("command.right", command.right)?;
+        finite("command.left", command.left)?;
         get_mut(plant, "plant")?.apply(Wheels::new(command.right, command.left));
         Ok(())
     })
@@ -587,7 +664,26 @@ pub fn plant_apply<T: Prec>(plant: *mut T::Plant, command: wmr_wheels<T>) -> wmr
 
 pub fn plant_step<T: Prec>(plant: *mut T::Plant, t: T, dt: T) -> wmr_status {
     guard(core::ptr::null_mut(), || {
+        finite("t", t)?;
         let plant = get_mut(plant, "plant")?;
+        // dt > 0 (a step of 0 or backwards in time is no step of the model) and below
+        // the RK4 stability limit of the plant's friction (as `ClosedLoop` checks it).
+        finite("dt", dt)?;
+        if dt <= T::zero() {
+            return Err(Fail {
+                code: wmr_status::WMR_NOT_POSITIVE,
+                field: "dt",
+                reason: "must be > 0",
+                value: dt.to_f64_lossless(),
+            });
+        }
+        if dt >= plant.max_stable_dt() {
+            return Err(Fail::out_of_range(
+                "dt",
+                "too large for the plant's friction: RK4 is unstable unless dt * stiffness < 2.785",
+                dt.to_f64_lossless(),
+            ));
+        }
         plant.step(t, dt).map_err(|term| {
             let code = match term {
                 Termination::LeftBox => wmr_status::WMR_DIVERGED_LEFT_BOX,
@@ -643,14 +739,35 @@ pub fn sensor_measure<T: Prec>(
     out: *mut wmr_measurement<T>,
 ) -> wmr_status {
     guard(core::ptr::null_mut(), || {
+        finite("t", t)?;
         let plant = get(plant, "plant")?;
-        let m = get_mut(sensor, "sensor")?.measure(t, plant.state(), plant.robot().params());
+        let sensor = get_mut(sensor, "sensor")?;
+        if out.is_null() {
+            return Err(Fail::null("out"));
+        }
+        // Refused outputs leave the sensor as it was (its ring, noise stream and tick).
+        let before = *sensor;
+        let m = sensor.measure(t, plant.state(), plant.robot().params());
         let m = wmr_measurement {
             t: m.t,
             pose: c_pose(m.pose),
             wheel_angles: c_wheels(m.wheel_angles),
             wheel_speeds: c_wheels(m.wheel_speeds),
         };
+        let values = [
+            ("out.t", m.t),
+            ("out.pose.x", m.pose.x),
+            ("out.pose.y", m.pose.y),
+            ("out.pose.theta", m.pose.theta),
+            ("out.wheel_angles.right", m.wheel_angles.right),
+            ("out.wheel_angles.left", m.wheel_angles.left),
+            ("out.wheel_speeds.right", m.wheel_speeds.right),
+            ("out.wheel_speeds.left", m.wheel_speeds.left),
+        ];
+        if let Some(&(f, v)) = values.iter().find(|(_, v)| !v.is_finite()) {
+            *sensor = before;
+            return Err(Fail::not_finite_output(f, v.to_f64_lossless()));
+        }
         write(out, "out", m)
     })
 }
@@ -675,10 +792,14 @@ pub fn controller_init<T: Prec, L: CLaw<T>>(
         if params.is_null() {
             return Err(Fail::null("params"));
         }
+        if !params.is_aligned() {
+            return Err(Fail::misaligned("params"));
+        }
         let wheels = *read(wheels, "wheels")?;
         let model = get(model, "model")?.params();
         let drive = get(drive, "drive")?;
-        // SAFETY: not NULL, and valid for reads of the C struct (caller contract).
+        // SAFETY: not NULL, aligned (checked), and valid for reads of the C struct (caller
+        // contract).
         let params = unsafe { L::Params::read_core(params) }?;
         let law = L::build(params, model, control_dt)?;
         let stage = WheelStage::new(&wheels, model, drive, control_dt)?;
@@ -688,6 +809,24 @@ pub fn controller_init<T: Prec, L: CLaw<T>>(
 
 fn finite<T: Real>(field: &'static str, v: T) -> Result<(), Fail> {
     if v.is_finite() { Ok(()) } else { Err(Fail::not_finite(field, v.to_f64_lossless())) }
+}
+
+/// A position inside the plant's divergence box (|x|, |y| <= 1 km): where C can be (a
+/// plant step past it is refused) and so where a start, a measured pose or a reference
+/// can be. `fields` name x and y.
+fn in_box<T: Real>(fields: [&'static str; 2], x: T, y: T) -> Result<(), Fail> {
+    let bound = T::lit(wmr_core::plant::DIVERGENCE_BOX_M);
+    for (field, v) in fields.into_iter().zip([x, y]) {
+        // A non-finite value is the finiteness check's to name.
+        if v.is_finite() && v.abs() > bound {
+            return Err(Fail::out_of_range(
+                field,
+                "must be within the plant's 1 km box (|x|, |y| <= 1000 m)",
+                v.to_f64_lossless(),
+            ));
+        }
+    }
+    Ok(())
 }
 
 pub fn controller_update<T: Prec, L: CLaw<T>>(
@@ -700,6 +839,7 @@ pub fn controller_update<T: Prec, L: CLaw<T>>(
     guard(core::ptr::null_mut(), || {
         let m = read(m, "measurement")?;
         let goal_fields = [("goal.x", goal.x), ("goal.y", goal.y), ("goal.theta", goal.theta)];
+        in_box(["goal.x", "goal.y"], goal.x, goal.y)?;
         tick::<T, L>(ctrl, t, m, &goal_fields, &ReferenceState::at_rest(pose(goal)), out)
     })
 }
@@ -715,6 +855,7 @@ pub fn controller_update_reference<T: Prec, L: CLaw<T>>(
     guard(err, || {
         let m = read(m, "measurement")?;
         let r = read(reference, "reference")?;
+        in_box(["reference.pose.x", "reference.pose.y"], r.pose.x, r.pose.y)?;
         let fields = [
             ("reference.pose.x", r.pose.x),
             ("reference.pose.y", r.pose.y),
@@ -758,13 +899,20 @@ fn tick<T: Prec, L: CLaw<T>>(
         ("measurement.wheel_speeds.left", m.wheel_speeds.left),
     ];
     values.iter().chain(reference_fields).try_for_each(|&(f, v)| finite(f, v))?;
+    in_box(["measurement.pose.x", "measurement.pose.y"], m.pose.x, m.pose.y)?;
     let ctrl = get_mut(ctrl, "ctrl")?;
+    if !out.is_aligned() {
+        return Err(Fail::misaligned("out"));
+    }
     let m = Measurement {
         t: m.t,
         pose: pose(m.pose),
         wheel_angles: Wheels::new(m.wheel_angles.right, m.wheel_angles.left),
         wheel_speeds: Wheels::new(m.wheel_speeds.right, m.wheel_speeds.left),
     };
+    // Finite inputs can still overflow (gains of 1e300, wheel angles of 1e308): such a
+    // tick is refused, the controller restored and `out` untouched, as for a bad input.
+    let before = *ctrl;
     let o = ctrl.update(t, &m, reference);
     let out_value = wmr_control_output {
         command: c_wheels(o.command),
@@ -772,6 +920,17 @@ fn tick<T: Prec, L: CLaw<T>>(
         e_theta: o.errors.e_theta,
         dl: o.errors.dl,
     };
+    let outputs = [
+        ("out.command.right", out_value.command.right),
+        ("out.command.left", out_value.command.left),
+        ("out.e_s", out_value.e_s),
+        ("out.e_theta", out_value.e_theta),
+        ("out.dl", out_value.dl),
+    ];
+    if let Some(&(f, v)) = outputs.iter().find(|(_, v)| !v.is_finite()) {
+        *ctrl = before;
+        return Err(Fail::not_finite_output(f, v.to_f64_lossless()));
+    }
     write(out, "out", out_value)
 }
 

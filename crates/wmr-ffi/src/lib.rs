@@ -120,6 +120,15 @@ pub enum wmr_status {
     WMR_DIVERGED_LEFT_BOX = 10,
     /// A bug: Rust code panicked. The storage involved must be initialized again.
     WMR_PANIC = 11,
+    /// A pointer argument is not aligned for its type (storage: `WMR_STORAGE_ALIGN`;
+    /// `wmr_error.field` names the argument). Nothing was read or written through it.
+    WMR_MISALIGNED = 12,
+    /// The storage's tag is intact but its body fails the checks of the stored value (a
+    /// stray write): initialize it again. Checked: a robot's parameters validate to it;
+    /// a plant's robot, finite state inside the 1 km box and finite held command. Not
+    /// detected: an overwrite of a drive, sensor or controller body that keeps the tag
+    /// (a non-finite output is still refused, `WMR_NOT_FINITE`).
+    WMR_CORRUPTED = 13,
 }
 
 /// Details of a refused call: the code, the field and the rejected value.
