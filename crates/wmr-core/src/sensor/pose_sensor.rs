@@ -115,19 +115,20 @@ impl<T: Real, const N: usize> PoseSensor<T, N> {
         if params.rate_hz.is_nan() || params.rate_hz <= T::zero() {
             return Err(check::out_of_range("rate_hz", "must be > 0 (inf: every control tick)", params.rate_hz));
         }
+        let dt = control_dt.to_f64_lossless();
         let ticks_per_sample = if params.rate_hz.is_infinite() {
             1
         } else {
-            u64::from(check::whole_multiple("rate_hz", params.rate_hz.recip(), control_dt).map_err(|e| ParamError {
+            ticks_in::<T>("rate_hz", 1.0 / params.rate_hz.to_f64_lossless(), dt).map_err(|e| ParamError {
                 reason: crate::Reason::OutOfRange("1 / rate_hz must be a whole multiple of control_dt"),
                 ..e
-            })?)
+            })?
         };
         check::non_negative("latency", params.latency)?;
         let latency_ticks = if params.latency == T::zero() {
             0
         } else {
-            u64::from(check::whole_multiple("latency", params.latency, control_dt)?)
+            ticks_in::<T>("latency", params.latency.to_f64_lossless(), dt)?
         };
         check::non_negative("position_noise", params.position_noise)?;
         check::non_negative("heading_noise_deg", params.heading_noise_deg)?;
@@ -212,6 +213,24 @@ impl<T: Real, const N: usize> PoseSensor<T, N> {
         let dt = self.control_dt;
         (angles, Wheels::new((angles.right - prev.right) / dt, (angles.left - prev.left) / dt))
     }
+}
+
+/// Control ticks in `period` (s) at control period `dt` (s), both as written in `T` and
+/// widened to f64: the whole number n >= 1 with |n dt - period| <= tol period, where tol
+/// is 1e-9 or, in a precision coarser than that, 4 epsilons of `T`. In f32, 1 / 50 Hz
+/// (0.0199999995...) is 20 ticks of 1 ms (0.00100000005...) although the two differ by
+/// 2 parts in 1e8: each was rounded once to f32 where it was written, and the f64 check's
+/// 1e-9 would refuse what f64 accepts (issue 25, item 8). In f64 the tolerance is 1e-9,
+/// the same as `ClosedLoop`'s check of control_dt against dt.
+fn ticks_in<T: Real>(field: &'static str, period: f64, dt: f64) -> Result<u64, ParamError> {
+    use num_traits::{Float as _, ToPrimitive as _};
+    let ratio = (period / dt).round();
+    let tol = 1e-9f64.max(4.0 * T::epsilon().to_f64_lossless()) * period.abs().max(f64::MIN_POSITIVE);
+    let refused = ParamError { field, reason: crate::Reason::NotMultipleOfDt, value: period };
+    if ratio.is_nan() || ratio < 1.0 || (ratio * dt - period).abs() > tol || ratio > f64::from(u32::MAX) {
+        return Err(refused);
+    }
+    ratio.to_u64().ok_or(refused)
 }
 
 impl<T: Real, const N: usize> Sensor<T> for PoseSensor<T, N> {
