@@ -223,11 +223,12 @@ impl<T: Real, const N: usize> PoseSensor<T, N> {
 /// 1e-9 would refuse what f64 accepts (issue 25, item 8). In f64 the tolerance is 1e-9,
 /// the same as `ClosedLoop`'s check of control_dt against dt.
 fn ticks_in<T: Real>(field: &'static str, period: f64, dt: f64) -> Result<u64, ParamError> {
-    use num_traits::{Float as _, ToPrimitive as _};
-    let ratio = (period / dt).round();
-    let tol = 1e-9f64.max(4.0 * T::epsilon().to_f64_lossless()) * period.abs().max(f64::MIN_POSITIVE);
+    use num_traits::{Float, ToPrimitive as _};
+    // Float's methods by name: no_std has no inherent f64::round.
+    let ratio = Float::round(period / dt);
+    let tol = 1e-9f64.max(4.0 * T::epsilon().to_f64_lossless()) * Float::abs(period).max(f64::MIN_POSITIVE);
     let refused = ParamError { field, reason: crate::Reason::NotMultipleOfDt, value: period };
-    if ratio.is_nan() || ratio < 1.0 || (ratio * dt - period).abs() > tol || ratio > f64::from(u32::MAX) {
+    if ratio.is_nan() || ratio < 1.0 || Float::abs(ratio * dt - period) > tol || ratio > f64::from(u32::MAX) {
         return Err(refused);
     }
     ratio.to_u64().ok_or(refused)
