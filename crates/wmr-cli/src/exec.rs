@@ -142,25 +142,6 @@ pub fn check_space(scenario: &Scenario, out: &Output, format: Format, samples: u
     )))
 }
 
-/// `wmr-cli trace` keeps every control tick of the run in memory before writing: refuses,
-/// before the run, ticks that the available memory cannot hold (naming `sim.t_end`).
-pub fn check_trace_memory(scenario: &Scenario) -> Result<()> {
-    let sim = scenario.sim();
-    let per_tick = (scenario.setup().controller.control_dt / sim.dt()).round().max(1.0) as u64;
-    let ticks = u128::from(sim.n_steps() / per_tick + 1);
-    let bytes = ticks * size_of::<wmr_core::trace::Record>() as u128;
-    match wmr_scenario::available_memory_bytes() {
-        Some(avail) if bytes > u128::from(avail) => Err(bad_input(format!(
-            "sim.t_end: a trace keeps every control tick in memory: {ticks} ticks take {} but only {} are \
-             available; shorten sim.t_end (at most {:.3e} s here)",
-            human_bytes(bytes as f64),
-            human_bytes(avail as f64),
-            sim.t_end() * avail as f64 / bytes as f64
-        ))),
-        _ => Ok(()),
-    }
-}
-
 /// Refuses a scenario without `[[run]]` (a sweep file) for a command that runs them.
 pub fn require_runs(scenario: &Scenario, file: &Path) -> Result<()> {
     if scenario.runs().is_empty() {

@@ -118,6 +118,10 @@ enum Command {
         /// Which [[run]] (0 = the first).
         #[arg(long, default_value_t = 0)]
         run: usize,
+        /// Trace format; without it, from OUT's extension (.bin or .csv). Needed for `-`
+        /// (stdout) and devices such as /dev/null, which are written to as ticks come.
+        #[arg(long, value_enum)]
+        format: Option<trace_cmd::TraceFormat>,
     },
 }
 
@@ -155,18 +159,19 @@ fn format_of(out: &Path, format: Option<Format>) -> Result<Format> {
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Check { file } => exec::check_command(&file),
-        Command::Trace { file, output, run } => {
+        Command::Trace { file, output, run, format } => {
             let scenario = load(&file)?;
-            exec::check_trace_memory(&scenario)?;
-            let t = trace_cmd::trace(&scenario, run, &output)?;
+            let t = trace_cmd::trace(&scenario, run, &output, format)?;
             let end = if t.diverged { "diverged" } else { "completed" };
-            errors::say(&format!(
-                "trace: {} ticks of {} (f32) to t = {} s, {end}: {}",
-                t.ticks,
-                t.law,
-                t.t_last,
-                wmr_scenario::shown(&output)
-            ))
+            let shown = if output.as_os_str() == "-" { "stdout".to_owned() } else { wmr_scenario::shown(&output) };
+            let line = format!("trace: {} ticks of {} (f32) to t = {} s, {end}: {shown}", t.ticks, t.law, t.t_last);
+            // With the trace on stdout the summary goes to stderr, so the data stays clean.
+            if output.as_os_str() == "-" {
+                note(&line);
+                Ok(())
+            } else {
+                errors::say(&line)
+            }
         }
         Command::Sweep { file, output, plots, fast } => {
             let scenario = load(&file)?;

@@ -13,19 +13,29 @@
 //! exactly what ran. The loop is `ClosedLoop` itself: a control tick at t = 0 (measure,
 //! update, hold the command), then `control_dt / dt` RK4 steps between ticks, time from
 //! the loop's clock (in f32, step count times dt).
+//!
+//! Order and memory (issue 25, item 9): OUT is checked first (as `run` checks it: a
+//! regular file is written atomically, a character device, a FIFO or `-` is streamed
+//! to), then the loop is built in f32 (a value that does not hold in f32 is bad input,
+//! exit 2, before anything is written), then each tick's record is written as it is
+//! made: memory stays flat whatever `sim.t_end`. The binary header holds the tick count:
+//! a file gets the count of a run to `t_end` and has it rewritten if the run diverges
+//! earlier; a stream cannot be rewritten, so the run is simulated once to count the
+//! ticks and once to write them.
 
-use std::io::Write as _;
+use std::io::{Seek as _, SeekFrom, Write};
 use std::path::Path;
 
-use anyhow::{Context as _, Result, anyhow};
-use wmr_core::trace::{self, Config, ConfigOf, Record};
+use anyhow::{Result, anyhow};
+use wmr_core::trace::{self, CONFIG_WORDS, Config, ConfigOf, HEADER_WORDS, RECORD_WORDS, Record};
 use wmr_core::{ClosedLoop, Controller, FixedGoal, ParamError, Plant, PoseSensor, SensorParams, WheelStage, Wheels};
 use wmr_scenario::{Scenario, ScenarioError};
 
-use crate::atomic::AtomicOut;
+use crate::atomic::{OutWriter, Output};
+use crate::errors::{StdoutClosed, bad_input, is_broken_pipe};
 
-/// The trace's file format, from OUT's extension.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// The trace's file format: `--format`, or OUT's extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum TraceFormat {
     /// `wmr_core::trace` words.
     Bin,
@@ -34,14 +44,18 @@ pub enum TraceFormat {
 }
 
 impl TraceFormat {
-    /// `.bin` or `.csv`; anything else is bad input (names `-o`).
-    pub fn of(out: &Path) -> Result<Self, ScenarioError> {
+    /// `given`, else from OUT's extension, `.bin` or `.csv`; anything else is bad input
+    /// (names `-o`).
+    pub fn of(out: &Path, given: Option<Self>) -> Result<Self, ScenarioError> {
+        if let Some(f) = given {
+            return Ok(f);
+        }
         match out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
             Some("bin") => Ok(TraceFormat::Bin),
             Some("csv") => Ok(TraceFormat::Csv),
             _ => Err(ScenarioError::new(
                 "-o",
-                format!("cannot tell the trace format of {}: name it .bin or .csv", out.display()),
+                format!("cannot tell the trace format of {}: name it .bin or .csv, or pass --format", out.display()),
             )),
         }
     }
@@ -51,7 +65,7 @@ impl TraceFormat {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Traced {
     /// Control ticks written.
-    pub ticks: usize,
+    pub ticks: u64,
     /// The law's kind.
     pub law: &'static str,
     /// Time of the last tick, s.
@@ -60,9 +74,10 @@ pub struct Traced {
     pub diverged: bool,
 }
 
-/// A core error met while building the loop in f32 (a value valid in f64 may not be).
+/// A core error met while building the loop in f32 (a value valid in f64 may not be):
+/// bad input (exit 2).
 fn f32_error(e: ParamError) -> anyhow::Error {
-    anyhow!("the scenario does not hold in f32: {e}")
+    bad_input(format!("the scenario does not hold in f32: {e}"))
 }
 
 /// The run's configuration as the trace records it (f64, rounded when encoded).
@@ -90,79 +105,191 @@ fn config_of(scenario: &Scenario, run: usize) -> Result<ConfigOf<f64>, ScenarioE
     })
 }
 
-/// Runs the loop of `config` in f32 for `n_steps` plant steps and returns every tick: the
-/// one loop ([`ClosedLoop`]), read at each control tick.
-pub fn run_f32(
+/// How a run of [`run_f32`] ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RunEnd {
+    /// Control ticks handed to the sink.
+    pub ticks: u64,
+    /// True when a plant step diverged (the last tick is the last good one).
+    pub diverged: bool,
+}
+
+/// Why [`run_f32`] stopped early.
+#[derive(Debug)]
+pub enum RunError<E> {
+    /// The configuration does not hold in f32 (before any tick).
+    Invalid(ParamError),
+    /// The sink refused a record.
+    Sink(E),
+}
+
+/// Runs the loop of `config` in f32 for `n_steps` plant steps and hands every tick, in
+/// order, to `sink` as it is made: the one loop ([`ClosedLoop`]), read at each control
+/// tick. Nothing is kept.
+pub fn run_f32<E>(
     config: &Config,
     sensor: SensorParams<f32>,
     run: u64,
     n_steps: u64,
-) -> Result<(Vec<Record>, bool), ParamError> {
-    let robot = config.robot.validate()?;
-    let model = config.model.validate()?;
-    let drive = config.drive.validate(&robot)?;
-    let world = config.world.validate()?;
-    let plant = Plant::on(robot, drive, world, config.start)?;
-    let law = config.law.build(model.params(), config.control_dt)?;
-    let wheels = WheelStage::new(&config.wheels, model.params(), &drive, config.control_dt)?;
-    let controller = Controller::new(law, wheels);
-    let sensor = PoseSensor::<f32>::new(sensor, config.control_dt, run)?;
-    let goal = FixedGoal::new(config.goal)?;
-    let mut lp = ClosedLoop::with_sensor(plant, sensor, controller, goal, config.dt)?;
+    mut sink: impl FnMut(&Record) -> Result<(), E>,
+) -> Result<RunEnd, RunError<E>> {
+    let built = || -> Result<_, ParamError> {
+        let robot = config.robot.validate()?;
+        let model = config.model.validate()?;
+        let drive = config.drive.validate(&robot)?;
+        let world = config.world.validate()?;
+        let plant = Plant::on(robot, drive, world, config.start)?;
+        let law = config.law.build(model.params(), config.control_dt)?;
+        let wheels = WheelStage::new(&config.wheels, model.params(), &drive, config.control_dt)?;
+        let controller = Controller::new(law, wheels);
+        let sensor = PoseSensor::<f32>::new(sensor, config.control_dt, run)?;
+        let goal = FixedGoal::new(config.goal)?;
+        ClosedLoop::with_sensor(plant, sensor, controller, goal, config.dt)
+    };
+    let mut lp = built().map_err(RunError::Invalid)?;
     let per_tick = u64::from(config.steps_per_tick);
-    let mut records = Vec::with_capacity(usize::try_from(n_steps / per_tick + 1).unwrap_or(0));
+    let mut ticks = 0;
     loop {
         // Right after a tick the plant still holds the state the sensor measured.
         let tick = lp.last_tick();
         let (m, r, out) = (tick.measurement, tick.reference.pose, tick.output);
         let Wheels { right: wr, left: wl } = m.wheel_speeds;
-        records.push(Record {
+        let record = Record {
             t: tick.t,
             state: lp.state().to_array(),
             measurement: [m.t, m.pose.x, m.pose.y, m.pose.theta, m.wheel_angles.right, m.wheel_angles.left, wr, wl],
             goal: [r.x, r.y, r.theta],
             command: [out.command.right, out.command.left],
             errors: [out.errors.e_s, out.errors.e_theta, out.errors.dl],
-        });
+        };
+        sink(&record).map_err(RunError::Sink)?;
+        ticks += 1;
         if lp.steps() + per_tick > n_steps {
-            return Ok((records, false));
+            return Ok(RunEnd { ticks, diverged: false });
         }
         for _ in 0..per_tick {
             if lp.step().is_err() {
-                return Ok((records, true));
+                return Ok(RunEnd { ticks, diverged: true });
             }
         }
     }
 }
 
+/// Ticks of a run of `n_steps` plant steps that does not diverge.
+fn full_ticks(config: &Config, n_steps: u64) -> u64 {
+    n_steps / u64::from(config.steps_per_tick.max(1)) + 1
+}
+
+/// Bytes of a binary trace of `ticks` ticks.
+fn bin_bytes(ticks: u64) -> u128 {
+    4 * (HEADER_WORDS as u128 + CONFIG_WORDS as u128 + u128::from(ticks) * RECORD_WORDS as u128)
+}
+
+/// Refuses a trace that cannot fit where it goes (a regular file's file system): the
+/// binary form's exact size, or the CSV form's least (each value one digit and a comma).
+fn check_space(out: &Output, format: TraceFormat, ticks: u64) -> Result<()> {
+    let Some(free) = out.free_bytes() else { return Ok(()) };
+    let least = match format {
+        TraceFormat::Bin => bin_bytes(ticks),
+        TraceFormat::Csv => u128::from(ticks) * 2 * RECORD_WORDS as u128,
+    };
+    if least <= u128::from(free) {
+        return Ok(());
+    }
+    Err(bad_input(format!(
+        "sim.t_end: a trace of {ticks} ticks to {} takes at least {least} bytes but only {free} are free there; \
+         shorten sim.t_end or write elsewhere",
+        out.shown()
+    )))
+}
+
+/// The binary header of a trace of `ticks` ticks; more than its u32 count holds is bad
+/// input (checked for every format, so the CSV and binary forms of a run agree).
+fn header_of(ticks: u64) -> Result<[u32; HEADER_WORDS]> {
+    let n = u32::try_from(ticks).map_err(|_| {
+        bad_input(format!("sim.t_end: {ticks} ticks are more than a trace holds ({}); shorten it", u32::MAX))
+    })?;
+    Ok(trace::header(n))
+}
+
+/// A write error as the command reports it: quietly done when stdout's reader left.
+fn write_error(out: &Output, e: impl Into<anyhow::Error>) -> anyhow::Error {
+    let e = e.into();
+    if out.is_stdout() && is_broken_pipe(&e) {
+        anyhow::Error::new(StdoutClosed)
+    } else {
+        e.context(format!("cannot write {}", out.shown()))
+    }
+}
+
 /// Writes the trace of run `run` of `scenario` to `output`.
-pub fn trace(scenario: &Scenario, run: usize, output: &Path) -> Result<Traced> {
-    let format = TraceFormat::of(output)?;
+pub fn trace(scenario: &Scenario, run: usize, output: &Path, format: Option<TraceFormat>) -> Result<Traced> {
+    let format = TraceFormat::of(output, format)?;
     let config_words = config_of(scenario, run)?.encode();
     let config = Config::decode(&config_words).map_err(|e| anyhow!("trace config: {}", e.0))?;
     let sensor = scenario.setup().sensor.cast::<f32>();
-    let (records, diverged) = run_f32(&config, sensor, run as u64, scenario.sim().n_steps()).map_err(f32_error)?;
-    let ticks = u32::try_from(records.len()).context("too many ticks for a trace")?;
-
-    let out = AtomicOut::create(output)?;
-    let mut w = std::io::BufWriter::new(out.file()?);
+    let (run, n_steps) = (run as u64, scenario.sim().n_steps());
+    // OUT first, then the loop in f32 (one tick, nothing written): both before the run.
+    let out = Output::create(output)?;
+    let first = |_: &Record| Ok::<(), std::convert::Infallible>(());
+    run_f32(&config, sensor, run, 0, first).map_err(|e| match e {
+        RunError::Invalid(e) => f32_error(e),
+        RunError::Sink(never) => match never {},
+    })?;
+    let full = full_ticks(&config, n_steps);
+    header_of(full)?;
+    check_space(&out, format, full)?;
+    crate::exec::announce_work(u128::from(n_steps), "trace");
+    let mut w = std::io::BufWriter::new(out.writer()?);
+    // The tick count of the header: a stream's is counted first (it cannot be rewritten).
+    let seekable = w.get_ref().seekable();
+    let expected = if format == TraceFormat::Bin && !seekable {
+        let counted = run_f32(&config, sensor, run, n_steps, first);
+        counted.map_err(|_| anyhow!("the counting run failed after the first one succeeded"))?.ticks
+    } else {
+        full
+    };
+    let header = header_of;
+    let put_words = |w: &mut std::io::BufWriter<OutWriter>, words: &[u32]| -> std::io::Result<()> {
+        words.iter().try_for_each(|word| w.write_all(&word.to_le_bytes()))
+    };
     match format {
         TraceFormat::Bin => {
-            let words = trace::header(ticks).into_iter().chain(config_words);
-            for word in words.chain(records.iter().flat_map(Record::encode)) {
-                w.write_all(&word.to_le_bytes())?;
-            }
+            put_words(&mut w, &header(expected)?).map_err(|e| write_error(&out, e))?;
+            put_words(&mut w, &config_words).map_err(|e| write_error(&out, e))?;
         }
-        TraceFormat::Csv => {
-            writeln!(w, "{}", Record::COLUMNS.join(","))?;
-            for r in &records {
-                let row: Vec<String> = r.values().iter().map(f32::to_string).collect();
-                writeln!(w, "{}", row.join(","))?;
-            }
-        }
+        TraceFormat::Csv => writeln!(w, "{}", Record::COLUMNS.join(",")).map_err(|e| write_error(&out, e))?,
     }
-    w.flush().with_context(|| format!("cannot write {}", output.display()))?;
+    let mut t_last = 0.0;
+    let end = run_f32(&config, sensor, run, n_steps, |r: &Record| {
+        t_last = r.t;
+        match format {
+            TraceFormat::Bin => put_words(&mut w, &r.encode()),
+            TraceFormat::Csv => {
+                let row: Vec<String> = r.values().iter().map(f32::to_string).collect();
+                writeln!(w, "{}", row.join(","))
+            }
+        }
+    })
+    .map_err(|e| match e {
+        RunError::Invalid(e) => f32_error(e),
+        RunError::Sink(e) => write_error(&out, e),
+    })?;
+    if format == TraceFormat::Bin && end.ticks != expected {
+        // A file whose run diverged before t_end: the header gets the true count.
+        let stale = anyhow!("the trace of a stream has {} ticks, not the {expected} counted", end.ticks);
+        let file = w.get_mut();
+        if !file.seekable() {
+            return Err(stale);
+        }
+        let words = header(end.ticks)?;
+        w.flush().map_err(|e| write_error(&out, e))?;
+        w.seek(SeekFrom::Start(0)).map_err(|e| write_error(&out, e))?;
+        put_words(&mut w, &words).map_err(|e| write_error(&out, e))?;
+    }
+    w.flush().map_err(|e| write_error(&out, e))?;
     drop(w);
-    out.persist()?;
-    Ok(Traced { ticks: records.len(), law: config.law.kind(), t_last: records.last().map_or(0.0, |r| r.t), diverged })
+    let to_stdout = out.is_stdout();
+    out.finish().map_err(|e| if to_stdout && is_broken_pipe(&e) { anyhow::Error::new(StdoutClosed) } else { e })?;
+    Ok(Traced { ticks: end.ticks, law: config.law.kind(), t_last, diverged: end.diverged })
 }

@@ -101,9 +101,8 @@ current_max = 8.0
 [world]
 slope_deg = 4.0
 slope_direction_deg = 60.0
-# Periods that are exact in f32 (powers of two): the core's whole-multiple check has a
-# relative tolerance of 1e-9, tighter than f32 rounding, so 1 / 50 Hz against 2 ms fails
-# in f32.
+# Periods that are exact in f32 (powers of two); issue25_8_trace_accepts_a_50_hz_sensor
+# has decimal ones.
 [sensor]
 rate_hz = 64.0
 latency = 0.03125
@@ -153,6 +152,7 @@ goal = { x = -0.6, y = 0.4, theta_deg = 45.0 }
 fn bad_arguments_exit_2_naming_them() {
     let fig7 = repo().join("examples/paper/fig7.toml");
     let out = cli(&["trace", fig7.to_str().unwrap(), "-o", "/tmp/wmr-trace-test.txt"]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("or pass --format"));
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(err.lines().count(), 1, "{err}");
@@ -161,4 +161,167 @@ fn bad_arguments_exit_2_naming_them() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--run: no run 2"));
     assert!(!Path::new("/tmp/wmr-trace-test.bin").exists(), "no output on bad input");
+}
+
+/// `trace FILE -o OUT ARGS...` in `dir`.
+fn trace_in(dir: &Path, file: &Path, out: &str, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wmr-cli"))
+        .current_dir(dir)
+        .args(["trace", file.to_str().unwrap(), "-o", out])
+        .args(args)
+        .output()
+        .expect("wmr-cli runs")
+}
+
+/// Exit 2 with one line on stderr containing `what`, and no panic.
+fn assert_bad_input(o: &Output, what: &str) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains(what), "stderr lacks {what:?}: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+/// A scenario of Fig. 7's robot with `sensor` (TOML lines of `[sensor]`) and `t_end`.
+fn scenario_with(dir: &Path, name: &str, sensor: &str, t_end: f64) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(
+        &path,
+        format!(
+            "[sensor]\n{sensor}\n[sim]\nt_end = {t_end}\n[[run]]\ngoal = {{ x = 1.0, y = 1.0, theta_deg = 120.0 }}\n"
+        ),
+    )
+    .unwrap();
+    path
+}
+
+/// Issue 25, item 8: `trace` refused a 50 Hz sensor with exit 1 ("does not hold in f32:
+/// 1 / rate_hz must be a whole multiple of control_dt (got 0.0199999995)"), and 22 of 40
+/// common rate/latency pairs. Now the trace is written and is `ClosedLoop` in f32 with
+/// that sensor, tick for tick.
+#[test]
+fn issue25_8_trace_accepts_a_50_hz_sensor() {
+    let dir = tempfile::tempdir().unwrap();
+    for (rate, latency) in [(50.0f32, 0.02f32), (20.0, 0.1), (100.0, 0.03), (40.0, 0.025)] {
+        let sensor = format!("rate_hz = {rate}\nlatency = {latency}\nposition_noise = 0.002\nseed = 3");
+        let toml = scenario_with(dir.path(), "s.toml", &sensor, 2.0);
+        let o = trace_in(dir.path(), &toml, "t.bin", &[]);
+        assert!(o.status.success(), "{rate} Hz, {latency} s: {}", String::from_utf8_lossy(&o.stderr));
+        let (config, records) = read_trace(&dir.path().join("t.bin"));
+        assert_eq!(records.len(), 2001);
+        let params = SensorParams { rate_hz: rate, latency, position_noise: 0.002, seed: 3, ..SensorParams::default() };
+        check_against_closed_loop(&config, params, 0, &records);
+    }
+}
+
+/// Issue 25, item 8: what does not hold in f32 is bad input (exit 2), not a failure of
+/// the work (exit 1): a mass that overflows f32.
+#[test]
+fn issue25_8_a_scenario_that_overflows_f32_is_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let toml = dir.path().join("heavy.toml");
+    std::fs::write(&toml, "[robot]\nmass = 1e39\n[sim]\nt_end = 1.0\n[[run]]\ngoal = { x = 1.0 }\n").unwrap();
+    let o = trace_in(dir.path(), &toml, "t.bin", &[]);
+    assert_bad_input(&o, "does not hold in f32");
+    assert!(!dir.path().join("t.bin").exists());
+}
+
+/// Issue 25, item 9: `-o` was checked only after the whole simulation (and a long run was
+/// refused for memory first). Now an OUT that cannot be written is refused at once, by
+/// its own reason, even for a run of 1e6 s.
+#[test]
+fn issue25_9_out_is_checked_before_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let toml = scenario_with(dir.path(), "long.toml", "", 1e6);
+    let o = trace_in(dir.path(), &toml, "missing/t.bin", &[]);
+    assert_bad_input(&o, "the directory missing does not exist");
+    let o = trace_in(dir.path(), &toml, ".", &["--format", "csv"]);
+    assert_bad_input(&o, "is a directory");
+}
+
+/// Issue 25, item 9: a character device was refused ("not a regular file"), which the
+/// README says is written to as data comes. Now /dev/null and stdout take the trace; the
+/// binary trace on stdout is the file's, byte for byte.
+#[test]
+fn issue25_9_trace_streams_to_devices_and_stdout() {
+    let dir = tempfile::tempdir().unwrap();
+    let fig7 = repo().join("examples/paper/fig7.toml");
+    for format in ["bin", "csv"] {
+        let o = trace_in(dir.path(), &fig7, "/dev/null", &["--format", format]);
+        assert!(o.status.success(), "{format}: {}", String::from_utf8_lossy(&o.stderr));
+        assert!(String::from_utf8_lossy(&o.stdout).starts_with("trace: 60001 ticks"));
+        let o = trace_in(dir.path(), &fig7, "-", &["--format", format]);
+        assert!(o.status.success(), "{format}: {}", String::from_utf8_lossy(&o.stderr));
+        // The summary goes to stderr; stdout is the trace alone.
+        assert!(String::from_utf8_lossy(&o.stderr).contains("trace: 60001 ticks"));
+        let file = format!("fig7.{format}");
+        assert!(trace_in(dir.path(), &fig7, &file, &[]).status.success());
+        assert!(o.stdout == std::fs::read(dir.path().join(&file)).unwrap(), "{format}: stdout differs from the file");
+    }
+}
+
+/// A run that diverges before t_end (a start near the edge of the 1 km box, driven out of
+/// it): the binary header counts the ticks written, in a file (rewritten at the end) and
+/// on a stream (counted first), and both hold the same bytes.
+#[test]
+fn a_diverging_trace_has_the_true_tick_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let toml = dir.path().join("edge.toml");
+    std::fs::write(
+        &toml,
+        "[sim]\nt_end = 60.0\n[[run]]\nstart = { x = 999.9, y = 0.0, theta_deg = 0.0 }\ngoal = { x = 0.0, y = 0.0, theta_deg = 0.0 }\n",
+    )
+    .unwrap();
+    let o = trace_in(dir.path(), &toml, "t.bin", &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let said = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(said.contains("diverged"), "{said}");
+    let (_, records) = read_trace(&dir.path().join("t.bin"));
+    assert!(records.len() < 60_001 && records.len() > 1, "{} ticks", records.len());
+    assert!(said.starts_with(&format!("trace: {} ticks", records.len())), "{said}");
+    let o = trace_in(dir.path(), &toml, "-", &["--format", "bin"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(o.stdout == std::fs::read(dir.path().join("t.bin")).unwrap(), "the stream differs from the file");
+}
+
+/// Issue 25, item 9: `trace` allocated every tick at once (9.6 GB for t_end = 1e5 s) and
+/// aborted under a 2 GB cap. Now, under `ulimit -v` of 2 GiB, the trace of 1e5 s streams
+/// from its first tick: the first 20,000 rows arrive (and are Fig. 7's first ticks) while
+/// the run goes on; then the test stops it.
+#[test]
+fn issue25_9_a_long_trace_streams_in_bounded_memory() {
+    use std::io::{BufRead as _, BufReader};
+    let dir = tempfile::tempdir().unwrap();
+    let toml = scenario_with(dir.path(), "long.toml", "", 1e5);
+    let script = format!(
+        "ulimit -v 2097152 && exec {} trace {} -o - --format csv",
+        env!("CARGO_BIN_EXE_wmr-cli"),
+        toml.display()
+    );
+    let mut child = Command::new("sh")
+        .args(["-c", &script])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("sh runs");
+    let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+    let header = lines.next().expect("a header line").expect("text");
+    assert_eq!(header, Record::COLUMNS.join(","));
+    let mut t_last = -1.0f32;
+    for k in 0..20_000 {
+        let Some(Ok(line)) = lines.next() else {
+            let _ = child.kill();
+            let out = child.wait_with_output().unwrap();
+            panic!("the trace ended at row {k}: {}", String::from_utf8_lossy(&out.stderr));
+        };
+        let values: Vec<f32> = line.split(',').map(|v| v.parse().unwrap()).collect();
+        assert_eq!(values.len(), RECORD_WORDS, "row {k}");
+        assert!(values[0] > t_last, "row {k}: time goes forward");
+        t_last = values[0];
+    }
+    // 1 ms control ticks from t = 0.
+    assert!((t_last - 19.999).abs() < 1e-3, "{t_last}");
+    assert_eq!(child.try_wait().unwrap(), None, "the run of 1e5 s is still going");
+    child.kill().unwrap();
+    child.wait().unwrap();
 }
