@@ -777,8 +777,8 @@ wmr_status wmr_polar_params_f32_default(wmr_polar_params_f32 *out);
 // Fills `out` with the Lyapunov law's defaults (gamma 0.5, k 3, h 9).
 wmr_status wmr_lyapunov_params_f32_default(wmr_lyapunov_params_f32 *out);
 
-// A plant at rest at `start` (m, m, rad), encoders at zero, no command held, on the
-// ground `world` (NULL: flat).
+// A plant at rest at `start` (m, m, rad; finite, |x| and |y| <= 1000 m), encoders at
+// zero, no command held, on the ground `world` (NULL: flat).
 wmr_status wmr_plant_f32_init(wmr_plant_f32 *out,
                               const wmr_robot_f32 *robot,
                               const wmr_drive_f32 *drive,
@@ -787,12 +787,15 @@ wmr_status wmr_plant_f32_init(wmr_plant_f32 *out,
                               wmr_error *err);
 
 // Holds `command` (per wheel: N m for the torque drive, V for the DC motor) until the
-// next call: the zero-order hold of a digital controller.
+// next call: the zero-order hold of a digital controller. A non-finite command is
+// refused (`WMR_NOT_FINITE`) and the held one kept.
 wmr_status wmr_plant_f32_apply(wmr_plant_f32 *plant,
                                wmr_wheels_f32 command);
 
-// One RK4 step of `dt` (s) from time `t` (s) under the held command. A state that is
-// not finite or leaves the 1 km box is refused (`WMR_DIVERGED_*`), the state unchanged.
+// One RK4 step of `dt` (s) from time `t` (s) under the held command. `t` must be
+// finite and `dt` finite, > 0 and below the plant's RK4 limit (`WMR_NOT_FINITE`,
+// `WMR_NOT_POSITIVE`, `WMR_OUT_OF_RANGE`). A state that is not finite or leaves the
+// 1 km box is refused (`WMR_DIVERGED_*`), the state unchanged.
 wmr_status wmr_plant_f32_step(wmr_plant_f32 *plant,
                               float t,
                               float dt);
@@ -815,7 +818,8 @@ wmr_status wmr_sensor_f32_init_pose(wmr_sensor_f32 *out,
                                     uint64_t run,
                                     wmr_error *err);
 
-// What the sensor reports at time `t` (s) of the plant's state.
+// What the sensor reports at time `t` (s, finite) of the plant's state. A measurement
+// that comes out non-finite is refused (`WMR_NOT_FINITE`), the sensor unchanged.
 wmr_status wmr_sensor_f32_measure(wmr_sensor_f32 *sensor,
                                   float t,
                                   const wmr_plant_f32 *plant,
@@ -836,8 +840,10 @@ wmr_status wmr_paper_controller_f32_init(wmr_paper_controller_f32 *out,
 
 // One control tick at time `t` (s): drive commands and errors from the measurement and
 // the goal pose (m, m, rad), the reference at rest there (as `_update_reference` with
-// zero twist and acceleration). Non-finite inputs are refused (`WMR_NOT_FINITE`) and
-// leave the controller unchanged.
+// zero twist and acceleration). Non-finite inputs, a measured pose or goal outside the
+// 1 km box, and a tick whose output comes out non-finite (gains or inputs that
+// overflow) are refused (`WMR_NOT_FINITE`, `WMR_OUT_OF_RANGE`) and leave the
+// controller and `out` unchanged.
 wmr_status wmr_paper_controller_f32_update(wmr_paper_controller_f32 *ctrl,
                                            float t,
                                            const wmr_measurement_f32 *measurement,
@@ -846,8 +852,9 @@ wmr_status wmr_paper_controller_f32_update(wmr_paper_controller_f32 *ctrl,
 
 // One control tick at time `t` (s) following `reference`: the pose (m, m, rad), twist
 // (m/s, rad/s) and acceleration (m/s^2, rad/s^2) of the reference point at `t`.
-// Non-finite inputs are refused (`WMR_NOT_FINITE`; `err`, may be NULL, names the field,
-// as `reference.twist.v`) and leave the controller unchanged.
+// Non-finite inputs are refused (`WMR_NOT_FINITE`; `err`, may be NULL, names the
+// field, as `reference.twist.v`, or the output, as `out.command.right`) and leave the
+// controller unchanged.
 wmr_status wmr_paper_controller_f32_update_reference(wmr_paper_controller_f32 *ctrl,
                                                      float t,
                                                      const wmr_measurement_f32 *measurement,
@@ -876,7 +883,8 @@ wmr_status wmr_paper_bidirectional_controller_f32_update(wmr_paper_bidirectional
                                                          wmr_pose_f32 goal,
                                                          wmr_control_output_f32 *out);
 
-// One control tick following a reference (see `wmr_paper_controller_f32_update_reference`).
+// One control tick following a reference (see
+// `wmr_paper_controller_f32_update_reference`).
 wmr_status wmr_paper_bidirectional_controller_f32_update_reference(wmr_paper_bidirectional_controller_f32 *ctrl,
                                                                    float t,
                                                                    const wmr_measurement_f32 *measurement,
@@ -903,7 +911,8 @@ wmr_status wmr_polar_controller_f32_update(wmr_polar_controller_f32 *ctrl,
                                            wmr_pose_f32 goal,
                                            wmr_control_output_f32 *out);
 
-// One control tick following a reference (see `wmr_paper_controller_f32_update_reference`).
+// One control tick following a reference (see
+// `wmr_paper_controller_f32_update_reference`).
 wmr_status wmr_polar_controller_f32_update_reference(wmr_polar_controller_f32 *ctrl,
                                                      float t,
                                                      const wmr_measurement_f32 *measurement,
@@ -914,7 +923,8 @@ wmr_status wmr_polar_controller_f32_update_reference(wmr_polar_controller_f32 *c
 // Clears the direction choice, the servos and the references, as at t = 0.
 wmr_status wmr_polar_controller_f32_reset(wmr_polar_controller_f32 *ctrl);
 
-// Aicardi et al.'s Lyapunov law with its wheel stage (see `wmr_paper_controller_f32_init`).
+// Aicardi et al.'s Lyapunov law with its wheel stage (see
+// `wmr_paper_controller_f32_init`).
 wmr_status wmr_lyapunov_controller_f32_init(wmr_lyapunov_controller_f32 *out,
                                             const wmr_lyapunov_params_f32 *params,
                                             const wmr_wheel_stage_params_f32 *wheels,
@@ -930,7 +940,8 @@ wmr_status wmr_lyapunov_controller_f32_update(wmr_lyapunov_controller_f32 *ctrl,
                                               wmr_pose_f32 goal,
                                               wmr_control_output_f32 *out);
 
-// One control tick following a reference (see `wmr_paper_controller_f32_update_reference`).
+// One control tick following a reference (see
+// `wmr_paper_controller_f32_update_reference`).
 wmr_status wmr_lyapunov_controller_f32_update_reference(wmr_lyapunov_controller_f32 *ctrl,
                                                         float t,
                                                         const wmr_measurement_f32 *measurement,
@@ -977,8 +988,8 @@ wmr_status wmr_polar_params_f64_default(wmr_polar_params_f64 *out);
 // Fills `out` with the Lyapunov law's defaults (gamma 0.5, k 3, h 9).
 wmr_status wmr_lyapunov_params_f64_default(wmr_lyapunov_params_f64 *out);
 
-// A plant at rest at `start` (m, m, rad), encoders at zero, no command held, on the
-// ground `world` (NULL: flat).
+// A plant at rest at `start` (m, m, rad; finite, |x| and |y| <= 1000 m), encoders at
+// zero, no command held, on the ground `world` (NULL: flat).
 wmr_status wmr_plant_f64_init(wmr_plant_f64 *out,
                               const wmr_robot_f64 *robot,
                               const wmr_drive_f64 *drive,
@@ -987,12 +998,15 @@ wmr_status wmr_plant_f64_init(wmr_plant_f64 *out,
                               wmr_error *err);
 
 // Holds `command` (per wheel: N m for the torque drive, V for the DC motor) until the
-// next call: the zero-order hold of a digital controller.
+// next call: the zero-order hold of a digital controller. A non-finite command is
+// refused (`WMR_NOT_FINITE`) and the held one kept.
 wmr_status wmr_plant_f64_apply(wmr_plant_f64 *plant,
                                wmr_wheels_f64 command);
 
-// One RK4 step of `dt` (s) from time `t` (s) under the held command. A state that is
-// not finite or leaves the 1 km box is refused (`WMR_DIVERGED_*`), the state unchanged.
+// One RK4 step of `dt` (s) from time `t` (s) under the held command. `t` must be
+// finite and `dt` finite, > 0 and below the plant's RK4 limit (`WMR_NOT_FINITE`,
+// `WMR_NOT_POSITIVE`, `WMR_OUT_OF_RANGE`). A state that is not finite or leaves the
+// 1 km box is refused (`WMR_DIVERGED_*`), the state unchanged.
 wmr_status wmr_plant_f64_step(wmr_plant_f64 *plant,
                               double t,
                               double dt);
@@ -1015,7 +1029,8 @@ wmr_status wmr_sensor_f64_init_pose(wmr_sensor_f64 *out,
                                     uint64_t run,
                                     wmr_error *err);
 
-// What the sensor reports at time `t` (s) of the plant's state.
+// What the sensor reports at time `t` (s, finite) of the plant's state. A measurement
+// that comes out non-finite is refused (`WMR_NOT_FINITE`), the sensor unchanged.
 wmr_status wmr_sensor_f64_measure(wmr_sensor_f64 *sensor,
                                   double t,
                                   const wmr_plant_f64 *plant,
@@ -1036,8 +1051,10 @@ wmr_status wmr_paper_controller_f64_init(wmr_paper_controller_f64 *out,
 
 // One control tick at time `t` (s): drive commands and errors from the measurement and
 // the goal pose (m, m, rad), the reference at rest there (as `_update_reference` with
-// zero twist and acceleration). Non-finite inputs are refused (`WMR_NOT_FINITE`) and
-// leave the controller unchanged.
+// zero twist and acceleration). Non-finite inputs, a measured pose or goal outside the
+// 1 km box, and a tick whose output comes out non-finite (gains or inputs that
+// overflow) are refused (`WMR_NOT_FINITE`, `WMR_OUT_OF_RANGE`) and leave the
+// controller and `out` unchanged.
 wmr_status wmr_paper_controller_f64_update(wmr_paper_controller_f64 *ctrl,
                                            double t,
                                            const wmr_measurement_f64 *measurement,
@@ -1046,8 +1063,9 @@ wmr_status wmr_paper_controller_f64_update(wmr_paper_controller_f64 *ctrl,
 
 // One control tick at time `t` (s) following `reference`: the pose (m, m, rad), twist
 // (m/s, rad/s) and acceleration (m/s^2, rad/s^2) of the reference point at `t`.
-// Non-finite inputs are refused (`WMR_NOT_FINITE`; `err`, may be NULL, names the field,
-// as `reference.twist.v`) and leave the controller unchanged.
+// Non-finite inputs are refused (`WMR_NOT_FINITE`; `err`, may be NULL, names the
+// field, as `reference.twist.v`, or the output, as `out.command.right`) and leave the
+// controller unchanged.
 wmr_status wmr_paper_controller_f64_update_reference(wmr_paper_controller_f64 *ctrl,
                                                      double t,
                                                      const wmr_measurement_f64 *measurement,
@@ -1076,7 +1094,8 @@ wmr_status wmr_paper_bidirectional_controller_f64_update(wmr_paper_bidirectional
                                                          wmr_pose_f64 goal,
                                                          wmr_control_output_f64 *out);
 
-// One control tick following a reference (see `wmr_paper_controller_f64_update_reference`).
+// One control tick following a reference (see
+// `wmr_paper_controller_f64_update_reference`).
 wmr_status wmr_paper_bidirectional_controller_f64_update_reference(wmr_paper_bidirectional_controller_f64 *ctrl,
                                                                    double t,
                                                                    const wmr_measurement_f64 *measurement,
@@ -1103,7 +1122,8 @@ wmr_status wmr_polar_controller_f64_update(wmr_polar_controller_f64 *ctrl,
                                            wmr_pose_f64 goal,
                                            wmr_control_output_f64 *out);
 
-// One control tick following a reference (see `wmr_paper_controller_f64_update_reference`).
+// One control tick following a reference (see
+// `wmr_paper_controller_f64_update_reference`).
 wmr_status wmr_polar_controller_f64_update_reference(wmr_polar_controller_f64 *ctrl,
                                                      double t,
                                                      const wmr_measurement_f64 *measurement,
@@ -1114,7 +1134,8 @@ wmr_status wmr_polar_controller_f64_update_reference(wmr_polar_controller_f64 *c
 // Clears the direction choice, the servos and the references, as at t = 0.
 wmr_status wmr_polar_controller_f64_reset(wmr_polar_controller_f64 *ctrl);
 
-// Aicardi et al.'s Lyapunov law with its wheel stage (see `wmr_paper_controller_f64_init`).
+// Aicardi et al.'s Lyapunov law with its wheel stage (see
+// `wmr_paper_controller_f64_init`).
 wmr_status wmr_lyapunov_controller_f64_init(wmr_lyapunov_controller_f64 *out,
                                             const wmr_lyapunov_params_f64 *params,
                                             const wmr_wheel_stage_params_f64 *wheels,
@@ -1130,7 +1151,8 @@ wmr_status wmr_lyapunov_controller_f64_update(wmr_lyapunov_controller_f64 *ctrl,
                                               wmr_pose_f64 goal,
                                               wmr_control_output_f64 *out);
 
-// One control tick following a reference (see `wmr_paper_controller_f64_update_reference`).
+// One control tick following a reference (see
+// `wmr_paper_controller_f64_update_reference`).
 wmr_status wmr_lyapunov_controller_f64_update_reference(wmr_lyapunov_controller_f64 *ctrl,
                                                         double t,
                                                         const wmr_measurement_f64 *measurement,

@@ -516,8 +516,15 @@ pub trait CLaw<T: Prec> {
 /// `controller_update`, `controller_update_reference` and `controller_reset` with its
 /// marker (`api_f32.rs`).
 macro_rules! c_laws {
-    ($( $(#[$doc:meta])* $marker:ident($params:ident, $law:ident) storage($s32:ident = $tag32:literal, $s64:ident = $tag64:literal), new($p:ident, $model:ident, $dt:ident) => $new:expr; )+) => {
+    ($( $(#[$doc:meta])* $marker:ident($params:ident, $law:ident) storage($s32:ident = $tag32:literal, $s64:ident = $tag64:literal), new($p:ident, $model:ident, $dt:ident) => $new:expr,
+        c($c_name:literal, about = $about:literal, defaults = $defaults:literal, reset = $reset:literal); )+) => {
         $( $(#[$doc])* pub struct $marker; )+
+
+        /// The laws of the C API, in the list's order, as `tests/header.rs` writes their
+        /// entry points into `api_f32.rs` and `api_f64.rs`.
+        pub const C_LAWS: &[CLawEntry] = &[
+            $( CLawEntry { c_name: $c_name, marker: stringify!($marker), about: $about, defaults: $defaults, reset: $reset }, )+
+        ];
 
         storage_of! {
             $(
@@ -578,15 +585,37 @@ macro_rules! c_laws {
     };
 }
 
+/// A law of [`C_LAWS`]: what its C entry points are named and say.
+#[derive(Clone, Copy, Debug)]
+pub struct CLawEntry {
+    /// The law in C names: `wmr_<c_name>_params_*`, `wmr_<c_name>_controller_*`.
+    pub c_name: &'static str,
+    /// Its marker type in this module (`Paper`).
+    pub marker: &'static str,
+    /// What the law is, as the start of its `_init` doc.
+    pub about: &'static str,
+    /// What `_params_*_default` fills in (after "Fills `out` with ").
+    pub defaults: &'static str,
+    /// What `_reset` clears.
+    pub reset: &'static str,
+}
+
+// The one list of the C API's laws. A law here gets its storage types and its `CLaw`;
+// `WMR_BLESS=1 cargo test -p wmr-ffi --test header` then writes its entry points into
+// api_f32.rs and api_f64.rs and the header (the first law's update docs are the full ones).
 c_laws! {
     /// The paper's law.
-    Paper(wmr_paper_params, PaperLaw) storage(wmr_paper_controller_f32 = 0x574d_5205_0000_0f32, wmr_paper_controller_f64 = 0x574d_5205_0000_0f64), new(p, model, dt) => PaperLaw::new(p, model, dt);
+    Paper(wmr_paper_params, PaperLaw) storage(wmr_paper_controller_f32 = 0x574d_5205_0000_0f32, wmr_paper_controller_f64 = 0x574d_5205_0000_0f64), new(p, model, dt) => PaperLaw::new(p, model, dt),
+        c("paper", about = "The paper's law", defaults = "the paper's gains (section 4) and the default radii and hold", reset = "Clears the integrators and memories, as at t = 0.");
     /// The paper's law repaired (`paper_bidirectional`).
-    PaperBidirectional(wmr_paper_bidirectional_params, PaperBidirectionalLaw) storage(wmr_paper_bidirectional_controller_f32 = 0x574d_5208_0000_0f32, wmr_paper_bidirectional_controller_f64 = 0x574d_5208_0000_0f64), new(p, model, dt) => PaperBidirectionalLaw::new(p, model, dt);
+    PaperBidirectional(wmr_paper_bidirectional_params, PaperBidirectionalLaw) storage(wmr_paper_bidirectional_controller_f32 = 0x574d_5208_0000_0f32, wmr_paper_bidirectional_controller_f64 = 0x574d_5208_0000_0f64), new(p, model, dt) => PaperBidirectionalLaw::new(p, model, dt),
+        c("paper_bidirectional", about = "The paper's law repaired (`paper_bidirectional`: a position error that never feeds back positively, gains for which the heading settles before the position)", defaults = "the bidirectional paper law's defaults (Kp_theta 0, Ki_theta 1, Kp_s 0, Ki_s 0.25, goal_radius 1 mm, hold_radius 5 mm, `WMR_HOLD_FREEZE`)", reset = "Clears the integrators and memories, as at t = 0.");
     /// Astolfi's polar law.
-    Polar(wmr_polar_params, PolarLaw) storage(wmr_polar_controller_f32 = 0x574d_5206_0000_0f32, wmr_polar_controller_f64 = 0x574d_5206_0000_0f64), new(p, model, dt) => PolarLaw::new(p);
+    Polar(wmr_polar_params, PolarLaw) storage(wmr_polar_controller_f32 = 0x574d_5206_0000_0f32, wmr_polar_controller_f64 = 0x574d_5206_0000_0f64), new(p, model, dt) => PolarLaw::new(p),
+        c("polar", about = "Astolfi's polar law", defaults = "the polar law's defaults (k_rho 0.5, k_alpha 3, k_beta -1.2)", reset = "Clears the direction choice, the servos and the references, as at t = 0.");
     /// Aicardi et al.'s Lyapunov law.
-    Lyapunov(wmr_lyapunov_params, LyapunovLaw) storage(wmr_lyapunov_controller_f32 = 0x574d_5207_0000_0f32, wmr_lyapunov_controller_f64 = 0x574d_5207_0000_0f64), new(p, model, dt) => LyapunovLaw::new(p);
+    Lyapunov(wmr_lyapunov_params, LyapunovLaw) storage(wmr_lyapunov_controller_f32 = 0x574d_5207_0000_0f32, wmr_lyapunov_controller_f64 = 0x574d_5207_0000_0f64), new(p, model, dt) => LyapunovLaw::new(p),
+        c("lyapunov", about = "Aicardi et al.'s Lyapunov law", defaults = "the Lyapunov law's defaults (gamma 0.5, k 3, h 9)", reset = "Clears the direction choice, the servos and the references, as at t = 0.");
 }
 
 // ---------------------------------------------------------------------------------------

@@ -51,12 +51,21 @@
 #[cfg(feature = "std")]
 extern crate std;
 
+// Generated from the law list `c_laws!` in `imp` (tests/header.rs; `WMR_BLESS=1` writes
+// them); laid out by the generator, not by rustfmt.
+#[rustfmt::skip]
 mod api_f32;
+#[rustfmt::skip]
 mod api_f64;
 mod imp;
 
 pub use api_f32::*;
 pub use api_f64::*;
+/// The C API's law list, for the generator of `api_f32.rs` and `api_f64.rs`
+/// (tests/header.rs); not part of the C API.
+/// cbindgen:ignore
+#[doc(hidden)]
+pub use imp::{C_LAWS, CLawEntry};
 
 use core::ffi::c_char;
 

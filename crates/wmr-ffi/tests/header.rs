@@ -1,5 +1,6 @@
-//! The checked-in C header and the f64 entry points are generated: these tests fail when
-//! either is stale. `WMR_BLESS=1 cargo test -p wmr-ffi --test header` rewrites both.
+//! The checked-in C header and the entry points (`src/api_f32.rs`, `src/api_f64.rs`, from
+//! the law list `c_laws!` in src/imp.rs) are generated: these tests fail when any is
+//! stale. `WMR_BLESS=1 cargo test -p wmr-ffi --test header` rewrites them.
 
 use std::path::{Path, PathBuf};
 
@@ -30,23 +31,294 @@ fn check_or_bless(path: &Path, fresh: &str, how: &str) {
     }
 }
 
-/// `api_f64.rs` as it must be: `api_f32.rs` with f32 -> f64, under its own module docs.
-fn mirror_f64(api_f32: &str) -> String {
-    let body: Vec<&str> = api_f32.split('\n').skip_while(|l| l.starts_with("//!")).collect();
-    let head = "//! The f64 entry points: `api_f32.rs` with every `f32` replaced by `f64`. Generated;\n\
-                //! edit `api_f32.rs` and run `WMR_BLESS=1 cargo test -p wmr-ffi --test header`.\n";
-    format!("{head}{}", body.join("\n").replace("f32", "f64"))
+// ---------------------------------------------------------------------------------------
+// api_f32.rs and api_f64.rs: written from the law list (`wmr_ffi::C_LAWS`, from `c_laws!`
+// in src/imp.rs) and the entry points below that every law shares. In f32; the f64 file
+// is the same text with every `f32` replaced by `f64`.
+
+/// The entry points before the laws' parameter defaults: robot, drive, wheel stage.
+const API_ROBOT_DRIVE: &str = r#"/// Fills `out` with the paper's robot: m = 5 kg, r = 0.1 m, R = 0.2 m, d = 0.25 m,
+/// I_m = 0.002 kg m^2, I_p = 0.005 kg m^2, k_t = 0.1, no friction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_robot_params_f32_paper(out: *mut wmr_robot_params<f32>) -> wmr_status {
+    imp::robot_params_paper(out)
+}
+
+/// Validates `params` into a robot. On error `err` (may be NULL) names the field.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_robot_f32_init(
+    out: *mut wmr_robot_f32,
+    params: *const wmr_robot_params<f32>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::robot_init(out, params, err)
+}
+
+/// Fills `out` with the defaults of drive `kind` (both kinds' fields are filled).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_drive_params_f32_default(kind: u32, out: *mut wmr_drive_params<f32>) -> wmr_status {
+    imp::drive_params_default(kind, out)
+}
+
+/// Validates `params` for `robot` (its gear ratio) into a drive.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_drive_f32_init(
+    out: *mut wmr_drive_f32,
+    params: *const wmr_drive_params<f32>,
+    robot: *const wmr_robot_f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::drive_init(out, params, robot, err)
+}
+
+/// Fills `out` with the wheel stage defaults for the drive kind of `drive`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_wheel_stage_params_f32_default(
+    drive: *const wmr_drive_params<f32>,
+    out: *mut wmr_wheel_stage_params<f32>,
+) -> wmr_status {
+    imp::wheel_stage_params_default(drive, out)
+}
+"#;
+
+/// The entry points between the laws' parameter defaults and their controllers: plant
+/// and sensor.
+const API_PLANT_SENSOR: &str = r#"/// A plant at rest at `start` (m, m, rad; finite, |x| and |y| <= 1000 m), encoders at
+/// zero, no command held, on the ground `world` (NULL: flat).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_plant_f32_init(
+    out: *mut wmr_plant_f32,
+    robot: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    world: *const wmr_world_params<f32>,
+    start: wmr_pose<f32>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::plant_init(out, robot, drive, world, start, err)
+}
+
+/// Holds `command` (per wheel: N m for the torque drive, V for the DC motor) until the
+/// next call: the zero-order hold of a digital controller. A non-finite command is
+/// refused (`WMR_NOT_FINITE`) and the held one kept.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_plant_f32_apply(plant: *mut wmr_plant_f32, command: wmr_wheels<f32>) -> wmr_status {
+    imp::plant_apply(plant, command)
+}
+
+/// One RK4 step of `dt` (s) from time `t` (s) under the held command. `t` must be
+/// finite and `dt` finite, > 0 and below the plant's RK4 limit (`WMR_NOT_FINITE`,
+/// `WMR_NOT_POSITIVE`, `WMR_OUT_OF_RANGE`). A state that is not finite or leaves the
+/// 1 km box is refused (`WMR_DIVERGED_*`), the state unchanged.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_plant_f32_step(plant: *mut wmr_plant_f32, t: f32, dt: f32) -> wmr_status {
+    imp::plant_step(plant, t, dt)
+}
+
+/// The plant's true state.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_plant_f32_state(plant: *const wmr_plant_f32, out: *mut wmr_state<f32>) -> wmr_status {
+    imp::plant_state(plant, out)
+}
+
+/// The paper's sensor: the true pose and wheel state at the instant of the tick.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_sensor_f32_init_perfect(out: *mut wmr_sensor_f32) -> wmr_status {
+    imp::sensor_init_perfect::<f32>(out)
+}
+
+/// Fills `out` with the pose sensor's defaults (the perfect sensor, seed 0).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_sensor_params_f32_default(out: *mut wmr_sensor_params<f32>) -> wmr_status {
+    imp::sensor_params_default(out)
+}
+
+/// The pose sensor for control period `control_dt` (s); `run` selects the noise stream
+/// (with `params.seed`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_sensor_f32_init_pose(
+    out: *mut wmr_sensor_f32,
+    params: *const wmr_sensor_params<f32>,
+    control_dt: f32,
+    run: u64,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::sensor_init_pose::<f32>(out, params, control_dt, run, err)
+}
+
+/// What the sensor reports at time `t` (s, finite) of the plant's state. A measurement
+/// that comes out non-finite is refused (`WMR_NOT_FINITE`), the sensor unchanged.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_sensor_f32_measure(
+    sensor: *mut wmr_sensor_f32,
+    t: f32,
+    plant: *const wmr_plant_f32,
+    out: *mut wmr_measurement<f32>,
+) -> wmr_status {
+    imp::sensor_measure(sensor, t, plant, out)
+}
+
+/// Forgets the sensor's memory, as at t = 0.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_sensor_f32_reset(sensor: *mut wmr_sensor_f32) -> wmr_status {
+    imp::sensor_reset::<f32>(sensor)
+}
+"#;
+
+/// `text` as `///` doc lines of at most 88 columns.
+fn doc(text: &str) -> String {
+    let mut out = String::new();
+    let mut line = String::from("///");
+    for word in text.split_whitespace() {
+        if line.len() + 1 + word.len() > 88 && line != "///" {
+            out.push_str(&line);
+            out.push('\n');
+            line = String::from("///");
+        }
+        line.push(' ');
+        line.push_str(word);
+    }
+    out.push_str(&line);
+    out.push('\n');
+    out
+}
+
+/// One exported function: its doc, name, arguments (`name: type`) and body.
+fn entry_point(text: &str, name: &str, args: &[String], body: &str) -> String {
+    let mut out = doc(text);
+    out.push_str(&format!("#[unsafe(no_mangle)]\npub unsafe extern \"C\" fn {name}(\n"));
+    for a in args {
+        out.push_str(&format!("    {a},\n"));
+    }
+    out.push_str(&format!(") -> wmr_status {{\n    {body}\n}}\n"));
+    out
+}
+
+/// `api_f32.rs` as it must be.
+fn api_f32() -> String {
+    let laws = wmr_ffi::C_LAWS;
+    let first = laws.first().expect("a law").c_name;
+    let markers: Vec<&str> = laws.iter().map(|l| l.marker).collect();
+    let mut out = format!(
+        "// @generated by crates/wmr-ffi/tests/header.rs from the law list `c_laws!` in src/imp.rs:\n\
+         // do not edit. Regenerate with WMR_BLESS=1 cargo test -p wmr-ffi --test header\n\
+         //! The f32 entry points (`api_f64.rs`: the same in f64).\n\n\
+         use crate::imp::{{self, {}}};\nuse crate::*;\n\n",
+        markers.join(", ")
+    );
+    out.push_str(API_ROBOT_DRIVE);
+    for l in laws {
+        let (c, m) = (l.c_name, l.marker);
+        out.push('\n');
+        out.push_str(&entry_point(
+            &format!("Fills `out` with {}.", l.defaults),
+            &format!("wmr_{c}_params_f32_default"),
+            &[format!("out: *mut wmr_{c}_params<f32>")],
+            &format!("imp::law_params_default::<f32, {m}>(out)"),
+        ));
+    }
+    out.push('\n');
+    out.push_str(API_PLANT_SENSOR);
+    for (i, l) in laws.iter().enumerate() {
+        let (c, m) = (l.c_name, l.marker);
+        let see = |what: &str| format!("(see `wmr_{first}_controller_f32_{what}`)");
+        let (init, update, update_reference) = if i == 0 {
+            (
+                format!(
+                    "{} with its wheel stage, for the controller's robot model (r and R), the drive it commands \
+                     and the control period `control_dt` (s).",
+                    l.about
+                ),
+                "One control tick at time `t` (s): drive commands and errors from the measurement and the goal \
+                 pose (m, m, rad), the reference at rest there (as `_update_reference` with zero twist and \
+                 acceleration). Non-finite inputs, a measured pose or goal outside the 1 km box, and a tick \
+                 whose output comes out non-finite (gains or inputs that overflow) are refused \
+                 (`WMR_NOT_FINITE`, `WMR_OUT_OF_RANGE`) and leave the controller and `out` unchanged."
+                    .to_owned(),
+                "One control tick at time `t` (s) following `reference`: the pose (m, m, rad), twist (m/s, \
+                 rad/s) and acceleration (m/s^2, rad/s^2) of the reference point at `t`. Non-finite inputs are \
+                 refused (`WMR_NOT_FINITE`; `err`, may be NULL, names the field, as `reference.twist.v`, or the \
+                 output, as `out.command.right`) and leave the controller unchanged."
+                    .to_owned(),
+            )
+        } else {
+            (
+                format!("{} with its wheel stage {}.", l.about, see("init")),
+                format!("One control tick {}.", see("update")),
+                format!("One control tick following a reference {}.", see("update_reference")),
+            )
+        };
+        let ctrl = format!("ctrl: *mut wmr_{c}_controller_f32");
+        out.push('\n');
+        out.push_str(&entry_point(
+            &init,
+            &format!("wmr_{c}_controller_f32_init"),
+            &[
+                format!("out: *mut wmr_{c}_controller_f32"),
+                format!("params: *const wmr_{c}_params<f32>"),
+                "wheels: *const wmr_wheel_stage_params<f32>".into(),
+                "model: *const wmr_robot_f32".into(),
+                "drive: *const wmr_drive_f32".into(),
+                "control_dt: f32".into(),
+                "err: *mut wmr_error".into(),
+            ],
+            &format!("imp::controller_init::<f32, {m}>(out, params, wheels, model, drive, control_dt, err)"),
+        ));
+        out.push('\n');
+        out.push_str(&entry_point(
+            &update,
+            &format!("wmr_{c}_controller_f32_update"),
+            &[
+                ctrl.clone(),
+                "t: f32".into(),
+                "measurement: *const wmr_measurement<f32>".into(),
+                "goal: wmr_pose<f32>".into(),
+                "out: *mut wmr_control_output<f32>".into(),
+            ],
+            &format!("imp::controller_update::<f32, {m}>(ctrl, t, measurement, goal, out)"),
+        ));
+        out.push('\n');
+        out.push_str(&entry_point(
+            &update_reference,
+            &format!("wmr_{c}_controller_f32_update_reference"),
+            &[
+                ctrl.clone(),
+                "t: f32".into(),
+                "measurement: *const wmr_measurement<f32>".into(),
+                "reference: *const wmr_reference_state<f32>".into(),
+                "out: *mut wmr_control_output<f32>".into(),
+                "err: *mut wmr_error".into(),
+            ],
+            &format!("imp::controller_update_reference::<f32, {m}>(ctrl, t, measurement, reference, out, err)"),
+        ));
+        out.push('\n');
+        out.push_str(&entry_point(
+            l.reset,
+            &format!("wmr_{c}_controller_f32_reset"),
+            &[ctrl],
+            &format!("imp::controller_reset::<f32, {m}>(ctrl)"),
+        ));
+    }
+    out
+}
+
+/// `api_f64.rs` as it must be: `api_f32.rs` with every `f32` replaced by `f64`.
+fn api_f64() -> String {
+    api_f32().replace("f32", "f64")
 }
 
 #[test]
-fn f64_api_is_the_f32_api() {
+fn api_files_are_generated_from_the_law_list() {
     let dir = crate_dir().join("src");
-    let f32_src = std::fs::read_to_string(dir.join("api_f32.rs")).expect("api_f32.rs");
-    check_or_bless(
-        &dir.join("api_f64.rs"),
-        &mirror_f64(&f32_src),
-        "run WMR_BLESS=1 cargo test -p wmr-ffi --test header",
-    );
+    let how = "run WMR_BLESS=1 cargo test -p wmr-ffi --test header";
+    let f32_src = api_f32();
+    assert!(f32_src.starts_with("// @generated"));
+    for law in wmr_ffi::C_LAWS {
+        for f in ["init", "update", "update_reference", "reset"] {
+            assert!(f32_src.contains(&format!("fn wmr_{}_controller_f32_{f}(", law.c_name)), "{} {f}", law.c_name);
+        }
+    }
+    check_or_bless(&dir.join("api_f32.rs"), &f32_src, how);
+    check_or_bless(&dir.join("api_f64.rs"), &api_f64(), how);
 }
 
 /// The core parameter structs the C API takes as they are (`pub type` aliases in
@@ -202,16 +474,16 @@ fn generate() -> String {
 
 #[test]
 fn header_is_current() {
-    // The f64 file must be current first, or the header would be generated from a stale one.
+    // The API files must be current first, or the header would be generated from stale
+    // ones; under WMR_BLESS they are written first.
     let dir = crate_dir().join("src");
-    let f32_src = std::fs::read_to_string(dir.join("api_f32.rs")).expect("api_f32.rs");
-    let f64_now = std::fs::read_to_string(dir.join("api_f64.rs")).expect("api_f64.rs");
-    if !bless() {
-        assert_eq!(
-            f64_now,
-            mirror_f64(&f32_src),
-            "api_f64.rs is stale: run WMR_BLESS=1 cargo test -p wmr-ffi --test header"
-        );
+    for (file, fresh) in [("api_f32.rs", api_f32()), ("api_f64.rs", api_f64())] {
+        let now = std::fs::read_to_string(dir.join(file)).unwrap_or_default();
+        if bless() {
+            std::fs::write(dir.join(file), &fresh).expect("write the API file");
+        } else {
+            assert!(now == fresh, "{file} is stale: run WMR_BLESS=1 cargo test -p wmr-ffi --test header");
+        }
     }
     let header = generate();
     for name in [
