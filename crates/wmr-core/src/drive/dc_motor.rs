@@ -82,12 +82,12 @@ impl<T: Real> DcMotor<T> {
     #[inline(always)]
     pub fn wheel_torque<L: Lane<Scalar = T>>(&self, voltage: L, omega_wheel: L) -> L {
         let u_max = L::splat(self.params.voltage_max);
-        let u = voltage.max(-u_max).min(u_max);
+        let u = super::clamp_keep_nan(voltage, u_max);
         let tau = (u - L::splat(self.emf_per_wheel_speed) * omega_wheel) * L::splat(self.torque_per_volt);
         // Torque is proportional to current: clamping it clamps the current.
         if self.wheel_torque_max.is_finite() {
             let tau_max = L::splat(self.wheel_torque_max);
-            tau.max(-tau_max).min(tau_max)
+            super::clamp_keep_nan(tau, tau_max)
         } else {
             tau
         }

@@ -11,6 +11,15 @@ use crate::error::ParamError;
 use crate::lane::Lane;
 use crate::{Real, Robot};
 
+/// `x` clamped to [-limit, limit], and NaN kept NaN: `x.max(-limit).min(limit)` alone
+/// turns NaN into -limit (`max` keeps the number), a full command in reverse that would
+/// drive the plant on as if commanded (issue 25, item 1); kept NaN, the next plant step
+/// is non-finite and refused. Every other x gives the same bits as that expression.
+#[inline(always)]
+pub(crate) fn clamp_keep_nan<L: Lane>(x: L, limit: L) -> L {
+    L::select(x.eq(x), x.max(-limit).min(limit), x)
+}
+
 /// Drive parameters as written in a scenario (`[drive]`), before validation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 /// Serialized with a `kind` key; read with `DriveParams::deserialize_variant` (feature `serde`) (serde's

@@ -55,7 +55,7 @@ impl<T: Real> TorqueDrive<T> {
     pub fn wheel_torque<L: Lane<Scalar = T>>(&self, demand: L) -> L {
         let k_t = L::splat(self.gear_ratio);
         let max = L::splat(self.params.motor_torque_max);
-        let motor = (demand * k_t).max(-max).min(max);
+        let motor = super::clamp_keep_nan(demand * k_t, max);
         motor / k_t
     }
 }
