@@ -27,6 +27,15 @@ const CLIENT_POLL: Duration = Duration::from_millis(10);
 /// Messages written between two looks at the client's requests.
 const WRITE_BATCH: usize = 256;
 
+/// Bytes a queued message costs beyond its payload (the queue entry, the allocation), so
+/// that a queue of small messages is bounded by what it really holds.
+const OVERHEAD_BYTES: usize = 64;
+
+/// What `message` costs in a queue, bytes.
+fn cost(message: &Message) -> usize {
+    message.len() + OVERHEAD_BYTES
+}
+
 /// Largest text message a client may send (a subscribe to every channel of 256 runs takes
 /// about 60 kB).
 const MAX_REQUEST_BYTES: usize = 1 << 20;
@@ -79,7 +88,7 @@ impl Client {
     /// Queues `message`; over the bound, the oldest droppable messages go.
     fn push(&self, message: Message, droppable: bool) {
         let mut s = self.lock();
-        s.bytes += message.len();
+        s.bytes += cost(&message);
         s.queue.push_back(Out { message, droppable });
         while s.bytes > self.queue_bytes {
             // The greeting and replies sit at the front: the first droppable is close by.
@@ -88,7 +97,7 @@ impl Client {
                 break; // the message just queued: keep it (a message larger than the bound)
             }
             if let Some(old) = s.queue.remove(at) {
-                s.bytes -= old.message.len();
+                s.bytes -= cost(&old.message);
                 s.dropped += 1;
             }
         }
@@ -188,7 +197,7 @@ fn run(client: &Client, ws: &mut WebSocket<TcpStream>, shared: &Shared) -> Resul
                 break;
             }
             let Some(out) = s.queue.pop_front() else { break };
-            s.bytes -= out.message.len();
+            s.bytes -= cost(&out.message);
             drop(s);
             wrote = true;
             match ws.write(out.message) {
