@@ -554,7 +554,7 @@ fn regression_25_7_a_huge_values_list_is_counted_before_it_is_checked() {
         dir.path(),
         "big.toml",
         &format!(
-            "[sim]\nt_end = 1.0\n[sweep]\ncontrollers = [{{ kind = \"paper\" }}]\nrandom = {{ n = 10, radius = 1.0 }}\n\
+            "[sim]\nt_end = 1.0\n[sweep]\nrandom = {{ n = 10, radius = 1.0 }}\n\
              vary = [{{ key = \"robot.mass\", values = [{}] }}]\n",
             values.join(", ")
         ),
