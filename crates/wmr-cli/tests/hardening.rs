@@ -588,3 +588,42 @@ fn regression_25_7_a_huge_values_list_is_counted_before_it_is_checked() {
     assert_eq!(status.code(), Some(2), "{status:?}: {err}");
     assert!(err.contains("1000000 variants") && err.contains("more than 1000000 runs"), "{err}");
 }
+
+/// Issue 25 item 11: `position_noise = 1e308` was accepted and wrote `inf` into the CSV;
+/// item 13: latency x rate of 250 to 254 was accepted though documented as below 250.
+#[test]
+fn regression_25_11_absurd_noise_and_latency_at_the_bound_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = [
+        ("position_noise = 1e308", "sensor.position_noise: must be at most 1000 m"),
+        ("position_noise = 1000.5", "sensor.position_noise: must be at most 1000 m"),
+        ("heading_noise_deg = 1e300", "sensor.heading_noise_deg: must be at most 3600 deg"),
+        ("rate_hz = 1000.0\nlatency = 0.25", "sensor.latency: "),
+        ("rate_hz = 1000.0\nlatency = 0.254", "sensor.latency: "),
+    ];
+    for (sensor, want) in bad {
+        write(
+            dir.path(),
+            "n.toml",
+            &format!("[sim]\nt_end = 0.5\n[sensor]\n{sensor}\n[[run]]\ngoal = {{ x = 1.0 }}\n"),
+        );
+        let o = run_in(dir.path(), &["run", "n.toml", "-o", "n.csv"]);
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{sensor}: {err}");
+        assert!(err.contains(want), "{sensor}: {err}");
+        assert_eq!(entries(dir.path()), ["n.toml"], "{sensor}");
+    }
+    // At the bounds: accepted, and every value written is finite.
+    for sensor in ["position_noise = 1000.0\nseed = 3", "rate_hz = 1000.0\nlatency = 0.249"] {
+        write(
+            dir.path(),
+            "n.toml",
+            &format!("[sim]\nt_end = 0.5\n[sensor]\n{sensor}\n[[run]]\ngoal = {{ x = 1.0 }}\n"),
+        );
+        let o = run_in(dir.path(), &["run", "n.toml", "-o", "n.csv"]);
+        assert!(o.status.success(), "{sensor}: {}", text(&o.stderr));
+        let csv = fs::read_to_string(dir.path().join("n.csv")).unwrap();
+        assert!(!csv.contains("inf") && !csv.contains("NaN"), "{sensor}: a non-finite value was written");
+        fs::remove_file(dir.path().join("n.csv")).unwrap();
+    }
+}
