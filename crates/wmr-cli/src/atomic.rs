@@ -148,8 +148,24 @@ pub fn target_of(out: &Path) -> Result<Target> {
                 ))),
             }
         }
-        Err(e) => Err(anyhow::Error::new(e).context(format!("cannot write {name}"))),
+        Err(e) => {
+            Err(bad_path(&name, &e).unwrap_or_else(|| anyhow::Error::new(e).context(format!("cannot write {name}"))))
+        }
     }
+}
+
+/// A path the system refuses for what it is, not for a failure: a part of it that is a
+/// file (ENOTDIR), a loop of symbolic links (ELOOP), a name too long (ENAMETOOLONG). Bad
+/// input (exit 2) naming `name` and the reason; `None` for any other error.
+pub fn bad_path(name: &str, e: &io::Error) -> Option<anyhow::Error> {
+    use rustix::io::Errno;
+    let why = match Errno::from_io_error(e)? {
+        Errno::NOTDIR => "a part of the path above it is a file, not a directory",
+        Errno::LOOP => "it goes through a loop of symbolic links",
+        Errno::NAMETOOLONG => "a name in it is longer than the file system allows (255 bytes)",
+        _ => return None,
+    };
+    Some(bad_input(format!("cannot use {name}: {why}")))
 }
 
 /// The directory `out` is created in.

@@ -627,3 +627,54 @@ fn regression_25_11_absurd_noise_and_latency_at_the_bound_are_refused() {
         fs::remove_file(dir.path().join("n.csv")).unwrap();
     }
 }
+
+/// Issue 25 item 13: paths the system refuses for what they are (a part that is a file, a
+/// loop of links, a name over 255 bytes, a link to a missing folder for `plot`) exited 1,
+/// as for a failed write; they are bad input, exit 2, and nothing is written.
+#[test]
+fn regression_25_13_unusable_output_paths_are_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let scen = write(dir.path(), "s.toml", "[sim]\nt_end = 0.2\n[[run]]\ngoal = { x = 1.0 }\n");
+    write(dir.path(), "afile", "x");
+    std::os::unix::fs::symlink("loop2.csv", dir.path().join("loop1.csv")).unwrap();
+    std::os::unix::fs::symlink("loop1.csv", dir.path().join("loop2.csv")).unwrap();
+    std::os::unix::fs::symlink("dloop2", dir.path().join("dloop1")).unwrap();
+    std::os::unix::fs::symlink("dloop1", dir.path().join("dloop2")).unwrap();
+    std::os::unix::fs::symlink("missing-folder", dir.path().join("dangling")).unwrap();
+    let long = format!("{}.csv", "n".repeat(300));
+    let s = scen.display().to_string();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["run", &s, "-o", "afile/out.csv"], "is a file, not a directory"),
+        (vec!["run", &s, "-o", "loop1.csv"], "loop of symbolic links"),
+        (vec!["run", &s, "-o", "dloop1/out.csv"], "loop of symbolic links"),
+        (vec!["run", &s, "-o", &long], "longer than the file system allows"),
+        (vec!["plot", &s, "-o", "dangling"], "symbolic link to a missing folder"),
+        (vec!["plot", &s, "-o", "afile/plots"], "is a file, not a directory"),
+        (vec!["plot", &s, "-o", "dloop1"], "loop of symbolic links"),
+    ];
+    for (args, want) in cases {
+        let o = run_in(dir.path(), &args);
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+    assert_eq!(entries(dir.path()), ["afile", "dangling", "dloop1", "dloop2", "loop1.csv", "loop2.csv", "s.toml"]);
+}
+
+/// Issue 25 item 13: the summary said "fewer for runs that diverged early" when runs had
+/// stopped once settled.
+#[test]
+fn regression_25_13_the_summary_says_why_runs_wrote_fewer_samples() {
+    let dir = tempfile::tempdir().unwrap();
+    // Run 0 starts at its goal and settles at once; run 1 travels the whole t_end.
+    write(
+        dir.path(),
+        "s.toml",
+        "[sim]\nt_end = 2.0\nstop_when_settled = true\n[[run]]\ngoal = { x = 0.0 }\n[[run]]\ngoal = { x = 1.0 }\n",
+    );
+    let o = run_in(dir.path(), &["run", "s.toml", "-o", "s.csv"]);
+    let err = text(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("fewer for the 1 run(s) that stopped once settled"), "{err}");
+    assert!(!err.contains("diverged"), "{err}");
+}

@@ -215,10 +215,10 @@ fn regression_25_2_ctrl_c_mid_stream_with_stuck_clients_exits_130_and_leaves_not
     let (mut one, _) = connect(live.port, "foxglove.sdk.v1");
     subscribe_all(&mut one);
     loop {
-        if let Message::Binary(b) = one.read().expect("a message") {
-            if b[0] == 1 {
-                break;
-            }
+        if let Message::Binary(b) = one.read().expect("a message")
+            && b[0] == 1
+        {
+            break;
         }
     }
     live.signal("-INT");
@@ -238,10 +238,10 @@ fn regression_25_4_ctrl_c_between_two_far_apart_samples() {
     let (mut ws, _) = connect(live.port, "foxglove.sdk.v1");
     subscribe_all(&mut ws);
     loop {
-        if let Message::Binary(b) = ws.read().expect("the first sample") {
-            if b[0] == 1 {
-                break;
-            }
+        if let Message::Binary(b) = ws.read().expect("the first sample")
+            && b[0] == 1
+        {
+            break;
         }
     }
     live.signal("-INT");
@@ -392,10 +392,10 @@ fn regression_25_5_connections_are_limited_and_memory_bounded() {
         }
         assert!(t0.elapsed() < DEADLINE, "still running");
         // The peak so far (VmHWM only grows): read while the process lives.
-        if let Ok(st) = fs::read_to_string(format!("/proc/{pid}/status")) {
-            if let Some(kb) = st.lines().find_map(|l| l.strip_prefix("VmHWM:")) {
-                peak_kb = peak_kb.max(kb.trim().trim_end_matches(" kB").trim().parse().unwrap_or(0));
-            }
+        if let Ok(st) = fs::read_to_string(format!("/proc/{pid}/status"))
+            && let Some(kb) = st.lines().find_map(|l| l.strip_prefix("VmHWM:"))
+        {
+            peak_kb = peak_kb.max(kb.trim().trim_end_matches(" kB").trim().parse().unwrap_or(0));
         }
         std::thread::sleep(Duration::from_millis(10));
     };

@@ -136,6 +136,20 @@ impl Client {
         self.wake.notify_all();
     }
 
+    /// Writes an HTTP 400 reply with `text` straight to the socket (before any WebSocket).
+    fn reply(&self, text: &str) {
+        use std::io::Write as _;
+        let body = format!("{text}\n");
+        let head = format!(
+            "HTTP/1.1 400 Bad Request\r\ncontent-type: text/plain; charset=utf-8\r\nconnection: close\r\n\
+             content-length: {}\r\n\r\n",
+            body.len()
+        );
+        let mut socket = &self.socket;
+        let _ = socket.write_all(head.as_bytes()).and_then(|()| socket.write_all(body.as_bytes()));
+        let _ = socket.shutdown(std::net::Shutdown::Write);
+    }
+
     /// Shuts the socket down: a thread blocked in the handshake returns at once.
     pub fn shutdown(&self) {
         let _ = self.socket.shutdown(std::net::Shutdown::Both);
@@ -158,9 +172,23 @@ pub fn serve(client: &Client, stream: TcpStream, shared: &Shared) {
         .max_message_size(Some(MAX_REQUEST_BYTES))
         .max_frame_size(Some(MAX_REQUEST_BYTES))
         .max_write_buffer_size(shared.limits.queue_bytes.max(1 << 20) * 2);
-    let Ok(mut ws) = tungstenite::accept_hdr_with_config(stream, negotiate, Some(config)) else {
-        shared.failed_handshakes.fetch_add(1, Ordering::Relaxed);
-        return;
+    let mut ws = match tungstenite::accept_hdr_with_config(stream, negotiate, Some(config)) {
+        Ok(ws) => ws,
+        Err(e) => {
+            shared.failed_handshakes.fetch_add(1, Ordering::Relaxed);
+            // A request that is not a WebSocket upgrade gets a reply saying so (a refused
+            // subprotocol has had its reply already).
+            if let tungstenite::HandshakeError::Failure(e) = e
+                && !matches!(e, WsError::Http(_) | WsError::Io(_))
+            {
+                client.reply(&format!(
+                    "wmr-cli live view: not a WebSocket upgrade request ({e}); connect with a WebSocket client \
+                     offering {}",
+                    protocol::SUBPROTOCOLS.join(" or ")
+                ));
+            }
+            return;
+        }
     };
     if ws.get_ref().set_nonblocking(true).is_err() || shared.stopping() {
         return;
