@@ -10,13 +10,16 @@
 //!   through a link), a directory, a block device or a socket, or whose directory does
 //!   not exist (wmr-cli creates files, never the directories above them).
 //! - SIGINT, SIGTERM and SIGHUP: every temporary file in flight is removed, then the
-//!   process ends as the signal would have ended it (a shell shows 130, 143, 129).
+//!   process ends as the signal would have ended it (a shell shows 130, 143, 129). In live
+//!   view the first one stops the session, which removes its files and exits with 130,
+//!   143 or 129; a second one ends it at once the same way.
 
 use std::fs::{File, OpenOptions};
 use std::io::{self, Seek, SeekFrom, Write};
 use std::os::unix::fs::{FileTypeExt as _, MetadataExt as _};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
+use std::sync::atomic::{AtomicI32, Ordering};
 
 use anyhow::{Context as _, Result};
 use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
@@ -46,13 +49,22 @@ fn input_of(meta: &std::fs::Metadata) -> Option<PathBuf> {
 
 /// Installs the handler of SIGINT, SIGTERM and SIGHUP: remove the temporary files,
 /// then end the way the signal would have (its default action, re-raised).
-pub fn install_signal_handlers() -> Result<()> {
+///
+/// With `stop_first` (live view), the first signal only stores its number there (the
+/// session stops, cleans up and exits with 128 + it); a second one ends the process as
+/// above, at once.
+pub fn install_signal_handlers(stop_first: Option<&'static AtomicI32>) -> Result<()> {
     let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP])
         .context("cannot install the handlers of SIGINT, SIGTERM and SIGHUP")?;
     std::thread::Builder::new()
         .name("signals".into())
         .spawn(move || {
-            if let Some(sig) = signals.forever().next() {
+            for sig in signals.forever() {
+                if let Some(flag) = stop_first
+                    && flag.compare_exchange(0, sig, Ordering::SeqCst, Ordering::SeqCst).is_ok()
+                {
+                    continue;
+                }
                 // Holding the lock until the end keeps `persist` from renaming meanwhile.
                 let guard = IN_FLIGHT.lock().unwrap_or_else(|p| p.into_inner());
                 for path in guard.iter() {
@@ -63,10 +75,11 @@ pub fn install_signal_handlers() -> Result<()> {
                     SIGTERM => "SIGTERM",
                     _ => "SIGHUP",
                 };
+                let again = if stop_first.is_some() { " again" } else { "" };
                 if guard.is_empty() {
-                    note(&format!("wmr-cli: stopped by {name}"));
+                    note(&format!("wmr-cli: stopped by {name}{again}"));
                 } else {
-                    note(&format!("wmr-cli: stopped by {name}; temporary files removed, OUT left as it was"));
+                    note(&format!("wmr-cli: stopped by {name}{again}; temporary files removed, OUT left as it was"));
                 }
                 let _ = signal_hook::low_level::emulate_default_handler(sig);
                 // Not reached when the default action ran; the shell's code otherwise.
@@ -135,8 +148,24 @@ pub fn target_of(out: &Path) -> Result<Target> {
                 ))),
             }
         }
-        Err(e) => Err(anyhow::Error::new(e).context(format!("cannot write {name}"))),
+        Err(e) => {
+            Err(bad_path(&name, &e).unwrap_or_else(|| anyhow::Error::new(e).context(format!("cannot write {name}"))))
+        }
     }
+}
+
+/// A path the system refuses for what it is, not for a failure: a part of it that is a
+/// file (ENOTDIR), a loop of symbolic links (ELOOP), a name too long (ENAMETOOLONG). Bad
+/// input (exit 2) naming `name` and the reason; `None` for any other error.
+pub fn bad_path(name: &str, e: &io::Error) -> Option<anyhow::Error> {
+    use rustix::io::Errno;
+    let why = match Errno::from_io_error(e)? {
+        Errno::NOTDIR => "a part of the path above it is a file, not a directory",
+        Errno::LOOP => "it goes through a loop of symbolic links",
+        Errno::NAMETOOLONG => "a name in it is longer than the file system allows (255 bytes)",
+        _ => return None,
+    };
+    Some(bad_input(format!("cannot use {name}: {why}")))
 }
 
 /// The directory `out` is created in.

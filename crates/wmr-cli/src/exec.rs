@@ -202,7 +202,16 @@ pub fn run_command(
     let samples = if counts.iter().all(|&c| c == counts[0]) {
         format!("{} samples each", counts[0])
     } else {
-        format!("{} samples in all (fewer for runs that diverged early)", counts.iter().sum::<u64>())
+        // Say why some runs wrote fewer: what actually ended them before t_end.
+        let settled = results.iter().filter(|r| r.outcome.termination == wmr_core::Termination::Settled).count();
+        let diverged = results.iter().filter(|r| r.diverged()).count();
+        let why = match (settled, diverged) {
+            (0, 0) => String::new(),
+            (s, 0) => format!(" (fewer for the {s} run(s) that stopped once settled)"),
+            (0, d) => format!(" (fewer for the {d} run(s) that diverged early)"),
+            (s, d) => format!(" (fewer for the {s} run(s) that stopped once settled and the {d} that diverged)"),
+        };
+        format!("{} samples in all{why}", counts.iter().sum::<u64>())
     };
     note(&format!(
         "wmr-cli: wrote {} ({} run(s), {samples}, {:.2} s)",

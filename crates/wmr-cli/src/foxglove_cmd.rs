@@ -14,16 +14,36 @@ use crate::atomic::{AtomicOut, Target, target_of};
 use crate::errors::{bad_input, note, say};
 use crate::{Cli, Format, format_of, layout, live};
 
-/// `--live ADDR`: `IP:PORT` (port 0: any free port).
+/// `--live ADDR`: `IP:PORT` (port 0: any free port) of one host: a multicast or broadcast
+/// address is refused (a server cannot accept connections there).
 pub fn parse_addr(s: &str) -> Result<SocketAddr, String> {
-    s.parse().map_err(|_| format!("ADDR must be IP:PORT, e.g. {} (got {s:?})", live::DEFAULT_ADDR))
+    let addr: SocketAddr =
+        s.parse().map_err(|_| format!("ADDR must be IP:PORT, e.g. {} (got {s:?})", live::DEFAULT_ADDR))?;
+    let group = match addr.ip() {
+        std::net::IpAddr::V4(ip) => ip.is_multicast() || ip.is_broadcast(),
+        std::net::IpAddr::V6(ip) => ip.is_multicast(),
+    };
+    if group {
+        return Err(format!(
+            "{} is a multicast or broadcast address: a server listens on one host's address, e.g. {} or \
+             0.0.0.0:8765 (got {s:?})",
+            addr.ip(),
+            live::DEFAULT_ADDR
+        ));
+    }
+    Ok(addr)
 }
 
-/// `--speed X`: a positive finite number.
+/// `--speed X`: a number of simulated seconds per wall second in
+/// [`live::MIN_SPEED`, `live::MAX_SPEED`].
 pub fn parse_speed(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
-        _ => Err(format!("must be a positive number of simulated seconds per second (got {s:?})")),
+    match s.trim().parse::<f64>() {
+        Ok(v) if (live::MIN_SPEED..=live::MAX_SPEED).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "must be a number of simulated seconds per second from {:e} to {:e} (got {s:?})",
+            live::MIN_SPEED,
+            live::MAX_SPEED
+        )),
     }
 }
 
@@ -74,8 +94,9 @@ pub fn run_live(
     if let Some(l) = &layout {
         check_layout_path(l, output.as_deref())?;
     }
-    live::install_interrupt_handler()?;
-    // OUT first: a path that cannot be written is refused before anything is done.
+    // Bind first: an address that cannot be served is refused before anything is written.
+    let server = live::serve(scenario, addr)?;
+    let url = server.url().to_owned();
     let out = output.as_deref().map(AtomicOut::create).transpose()?;
     let file = out.as_ref().map(AtomicOut::file).transpose()?;
     if let Some(l) = &layout {
@@ -84,23 +105,26 @@ pub fn run_live(
         note(&format!("wmr-cli: wrote {}", shown(l)));
     }
     if !addr.ip().is_loopback() {
-        note(&format!("wmr-cli: note: {addr} is not a loopback address: other machines can connect"));
+        note(&format!(
+            "wmr-cli: note: {addr} is not a loopback address: other machines can connect (at most {} clients at once)",
+            live::MAX_CLIENTS
+        ));
     }
     let started = Instant::now();
-    let served = live::serve(scenario, addr, speed, file, |url| {
-        note(&format!(
-            "wmr-cli: live on {url} at {speed}x: in Foxglove, Open connection > Foxglove WebSocket > {url}; \
-             streaming starts when a client subscribes (Ctrl-C stops)"
-        ));
-    });
-    let report = match served {
+    note(&format!(
+        "wmr-cli: live on {url} at {speed}x: in Foxglove, Open connection > Foxglove WebSocket > {url}; \
+         streaming starts when a client subscribes (Ctrl-C stops)"
+    ));
+    let report = match server.run(scenario, speed, file) {
         Ok(r) => r,
-        Err(e) if e.is::<live::Interrupted>() => {
-            drop(out);
-            note("wmr-cli: interrupted, no output written");
-            std::process::exit(130);
+        Err(e) => {
+            if let Some(i) = e.downcast_ref::<live::Interrupted>() {
+                drop(out);
+                note("wmr-cli: interrupted, no output written");
+                std::process::exit(128 + i.signal);
+            }
+            return Err(e);
         }
-        Err(e) => return Err(e),
     };
     if let (Some(out), Some(o)) = (out, &output) {
         out.persist()?;
@@ -110,8 +134,19 @@ pub fn run_live(
         say(&r.summary_line())?;
     }
     let rate = if report.seconds > 0.0 { report.messages as f64 / report.seconds } else { 0.0 };
+    let s = &report.stats;
+    let mut clients = format!("{} client connection(s)", s.connections);
+    if s.refused > 0 {
+        clients += &format!(", {} refused (at most {} at once)", s.refused, live::MAX_CLIENTS);
+    }
+    if s.dropped > 0 {
+        clients += &format!(
+            ", {} queued message(s) dropped, oldest first, for clients reading slower than the stream",
+            s.dropped
+        );
+    }
     note(&format!(
-        "wmr-cli: live: {} messages in {:.2} s of streaming ({rate:.0} messages/s), {:.2} s in all",
+        "wmr-cli: live: {} messages in {:.2} s of streaming ({rate:.0} messages/s), {:.2} s in all; {clients}",
         report.messages,
         report.seconds,
         started.elapsed().as_secs_f64()

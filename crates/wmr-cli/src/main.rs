@@ -136,9 +136,9 @@ enum Format {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    // `run --live` handles Ctrl-C itself (the first one stops the stream).
+    // In `run --live` the first signal stops the session (which cleans up and exits).
     let live = matches!(cli.command, Command::Run { live: Some(_), .. });
-    let handlers = if live { Ok(()) } else { atomic::install_signal_handlers() };
+    let handlers = atomic::install_signal_handlers(live.then_some(&live::STOP_SIGNAL));
     errors::finish(handlers.and_then(|()| run(cli)))
 }
 

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use anyhow::{Context as _, Result};
+use anyhow::Result;
 use wmr_core::Sample;
 use wmr_plot::{Trace, errors_svg, paths_svg, wheel_speeds_svg};
 use wmr_scenario::{Scenario, executor, shown};
@@ -27,7 +27,14 @@ pub fn prepare_dir(dir: &Path) -> Result<()> {
     match std::fs::metadata(dir) {
         Ok(m) if m.is_dir() => return Ok(()),
         Ok(_) => return Err(bad_input(format!("{name} exists and is not a directory; give a folder for the SVGs"))),
-        Err(_) => {}
+        Err(e) => {
+            if let Some(bad) = crate::atomic::bad_path(&name, &e) {
+                return Err(bad);
+            }
+            if dir.is_symlink() {
+                return Err(bad_input(format!("{name} is a symbolic link to a missing folder; give a folder")));
+            }
+        }
     }
     let ext = dir.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     if let Some(ext) = ext.filter(|e| FILE_EXTENSIONS.contains(&e.as_str())) {
@@ -42,7 +49,10 @@ pub fn prepare_dir(dir: &Path) -> Result<()> {
             shown(&parent)
         )));
     }
-    std::fs::create_dir(dir).with_context(|| format!("cannot create {name}"))
+    std::fs::create_dir(dir).map_err(|e| {
+        crate::atomic::bad_path(&name, &e)
+            .unwrap_or_else(|| anyhow::Error::new(e).context(format!("cannot create {name}")))
+    })
 }
 
 /// The samples of one run, thinned to at most [`MAX_PLOT_SAMPLES`]: every `stride`-th

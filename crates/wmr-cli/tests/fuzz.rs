@@ -313,3 +313,218 @@ fn mutated_scenarios_exit_0_or_2_with_one_line_naming_the_key() {
     eprintln!("{cases} cases in {:.1} s", started.elapsed().as_secs_f64());
     assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
 }
+
+/// Issue 25: the live server under seeded abuse: garbage instead of HTTP, random
+/// subprotocols, malformed and oversized frames after the handshake, random requests,
+/// client messages, clients that subscribe and never read, bursts of connections past the
+/// limit. After every case the server still runs; at the end a proper client still gets
+/// the stream, and Ctrl-C still ends it (exit 130). `WMR_FUZZ_LIVE_CASES` (default 300)
+/// and `WMR_FUZZ_SEED` choose how many and which. Every wait has a deadline and awaits an
+/// event (a reply, the server closing the socket, the process's exit).
+#[test]
+fn live_server_survives_malformed_frames_slow_clients_and_many_connections() {
+    use std::io::{BufRead as _, BufReader, Read as _, Write as _};
+    use std::net::TcpStream;
+    use tungstenite::Message;
+    use tungstenite::client::IntoClientRequest as _;
+
+    let cases: usize = std::env::var("WMR_FUZZ_LIVE_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(300);
+    let seed: u64 = std::env::var("WMR_FUZZ_SEED").ok().and_then(|v| v.parse().ok()).unwrap_or(12);
+    let dir = tempfile::tempdir().unwrap();
+    // 3,000 s of simulated time at speed 10: the stream outlasts the cases.
+    std::fs::write(dir.path().join("s.toml"), "[sim]\nt_end = 3000.0\nlog_dt = 0.1\n[[run]]\ngoal = { x = 1.0 }\n")
+        .unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_wmr-cli"))
+        .current_dir(dir.path())
+        .args(["run", "s.toml", "--live", "127.0.0.1:0", "--speed", "10"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let (tx, stderr) = std::sync::mpsc::channel();
+    let pipe = child.stderr.take().unwrap();
+    std::thread::spawn(move || {
+        for line in BufReader::new(pipe).lines().map_while(Result::ok) {
+            let _ = tx.send(line);
+        }
+    });
+    let port: u16 = loop {
+        let line = stderr.recv_timeout(Duration::from_secs(60)).expect("the `live on` line");
+        if let Some(rest) = line.split("live on ws://127.0.0.1:").nth(1) {
+            break rest.split(|c: char| !c.is_ascii_digit()).next().unwrap().parse().unwrap();
+        }
+    };
+    let timeout = Some(Duration::from_secs(10));
+    let tcp = || {
+        let s = TcpStream::connect(("127.0.0.1", port)).unwrap();
+        s.set_read_timeout(timeout).unwrap();
+        s.set_write_timeout(timeout).unwrap();
+        s
+    };
+    // Reads until the server closes (EOF or reset): the event a bad client awaits.
+    let await_close = |s: &mut TcpStream| -> Result<(), String> {
+        let mut buf = [0u8; 65536];
+        let t0 = Instant::now();
+        loop {
+            match s.read(&mut buf) {
+                Ok(0) | Err(_) if t0.elapsed() < Duration::from_secs(10) => return Ok(()),
+                Ok(_) if t0.elapsed() < Duration::from_secs(10) => {}
+                _ => return Err("the server did not close the connection within 10 s".into()),
+            }
+        }
+    };
+    let handshake = |protocols: &str| -> Result<tungstenite::WebSocket<TcpStream>, String> {
+        let mut req = format!("ws://127.0.0.1:{port}").into_client_request().unwrap();
+        req.headers_mut().insert("sec-websocket-protocol", protocols.parse().unwrap());
+        tungstenite::client(req, tcp()).map(|(ws, _)| ws).map_err(|e| format!("handshake: {e}"))
+    };
+    // A ping answered proves the client's thread alive after what it was sent.
+    let await_pong = |ws: &mut tungstenite::WebSocket<TcpStream>| -> Result<(), String> {
+        ws.send(Message::Ping(b"fuzz".to_vec().into())).map_err(|e| format!("ping: {e}"))?;
+        loop {
+            match ws.read() {
+                Ok(Message::Pong(p)) if &p[..] == b"fuzz" => return Ok(()),
+                Ok(_) => {}
+                Err(e) => return Err(format!("no pong: {e}")),
+            }
+        }
+    };
+    let words = ["subscribe", "unsubscribe", "advertise", "getParameters", "", "op", "\u{0}", "\u{202e}"];
+    let mut slow = Vec::new();
+    let mut failures = Vec::new();
+    let started = Instant::now();
+    for i in 0..cases {
+        let mut rng = Rng(splitmix(seed ^ splitmix(0x11fe ^ i as u64)) | 1);
+        let kind = rng.below(7);
+        let outcome: Result<(), String> = (|| match kind {
+            // Garbage instead of an HTTP request, then our side closed.
+            0 => {
+                let mut s = tcp();
+                let n = rng.below(2000);
+                let junk: Vec<u8> = (0..n).map(|_| rng.next() as u8).collect();
+                let _ = s.write_all(&junk);
+                let _ = s.shutdown(std::net::Shutdown::Write);
+                await_close(&mut s)
+            }
+            // Random subprotocol lists: served (101) with one of ours, or refused (400).
+            1 => {
+                let offer: Vec<&str> = (0..rng.below(4))
+                    .map(|_| *rng.pick(&["foxglove.sdk.v1", "foxglove.websocket.v1", "foxglove.sdk.v1.1", "x", "a b"]))
+                    .collect();
+                let offer = if offer.is_empty() { "none".to_owned() } else { offer.join(", ") };
+                let ours = offer.split(", ").any(|p| p == "foxglove.sdk.v1" || p == "foxglove.websocket.v1");
+                match (handshake(&offer), ours) {
+                    (Ok(mut ws), true) => await_pong(&mut ws),
+                    (Ok(_), false) => Err(format!("served though offered {offer:?}")),
+                    (Err(e), false) if e.contains("400") => Ok(()),
+                    (Err(e), _) => Err(format!("offered {offer:?}: {e}")),
+                }
+            }
+            // Malformed frames after the handshake: the server closes the connection.
+            2 => {
+                let mut ws = handshake("foxglove.sdk.v1")?;
+                let s = ws.get_mut();
+                let frame = if rng.below(2) == 0 {
+                    // A header claiming 2^62 bytes.
+                    vec![0x82, 0xFF, 0x40, 0, 0, 0, 0, 0, 0, 0, 1, 2, 3, 4]
+                } else {
+                    // A whole masked frame with reserved bits set: always a protocol error.
+                    let n = rng.below(100);
+                    let mut f = vec![0x80 | 0x30 | (rng.next() as u8 & 0x0F), 0x80 | n as u8];
+                    f.extend((0..4 + n).map(|_| rng.next() as u8));
+                    f
+                };
+                let _ = s.write_all(&frame);
+                await_close(s)
+            }
+            // Random requests: answered (or not), the client served on.
+            3 => {
+                let mut ws = handshake("foxglove.websocket.v1")?;
+                for _ in 0..rng.below(5) + 1 {
+                    let op = rng.pick(&words);
+                    let id = rng.pick(&["0", "-1", "4294967296", "1e300", "\"x\"", "null", "7"]);
+                    let ch = rng.pick(&["0", "1", "99999999999999999999", "-3", "[]", "2"]);
+                    let text = match rng.below(3) {
+                        0 => format!("{{\"op\":\"{op}\",\"subscriptions\":[{{\"id\":{id},\"channelId\":{ch}}}]}}"),
+                        1 => format!("{{\"op\":\"{op}\",\"subscriptionIds\":[{id}]}}"),
+                        _ => (0..rng.below(200)).map(|_| char::from(32 + (rng.next() % 95) as u8)).collect(),
+                    };
+                    ws.send(Message::text(text)).map_err(|e| format!("send: {e}"))?;
+                }
+                if rng.below(2) == 0 {
+                    ws.send(Message::binary(vec![1u8; rng.below(100)])).map_err(|e| format!("send: {e}"))?;
+                }
+                await_pong(&mut ws)
+            }
+            // A client that subscribes to everything and never reads (kept open a while).
+            4 => {
+                let mut ws = handshake("foxglove.sdk.v1")?;
+                let subs: Vec<String> = (0..6).map(|c| format!("{{\"id\":{c},\"channelId\":{c}}}")).collect();
+                ws.send(Message::text(format!("{{\"op\":\"subscribe\",\"subscriptions\":[{}]}}", subs.join(","))))
+                    .map_err(|e| format!("send: {e}"))?;
+                slow.push(ws);
+                if slow.len() > 6 {
+                    slow.remove(0);
+                }
+                Ok(())
+            }
+            // A burst of connections past the limit: each gets served or a 503 that says why.
+            5 => {
+                let mut burst: Vec<TcpStream> = (0..rng.below(24) + 1).map(|_| tcp()).collect();
+                for s in &mut burst {
+                    let _ = s.write_all(b"GET / HTTP/1.1\r\nHost: x\r\n\r\n");
+                }
+                for mut s in burst {
+                    let mut reply = String::new();
+                    let _ = s.read_to_string(&mut reply);
+                    if !(reply.starts_with("HTTP/1.1 400") || reply.starts_with("HTTP/1.1 503")) {
+                        return Err(format!("burst: unexpected reply {reply:?}"));
+                    }
+                    if reply.starts_with("HTTP/1.1 503") && !reply.contains("too many connections") {
+                        return Err(format!("a refusal must say why: {reply:?}"));
+                    }
+                }
+                Ok(())
+            }
+            // A valid handshake, then the connection dropped mid-frame.
+            _ => {
+                let mut ws = handshake("foxglove.sdk.v1")?;
+                let _ = ws.get_mut().write_all(&[0x81, 0xFE, 0x01]);
+                Ok(())
+            }
+        })();
+        if let Err(e) = outcome {
+            failures.push(format!("case {i} (kind {kind}, seed {seed}): {e}"));
+        }
+        if let Some(status) = child.try_wait().unwrap() {
+            let log: Vec<String> = stderr.try_iter().collect();
+            panic!("the server exited ({status:?}) after case {i} (kind {kind}): {log:?}; failures {failures:?}");
+        }
+    }
+    drop(slow);
+    // A proper client still gets the stream.
+    let mut ws = handshake("foxglove.sdk.v1").expect("a proper client after the fuzz");
+    ws.send(Message::text(r#"{"op":"subscribe","subscriptions":[{"id":1,"channelId":0}]}"#)).unwrap();
+    let mut got = 0;
+    while got < 3 {
+        if let Message::Binary(b) = ws.read().expect("messages after the fuzz")
+            && b[0] == 1
+        {
+            got += 1;
+        }
+    }
+    assert!(Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap().success());
+    let t0 = Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        assert!(t0.elapsed() < Duration::from_secs(10), "Ctrl-C after the fuzz did not stop the server");
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    let log: Vec<String> = stderr.try_iter().collect();
+    assert_eq!(status.code(), Some(130), "{log:?}");
+    assert!(!log.iter().any(|l| l.contains("panicked")), "{log:?}");
+    eprintln!("{cases} live cases in {:.1} s", started.elapsed().as_secs_f64());
+    assert!(failures.is_empty(), "{} failures:\n{}", failures.len(), failures.join("\n"));
+}

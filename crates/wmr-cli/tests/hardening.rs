@@ -497,3 +497,193 @@ fn regression_12_15_small_defects() {
     let err = text(&o.stderr);
     assert!(err.contains(&format!("{rows} samples in all")) && !err.contains("201 samples each"), "{rows}: {err}");
 }
+
+/// A sweep of 500 random starts whose `vary` entry draws `spread` for `key`.
+fn drawn_sweep(key: &str, spread: &str) -> String {
+    format!(
+        "[sim]\nt_end = 0.5\n[sweep]\nrandom = {{ n = 500, radius = 1.0 }}\nvary = [{{ key = \"{key}\", {spread} }}]\n"
+    )
+}
+
+/// Issue 25 item 6: `check` validated only run 0's draws, so `sweep` refused a draw after
+/// all the work, naming a key the file lacks and no line. Now both refuse every bad draw
+/// before running, naming the `vary` entry (file, line), the run and the drawn value.
+#[test]
+fn regression_25_6_check_and_sweep_refuse_every_bad_draw_before_running() {
+    let dir = tempfile::tempdir().unwrap();
+    for (key, spread) in [
+        ("robot.mass", "normal = [5, 1.5]"),
+        ("controller.model.wheel_radius", "normal = [0.1, 0.05]"),
+        ("sensor.position_noise", "uniform = [-0.01, 0.01]"),
+        ("drive.motor_torque_max", "normal = [1.0, 1.5]"),
+    ] {
+        write(dir.path(), "v.toml", &drawn_sweep(key, spread));
+        let check = run_in(dir.path(), &["check", "v.toml"]);
+        let err = text(&check.stderr);
+        assert_eq!(check.status.code(), Some(2), "{key}: check must refuse: {err}");
+        // The entry on line 5, the run, the drawn value, the key and the reason.
+        assert!(err.contains("v.toml: line 5: sweep.vary[0]: run "), "{key}: {err}");
+        assert!(err.contains(&format!("draws {key} = ")) && err.contains("must be"), "{key}: {err}");
+        let sweep = run_in(dir.path(), &["sweep", "v.toml", "-o", "v.csv"]);
+        assert_eq!(sweep.status.code(), Some(2), "{key}");
+        assert_eq!(text(&sweep.stderr), err, "{key}: sweep says what check says");
+        assert_eq!(entries(dir.path()), ["v.toml"], "{key}: nothing written");
+    }
+    // Draws that are all good pass, and the sweep runs.
+    write(dir.path(), "ok.toml", &drawn_sweep("robot.mass", "normal = [5, 0.1]"));
+    assert!(run_in(dir.path(), &["check", "ok.toml"]).status.success());
+}
+
+/// Issue 25 item 12: `normal` and `uniform` dropped elements past the second silently.
+#[test]
+fn regression_25_12_uniform_and_normal_take_exactly_two_numbers() {
+    let dir = tempfile::tempdir().unwrap();
+    for (spread, field) in [
+        ("normal = [5, 0.1, 99]", "normal"),
+        ("normal = [5]", "normal"),
+        ("uniform = [4, 6, 8]", "uniform"),
+        ("uniform = []", "uniform"),
+    ] {
+        write(dir.path(), "v.toml", &drawn_sweep("robot.mass", spread));
+        let o = run_in(dir.path(), &["check", "v.toml"]);
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{spread}: {err}");
+        assert!(err.contains(&format!("sweep.vary[0].{field}: give exactly two numbers")), "{spread}: {err}");
+    }
+}
+
+/// Issue 25 item 7: a `vary` list of a million values (10 MB, under the size cap) was
+/// checked value by value before the run count: 47.5 s and 3.9 GB, an abort under a 3 GB
+/// cap. Now the count comes first: refused (exit 2) within 1.5 GB of address space.
+#[test]
+fn regression_25_7_a_huge_values_list_is_counted_before_it_is_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let values: Vec<String> = (0..1_000_000).map(|i| format!("{}", 5.0 + f64::from(i) * 1e-6)).collect();
+    write(
+        dir.path(),
+        "big.toml",
+        &format!(
+            "[sim]\nt_end = 1.0\n[sweep]\nrandom = {{ n = 10, radius = 1.0 }}\n\
+             vary = [{{ key = \"robot.mass\", values = [{}] }}]\n",
+            values.join(", ")
+        ),
+    );
+    if Command::new("prlimit").arg("--version").output().is_err() {
+        skip::missing("prlimit", "prlimit (util-linux) is missing: the memory cap cannot be set");
+        return;
+    }
+    let mut child = Command::new("prlimit")
+        .arg("--as=1500000000")
+        .arg(env!("CARGO_BIN_EXE_wmr-cli"))
+        .args(["check", "big.toml"])
+        .current_dir(dir.path())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let t0 = Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if t0.elapsed() > Duration::from_secs(120) {
+            let _ = child.kill();
+            panic!("check of a million values still running after 120 s");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let mut err = String::new();
+    child.stderr.take().unwrap().read_to_string(&mut err).unwrap();
+    assert_eq!(status.code(), Some(2), "{status:?}: {err}");
+    assert!(err.contains("1000000 variants") && err.contains("more than 1000000 runs"), "{err}");
+}
+
+/// Issue 25 item 11: `position_noise = 1e308` was accepted and wrote `inf` into the CSV;
+/// item 13: latency x rate of 250 to 254 was accepted though documented as below 250.
+#[test]
+fn regression_25_11_absurd_noise_and_latency_at_the_bound_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = [
+        ("position_noise = 1e308", "sensor.position_noise: must be at most 1000 m"),
+        ("position_noise = 1000.5", "sensor.position_noise: must be at most 1000 m"),
+        ("heading_noise_deg = 1e300", "sensor.heading_noise_deg: must be at most 3600 deg"),
+        ("rate_hz = 1000.0\nlatency = 0.25", "sensor.latency: "),
+        ("rate_hz = 1000.0\nlatency = 0.254", "sensor.latency: "),
+    ];
+    for (sensor, want) in bad {
+        write(
+            dir.path(),
+            "n.toml",
+            &format!("[sim]\nt_end = 0.5\n[sensor]\n{sensor}\n[[run]]\ngoal = {{ x = 1.0 }}\n"),
+        );
+        let o = run_in(dir.path(), &["run", "n.toml", "-o", "n.csv"]);
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{sensor}: {err}");
+        assert!(err.contains(want), "{sensor}: {err}");
+        assert_eq!(entries(dir.path()), ["n.toml"], "{sensor}");
+    }
+    // At the bounds: accepted, and every value written is finite.
+    for sensor in ["position_noise = 1000.0\nseed = 3", "rate_hz = 1000.0\nlatency = 0.249"] {
+        write(
+            dir.path(),
+            "n.toml",
+            &format!("[sim]\nt_end = 0.5\n[sensor]\n{sensor}\n[[run]]\ngoal = {{ x = 1.0 }}\n"),
+        );
+        let o = run_in(dir.path(), &["run", "n.toml", "-o", "n.csv"]);
+        assert!(o.status.success(), "{sensor}: {}", text(&o.stderr));
+        let csv = fs::read_to_string(dir.path().join("n.csv")).unwrap();
+        assert!(!csv.contains("inf") && !csv.contains("NaN"), "{sensor}: a non-finite value was written");
+        fs::remove_file(dir.path().join("n.csv")).unwrap();
+    }
+}
+
+/// Issue 25 item 13: paths the system refuses for what they are (a part that is a file, a
+/// loop of links, a name over 255 bytes, a link to a missing folder for `plot`) exited 1,
+/// as for a failed write; they are bad input, exit 2, and nothing is written.
+#[test]
+fn regression_25_13_unusable_output_paths_are_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let scen = write(dir.path(), "s.toml", "[sim]\nt_end = 0.2\n[[run]]\ngoal = { x = 1.0 }\n");
+    write(dir.path(), "afile", "x");
+    std::os::unix::fs::symlink("loop2.csv", dir.path().join("loop1.csv")).unwrap();
+    std::os::unix::fs::symlink("loop1.csv", dir.path().join("loop2.csv")).unwrap();
+    std::os::unix::fs::symlink("dloop2", dir.path().join("dloop1")).unwrap();
+    std::os::unix::fs::symlink("dloop1", dir.path().join("dloop2")).unwrap();
+    std::os::unix::fs::symlink("missing-folder", dir.path().join("dangling")).unwrap();
+    let long = format!("{}.csv", "n".repeat(300));
+    let s = scen.display().to_string();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["run", &s, "-o", "afile/out.csv"], "is a file, not a directory"),
+        (vec!["run", &s, "-o", "loop1.csv"], "loop of symbolic links"),
+        (vec!["run", &s, "-o", "dloop1/out.csv"], "loop of symbolic links"),
+        (vec!["run", &s, "-o", &long], "longer than the file system allows"),
+        (vec!["plot", &s, "-o", "dangling"], "symbolic link to a missing folder"),
+        (vec!["plot", &s, "-o", "afile/plots"], "is a file, not a directory"),
+        (vec!["plot", &s, "-o", "dloop1"], "loop of symbolic links"),
+    ];
+    for (args, want) in cases {
+        let o = run_in(dir.path(), &args);
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+    assert_eq!(entries(dir.path()), ["afile", "dangling", "dloop1", "dloop2", "loop1.csv", "loop2.csv", "s.toml"]);
+}
+
+/// Issue 25 item 13: the summary said "fewer for runs that diverged early" when runs had
+/// stopped once settled.
+#[test]
+fn regression_25_13_the_summary_says_why_runs_wrote_fewer_samples() {
+    let dir = tempfile::tempdir().unwrap();
+    // Run 0 starts at its goal and settles at once; run 1 travels the whole t_end.
+    write(
+        dir.path(),
+        "s.toml",
+        "[sim]\nt_end = 2.0\nstop_when_settled = true\n[[run]]\ngoal = { x = 0.0 }\n[[run]]\ngoal = { x = 1.0 }\n",
+    );
+    let o = run_in(dir.path(), &["run", "s.toml", "-o", "s.csv"]);
+    let err = text(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("fewer for the 1 run(s) that stopped once settled"), "{err}");
+    assert!(!err.contains("diverged"), "{err}");
+}

@@ -34,10 +34,11 @@ pub struct VaryFile {
     pub key: String,
     /// Values taken one at a time.
     pub values: Option<Vec<f64>>,
-    /// `[low, high]`: drawn uniformly for every run.
-    pub uniform: Option<[f64; 2]>,
-    /// `[mean, standard deviation]`: drawn for every run.
-    pub normal: Option<[f64; 2]>,
+    /// `[low, high]`: drawn uniformly for every run (exactly two numbers; read as a list
+    /// so that a third is refused, not dropped).
+    pub uniform: Option<Vec<f64>>,
+    /// `[mean, standard deviation]`: drawn for every run (exactly two numbers).
+    pub normal: Option<Vec<f64>>,
 }
 
 /// How a varied key spreads.
@@ -90,25 +91,46 @@ impl Variation {
                     Err(ScenarioError::new(format!("{path}.{k}"), format!("must be a finite number (got {v})")))
                 }
             };
-            let spread = match (&f.values, f.uniform, f.normal) {
+            let pair = |k: &str, v: &[f64], what: &str| -> Result<(f64, f64), ScenarioError> {
+                match v {
+                    [a, b] => Ok((finite(k, *a)?, finite(k, *b)?)),
+                    _ => Err(ScenarioError::new(
+                        format!("{path}.{k}"),
+                        format!("give exactly two numbers {what} (got {} number(s))", v.len()),
+                    )),
+                }
+            };
+            let spread = match (&f.values, f.uniform.as_deref(), f.normal.as_deref()) {
                 (Some(v), None, None) => {
                     if v.is_empty() {
                         return Err(ScenarioError::new(format!("{path}.values"), "give at least one value"));
+                    }
+                    // Counted before anything else: every value is a variant run from every
+                    // start by every law, so more values than runs allowed cannot be run.
+                    if v.len() > crate::budget::MAX_SWEEP_RUNS {
+                        return Err(ScenarioError::new(
+                            format!("{path}.values"),
+                            format!(
+                                "{} values: each is a variant of the sweep, more than the limit of {} runs",
+                                v.len(),
+                                crate::budget::MAX_SWEEP_RUNS
+                            ),
+                        ));
                     }
                     for x in v {
                         finite("values", *x)?;
                     }
                     Spread::Values(v.clone())
                 }
-                (None, Some([lo, hi]), None) => {
-                    let (lo, hi) = (finite("uniform", lo)?, finite("uniform", hi)?);
+                (None, Some(u), None) => {
+                    let (lo, hi) = pair("uniform", u, "[low, high]")?;
                     if hi < lo {
                         return Err(ScenarioError::new(format!("{path}.uniform"), "give [low, high] with high >= low"));
                     }
                     Spread::Uniform(lo, hi)
                 }
-                (None, None, Some([mean, std])) => {
-                    let (mean, std) = (finite("normal", mean)?, finite("normal", std)?);
+                (None, None, Some(n)) => {
+                    let (mean, std) = pair("normal", n, "[mean, standard deviation]")?;
                     if std < 0.0 {
                         return Err(ScenarioError::new(
                             format!("{path}.normal"),

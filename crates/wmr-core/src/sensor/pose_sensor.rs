@@ -36,9 +36,9 @@ crate::params! {
         /// Latency: a sample taken at t reaches the controller at t + latency.
         pub latency: T [unit = "s", rule = ">= 0, a whole multiple of control_dt; latency * rate_hz < 250"],
         /// Standard deviation of the Gaussian noise on x and on y of each sample.
-        pub position_noise: T [unit = "m", rule = ">= 0"],
+        pub position_noise: T [unit = "m", rule = ">= 0, at most 1000 (the divergence box)"],
         /// Standard deviation of the Gaussian noise on theta of each sample.
-        pub heading_noise_deg: T [unit = "deg", rule = ">= 0"],
+        pub heading_noise_deg: T [unit = "deg", rule = ">= 0, at most 3600"],
         /// Encoder counts per wheel revolution (0, the default: ideal encoders).
         pub encoder_counts: u32 [unit = "counts/rev", rule = "whole number"],
         /// Seed of the noise: the noise of a run is a function of (seed, run index).
@@ -107,6 +107,14 @@ pub struct PoseSensor<T, const N: usize = 256> {
     last_angles: Option<Wheels<T>>,
 }
 
+/// `latency * rate_hz` must be below this: the samples in flight the default buffer (256)
+/// holds, with room to spare.
+const MAX_SAMPLES_IN_FLIGHT: u64 = 250;
+
+/// Largest `heading_noise_deg` accepted, deg (ten turns: beyond it the heading measured is
+/// uniform anyway).
+const MAX_HEADING_NOISE_DEG: f64 = 3600.0;
+
 impl<T: Real, const N: usize> PoseSensor<T, N> {
     /// Validates `params` for control period `control_dt` (s); `run` selects the noise
     /// stream. Errors name `rate_hz`, `latency`, `position_noise`, `heading_noise_deg`.
@@ -132,7 +140,22 @@ impl<T: Real, const N: usize> PoseSensor<T, N> {
         };
         check::non_negative("position_noise", params.position_noise)?;
         check::non_negative("heading_noise_deg", params.heading_noise_deg)?;
-        if latency_ticks / ticks_per_sample + 2 > N as u64 {
+        // Noise beyond the box a run may not leave only measures the noise, and a sample
+        // of 1e308 m overflows to inf (issue 25 item 11).
+        if params.position_noise > T::lit(crate::plant::DIVERGENCE_BOX_M) {
+            return Err(check::out_of_range(
+                "position_noise",
+                "must be at most 1000 m (the box a run may not leave)",
+                params.position_noise,
+            ));
+        }
+        if params.heading_noise_deg > T::lit(MAX_HEADING_NOISE_DEG) {
+            return Err(check::out_of_range("heading_noise_deg", "must be at most 3600 deg", params.heading_noise_deg));
+        }
+        // The documented bound, latency * rate_hz < 250 (in whole ticks), and what the
+        // buffer of N samples holds.
+        if latency_ticks >= MAX_SAMPLES_IN_FLIGHT * ticks_per_sample || latency_ticks / ticks_per_sample + 2 > N as u64
+        {
             return Err(check::out_of_range(
                 "latency",
                 "holds more pose samples in flight than the sensor's buffer (latency * rate_hz must be below 250)",

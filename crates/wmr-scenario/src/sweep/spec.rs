@@ -74,33 +74,8 @@ impl SweepSpec {
         let variation =
             Variation::resolve(sw.vary.as_deref().unwrap_or_default(), sw.seed.unwrap_or(0), sw.trials.unwrap_or(1))?;
         let variants = variation.variants();
-        let mut laws: Vec<(String, Setup)> = Vec::with_capacity(controllers.len());
-        let mut tables = Vec::with_capacity(controllers.len());
-        let mut setups = Vec::with_capacity(controllers.len() * variants.len());
-        for (i, controller) in controllers.into_iter().enumerate() {
-            let path = format!("sweep.controllers[{i}]");
-            let mut t = Tables { controller, ..base.clone() };
-            // A law without its own model takes the scenario's [controller.model].
-            if let (None, Some(model)) = (t.controller.get("model"), base.controller.get("model")) {
-                t.controller.insert("model".to_owned(), model.clone());
-            }
-            let setup = check_setup(&t, &path, sim, goal, None)?;
-            for v in &variants {
-                let vt = with_settings(&t, &variation.settings(*v, 0))?;
-                let blame = v.map(|(k, x)| (format!("sweep.vary[{k}]"), format!("{} = {x}", variation.keys[k].key)));
-                setups.push(check_setup(&vt, &path, sim, goal, blame)?);
-            }
-            if variation.has_draws() {
-                // The draws of the first run, as a sample of what the distributions give.
-                let blame = Some(("sweep.vary".to_owned(), "a drawn value".to_owned()));
-                check_setup(&with_settings(&t, &variation.settings(None, 0))?, &path, sim, goal, blame)?;
-            }
-            let kind = setup.controller.law.kind();
-            let same = laws.iter().filter(|(_, s)| s.controller.law.kind() == kind).count();
-            let name = if same == 0 { kind.to_owned() } else { format!("{kind}#{}", same + 1) };
-            laws.push((name, setup));
-            tables.push(t);
-        }
+        // The starts and the number of runs first: a sweep too large is refused before
+        // any of its variants is checked (a list of a million values took 47 s and 3.9 GB).
         let (starts, source) = match (&sw.grid, &sw.random) {
             (Some(g), None) => {
                 let g = GridFile { theta_deg: Some(g.theta_deg.clone().unwrap_or_else(|| vec![0.0])), ..g.clone() };
@@ -116,7 +91,7 @@ impl SweepSpec {
         };
         let runs = starts
             .len()
-            .saturating_mul(laws.len())
+            .saturating_mul(controllers.len())
             .saturating_mul(variants.len())
             .saturating_mul(variation.trials as usize);
         if runs > MAX_SWEEP_RUNS {
@@ -125,13 +100,44 @@ impl SweepSpec {
                 format!(
                     "{} starts x {} laws x {} variants x {} trials is more than {MAX_SWEEP_RUNS} runs",
                     starts.len(),
-                    laws.len(),
+                    controllers.len(),
                     variants.len(),
                     variation.trials
                 ),
             ));
         }
-        Ok(SweepSpec { goal, laws, tables, variation, variants, setups, starts, source })
+        let mut laws: Vec<(String, Setup)> = Vec::with_capacity(controllers.len());
+        let mut tables = Vec::with_capacity(controllers.len());
+        for (i, controller) in controllers.into_iter().enumerate() {
+            let path = format!("sweep.controllers[{i}]");
+            let mut t = Tables { controller, ..base.clone() };
+            // A law without its own model takes the scenario's [controller.model].
+            if let (None, Some(model)) = (t.controller.get("model"), base.controller.get("model")) {
+                t.controller.insert("model".to_owned(), model.clone());
+            }
+            let setup = check_setup(&t, &path, sim, goal, None)?;
+            let kind = setup.controller.law.kind();
+            let same = laws.iter().filter(|(_, s)| s.controller.law.kind() == kind).count();
+            let name = if same == 0 { kind.to_owned() } else { format!("{kind}#{}", same + 1) };
+            laws.push((name, setup));
+            tables.push(t);
+        }
+        let mut spec = SweepSpec { goal, laws, tables, variation, variants, setups: Vec::new(), starts, source };
+        // Every run's draws before the variants (whose setups hold run 0's draws), so a bad
+        // draw is named as one.
+        spec.check_draws(sim)?;
+        let mut setups = Vec::with_capacity(spec.laws.len() * spec.variants.len());
+        for (i, t) in spec.tables.iter().enumerate() {
+            let path = format!("sweep.controllers[{i}]");
+            for v in &spec.variants {
+                let vt = with_settings(t, &spec.variation.settings(*v, 0))?;
+                let blame =
+                    v.map(|(k, x)| (format!("sweep.vary[{k}]"), format!("{} = {x}", spec.variation.keys[k].key)));
+                setups.push(check_setup(&vt, &path, sim, goal, blame)?);
+            }
+        }
+        spec.setups = setups;
+        Ok(spec)
     }
 }
 
@@ -215,6 +221,51 @@ impl SweepSpec {
             Ok(drawn.insert(setup))
         } else {
             Ok(&self.setups[i.law * self.variants.len() + i.variant])
+        }
+    }
+
+    /// Checks every run's draws (when `vary` draws values per run) as the run will make
+    /// them, in parallel; the first bad run in run order is the error, naming the `vary`
+    /// entry whose draw is refused (or `sweep.vary` when no single entry is to blame), the
+    /// run, its law, trial and start, and the drawn values.
+    fn check_draws(&self, sim: &SimSpec) -> Result<(), ScenarioError> {
+        use rayon::prelude::*;
+        if !self.variation.has_draws() {
+            return Ok(());
+        }
+        let check = |k: usize| -> Result<(), ScenarioError> {
+            let i = self.index_of(k);
+            let settings = self.variation.settings(self.variants[i.variant], k as u64);
+            let path = self.law_path(i.law);
+            let t = with_settings(&self.tables[i.law], &settings)?;
+            check_setup(&t, &path, sim, self.goal, None).map(drop).map_err(|e| {
+                let drawn: Vec<(usize, f64)> = self.variation.draws(k as u64);
+                let shown: Vec<String> =
+                    drawn.iter().map(|(j, v)| format!("{} = {v}", self.variation.keys[*j].key)).collect();
+                // The entry whose key the error names (a law's errors say
+                // `sweep.controllers[i].model.x` for `controller.model.x`); else the list.
+                let culprit = drawn.iter().find(|(j, _)| {
+                    let key = self.variation.keys[*j].key.as_str();
+                    e.key.ends_with(key.strip_prefix("controller").unwrap_or(key))
+                });
+                let key = culprit.map_or("sweep.vary".to_owned(), |(j, _)| format!("sweep.vary[{j}]"));
+                ScenarioError::new(
+                    key,
+                    format!(
+                        "run {k} (law {}, trial {}, start {}) draws {}: {}: {}",
+                        self.laws[i.law].0,
+                        i.trial,
+                        i.start,
+                        shown.join(", "),
+                        e.key,
+                        e.message
+                    ),
+                )
+            })
+        };
+        match (0..self.len()).into_par_iter().map(check).find_first(Result::is_err) {
+            Some(Err(e)) => Err(e),
+            _ => Ok(()),
         }
     }
 
