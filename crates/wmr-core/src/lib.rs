@@ -67,6 +67,7 @@ pub mod sensor;
 pub mod settle;
 pub mod state;
 pub mod trace;
+pub mod tracking;
 pub mod world;
 
 pub use clock::StepClock;
