@@ -100,7 +100,9 @@ fn help_documents_every_key_with_its_default() {
         let defined =
             if inline(k) || required { has_word(section, k.key) } else { shown_default(section, k.key).is_some() };
         assert!(defined, "--help: {:?} (kind {:?}) lacks {}", k.table, k.kind, k.key);
+        // An inline-table default (`center = { x = 0.0, y = 0.0 }`) spans several words.
         if let Some(real) = &k.default
+            && !matches!(real, toml::Value::Table(_))
             && let Some(shown) = shown_default(section, k.key)
         {
             assert!(same_value(shown, real), "--help shows {} = {shown}, the default is {real}", k.key);
