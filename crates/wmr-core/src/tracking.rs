@@ -109,7 +109,8 @@ impl<T: Real> TrackingWatch<T> {
     pub fn observe<R: Reference<T>>(&mut self, reference: &R, t: T, pose: &Pose2<T>) {
         let e = self.error_of(reference, t, pose);
         self.last_error = e;
-        if !(e < self.tolerance) {
+        // NaN counts as above the tolerance.
+        if e >= self.tolerance || e.is_nan() {
             self.last_above = Some(t);
         }
         if t >= self.t_end * T::lit(0.5) {

@@ -155,11 +155,7 @@ fn point(t: &Table, k: &str, with_theta: bool) -> Result<Pose2<f64>, ScenarioErr
 
 /// The core's error on a `[reference]` key, named in the scenario's terms.
 fn core_error(e: &wmr_core::ParamError) -> ScenarioError {
-    let field = match e.field {
-        "phase_deg" => "phase_deg",
-        f => f,
-    };
-    ScenarioError::from_param(e, &key(field))
+    ScenarioError::from_param(e, &key(e.field))
 }
 
 /// Reads `[reference]`; `dir` is the scenario file's folder (where a `file` reference's

@@ -83,7 +83,7 @@ fn figure_eight_reference_matches_an_independent_implementation() {
     for k in 0..=2000 {
         let t = f64::from(k) * 0.0125;
         let (xd, yd) = (1.0 * a * (a * t).cos(), 1.2 * a * (2.0 * a * t).cos());
-        let (xdd, ydd) = (-1.0 * a * a * (a * t).sin(), -2.0 * 1.2 * a * a * (2.0 * a * t).sin());
+        let (xdd, ydd) = (-(a * a) * (a * t).sin(), -2.0 * 1.2 * a * a * (2.0 * a * t).sin());
         let want = [
             0.1 + 1.0 * (a * t).sin(),
             0.2 + 0.6 * (2.0 * a * t).sin(),
