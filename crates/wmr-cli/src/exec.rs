@@ -171,7 +171,8 @@ pub fn run_command(
     let writer = out.writer()?;
     let measured = scenario.setup().has_sensor;
     let mut sink: Box<dyn Sink> = match format {
-        Format::Csv => csv_sink::CsvSink::new(writer, measured).map(|s| Box::new(s) as Box<dyn Sink>),
+        Format::Csv => csv_sink::CsvSink::new(writer, measured, scenario.tracking().map(|t| t.reference.built))
+            .map(|s| Box::new(s) as Box<dyn Sink>),
         Format::Mcap => mcap_sink::McapSink::new(writer, scenario).map(|s| Box::new(s) as Box<dyn Sink>),
     }
     .map_err(sink_err)
@@ -421,5 +422,8 @@ pub fn check_command(file: &Path) -> Result<()> {
             })
             .collect();
     crate::errors::say_raw(&text)?;
+    if let Some(tr) = scenario.tracking() {
+        crate::errors::say_raw(&format!("# {}\n", wmr_scenario::reference::describe(&tr.reference)))?;
+    }
     crate::errors::say_raw(&format!("# {total} plant steps in all\n")).context("cannot write to stdout")
 }

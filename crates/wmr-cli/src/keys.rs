@@ -15,7 +15,7 @@ const TEXT_COLUMN: usize = 31;
 const WIDTH: usize = 100;
 
 /// The tables generated from the schema, each with its note for the header line.
-const TABLES: [(&str, &str); 5] = [
+const TABLES: [(&str, &str); 6] = [
     ("robot", "SI units"),
     ("drive", ""),
     (
@@ -24,6 +24,7 @@ const TABLES: [(&str, &str); 5] = [
     ),
     ("sensor", "what the controller sees; no table = perfect and instant"),
     ("world", "x and y lie in the ground plane"),
+    ("reference", "a moving reference for kanayama, backstepping, pure_pursuit; no table = each run's goal, at rest"),
 ];
 
 const HEAD: &str = r#"SCENARIO FILE (TOML; every key optional except [[run]]; unknown keys are errors)
@@ -37,11 +38,12 @@ const SIM_RUN_SWEEP: &str = r#"[sim]
   dt = 1e-3                    s, RK4 step (default: controller.control_dt)
   log_dt = 0.01                s, output sample period; a whole multiple of dt
   stop_when_settled = false    stop a run once settled: law holding, at rest within 1 cm
+  tracking_tolerance = 0.01    m; a tracking run converges when its error stays below this over the last 10 % of t_end
 
 [[run]]                        one or more
   label = "..."                text for the summary (default: built from start and goal)
   start = { x = 0.0, y = 0.0, theta_deg = 0.0 }   m, m, and theta (rad) or theta_deg, not both; default 0
-  goal = { x = 1.0, y = 1.0, theta_deg = 120.0 }  required; missing x, y, theta are 0
+  goal = { x = 1.0, y = 1.0, theta_deg = 120.0 }  required (refused with a [reference]); missing x, y, theta are 0
 
 [sweep]                        wmr-cli sweep: every law from every start ([[run]] optional)
   goal = { x = 0.0, y = 0.0, theta_deg = 0.0 }    goal pose of C (default origin, 0)

@@ -72,7 +72,8 @@ fn help_section<'a>(help: &'a str, k: &SchemaKey) -> &'a str {
         "drive" => between(help, "\n[drive]", &["\n[controller]"]),
         "controller" => between(help, "\n[controller]", &["\n[sensor]"]),
         "sensor" => between(help, "\n[sensor]", &["\n[world]"]),
-        "world" => between(help, "\n[world]", &["\n[sim]"]),
+        "world" => between(help, "\n[world]", &["\n[reference]"]),
+        "reference" => between(help, "\n[reference]", &["\n[sim]"]),
         "sim" => between(help, "\n[sim]", &["\n[[run]]"]),
         "run" | "pose" => between(help, "\n[[run]]", &["\n[sweep]"]),
         _ => between(help, "\n[sweep]", &["\nOUTPUTS"]),
@@ -94,9 +95,14 @@ fn help_documents_every_key_with_its_default() {
         let section = help_section(&help, k);
         // Keys of the tables are defined on their own line (`key = default  what`); the
         // pose, grid and random keys are written inside their inline tables.
-        let defined = if inline(k) { has_word(section, k.key) } else { shown_default(section, k.key).is_some() };
+        // A required `[reference]` key has no default to show: its line names it.
+        let required = k.table == "reference" && k.default.is_none();
+        let defined =
+            if inline(k) || required { has_word(section, k.key) } else { shown_default(section, k.key).is_some() };
         assert!(defined, "--help: {:?} (kind {:?}) lacks {}", k.table, k.kind, k.key);
+        // An inline-table default (`center = { x = 0.0, y = 0.0 }`) spans several words.
         if let Some(real) = &k.default
+            && !matches!(real, toml::Value::Table(_))
             && let Some(shown) = shown_default(section, k.key)
         {
             assert!(same_value(shown, real), "--help shows {} = {shown}, the default is {real}", k.key);
@@ -115,6 +121,7 @@ fn docs_document_every_key() {
             "controller" => between(&doc, "## `[controller]`", &["\n## "]),
             "sensor" => between(&doc, "## `[sensor]`", &["\n## "]),
             "world" => between(&doc, "## `[world]`", &["\n## "]),
+            "reference" => between(&doc, "## `[reference]`", &["\n## "]),
             "sim" => between(&doc, "## `[sim]`", &["\n## "]),
             "run" | "pose" => between(&doc, "## `[[run]]`", &["\n## "]),
             _ => between(&doc, "## `[sweep]`", &["\n## "]),

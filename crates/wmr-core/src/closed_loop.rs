@@ -175,7 +175,10 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
         let t = self.time();
         let measurement = self.sensor.measure(t, self.plant.state(), self.plant.robot().params());
         let reference = self.reference.state_at(t);
-        let output = self.controller.update(t, &measurement, &reference);
+        let output = match self.reference.path() {
+            Some(path) => self.controller.update_on_path(t, &measurement, &reference, path),
+            None => self.controller.update(t, &measurement, &reference),
+        };
         self.plant.apply(output.command);
         self.tick = Tick { t, measurement, reference, output };
     }

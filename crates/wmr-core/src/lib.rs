@@ -67,14 +67,16 @@ pub mod sensor;
 pub mod settle;
 pub mod state;
 pub mod trace;
+pub mod tracking;
 pub mod world;
 
 pub use clock::StepClock;
 pub use closed_loop::{ClosedLoop, Diverged, Tick};
 pub use controller::{
-    AnyLaw, ControlErrors, ControlOutput, Controller, ControllerParams, HoldMode, Law, LawParams, LyapunovLaw,
-    LyapunovParams, PaperBidirectionalLaw, PaperBidirectionalParams, PaperLaw, PaperMode, PaperParams, PolarLaw,
-    PolarParams, ServoGains, WheelDemand, WheelStage, WheelStageParams,
+    AnyLaw, BacksteppingLaw, BacksteppingParams, ControlErrors, ControlOutput, Controller, ControllerParams, HoldMode,
+    KanayamaLaw, KanayamaParams, Law, LawParams, LyapunovLaw, LyapunovParams, PaperBidirectionalLaw,
+    PaperBidirectionalParams, PaperLaw, PaperMode, PaperParams, PolarLaw, PolarParams, PurePursuitLaw,
+    PurePursuitParams, ServoGains, WheelDemand, WheelStage, WheelStageParams,
 };
 pub use drive::{DcMotorParams, Drive, DriveParams, TorqueDriveParams};
 pub use error::{ParamError, Reason};
@@ -83,7 +85,7 @@ pub use outcome::{ARRIVAL_RADIUS_M, Outcome, Status, Termination};
 pub use params::{Robot, RobotParams};
 pub use plant::Plant;
 pub use real::Real;
-pub use reference::{FixedGoal, Reference, ReferenceState};
+pub use reference::{AnyReference, FixedGoal, Path, Reference, ReferenceState};
 pub use sample::Sample;
 pub use sensor::{Measurement, PerfectSensor, PoseSensor, Sensor, SensorParams};
 pub use state::State;

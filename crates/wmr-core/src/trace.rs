@@ -98,6 +98,8 @@ real_words!(WORLD, put_world, read_world, WorldParams, WorldParams::default());
 real_words!(TORQUE, put_torque, read_torque, TorqueDriveParams, TorqueDriveParams::default());
 real_words!(DC_MOTOR, put_dc_motor, read_dc_motor, DcMotorParams, DcMotorParams::default());
 
+/// The law-kind word of a law the format does not carry (a tracking law).
+const NOT_IN_TRACE: u32 = u32::MAX;
 /// Words of the law: its kind, then at most 8 keys.
 const LAW: usize = 9;
 /// Where each part of the config starts (word index).
@@ -181,6 +183,11 @@ impl<T: Real> ConfigOf<T> {
                 hold_word(p.hold),
                 0,
             ],
+            // The tracking laws follow a moving reference, which the format (a goal pose)
+            // does not carry yet: the kind word says so and decoding refuses it.
+            LawParams::Kanayama(_) | LawParams::Backstepping(_) | LawParams::PurePursuit(_) => {
+                [NOT_IN_TRACE, 0, 0, 0, 0, 0, 0, 0, 0]
+            }
         };
         w[0..LAW].copy_from_slice(&law);
         let d = &mut w[DRIVE_AT..ROBOT_AT];
@@ -249,6 +256,7 @@ impl Config {
                 reverse_hysteresis: r(w[5]),
                 goal_radius: r(w[6]),
             }),
+            NOT_IN_TRACE => return Err(FormatError("the tracking laws are not in the trace format yet")),
             _ => return Err(FormatError("unknown law kind")),
         };
         let d = &w[DRIVE_AT..ROBOT_AT];
@@ -430,6 +438,12 @@ mod tests {
                     start: Pose2::new(0.1, -0.2, 0.3),
                     goal: Pose2::new(1.0, 1.0, 120f64.to_radians()),
                 };
+                if matches!(law, LawParams::Kanayama(_) | LawParams::Backstepping(_) | LawParams::PurePursuit(_)) {
+                    // Not in the format yet: refused by name, never read as another law.
+                    let e = Config::decode(&c.encode()).unwrap_err();
+                    assert!(e.0.contains("tracking laws"), "{}", e.0);
+                    continue;
+                }
                 let d = Config::decode(&c.encode()).unwrap();
                 assert_eq!(d.law.kind(), law.kind());
                 assert_eq!(d.drive.kind(), drive.kind());

@@ -626,7 +626,10 @@ fn wheel_speed_max_validation() {
 #[test]
 fn kinds_by_name() {
     let (robot, drive) = robot_and_drive();
-    assert_eq!(LawParams::<f64>::defaults().map(|p| p.kind()), ["paper", "paper_bidirectional", "polar", "lyapunov"]);
+    assert_eq!(
+        LawParams::<f64>::defaults().map(|p| p.kind()),
+        ["paper", "paper_bidirectional", "polar", "lyapunov", "kanayama", "backstepping", "pure_pursuit"]
+    );
     for p in LawParams::<f64>::defaults() {
         assert_eq!(p.build(robot.params(), DT).unwrap().kind(), p.kind());
         assert_eq!(ControllerParams::with_law(p).build(robot.params(), &drive).unwrap().law().kind(), p.kind());

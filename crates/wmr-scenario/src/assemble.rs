@@ -1,7 +1,7 @@
 //! One run's closed loop from a validated [`Setup`]: the plant at its start pose, the
 //! run's sensor, a fresh copy of the built controller, a fixed goal and the plant step.
 
-use wmr_core::{AnyLaw, ClosedLoop, FixedGoal, ParamError, Pose2, PoseSensor};
+use wmr_core::{AnyLaw, AnyReference, ClosedLoop, FixedGoal, ParamError, Pose2, PoseSensor};
 
 use crate::error::ScenarioError;
 use crate::keys::join;
@@ -9,7 +9,7 @@ use crate::setup::Setup;
 use crate::sim::SimSpec;
 
 /// The closed loop of one run.
-pub type RunLoop = ClosedLoop<f64, AnyLaw<f64>, PoseSensor<f64>>;
+pub type RunLoop = ClosedLoop<f64, AnyLaw<f64>, PoseSensor<f64>, AnyReference<f64>>;
 
 /// Where a run's values came from, to name them in errors: the table holding its start
 /// and goal (`run[2]`, `sweep`) and its controller (`controller`, `sweep.controllers[1]`).
@@ -44,10 +44,25 @@ pub fn closed_loop(
     sim: &SimSpec,
     origin: Origin<'_>,
 ) -> Result<RunLoop, ScenarioError> {
+    // Checked in this order so a run's first error stays the one it always was.
+    setup.plant(start).map_err(|e| origin.key_of(&e))?;
+    setup.sensor_for(run).map_err(|e| origin.key_of(&e))?;
+    let goal = FixedGoal::new(goal).map_err(|e| origin.key_of(&e))?;
+    closed_loop_to(setup, run, start, AnyReference::Goal(goal), sim, origin)
+}
+
+/// [`closed_loop`] following `reference` (a moving one, for a tracking run).
+pub fn closed_loop_to(
+    setup: &Setup,
+    run: u64,
+    start: Pose2<f64>,
+    reference: AnyReference<f64>,
+    sim: &SimSpec,
+    origin: Origin<'_>,
+) -> Result<RunLoop, ScenarioError> {
     let plant = setup.plant(start).map_err(|e| origin.key_of(&e))?;
     let sensor = setup.sensor_for(run).map_err(|e| origin.key_of(&e))?;
-    let goal = FixedGoal::new(goal).map_err(|e| origin.key_of(&e))?;
-    ClosedLoop::with_sensor(plant, sensor, setup.built, goal, sim.dt())
+    ClosedLoop::with_sensor(plant, sensor, setup.built, reference, sim.dt())
         .map(|lp| lp.stop_when_settled(sim.stop_when_settled()))
         .map_err(|e| origin.key_of(&e))
 }

@@ -17,6 +17,17 @@ pub fn law_kinds() -> Vec<&'static str> {
     LawParams::<f64>::defaults().iter().map(LawParams::kind).collect()
 }
 
+/// The point-stabilization laws' `kind` names: a `[sweep]` without `controllers` and
+/// without a `[reference]` compares these.
+pub fn stabilization_law_kinds() -> Vec<&'static str> {
+    LawParams::<f64>::defaults().iter().filter(|l| !crate::reference::is_tracking_law(l)).map(LawParams::kind).collect()
+}
+
+/// The tracking and path-following laws' `kind` names (they need a `[reference]`).
+pub fn tracking_law_kinds() -> Vec<&'static str> {
+    LawParams::<f64>::defaults().iter().filter(|l| crate::reference::is_tracking_law(l)).map(LawParams::kind).collect()
+}
+
 /// The keys of law `kind` (without `kind`), the wheel stage's keys and `control_dt`:
 /// everything a `[controller]` table of that kind accepts besides `kind`.
 pub fn controller_keys(kind: &str, drive: &DriveParams<f64>) -> Vec<String> {

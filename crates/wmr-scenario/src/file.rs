@@ -27,6 +27,8 @@ pub struct ScenarioFile {
     pub sensor: Option<Table>,
     /// `[world]`: keys of `wmr_core::WorldParams`.
     pub world: Option<Table>,
+    /// `[reference]`: the moving reference of a tracking scenario (`reference.rs`).
+    pub reference: Option<Table>,
     /// `[sim]`.
     pub sim: Option<SimFile>,
     /// `[[run]]`: one or more (none is an error, unless the file has a `[sweep]`).
@@ -48,6 +50,9 @@ pub struct SimFile {
     pub log_dt: Option<f64>,
     /// Stop each run once it has settled (`wmr_core::settle`). Default false.
     pub stop_when_settled: Option<bool>,
+    /// A tracking run converges when its error stays below this over the last 10 % of
+    /// t_end, m. Default 0.01.
+    pub tracking_tolerance: Option<f64>,
 }
 
 /// One `[[run]]`.
@@ -58,7 +63,7 @@ pub struct RunFile {
     pub label: Option<String>,
     /// Start pose of C; default (0, 0, 0).
     pub start: Option<PoseFile>,
-    /// Goal pose of C; required.
+    /// Goal pose of C; required, unless the scenario has a `[reference]` (then refused).
     pub goal: Option<PoseFile>,
 }
 

@@ -46,6 +46,7 @@ mod locate;
 mod memory;
 mod output;
 mod read;
+pub mod reference;
 pub mod robustness;
 mod run;
 mod scenario;
@@ -53,22 +54,23 @@ pub mod schema;
 mod setup;
 mod sim;
 mod sweep;
+mod tracking_run;
 pub mod vary;
 mod warnings;
 
 pub use assemble::RunLoop;
 pub use budget::{MAX_SWEEP_RUNS, MAX_TOTAL_STEPS};
-pub use controller::{controller_keys, law_kinds};
+pub use controller::{controller_keys, law_kinds, stabilization_law_kinds, tracking_law_kinds};
 pub use error::{ScenarioError, escape_controls, is_unsafe_char, shown};
 pub use file::{GridFile, PoseFile, RandomFile, RunFile, ScenarioFile, SimFile, SweepFile};
 pub use memory::available_memory_bytes;
 pub use output::{
-    CSV_COLUMNS, MEASURED_COLUMNS, MEASURED_UNITS, RunResult, SAMPLE_COLUMNS, SAMPLE_UNITS, Sink, SinkError,
-    measured_values, sample_values,
+    CSV_COLUMNS, MEASURED_COLUMNS, MEASURED_UNITS, REFERENCE_COLUMNS, REFERENCE_UNITS, RunResult, SAMPLE_COLUMNS,
+    SAMPLE_UNITS, Sink, SinkError, measured_values, reference_values, sample_values,
 };
 pub use read::{MAX_FILE_BYTES, default_name, read_text};
 pub use run::RunSpec;
-pub use scenario::{Scenario, total_steps};
+pub use scenario::{DEFAULT_TRACKING_TOLERANCE_M, Scenario, Tracking, total_steps};
 pub use schema::{SchemaKey, schema};
 pub use setup::{BuiltController, Setup, Tables};
 pub use sim::{DEFAULT_LOG_DT_S, DEFAULT_T_END_S, MAX_STEPS, MAX_T_END_S, SimSpec};

@@ -3,7 +3,8 @@
 
 use std::error::Error;
 
-use wmr_core::{Outcome, Sample, Status};
+use wmr_core::tracking::TrackingOutcome;
+use wmr_core::{Outcome, ReferenceState, Sample, Status};
 
 use crate::run::RunSpec;
 
@@ -67,6 +68,19 @@ pub fn measured_values(s: &Sample<f64>) -> [f64; 3] {
     [s.measured.x, s.measured.y, s.measured.theta]
 }
 
+/// The columns a tracking run adds after the others: the reference at the sample's t
+/// (m, m, rad, m/s, rad/s).
+pub const REFERENCE_COLUMNS: [&str; 5] = ["x_ref", "y_ref", "theta_ref", "v_ref", "omega_ref"];
+
+/// The unit of each of [`REFERENCE_COLUMNS`], in order.
+pub const REFERENCE_UNITS: [&str; REFERENCE_COLUMNS.len()] = ["m", "m", "rad", "m/s", "rad/s"];
+
+/// A reference state's values in [`REFERENCE_COLUMNS`] order.
+#[inline]
+pub fn reference_values(r: &ReferenceState<f64>) -> [f64; 5] {
+    [r.pose.x, r.pose.y, r.pose.theta, r.twist.v, r.twist.omega]
+}
+
 /// The error a sink reports (I/O, encoding, ...).
 pub type SinkError = Box<dyn Error + Send + Sync + 'static>;
 
@@ -103,17 +117,32 @@ pub struct RunResult {
     pub label: String,
     /// The core's outcome (final pose, final dl, heading error, time to arrival, ...).
     pub outcome: Outcome<f64>,
+    /// For a tracking run, how the tracking error went (`wmr_core::tracking`).
+    pub tracking: Option<TrackingOutcome<f64>>,
 }
 
 impl RunResult {
     /// Wraps a core outcome.
     pub fn new(index: usize, label: String, outcome: Outcome<f64>) -> Self {
-        Self { index, label, outcome }
+        Self { index, label, outcome, tracking: None }
     }
 
-    /// Converged, diverged or unsettled (decided by the core, from the true state).
+    /// The same run with its tracking outcome (a tracking run).
+    pub fn with_tracking(mut self, tracking: TrackingOutcome<f64>) -> Self {
+        self.tracking = Some(tracking);
+        self
+    }
+
+    /// Converged, diverged or unsettled (decided by the core, from the true state). A
+    /// tracking run converges when its tracking error stays below `sim.tracking_tolerance`
+    /// over the last 10 % of t_end.
     pub fn status(&self) -> Status {
-        self.outcome.status()
+        match (&self.tracking, self.outcome.status()) {
+            (_, Status::Diverged) => Status::Diverged,
+            (Some(t), _) if t.within_tolerance() => Status::Converged,
+            (Some(_), _) => Status::Unsettled,
+            (None, s) => s,
+        }
     }
 
     /// The state stopped being finite or C left the 1 km box.
@@ -130,6 +159,26 @@ impl RunResult {
     /// time to dl < 1 cm (s or "never"), status.
     pub fn summary_line(&self) -> String {
         let o = &self.outcome;
+        if let Some(tr) = &self.tracking {
+            let settle = match tr.time_to_tolerance {
+                Some(t) => format!("{t:.3} s"),
+                None => "never".to_owned(),
+            };
+            let stop = if self.diverged() { format!(" at t = {:.3} s", o.t_final) } else { String::new() };
+            return format!(
+                "run {} [{}]: tracking error over the last half RMS {:.6} m, max {:.6} m, final {:.6} m, \
+                 below {} m after {}, {}{}",
+                self.index,
+                self.label,
+                tr.rms_last_half,
+                tr.max_last_half,
+                tr.final_error,
+                tr.tolerance,
+                settle,
+                self.status().name(),
+                stop
+            );
+        }
         let arrival = match o.time_to_arrival {
             Some(t) => format!("{t:.3} s"),
             None => "never".to_owned(),

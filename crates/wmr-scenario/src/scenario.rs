@@ -15,6 +15,7 @@ use crate::error::ScenarioError;
 use crate::file::{RunFile, ScenarioFile, SimFile};
 use crate::keys::{fields_of, fields_read_by, join, to_table, toml_f64, write_keys};
 use crate::output::RunResult;
+use crate::reference::ReferenceSpec;
 use crate::run::{RunSpec, short};
 use crate::setup::{BuiltController, Setup, Tables};
 use crate::sim::SimSpec;
@@ -29,6 +30,7 @@ pub struct Scenario {
     sim: SimSpec,
     runs: Vec<RunSpec>,
     sweep: Option<SweepSpec>,
+    tracking: Option<Tracking>,
 }
 
 /// Plant steps of all the scenario's runs and sweep runs.
@@ -36,7 +38,94 @@ pub fn total_steps(scenario: &Scenario) -> u128 {
     budget::steps(scenario.sim(), scenario.all_runs())
 }
 
+/// The moving reference of a tracking scenario and the tolerance its runs are judged with.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tracking {
+    /// `[reference]`, checked.
+    pub reference: ReferenceSpec,
+    /// `sim.tracking_tolerance`, m.
+    pub tolerance: f64,
+}
+
+/// Default `sim.tracking_tolerance`, m.
+pub const DEFAULT_TRACKING_TOLERANCE_M: f64 = 0.01;
+
 impl ScenarioFile {
+    /// [`ScenarioFile::resolve`] for a file in folder `dir` (where a `[reference]` of kind
+    /// `file` finds its CSV).
+    pub fn resolve_in(mut self, default_name: &str, dir: Option<&Path>) -> Result<Scenario, ScenarioError> {
+        let reference = match self.reference.take() {
+            Some(t) => Some(crate::reference::resolve(&t, dir)?),
+            None => None,
+        };
+        let tolerance = self.sim.as_ref().and_then(|s| s.tracking_tolerance);
+        let tolerance = match tolerance {
+            None => DEFAULT_TRACKING_TOLERANCE_M,
+            Some(v) if v.is_finite() && v > 0.0 => v,
+            Some(v) => {
+                return Err(ScenarioError::new(
+                    "sim.tracking_tolerance",
+                    format!("must be a finite number > 0 (got {v})"),
+                ));
+            }
+        };
+        if reference.is_none() && self.sim.as_ref().is_some_and(|s| s.tracking_tolerance.is_some()) {
+            return Err(ScenarioError::new("sim.tracking_tolerance", "only a scenario with a [reference] tracks"));
+        }
+        let mut runs = std::mem::take(&mut self.run);
+        let mut starts_only = Vec::new();
+        if reference.is_some() {
+            // A tracking run gives its start only: the goal is the reference.
+            for (i, r) in runs.iter_mut().enumerate() {
+                if r.goal.is_some() {
+                    return Err(ScenarioError::new(
+                        format!("run[{i}].goal"),
+                        "a run of a scenario with a [reference] gives its start only (the reference is the goal)",
+                    ));
+                }
+                starts_only.push(i);
+                r.goal = Some(crate::file::PoseFile::default());
+            }
+        }
+        self.run = runs;
+        let mut scenario = self.resolve(default_name)?;
+        if let Some(reference) = reference {
+            let start = reference.built.start_pose();
+            for i in starts_only {
+                let run = &mut scenario.runs[i];
+                let label_given = run.label != RunSpec::new(run.start, run.goal).label;
+                run.goal = start;
+                if !label_given {
+                    run.label = format!(
+                        "start ({}, {}, {} deg)",
+                        short(run.start.x),
+                        short(run.start.y),
+                        short(run.start.theta.to_degrees())
+                    );
+                }
+            }
+            scenario.tracking = Some(Tracking { reference, tolerance });
+        }
+        crate::reference::check_law(
+            &scenario.setup.controller.law,
+            scenario.tracking.as_ref().map(|t| &t.reference),
+            "controller",
+        )?;
+        if let Some(sw) = &scenario.sweep {
+            if scenario.tracking.is_some() {
+                return Err(ScenarioError::new(
+                    "sweep",
+                    "a [sweep] of a scenario with a [reference] is not supported yet: give the starts as [[run]]s",
+                ));
+            }
+            for (i, (_, setup)) in sw.laws.iter().enumerate() {
+                crate::reference::check_law(&setup.controller.law, None, &format!("sweep.controllers[{i}]"))?;
+            }
+        }
+        scenario.check_runs()?;
+        Ok(scenario)
+    }
+
     /// Fills the defaults and checks everything by building the core types once.
     /// `default_name` is used when the file has no `name`.
     pub fn resolve(self, default_name: &str) -> Result<Scenario, ScenarioError> {
@@ -49,7 +138,7 @@ impl ScenarioFile {
         };
         let setup = Setup::resolve(&tables, "controller")?;
 
-        let SimFile { t_end, dt, log_dt, stop_when_settled } = self.sim.unwrap_or_default();
+        let SimFile { t_end, dt, log_dt, stop_when_settled, tracking_tolerance: _ } = self.sim.unwrap_or_default();
         let sim = SimSpec::resolve(t_end, dt, log_dt, setup.controller.control_dt)?
             .with_stop_when_settled(stop_when_settled.unwrap_or(false));
         setup.check_step(sim.dt())?;
@@ -76,7 +165,7 @@ impl ScenarioFile {
             runs.push(run);
         }
         let name = self.name.unwrap_or_else(|| default_name.to_owned());
-        let scenario = Scenario { name, setup, sim, runs, sweep };
+        let scenario = Scenario { name, setup, sim, runs, sweep, tracking: None };
         scenario.check_runs()?;
         Ok(scenario)
     }
@@ -86,6 +175,12 @@ impl Scenario {
     /// Parses and checks TOML text; `default_name` is used when it has no `name`.
     /// Errors name the key and, where it can be found, the line.
     pub fn from_toml_str(text: &str, default_name: &str) -> Result<Self, ScenarioError> {
+        Self::from_toml_str_in(text, default_name, None)
+    }
+
+    /// [`Scenario::from_toml_str`] for text read from a file in folder `dir` (where a
+    /// `[reference]` of kind `file` finds its CSV; the working directory when `None`).
+    pub fn from_toml_str_in(text: &str, default_name: &str, dir: Option<&Path>) -> Result<Self, ScenarioError> {
         let de = toml::de::Deserializer::parse(text).map_err(|e| {
             // A syntax error: toml gives the place; quote the line so the key shows.
             let line = e.span().map(|s| locate::line_of(text, s.start));
@@ -103,7 +198,7 @@ impl Scenario {
             let inner = e.into_inner();
             locate::deser_error(&path, inner.message(), inner.span(), text)
         })?;
-        file.resolve(default_name).and_then(|s| s.check_limits().map(|()| s)).map_err(|e| {
+        file.resolve_in(default_name, dir).and_then(|s| s.check_limits().map(|()| s)).map_err(|e| {
             let line = locate::span_of_key(text, &e.key).map(|s| locate::line_of(text, s.start));
             e.at_line(line)
         })
@@ -113,7 +208,7 @@ impl Scenario {
     /// name defaults to the file's stem. Read errors name the path.
     pub fn from_path(path: impl AsRef<Path>) -> Result<Self, ScenarioError> {
         let path = path.as_ref();
-        Self::from_toml_str(&read::read_text(path)?, &read::default_name(path))
+        Self::from_toml_str_in(&read::read_text(path)?, &read::default_name(path), path.parent())
     }
 
     /// The same scenario with other runs, each checked (Python's batches of starts).
@@ -193,16 +288,61 @@ impl Scenario {
         })?;
         let path = format!("run[{run_index}]");
         let origin = Origin { run: &path, controller: "controller" };
-        assemble::closed_loop(&self.setup, run_index as u64, run.start, run.goal, &self.sim, origin)
+        self.loop_for(run_index as u64, run, origin)
+    }
+
+    /// The loop of `run` (noise stream `stream`): towards its goal, or following the
+    /// `[reference]` of a tracking scenario.
+    fn loop_for(&self, stream: u64, run: &RunSpec, origin: Origin<'_>) -> Result<RunLoop, ScenarioError> {
+        match &self.tracking {
+            Some(tr) => assemble::closed_loop_to(&self.setup, stream, run.start, tr.reference.built, &self.sim, origin),
+            None => assemble::closed_loop(&self.setup, stream, run.start, run.goal, &self.sim, origin),
+        }
+    }
+
+    /// The tracking reference and tolerance, for a scenario with a `[reference]`.
+    pub fn tracking(&self) -> Option<&Tracking> {
+        self.tracking.as_ref()
+    }
+
+    /// Runs `lp` to the end (stoppable): a plain run, or a tracking run with its
+    /// tracking outcome.
+    fn run_to_end<B>(
+        &self,
+        lp: &mut RunLoop,
+        index: usize,
+        label: String,
+        sink: impl FnMut(&Sample<f64>) -> ControlFlow<B>,
+        poll: impl FnMut() -> ControlFlow<B>,
+    ) -> ControlFlow<B, RunResult> {
+        let sim = self.sim();
+        match &self.tracking {
+            None => {
+                lp.try_run(sim.n_steps(), sim.log_every(), sink, poll).map_continue(|o| RunResult::new(index, label, o))
+            }
+            Some(tr) => {
+                let path = crate::reference::is_path_following(&self.setup.controller.law);
+                crate::tracking_run::run(lp, sim, tr.tolerance, path, sink, poll)
+                    .map_continue(|(o, t)| RunResult::new(index, label, o).with_tracking(t))
+            }
+        }
     }
 
     /// Simulates run `run_index` from t = 0 to t_end (or divergence), handing `sink`
     /// the sample at t = 0, every log_dt and the last one. The physics is the core's.
     pub fn run(&self, run_index: usize, sink: impl FnMut(&Sample<f64>)) -> Result<RunResult, ScenarioError> {
-        let mut lp = self.closed_loop(run_index)?;
-        let outcome = lp.run(self.sim.n_steps(), self.sim.log_every(), sink);
-        let label = self.runs.get(run_index).map(|r| r.label.clone()).unwrap_or_default();
-        Ok(RunResult::new(run_index, label, outcome))
+        let mut sink = sink;
+        match self.try_run(
+            run_index,
+            |s| {
+                sink(s);
+                ControlFlow::<std::convert::Infallible>::Continue(())
+            },
+            || ControlFlow::Continue(()),
+        )? {
+            ControlFlow::Continue(r) => Ok(r),
+            ControlFlow::Break(never) => match never {},
+        }
     }
 
     /// [`Scenario::run`] that may be stopped part-way, by its output (a write failed, the
@@ -218,14 +358,8 @@ impl Scenario {
         poll: impl FnMut() -> ControlFlow<B>,
     ) -> Result<ControlFlow<B, RunResult>, ScenarioError> {
         let mut lp = self.closed_loop(run_index)?;
-        let sim = self.sim();
-        Ok(match lp.try_run(sim.n_steps(), sim.log_every(), sink, poll) {
-            ControlFlow::Continue(outcome) => {
-                let label = self.runs().get(run_index).map(|r| r.label.clone()).unwrap_or_default();
-                ControlFlow::Continue(RunResult::new(run_index, label, outcome))
-            }
-            ControlFlow::Break(b) => ControlFlow::Break(b),
-        })
+        let label = self.runs().get(run_index).map(|r| r.label.clone()).unwrap_or_default();
+        Ok(self.run_to_end(&mut lp, run_index, label, sink, poll))
     }
 
     /// [`Scenario::try_run`] of run `run_index` with the sensor noise of run `stream`: the
@@ -245,14 +379,8 @@ impl Scenario {
         })?;
         let path = format!("run[{run_index}]");
         let origin = Origin { run: &path, controller: "controller" };
-        let sim = self.sim();
-        let mut lp = assemble::closed_loop(self.setup(), stream, run.start, run.goal, sim, origin)?;
-        Ok(match lp.try_run(sim.n_steps(), sim.log_every(), sink, poll) {
-            ControlFlow::Continue(outcome) => {
-                ControlFlow::Continue(RunResult::new(run_index, run.label.clone(), outcome))
-            }
-            ControlFlow::Break(b) => ControlFlow::Break(b),
-        })
+        let mut lp = self.loop_for(stream, run, origin)?;
+        Ok(self.run_to_end(&mut lp, run_index, run.label.clone(), sink, poll))
     }
 
     /// The scenario as TOML with every default filled in (`wmr-cli check`). Reading it
@@ -282,6 +410,12 @@ impl Scenario {
         }
         let _ = writeln!(o, "\n[world]");
         write_keys(&mut o, &to_table(setup.world.params()), fields_of::<WorldParams<f64>>());
+        if let Some(tr) = &self.tracking {
+            let _ = writeln!(o, "\n[reference]");
+            for (k, v) in &tr.reference.table {
+                let _ = writeln!(o, "{k} = {v}");
+            }
+        }
         let s = &self.sim;
         let _ = writeln!(
             o,
@@ -291,6 +425,9 @@ impl Scenario {
             f(s.log_dt()),
             s.stop_when_settled()
         );
+        if let Some(tr) = &self.tracking {
+            let _ = writeln!(o, "tracking_tolerance = {}", f(tr.tolerance));
+        }
         let _ = writeln!(o, "# {} steps and {} samples per run", s.n_steps(), s.n_samples());
         for run in &self.runs {
             let pose = |p: &Pose2<f64>| {
@@ -304,7 +441,9 @@ impl Scenario {
             };
             let _ = writeln!(o, "\n[[run]]\nlabel = {}", Value::String(run.label.clone()));
             let _ = writeln!(o, "start = {}", pose(&run.start));
-            let _ = writeln!(o, "goal = {}", pose(&run.goal));
+            if self.tracking.is_none() {
+                let _ = writeln!(o, "goal = {}", pose(&run.goal));
+            }
         }
         if let Some(sweep) = &self.sweep {
             sweep.write_toml(&mut o);

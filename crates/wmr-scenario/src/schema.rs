@@ -105,6 +105,23 @@ fn declared<P: serde::Serialize>(
     fields.iter().map(move |f| SchemaKey::described(table, kind, f, t.get(f.name).cloned()))
 }
 
+/// The keys of `[reference]` ([`crate::reference::REFERENCE_KEYS`]); the rule names the
+/// kinds that read each key.
+fn reference_keys() -> impl Iterator<Item = SchemaKey> {
+    crate::reference::REFERENCE_KEYS.iter().map(|k| {
+        let default = (!k.default.is_empty())
+            .then(|| toml::from_str::<toml::Table>(&format!("v = {}", k.default)).ok()?.remove("v"))
+            .flatten();
+        SchemaKey {
+            default,
+            unit: k.unit,
+            doc: k.doc,
+            rule: Cow::Owned(if k.kinds == "all" { "required".to_owned() } else { format!("kind = {}", k.kinds) }),
+            ..SchemaKey::bare("reference", k.name)
+        }
+    })
+}
+
 /// Every key of every table, in file order.
 pub fn schema() -> Vec<SchemaKey> {
     let plain = |table, keys: &'static [&'static str]| keys.iter().map(move |&key| SchemaKey::bare(table, key));
@@ -145,6 +162,7 @@ pub fn schema() -> Vec<SchemaKey> {
     out.push(SchemaKey::described("controller", None, &MODEL, None));
     out.extend(declared("sensor", None, SensorParams::<f64>::FIELDS, &SensorParams::<f64>::default()));
     out.extend(declared("world", None, WorldParams::<f64>::FIELDS, &WorldParams::<f64>::default()));
+    out.extend(reference_keys());
     out.extend(plain("sim", fields_of::<SimFile>()));
     out.extend(plain("run", fields_of::<RunFile>()));
     out.extend(plain("pose", fields_of::<PoseFile>()));

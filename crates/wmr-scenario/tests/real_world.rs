@@ -118,6 +118,6 @@ fn wmr_scenario_single_loop(sc: &Scenario, run: u64) -> wmr_scenario::RunLoop {
     let setup = sc.setup();
     let plant = setup.plant(r.start).unwrap();
     let sensor = setup.sensor_for(run).unwrap();
-    let goal = wmr_core::FixedGoal::new(r.goal).unwrap();
+    let goal = wmr_core::AnyReference::Goal(wmr_core::FixedGoal::new(r.goal).unwrap());
     wmr_core::ClosedLoop::with_sensor(plant, sensor, setup.built, goal, sc.sim().dt()).unwrap()
 }

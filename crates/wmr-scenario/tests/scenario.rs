@@ -170,7 +170,7 @@ goal = { x = 1.0 }
 goal = {}
 random = { n = 250000, seed = 1, radius = 1.0 }
 "#;
-    assert_eq!(wmr_scenario::law_kinds().len(), 4);
+    assert_eq!(wmr_scenario::stabilization_law_kinds().len(), 4);
     let Err(err) = Scenario::from_toml_str(text, "big") else { panic!("2e11 plant steps accepted") };
     assert_eq!(err.key, "sim.t_end");
     assert!(err.message.starts_with("1000001 runs x 200000 steps (t_end / dt) = 2.000e11 plant steps"), "{err}");

@@ -15,7 +15,7 @@ fn grid_has_nx_ny_nheadings_starts_and_all_laws_by_default() {
     );
     assert_eq!(sw.starts.len(), 5 * 3 * 2);
     let names: Vec<&str> = sw.laws.iter().map(|(n, _)| n.as_str()).collect();
-    assert_eq!(names, wmr_scenario::law_kinds());
+    assert_eq!(names, wmr_scenario::stabilization_law_kinds());
     assert_eq!(sw.starts[0].x, -1.0);
     assert_eq!(sw.starts.last().unwrap().y, 2.0);
 }
@@ -95,7 +95,7 @@ fn summary_table_lists_every_law() {
     let out = sw.run(s.sim(), &|| {}).unwrap();
     let rows = summarize(&sw, &out);
     // Without `controllers`, every law runs: one row each.
-    let kinds = wmr_scenario::law_kinds();
+    let kinds = wmr_scenario::stabilization_law_kinds();
     assert_eq!(rows.len(), kinds.len());
     assert!(rows.iter().all(|r| r.n == 4));
     let table = summary_table(&rows);

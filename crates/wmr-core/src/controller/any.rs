@@ -4,15 +4,18 @@
 //! The list of laws is written once, in the `laws!` invocation at the bottom: a new law
 //! is its own file plus one line there.
 
+use super::backstepping::{BacksteppingLaw, BacksteppingParams};
+use super::kanayama::{KanayamaLaw, KanayamaParams};
 use super::law::{Law, LawOutput};
 use super::lyapunov::{LyapunovLaw, LyapunovParams};
 use super::paper::{PaperLaw, PaperParams};
 use super::paper_bidirectional::{PaperBidirectionalLaw, PaperBidirectionalParams};
 use super::polar::{PolarLaw, PolarParams};
+use super::pure_pursuit::{PurePursuitLaw, PurePursuitParams};
 use crate::describe::{Described, ParamField};
 use crate::error::ParamError;
 use crate::lane::Lane;
-use crate::reference::ReferenceState;
+use crate::reference::{Path, ReferenceState};
 use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
 
@@ -91,6 +94,12 @@ macro_rules! laws {
                 match self { $( AnyLaw::$variant(l) => l.update(t, m, r), )+ }
             }
 
+            #[cfg_attr(target_os = "none", inline)]
+            #[cfg_attr(not(target_os = "none"), inline(always))]
+            fn update_on_path(&mut self, t: T, m: &Measurement<T>, r: &ReferenceState<T>, path: &dyn Path<T>) -> LawOutput<T> {
+                match self { $( AnyLaw::$variant(l) => l.update_on_path(t, m, r, path), )+ }
+            }
+
             fn reset_lanes(&mut self, lanes: T::Mask) {
                 match self { $( AnyLaw::$variant(l) => l.reset_lanes(lanes), )+ }
             }
@@ -111,6 +120,12 @@ laws! {
     Polar(PolarParams, PolarLaw) = "polar", new(p, model, dt) => PolarLaw::for_lanes(p);
     /// Aicardi et al.'s Lyapunov law (`"lyapunov"`), [`LyapunovLaw`].
     Lyapunov(LyapunovParams, LyapunovLaw) = "lyapunov", new(p, model, dt) => LyapunovLaw::for_lanes(p);
+    /// Kanayama et al.'s trajectory tracking (`"kanayama"`), [`KanayamaLaw`].
+    Kanayama(KanayamaParams, KanayamaLaw) = "kanayama", new(p, model, dt) => KanayamaLaw::for_lanes(p);
+    /// Kanayama back-stepped into the dynamics (`"backstepping"`), [`BacksteppingLaw`].
+    Backstepping(BacksteppingParams, BacksteppingLaw) = "backstepping", new(p, model, dt) => BacksteppingLaw::for_lanes(p, model, dt);
+    /// Regulated pure pursuit, path following (`"pure_pursuit"`), [`PurePursuitLaw`].
+    PurePursuit(PurePursuitParams, PurePursuitLaw) = "pure_pursuit", new(p, model, dt) => PurePursuitLaw::for_lanes(p, model);
 }
 
 impl<T: Real> Default for LawParams<T> {

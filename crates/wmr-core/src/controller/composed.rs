@@ -13,7 +13,7 @@ use crate::drive::Drive;
 use crate::error::{ParamError, check};
 use crate::lane::{Lane, Mask};
 use crate::math::Wheels;
-use crate::reference::ReferenceState;
+use crate::reference::{Path, ReferenceState};
 use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
 
@@ -100,6 +100,21 @@ impl<T: Lane, L: Law<T>> Controller<T, L> {
     #[cfg_attr(not(target_os = "none"), inline(always))]
     pub fn update(&mut self, t: T, m: &Measurement<T>, r: &ReferenceState<T>) -> ControlOutput<T> {
         let out = self.law.update(t, m, r);
+        ControlOutput { command: self.wheels.command(out.demand, m), errors: out.errors }
+    }
+
+    /// [`Controller::update`] with the reference's geometric path, for a path-following
+    /// law ([`Law::update_on_path`]).
+    #[cfg_attr(target_os = "none", inline)]
+    #[cfg_attr(not(target_os = "none"), inline(always))]
+    pub fn update_on_path(
+        &mut self,
+        t: T,
+        m: &Measurement<T>,
+        r: &ReferenceState<T>,
+        path: &dyn Path<T>,
+    ) -> ControlOutput<T> {
+        let out = self.law.update_on_path(t, m, r, path);
         ControlOutput { command: self.wheels.command(out.demand, m), errors: out.errors }
     }
 

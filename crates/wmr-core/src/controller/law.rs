@@ -4,7 +4,7 @@
 
 use crate::lane::{Lane, Mask};
 use crate::math::{Twist2, Wheels};
-use crate::reference::ReferenceState;
+use crate::reference::{Path, ReferenceState};
 use crate::sensor::Measurement;
 
 /// What a law asks of the wheel stage.
@@ -33,6 +33,8 @@ impl<T: Lane> Default for WheelDemand<T> {
 /// |---|---|---|---|
 /// | paper | distance to the goal (16) | wrap(theta_R - theta) (21), towards the false target | dl cos(theta_R - theta) (18) |
 /// | polar, lyapunov | distance to the goal | wrap(theta_d - theta), the final heading error | (x_d - x) cos(theta) + (y_d - y) sin(theta) |
+/// | kanayama, backstepping | distance to C_ref | theta_e = wrap(theta_ref - theta) | x_e, C_ref's offset along the heading |
+/// | pure_pursuit | distance to the path | wrap(theta_path - theta) at the closest point | the closest point's offset along the heading |
 ///
 /// All are computed from the measurement the law saw. How a run went is judged
 /// elsewhere, from the true state ([`crate::outcome`]).
@@ -61,6 +63,15 @@ pub trait Law<T: Lane> {
     /// state `r` at `t` (pose in the world frame, twist and acceleration; a stabilization
     /// law reads only `r.pose`, the goal); advances the law's memories by one period.
     fn update(&mut self, t: T, m: &Measurement<T>, r: &ReferenceState<T>) -> LawOutput<T>;
+
+    /// [`Law::update`] when the reference has a geometric path (`path`, see
+    /// [`crate::reference::Path`]): a path-following law reads it, every other law keeps
+    /// this default and ignores it.
+    #[inline(always)]
+    fn update_on_path(&mut self, t: T, m: &Measurement<T>, r: &ReferenceState<T>, path: &dyn Path<T>) -> LawOutput<T> {
+        let _ = path;
+        self.update(t, m, r)
+    }
 
     /// Clears integrators and memories, as at t = 0.
     fn reset(&mut self) {

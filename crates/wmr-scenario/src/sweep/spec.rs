@@ -10,7 +10,7 @@ use super::starts::{StartsSource, grid_starts, random_starts};
 use crate::assemble::{self, Origin};
 use crate::bounds::check_in_box;
 use crate::budget::MAX_SWEEP_RUNS;
-use crate::controller::law_kinds;
+use crate::controller::stabilization_law_kinds;
 use crate::error::ScenarioError;
 use crate::file::{GridFile, SweepFile};
 use crate::setup::{Setup, Tables};
@@ -66,7 +66,7 @@ impl SweepSpec {
         let controllers: Vec<Table> = match &sw.controllers {
             Some(v) if v.is_empty() => return Err(ScenarioError::new("sweep.controllers", "name at least one law")),
             Some(v) => v.clone(),
-            None => law_kinds()
+            None => stabilization_law_kinds()
                 .into_iter()
                 .map(|k| Table::from_iter([("kind".to_owned(), Value::String(k.to_owned()))]))
                 .collect(),

@@ -1,13 +1,9 @@
-//! Where the robot should be: a [`Reference`] gives, at each time, the state of a
-//! reference point C_ref ([`ReferenceState`]): its pose, its twist and its acceleration.
-//!
-//! Point stabilization is the reference at rest ([`FixedGoal`]); a trajectory is a
-//! reference that moves, and a law that tracks it reads the twist and the acceleration as
-//! feedforward. The laws receive the whole state at every tick, so a new kind of reference
-//! is one more implementation of [`Reference`] and no law changes.
+//! The reference contract: [`Reference`] gives, at each time, the state of the reference
+//! point C_ref ([`ReferenceState`]: pose, twist, acceleration) and, for path following,
+//! its geometric path ([`super::Path`]).
 
+use super::path::Path;
 use crate::Real;
-use crate::error::{ParamError, check};
 use crate::lane::Lane;
 use crate::math::{Pose2, Twist2};
 
@@ -62,35 +58,11 @@ pub trait Reference<T: Real> {
     fn fixed(&self) -> bool {
         false
     }
-}
 
-/// A goal pose that does not move (point stabilization): the reference at rest.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct FixedGoal<T>(Pose2<T>);
-
-impl<T: Real> FixedGoal<T> {
-    /// Checks the goal pose (m, m, rad); errors name `goal.x`, `goal.y` or `goal.theta`.
-    pub fn new(goal: Pose2<T>) -> Result<Self, ParamError> {
-        check::finite("goal.x", goal.x)?;
-        check::finite("goal.y", goal.y)?;
-        check::finite("goal.theta", goal.theta)?;
-        Ok(Self(goal))
-    }
-
-    /// The goal pose.
-    pub fn pose(&self) -> Pose2<T> {
-        self.0
-    }
-}
-
-impl<T: Real> Reference<T> for FixedGoal<T> {
-    #[inline(always)]
-    fn state_at(&self, _t: T) -> ReferenceState<T> {
-        ReferenceState::at_rest(self.0)
-    }
-
-    fn fixed(&self) -> bool {
-        true
+    /// The reference's geometric path (time ignored), for the path-following laws; `None`
+    /// for a reference without one (a goal at rest).
+    fn path(&self) -> Option<&dyn Path<T>> {
+        None
     }
 }
 
@@ -98,17 +70,6 @@ impl<T: Real> Reference<T> for FixedGoal<T> {
 mod tests {
     use super::*;
     use crate::lane::Lanes;
-
-    #[test]
-    fn a_fixed_goal_is_the_reference_at_rest() {
-        let g = FixedGoal::new(Pose2::new(1.0, -2.0, 0.5)).unwrap();
-        let s = g.state_at(7.0);
-        assert_eq!(s.pose, Pose2::new(1.0, -2.0, 0.5));
-        assert_eq!(s.twist, Twist2 { v: 0.0, omega: 0.0 });
-        assert_eq!(s.accel, Twist2 { v: 0.0, omega: 0.0 });
-        assert_eq!(g.pose_at(3.0), s.pose);
-        assert!(g.fixed());
-    }
 
     #[test]
     fn splat_puts_every_component_in_every_lane() {

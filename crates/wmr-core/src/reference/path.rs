@@ -1,0 +1,195 @@
+//! The geometric path of a reference (time ignored) and the two queries path following
+//! asks of it: the closest point to C, searching forward from a cursor, and the first
+//! point at a given distance from C beyond it.
+//!
+//! A path is a curve p(s) over a parameter s in [0, s_end] (s_end infinite for an
+//! endless path), with |dp/ds| between two known bounds ([`Path::rate_bounds`]): the
+//! searches step s so that no step moves the point farther than a given distance. Each
+//! kind says what its s is (the arc length for a circle, a line and the waypoints'
+//! spline; the time for the figure-eight). Every search takes a fixed number of steps
+//! decided by parameters alone, so it runs unchanged over several runs side by side
+//! ([`crate::lane`]).
+
+use crate::lane::{Lane, Mask};
+use crate::math::Pose2;
+
+/// A reference's geometric path: what [`crate::controller::PurePursuitLaw`] follows and
+/// what the outcome of a path-following run is judged against.
+pub trait Path<T: Lane> {
+    /// The point of the path at parameter `s` (clamped into [0, s_end]): x, y in m
+    /// (world frame) and theta, rad, the direction of travel along the path.
+    fn pose_on_path(&self, s: T) -> Pose2<T>;
+
+    /// The last parameter value, `None` for an endless path (a circle, a line).
+    fn end(&self) -> Option<T::Scalar>;
+
+    /// (min, max) of |dp/ds| over the path, in m per unit of s; both > 0.
+    fn rate_bounds(&self) -> (T::Scalar, T::Scalar);
+
+    /// How far in s the first closest-point search looks (from s = 0): the whole path,
+    /// or one lap of a periodic one.
+    fn first_search_span(&self) -> T::Scalar;
+
+    /// The path's length from `s` to its end, m (infinite for an endless path).
+    fn remaining_length(&self, s: T) -> T;
+}
+
+/// Squared distance (m^2) from (x, y) to the path point at `s`.
+#[inline(always)]
+fn dist2<T: Lane>(path: &dyn Path<T>, s: T, x: T, y: T) -> T {
+    let p = path.pose_on_path(s);
+    let (dx, dy) = (p.x - x, p.y - y);
+    dx * dx + dy * dy
+}
+
+/// `s` clamped into the path's range.
+#[inline(always)]
+fn clamp_s<T: Lane>(path: &dyn Path<T>, s: T) -> T {
+    let s = s.max(T::default());
+    match path.end() {
+        Some(end) => s.min(T::splat(end)),
+        None => s,
+    }
+}
+
+/// Whole steps of `step` that cover `span` (at least one).
+fn steps<T: Lane>(span: T::Scalar, step: T::Scalar) -> u32 {
+    let n = num_traits::Float::ceil(span / step);
+    let n = <T::Scalar as num_traits::ToPrimitive>::to_u32(&n).unwrap_or(1);
+    n.clamp(1, 4096)
+}
+
+/// Golden-section iterations of [`closest`]: shrinks the bracket to 0.618^24 = 1e-5 of a step.
+const GOLDEN_ITERATIONS: u32 = 24;
+/// Bisection iterations of [`lookahead`]: 2^-24 of a step.
+const BISECTIONS: u32 = 24;
+
+/// The parameter of the path point closest to (x, y) within `span` (in s) forward of
+/// `from`: a scan at steps that move the path point by at most `ds` (m), then a
+/// golden-section search in the step either side of the best sample (kept >= `from`).
+/// `ds` must be small against the path's radius of curvature for the answer to be the
+/// closest point and not a nearby local minimum.
+pub fn closest<T: Lane>(path: &dyn Path<T>, x: T, y: T, from: T, span: T::Scalar, ds: T::Scalar) -> T {
+    let (_, rate_max) = path.rate_bounds();
+    let step = ds / rate_max;
+    let n = steps::<T>(span, step);
+    let from = clamp_s(path, from);
+    let mut best = from;
+    let mut best_d2 = dist2(path, from, x, y);
+    for k in 1..=n {
+        let s = clamp_s(path, from + T::splat(step) * T::lit(f64::from(k)));
+        let d2 = dist2(path, s, x, y);
+        let better = d2.lt(best_d2);
+        best = T::select(better, s, best);
+        best_d2 = T::select(better, d2, best_d2);
+    }
+    // Golden section on [best - step, best + step] within [from, end].
+    let mut a = clamp_s(path, (best - T::splat(step)).max(from));
+    let mut b = clamp_s(path, best + T::splat(step));
+    let g = T::lit(0.618_033_988_749_894_8);
+    let mut c = b - g * (b - a);
+    let mut d = a + g * (b - a);
+    let mut fc = dist2(path, c, x, y);
+    let mut fd = dist2(path, d, x, y);
+    for _ in 0..GOLDEN_ITERATIONS {
+        // f(c) < f(d): the minimum is in [a, d]; otherwise in [c, b].
+        let left = fc.lt(fd);
+        let (na, nb) = (T::select(left, a, c), T::select(left, d, b));
+        a = na;
+        b = nb;
+        let nc = b - g * (b - a);
+        let nd = a + g * (b - a);
+        // One of the two new points is an old one; evaluating both keeps the code
+        // branch-free per lane at the cost of one evaluation.
+        c = nc;
+        d = nd;
+        fc = dist2(path, c, x, y);
+        fd = dist2(path, d, x, y);
+    }
+    let mid = (a + b) * T::lit(0.5);
+    let dm = dist2(path, mid, x, y);
+    // Keep the scan's sample when the refinement did no better (a minimum at the bracket's end).
+    T::select(dm.lt(best_d2), mid, best)
+}
+
+/// The first path point at distance `l` (m) from (x, y), searching forward from the
+/// parameter `from` (the closest point) in steps that move the path point by at most `ds`
+/// (m), up to `reach` m of path; bisected to the crossing. When the point at `from` is
+/// already at least `l` away, `from`; when no point within reach is far enough, the last
+/// point searched (the path's end, for a short path). Returns the parameter.
+pub fn lookahead<T: Lane>(path: &dyn Path<T>, x: T, y: T, from: T, l: T, ds: T::Scalar, reach: T::Scalar) -> T {
+    let (rate_min, rate_max) = path.rate_bounds();
+    let step = ds / rate_max;
+    let n = steps::<T>(reach / rate_min, step);
+    let l2 = l * l;
+    let from = clamp_s(path, from);
+    let mut found = l2.le(dist2(path, from, x, y));
+    let mut lo = from;
+    let mut hi = from;
+    let mut prev = from;
+    for k in 1..=n {
+        let s = clamp_s(path, from + T::splat(step) * T::lit(f64::from(k)));
+        let crossing = !found & l2.le(dist2(path, s, x, y));
+        lo = T::select(crossing, prev, lo);
+        hi = T::select(crossing, s, hi);
+        found = found | crossing;
+        // Not found yet: the search's last point so far.
+        hi = T::select(found, hi, s);
+        lo = T::select(found, lo, s);
+        prev = s;
+        if found.all() {
+            break;
+        }
+    }
+    for _ in 0..BISECTIONS {
+        let mid = (lo + hi) * T::lit(0.5);
+        let beyond = l2.le(dist2(path, mid, x, y));
+        hi = T::select(beyond, mid, hi);
+        lo = T::select(beyond, lo, mid);
+    }
+    hi
+}
+
+/// A path point's offset from the robot: the point in the body frame of `pose` (m).
+#[inline(always)]
+pub fn in_body_frame<T: Lane>(pose: &Pose2<T>, p: &Pose2<T>) -> (T, T) {
+    let (s, c) = pose.theta.sin_cos();
+    let (dx, dy) = (p.x - pose.x, p.y - pose.y);
+    (c * dx + s * dy, -s * dx + c * dy)
+}
+
+/// Follows the closest point of a path from tick to tick: the cursor only moves forward.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PathCursor<T: Lane> {
+    /// Parameter of the last closest point.
+    pub s: T,
+    /// False until the first search (which covers [`Path::first_search_span`]).
+    pub started: T::Mask,
+}
+
+impl<T: Lane> Default for PathCursor<T> {
+    /// Not started: the first search covers [`Path::first_search_span`].
+    fn default() -> Self {
+        Self { s: T::default(), started: T::Mask::splat(false) }
+    }
+}
+
+impl<T: Lane> PathCursor<T> {
+    /// The closest path point to (x, y) (m), searching forward from the last one over
+    /// `window` m of path (the first time over the first search span), in steps of at
+    /// most `ds` m; moves the cursor there and returns the parameter.
+    pub fn advance(&mut self, path: &dyn Path<T>, x: T, y: T, window: T::Scalar, ds: T::Scalar) -> T {
+        let (rate_min, _) = path.rate_bounds();
+        let span = if self.started.all() { window / rate_min } else { path.first_search_span() };
+        let from = T::select(self.started, self.s, T::default());
+        self.s = closest(path, x, y, from, span, ds);
+        self.started = T::Mask::splat(true);
+        self.s
+    }
+
+    /// Forgets the cursor in `lanes` (as at t = 0).
+    pub fn reset_lanes(&mut self, lanes: T::Mask) {
+        self.started = self.started & !lanes;
+        self.s = T::select(lanes, T::default(), self.s);
+    }
+}

@@ -1,0 +1,351 @@
+//! `[reference]`: the moving reference of a tracking or path-following scenario, parsed
+//! and checked into the core's [`AnyReference`]; the key table it accepts (one list, read
+//! by the parser, `check` and the docs); which laws go with which reference.
+//!
+//! No `[reference]` table: each run's goal, at rest (point stabilization, as before).
+
+use std::path::Path;
+
+use toml::{Table, Value};
+use wmr_core::reference::{Circle, FigureEight, Line, Waypoints};
+use wmr_core::{AnyReference, LawParams, Pose2};
+
+use crate::error::ScenarioError;
+
+/// One key of `[reference]`: the kinds that read it, unit, default and what it is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ReferenceKey {
+    /// The key (`reference.<name>`).
+    pub name: &'static str,
+    /// The kinds that read it.
+    pub kinds: &'static str,
+    /// Unit (`""` for none).
+    pub unit: &'static str,
+    /// Default, as written in TOML (`""`: required).
+    pub default: &'static str,
+    /// What it is.
+    pub doc: &'static str,
+}
+
+/// Every key of `[reference]`, in documentation order.
+pub const REFERENCE_KEYS: &[ReferenceKey] = &[
+    ReferenceKey {
+        name: "kind",
+        kinds: "all",
+        unit: "",
+        default: "",
+        doc: "circle, figure_eight, line, waypoints or file",
+    },
+    ReferenceKey {
+        name: "center",
+        kinds: "circle, figure_eight",
+        unit: "m",
+        default: "{ x = 0.0, y = 0.0 }",
+        doc: "center of the figure (world frame)",
+    },
+    ReferenceKey { name: "radius", kinds: "circle", unit: "m", default: "1.0", doc: "radius, > 0" },
+    ReferenceKey {
+        name: "speed",
+        kinds: "circle, line, waypoints, file",
+        unit: "m/s",
+        default: "0.3",
+        doc: "circle: > 0 counter-clockwise, < 0 clockwise; line: along the heading (< 0 backwards); waypoints, file: the peak speed, > 0",
+    },
+    ReferenceKey {
+        name: "phase_deg",
+        kinds: "circle",
+        unit: "deg",
+        default: "-90.0",
+        doc: "angle of (C_ref - center) at t = 0",
+    },
+    ReferenceKey { name: "width", kinds: "figure_eight", unit: "m", default: "2.0", doc: "extent along x, > 0" },
+    ReferenceKey { name: "height", kinds: "figure_eight", unit: "m", default: "1.0", doc: "extent along y, > 0" },
+    ReferenceKey { name: "period", kinds: "figure_eight", unit: "s", default: "30.0", doc: "time for one figure, > 0" },
+    ReferenceKey {
+        name: "start",
+        kinds: "line",
+        unit: "m, deg",
+        default: "{ x = 0.0, y = 0.0, theta_deg = 0.0 }",
+        doc: "pose at t = 0",
+    },
+    ReferenceKey {
+        name: "points",
+        kinds: "waypoints",
+        unit: "m",
+        default: "",
+        doc: "[[x, y], ...], 2 to 64 points, none the same as the one before",
+    },
+    ReferenceKey {
+        name: "accel_max",
+        kinds: "waypoints, file",
+        unit: "m/s^2",
+        default: "0.5",
+        doc: "bound on |acceleration| (tangential and centripetal together), > 0",
+    },
+    ReferenceKey {
+        name: "path",
+        kinds: "file",
+        unit: "",
+        default: "",
+        doc: "CSV with columns t, x, y (a header line, t increasing), relative to the scenario file",
+    },
+];
+
+/// The keys `kind` reads (besides `kind`).
+fn keys_of(kind: &str) -> Vec<&'static str> {
+    REFERENCE_KEYS
+        .iter()
+        .filter(|k| k.name != "kind" && k.kinds.split(", ").any(|c| c == kind))
+        .map(|k| k.name)
+        .collect()
+}
+
+/// `[reference]`, checked.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReferenceSpec {
+    /// The table as written (for the resolved-scenario dump).
+    pub table: Table,
+    /// The reference.
+    pub built: AnyReference<f64>,
+}
+
+fn key(k: &str) -> String {
+    format!("reference.{k}")
+}
+
+fn number(t: &Table, k: &str, default: f64) -> Result<f64, ScenarioError> {
+    match t.get(k) {
+        None => Ok(default),
+        Some(v) => {
+            let x = match v {
+                Value::Float(f) => *f,
+                Value::Integer(i) => *i as f64,
+                other => {
+                    return Err(ScenarioError::new(key(k), format!("must be a number (got {})", other.type_str())));
+                }
+            };
+            if x.is_finite() {
+                Ok(x)
+            } else {
+                Err(ScenarioError::new(key(k), format!("must be a finite number (got {x})")))
+            }
+        }
+    }
+}
+
+/// `{ x = .., y = .. }` (and `theta_deg` where `with_theta`); missing parts are 0.
+fn point(t: &Table, k: &str, with_theta: bool) -> Result<Pose2<f64>, ScenarioError> {
+    let Some(v) = t.get(k) else { return Ok(Pose2::default()) };
+    let Value::Table(p) = v else {
+        return Err(ScenarioError::new(
+            key(k),
+            format!("must be a table like {{ x = 0.0, y = 0.0 }} (got {})", v.type_str()),
+        ));
+    };
+    let allowed: &[&str] = if with_theta { &["x", "y", "theta_deg"] } else { &["x", "y"] };
+    if let Some(bad) = p.keys().find(|n| !allowed.contains(&n.as_str())) {
+        return Err(ScenarioError::new(
+            format!("reference.{k}.{bad}"),
+            format!("unknown key (expected one of {})", allowed.join(", ")),
+        ));
+    }
+    let sub = |n: &str| number(p, n, 0.0).map_err(|e| ScenarioError::new(format!("reference.{k}.{n}"), e.message));
+    Ok(Pose2::new(sub("x")?, sub("y")?, sub("theta_deg")?.to_radians()))
+}
+
+/// The core's error on a `[reference]` key, named in the scenario's terms.
+fn core_error(e: &wmr_core::ParamError) -> ScenarioError {
+    ScenarioError::from_param(e, &key(e.field))
+}
+
+/// Reads `[reference]`; `dir` is the scenario file's folder (where a `file` reference's
+/// `path` is looked up; the working directory when `None`).
+pub fn resolve(table: &Table, dir: Option<&Path>) -> Result<ReferenceSpec, ScenarioError> {
+    let kind = match table.get("kind") {
+        Some(Value::String(s)) => s.as_str(),
+        Some(v) => return Err(ScenarioError::new(key("kind"), format!("must be a string (got {})", v.type_str()))),
+        None => return Err(ScenarioError::new(key("kind"), "missing: circle, figure_eight, line, waypoints or file")),
+    };
+    let kinds = ["circle", "figure_eight", "line", "waypoints", "file"];
+    if !kinds.contains(&kind) {
+        return Err(ScenarioError::new(
+            key("kind"),
+            format!("unknown kind {kind:?} (expected one of {})", kinds.join(", ")),
+        ));
+    }
+    let allowed = keys_of(kind);
+    if let Some(bad) = table.keys().find(|k| *k != "kind" && !allowed.contains(&k.as_str())) {
+        return Err(ScenarioError::new(
+            key(bad),
+            format!("unknown key for kind = {kind:?} (expected one of {})", allowed.join(", ")),
+        ));
+    }
+    let built = match kind {
+        "circle" => {
+            let c = point(table, "center", false)?;
+            let phase = number(table, "phase_deg", -90.0)?.to_radians();
+            let r = Circle::new(c.x, c.y, number(table, "radius", 1.0)?, number(table, "speed", 0.3)?, phase);
+            AnyReference::Circle(r.map_err(|e| core_error(&e))?)
+        }
+        "figure_eight" => {
+            let c = point(table, "center", false)?;
+            let f = FigureEight::new(
+                c.x,
+                c.y,
+                number(table, "width", 2.0)?,
+                number(table, "height", 1.0)?,
+                number(table, "period", 30.0)?,
+            );
+            AnyReference::FigureEight(f.map_err(|e| core_error(&e))?)
+        }
+        "line" => {
+            let start = point(table, "start", true)?;
+            let l = Line::new(start, number(table, "speed", 0.3)?).map_err(|e| {
+                let field = e.field.strip_prefix("start.").unwrap_or(e.field);
+                ScenarioError::from_param(
+                    &e,
+                    &if e.field.starts_with("start.") { format!("reference.start.{field}") } else { key(e.field) },
+                )
+            })?;
+            AnyReference::Line(l)
+        }
+        _ => {
+            let points = if kind == "file" { read_points_file(table, dir)? } else { points_of(table)? };
+            let w = Waypoints::new(&points, number(table, "speed", 0.3)?, number(table, "accel_max", 0.5)?).map_err(
+                |e| {
+                    if e.field == "points" && kind == "file" {
+                        ScenarioError::from_param(&e, &key("path"))
+                    } else {
+                        core_error(&e)
+                    }
+                },
+            )?;
+            AnyReference::Waypoints(w)
+        }
+    };
+    Ok(ReferenceSpec { table: table.clone(), built })
+}
+
+/// `points = [[x, y], ...]`.
+fn points_of(table: &Table) -> Result<Vec<[f64; 2]>, ScenarioError> {
+    let Some(v) = table.get("points") else {
+        return Err(ScenarioError::new(key("points"), "missing: kind = \"waypoints\" needs points = [[x, y], ...]"));
+    };
+    let Value::Array(list) = v else {
+        return Err(ScenarioError::new(key("points"), format!("must be an array of [x, y] (got {})", v.type_str())));
+    };
+    list.iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let bad = || ScenarioError::new(format!("reference.points[{i}]"), "must be [x, y], two finite numbers");
+            let Value::Array(xy) = p else { return Err(bad()) };
+            let n = |v: &Value| match v {
+                Value::Float(f) if f.is_finite() => Some(*f),
+                Value::Integer(k) => Some(*k as f64),
+                _ => None,
+            };
+            match xy.as_slice() {
+                [x, y] => Ok([n(x).ok_or_else(bad)?, n(y).ok_or_else(bad)?]),
+                _ => Err(bad()),
+            }
+        })
+        .collect()
+}
+
+/// The points of a `file` reference: CSV `t,x,y` with a header, t strictly increasing
+/// (the timing is re-planned by the speed profile; t gives the order).
+fn read_points_file(table: &Table, dir: Option<&Path>) -> Result<Vec<[f64; 2]>, ScenarioError> {
+    let Some(Value::String(rel)) = table.get("path") else {
+        return Err(ScenarioError::new(
+            key("path"),
+            "missing: kind = \"file\" needs path = \"ref.csv\" (columns t, x, y)",
+        ));
+    };
+    let full = match dir {
+        Some(d) => d.join(rel),
+        None => Path::new(rel).to_path_buf(),
+    };
+    let text = crate::read::read_text(&full).map_err(|e| ScenarioError::new(key("path"), e.message))?;
+    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
+    match lines.next() {
+        Some((_, h)) if h.split(',').map(str::trim).eq(["t", "x", "y"]) => {}
+        _ => {
+            return Err(ScenarioError::new(
+                key("path"),
+                format!("{}: the first line must be the header t,x,y", full.display()),
+            ));
+        }
+    }
+    let mut points = Vec::new();
+    let mut last_t = f64::NEG_INFINITY;
+    for (i, line) in lines {
+        let vals: Vec<f64> = line.split(',').map(|c| c.trim().parse::<f64>().unwrap_or(f64::NAN)).collect();
+        let at = || format!("{} line {}", full.display(), i + 1);
+        if vals.len() != 3 || vals.iter().any(|v| !v.is_finite()) {
+            return Err(ScenarioError::new(key("path"), format!("{}: needs three finite numbers t,x,y", at())));
+        }
+        if vals[0] <= last_t {
+            return Err(ScenarioError::new(
+                key("path"),
+                format!("{}: t must increase (got {} after {})", at(), vals[0], last_t),
+            ));
+        }
+        last_t = vals[0];
+        points.push([vals[1], vals[2]]);
+    }
+    Ok(points)
+}
+
+/// True for the laws that follow a moving reference (tracking, path following).
+pub fn is_tracking_law(law: &LawParams<f64>) -> bool {
+    matches!(law, LawParams::Kanayama(_) | LawParams::Backstepping(_) | LawParams::PurePursuit(_))
+}
+
+/// True for path following (judged by the distance to the path).
+pub fn is_path_following(law: &LawParams<f64>) -> bool {
+    matches!(law, LawParams::PurePursuit(_))
+}
+
+/// Refuses a stabilization law with a moving reference and a tracking law without one;
+/// the error names `<controller>.kind`.
+pub fn check_law(
+    law: &LawParams<f64>,
+    reference: Option<&ReferenceSpec>,
+    controller: &str,
+) -> Result<(), ScenarioError> {
+    let k = format!("{controller}.kind");
+    match (is_tracking_law(law), reference) {
+        (true, None) => Err(ScenarioError::new(
+            k,
+            format!(
+                "{:?} follows a moving reference: add a [reference] table (circle, figure_eight, line, waypoints, file)",
+                law.kind()
+            ),
+        )),
+        (false, Some(r)) => Err(ScenarioError::new(
+            k,
+            format!(
+                "{:?} is a point-stabilization law and the [reference] ({}) moves: use kanayama, backstepping or pure_pursuit",
+                law.kind(),
+                r.built.kind()
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// One line describing the reference, for `wmr-cli check`.
+pub fn describe(r: &ReferenceSpec) -> String {
+    let p = r.built.start_pose();
+    let extra = match &r.built {
+        AnyReference::Waypoints(w) => format!(", {} points, at rest again at t = {:.3} s", w.len(), w.duration()),
+        _ => String::new(),
+    };
+    format!(
+        "reference: {} starting at ({:.4}, {:.4}, {:.2} deg){extra}",
+        r.table.get("kind").and_then(Value::as_str).unwrap_or(r.built.kind()),
+        p.x,
+        p.y,
+        p.theta.to_degrees()
+    )
+}

@@ -1,0 +1,52 @@
+//! One tracking run: the loop stepped as [`wmr_core::ClosedLoop::try_run`] steps it, with
+//! the tracking error of every plant step watched ([`wmr_core::tracking`]) and the
+//! caller's sink handed the same samples a plain run gives it (t = 0, every `log_every`
+//! steps, and the last one).
+
+use std::ops::ControlFlow;
+
+use wmr_core::tracking::{TrackingError, TrackingOutcome, TrackingWatch};
+use wmr_core::{Outcome, Sample};
+
+use crate::assemble::RunLoop;
+use crate::sim::SimSpec;
+
+/// Runs `lp` for `sim`'s steps; returns the core's outcome and the tracking outcome.
+pub(crate) fn run<B>(
+    lp: &mut RunLoop,
+    sim: &SimSpec,
+    tolerance: f64,
+    path_following: bool,
+    mut sink: impl FnMut(&Sample<f64>) -> ControlFlow<B>,
+    poll: impl FnMut() -> ControlFlow<B>,
+) -> ControlFlow<B, (Outcome<f64>, TrackingOutcome<f64>)> {
+    let kind = if path_following { TrackingError::Path } else { TrackingError::Trajectory };
+    let mut watch = TrackingWatch::new(kind, sim.t_end(), tolerance);
+    let reference = *lp.reference();
+    let every = u64::from(sim.log_every().max(1));
+    // The inner run logs every step; the step index of each sample is its place in that
+    // stream. A sample is handed on when it is on the log grid, and the last one always
+    // (held back one step to know it is the last).
+    let mut k: u64 = 0;
+    let mut held: Option<(u64, Sample<f64>)> = None;
+    let outcome = lp.try_run(
+        sim.n_steps(),
+        1,
+        |s| {
+            watch.observe(&reference, s.t, &s.state.pose());
+            if let Some((i, h)) = held.take()
+                && i % every == 0
+            {
+                sink(&h)?;
+            }
+            held = Some((k, *s));
+            k += 1;
+            ControlFlow::Continue(())
+        },
+        poll,
+    )?;
+    if let Some((_, h)) = held {
+        sink(&h)?;
+    }
+    ControlFlow::Continue((outcome, watch.finish()))
+}
