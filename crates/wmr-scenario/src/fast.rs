@@ -4,7 +4,8 @@
 //! The sweep's runs are cut into tasks of [`TASK_RUNS`] consecutive runs of one law and
 //! variant (they share a plant and a controller); each task feeds its runs through one
 //! [`LaneBatch`] of [`LANES`] lanes. On x86-64 with AVX2 the lanes are compiled for AVX2
-//! (chosen at run time). The lanes' controllers see the true state: runs with a real
+//! (chosen at run time; an AVX-512 build is there too, [`Kernel`]); without AVX2 the
+//! lanes do not beat the exact path, and `--fast` runs the exact path. The lanes' controllers see the true state: runs with a real
 //! sensor (rate, latency, noise, encoders) take the exact path, as do runs whose values
 //! `vary` draws one by one (each has its own plant).
 //!
@@ -281,19 +282,22 @@ pub enum Kernel {
 }
 
 impl Kernel {
-    /// The widest kernel the processor runs, or the one `WMR_FAST_KERNEL` (`avx512`,
-    /// `avx2`, `exact`) asks for when the processor has it (benches and tests compare
-    /// them on one machine).
+    /// The kernel `--fast` runs on this processor: AVX2 where it has AVX2 (on AVX-512
+    /// processors too: on the AMD EPYC of benches/README.md, family 26, the AVX-512 build
+    /// takes 1.40x the CPU time of the AVX2 one per run-step), else [`Kernel::Exact`];
+    /// or the one `WMR_FAST_KERNEL` (`avx512`, `avx2`, `portable`, `exact`) asks for,
+    /// when the processor has it (benches and tests compare them on one machine).
     pub fn detect() -> Kernel {
         let best = Self::best();
+        let default = if best == Kernel::Avx512 { Kernel::Avx2 } else { best };
         let asked = match std::env::var("WMR_FAST_KERNEL").as_deref() {
             Ok("avx512") => Kernel::Avx512,
             Ok("avx2") => Kernel::Avx2,
             Ok("portable") => Kernel::Portable,
             Ok("exact") => Kernel::Exact,
-            _ => return best,
+            _ => return default,
         };
-        if asked.rank() <= best.rank() { asked } else { best }
+        if asked.rank() <= best.rank() { asked } else { default }
     }
 
     /// The widest kernel this processor has ([`Kernel::Exact`] without AVX2).

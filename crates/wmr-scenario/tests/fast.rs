@@ -109,10 +109,7 @@ fn every_kernel_gives_the_same_bits_and_exact_is_the_exact_path() {
     let best = Kernel::best();
     let mut kernels = vec![Kernel::Avx2, Kernel::Avx512];
     kernels.retain(|&k| {
-        let has = match (k, best) {
-            (Kernel::Avx2, Kernel::Avx2 | Kernel::Avx512) | (Kernel::Avx512, Kernel::Avx512) => true,
-            _ => false,
-        };
+        let has = matches!((k, best), (Kernel::Avx2, Kernel::Avx2 | Kernel::Avx512) | (Kernel::Avx512, Kernel::Avx512));
         if !has {
             skip::missing(k.name(), &format!("this processor has no {}: its kernel is not compared", k.name()));
         }
