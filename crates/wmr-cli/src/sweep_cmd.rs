@@ -73,6 +73,10 @@ pub fn sweep(
         fast,
         scenario.sim().stop_when_settled(),
     );
+    if fast {
+        // Which vector unit the lanes run on: a figure measured here is not another CPU's.
+        note(&format!("wmr-cli: --fast: {}", wmr_scenario::fast::Kernel::detect().describe()));
+    }
     let bar = if show_progress && spec.len() > 50 {
         let bar = ProgressBar::with_draw_target(Some(spec.len() as u64), ProgressDrawTarget::stderr());
         if let Ok(style) = ProgressStyle::with_template("{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} (eta {eta})")

@@ -429,6 +429,41 @@ fn exp_lane(x: f64) -> f64 {
     e_r * f64::from_bits(biased << 52)
 }
 
+/// The square root of each lane, correctly rounded (IEEE 754): the same bits as the
+/// scalar `sqrt` of the exact path. On x86-64 through the SSE2 intrinsic, which the
+/// compiler emits as a vector `vsqrtpd` in code compiled for AVX2 or AVX-512 (and merges
+/// pairs into wider registers): the `libm` crate's `sqrt` is inline assembly, a scalar
+/// legacy-SSE `sqrtsd` per lane, which the compiler can neither vectorize nor re-encode.
+#[inline(always)]
+fn sqrt_lanes<const N: usize>(x: [f64; N]) -> [f64; N] {
+    #[cfg(all(target_arch = "x86_64", target_feature = "sse2"))]
+    #[allow(unsafe_code)]
+    {
+        use core::arch::x86_64::{_mm_cvtsd_f64, _mm_set_pd, _mm_sqrt_pd, _mm_unpackhi_pd};
+        let mut out = [0.0; N];
+        let mut i = 0;
+        while i < N {
+            let hi = if i + 1 < N { x[i + 1] } else { 0.0 };
+            // SAFETY: SSE2 is enabled for this build (the cfg above; every x86-64 has
+            // it), and these intrinsics only compute on registers.
+            let (lo, hi) = unsafe {
+                let r = _mm_sqrt_pd(_mm_set_pd(hi, x[i]));
+                (_mm_cvtsd_f64(r), _mm_cvtsd_f64(_mm_unpackhi_pd(r, r)))
+            };
+            out[i] = lo;
+            if i + 1 < N {
+                out[i + 1] = hi;
+            }
+            i += 2;
+        }
+        out
+    }
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "sse2")))]
+    {
+        x.map(num_traits::Float::sqrt)
+    }
+}
+
 /// k! for k = 0..13.
 const FACTORIALS: [f64; 13] =
     [1.0, 1.0, 2.0, 6.0, 24.0, 120.0, 720.0, 5040.0, 40320.0, 362_880.0, 3_628_800.0, 39_916_800.0, 479_001_600.0];
@@ -475,7 +510,7 @@ impl<const N: usize> Lane for Lanes<N> {
     }
     #[inline(always)]
     fn sqrt(self) -> Self {
-        self.map(num_traits::Float::sqrt)
+        Lanes(sqrt_lanes(self.0))
     }
     #[inline(always)]
     fn floor(self) -> Self {
@@ -530,7 +565,7 @@ impl<const N: usize> Lane for Lanes<N> {
     }
     #[inline(always)]
     fn hypot(self, y: Self) -> Self {
-        self.zip(y, |a, b| num_traits::Float::sqrt(a * a + b * b))
+        (self * self + y * y).sqrt()
     }
     #[inline(always)]
     fn tanh(self) -> Self {

@@ -2,6 +2,8 @@
 //! `time_lanes [LAW] [N_STARTS] [T_END_S] [both|exact|fast]` prints `key=value` lines.
 //! One thread; no settling, so every run is t_end / dt steps. `exact` or `fast` alone
 //! (under `valgrind --tool=callgrind`: instructions per run-step, whatever the load).
+//! Every mode prints `kernel=` (the vector unit the lanes run on, `WMR_FAST_KERNEL`
+//! picks a narrower one); `time_lanes laws` prints the law names, one a line.
 
 use std::time::Instant;
 
@@ -13,6 +15,13 @@ fn main() {
     let n: usize = args.get(2).and_then(|a| a.parse().ok()).unwrap_or(64);
     let t_end: f64 = args.get(3).and_then(|a| a.parse().ok()).unwrap_or(60.0);
     let which = args.get(4).map_or("both", String::as_str);
+    if law == "laws" {
+        for kind in wmr_scenario::law_kinds() {
+            println!("{kind}");
+        }
+        return;
+    }
+    println!("kernel={}", wmr_scenario::fast::Kernel::detect().name());
     let text = format!(
         "[sim]\nt_end = {t_end}\n[sweep]\ngoal = {{ x = 0.0, y = 0.0 }}\ncontrollers = [{{ kind = \"{law}\" }}]\n\
          random = {{ n = {n}, seed = 2026, radius = 2.0 }}\n"

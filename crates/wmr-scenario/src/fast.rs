@@ -4,7 +4,8 @@
 //! The sweep's runs are cut into tasks of [`TASK_RUNS`] consecutive runs of one law and
 //! variant (they share a plant and a controller); each task feeds its runs through one
 //! [`LaneBatch`] of [`LANES`] lanes. On x86-64 with AVX2 the lanes are compiled for AVX2
-//! (chosen at run time). The lanes' controllers see the true state: runs with a real
+//! (chosen at run time; an AVX-512 build is there too, [`Kernel`]); without AVX2 the
+//! lanes do not beat the exact path, and `--fast` runs the exact path. The lanes' controllers see the true state: runs with a real
 //! sensor (rate, latency, noise, encoders) take the exact path, as do runs whose values
 //! `vary` draws one by one (each has its own plant).
 //!
@@ -44,8 +45,21 @@ impl SweepSpec {
         done: &(dyn Fn() + Sync),
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<Option<Vec<SweepOutcome>>, ScenarioError> {
+        self.run_fast_on(sim, Kernel::detect(), done, stop)
+    }
+
+    /// [`SweepSpec::run_fast_until`] with the lanes compiled for `kernel` (which the
+    /// processor must have: [`Kernel::detect`] says which it has). Every kernel but
+    /// [`Kernel::Exact`] gives the same outcomes, bit for bit.
+    pub fn run_fast_on(
+        &self,
+        sim: &SimSpec,
+        kernel: Kernel,
+        done: &(dyn Fn() + Sync),
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Option<Vec<SweepOutcome>>, ScenarioError> {
         let tasks = self.tasks(0..self.len());
-        let parts = map_ordered(tasks.len(), |t| self.run_task(sim, tasks[t], done, stop));
+        let parts = map_ordered(tasks.len(), |t| self.run_task(sim, kernel, tasks[t], done, stop));
         gather(parts, self.len())
     }
 
@@ -67,7 +81,8 @@ impl SweepSpec {
             ));
         }
         let n = range.len();
-        let parts = self.tasks(range).into_iter().map(|task| self.run_task(sim, task, &|| {}, stop)).collect();
+        let kernel = Kernel::detect();
+        let parts = self.tasks(range).into_iter().map(|task| self.run_task(sim, kernel, task, &|| {}, stop)).collect();
         gather(parts, n)
     }
 
@@ -75,14 +90,17 @@ impl SweepSpec {
     fn run_task(
         &self,
         sim: &SimSpec,
+        kernel: Kernel,
         (first, end): (usize, usize),
         done: &(dyn Fn() + Sync),
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<Option<Vec<SweepOutcome>>, ScenarioError> {
         let mut drawn = None;
-        let exact = self.variation.has_draws() || !self.setup_of(sim, first, &mut drawn)?.sensor.is_perfect();
+        let exact = kernel == Kernel::Exact
+            || self.variation.has_draws()
+            || !self.setup_of(sim, first, &mut drawn)?.sensor.is_perfect();
         if !exact {
-            return self.run_lanes(sim, first..end, done, stop);
+            return self.run_lanes(sim, kernel, first..end, done, stop);
         }
         one_by_one(first..end, done, stop, |k, poll| self.run_exact(sim, k, poll))
     }
@@ -111,6 +129,7 @@ impl SweepSpec {
     fn run_lanes(
         &self,
         sim: &SimSpec,
+        kernel: Kernel,
         range: std::ops::Range<usize>,
         done: &(dyn Fn() + Sync),
         stop: &(dyn Fn() -> bool + Sync),
@@ -122,7 +141,9 @@ impl SweepSpec {
         let mut drawn = None;
         let setup = self.setup_of(sim, first, &mut drawn)?;
         let starts: Vec<Pose2<f64>> = range.clone().map(|k| self.starts[self.index_of(k).start]).collect();
-        let Some(outcomes) = lanes(setup, sim, &starts, self.goal, origin, done, stop)? else { return Ok(None) };
+        let Some(outcomes) = lanes(setup, sim, kernel, &starts, self.goal, origin, done, stop)? else {
+            return Ok(None);
+        };
         Ok(Some(range.zip(outcomes).map(|(k, outcome)| self.outcome_of(k, outcome)).collect()))
     }
 }
@@ -152,9 +173,10 @@ impl Scenario {
             tasks.push((k, end));
             k = end;
         }
+        let kernel = Kernel::detect();
         let task = |t: usize| -> Result<Option<Vec<Outcome<f64>>>, ScenarioError> {
             let (first, end) = tasks[t];
-            if !self.setup().sensor.is_perfect() {
+            if kernel == Kernel::Exact || !self.setup().sensor.is_perfect() {
                 return one_by_one(first..end, done, stop, |i, poll| {
                     Ok(match self.try_run_as(i, i as u64 + stream_offset, |_| ControlFlow::Continue(()), poll)? {
                         ControlFlow::Continue(r) => ControlFlow::Continue(r.outcome),
@@ -165,7 +187,7 @@ impl Scenario {
             let path = format!("run[{first}]");
             let origin = Origin { run: &path, controller: "controller" };
             let starts: Vec<Pose2<f64>> = runs[first..end].iter().map(|r| r.start).collect();
-            lanes(self.setup(), self.sim(), &starts, runs[first].goal, origin, done, stop)
+            lanes(self.setup(), self.sim(), kernel, &starts, runs[first].goal, origin, done, stop)
         };
         let parts = if parallel { map_ordered(tasks.len(), task) } else { (0..tasks.len()).map(task).collect() };
         gather(parts, range.len())
@@ -174,9 +196,11 @@ impl Scenario {
 
 /// Runs from `starts` towards `goal` with `setup` and `sim` through one lane batch: their
 /// outcomes in order, or `None` when `stop` said so.
+#[allow(clippy::too_many_arguments)]
 fn lanes(
     setup: &Setup,
     sim: &SimSpec,
+    kernel: Kernel,
     starts: &[Pose2<f64>],
     goal: Pose2<f64>,
     origin: Origin<'_>,
@@ -202,7 +226,7 @@ fn lanes(
         done();
         outcomes[tag as usize] = Some(outcome);
     };
-    run_batch(&mut batch, next, finished);
+    run_batch(kernel, &mut batch, next, finished);
     if stopped {
         return Ok(None);
     }
@@ -241,22 +265,127 @@ fn gather<O>(parts: Vec<Result<Option<Vec<O>>, ScenarioError>>, n: usize) -> Res
     Ok(Some(all))
 }
 
-/// [`LaneBatch::run_all`], compiled for AVX2 when the processor has it. The one
-/// `unsafe` of the crate: calling a function compiled for AVX2, after checking for it.
-#[allow(unsafe_code)]
-fn run_batch(batch: &mut Batch, next: impl FnMut() -> Option<(u64, Pose2<f64>)>, done: impl FnMut(u64, Outcome<f64>)) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the processor has AVX2, checked just above.
-        unsafe { run_batch_avx2(batch, next, done) };
-        return;
+/// The vector instructions the fast path runs its lanes with on this processor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kernel {
+    /// AVX-512: one 512-bit register of 8 `f64` per number of the [`LANES`] lanes.
+    Avx512,
+    /// AVX2: two 256-bit registers of 4 `f64` per number.
+    Avx2,
+    /// The lanes compiled for the baseline instruction set (SSE2 on x86-64): never
+    /// chosen by [`Kernel::detect`] (slower than the exact path where measured), there
+    /// for tests, which check that every build gives the same bits.
+    Portable,
+    /// No vector unit that beats the exact path (no AVX2, or not x86-64): `--fast` runs
+    /// the exact path ([`SweepSpec::run`]) and says so.
+    Exact,
+}
+
+impl Kernel {
+    /// The kernel `--fast` runs on this processor: AVX2 where it has AVX2 (on AVX-512
+    /// processors too: on the AMD EPYC of benches/README.md, family 26, the AVX-512 build
+    /// takes 1.40x the CPU time of the AVX2 one per run-step), else [`Kernel::Exact`];
+    /// or the one `WMR_FAST_KERNEL` (`avx512`, `avx2`, `portable`, `exact`) asks for,
+    /// when the processor has it (benches and tests compare them on one machine).
+    pub fn detect() -> Kernel {
+        let best = Self::best();
+        let default = if best == Kernel::Avx512 { Kernel::Avx2 } else { best };
+        let asked = match std::env::var("WMR_FAST_KERNEL").as_deref() {
+            Ok("avx512") => Kernel::Avx512,
+            Ok("avx2") => Kernel::Avx2,
+            Ok("portable") => Kernel::Portable,
+            Ok("exact") => Kernel::Exact,
+            _ => return default,
+        };
+        if asked.rank() <= best.rank() { asked } else { default }
     }
+
+    /// The widest kernel this processor has ([`Kernel::Exact`] without AVX2).
+    pub fn best() -> Kernel {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                return Kernel::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                return Kernel::Avx2;
+            }
+        }
+        Kernel::Exact
+    }
+
+    fn rank(self) -> u8 {
+        match self {
+            Kernel::Exact | Kernel::Portable => 0,
+            Kernel::Avx2 => 1,
+            Kernel::Avx512 => 2,
+        }
+    }
+
+    /// What `--fast` prints: the instructions and how many `f64` each takes.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Kernel::Avx512 => "AVX-512, 8 f64 lanes per instruction",
+            Kernel::Avx2 => "AVX2, 4 f64 lanes per instruction",
+            Kernel::Portable => "the lanes without vector extensions (SSE2 on x86-64)",
+            Kernel::Exact => {
+                "the exact path (no AVX2 on this processor, or WMR_FAST_KERNEL=exact): lanes without vectors do not beat it"
+            }
+        }
+    }
+
+    /// The name `WMR_FAST_KERNEL` takes.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kernel::Avx512 => "avx512",
+            Kernel::Avx2 => "avx2",
+            Kernel::Portable => "portable",
+            Kernel::Exact => "exact",
+        }
+    }
+}
+
+/// [`LaneBatch::run_all`] compiled for the widest vector unit the processor has
+/// ([`Kernel::detect`]); without one, the portable build of the same code (callers take
+/// the exact path before that). The one `unsafe` of the crate: calling a function
+/// compiled for AVX2 or AVX-512, after checking for it. The three builds give the same
+/// bits: no FMA contraction, and the same operations in the same order per lane.
+#[allow(unsafe_code)]
+fn run_batch(
+    kernel: Kernel,
+    batch: &mut Batch,
+    next: impl FnMut() -> Option<(u64, Pose2<f64>)>,
+    done: impl FnMut(u64, Outcome<f64>),
+) {
+    #[cfg(target_arch = "x86_64")]
+    match kernel {
+        Kernel::Avx512 if Kernel::best().rank() >= Kernel::Avx512.rank() => {
+            // SAFETY: the processor has AVX-512F, checked just above.
+            return unsafe { run_batch_avx512(batch, next, done) };
+        }
+        Kernel::Avx2 if Kernel::best().rank() >= Kernel::Avx2.rank() => {
+            // SAFETY: the processor has AVX2, checked just above.
+            return unsafe { run_batch_avx2(batch, next, done) };
+        }
+        _ => {}
+    }
+    let _ = kernel;
     batch.run_all(next, done);
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn run_batch_avx2(
+    batch: &mut Batch,
+    next: impl FnMut() -> Option<(u64, Pose2<f64>)>,
+    done: impl FnMut(u64, Outcome<f64>),
+) {
+    batch.run_all(next, done);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn run_batch_avx512(
     batch: &mut Batch,
     next: impl FnMut() -> Option<(u64, Pose2<f64>)>,
     done: impl FnMut(u64, Outcome<f64>),

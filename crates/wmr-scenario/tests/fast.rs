@@ -87,3 +87,37 @@ fn runs_with_a_real_sensor_take_the_exact_path() {
     let fast = spec.run_fast(s.sim(), &|| {}).unwrap();
     assert_eq!(exact, fast);
 }
+
+#[path = "../../wmr-cli/tests/skip/mod.rs"]
+mod skip;
+
+/// Each build of the lanes (baseline SSE2, AVX2, AVX-512: `Kernel`) gives the same
+/// outcomes to the last bit: the vector square root is correctly rounded like the scalar
+/// one, and nothing is contracted into FMA. `Kernel::Exact` is the exact path itself,
+/// what `--fast` runs on a processor without AVX2.
+#[test]
+fn every_kernel_gives_the_same_bits_and_exact_is_the_exact_path() {
+    use wmr_scenario::fast::Kernel;
+    let text = "[sim]\nt_end = 40.0\nstop_when_settled = true\n[sweep]\n\
+                controllers = [{ kind = \"paper\" }, { kind = \"paper_bidirectional\" }, { kind = \"polar\" }, \
+                { kind = \"lyapunov\" }]\nrandom = { n = 20, seed = 7, radius = 2.0 }\n";
+    let s = Scenario::from_toml_str(text, "kernels").unwrap();
+    let spec = s.sweep().unwrap();
+    let on = |k: Kernel| spec.run_fast_on(s.sim(), k, &|| {}, &|| false).unwrap().unwrap();
+    let bits = |o: &[wmr_scenario::SweepOutcome]| format!("{o:?}");
+    let portable = on(Kernel::Portable);
+    let best = Kernel::best();
+    let mut kernels = vec![Kernel::Avx2, Kernel::Avx512];
+    kernels.retain(|&k| {
+        let has = matches!((k, best), (Kernel::Avx2, Kernel::Avx2 | Kernel::Avx512) | (Kernel::Avx512, Kernel::Avx512));
+        if !has {
+            skip::missing(k.name(), &format!("this processor has no {}: its kernel is not compared", k.name()));
+        }
+        has
+    });
+    for k in kernels {
+        assert_eq!(bits(&on(k)), bits(&portable), "{} against the portable lanes", k.name());
+    }
+    assert_eq!(on(Kernel::Exact), spec.run(s.sim(), &|| {}).unwrap());
+    assert_ne!(bits(&portable), bits(&spec.run(s.sim(), &|| {}).unwrap()), "the lanes are not the exact path");
+}
