@@ -45,6 +45,7 @@ pub mod keys;
 mod locate;
 mod memory;
 mod output;
+pub mod preset;
 mod read;
 pub mod robustness;
 mod run;

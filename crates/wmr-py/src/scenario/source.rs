@@ -117,11 +117,16 @@ impl Source {
     /// Parses and checks the scenario (no Python involved: may run without the GIL), with
     /// the warnings about its text (a heading of 90 rad).
     pub(super) fn parse(&self) -> Result<(Scenario, Vec<ScenarioError>), ScenarioError> {
-        let (text, name) = match self {
-            Source::Path(p) => (wmr_scenario::read_text(p)?, wmr_scenario::default_name(p)),
-            Source::Text(t) | Source::Dict(t) => (t.clone(), "scenario".to_owned()),
+        let (text, name, dir) = match self {
+            Source::Path(p) => {
+                let dir = p.parent().unwrap_or(std::path::Path::new("")).to_path_buf();
+                (wmr_scenario::read_text(p)?, wmr_scenario::default_name(p), dir)
+            }
+            Source::Text(t) | Source::Dict(t) => (t.clone(), "scenario".to_owned(), PathBuf::new()),
         };
-        let parsed = Scenario::from_toml_str(&text, &name);
+        // A `[robot] from = "robots/NAME.toml"` is relative to the scenario file's folder
+        // (to the current folder for text and dicts).
+        let parsed = Scenario::from_toml_str_in(&text, &name, &dir);
         let (sc, warnings) = match self {
             Source::Dict(_) => (
                 parsed.map_err(|e| e.at_line(None))?,
