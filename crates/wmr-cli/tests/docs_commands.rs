@@ -113,8 +113,8 @@ fn inline_commands(doc: &str, text: &str, root: &Path, out: &mut Vec<DocCommand>
             rest = after;
             continue;
         }
-        if after.starts_with("``") {
-            rest = &after[2..];
+        if let Some(tail) = after.strip_prefix("``") {
+            rest = tail; // a fence's backticks, not a span
             continue;
         }
         let Some(end) = after.find('`') else { break };

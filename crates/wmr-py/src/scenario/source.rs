@@ -130,7 +130,11 @@ impl Source {
         let (sc, warnings) = match self {
             Source::Dict(_) => (
                 parsed.map_err(|e| e.at_line(None))?,
-                wmr_scenario::warnings(&text).into_iter().map(|w| w.at_line(None)).collect(),
+                // Written by Python code (a dict, a pose tuple): the hint in Python's words.
+                wmr_scenario::warnings_for(&text, wmr_scenario::Writer::Python)
+                    .into_iter()
+                    .map(|w| w.at_line(None))
+                    .collect(),
             ),
             _ => (parsed?, wmr_scenario::warnings(&text)),
         };
