@@ -132,3 +132,28 @@ def test_regression_27_progress_to_a_log_is_one_line() -> None:
     assert text.count("\n") <= 1, text
     assert text.count("\r") <= 2, text
     assert "100%" in text
+
+
+def test_regression_27_a_robot_from_a_file_runs_from_python(tmp_path: Path) -> None:
+    import shutil
+
+    shutil.copytree(ROOT / "robots", tmp_path / "robots")
+    scenario = tmp_path / "tb.toml"
+    scenario.write_text(
+        '[robot]\nfrom = "robots/turtlebot3_burger.toml"\nmass = 1.2\n[controller]\nkind = "lyapunov"\n'
+        "[sim]\nt_end = 30.0\n[[run]]\ngoal = { x = 1.0, y = 1.0, theta_deg = 120.0 }\n"
+    )
+    # The path is relative to the scenario's folder, not the current one.
+    (r,) = wmr_py.run_scenario(str(scenario))
+    assert r.status == "converged", r.summary
+    (same,) = wmr_py.run_scenario(ROOT / "examples" / "turtlebot3.toml")
+    assert same.status == "converged"
+    # A built-in name from a dict, and the preset's mass overridden beside it.
+    r2 = wmr_py.simulate((0, 0, 0), (1, 1, 0), robot={"from": "turtlebot3_burger", "mass": 1.2}, t_end=0.5)
+    r3 = wmr_py.run_scenario(scenario.read_text().replace("t_end = 30.0", "t_end = 0.5").replace(
+        "theta_deg = 120.0", "theta_deg = 0.0").replace("[controller]\nkind = \"lyapunov\"\n", "").replace(
+        "robots/turtlebot3_burger.toml", str(tmp_path / "robots" / "turtlebot3_burger.toml")))[0]
+    np.testing.assert_array_equal(r2.x, r3.x)
+    with pytest.raises(wmr_py.ScenarioError, match="robot.from") as e:
+        wmr_py.simulate((0, 0, 0), (1, 1, 0), robot={"from": "turtlebot4"}, t_end=0.5)
+    assert e.value.key == "robot.from"
