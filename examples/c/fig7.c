@@ -1,7 +1,8 @@
 /* Fig. 7 of the paper through the C API: start (0, 0, 0), goal (1, 1, 120 deg), the
  * paper's law with its wheel servos, the torque drive and the dynamic model, 60 s at
  * dt = control_dt = 1 ms, every default. Runs the loop in double and in float and prints
- * each final pose as IEEE bit patterns (hex), so runs on different machines compare exactly.
+ * each final pose as IEEE bit patterns (hex), so runs on different machines compare exactly,
+ * and in decimal beside them (m, m, rad), for a reader.
  *
  * Host:        cc -O2 -I crates/wmr-ffi/include examples/c/fig7.c target/release/libwmr_ffi.a -lm -lpthread -ldl
  * Cortex-M4F:  examples/c/mps2/build (arm-none-eabi-gcc), run with qemu-system-arm -M mps2-an386
@@ -39,6 +40,15 @@ static void print_bits64(const char *name, double v) {
     uint64_t b;
     memcpy(&b, &v, sizeof b);
     printf(" %s_bits=%08lx%08lx", name, (unsigned long)(b >> 32), (unsigned long)(b & 0xffffffffu));
+}
+
+/* The pose in decimal beside the bits, for a reader: x and y in m, theta in rad, 6
+ * decimals. Integer arithmetic, so newlib-nano's printf (no %f without _printf_float)
+ * prints it on the Cortex-M4F too; |v| < 2000 holds for any pose in wmr's 1 km box. */
+static void print_decimal(const char *name, double v, const char *unit) {
+    long micro = (long)(v * 1e6 + (v < 0 ? -0.5 : 0.5));
+    long whole = micro / 1000000L, frac = micro % 1000000L;
+    printf(" %s=%s%ld.%06ld%s", name, micro < 0 ? "-" : "", whole < 0 ? -whole : whole, frac < 0 ? -frac : frac, unit);
 }
 
 /* One function per precision, written once: S is the scalar type, P the name suffix. */
@@ -101,12 +111,20 @@ int main(void) {
     print_bits64("x", s64.x);
     print_bits64("y", s64.y);
     print_bits64("theta", s64.theta);
-    printf(" steps=%ld\n", steps);
+    printf(" steps=%ld", steps);
+    print_decimal("x", s64.x, "m");
+    print_decimal("y", s64.y, "m");
+    print_decimal("theta", s64.theta, "rad");
+    printf("\n");
     if (fig7_f32(&s32, &steps) != 0) return 1;
     printf("impl=c-f32");
     print_bits32("x", s32.x);
     print_bits32("y", s32.y);
     print_bits32("theta", s32.theta);
-    printf(" steps=%ld\n", steps);
+    printf(" steps=%ld", steps);
+    print_decimal("x", (double)s32.x, "m");
+    print_decimal("y", (double)s32.y, "m");
+    print_decimal("theta", (double)s32.theta, "rad");
+    printf("\n");
     return 0;
 }

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates every figure in examples/paper/figures/ (SVG) from the scenarios here and
 # examples/compare.toml, and prints the summary lines and tables quoted in README.md.
-#   examples/paper/figures.sh            # from the repository root; about 5 min on 2 cores
+#   examples/paper/figures.sh            # from the repository root; a release build, then under a minute on 2 cores
 #   examples/paper/figures.sh --maps     # also the two 1,000,000-start maps (map-*.toml,
 #                                        # --fast): about 40 min more on 2 cores
 set -euo pipefail

@@ -396,7 +396,9 @@ pub fn load(file: &Path) -> Result<Scenario> {
     let text = wmr_scenario::read_text(file).map_err(|e| anyhow::Error::new(e).context(name.clone()))?;
     crate::atomic::register_input(file);
     // Printed as "FILE: line L: KEY: what is wrong".
-    let scenario = Scenario::from_toml_str(&text, &wmr_scenario::default_name(file))
+    // A `[robot] from = "robots/NAME.toml"` is relative to the scenario's folder.
+    let dir = file.parent().unwrap_or(Path::new(""));
+    let scenario = Scenario::from_toml_str_in(&text, &wmr_scenario::default_name(file), dir)
         .map_err(|e| anyhow::Error::new(e).context(name.clone()))?;
     for w in wmr_scenario::warnings(&text) {
         note(&format!("wmr-cli: warning: {name}: {w}"));

@@ -158,6 +158,22 @@ fn write_regions(spec: &SweepSpec, outcomes: &[SweepOutcome], dir: &Path) -> Res
     Ok(())
 }
 
+/// The unit of a varied scenario key (`sensor.position_noise`: m;
+/// `controller.model.wheel_radius`: the robot key's), from the schema `--help` shows;
+/// `None` for a key without one (a count, a ratio).
+fn unit_of(key: &str) -> Option<&'static str> {
+    let (table, rest) = key.split_once('.')?;
+    let (table, name) = match rest.strip_prefix("model.") {
+        Some(name) if table == "controller" => ("robot", name),
+        _ => (table, rest),
+    };
+    wmr_scenario::schema()
+        .into_iter()
+        .find(|k| k.table == table && k.key == name)
+        .map(|k| k.unit)
+        .filter(|u| !u.is_empty())
+}
+
 /// One `share-<key>.svg` per varied key: each law's converged share against the key.
 fn write_share_curves(curves: &[ShareCurve], dir: &Path) -> Result<()> {
     let mut keys: Vec<&str> = curves.iter().map(|c| c.key.as_str()).collect();
@@ -168,7 +184,11 @@ fn write_share_curves(curves: &[ShareCurve], dir: &Path) -> Result<()> {
             .filter(|c| c.key == key)
             .map(|c| (c.law.as_str(), c.points.iter().map(|(x, s, _)| (*x, *s)).collect()))
             .collect();
-        let svg = share_svg(&format!("Converged share against {key}"), key, &series)?;
+        let axis = match unit_of(key) {
+            Some(unit) => format!("{key} ({unit})"),
+            None => key.to_owned(),
+        };
+        let svg = share_svg(&format!("Converged share against {key}"), &axis, &series)?;
         write_text(&dir.join(format!("share-{}.svg", safe_file_stem(&key.replace('.', "-")))), &svg)?;
     }
     Ok(())

@@ -112,6 +112,11 @@ fn fig7_c_example_matches_the_cli_in_double_and_the_core_in_float() {
     assert_eq!(field(&out, "c-f32", "x_bits"), format!("{:08x}", p.x.to_bits()), "{out}");
     assert_eq!(field(&out, "c-f32", "y_bits"), format!("{:08x}", p.y.to_bits()), "{out}");
     assert_eq!(field(&out, "c-f32", "theta_bits"), format!("{:08x}", p.theta.to_bits()), "{out}");
+    // Issue 27: the pose in decimal beside the bits (m, m, rad, 6 decimals).
+    assert_eq!(field(&out, "c-f64", "x"), format!("{x:.6}m"), "{out}");
+    assert_eq!(field(&out, "c-f64", "y"), format!("{y:.6}m"), "{out}");
+    assert_eq!(field(&out, "c-f64", "theta"), format!("{theta:.6}rad"), "{out}");
+    assert_eq!(field(&out, "c-f32", "theta"), format!("{:.6}rad", f64::from(p.theta)), "{out}");
 }
 
 #[test]

@@ -97,6 +97,17 @@ fn state_out<'py>(py: Python<'py>, s: &State<f64>, what: &str) -> PyResult<Bound
     Ok(s.to_array().to_pyarray(py))
 }
 
+/// A quantity computed from a finite state, checked finite as [`state_out`] checks the
+/// state after a step: a state too large for the model raises, never returns inf.
+fn finite_out(values: &[f64], what: &str) -> PyResult<()> {
+    if values.iter().all(|v| v.is_finite()) {
+        return Ok(());
+    }
+    Err(PyFloatingPointError::new_err(format!(
+        "{what} is not finite: {values:?} (the state is too large for the model)"
+    )))
+}
+
 /// Row `i` of an (N, 7) state array.
 fn state_row(a: &ArrayView2<'_, f64>, i: usize) -> State<f64> {
     State::from_array(std::array::from_fn(|j| a[[i, j]]))
@@ -211,10 +222,15 @@ impl PyRobot {
         if let Some(s) = batch_arg(state, "state", STATE_NAMES)? {
             let s = s.as_array();
             let out: Array1<f64> = (0..s.nrows()).map(|i| self.inner.kinetic_energy(&state_row(&s, i))).collect();
+            if let Some(i) = out.iter().position(|v| !v.is_finite()) {
+                finite_out(&[out[i]], &format!("the kinetic energy of robot {i}"))?;
+            }
             return Ok(out.into_pyarray(py).into_any().unbind());
         }
         let s = state_arg(state, "state")?;
-        Ok(self.inner.kinetic_energy(&s).into_pyobject(py)?.into_any().unbind())
+        let e = self.inner.kinetic_energy(&s);
+        finite_out(&[e], "the kinetic energy")?;
+        Ok(e.into_pyobject(py)?.into_any().unbind())
     }
 
     /// Wheel speeds (omega_r, omega_l), rad/s, of a state: ((v + R omega)/r, (v - R omega)/r).
@@ -225,6 +241,7 @@ impl PyRobot {
             let mut out = Array2::<f64>::zeros((s.nrows(), 2));
             for (i, mut row) in out.rows_mut().into_iter().enumerate() {
                 let w = state_row(&s, i).wheel_speeds(self.inner.params());
+                finite_out(&[w.right, w.left], &format!("the wheel speeds of robot {i}"))?;
                 row[0] = w.right;
                 row[1] = w.left;
             }
@@ -232,6 +249,7 @@ impl PyRobot {
         }
         let s = state_arg(state, "state")?;
         let w = s.wheel_speeds(self.inner.params());
+        finite_out(&[w.right, w.left], "the wheel speeds")?;
         Ok((w.right, w.left).into_pyobject(py)?.into_any().unbind())
     }
 

@@ -167,7 +167,11 @@ def test_regression_12_15_theta_beyond_a_turn_warns() -> None:
         warnings.simplefilter("always")
         wmr_py.simulate((0, 0, 0), (1, 1, 90), t_end=0.01)
     messages = [str(w.message) for w in seen if issubclass(w.category, UserWarning)]
-    assert any("run[0].goal.theta: 90 rad is 14.3 turns" in m and "theta_deg = 90" in m for m in messages), messages
+    # In Python's words (issue 27): a tuple cannot hold degrees, a dict can.
+    assert any(
+        "run[0].goal.theta: 90 rad is 14.3 turns" in m and "math.radians(90)" in m and '"theta_deg": 90' in m
+        for m in messages
+    ), messages
 
 
 def test_regression_12_15_times_are_exact_decimals() -> None:

@@ -77,10 +77,65 @@ pub fn join(path: &str, key: &str) -> String {
     if path.is_empty() { key.to_owned() } else { format!("{path}.{key}") }
 }
 
-/// The error for a key that `accepted` does not list.
+/// The error for a key that `accepted` does not list: `unknown key; did you mean mass?`
+/// when one accepted key is a near miss (see [`did_you_mean`]), the list of them otherwise.
 pub fn unknown_key<'a>(path: &str, key: &str, accepted: impl IntoIterator<Item = &'a str>) -> ScenarioError {
     let list: Vec<&str> = accepted.into_iter().collect();
-    ScenarioError::new(join(path, key), format!("unknown key; the keys here are {}", list.join(", ")))
+    let message = match did_you_mean(key, &list) {
+        Some(near) => format!("unknown key; did you mean {near}? (the keys here are {})", list.join(", ")),
+        None => format!("unknown key; the keys here are {}", list.join(", ")),
+    };
+    ScenarioError::new(join(path, key), message)
+}
+
+/// The one key of `accepted` that `key` is a near miss of: within edit distance 1 for
+/// keys of up to 4 characters, 2 up to 8, 3 beyond (a typo, a dropped or swapped letter);
+/// `None` when none is that near, or when two are equally near.
+pub fn did_you_mean<'a>(key: &str, accepted: &[&'a str]) -> Option<&'a str> {
+    let limit = match key.chars().count() {
+        0..=4 => 1,
+        5..=8 => 2,
+        _ => 3,
+    };
+    let mut best: Option<(usize, &str)> = None;
+    let mut tie = false;
+    for &a in accepted {
+        let d = edit_distance(key, a);
+        match best {
+            Some((b, _)) if d == b => tie = true,
+            Some((b, _)) if d > b => {}
+            _ => (best, tie) = (Some((d, a)), false),
+        }
+    }
+    best.filter(|&(d, _)| d <= limit && !tie).map(|(_, a)| a)
+}
+
+/// Levenshtein distance with adjacent transpositions (optimal string alignment), in chars.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+    let w = b.len() + 1;
+    let mut d: Vec<usize> = (0..(a.len() + 1) * w)
+        .map(|k| {
+            if k < w {
+                k
+            } else if k % w == 0 {
+                k / w
+            } else {
+                0
+            }
+        })
+        .collect();
+    for i in 1..=a.len() {
+        for j in 1..=b.len() {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            let mut v = (d[(i - 1) * w + j] + 1).min(d[i * w + j - 1] + 1).min(d[(i - 1) * w + j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                v = v.min(d[(i - 2) * w + j - 2] + 1);
+            }
+            d[i * w + j] = v;
+        }
+    }
+    d[a.len() * w + b.len()]
 }
 
 /// Reads `value` with `read`, naming the key of a type error by its path under `path`.
@@ -158,11 +213,21 @@ pub fn toml_scalar(v: &Value) -> String {
 
 /// `key = value` lines for `table`, in the order of `order` (then any other key).
 pub fn write_keys(out: &mut String, table: &Table, order: &[&str]) {
+    write_keys_noted(out, table, order, |_| None);
+}
+
+/// [`write_keys`] with a comment after each line that `note` gives one for
+/// (`mass = 1.0  # robots/turtlebot3_burger.toml`).
+pub fn write_keys_noted(out: &mut String, table: &Table, order: &[&str], note: impl Fn(&str) -> Option<String>) {
     use std::fmt::Write as _;
     let rest = table.keys().map(String::as_str).filter(|k| !order.contains(k));
     for k in order.iter().copied().chain(rest) {
         if let Some(v) = table.get(k) {
-            let _ = writeln!(out, "{k} = {}", toml_scalar(v));
+            let line = format!("{k} = {}", toml_scalar(v));
+            let _ = match note(k) {
+                Some(n) => writeln!(out, "{line:<32}# {n}"),
+                None => writeln!(out, "{line}"),
+            };
         }
     }
 }

@@ -45,6 +45,7 @@ pub mod keys;
 mod locate;
 mod memory;
 mod output;
+pub mod preset;
 mod read;
 pub mod reference;
 pub mod robustness;
@@ -77,4 +78,4 @@ pub use sim::{DEFAULT_LOG_DT_S, DEFAULT_T_END_S, MAX_STEPS, MAX_T_END_S, SimSpec
 pub use sweep::{
     LawSummary, SWEEP_COLUMNS, Spread, StartsSource, SweepOutcome, SweepSpec, summarize, summary_table, sweep_row,
 };
-pub use warnings::warnings;
+pub use warnings::{Writer, warnings, warnings_for};

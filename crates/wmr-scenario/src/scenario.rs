@@ -13,8 +13,9 @@ use wmr_core::{ControllerParams, Drive, Pose2, Robot, RobotParams, Sample, Senso
 use crate::assemble::{self, Origin, RunLoop};
 use crate::error::ScenarioError;
 use crate::file::{RunFile, ScenarioFile, SimFile};
-use crate::keys::{fields_of, fields_read_by, join, to_table, toml_f64, write_keys};
+use crate::keys::{fields_of, fields_read_by, join, to_table, toml_f64, write_keys, write_keys_noted};
 use crate::output::RunResult;
+use crate::preset::{self, Origins};
 use crate::reference::ReferenceSpec;
 use crate::run::{RunSpec, short};
 use crate::setup::{BuiltController, Setup, Tables};
@@ -23,7 +24,9 @@ use crate::sweep::SweepSpec;
 use crate::{bounds, budget, controller, locate, read};
 
 /// A complete, validated scenario: every default filled in, every key checked once.
-#[derive(Clone, Debug, PartialEq)]
+/// Two scenarios are equal when they run the same: where a value came from (a preset,
+/// the file: [`Scenario::origins`]) is not compared.
+#[derive(Clone, Debug)]
 pub struct Scenario {
     name: String,
     setup: Setup,
@@ -31,6 +34,16 @@ pub struct Scenario {
     runs: Vec<RunSpec>,
     sweep: Option<SweepSpec>,
     tracking: Option<Tracking>,
+    /// Where the given `[robot]` and `[drive]` values came from (the file, a preset).
+    origins: Origins,
+}
+
+impl PartialEq for Scenario {
+    fn eq(&self, other: &Self) -> bool {
+        let Self { name, setup, sim, runs, sweep, tracking, origins: _ } = self;
+        (name, setup, sim, runs, sweep, tracking)
+            == (&other.name, &other.setup, &other.sim, &other.runs, &other.sweep, &other.tracking)
+    }
 }
 
 /// Plant steps of all the scenario's runs and sweep runs.
@@ -165,7 +178,7 @@ impl ScenarioFile {
             runs.push(run);
         }
         let name = self.name.unwrap_or_else(|| default_name.to_owned());
-        let scenario = Scenario { name, setup, sim, runs, sweep, tracking: None };
+        let scenario = Scenario { name, setup, sim, runs, sweep, tracking: None, origins: Origins::default() };
         scenario.check_runs()?;
         Ok(scenario)
     }
@@ -173,14 +186,15 @@ impl ScenarioFile {
 
 impl Scenario {
     /// Parses and checks TOML text; `default_name` is used when it has no `name`.
-    /// Errors name the key and, where it can be found, the line.
+    /// Errors name the key and, where it can be found, the line. A `[robot] from` path is
+    /// relative to the current folder (see [`Scenario::from_toml_str_in`]).
     pub fn from_toml_str(text: &str, default_name: &str) -> Result<Self, ScenarioError> {
-        Self::from_toml_str_in(text, default_name, None)
+        Self::from_toml_str_in(text, default_name, Path::new(""))
     }
 
-    /// [`Scenario::from_toml_str`] for text read from a file in folder `dir` (where a
-    /// `[reference]` of kind `file` finds its CSV; the working directory when `None`).
-    pub fn from_toml_str_in(text: &str, default_name: &str, dir: Option<&Path>) -> Result<Self, ScenarioError> {
+    /// [`Scenario::from_toml_str`] of the text of a file in folder `dir`: a `[robot] from`
+    /// path (`robots/NAME.toml`) and a `[reference]` of kind `file` are relative to `dir`.
+    pub fn from_toml_str_in(text: &str, default_name: &str, dir: &Path) -> Result<Self, ScenarioError> {
         let de = toml::de::Deserializer::parse(text).map_err(|e| {
             // A syntax error: toml gives the place; quote the line so the key shows.
             let line = e.span().map(|s| locate::line_of(text, s.start));
@@ -193,22 +207,30 @@ impl Scenario {
             };
             ScenarioError::new("", msg).at_line(line)
         })?;
-        let file: ScenarioFile = serde_path_to_error::deserialize(de).map_err(|e| {
+        let mut file: ScenarioFile = serde_path_to_error::deserialize(de).map_err(|e| {
             let path = e.path().to_string();
             let inner = e.into_inner();
             locate::deser_error(&path, inner.message(), inner.span(), text)
         })?;
-        file.resolve_in(default_name, dir).and_then(|s| s.check_limits().map(|()| s)).map_err(|e| {
-            let line = locate::span_of_key(text, &e.key).map(|s| locate::line_of(text, s.start));
-            e.at_line(line)
-        })
+        preset::expand(&mut file.robot, &mut file.drive, dir)
+            .and_then(|origins| {
+                let mut s = file.resolve_in(default_name, Some(dir))?;
+                s.origins = origins;
+                Ok(s)
+            })
+            .and_then(|s| s.check_limits().map(|()| s))
+            .map_err(|e| {
+                let line = locate::span_of_key(text, &e.key).map(|s| locate::line_of(text, s.start));
+                e.at_line(line)
+            })
     }
 
     /// Reads a TOML file (a regular file of at most [`read::MAX_FILE_BYTES`]); the
     /// name defaults to the file's stem. Read errors name the path.
     pub fn from_path(path: impl AsRef<Path>) -> Result<Self, ScenarioError> {
         let path = path.as_ref();
-        Self::from_toml_str_in(&read::read_text(path)?, &read::default_name(path), path.parent())
+        let dir = path.parent().unwrap_or(Path::new(""));
+        Self::from_toml_str_in(&read::read_text(path)?, &read::default_name(path), dir)
     }
 
     /// The same scenario with other runs, each checked (Python's batches of starts).
@@ -244,6 +266,11 @@ impl Scenario {
     /// The validated configuration: robot, drive, world, sensor, controller and its model.
     pub fn setup(&self) -> &Setup {
         &self.setup
+    }
+
+    /// Where the given `[robot]` and `[drive]` values came from.
+    pub fn origins(&self) -> &Origins {
+        &self.origins
     }
 
     /// The validated robot (`[robot]`).
@@ -391,13 +418,15 @@ impl Scenario {
         let _ = writeln!(o, "# Resolved scenario: every key with its value, defaults filled in.");
         let _ = writeln!(o, "name = {}", Value::String(self.name.clone()));
         let setup = &self.setup;
+        // Each robot and drive value with where it came from: the file, a preset, a default.
         let _ = writeln!(o, "\n[robot]");
-        write_keys(&mut o, &to_table(setup.robot.params()), fields_of::<RobotParams<f64>>());
+        let noted = |table: &'static str| move |k: &str| Some(self.origins.of(table, k).to_owned());
+        write_keys_noted(&mut o, &to_table(setup.robot.params()), fields_of::<RobotParams<f64>>(), noted("robot"));
         let _ = writeln!(o, "\n[drive]");
         let drive = setup.drive.params();
         let mut order = vec!["kind"];
         order.extend(fields_read_by(|probe| drive.deserialize_variant(probe).map(|_| ())));
-        write_keys(&mut o, &to_table(&drive), &order);
+        write_keys_noted(&mut o, &to_table(&drive), &order, noted("drive"));
         let _ = writeln!(o, "\n[controller]");
         controller::write(&setup.controller, &mut o);
         if setup.model != setup.robot {

@@ -269,7 +269,7 @@ def run_batch(
             parts = _results.chunks(len(arr), chunk_size)
             tasks = [(base, arr[a:b], None, a, fast) for a, b in parts]
             outs = _results.run_tasks(executor, _results.batch_task, tasks, bar, [b - a for a, b in parts])
-            out = {k: np.concatenate([o[k] for o in outs]) for k in outs[0]}
+            out = _results.gather_batch(outs, parts, arr)
     finally:
         if bar is not None:
             bar.close()

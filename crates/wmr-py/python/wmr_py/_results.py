@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import importlib
 import math
+import sys
 import warnings
+from collections.abc import Mapping
 from typing import Any, Callable, Optional, Sequence
 
 import numpy as np
@@ -36,6 +38,8 @@ def _status(converged: np.ndarray, diverged: np.ndarray) -> np.ndarray:
 
 
 def _shares(res: Any) -> str:
+    if "converged" not in res or "diverged" not in res:
+        return "no runs"
     n = max(len(res["converged"]), 1)
     c, d = int(np.sum(res["converged"])), int(np.sum(res["diverged"]))
     return f"{100 * c / n:.1f}% converged, {100 * d / n:.1f}% diverged, {100 * (n - c - d) / n:.1f}% unsettled"
@@ -55,7 +59,27 @@ def run_result_to_pandas(r: Any) -> Any:
     return pd.DataFrame(data)
 
 
-class BatchResult(dict):
+class _Entries(dict):
+    """A dict whose entries read as attributes too: ``res.converged is res["converged"]``,
+    as a RunResult's columns are ``r.x`` and ``r["x"]``. Attributes of the class (``law``,
+    ``to_pandas``) come first; an unknown name raises AttributeError naming the entries."""
+
+    def __getattr__(self, name: str) -> Any:
+        # Called only when normal lookup fails: the instance's and class's attributes win.
+        if name.startswith("__"):
+            raise AttributeError(name)
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(
+                f"{type(self).__name__} has no attribute or entry {name!r}; its entries: {', '.join(self)}"
+            ) from None
+
+    def __dir__(self) -> list:
+        return sorted(set(super().__dir__()) | {k for k in self if isinstance(k, str) and k.isidentifier()})
+
+
+class BatchResult(_Entries):
     """The outcome of ``run_batch``: a dict of 1-D arrays, one entry per start, in order.
 
     ``start`` (int64), ``x0``, ``y0`` (m), ``theta0`` (rad): the starts; ``final_x``,
@@ -63,7 +87,8 @@ class BatchResult(dict):
     wrap(theta_d - theta)), ``time_to_1cm`` (s; NaN if dl never stays below 1 cm),
     ``t_final`` (s), ``peak_wheel_speed`` (rad/s), ``path_length`` (m), ``energy`` (J) as
     float64; ``converged`` and ``diverged`` as bool. Attributes: ``law`` (the controller's
-    kind), ``arrival_radius`` (m, the 1 cm threshold of ``converged``).
+    kind), ``arrival_radius`` (m, the 1 cm threshold of ``converged``); every entry reads
+    as an attribute too (``res.converged``, ``res["converged"]``).
     """
 
     law: str
@@ -93,7 +118,7 @@ class BatchResult(dict):
         return f"<BatchResult: {len(self)} starts, law {self.law}: {_shares(self)}>"
 
 
-class SweepResult(dict):
+class SweepResult(_Entries):
     """The outcome of ``sweep``: a dict of 1-D arrays, one entry per run, in law then
     variant, trial and start order: ``law`` (list of names), ``start`` (int64), ``x0``,
     ``y0`` (m), ``theta0`` (rad), the outcome arrays of ``run_batch``, one array per
@@ -102,7 +127,9 @@ class SweepResult(dict):
 
     Attributes: ``laws`` (names, in order), ``varied`` ({key: "values", "uniform" or
     "normal"}), ``trials``, ``scenario_toml`` (the resolved scenario), ``seed`` (of the
-    draws), ``starts_seed`` (of random starts, or None), ``goal``, ``version`` (wmr's).
+    draws), ``starts_seed`` (of random starts, or None), ``goal``, ``version`` (wmr's);
+    every entry reads as an attribute too (``res.table``, ``res["table"]``; ``res.law`` is
+    the entry, one name per run, ``res.laws`` the names in order).
     """
 
     laws: list
@@ -231,13 +258,36 @@ class Bar:
         if self.tqdm is None:
             return
         if n < 0:
-            self.bar = self.tqdm(total=-n, desc=self.desc, unit=self.unit)
+            kwargs: dict = {}
+            # tqdm.auto gives a widget in a notebook (with ipywidgets). Writing text to a
+            # stream that is not a terminal (a log, a notebook run headless by nbclient),
+            # where every refresh would become a line of its own, the bar is drawn once
+            # at the start and once at the end.
+            if not _is_widget(self.tqdm) and not _isatty(sys.stderr):
+                kwargs["mininterval"] = float("inf")
+            self.bar = self.tqdm(total=-n, desc=self.desc, unit=self.unit, **kwargs)
         elif self.bar is not None:
             self.bar.update(n - self.bar.n)
 
     def close(self) -> None:
         if self.bar is not None:
             self.bar.close()
+
+
+def _is_widget(tqdm_class: Any) -> bool:
+    """Whether tqdm.auto picked the notebook widget (in a kernel with ipywidgets)."""
+    try:
+        from tqdm.notebook import tqdm as notebook_tqdm  # type: ignore
+    except ImportError:
+        return False
+    return isinstance(tqdm_class, type) and issubclass(tqdm_class, notebook_tqdm)
+
+
+def _isatty(stream: Any) -> bool:
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError):
+        return False
 
 
 def progress_bar(progress: bool, desc: str, unit: str) -> Optional[Bar]:
@@ -300,5 +350,36 @@ def sweep_task(text: str, first: int, last: int, fast: bool = False) -> np.ndarr
 
 
 def batch_task(base: dict, starts: np.ndarray, goals: Optional[np.ndarray], first: int, fast: bool = False) -> dict:
-    """Runs a part of a batch (starts[first:...] of the whole) on one thread."""
-    return _native._run_batch(base, starts, goals, first, 1, None, fast)
+    """Runs a part of a batch (starts[first:...] of the whole) on one thread; the result
+    says which part it is (``_first``, ``_starts``), for ``gather_batch`` to check."""
+    out = dict(_native._run_batch(base, starts, goals, first, 1, None, fast))
+    out["_first"] = first
+    out["_starts"] = np.asarray(starts)
+    return out
+
+
+def gather_batch(outs: Sequence[Any], parts: Sequence[tuple], starts: np.ndarray) -> dict:
+    """The whole batch from the parts an executor returned, each checked to be the part
+    asked for (its first index and its starts, bit for bit) with every outcome array of
+    its length: a swapped, short or foreign result raises ParameterError naming the
+    part, as the sweep does, instead of being accepted."""
+
+    def bad(k: int, why: str) -> Exception:
+        err = _native.ParameterError(f"executor: part {k} (starts[{parts[k][0]}:{parts[k][1]}]) {why}")
+        err.key = "executor"
+        err.line = None
+        return err
+
+    if len(outs) != len(parts):
+        raise bad(len(outs) - 1 if len(outs) > len(parts) else len(outs), f"missing: {len(outs)} results for {len(parts)} parts")
+    for k, (o, (a, b)) in enumerate(zip(outs, parts)):
+        if not isinstance(o, Mapping):
+            raise bad(k, f"returned {type(o).__name__}, not the dict of a batch part")
+        if o.get("_first") != a or not np.array_equal(np.asarray(o.get("_starts")), starts[a:b]):
+            raise bad(k, "returned the result of another part (swapped or foreign)")
+        for f in OUTCOME_FIELDS:
+            col = o.get(f)
+            if col is None or np.ndim(col) != 1 or len(col) != b - a:
+                got = "missing" if col is None else f"of shape {np.shape(col)}"
+                raise bad(k, f"returned {f} {got}, expected {b - a} values")
+    return {f: np.concatenate([o[f] for o in outs]) for f in OUTCOME_FIELDS}

@@ -261,9 +261,23 @@ pub fn run_result_from_state(state: &Bound<'_, PyDict>) -> PyResult<PyRunResult>
         .find(|n| *n == status)
         .ok_or_else(|| parameter_error("state.status", format_args!("unknown status {status:?}")))?;
     let mut cols: Vec<Py<PyArray1<f64>>> = Vec::with_capacity(RESULT_COLUMNS.len());
+    // Every column one sample per row, all of one length: a result with a short column
+    // would index past its end (issue 25, item 13).
+    let mut rows: Option<(usize, &str)> = None;
     for name in RESULT_COLUMNS {
         let a = get(name)?;
         let a = a.cast_into::<PyArray1<f64>>().map_err(|_| parameter_error(name, "expected a float64 array"))?;
+        let len = a.len();
+        match rows {
+            None => rows = Some((len, name)),
+            Some((n, first)) if n != len => {
+                return Err(parameter_error(
+                    &format!("state.{name}"),
+                    format_args!("has {len} samples, {first} has {n}: every column has one value per sample"),
+                ));
+            }
+            Some(_) => {}
+        }
         cols.push(a.unbind());
     }
     Ok(PyRunResult {

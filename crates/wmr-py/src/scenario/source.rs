@@ -117,15 +117,24 @@ impl Source {
     /// Parses and checks the scenario (no Python involved: may run without the GIL), with
     /// the warnings about its text (a heading of 90 rad).
     pub(super) fn parse(&self) -> Result<(Scenario, Vec<ScenarioError>), ScenarioError> {
-        let (text, name) = match self {
-            Source::Path(p) => (wmr_scenario::read_text(p)?, wmr_scenario::default_name(p)),
-            Source::Text(t) | Source::Dict(t) => (t.clone(), "scenario".to_owned()),
+        let (text, name, dir) = match self {
+            Source::Path(p) => {
+                let dir = p.parent().unwrap_or(std::path::Path::new("")).to_path_buf();
+                (wmr_scenario::read_text(p)?, wmr_scenario::default_name(p), dir)
+            }
+            Source::Text(t) | Source::Dict(t) => (t.clone(), "scenario".to_owned(), PathBuf::new()),
         };
-        let parsed = Scenario::from_toml_str(&text, &name);
+        // A `[robot] from = "robots/NAME.toml"` is relative to the scenario file's folder
+        // (to the current folder for text and dicts).
+        let parsed = Scenario::from_toml_str_in(&text, &name, &dir);
         let (sc, warnings) = match self {
             Source::Dict(_) => (
                 parsed.map_err(|e| e.at_line(None))?,
-                wmr_scenario::warnings(&text).into_iter().map(|w| w.at_line(None)).collect(),
+                // Written by Python code (a dict, a pose tuple): the hint in Python's words.
+                wmr_scenario::warnings_for(&text, wmr_scenario::Writer::Python)
+                    .into_iter()
+                    .map(|w| w.at_line(None))
+                    .collect(),
             ),
             _ => (parsed?, wmr_scenario::warnings(&text)),
         };

@@ -1,0 +1,393 @@
+//! Docs as tests (issue 27): every shell command shown in README.md, docs/*.md and every
+//! README.md under examples/, benches/, firmware/ and crates/ runs here, in a fresh copy
+//! of the repository's tracked files (a temporary folder: no `out/`, no build output),
+//! and what the doc says it prints is compared.
+//!
+//! What counts as a command, found anew in every run (a section someone adds tomorrow is
+//! picked up without touching this file):
+//! - each line of a fenced block tagged `sh` (a trailing ` # comment` is prose, a line
+//!   ending in `\` continues on the next); it must exit 0;
+//! - each `$ ` line of a fenced block tagged `console`; the lines under it, up to the next
+//!   `$ ` line, are what it prints (stdout, then stderr) and are compared: a line `...`
+//!   stands for any number of lines, `[..]` within a line for any text; a first line
+//!   `? N` is the exit code it must end with (0 otherwise);
+//! - each inline code span that is a whole `wmr-cli` command: it starts with `wmr-cli `,
+//!   names a `.toml` file of the repository and no placeholder (`FILE`, `OUT`, `DIR`...).
+//!   Inline `wmr-cli sweep` spans are long (below); other inline spans run in every test.
+//!
+//! A block that needs a long run or hardware says so, visibly in the Markdown source, with
+//! a comment on the line before its fence: `<!-- docs-test: long -->` (minutes of CPU,
+//! or a build from scratch), `<!-- docs-test: hardware -->` (tools beyond the test command's,
+//! e.g. qemu-system-arm). Those run under `WMR_LONG_TESTS=1` only; without it the test
+//! records the skip (`skip::missing("long", ...)`), never passes them silently.
+//!
+//! Commands of one document run in order in one copy and share it (a `cd firmware` holds
+//! for the block's next commands; files written by one are there for the next). `wmr-cli`
+//! is this build's binary, first on `PATH`; `target` in the copy is this workspace's
+//! target folder, so a documented `cargo build` reuses what is built.
+//!
+//! Run: `cargo test -p wmr-cli --test docs_commands` (`-- --nocapture` lists every command
+//! with its time); all, long ones too: `WMR_LONG_TESTS=1 cargo test -p wmr-cli --test
+//! docs_commands -- --nocapture`.
+
+mod skip;
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Instant;
+
+/// What a documented command must do.
+#[derive(Debug)]
+struct DocCommand {
+    /// `FILE:LINE` of the command in its document.
+    at: String,
+    /// The command as a shell would read it (continuations joined, comment dropped).
+    text: String,
+    /// Needs `WMR_LONG_TESTS=1`: marked long or hardware in the doc, or an inline sweep.
+    long: bool,
+    /// Lines the doc says it prints (console blocks); `None`: not compared.
+    expected: Option<Vec<String>>,
+    /// Exit code the doc says it ends with.
+    code: i32,
+    /// The line of the block's fence (of the span, inline): a `cd` lasts for its block.
+    block: usize,
+}
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().unwrap()
+}
+
+/// The documents: README.md, docs/*.md, and every README.md under examples/, benches/,
+/// firmware/ and crates/ (tracked by git, so node_modules and build output are not read).
+fn documents(root: &Path) -> Vec<PathBuf> {
+    let out = Command::new("git").arg("-C").arg(root).args(["ls-files", "-z", "*.md"]).output().expect("run git");
+    assert!(out.status.success(), "git ls-files: {}", String::from_utf8_lossy(&out.stderr));
+    let mut docs: Vec<PathBuf> = String::from_utf8(out.stdout)
+        .unwrap()
+        .split('\0')
+        .filter(|p| !p.is_empty())
+        .filter(|p| {
+            *p == "README.md"
+                || (p.starts_with("docs/") && !p["docs/".len()..].contains('/'))
+                || (["examples/", "benches/", "firmware/", "crates/"].iter().any(|d| p.starts_with(d))
+                    && p.ends_with("/README.md"))
+        })
+        .map(PathBuf::from)
+        .collect();
+    docs.sort();
+    docs
+}
+
+/// `line` without a trailing ` # comment` (a `#` outside quotes after whitespace).
+fn strip_comment(line: &str) -> &str {
+    let (mut single, mut double) = (false, false);
+    let bytes = line.as_bytes();
+    for (i, &b) in bytes.iter().enumerate() {
+        match b {
+            b'\'' if !double => single = !single,
+            b'"' if !single => double = !double,
+            b'#' if !single && !double && (i == 0 || bytes[i - 1].is_ascii_whitespace()) => return &line[..i],
+            _ => {}
+        }
+    }
+    line
+}
+
+/// Placeholders the docs write for "your file": a span naming one is not a whole command.
+const PLACEHOLDERS: [&str; 7] = ["FILE", "OUT", "DIR", "LAYOUT", "ADDR", "STEM", "..."];
+
+/// The inline `wmr-cli` commands of `text` outside fenced blocks, with their line.
+fn inline_commands(doc: &str, text: &str, root: &Path, out: &mut Vec<DocCommand>) {
+    // Spans may wrap over a line break: walk the text, not the lines.
+    let mut line = 1;
+    let mut in_fence = false;
+    let mut rest = text;
+    while let Some(i) = rest.find(['`', '\n']) {
+        let (c, after) = (rest.as_bytes()[i], &rest[i + 1..]);
+        if c == b'\n' {
+            line += 1;
+            if after.trim_start().starts_with("```") {
+                in_fence = !in_fence;
+            }
+            rest = after;
+            continue;
+        }
+        if let Some(tail) = after.strip_prefix("``") {
+            rest = tail; // a fence's backticks, not a span
+            continue;
+        }
+        let Some(end) = after.find('`') else { break };
+        let span = &after[..end];
+        let start_line = line;
+        line += span.matches('\n').count();
+        rest = &after[end + 1..];
+        if in_fence {
+            continue;
+        }
+        let span = span.split_whitespace().collect::<Vec<_>>().join(" ");
+        let words: Vec<&str> = span.split(' ').collect();
+        let whole = words.first() == Some(&"wmr-cli")
+            && words.iter().any(|w| w.ends_with(".toml") && root.join(w).is_file())
+            && !words.iter().any(|w| PLACEHOLDERS.iter().any(|p| w.contains(p)) || w.contains('|'));
+        if whole {
+            out.push(DocCommand {
+                at: format!("{doc}:{start_line}"),
+                long: words.get(1) == Some(&"sweep"),
+                text: span,
+                expected: None,
+                code: 0,
+                block: start_line,
+            });
+        }
+    }
+}
+
+/// Every command of document `doc` (path relative to `root`).
+fn commands(doc: &str, text: &str, root: &Path) -> Vec<DocCommand> {
+    let mut out = Vec::new();
+    let lines: Vec<&str> = text.lines().collect();
+    let mut i = 0;
+    let mut marked = false;
+    while i < lines.len() {
+        let l = lines[i].trim();
+        if l.starts_with("<!-- docs-test:") {
+            let what = l.trim_start_matches("<!-- docs-test:").trim_end_matches("-->");
+            assert!(
+                what.split(',').all(|w| matches!(w.trim(), "long" | "hardware")),
+                "{doc}:{}: unknown docs-test marker {l:?} (long, hardware)",
+                i + 1
+            );
+            marked = true;
+            i += 1;
+            continue;
+        }
+        let Some(tag) = l.strip_prefix("```") else {
+            if !l.is_empty() {
+                marked = false;
+            }
+            i += 1;
+            continue;
+        };
+        let tag = tag.trim().to_string();
+        let fence = i;
+        i += 1;
+        let mut body = Vec::new();
+        while i < lines.len() && !lines[i].trim().starts_with("```") {
+            body.push((i + 1, lines[i]));
+            i += 1;
+        }
+        i += 1; // the closing fence
+        let long = std::mem::take(&mut marked);
+        match tag.as_str() {
+            "sh" | "bash" | "shell" => {
+                let mut pending: Option<(usize, String)> = None;
+                for (n, raw) in body {
+                    let l = strip_comment(raw).trim_end();
+                    let (start, mut text) = pending.take().unwrap_or((n, String::new()));
+                    if let Some(head) = l.strip_suffix('\\') {
+                        text.push_str(head);
+                        pending = Some((start, text));
+                        continue;
+                    }
+                    text.push_str(l);
+                    let text = text.trim().to_string();
+                    if !text.is_empty() {
+                        out.push(DocCommand {
+                            at: format!("{doc}:{start}"),
+                            text,
+                            long,
+                            expected: None,
+                            code: 0,
+                            block: fence,
+                        });
+                    }
+                }
+                assert!(pending.is_none(), "{doc}:{}: the block ends in a continued line", fence + 1);
+            }
+            "console" => {
+                for (n, raw) in body {
+                    if let Some(cmd) = raw.strip_prefix("$ ") {
+                        out.push(DocCommand {
+                            at: format!("{doc}:{n}"),
+                            text: strip_comment(cmd).trim().to_string(),
+                            long,
+                            expected: Some(Vec::new()),
+                            code: 0,
+                            block: fence,
+                        });
+                    } else {
+                        let last = out.last_mut().filter(|c| c.expected.is_some());
+                        let last = last.unwrap_or_else(|| panic!("{doc}:{n}: a console block opens with `$ `"));
+                        let lines = last.expected.as_mut().unwrap();
+                        match raw.strip_prefix("? ") {
+                            Some(code) if lines.is_empty() => {
+                                last.code = code.trim().parse().unwrap_or_else(|_| panic!("{doc}:{n}: `? N`"))
+                            }
+                            _ => lines.push(raw.to_string()),
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    inline_commands(doc, text, root, &mut out);
+    out
+}
+
+/// Whether `actual` matches the `pattern` line (`[..]`: any text).
+fn line_matches(pattern: &str, actual: &str) -> bool {
+    let mut parts = pattern.split("[..]");
+    let first = parts.next().unwrap();
+    let Some(mut rest) = actual.strip_prefix(first) else { return false };
+    let parts: Vec<&str> = parts.collect();
+    for (k, part) in parts.iter().enumerate() {
+        if k + 1 == parts.len() {
+            return rest.ends_with(part);
+        }
+        match rest.find(part) {
+            Some(p) => rest = &rest[p + part.len()..],
+            None => return false,
+        }
+    }
+    rest.is_empty()
+}
+
+/// Whether `actual` matches the `expected` lines (`...`: any number of lines).
+fn lines_match(expected: &[String], actual: &[&str]) -> bool {
+    match expected.split_first() {
+        None => actual.is_empty(),
+        Some((e, rest)) if e.trim() == "..." => (0..=actual.len()).any(|k| lines_match(rest, &actual[k..])),
+        Some((e, rest)) => actual
+            .split_first()
+            .is_some_and(|(a, tail)| line_matches(e.trim_end(), a.trim_end()) && lines_match(rest, tail)),
+    }
+}
+
+/// A fresh copy of the tracked files of `root` (as they are in the working tree) in a
+/// temporary folder, with `target` linked to the workspace's target folder.
+fn fresh_copy(root: &Path) -> tempfile::TempDir {
+    let dir = tempfile::Builder::new().prefix("wmr-docs-").tempdir().unwrap();
+    let out = Command::new("git").arg("-C").arg(root).args(["ls-files", "-z"]).output().unwrap();
+    for rel in String::from_utf8(out.stdout).unwrap().split('\0').filter(|p| !p.is_empty()) {
+        let (from, to) = (root.join(rel), dir.path().join(rel));
+        if !from.is_file() {
+            continue; // deleted in the working tree
+        }
+        fs::create_dir_all(to.parent().unwrap()).unwrap();
+        fs::copy(&from, &to).unwrap();
+    }
+    let target = std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
+    std::os::unix::fs::symlink(target, dir.path().join("target")).unwrap();
+    dir
+}
+
+/// Runs `cmd` with bash in `cwd`, `bin` first on PATH; returns (exit code, stdout then
+/// stderr, the folder the command ended in).
+fn run(cmd: &str, cwd: &Path, bin: &Path, state: &Path, timeout_s: u32) -> (i32, String, PathBuf) {
+    let script = format!("set -o pipefail\n{cmd}\nrc=$?\npwd > '{}'\nexit $rc", state.display());
+    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
+    let out = Command::new("timeout")
+        .args([format!("{timeout_s}"), "bash".into(), "-c".into(), script])
+        .current_dir(cwd)
+        .env("PATH", path)
+        // A documented `./scripts/test` runs this harness again: the normal set only.
+        .env_remove("WMR_LONG_TESTS")
+        .output()
+        .expect("spawn bash");
+    let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    let end = fs::read_to_string(state).map_or_else(|_| cwd.to_path_buf(), |s| PathBuf::from(s.trim()));
+    (out.status.code().unwrap_or(-1), text, end)
+}
+
+/// The failure of `c`, or None when it did what its doc says.
+fn check(c: &DocCommand, code: i32, output: &str) -> Option<String> {
+    let lines: Vec<&str> = output.lines().collect();
+    let printed = || {
+        let tail = &lines[lines.len().saturating_sub(40)..];
+        format!("it printed (last {} lines):\n{}", tail.len(), tail.join("\n"))
+    };
+    if code == 124 {
+        return Some(format!("{}: `{}` timed out; {}", c.at, c.text, printed()));
+    }
+    if code != c.code {
+        return Some(format!("{}: `{}` exited with {code}, the doc says {}; {}", c.at, c.text, c.code, printed()));
+    }
+    let expected = c.expected.as_ref()?;
+    (!lines_match(expected, &lines)).then(|| {
+        format!(
+            "{}: `{}` printed something else than the doc says.\nthe doc:\n{}\n{}",
+            c.at,
+            c.text,
+            expected.join("\n"),
+            printed()
+        )
+    })
+}
+
+#[test]
+fn every_documented_command_does_what_its_doc_says() {
+    let root = repo();
+    let long = std::env::var_os("WMR_LONG_TESTS").is_some_and(|v| v == "1");
+    let bin = tempfile::tempdir().unwrap();
+    std::os::unix::fs::symlink(env!("CARGO_BIN_EXE_wmr-cli"), bin.path().join("wmr-cli")).unwrap();
+    let (mut ran, mut skipped, mut failures) = (0, Vec::new(), Vec::new());
+    for doc in documents(&root) {
+        let name = doc.to_string_lossy().into_owned();
+        let text = fs::read_to_string(root.join(&doc)).unwrap();
+        let cmds = commands(&name, &text, &root);
+        if cmds.is_empty() {
+            continue;
+        }
+        let copy = fresh_copy(&root);
+        let state = copy.path().join(".docs-test-pwd");
+        // `cd` lasts for the rest of its block: the folder is reset when the block changes.
+        let mut cwd = copy.path().to_path_buf();
+        let mut block = usize::MAX;
+        for c in &cmds {
+            if !c.long || long {
+                if c.block != block {
+                    (block, cwd) = (c.block, copy.path().to_path_buf());
+                }
+                let start = Instant::now();
+                let _ = fs::remove_file(&state);
+                let (code, output, end) = run(&c.text, &cwd, bin.path(), &state, if c.long { 3600 } else { 300 });
+                eprintln!("{:>7.2} s  {}  {}", start.elapsed().as_secs_f64(), c.at, c.text);
+                ran += 1;
+                if let Some(f) = check(c, code, &output) {
+                    failures.push(f);
+                }
+                cwd = end;
+            } else {
+                skipped.push(format!("{} `{}`", c.at, c.text));
+            }
+        }
+    }
+    eprintln!("docs_commands: ran {ran} documented command(s), {} long or hardware ones not run", skipped.len());
+    if !skipped.is_empty() {
+        skip::missing(
+            "long",
+            &format!(
+                "{} documented command(s) marked long or hardware not run (WMR_LONG_TESTS=1 runs them): {}",
+                skipped.len(),
+                skipped.join("; ")
+            ),
+        );
+    }
+    assert!(failures.is_empty(), "{} documented command(s) fail:\n\n{}", failures.len(), failures.join("\n\n"));
+}
+
+/// The matcher itself: wildcards match what they say and nothing more.
+#[test]
+fn output_patterns_match_what_they_say() {
+    let e = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+    assert!(lines_match(&e(&["a [..] c"]), &["a b c"]));
+    assert!(!lines_match(&e(&["a [..] c"]), &["a b d"]));
+    assert!(lines_match(&e(&["a", "...", "z"]), &["a", "b", "c", "z"]));
+    assert!(lines_match(&e(&["a", "...", "z"]), &["a", "z"]));
+    assert!(!lines_match(&e(&["a", "z"]), &["a", "b", "z"]));
+    assert!(!lines_match(&e(&["a"]), &["a", "b"]));
+    assert_eq!(strip_comment("wmr-cli run f.toml -o x.csv   # CSV: run,t"), "wmr-cli run f.toml -o x.csv   ");
+    assert_eq!(strip_comment("echo '# not a comment'"), "echo '# not a comment'");
+}

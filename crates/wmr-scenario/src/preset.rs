@@ -1,0 +1,123 @@
+//! Robot presets: `[robot] from = "robots/NAME.toml"` (a path relative to the scenario
+//! file) or `from = "NAME"` (a preset built in from the repository's `robots/` folder)
+//! brings a robot and its drive; keys written beside `from`, and in `[drive]`, override
+//! it. [`Origins`] remembers where each given value came from, for `wmr-cli check`.
+
+use std::path::Path;
+
+use toml::{Table, Value};
+use wmr_core::RobotParams;
+
+use crate::error::ScenarioError;
+use crate::keys::{fields_of, unknown_key};
+
+/// The built-in presets: name and the text of `robots/NAME.toml` (each file cites the
+/// source of every number).
+pub const BUILT_IN: [(&str, &str); 3] = [
+    ("paper", include_str!("../../../robots/paper.toml")),
+    ("turtlebot3_burger", include_str!("../../../robots/turtlebot3_burger.toml")),
+    ("turtlebot3_waffle", include_str!("../../../robots/turtlebot3_waffle.toml")),
+];
+
+/// Where the given values of `[robot]` and `[drive]` came from: `(key, origin)`, origin
+/// being `scenario` or the preset as written after `from`. A key not listed has its
+/// default.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Origins {
+    /// `[robot]` keys.
+    pub robot: Vec<(String, String)>,
+    /// `[drive]` keys.
+    pub drive: Vec<(String, String)>,
+}
+
+impl Origins {
+    /// The origin of `key` of `table` (`robot` or `drive`): `default` when not given.
+    pub fn of(&self, table: &str, key: &str) -> &str {
+        let list = if table == "robot" { &self.robot } else { &self.drive };
+        list.iter().find(|(k, _)| k == key).map_or("default", |(_, o)| o.as_str())
+    }
+}
+
+fn from_error(reason: impl Into<String>) -> ScenarioError {
+    ScenarioError::new("robot.from", reason)
+}
+
+/// The text of preset `from`: a built-in name, or a file relative to `dir`.
+fn preset_text(from: &str, dir: &Path) -> Result<String, ScenarioError> {
+    if let Some((_, text)) = BUILT_IN.iter().find(|(name, _)| *name == from) {
+        return Ok((*text).to_owned());
+    }
+    let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
+    if !from.ends_with(".toml") {
+        return Err(from_error(format!(
+            "no built-in robot \"{from}\"; the built-in ones are {}, or give a file (robots/NAME.toml, relative to the scenario)",
+            names.join(", ")
+        )));
+    }
+    crate::read::read_text(&dir.join(from)).map_err(|e| from_error(format!("{e}")))
+}
+
+/// Replaces `[robot] from = ...` in `robot` and `drive` by the preset's keys under those
+/// written beside it; returns where every given value came from. `dir`: the scenario's
+/// folder (relative preset paths start there).
+pub fn expand(robot: &mut Option<Table>, drive: &mut Option<Table>, dir: &Path) -> Result<Origins, ScenarioError> {
+    let given = |t: &Option<Table>| -> Vec<(String, String)> {
+        t.iter().flat_map(|t| t.keys()).filter(|k| *k != "from").map(|k| (k.clone(), "scenario".to_owned())).collect()
+    };
+    let mut origins = Origins { robot: given(robot), drive: given(drive) };
+    let Some(from) = robot.as_mut().and_then(|t| t.remove("from")) else { return Ok(origins) };
+    let Value::String(from) = from else {
+        return Err(from_error(format!(
+            "expected a string (a preset name or a robots/NAME.toml path), got {}",
+            from.type_str()
+        )));
+    };
+    let text = preset_text(&from, dir)?;
+    let mut preset: Table =
+        toml::from_str(&text).map_err(|e| from_error(format!("{from}: bad TOML: {}", e.message().trim())))?;
+    for key in preset.keys() {
+        if key != "robot" && key != "drive" {
+            return Err(from_error(format!("{from}: a preset holds [robot] and [drive] only, not {key}")));
+        }
+    }
+    let mut table = |name: &str| -> Result<Table, ScenarioError> {
+        match preset.remove(name) {
+            None => Ok(Table::new()),
+            Some(Value::Table(t)) => Ok(t),
+            Some(v) => Err(from_error(format!("{from}: {name} must be a table, got {}", v.type_str()))),
+        }
+    };
+    let (p_robot, p_drive) = (table("robot")?, table("drive")?);
+    let fields = fields_of::<RobotParams<f64>>();
+    if let Some(k) = p_robot.keys().find(|k| !fields.contains(&k.as_str())) {
+        let e = unknown_key("robot", k, fields.iter().copied());
+        return Err(from_error(format!("{from}: {}: {}", e.key, e.message)));
+    }
+    let label = from.clone();
+    // The robot: the preset's keys, then those of the scenario over them.
+    let mut merged = p_robot.clone();
+    merged.extend(robot.take().unwrap_or_default());
+    for k in p_robot.keys() {
+        if !origins.robot.iter().any(|(g, _)| g == k) {
+            origins.robot.push((k.clone(), label.clone()));
+        }
+    }
+    *robot = Some(merged);
+    // The drive comes with the robot, unless the scenario picks another kind.
+    let own = drive.take().unwrap_or_default();
+    let kind = |t: &Table| t.get("kind").and_then(Value::as_str).unwrap_or("torque").to_owned();
+    let same_kind = !own.contains_key("kind") || kind(&own) == kind(&p_drive);
+    if same_kind && !p_drive.is_empty() {
+        let mut merged = p_drive.clone();
+        merged.extend(own);
+        for k in p_drive.keys() {
+            if !origins.drive.iter().any(|(g, _)| g == k) {
+                origins.drive.push((k.clone(), label.clone()));
+            }
+        }
+        *drive = Some(merged);
+    } else {
+        *drive = Some(own);
+    }
+    Ok(origins)
+}

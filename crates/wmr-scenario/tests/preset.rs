@@ -1,0 +1,130 @@
+//! Robots in files (issue 27): `[robot] from = "robots/NAME.toml"` or a built-in preset
+//! name brings a robot and its drive; keys beside it override; `check` (the resolved
+//! TOML) says where each value came from; a mistyped key gets a "did you mean".
+
+use std::path::{Path, PathBuf};
+
+use wmr_core::Drive;
+use wmr_scenario::Scenario;
+
+const RUN: &str = "[sim]\nt_end = 1.0\n[[run]]\ngoal = { x = 1.0, y = 1.0 }\n";
+
+fn robots() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../robots")
+}
+
+/// Each preset file's `[robot]` and `[drive]` values, read with a TOML parser of its own.
+fn preset_values(name: &str) -> toml::Table {
+    let text = std::fs::read_to_string(robots().join(format!("{name}.toml"))).unwrap();
+    text.parse::<toml::Table>().unwrap()
+}
+
+#[test]
+fn a_preset_file_gives_its_robot_and_drive_and_keys_beside_from_override_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "[robot]\nfrom = \"robots/turtlebot3_burger.toml\"\nmass = 1.2\n".to_owned() + RUN;
+    std::fs::create_dir(dir.path().join("robots")).unwrap();
+    std::fs::copy(robots().join("turtlebot3_burger.toml"), dir.path().join("robots/turtlebot3_burger.toml")).unwrap();
+    let file = dir.path().join("tb.toml");
+    std::fs::write(&file, &text).unwrap();
+    let s = Scenario::from_path(&file).unwrap();
+    let want = preset_values("turtlebot3_burger");
+    let r = s.robot().params();
+    assert_eq!(r.mass, 1.2, "the key beside from wins");
+    assert_eq!(r.wheel_radius, want["robot"]["wheel_radius"].as_float().unwrap());
+    assert_eq!(r.half_track, want["robot"]["half_track"].as_float().unwrap());
+    assert_eq!(r.gear_ratio, want["robot"]["gear_ratio"].as_float().unwrap());
+    match s.drive() {
+        Drive::DcMotor(m) => {
+            assert_eq!(m.params().voltage_max, want["drive"]["voltage_max"].as_float().unwrap());
+            assert_eq!(m.params().armature_resistance, want["drive"]["armature_resistance"].as_float().unwrap());
+        }
+        other => panic!("the Burger's drive is a DC motor, got {other:?}"),
+    }
+    // Provenance, as `check` prints it.
+    let toml = s.to_toml();
+    let line = |key: &str| toml.lines().find(|l| l.starts_with(&format!("{key} = "))).unwrap().to_owned();
+    assert!(line("mass").ends_with("# scenario"), "{}", line("mass"));
+    assert!(line("wheel_radius").ends_with("# robots/turtlebot3_burger.toml"), "{}", line("wheel_radius"));
+    assert!(line("voltage_max").ends_with("# robots/turtlebot3_burger.toml"), "{}", line("voltage_max"));
+    assert!(line("coulomb_speed").ends_with("# default"), "{}", line("coulomb_speed"));
+    // What check prints reads back to the same scenario.
+    assert_eq!(Scenario::from_toml_str(&toml, "tb").unwrap().robot(), s.robot());
+}
+
+#[test]
+fn built_in_names_are_the_files_of_robots() {
+    for name in ["paper", "turtlebot3_burger", "turtlebot3_waffle"] {
+        let by_name = Scenario::from_toml_str(&format!("[robot]\nfrom = \"{name}\"\n{RUN}"), "s").unwrap();
+        let path = robots().join(format!("{name}.toml"));
+        let text = format!("[robot]\nfrom = \"{}\"\n{RUN}", path.display());
+        let by_file = Scenario::from_toml_str(&text, "s").unwrap();
+        assert_eq!(by_name.robot(), by_file.robot(), "{name}");
+        assert_eq!(by_name.drive(), by_file.drive(), "{name}");
+        let want = preset_values(name);
+        assert_eq!(by_name.robot().params().mass, want["robot"]["mass"].as_float().unwrap(), "{name}");
+    }
+    // The paper's preset is wmr's default robot and drive.
+    let paper = Scenario::from_toml_str(&format!("[robot]\nfrom = \"paper\"\n{RUN}"), "s").unwrap();
+    let plain = Scenario::from_toml_str(RUN, "s").unwrap();
+    assert_eq!(paper.robot(), plain.robot());
+    assert_eq!(paper.drive(), plain.drive());
+}
+
+#[test]
+fn a_drive_of_another_kind_replaces_the_presets_drive() {
+    let text = format!("[robot]\nfrom = \"turtlebot3_waffle\"\n[drive]\nkind = \"torque\"\n{RUN}");
+    let s = Scenario::from_toml_str(&text, "s").unwrap();
+    assert!(matches!(s.drive(), Drive::Torque(_)), "{:?}", s.drive());
+    // Of the same kind, a drive key overrides the preset's.
+    let text = format!("[robot]\nfrom = \"turtlebot3_waffle\"\n[drive]\nvoltage_max = 12.0\n{RUN}");
+    let s = Scenario::from_toml_str(&text, "s").unwrap();
+    match s.drive() {
+        Drive::DcMotor(m) => assert_eq!(m.params().voltage_max, 12.0),
+        other => panic!("{other:?}"),
+    }
+    assert!(s.to_toml().lines().any(|l| l.starts_with("voltage_max = 12.0") && l.ends_with("# scenario")));
+}
+
+#[test]
+fn a_bad_from_is_named_with_its_line_and_reason() {
+    let err = |text: &str| Scenario::from_toml_str(text, "s").unwrap_err();
+    let e = err(&format!("name = \"x\"\n[robot]\nfrom = \"turtlebot4\"\n{RUN}"));
+    assert_eq!(e.key, "robot.from");
+    assert_eq!(e.line, Some(3));
+    assert!(e.message.contains("turtlebot3_burger"), "{}", e.message);
+    let e = err(&format!("[robot]\nfrom = \"no/such.toml\"\n{RUN}"));
+    assert_eq!(e.key, "robot.from");
+    assert!(e.message.contains("no/such.toml"), "{}", e.message);
+    let e = err(&format!("[robot]\nfrom = 3\n{RUN}"));
+    assert!(e.message.contains("expected a string"), "{}", e.message);
+    // A preset with a mistyped key names the file and the key.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("bad.toml"), "[robot]\nmas = 2.0\n").unwrap();
+    let text = format!("[robot]\nfrom = \"bad.toml\"\n{RUN}");
+    let e = Scenario::from_toml_str_in(&text, "s", dir.path()).unwrap_err();
+    assert_eq!(e.key, "robot.from");
+    assert!(e.message.contains("bad.toml: robot.mas: unknown key; did you mean mass?"), "{}", e.message);
+    // A relative path starts at the scenario's folder, not the current one.
+    std::fs::write(dir.path().join("ok.toml"), "[robot]\nmass = 2.0\n").unwrap();
+    let text = format!("[robot]\nfrom = \"ok.toml\"\n{RUN}");
+    assert_eq!(Scenario::from_toml_str_in(&text, "s", dir.path()).unwrap().robot().params().mass, 2.0);
+    assert!(Scenario::from_toml_str_in(&text, "s", Path::new("/nonexistent")).is_err());
+}
+
+/// Issue 27: `robot.mas: unknown key; did you mean mass?`.
+#[test]
+fn regression_27_a_mistyped_key_gets_a_did_you_mean() {
+    let err = |text: &str| Scenario::from_toml_str(&format!("{text}\n{RUN}"), "s").unwrap_err();
+    let e = err("[robot]\nmas = 5.0");
+    assert_eq!(e.key, "robot.mas");
+    assert!(e.message.starts_with("unknown key; did you mean mass?"), "{}", e.message);
+    let e = err("[robot]\nwheel_raduis = 0.1");
+    assert!(e.message.starts_with("unknown key; did you mean wheel_radius?"), "{}", e.message);
+    let e = err("[world]\nslope_dge = 2.0");
+    assert!(e.message.contains("did you mean slope_deg?"), "{}", e.message);
+    // Far from every key: the list, no guess.
+    let e = err("[robot]\ncolour = 1.0");
+    assert!(!e.message.contains("did you mean"), "{}", e.message);
+    assert!(e.message.contains("the keys here are com_offset, coulomb_friction"), "{}", e.message);
+}
