@@ -27,8 +27,11 @@
 //! pose sensor's two, in range by construction.
 //!
 //! Safety contract for C callers, once for all functions: every pointer argument is
-//! either NULL (refused with `WMR_NULL_POINTER`) or valid for reads (inputs) or writes
-//! (outputs) of its type, and storage is not used from two threads at once.
+//! either NULL (refused with `WMR_NULL_POINTER`), misaligned for its type (refused with
+//! `WMR_MISALIGNED`, never dereferenced) or valid for reads (inputs) or writes (outputs)
+//! of its type, and storage is not used from two threads at once. Every number passed
+//! in is checked (finite, in range) and every number passed out is finite: a call
+//! whose output would not be is refused (`WMR_NOT_FINITE`) and changes nothing.
 //!
 //! Laws: every law of the core (`paper`, `paper_bidirectional`, `polar`, `lyapunov`) has
 //! a parameter struct with defaults and `*_controller_*_init`, `_update`,
