@@ -687,3 +687,23 @@ fn regression_25_13_the_summary_says_why_runs_wrote_fewer_samples() {
     assert!(err.contains("fewer for the 1 run(s) that stopped once settled"), "{err}");
     assert!(!err.contains("diverged"), "{err}");
 }
+
+/// Issue 25 item 13: the sweep CSV wrote extreme values as 300-digit decimals; now the
+/// shortest round-trip text, in exponent form past 32 characters (the example sweeps'
+/// bytes are unchanged: /work/bits.sh).
+#[test]
+fn regression_25_13_sweep_csv_writes_extreme_values_short_and_exact() {
+    let dir = tempfile::tempdir().unwrap();
+    write(
+        dir.path(),
+        "s.toml",
+        "[sim]\nt_end = 0.1\n[sweep]\ncontrollers = [{ kind = \"paper\" }]\n\
+         grid = { x_min = 1e-300, x_max = 2e-300, nx = 2, y_min = 0.5, y_max = 0.5, ny = 1 }\n",
+    );
+    let o = run_in(dir.path(), &["sweep", "s.toml", "-o", "s.csv"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let csv = fs::read_to_string(dir.path().join("s.csv")).unwrap();
+    let x0: Vec<&str> = csv.lines().skip(1).map(|l| l.split(',').nth(2).unwrap()).collect();
+    assert_eq!(x0, ["1e-300", "2e-300"], "{csv}");
+    assert!(csv.lines().all(|l| l.split(',').all(|f| f.len() <= 32)), "{csv}");
+}

@@ -18,7 +18,7 @@ pub fn varied_columns(spec: &SweepSpec) -> Vec<String> {
 
 /// The value of every varied key in run `o`, as CSV fields.
 pub fn varied_row(spec: &SweepSpec, o: &SweepOutcome) -> Vec<String> {
-    spec.varied_values(o).into_iter().map(|v| v.to_string()).collect()
+    spec.varied_values(o).into_iter().map(crate::sweep::csv_num).collect()
 }
 
 /// One law's converged share against one varied key.

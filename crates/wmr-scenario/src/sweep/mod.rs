@@ -30,7 +30,7 @@ mod summary;
 mod write;
 
 pub use outcome::SweepOutcome;
-pub use row::{SWEEP_COLUMNS, sweep_row};
+pub use row::{SWEEP_COLUMNS, csv_num, sweep_row};
 pub use spec::SweepSpec;
 pub use starts::StartsSource;
 pub use summary::{LawSummary, Spread, summarize, summary_table};
