@@ -623,6 +623,31 @@ mod tests {
         assert!(close(Lanes::<1>([core::f64::consts::PI]).sin_cos().1.0[0], -1.0, 1e-16));
     }
 
+    /// The lanes' square root (a vector instruction on x86-64) is `libm`'s, bit for bit,
+    /// in every lane of an odd and an even width: correctly rounded both, including the
+    /// edges (signed zero, subnormal, infinity, NaN for a negative).
+    #[test]
+    fn lane_sqrt_is_libm_sqrt_bit_for_bit() {
+        let mut xs = [0.0, -0.0, 5e-324, 2.2e-308, 1e-300, 0.25, 2.0, 3.0, 1e300, f64::MAX, f64::INFINITY, -1.0];
+        let bits = |x: f64| if x.is_nan() { u64::MAX } else { x.to_bits() };
+        for k in 0..20_000_u32 {
+            // The edges first, then each slot in turn takes new values.
+            if k > 0 {
+                xs[k as usize % 12] = f64::from(k) * 0.731 + 1e-7 * f64::from(k % 13);
+            }
+            let five = Lanes::<5>([xs[0], xs[1], xs[2], xs[3], xs[4]]).sqrt();
+            let eight = Lanes::<8>(core::array::from_fn(|i| xs[i + 4])).sqrt();
+            for (i, r) in five.0.iter().enumerate() {
+                assert_eq!(bits(*r), bits(libm::sqrt(xs[i])), "sqrt({:e})", xs[i]);
+            }
+            for (i, r) in eight.0.iter().enumerate() {
+                assert_eq!(bits(*r), bits(libm::sqrt(xs[i + 4])), "sqrt({:e})", xs[i + 4]);
+            }
+        }
+        let h = Lanes::<3>([3.0, 1e-200, -0.0]).hypot(Lanes([4.0, 1e-200, 0.0]));
+        assert_eq!(h.0, [5.0, libm::sqrt(1e-200 * 1e-200 + 1e-200 * 1e-200), 0.0]);
+    }
+
     /// The scalar implementation is the plain arithmetic and `libm`: bit for bit.
     #[test]
     fn scalar_lanes_are_the_scalar_operations() {
