@@ -51,11 +51,15 @@ fn report(pose: Pose2<f32>, steps: u64) {
 #[cfg(feature = "qemu")]
 fn report(pose: Pose2<f32>, steps: u64) {
     cortex_m_semihosting::hprintln!(
-        "impl=firmware-f32 x_bits={:08x} y_bits={:08x} theta_bits={:08x} steps={}",
+        // The bits (firmware/check compares them) and, for a reader, the decimals.
+        "impl=firmware-f32 x_bits={:08x} y_bits={:08x} theta_bits={:08x} steps={} x={:.6}m y={:.6}m theta={:.6}rad",
         pose.x.to_bits(),
         pose.y.to_bits(),
         pose.theta.to_bits(),
-        steps
+        steps,
+        pose.x,
+        pose.y,
+        pose.theta
     );
     cortex_m_semihosting::debug::exit(cortex_m_semihosting::debug::EXIT_SUCCESS);
 }
