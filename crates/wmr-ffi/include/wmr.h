@@ -354,9 +354,9 @@ typedef struct {
   float rate_hz;
   // Latency: a sample taken at t reaches the controller at t + latency, s (>= 0, a whole multiple of control_dt; latency * rate_hz < 250).
   float latency;
-  // Standard deviation of the Gaussian noise on x and on y of each sample, m (>= 0).
+  // Standard deviation of the Gaussian noise on x and on y of each sample, m (>= 0, at most 1000 (the divergence box)).
   float position_noise;
-  // Standard deviation of the Gaussian noise on theta of each sample, deg (>= 0).
+  // Standard deviation of the Gaussian noise on theta of each sample, deg (>= 0, at most 3600).
   float heading_noise_deg;
   // Encoder counts per wheel revolution (0, the default: ideal encoders), counts/rev (whole number).
   uint32_t encoder_counts;
@@ -641,9 +641,9 @@ typedef struct {
   double rate_hz;
   // Latency: a sample taken at t reaches the controller at t + latency, s (>= 0, a whole multiple of control_dt; latency * rate_hz < 250).
   double latency;
-  // Standard deviation of the Gaussian noise on x and on y of each sample, m (>= 0).
+  // Standard deviation of the Gaussian noise on x and on y of each sample, m (>= 0, at most 1000 (the divergence box)).
   double position_noise;
-  // Standard deviation of the Gaussian noise on theta of each sample, deg (>= 0).
+  // Standard deviation of the Gaussian noise on theta of each sample, deg (>= 0, at most 3600).
   double heading_noise_deg;
   // Encoder counts per wheel revolution (0, the default: ideal encoders), counts/rev (whole number).
   uint32_t encoder_counts;
