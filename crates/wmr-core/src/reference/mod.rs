@@ -9,7 +9,7 @@
 //!
 //! - [`state`]: the contract ([`Reference`], [`ReferenceState`]).
 //! - [`path`]: the geometric path and its searches ([`Path`], [`PathCursor`]).
-//! - [`fixed`]: the goal at rest. [`circle`], [`figure_eight`], [`line`]: analytic
+//! - [`fixed`]: the goal at rest. [`circle`], [`figure_eight`], [`line`](mod@line): analytic
 //!   trajectories. [`waypoints`]: a C2 spline through points with a speed profile.
 //! - [`any`]: every kind behind one enum ([`AnyReference`]).
 
