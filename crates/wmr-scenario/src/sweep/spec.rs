@@ -225,11 +225,10 @@ impl SweepSpec {
     }
 
     /// Checks every run's draws (when `vary` draws values per run) as the run will make
-    /// them, in parallel; the first bad run in run order is the error, naming the `vary`
+    /// them; the first bad run in run order is the error, naming the `vary`
     /// entry whose draw is refused (or `sweep.vary` when no single entry is to blame), the
     /// run, its law, trial and start, and the drawn values.
     fn check_draws(&self, sim: &SimSpec) -> Result<(), ScenarioError> {
-        use rayon::prelude::*;
         if !self.variation.has_draws() {
             return Ok(());
         }
@@ -263,7 +262,11 @@ impl SweepSpec {
                 )
             })
         };
-        match (0..self.len()).into_par_iter().map(check).find_first(Result::is_err) {
+        // In order on the calling thread, not on rayon's pool: a sweep part run by an
+        // outside executor's forked worker (a process pool) must not touch a pool the
+        // parent process started (its threads do not survive the fork: it would wait
+        // forever). A draw costs one parameter check.
+        match (0..self.len()).map(check).find(Result::is_err) {
             Some(Err(e)) => Err(e),
             _ => Ok(()),
         }
