@@ -10,6 +10,7 @@ use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 mod skip;
+mod wait;
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_wmr-cli"))
@@ -581,19 +582,7 @@ fn regression_25_7_a_huge_values_list_is_counted_before_it_is_checked() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let t0 = Instant::now();
-    let status = loop {
-        if let Some(s) = child.try_wait().unwrap() {
-            break s;
-        }
-        if t0.elapsed() > Duration::from_secs(120) {
-            let _ = child.kill();
-            panic!("check of a million values still running after 120 s");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    let mut err = String::new();
-    child.stderr.take().unwrap().read_to_string(&mut err).unwrap();
+    let (status, err) = wait::exit_within(&mut child, Duration::from_secs(120), "check of a million values");
     assert_eq!(status.code(), Some(2), "{status:?}: {err}");
     assert!(err.contains("1000000 variants") && err.contains("more than 1000000 runs"), "{err}");
 }
