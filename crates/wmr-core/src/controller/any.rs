@@ -104,6 +104,15 @@ macro_rules! laws {
                 match self { $( AnyLaw::$variant(l) => l.reset_lanes(lanes), )+ }
             }
 
+            #[inline(always)]
+            fn wheels_saturated(&mut self, lanes: T::Mask) {
+                match self { $( AnyLaw::$variant(l) => l.wheels_saturated(lanes), )+ }
+            }
+
+            fn anti_windup(&self) -> bool {
+                match self { $( AnyLaw::$variant(l) => l.anti_windup(), )+ }
+            }
+
             fn holding(&self) -> T::Mask {
                 match self { $( AnyLaw::$variant(l) => l.holding(), )+ }
             }

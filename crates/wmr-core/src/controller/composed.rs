@@ -89,7 +89,9 @@ pub struct Controller<T: Lane, L> {
 impl<T: Lane, L: Law<T>> Controller<T, L> {
     /// Composes a law and a wheel stage; the controller runs at the wheel stage's
     /// control period (build a law that integrates, like [`super::PaperLaw`], for the same).
+    /// The wheel servos' anti-windup follows the law's ([`Law::anti_windup`]).
     pub fn new(law: L, wheels: WheelStage<T>) -> Self {
+        let wheels = wheels.with_anti_windup(law.anti_windup());
         Self { law, control_dt: wheels.control_dt(), wheels }
     }
 
@@ -99,6 +101,7 @@ impl<T: Lane, L: Law<T>> Controller<T, L> {
     #[cfg_attr(target_os = "none", inline)]
     #[cfg_attr(not(target_os = "none"), inline(always))]
     pub fn update(&mut self, t: T, m: &Measurement<T>, r: &ReferenceState<T>) -> ControlOutput<T> {
+        self.law.wheels_saturated(self.wheels.saturated());
         let out = self.law.update(t, m, r);
         ControlOutput { command: self.wheels.command(out.demand, m), errors: out.errors }
     }
@@ -114,6 +117,7 @@ impl<T: Lane, L: Law<T>> Controller<T, L> {
         r: &ReferenceState<T>,
         path: &dyn Path<T>,
     ) -> ControlOutput<T> {
+        self.law.wheels_saturated(self.wheels.saturated());
         let out = self.law.update_on_path(t, m, r, path);
         ControlOutput { command: self.wheels.command(out.demand, m), errors: out.errors }
     }
@@ -137,6 +141,12 @@ impl<T: Lane, L: Law<T>> Controller<T, L> {
     /// True when the law holds ([`Law::holding`]).
     pub fn holding(&self) -> T::Mask {
         self.law.holding()
+    }
+
+    /// What the wheel servos' integrators have yet to move each wheel, rad
+    /// ([`WheelStage::integrator_travel`]).
+    pub fn integrator_travel(&self) -> Wheels<T> {
+        self.wheels.integrator_travel()
     }
 
     /// The outer law.

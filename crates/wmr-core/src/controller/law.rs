@@ -82,6 +82,22 @@ pub trait Law<T: Lane> {
     /// that takes a new run starts it afresh).
     fn reset_lanes(&mut self, lanes: T::Mask);
 
+    /// The wheel stage saturated at the last tick in `lanes` ([`super::WheelStage::saturated`]):
+    /// called before each [`Law::update`]. A law with integrators holds them in those
+    /// lanes for the coming update when its anti-windup is on (conditional integration,
+    /// docs/model.md, "Anti-windup"); a law without integrators keeps this default.
+    #[inline(always)]
+    fn wheels_saturated(&mut self, lanes: T::Mask) {
+        let _ = lanes;
+    }
+
+    /// Whether the integrators stop winding up while the wheel stage saturates: the
+    /// law's own ([`Law::wheels_saturated`]) and the wheel servos' (`servo_ki`). On for
+    /// every law but the paper's as printed (`[controller] anti_windup`, off by default).
+    fn anti_windup(&self) -> bool {
+        true
+    }
+
     /// True when the last update was inside the law's hold: its memories no longer move
     /// and its demand stays the same while the measured pose stays in the hold. A law
     /// without a hold keeps the default, false, and its runs are never stopped early

@@ -149,7 +149,7 @@ impl<T: Lane> PaperLaw<T> {
         check::non_negative("ki_s", params.ki_s)?;
         check::non_negative("goal_radius", params.goal_radius)?;
         check::non_negative("hold_radius", params.hold_radius)?;
-        Ok(Self { params, outer: OuterLoops::new(model, control_dt)? })
+        Ok(Self { params, outer: OuterLoops::new(model, control_dt, false)? })
     }
 
     /// The parameters.
@@ -207,6 +207,15 @@ impl<T: Lane> Law<T> for PaperLaw<T> {
     fn holding(&self) -> T::Mask {
         self.outer.held
     }
+
+    #[inline(always)]
+    fn wheels_saturated(&mut self, lanes: T::Mask) {
+        self.outer.saturated = lanes;
+    }
+
+    fn anti_windup(&self) -> bool {
+        self.outer.anti_windup
+    }
 }
 
 /// The gains of the two PI loops (22), (24).
@@ -254,11 +263,20 @@ pub(crate) struct OuterLoops<T: Lane> {
     has_refs: T::Mask,
     /// The last tick was inside the hold radius ([`Law::holding`]).
     pub(crate) held: T::Mask,
+    /// Anti-windup (conditional integration): the integrators hold where the wheel stage
+    /// saturated at the last tick (`saturated`, [`Law::wheels_saturated`]).
+    pub(crate) anti_windup: bool,
+    pub(crate) saturated: T::Mask,
 }
 
 impl<T: Lane> OuterLoops<T> {
-    /// For the controller's robot model (r and R) and the control period (s, `control_dt`).
-    pub(crate) fn new(model: &RobotParams<T::Scalar>, control_dt: T::Scalar) -> Result<Self, ParamError> {
+    /// For the controller's robot model (r and R) and the control period (s,
+    /// `control_dt`), with the anti-windup on or off.
+    pub(crate) fn new(
+        model: &RobotParams<T::Scalar>,
+        control_dt: T::Scalar,
+        anti_windup: bool,
+    ) -> Result<Self, ParamError> {
         check::positive("control_dt", control_dt)?;
         let no = T::Mask::splat(false);
         Ok(Self {
@@ -272,6 +290,8 @@ impl<T: Lane> OuterLoops<T> {
             last_refs: Wheels::default(),
             has_refs: no,
             held: no,
+            anti_windup,
+            saturated: no,
         })
     }
 
@@ -317,10 +337,14 @@ impl<T: Lane> OuterLoops<T> {
             let (e_s, e_theta) = errors(dx, dy, dl, alpha);
             (T::select(in_hold, zero, e_s), T::select(in_hold, zero, e_theta))
         };
-        // Forward-Euler sums that include the current error.
+        // Forward-Euler sums that include the current error; they stop in the hold and,
+        // with the anti-windup, where the wheel stage saturated at the last tick
+        // (conditional integration: the references then move no faster than the wheels
+        // follow them, and keep the ratio of the two loops' steps, the curvature).
         let dt = T::splat(self.control_dt);
-        self.int_e_s = T::select(in_hold, self.int_e_s, self.int_e_s + e_s * dt);
-        self.int_e_theta = T::select(in_hold, self.int_e_theta, self.int_e_theta + e_theta * dt);
+        let stop = if self.anti_windup { in_hold | self.saturated } else { in_hold };
+        self.int_e_s = T::select(stop, self.int_e_s, self.int_e_s + e_s * dt);
+        self.int_e_theta = T::select(stop, self.int_e_theta, self.int_e_theta + e_theta * dt);
         let u_s = T::splat(g.kp_s) * e_s + T::splat(g.ki_s) * self.int_e_s;
         let u_theta = T::splat(g.kp_theta) * e_theta + T::splat(g.ki_theta) * self.int_e_theta;
         let turn = T::splat(self.half_track) * u_theta;
@@ -342,5 +366,6 @@ impl<T: Lane> OuterLoops<T> {
         self.has_alpha = self.has_alpha & keep;
         self.has_refs = self.has_refs & keep;
         self.held = self.held & keep;
+        self.saturated = self.saturated & keep;
     }
 }

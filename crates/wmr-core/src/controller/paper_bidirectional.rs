@@ -173,7 +173,7 @@ impl<T: Lane> PaperBidirectionalLaw<T> {
         control_dt: T::Scalar,
     ) -> Result<Self, ParamError> {
         params.validate()?;
-        Ok(Self { params, outer: OuterLoops::new(model, control_dt)? })
+        Ok(Self { params, outer: OuterLoops::new(model, control_dt, true)? })
     }
 
     /// The parameters.
@@ -223,6 +223,11 @@ impl<T: Lane> Law<T> for PaperBidirectionalLaw<T> {
 
     fn holding(&self) -> T::Mask {
         self.outer.held
+    }
+
+    #[inline(always)]
+    fn wheels_saturated(&mut self, lanes: T::Mask) {
+        self.outer.saturated = lanes;
     }
 }
 

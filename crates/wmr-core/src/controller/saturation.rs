@@ -45,9 +45,15 @@ pub fn wheel_speed_scale<L: Lane>(w: Wheels<L>, w_max: L) -> L {
 #[cfg_attr(target_os = "none", inline)]
 #[cfg_attr(not(target_os = "none"), inline(always))]
 pub fn limit_wheel_speeds<L: Lane>(w: Wheels<L>, w_max: L) -> Wheels<L> {
+    limit_wheel_speeds_masked(w, w_max).0
+}
+
+/// [`limit_wheel_speeds`] and where it scaled (the wheel stage's saturation signal).
+#[inline(always)]
+pub(crate) fn limit_wheel_speeds_masked<L: Lane>(w: Wheels<L>, w_max: L) -> (Wheels<L>, L::Mask) {
     let s = wheel_speed_scale(w, w_max);
     let scaled = s.lt(L::lit(1.0));
-    Wheels::new(L::select(scaled, w.right * s, w.right), L::select(scaled, w.left * s, w.left))
+    (Wheels::new(L::select(scaled, w.right * s, w.right), L::select(scaled, w.left * s, w.left)), scaled)
 }
 
 /// Rate limiter for a pair of wheel angle references (rad): each control tick the
@@ -68,6 +74,8 @@ pub struct WheelRateLimiter<T: Lane> {
     /// The limited references of the last tick, rad, where `started`.
     phi_lim: Wheels<T>,
     started: T::Mask,
+    /// Where the last tick held the references back from their targets.
+    pub(crate) limited: T::Mask,
 }
 
 impl<T: Lane> WheelRateLimiter<T> {
@@ -75,7 +83,8 @@ impl<T: Lane> WheelRateLimiter<T> {
     pub fn new(w_max: T::Scalar, dt: T::Scalar) -> Result<Self, ParamError> {
         check_wheel_speed_max(w_max)?;
         check::positive("control_dt", dt)?;
-        Ok(Self { w_max, dt, phi_lim: Wheels::default(), started: T::Mask::splat(false) })
+        let no = T::Mask::splat(false);
+        Ok(Self { w_max, dt, phi_lim: Wheels::default(), started: no, limited: no })
     }
 
     /// The speed limit, rad/s.
@@ -104,6 +113,7 @@ impl<T: Lane> WheelRateLimiter<T> {
         );
         self.phi_lim = next;
         self.started = T::Mask::splat(true);
+        self.limited = limited;
         next
     }
 
@@ -115,6 +125,7 @@ impl<T: Lane> WheelRateLimiter<T> {
     /// [`WheelRateLimiter::reset`] of the runs in `lanes` only.
     pub fn reset_lanes(&mut self, lanes: T::Mask) {
         self.started = self.started & !lanes;
+        self.limited = self.limited & !lanes;
     }
 }
 

@@ -2,7 +2,7 @@
 
 use crate::Real;
 use crate::error::{ParamError, check};
-use crate::lane::Lane;
+use crate::lane::{Lane, Mask};
 use num_traits::Zero;
 
 /// Wheel position servo gains. Units follow the drive's command:
@@ -49,6 +49,11 @@ pub struct WheelServo<T: Lane> {
     limit: T::Scalar,
     /// int (phi_ref - phi) dt, rad s.
     integral: T,
+    /// Where the integral holds this tick (conditional integration: the wheel stage
+    /// saturated at the last tick, [`super::WheelStage`]).
+    pub(crate) hold: T::Mask,
+    /// The angle error phi_ref - phi of the last update, rad.
+    error: T,
 }
 
 impl<T: Real> WheelServo<T> {
@@ -62,7 +67,13 @@ impl<T: Real> WheelServo<T> {
 impl<T: Lane> WheelServo<T> {
     /// [`WheelServo::new`] for several runs side by side ([`crate::lane`]).
     pub fn for_lanes(gains: ServoGains<T::Scalar>, limit: T::Scalar) -> Result<Self, ParamError> {
-        Ok(Self { gains: gains.validate()?, limit, integral: T::default() })
+        Ok(Self {
+            gains: gains.validate()?,
+            limit,
+            integral: T::default(),
+            hold: T::Mask::splat(false),
+            error: T::default(),
+        })
     }
 
     /// The gains.
@@ -70,14 +81,17 @@ impl<T: Lane> WheelServo<T> {
         &self.gains
     }
 
-    /// Kp e + Ki int e, the integral advanced by e dt and kept within +-limit / Ki.
+    /// Kp e + Ki int e, the integral advanced by e dt and kept within +-limit / Ki
+    /// (where it does not hold).
     #[inline(always)]
     fn proportional_integral(&mut self, e: T, dt: T) -> T {
         let ki = self.gains.ki;
+        self.error = e;
         let p = T::splat(self.gains.kp) * e;
         if ki > T::Scalar::zero() {
             let bound = T::splat(self.limit / ki);
-            self.integral = (self.integral + e * dt).max(-bound).min(bound);
+            let next = (self.integral + e * dt).max(-bound).min(bound);
+            self.integral = T::select(self.hold, self.integral, next);
             p + T::splat(ki) * self.integral
         } else {
             p + T::default()
@@ -104,11 +118,26 @@ impl<T: Lane> WheelServo<T> {
 
     /// Clears the integrator.
     pub fn reset(&mut self) {
-        self.integral = T::default();
+        self.reset_lanes(T::Mask::splat(true));
     }
 
     /// Clears the integrator of the runs in `lanes` (several runs side by side).
     pub fn reset_lanes(&mut self, lanes: T::Mask) {
         self.integral = T::select(lanes, T::default(), self.integral);
+        self.hold = self.hold & !lanes;
+        self.error = T::select(lanes, T::default(), self.error);
+    }
+
+    /// What the integrator has yet to move the wheel, rad: an integrating servo (Ki > 0)
+    /// brings its wheel onto the reference, so the angle error of the last update
+    /// phi_ref - phi; zero without an integrator (the proportional error then stays).
+    pub fn integrator_travel(&self) -> T {
+        if self.gains.ki > T::Scalar::zero() { self.error } else { T::default() }
+    }
+
+    /// The integral term Ki int(phi_ref - phi), in command units (N m or V): what the
+    /// integrator adds to the command now.
+    pub fn integral_term(&self) -> T {
+        T::splat(self.gains.ki) * self.integral
     }
 }

@@ -51,7 +51,7 @@
 //! limit the guard is off and every command passes through bit for bit.
 
 use super::law::WheelDemand;
-use super::saturation::{WheelRateLimiter, check_wheel_speed_max, limit_wheel_speeds};
+use super::saturation::{WheelRateLimiter, check_wheel_speed_max, limit_wheel_speeds_masked};
 use super::servo::{ServoGains, WheelServo};
 use crate::drive::{Drive, DriveParams};
 use crate::error::{ParamError, check};
@@ -132,6 +132,11 @@ pub struct WheelStage<T: Lane> {
     drive: Drive<T::Scalar>,
     /// K_g of the speed guard, N m s/rad (zero when the limit is off).
     guard_gain: T::Scalar,
+    /// Anti-windup of the servos' integrators (conditional integration, module docs).
+    anti_windup: bool,
+    /// Where the stage saturated at the last tick, per wheel (module docs).
+    saturated_right: T::Mask,
+    saturated_left: T::Mask,
 }
 
 impl<T: Real> WheelStage<T> {
@@ -181,7 +186,30 @@ impl<T: Lane> WheelStage<T> {
             last_refs: Wheels::default(),
             drive: *drive,
             guard_gain,
+            anti_windup: true,
+            saturated_right: T::Mask::splat(false),
+            saturated_left: T::Mask::splat(false),
         })
+    }
+
+    /// The stage with the servos' anti-windup on or off (on after construction;
+    /// [`super::Controller::new`] sets it from the law, [`super::Law::anti_windup`]).
+    pub fn with_anti_windup(mut self, on: bool) -> Self {
+        self.anti_windup = on;
+        self
+    }
+
+    /// Whether the servos' integrators hold while the stage saturates.
+    pub fn anti_windup(&self) -> bool {
+        self.anti_windup
+    }
+
+    /// Where the last tick saturated on either wheel: the speed limit held the
+    /// references back, the speed guard clipped a command, or the drive cannot give the
+    /// command (its torque, voltage or current limit). A law's anti-windup reads it
+    /// ([`super::Law::wheels_saturated`]).
+    pub fn saturated(&self) -> T::Mask {
+        self.saturated_right | self.saturated_left
     }
 
     /// K_g of the speed guard, N m s/rad (zero when `wheel_speed_max` is infinite).
@@ -221,33 +249,46 @@ impl<T: Lane> WheelStage<T> {
     #[cfg_attr(target_os = "none", inline)]
     #[cfg_attr(not(target_os = "none"), inline(always))]
     pub fn command(&mut self, demand: WheelDemand<T>, m: &Measurement<T>) -> Wheels<T> {
-        let command = self.servo_command(demand, m);
-        if Float::is_finite(self.wheel_speed_max) {
-            let w = m.wheel_speeds;
-            Wheels::new(self.guard(command.right, w.right), self.guard(command.left, w.left))
-        } else {
-            command
+        if self.anti_windup {
+            self.right.hold = self.saturated_right;
+            self.left.hold = self.saturated_left;
         }
+        let (command, limited) = self.servo_command(demand, m);
+        let w = m.wheel_speeds;
+        let (command, clipped) = if Float::is_finite(self.wheel_speed_max) {
+            let guarded = Wheels::new(self.guard(command.right, w.right), self.guard(command.left, w.left));
+            (guarded, Wheels::new(!guarded.right.eq(command.right), !guarded.left.eq(command.left)))
+        } else {
+            let no = T::Mask::splat(false);
+            (command, Wheels::new(no, no))
+        };
+        self.saturated_right = limited | clipped.right | self.drive.saturates(command.right, w.right);
+        self.saturated_left = limited | clipped.left | self.drive.saturates(command.left, w.left);
+        command
     }
 
     #[inline(always)]
-    fn servo_command(&mut self, demand: WheelDemand<T>, m: &Measurement<T>) -> Wheels<T> {
+    fn servo_command(&mut self, demand: WheelDemand<T>, m: &Measurement<T>) -> (Wheels<T>, T::Mask) {
         let phi = m.wheel_angles;
         let w = m.wheel_speeds;
         let dt = T::splat(self.dt);
         match demand {
             WheelDemand::Angles(target) => {
-                let refs =
-                    if Float::is_finite(self.wheel_speed_max) { self.limiter.limit(target, phi) } else { target };
+                let (refs, limited) = if Float::is_finite(self.wheel_speed_max) {
+                    (self.limiter.limit(target, phi), self.limiter.limited)
+                } else {
+                    (target, T::Mask::splat(false))
+                };
                 self.last_refs = refs;
-                Wheels::new(
+                let command = Wheels::new(
                     self.right.update(refs.right, phi.right, w.right, dt),
                     self.left.update(refs.left, phi.left, w.left, dt),
-                )
+                );
+                (command, limited)
             }
             WheelDemand::Twist(twist) => {
                 let speeds = wheel_speeds_lanes(&self.model, twist.v, twist.omega);
-                let omega_ref = limit_wheel_speeds(speeds, T::splat(self.wheel_speed_max));
+                let (omega_ref, limited) = limit_wheel_speeds_masked(speeds, T::splat(self.wheel_speed_max));
                 self.last_refs = omega_ref;
                 let set = self.phi_ref_set;
                 let prev = Wheels::new(
@@ -263,16 +304,25 @@ impl<T: Lane> WheelStage<T> {
                 );
                 self.phi_ref = Wheels::new(r.right + omega_ref.right * dt, r.left + omega_ref.left * dt);
                 self.phi_ref_set = T::Mask::splat(true);
-                command
+                // The references clamped to the gap are held back too.
+                let gapped = !r.right.eq(prev.right) | !r.left.eq(prev.left);
+                (command, limited | gapped)
             }
             WheelDemand::Torques(tau) => {
                 self.last_refs = tau;
-                Wheels::new(
+                let command = Wheels::new(
                     self.drive.command_for_wheel_torque(tau.right, w.right),
                     self.drive.command_for_wheel_torque(tau.left, w.left),
-                )
+                );
+                (command, T::Mask::splat(false))
             }
         }
+    }
+
+    /// What the servos' integrators have yet to move each wheel, rad
+    /// ([`WheelServo::integrator_travel`]); the settle rule reads it ([`crate::settle`]).
+    pub fn integrator_travel(&self) -> Wheels<T> {
+        Wheels::new(self.right.integrator_travel(), self.left.integrator_travel())
     }
 
     /// Clears the servos' integrals and the references, as at t = 0.
@@ -286,6 +336,8 @@ impl<T: Lane> WheelStage<T> {
         self.left.reset_lanes(lanes);
         self.limiter.reset_lanes(lanes);
         self.phi_ref_set = self.phi_ref_set & !lanes;
+        self.saturated_right = self.saturated_right & !lanes;
+        self.saturated_left = self.saturated_left & !lanes;
         let zero = T::default();
         self.last_refs =
             Wheels::new(T::select(lanes, zero, self.last_refs.right), T::select(lanes, zero, self.last_refs.left));

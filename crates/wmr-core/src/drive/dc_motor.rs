@@ -93,6 +93,22 @@ impl<T: Real> DcMotor<T> {
         }
     }
 
+    /// Where the motor cannot give what `voltage` (V) asks at `omega_wheel` (rad/s): the
+    /// voltage beyond +-u_max, or the current it drives beyond +-i_max. The wheel stage's
+    /// anti-windup reads it ([`crate::controller::WheelStage::saturated`]).
+    #[inline(always)]
+    pub fn saturates<L: Lane<Scalar = T>>(&self, voltage: L, omega_wheel: L) -> L::Mask {
+        let u_max = L::splat(self.params.voltage_max);
+        let over_voltage = u_max.lt(voltage.abs());
+        if self.wheel_torque_max.is_finite() {
+            let u = super::clamp_keep_nan(voltage, u_max);
+            let tau = (u - L::splat(self.emf_per_wheel_speed) * omega_wheel) * L::splat(self.torque_per_volt);
+            over_voltage | L::splat(self.wheel_torque_max).lt(tau.abs())
+        } else {
+            over_voltage
+        }
+    }
+
     /// The voltage (V) that makes the wheel torque `tau` (N m) at wheel speed
     /// `omega_wheel` (rad/s), the voltage and current limits aside: tau R_a k_t / k_tau +
     /// k_e omega_wheel / k_t.

@@ -109,6 +109,16 @@ impl<T: Real> Drive<T> {
         }
     }
 
+    /// Where the drive cannot give what `command` asks at wheel speed `omega_wheel`
+    /// (rad/s): the torque or voltage limit, or a DC motor's current limit, clips it.
+    #[inline(always)]
+    pub fn saturates<L: Lane<Scalar = T>>(&self, command: L, omega_wheel: L) -> L::Mask {
+        match self {
+            Drive::Torque(d) => d.saturates(command),
+            Drive::DcMotor(d) => d.saturates(command, omega_wheel),
+        }
+    }
+
     /// The parameters it was built from.
     pub fn params(&self) -> DriveParams<T> {
         match self {

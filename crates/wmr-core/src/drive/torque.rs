@@ -50,6 +50,13 @@ impl<T: Real> TorqueDrive<T> {
         self.wheel_torque_max
     }
 
+    /// Where a wheel-torque demand (N m) exceeds what the motor gives: |demand| above
+    /// motor_torque_max / k_t.
+    #[inline(always)]
+    pub fn saturates<L: Lane<Scalar = T>>(&self, demand: L) -> L::Mask {
+        L::splat(self.wheel_torque_max).lt(demand.abs())
+    }
+
     /// Wheel torque (N m) for a wheel-torque demand (N m).
     #[inline(always)]
     pub fn wheel_torque<L: Lane<Scalar = T>>(&self, demand: L) -> L {
