@@ -80,6 +80,8 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
         if n_steps > 1 << 53 {
             return Err(check::out_of_range("t_end", "more than 2^53 plant steps", n_steps as f64));
         }
+        // t_end as the exact loop computes it (ClosedLoop::try_run from step 0).
+        let watch = SettleWatch::new(n_steps as f64 * dt, plant.robot().params());
         let zero = Lanes::splat(0.0);
         Ok(Self {
             plant,
@@ -96,7 +98,7 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
             command: Wheels::new(zero, zero),
             held_torque: Wheels::new(zero, zero),
             metrics: Metrics::default(),
-            watch: SettleWatch::new(0.0),
+            watch,
             steps: zero,
             active: LaneMask::splat(false),
             tags: [0; N],
@@ -134,7 +136,13 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
             let torque = self.plant.wheel_torque_lanes(&self.state, self.command, self.held_torque);
             self.metrics.add_step(t, &self.state, speeds, torque, goal, Lanes::splat(dt));
             if self.stop_when_settled {
-                let settled = self.watch.settled(t, &self.state, goal, self.controller.holding());
+                let settled = self.watch.settled(
+                    t,
+                    &self.state,
+                    goal,
+                    self.controller.holding(),
+                    self.controller.integrator_travel(),
+                );
                 if settled.any() {
                     for i in (0..N).filter(|&i| settled.lane(i)) {
                         self.finish(i, Termination::Settled, &mut done);

@@ -253,7 +253,7 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
         let mut done = 0;
         let t_end = T::lit((self.step_index + n_steps) as f64) * self.clock.dt;
         let mut watch = (self.stop_when_settled && self.sensor.deterministic() && self.reference.fixed())
-            .then(|| SettleWatch::new(t_end));
+            .then(|| SettleWatch::new(t_end, self.plant.robot().params()));
         'run: while done < n_steps {
             poll()?;
             let chunk = (n_steps - done).min(POLL_EVERY_STEPS);
@@ -266,7 +266,7 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
                 let goal = self.reference.pose_at(s.t);
                 metrics.add_step(s.t, &s.state, s.wheel_speeds, s.torque, goal, self.clock.dt);
                 if let Some(w) = &mut watch
-                    && w.settled(s.t, &s.state, goal, self.controller.holding())
+                    && w.settled(s.t, &s.state, goal, self.controller.holding(), self.controller.integrator_travel())
                 {
                     termination = Termination::Settled;
                     break 'run;

@@ -25,9 +25,12 @@ impl<T: Real> ServoGains<T> {
         Self { kp: T::lit(14.0), kd: T::lit(1.4), ki: T::zero() }
     }
 
-    /// DC-motor defaults: Kp = 14 V/rad, Kd = 1.1 V s/rad, Ki = 0. With the default
-    /// motor (about 1.01 N m/V at the wheel, back-EMF damping 0.31 N m s/rad) this gives
-    /// the same stiffness and damping at the wheel as the torque-drive defaults.
+    /// DC-motor defaults: Kp = 14 V/rad, Kd = 1.1 V s/rad, Ki = 0. Tuned for the
+    /// earlier default motor (maxon RE 40, about 1.01 N m/V at the wheel, back-EMF damping
+    /// 0.31 N m s/rad: the torque-drive defaults' stiffness and damping at the wheel) and
+    /// kept so that scenarios naming every motor key keep their results; with today's
+    /// default (Pololu 37D, 0.172 N m/V, 0.098 N m s/rad) they give 2.4 N m/rad and
+    /// 0.29 N m s/rad at the wheel.
     pub fn dc_motor_default() -> Self {
         Self { kp: T::lit(14.0), kd: T::lit(1.1), ki: T::zero() }
     }

@@ -10,11 +10,24 @@ use crate::lane::Lane;
 crate::params! {
     /// `[drive] kind = "dc_motor"` parameters, SI units.
     ///
-    /// Defaults: maxon RE 40 (40 mm, graphite brushes, 150 W), catalogue part 148867,
-    /// 24 V winding: torque constant 30.2 mN m/A, speed constant 317 rpm/V
-    /// (k_e = 30.2 mV s/rad, the same number in SI), terminal resistance 0.299 Ohm.
-    /// With the paper's gear k_t = 0.1 it stalls at about 24 N m at the wheel and runs
-    /// free at about 79 rad/s at the wheel (7,600 rpm at the motor) on 24 V.
+    /// Defaults: Pololu 37D metal gearmotor, 12 V, 50:1 (items 4743/4753; datasheet
+    /// "Pololu 37D Metal Gearmotors", rev 1.2): 200 rpm and 0.2 A free-running, 210 kg mm
+    /// (2.06 N m) and 5.5 A stalled at the output, driven by a TI DRV8874 H-bridge (6 A
+    /// peak output current). Its 50:1 is the robot's gear k_t = 0.1 (10:1) after a first
+    /// 5:1 stage folded into the constants below, which are referred to the shaft 10:1
+    /// before the wheel (the motor shaft of this model):
+    ///
+    /// ```text
+    /// R_a   = u / i_stall                     = 12 / 5.5           = 2.18 Ohm
+    /// k_e   = u / omega_free (2,000 rpm here) = 12 / 209.44        = 0.0573 V s/rad
+    /// k_tau = tau_stall k_t / i_stall         = 2.059 * 0.1 / 5.5  = 0.0374 N m/A
+    /// ```
+    ///
+    /// So the model runs free at 20.9 rad/s at the wheel (200 rpm; 2.09 m/s with the
+    /// paper's r = 0.1 m) and stalls at 2.06 N m and 5.5 A. k_tau < k_e: the stall torque
+    /// at the output includes the gearbox's losses. The free-running current (friction) is
+    /// not modelled here: the robot's `viscous_friction` and `coulomb_friction` are the
+    /// plant's. docs/model.md ("The default DC motor") has the derivation and the figures.
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
     pub struct DcMotorParams<T> {
@@ -36,11 +49,11 @@ crate::params! {
 impl<T: Real> Default for DcMotorParams<T> {
     fn default() -> Self {
         Self {
-            voltage_max: T::lit(24.0),
-            torque_constant: T::lit(0.0302),
-            back_emf_constant: T::lit(0.0302),
-            armature_resistance: T::lit(0.299),
-            current_max: T::infinity(),
+            voltage_max: T::lit(12.0),
+            torque_constant: T::lit(0.03744),
+            back_emf_constant: T::lit(0.0573),
+            armature_resistance: T::lit(2.18),
+            current_max: T::lit(6.0),
         }
     }
 }
@@ -125,5 +138,57 @@ impl<T: Real> DcMotor<T> {
     /// The largest wheel torque the current limit allows, N m (infinite without one).
     pub fn wheel_torque_max(&self) -> T {
         self.wheel_torque_max
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Real, RobotParams};
+
+    /// Issue 24: the default motor on the paper's robot (k_t = 0.1, r = 0.1 m, 5 kg)
+    /// against its datasheet (Pololu 37D 50:1 12 V, rev 1.2: 200 rpm free, 210 kg mm and
+    /// 5.5 A stalled), computed from the model's own wheel torque, in f32 and f64.
+    fn figures_against_the_datasheet<T: Real>(tol: f64) {
+        let robot = RobotParams::<T>::paper();
+        let motor = DcMotorParams::<T>::default().validate(robot.gear_ratio).unwrap();
+        let u = motor.params().voltage_max;
+        let torque_at = |omega: f64| motor.wheel_torque(u, T::lit(omega)).to_f64_lossless();
+        // No-load speed: where the full-voltage torque is zero (bisection on the model).
+        let (mut lo, mut hi) = (0.0, 100.0);
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if torque_at(mid) > 0.0 { lo = mid } else { hi = mid }
+        }
+        let free_rpm = lo * 60.0 / (2.0 * core::f64::consts::PI);
+        assert!((free_rpm - 200.0).abs() < 200.0 * tol, "free {free_rpm} rpm");
+        let stall = torque_at(0.0);
+        let stall_datasheet = 0.210 * 9.80665; // 210 kg mm, N m
+        assert!((stall - stall_datasheet).abs() < stall_datasheet * tol, "stall {stall} N m");
+        // The current at stall: tau_wheel k_t / k_tau.
+        let p = motor.params();
+        let current = stall * robot.gear_ratio.to_f64_lossless() / p.torque_constant.to_f64_lossless();
+        assert!((current - 5.5).abs() < 5.5 * tol, "stall current {current} A");
+        // Top speed at most about 2 m/s; stall force at both wheels about the traction
+        // limit mu m g (mu = 0.8): 41.2 N against 39.2 N.
+        let r = robot.wheel_radius.to_f64_lossless();
+        assert!(lo * r < 2.1, "top speed {} m/s", lo * r);
+        let force = 2.0 * stall / r;
+        let traction = 0.8 * robot.mass.to_f64_lossless() * 9.80665;
+        assert!((force / traction - 1.0).abs() < 0.06, "{force} N against {traction} N");
+        // The driver's 6 A bounds the current when braking against the back-EMF.
+        let braking = motor.wheel_torque(-u, T::lit(lo)).to_f64_lossless();
+        let i_brake = braking * robot.gear_ratio.to_f64_lossless() / p.torque_constant.to_f64_lossless();
+        assert!((i_brake + 6.0).abs() < 6.0 * tol, "braking current {i_brake} A");
+    }
+
+    #[test]
+    fn issue_24_default_motor_matches_its_datasheet_f64() {
+        figures_against_the_datasheet::<f64>(0.002);
+    }
+
+    #[test]
+    fn issue_24_default_motor_matches_its_datasheet_f32() {
+        figures_against_the_datasheet::<f32>(0.002);
     }
 }
