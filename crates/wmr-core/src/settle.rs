@@ -160,14 +160,14 @@ mod tests {
     }
 
     /// Issue 24: a turn the servos' integrators have yet to make, or a slow turn at the
-    /// present rate, keeps the run going. Paper robot: r = 0.1 m, R = 0.25 m, so wheel
-    /// errors (+e, -e) turn the heading by r e / R = 0.4 e rad.
+    /// present rate, keeps the run going. Paper robot: r = 0.1 m, R = 0.2 m, so wheel
+    /// errors (+e, -e) turn the heading by r e / R = 0.5 e rad.
     #[test]
     fn a_turn_still_to_come_is_not_settled() {
         let goal = Pose2::default();
         let at_rest = state(0.002, 0.0, 0.0);
-        // 0.4 * 3e-4 = 1.2e-4 rad still to turn: not settled; 0.4 * 2e-4 = 0.8e-4: settled.
-        for (e, settles) in [(3e-4, false), (2e-4, true)] {
+        // 0.5 * 3e-4 = 1.5e-4 rad still to turn: not settled; 0.5 * 1.5e-4 = 0.75e-4: settled.
+        for (e, settles) in [(3e-4, false), (1.5e-4, true)] {
             let mut w = SettleWatch::new(100.0, &RobotParams::paper());
             let travel = Wheels::new(e, -e);
             assert!(!w.settled(10.0, &at_rest, goal, true, travel));
