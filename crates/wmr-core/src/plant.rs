@@ -271,7 +271,8 @@ impl<T: Real> Plant<T> {
     #[inline(never)]
     fn step_slip(&mut self, slip: &crate::traction::Slip<T>, t: T, dt: T) -> Result<(), Termination> {
         let (next, extra) = slip.step(&self.state, &self.extra, &self.drive, self.command, t, dt);
-        let extra_finite = extra.v_lat.is_finite() && extra.wheel_speeds.right.is_finite() && extra.wheel_speeds.left.is_finite();
+        let extra_finite =
+            extra.v_lat.is_finite() && extra.wheel_speeds.right.is_finite() && extra.wheel_speeds.left.is_finite();
         if !next.is_finite() || !extra_finite {
             return Err(Termination::NonFinite);
         }

@@ -289,8 +289,7 @@ impl<T: Real> Slip<T> {
             f_x = f_x + gx * cos + gy * sin;
             f_y = f_y - gx * sin + gy * cos;
         }
-        let omega_dot = (self.big_r * (c.force_x.right - c.force_x.left)
-            - self.d * (c.force_y.right + c.force_y.left))
+        let omega_dot = (self.big_r * (c.force_x.right - c.force_x.left) - self.d * (c.force_y.right + c.force_y.left))
             * self.inv_i_g;
         let u_dot = f_x * self.inv_mass + omega * v_lat + omega * omega * self.d;
         let v_lat_dot = f_y * self.inv_mass - omega_dot * self.d - omega * u;
