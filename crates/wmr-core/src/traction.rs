@@ -77,7 +77,7 @@ crate::params! {
 
 impl<T: Real> Default for TractionParams<T> {
     /// Rolling; for slip: mu = 0.8, the caster 0.35 m ahead of C, G 0.1 m high,
-    /// v_eps = 0.2 m/s (the paper's robot then integrates stably up to dt = 1.7 ms).
+    /// v_eps = 0.2 m/s (the paper's robot then integrates stably up to dt = 1.37 ms).
     fn default() -> Self {
         Self {
             traction: TractionKind::Rolling,
@@ -91,12 +91,18 @@ impl<T: Real> Default for TractionParams<T> {
 
 impl<T: Real> TractionParams<T> {
     /// Checks the keys against the robot and builds the traction model on `world`'s
-    /// ground. `"rolling"` checks nothing (its keys are unused). Errors name
-    /// `friction_coefficient`, `caster_offset`, `com_height`, `slip_speed`, and, since the
+    /// ground. Errors name
+    /// `friction_coefficient`, `caster_offset`, `com_height`, `slip_speed` (`"rolling"`
+    /// only refuses NaN and infinity there), and, since the
     /// slip plant integrates each wheel and the yaw on their own, `wheel_inertia` and
     /// `platform_inertia` (both must be > 0).
     pub fn validate(self, robot: &Robot<T>, world: &World<T>) -> Result<Traction<T>, ParamError> {
         if self.traction == TractionKind::Rolling {
+            // Unused, but a NaN is never let through silently.
+            check::finite("friction_coefficient", self.friction_coefficient)?;
+            check::finite("caster_offset", self.caster_offset)?;
+            check::finite("com_height", self.com_height)?;
+            check::finite("slip_speed", self.slip_speed)?;
             return Ok(Traction::Rolling);
         }
         let mu = check::positive("friction_coefficient", self.friction_coefficient)?;
