@@ -171,8 +171,11 @@ pub fn run_command(
     let writer = out.writer()?;
     let measured = scenario.setup().has_sensor;
     let mut sink: Box<dyn Sink> = match format {
-        Format::Csv => csv_sink::CsvSink::new(writer, measured, scenario.tracking().map(|t| t.reference.built))
-            .map(|s| Box::new(s) as Box<dyn Sink>),
+        Format::Csv => {
+            let contact = scenario.setup().slips();
+            csv_sink::CsvSink::new(writer, measured, contact, scenario.tracking().map(|t| t.reference.built))
+        }
+        .map(|s| Box::new(s) as Box<dyn Sink>),
         Format::Mcap => mcap_sink::McapSink::new(writer, scenario).map(|s| Box::new(s) as Box<dyn Sink>),
     }
     .map_err(sink_err)

@@ -68,6 +68,7 @@ pub mod settle;
 pub mod state;
 pub mod trace;
 pub mod tracking;
+pub mod traction;
 pub mod world;
 
 pub use clock::StepClock;
@@ -89,4 +90,5 @@ pub use reference::{AnyReference, FixedGoal, Path, Reference, ReferenceState};
 pub use sample::Sample;
 pub use sensor::{Measurement, PerfectSensor, PoseSensor, Sensor, SensorParams};
 pub use state::State;
+pub use traction::{Contact, SlipExtra, Traction, TractionKind, TractionParams};
 pub use world::{World, WorldParams};

@@ -13,6 +13,7 @@ use crate::lane::Lane;
 use crate::math::{Pose2, Wheels};
 use crate::outcome::Termination;
 use crate::state::{STATE_LEN, State};
+use crate::traction::{Contact, SlipExtra, Traction};
 use crate::world::World;
 use crate::{Real, Robot};
 
@@ -31,6 +32,10 @@ pub struct Plant<T> {
     command: Wheels<T>,
     /// Wheel torques of the held command when they do not depend on speed, N m.
     held_torque: Wheels<T>,
+    /// How the wheels hold the ground ([`crate::traction`]); rolling by default.
+    traction: Traction<T>,
+    /// The slip plant's speeds beyond [`State`] (zero and unused when rolling).
+    extra: SlipExtra<T>,
 }
 
 impl<T: Real> Plant<T> {
@@ -52,7 +57,40 @@ impl<T: Real> Plant<T> {
             state: State::at_rest(start),
             command: Wheels::default(),
             held_torque: Wheels::default(),
+            traction: Traction::Rolling,
+            extra: SlipExtra::default(),
         })
+    }
+
+    /// The same plant with `traction` ([`crate::TractionParams::validate`], built for
+    /// this plant's robot and world); a slip plant starts with its wheels at rest.
+    pub fn with_traction(mut self, traction: Traction<T>) -> Self {
+        self.traction = traction;
+        self
+    }
+
+    /// The traction model.
+    pub fn traction(&self) -> &Traction<T> {
+        &self.traction
+    }
+
+    /// True for a slip plant ([`Traction::Slip`]).
+    pub fn slips(&self) -> bool {
+        matches!(self.traction, Traction::Slip(_))
+    }
+
+    /// The slip plant's lateral velocity and wheel speeds (zero for a rolling plant).
+    pub fn slip_extra(&self) -> &SlipExtra<T> {
+        &self.extra
+    }
+
+    /// The contact of each wheel with the ground now: slip velocities, forces, loads
+    /// (zero for a rolling plant, whose contact forces the model never needs).
+    pub fn contact(&self) -> Contact<T> {
+        match &self.traction {
+            Traction::Slip(slip) => slip.contact_of(&self.state, &self.extra),
+            Traction::Rolling => Contact::default(),
+        }
     }
 
     /// The robot (the truth, which a controller's model may differ from).
@@ -70,9 +108,21 @@ impl<T: Real> Plant<T> {
         &self.state
     }
 
-    /// Puts the plant in state `s` (hardware-in-the-loop, tests): the held command stays.
+    /// Puts the plant in state `s` (hardware-in-the-loop, tests): the held command stays;
+    /// a slip plant's wheels are set rolling (no slip, no lateral velocity).
     pub fn set_state(&mut self, s: State<T>) {
         self.state = s;
+        if self.slips() {
+            self.extra = SlipExtra { v_lat: T::zero(), wheel_speeds: s.wheel_speeds(self.robot.params()) };
+        }
+    }
+
+    /// Puts a slip plant in state (`s`, `extra`); on a rolling plant `extra` is ignored.
+    pub fn set_slip_state(&mut self, s: State<T>, extra: SlipExtra<T>) {
+        self.state = s;
+        if self.slips() {
+            self.extra = extra;
+        }
     }
 
     /// The held drive command (N m or V per wheel).
@@ -104,10 +154,15 @@ impl<T: Real> Plant<T> {
     /// [`crate::integrator::RK4_REAL_STABILITY_LIMIT`]; a Coulomb friction with a small
     /// `coulomb_speed` makes lambda large (tau_c = 0.075 N m and omega_eps = 1e-3 rad/s
     /// give 2,780 1/s on the paper's robot, the limit at dt = 1 ms).
+    ///
+    /// A slip plant's stiffness is [`crate::traction::Slip::stiffness`] with that b.
     pub fn stiffness(&self) -> T {
         let p = self.robot.params();
         let coulomb = if p.coulomb_friction > T::zero() { p.coulomb_friction / p.coulomb_speed } else { T::zero() };
         let b = p.viscous_friction + coulomb + self.drive.speed_damping();
+        if let Traction::Slip(slip) = &self.traction {
+            return slip.stiffness(b);
+        }
         let (m11, m22) = self.robot.reduced_inertia();
         let r2 = p.wheel_radius * p.wheel_radius;
         let two = T::lit(2.0);
@@ -120,15 +175,20 @@ impl<T: Real> Plant<T> {
         T::lit(crate::integrator::RK4_REAL_STABILITY_LIMIT) / self.stiffness()
     }
 
-    /// True wheel speeds, rad/s.
+    /// True wheel speeds, rad/s: each wheel's own speed (for a rolling plant, the
+    /// speeds (v, omega) imply).
     #[inline(always)]
     pub fn wheel_speeds(&self) -> Wheels<T> {
-        self.state.wheel_speeds(self.robot.params())
+        if self.slips() { self.extra.wheel_speeds } else { self.state.wheel_speeds(self.robot.params()) }
     }
 
     /// Wheel torques (N m) the held command gives at the current state.
     #[inline(always)]
     pub fn wheel_torque(&self) -> Wheels<T> {
+        if self.slips() && !self.drive.is_speed_independent() {
+            let (d, c, w) = (self.drive, self.command, self.extra.wheel_speeds);
+            return Wheels::new(d.wheel_torque(c.right, w.right), d.wheel_torque(c.left, w.left));
+        }
         self.wheel_torque_at(&self.state)
     }
 
@@ -190,6 +250,9 @@ impl<T: Real> Plant<T> {
     /// stays at the last good one and the reason is returned.
     #[inline]
     pub fn step(&mut self, t: T, dt: T) -> Result<(), Termination> {
+        if let Traction::Slip(slip) = self.traction {
+            return self.step_slip(&slip, t, dt);
+        }
         let next = self.advance(&self.state, self.command, self.held_torque, t, dt);
         let bound = T::lit(DIVERGENCE_BOX_M);
         if !all_finite(&next) {
@@ -199,6 +262,26 @@ impl<T: Real> Plant<T> {
             return Err(Termination::LeftBox);
         }
         self.state = next;
+        Ok(())
+    }
+}
+
+impl<T: Real> Plant<T> {
+    /// [`Plant::step`] of a slip plant, with the same refusals.
+    #[inline(never)]
+    fn step_slip(&mut self, slip: &crate::traction::Slip<T>, t: T, dt: T) -> Result<(), Termination> {
+        let (next, extra) = slip.step(&self.state, &self.extra, &self.drive, self.command, t, dt);
+        let extra_finite =
+            extra.v_lat.is_finite() && extra.wheel_speeds.right.is_finite() && extra.wheel_speeds.left.is_finite();
+        if !next.is_finite() || !extra_finite {
+            return Err(Termination::NonFinite);
+        }
+        let bound = T::lit(DIVERGENCE_BOX_M);
+        if next.x.abs() > bound || next.y.abs() > bound {
+            return Err(Termination::LeftBox);
+        }
+        self.state = next;
+        self.extra = extra;
         Ok(())
     }
 }

@@ -4,6 +4,7 @@
 use crate::controller::ControlErrors;
 use crate::math::{Pose2, Wheels};
 use crate::state::State;
+use crate::traction::Contact;
 
 /// Everything logged at one instant (the CSV columns of `docs/scenario.md`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -22,4 +23,7 @@ pub struct Sample<T> {
     /// The pose of C the controller used at the last control tick at or before `t`
     /// (what its sensor delivered: late, noisy; the true pose for a perfect sensor).
     pub measured: Pose2<T>,
+    /// The wheels' contact with the ground at `t`: slip velocities, forces and loads
+    /// (zero for a rolling plant, [`crate::traction`]).
+    pub contact: Contact<T>,
 }

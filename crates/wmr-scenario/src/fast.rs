@@ -7,7 +7,8 @@
 //! (chosen at run time; an AVX-512 build is there too, [`Kernel`]); without AVX2 the
 //! lanes do not beat the exact path, and `--fast` runs the exact path. The lanes' controllers see the true state: runs with a real
 //! sensor (rate, latency, noise, encoders) take the exact path, as do runs whose values
-//! `vary` draws one by one (each has its own plant).
+//! `vary` draws one by one (each has its own plant) and runs whose wheels slip (the
+//! lanes step the rolling plant only; `wmr-cli sweep --fast` says so).
 //!
 //! Not bit-identical to [`SweepSpec::run`]: the lanes' sin and cos are not `libm`'s.
 //! `crates/wmr-scenario/tests/fast.rs` bounds the difference on `examples/compare.toml`.
@@ -96,9 +97,10 @@ impl SweepSpec {
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<Option<Vec<SweepOutcome>>, ScenarioError> {
         let mut drawn = None;
-        let exact = kernel == Kernel::Exact
-            || self.variation.has_draws()
-            || !self.setup_of(sim, first, &mut drawn)?.sensor.is_perfect();
+        let exact = kernel == Kernel::Exact || self.variation.has_draws() || {
+            let setup = self.setup_of(sim, first, &mut drawn)?;
+            !setup.sensor.is_perfect() || setup.slips()
+        };
         if !exact {
             return self.run_lanes(sim, kernel, first..end, done, stop);
         }
@@ -176,7 +178,7 @@ impl Scenario {
         let kernel = Kernel::detect();
         let task = |t: usize| -> Result<Option<Vec<Outcome<f64>>>, ScenarioError> {
             let (first, end) = tasks[t];
-            if kernel == Kernel::Exact || !self.setup().sensor.is_perfect() {
+            if kernel == Kernel::Exact || !self.setup().sensor.is_perfect() || self.setup().slips() {
                 return one_by_one(first..end, done, stop, |i, poll| {
                     Ok(match self.try_run_as(i, i as u64 + stream_offset, |_| ControlFlow::Continue(()), poll)? {
                         ControlFlow::Continue(r) => ControlFlow::Continue(r.outcome),

@@ -68,6 +68,33 @@ pub fn measured_values(s: &Sample<f64>) -> [f64; 3] {
     [s.measured.x, s.measured.y, s.measured.theta]
 }
 
+/// The columns a run whose wheels slip (`robot.traction = "slip"`) adds after
+/// [`MEASURED_COLUMNS`]' place: each wheel's longitudinal slip velocity (r omega_w minus
+/// the ground speed under it, m/s), the lateral velocity of C (body frame, left +, m/s),
+/// the ground's longitudinal and lateral forces on each wheel (body frame, N) and each
+/// wheel's normal load (N). Rolling runs never carry them, so their outputs are unchanged.
+pub const CONTACT_COLUMNS: [&str; 9] = ["slip_r", "slip_l", "v_lat", "fx_r", "fx_l", "fy_r", "fy_l", "n_r", "n_l"];
+
+/// The unit of each of [`CONTACT_COLUMNS`], in order.
+pub const CONTACT_UNITS: [&str; CONTACT_COLUMNS.len()] = ["m/s", "m/s", "m/s", "N", "N", "N", "N", "N", "N"];
+
+/// A sample's values in [`CONTACT_COLUMNS`] order.
+#[inline]
+pub fn contact_values(s: &Sample<f64>) -> [f64; 9] {
+    let c = &s.contact;
+    [
+        c.slip.right,
+        c.slip.left,
+        c.v_lat,
+        c.force_x.right,
+        c.force_x.left,
+        c.force_y.right,
+        c.force_y.left,
+        c.normal.right,
+        c.normal.left,
+    ]
+}
+
 /// The columns a tracking run adds after the others: the reference at the sample's t
 /// (m, m, rad, m/s, rad/s).
 pub const REFERENCE_COLUMNS: [&str; 5] = ["x_ref", "y_ref", "theta_ref", "v_ref", "omega_ref"];

@@ -422,6 +422,10 @@ impl Scenario {
         let _ = writeln!(o, "\n[robot]");
         let noted = |table: &'static str| move |k: &str| Some(self.origins.of(table, k).to_owned());
         write_keys_noted(&mut o, &to_table(setup.robot.params()), fields_of::<RobotParams<f64>>(), noted("robot"));
+        if setup.traction_params != wmr_core::TractionParams::default() {
+            let order = fields_of::<wmr_core::TractionParams<f64>>();
+            write_keys_noted(&mut o, &to_table(&setup.traction_params), order, noted("robot"));
+        }
         let _ = writeln!(o, "\n[drive]");
         let drive = setup.drive.params();
         let mut order = vec!["kind"];

@@ -6,7 +6,7 @@ use std::borrow::Cow;
 
 use toml::Value;
 use wmr_core::describe::{Described, ParamField};
-use wmr_core::{DriveParams, LawParams, RobotParams, SensorParams, WheelStageParams, WorldParams};
+use wmr_core::{DriveParams, LawParams, RobotParams, SensorParams, TractionParams, WheelStageParams, WorldParams};
 
 use crate::file::{GridFile, PoseFile, RandomFile, RunFile, ScenarioFile, SimFile, SweepFile};
 use crate::keys::{fields_of, to_table};
@@ -128,6 +128,7 @@ pub fn schema() -> Vec<SchemaKey> {
     let mut out: Vec<SchemaKey> = Vec::new();
     out.extend(plain("", fields_of::<ScenarioFile>()).filter(|k| k.key == "name"));
     out.extend(declared("robot", None, RobotParams::<f64>::FIELDS, &RobotParams::<f64>::paper()));
+    out.extend(declared("robot", None, TractionParams::<f64>::FIELDS, &TractionParams::<f64>::default()));
     let drives = DriveParams::<f64>::defaults();
     out.push(kind_key(
         "drive",
@@ -187,6 +188,7 @@ mod tests {
     #[test]
     fn declared_fields_are_the_keys_serde_reads() {
         assert_eq!(names(RobotParams::<f64>::FIELDS), fields_of::<RobotParams<f64>>());
+        assert_eq!(names(TractionParams::<f64>::FIELDS), fields_of::<TractionParams<f64>>());
         assert_eq!(names(SensorParams::<f64>::FIELDS), fields_of::<SensorParams<f64>>());
         assert_eq!(names(WorldParams::<f64>::FIELDS), fields_of::<WorldParams<f64>>());
         assert_eq!(names(WheelStageParams::<f64>::FIELDS), fields_of::<WheelStageParams<f64>>());

@@ -4,9 +4,10 @@
 //! value when it varies keys.
 
 use toml::{Table, Value};
+use wmr_core::describe::Described;
 use wmr_core::{
     AnyLaw, Controller, ControllerParams, Drive, DriveParams, Plant, Pose2, PoseSensor, Robot, RobotParams,
-    SensorParams, World, WorldParams,
+    SensorParams, Traction, TractionParams, World, WorldParams,
 };
 
 use crate::controller;
@@ -72,6 +73,10 @@ impl Tables {
 pub struct Setup {
     /// The true robot (`[robot]`).
     pub robot: Robot<f64>,
+    /// The traction keys of `[robot]` (`traction`, `friction_coefficient`, ...).
+    pub traction_params: TractionParams<f64>,
+    /// The traction model they build (rolling unless `traction = "slip"`).
+    pub traction: Traction<f64>,
     /// The drive (`[drive]`).
     pub drive: Drive<f64>,
     /// The ground (`[world]`).
@@ -111,17 +116,26 @@ fn resolve_drive(given: &Table) -> Result<DriveParams<f64>, ScenarioError> {
     read_with("drive", Value::Table(merged), |d| default.deserialize_variant(d))
 }
 
+/// `[robot]` split into the keys of [`RobotParams`] and those of [`TractionParams`].
+pub fn split_robot(robot: &Table) -> (Table, Table) {
+    let traction_keys: Vec<&str> = TractionParams::<f64>::FIELDS.iter().map(|f| f.name).collect();
+    robot.clone().into_iter().partition(|(k, _)| !traction_keys.contains(&k.as_str()))
+}
+
 impl Setup {
     /// Reads and validates `t`; the controller table's path is `controller_path`
     /// (`controller`, `sweep.controllers[1]`) and its control period must divide into
     /// the sensor's timing.
     pub fn resolve(t: &Tables, controller_path: &str) -> Result<Self, ScenarioError> {
-        let robot_params = overlay(&RobotParams::<f64>::paper(), &t.robot, "robot")?;
+        let (robot_keys, traction_keys) = split_robot(&t.robot);
+        let robot_params = overlay(&RobotParams::<f64>::paper(), &robot_keys, "robot")?;
         let robot = robot_params.validate().map_err(param_error("robot"))?;
         let drive_params = resolve_drive(&t.drive)?;
         let drive = drive_params.validate(&robot).map_err(param_error("drive"))?;
         let world =
             overlay(&WorldParams::<f64>::default(), &t.world, "world")?.validate().map_err(param_error("world"))?;
+        let traction_params = overlay(&TractionParams::<f64>::default(), &traction_keys, "robot")?;
+        let traction = traction_params.validate(&robot, &world).map_err(param_error("robot"))?;
         let sensor = match &t.sensor {
             Some(s) => overlay(&SensorParams::<f64>::default(), s, "sensor")?,
             None => SensorParams::default(),
@@ -140,12 +154,29 @@ impl Setup {
         let controller = controller::resolve(&table, controller_path, &drive_params)?;
         let built = controller.build(model.params(), &drive).map_err(param_error(controller_path))?;
         PoseSensor::<f64>::new(sensor, controller.control_dt, 0).map_err(param_error("sensor"))?;
-        Ok(Self { robot, drive, world, sensor, has_sensor: t.sensor.is_some(), model, controller, built })
+        Ok(Self {
+            robot,
+            traction_params,
+            traction,
+            drive,
+            world,
+            sensor,
+            has_sensor: t.sensor.is_some(),
+            model,
+            controller,
+            built,
+        })
     }
 
     /// The plant at rest at `start` (m, m, rad).
     pub fn plant(&self, start: Pose2<f64>) -> Result<Plant<f64>, wmr_core::ParamError> {
-        Plant::on(self.robot, self.drive, self.world, start)
+        Ok(Plant::on(self.robot, self.drive, self.world, start)?.with_traction(self.traction))
+    }
+
+    /// True when the wheels slip (`robot.traction = "slip"`): outputs then carry the
+    /// contact columns, and the fast path's lanes (rolling only) are not used.
+    pub fn slips(&self) -> bool {
+        matches!(self.traction, Traction::Slip(_))
     }
 
     /// Checks the plant step `dt` (s, `sim.dt`) against the plant's stiffness: RK4 is
@@ -156,6 +187,32 @@ impl Setup {
         let max_dt = plant.max_stable_dt();
         if dt < max_dt {
             return Ok(());
+        }
+        if let Traction::Slip(slip) = &self.traction {
+            // stiffness = k * lambda_A + b / I_m with k proportional to 1 / slip_speed
+            // (Slip::stiffness): the slip_speed that brings it to 90 % of the limit.
+            let tp = &self.traction_params;
+            let b = plant.stiffness() - slip.stiffness(0.0);
+            let target = 0.9 * wmr_core::integrator::RK4_REAL_STABILITY_LIMIT / dt - b;
+            let advice = if target > 0.0 {
+                format!(
+                    "raise robot.slip_speed to {:.3e} m/s or more, or lower sim.dt below {max_dt:.3e} s",
+                    tp.slip_speed * slip.stiffness(0.0) / target
+                )
+            } else {
+                format!("lower sim.dt below {max_dt:.3e} s")
+            };
+            return Err(ScenarioError::new(
+                "robot.slip_speed",
+                format!(
+                    "with friction_coefficient = {}, slip_speed = {} m/s and sim.dt = {dt} s the slip is too stiff for \
+                     RK4 (dt * stiffness = {:.3} must be < 2.785, stiffness = {:.4e} 1/s): {advice}",
+                    tp.friction_coefficient,
+                    tp.slip_speed,
+                    dt * plant.stiffness(),
+                    plant.stiffness()
+                ),
+            ));
         }
         let p = self.robot.params();
         let key = if p.coulomb_friction > 0.0 { "robot.coulomb_speed" } else { "sim.dt" };
@@ -189,7 +246,11 @@ impl Setup {
     pub fn value_of(&self, key: &str) -> Option<f64> {
         let (table, rest) = key.split_once('.')?;
         let t = match table {
-            "robot" => to_table(self.robot.params()),
+            "robot" => {
+                let mut t = to_table(self.robot.params());
+                t.extend(to_table(&self.traction_params));
+                t
+            }
             "drive" => to_table(&self.drive.params()),
             "world" => to_table(self.world.params()),
             "sensor" => to_table(&self.sensor),

@@ -1,0 +1,402 @@
+//! Traction: how the wheels hold the ground. Rolling (the paper's no-slip constraints,
+//! [`crate::dynamics`]) or slip: each driven wheel pushes on the ground through a
+//! regularised Coulomb law limited by mu times its normal load (docs/model.md, "Traction").
+//!
+//! The slip plant drops the two constraints of (15) and gains three speeds: each wheel's
+//! own speed omega_r, omega_l (rad/s) and the lateral velocity v_y of C (m/s, body frame,
+//! positive to the left). With u = v the forward speed of C, omega the yaw rate, G a
+//! distance d ahead of C, I_G = platform_inertia, I_m = wheel_inertia, and the contact of
+//! the right (sigma = +1) and left (sigma = -1) wheel at (0, -sigma R) in the body frame:
+//!
+//! ```text
+//! slip velocity of the contact, body frame:  s_x = u + sigma R omega - r omega_w,  s_y = v_y
+//! force of the ground on the robot:          F = -mu N tanh(|s| / v_eps) s / |s|
+//! wheel:    I_m omega_w'  = tau - tau_f(omega_w) - r F_x
+//! forward:  m (u'   - omega v_y - omega^2 d) = F_xr + F_xl (+ gravity along the body x)
+//! lateral:  m (v_y' + omega u   + omega' d)  = F_yr + F_yl (+ gravity along the body y)
+//! yaw at G: I_G omega' = R (F_xr - F_xl) - d (F_yr + F_yl)
+//! ```
+//!
+//! Normal loads: the caster at c = `caster_offset` ahead of C carries no horizontal force,
+//! G sits at height h = `com_height`; moments about the axle line at the ground give
+//! N_caster c = W d - h (F_xr + F_xl) with W = m g cos(slope), so pulling forward unloads
+//! the caster. The wheels share the rest equally (no lateral load transfer):
+//!
+//! ```text
+//! N_r = N_l = W (c - d) / (2 (c - h (f_xr + f_xl) / 2)),   f_x = F_x / N (the normalised force)
+//! ```
+//!
+//! which solves the loop "force needs the load, the load needs the force" exactly: F_x is
+//! f_x N with f_x given by the slip alone. The caster never lifts and the wheels never
+//! lift while mu h <= |d| and 0 <= d / c < 1 ([`TractionParams::validate`]).
+//!
+//! With an infinitely steep curve (v_eps -> 0 or mu -> infinity) the slip velocities
+//! vanish and the equations reduce to (15) (docs/model.md derives it); the slip plant's
+//! state on top of [`State`] is a [`SlipExtra`].
+
+use crate::drive::Drive;
+use crate::dynamics::Model;
+use crate::error::{ParamError, check};
+use crate::integrator::{RK4_REAL_STABILITY_LIMIT, Rhs, rk4_step_of};
+use crate::math::Wheels;
+use crate::state::State;
+use crate::world::{STANDARD_GRAVITY, World};
+use crate::{Real, Robot};
+
+/// Which traction model the plant uses (`[robot] traction`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize), serde(rename_all = "snake_case"))]
+#[non_exhaustive]
+pub enum TractionKind {
+    /// The paper's pure rolling: no slip, any torque becomes acceleration (the default).
+    #[default]
+    Rolling,
+    /// Wheels that slip: forces limited by mu times the normal loads ([`crate::traction`]).
+    Slip,
+}
+
+crate::params! {
+    /// `[robot]` keys of the traction model (read beside [`crate::RobotParams`]'s).
+    ///
+    /// Only `traction = "slip"` reads the others; with `"rolling"` they are ignored.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    pub struct TractionParams<T> {
+        /// Traction model: "rolling" (the paper's, no slip) or "slip" (forces within mu N).
+        pub traction: TractionKind [unit = "", rule = "\"rolling\" or \"slip\""],
+        /// mu, friction coefficient between tyre and ground (0.8 asphalt, 0.3 wet tiles, 0.1 ice).
+        pub friction_coefficient: T [unit = "", rule = "> 0, and friction_coefficient * com_height <= |com_offset|"],
+        /// c, distance from C forward to the caster's contact (negative: caster behind C).
+        pub caster_offset: T [unit = "m", rule = "finite, 0 <= com_offset / caster_offset < 1"],
+        /// h, height of the centre of mass G above the ground.
+        pub com_height: T [unit = "m", rule = ">= 0"],
+        /// v_eps, slip speed of the regularised Coulomb law: F = mu N tanh(|s| / v_eps).
+        pub slip_speed: T [unit = "m/s", rule = "> 0, and dt * stiffness < 2.785"],
+    }
+}
+
+impl<T: Real> Default for TractionParams<T> {
+    /// Rolling; for slip: mu = 0.8, the caster 0.35 m ahead of C, G 0.1 m high,
+    /// v_eps = 0.2 m/s (the paper's robot then integrates stably up to dt = 1.37 ms).
+    fn default() -> Self {
+        Self {
+            traction: TractionKind::Rolling,
+            friction_coefficient: T::lit(0.8),
+            caster_offset: T::lit(0.35),
+            com_height: T::lit(0.1),
+            slip_speed: T::lit(0.2),
+        }
+    }
+}
+
+impl<T: Real> TractionParams<T> {
+    /// Checks the keys against the robot and builds the traction model on `world`'s
+    /// ground. Errors name
+    /// `friction_coefficient`, `caster_offset`, `com_height`, `slip_speed` (`"rolling"`
+    /// only refuses NaN and infinity there), and, since the
+    /// slip plant integrates each wheel and the yaw on their own, `wheel_inertia` and
+    /// `platform_inertia` (both must be > 0).
+    pub fn validate(self, robot: &Robot<T>, world: &World<T>) -> Result<Traction<T>, ParamError> {
+        if self.traction == TractionKind::Rolling {
+            // Unused, but a NaN is never let through silently.
+            check::finite("friction_coefficient", self.friction_coefficient)?;
+            check::finite("caster_offset", self.caster_offset)?;
+            check::finite("com_height", self.com_height)?;
+            check::finite("slip_speed", self.slip_speed)?;
+            return Ok(Traction::Rolling);
+        }
+        let mu = check::positive("friction_coefficient", self.friction_coefficient)?;
+        let c = check::finite("caster_offset", self.caster_offset)?;
+        let h = check::non_negative("com_height", self.com_height)?;
+        check::positive("slip_speed", self.slip_speed)?;
+        let p = robot.params();
+        check::positive("wheel_inertia", p.wheel_inertia)?;
+        check::positive("platform_inertia", p.platform_inertia)?;
+        let d = p.com_offset;
+        let share = d / c;
+        if c == T::zero() || !(share >= T::zero() && share < T::one()) {
+            return Err(check::out_of_range(
+                "caster_offset",
+                "G must lie between the axle and the caster: 0 <= com_offset / caster_offset < 1",
+                c,
+            ));
+        }
+        if mu * h > d.abs() {
+            return Err(check::out_of_range(
+                "com_height",
+                "the caster would lift at full traction: friction_coefficient * com_height must be <= |com_offset|",
+                h,
+            ));
+        }
+        Ok(Traction::Slip(Slip::new(self, robot, world)))
+    }
+}
+
+/// A validated traction model.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum Traction<T> {
+    /// The paper's rolling wheels ([`crate::dynamics`]).
+    Rolling,
+    /// Wheels that slip ([`Slip`]).
+    Slip(Slip<T>),
+}
+
+/// What the slip plant adds to [`State`] (zero for a rolling plant).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SlipExtra<T> {
+    /// Lateral velocity of C, body frame (positive to the left), m/s.
+    pub v_lat: T,
+    /// Each wheel's own speed, rad/s.
+    pub wheel_speeds: Wheels<T>,
+}
+
+/// The contact of each wheel with the ground at one instant (zero for a rolling plant).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Contact<T> {
+    /// Longitudinal slip velocity, m/s: r omega_w minus the ground speed under the wheel
+    /// (positive when the wheel spins faster than the ground moves).
+    pub slip: Wheels<T>,
+    /// Lateral velocity of C (and of both contacts), body frame, m/s.
+    pub v_lat: T,
+    /// Longitudinal force of the ground on the robot at each wheel, body frame, N.
+    pub force_x: Wheels<T>,
+    /// Lateral force of the ground on the robot at each wheel, body frame (left +), N.
+    pub force_y: Wheels<T>,
+    /// Normal load on each wheel, N.
+    pub normal: Wheels<T>,
+}
+
+impl<T: Real> Contact<T> {
+    /// Power lost in slip, W: minus the power of the contact forces on the contact
+    /// points' velocities relative to the ground (never negative for a dissipative law).
+    pub fn slip_power(&self) -> T {
+        // The contact slides at (-slip, v_lat) relative to the ground; F opposes it.
+        self.force_x.right * self.slip.right + self.force_x.left * self.slip.left
+            - (self.force_y.right + self.force_y.left) * self.v_lat
+    }
+}
+
+/// The slip plant's constants, computed once.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Slip<T> {
+    params: TractionParams<T>,
+    /// Rolling model, for the wheel friction tau_f and the robot's constants.
+    model: Model<T>,
+    r: T,
+    big_r: T,
+    d: T,
+    mass: T,
+    inv_mass: T,
+    /// 1 / I_G, 1/(kg m^2).
+    inv_i_g: T,
+    /// 1 / I_m, 1/(kg m^2).
+    inv_i_m: T,
+    /// W (c - d) / 2: each wheel's load times (c - h f_mean), N m.
+    load_numerator: T,
+    /// Gravity along the ground in world x and y, N.
+    downhill: (T, T),
+    /// Normal weight W = m g cos(slope), N.
+    weight: T,
+}
+
+/// The slip plant's state as one array for RK4: [`State`]'s seven, then v_lat,
+/// omega_r, omega_l.
+pub(crate) const SLIP_STATE_LEN: usize = 10;
+
+impl<T: Real> Slip<T> {
+    fn new(params: TractionParams<T>, robot: &Robot<T>, world: &World<T>) -> Self {
+        let p = robot.params();
+        let per_degree = T::PI() / T::lit(180.0);
+        let cos_slope = (world.params().slope_deg * per_degree).cos_libm();
+        let weight = p.mass * T::lit(STANDARD_GRAVITY) * cos_slope;
+        let two = T::lit(2.0);
+        Self {
+            params,
+            model: Model::on(robot, world),
+            r: p.wheel_radius,
+            big_r: p.half_track,
+            d: p.com_offset,
+            mass: p.mass,
+            inv_mass: p.mass.recip(),
+            inv_i_g: p.platform_inertia.recip(),
+            inv_i_m: p.wheel_inertia.recip(),
+            load_numerator: weight * (params.caster_offset - p.com_offset) / two,
+            downhill: world.downhill_force(p.mass),
+            weight,
+        }
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &TractionParams<T> {
+        &self.params
+    }
+
+    /// Normal weight on the ground, W = m g cos(slope), N.
+    pub fn weight(&self) -> T {
+        self.weight
+    }
+
+    /// The largest normal load a wheel can see, N: W |c - d| / (2 (|c| - mu h)), at full
+    /// traction forward (caster ahead) or backward (caster behind).
+    pub fn max_wheel_load(&self) -> T {
+        let p = &self.params;
+        let c = p.caster_offset;
+        self.weight * (c - self.d).abs() / (T::lit(2.0) * (c.abs() - p.friction_coefficient * p.com_height))
+    }
+
+    /// The contact forces at body speeds (u, omega, v_lat) and wheel speeds `w` (rad/s).
+    #[inline]
+    pub fn contact(&self, u: T, omega: T, v_lat: T, w: Wheels<T>) -> Contact<T> {
+        let p = &self.params;
+        let (mu, eps) = (p.friction_coefficient, p.slip_speed);
+        // Velocity of each contact point relative to the ground, body frame.
+        let sx_r = u + self.big_r * omega - self.r * w.right;
+        let sx_l = u - self.big_r * omega - self.r * w.left;
+        // f = -mu tanh(|s| / eps) s / |s|: the force per newton of load; at |s| = 0 the
+        // ratio tanh(|s| / eps) / |s| is its limit 1 / eps.
+        let per_newton = |sx: T| {
+            let speed = sx.hypot_libm(v_lat);
+            let gain = if speed > T::zero() { (speed / eps).tanh_libm() / speed } else { eps.recip() };
+            (-mu * gain * sx, -mu * gain * v_lat)
+        };
+        let (fx_r, fy_r) = per_newton(sx_r);
+        let (fx_l, fy_l) = per_newton(sx_l);
+        let half = T::lit(0.5);
+        let n = self.load_numerator / (p.caster_offset - p.com_height * half * (fx_r + fx_l));
+        Contact {
+            slip: Wheels::new(-sx_r, -sx_l),
+            v_lat,
+            force_x: Wheels::new(fx_r * n, fx_l * n),
+            force_y: Wheels::new(fy_r * n, fy_l * n),
+            normal: Wheels::new(n, n),
+        }
+    }
+
+    /// The contact of state (`s`, `extra`).
+    pub fn contact_of(&self, s: &State<T>, extra: &SlipExtra<T>) -> Contact<T> {
+        self.contact(s.v, s.omega, extra.v_lat, extra.wheel_speeds)
+    }
+
+    /// The time derivative of the slip state under wheel torques from `torque(omega_w)`
+    /// (N m, the drive at each wheel's own speed).
+    #[inline]
+    fn derivative(&self, y: &[T; SLIP_STATE_LEN], torque: impl Fn(Wheels<T>) -> Wheels<T>) -> [T; SLIP_STATE_LEN] {
+        let [_, _, theta, u, omega, _, _, v_lat, w_r, w_l] = *y;
+        let w = Wheels::new(w_r, w_l);
+        let tau = torque(w);
+        let c = self.contact(u, omega, v_lat, w);
+        let (sin, cos) = theta.sin_cos_libm();
+        let mut f_x = c.force_x.right + c.force_x.left;
+        let mut f_y = c.force_y.right + c.force_y.left;
+        if self.model.is_sloped() {
+            // World pull (F_X, F_Y) in the body frame; at G, so no moment about G.
+            let (gx, gy) = self.downhill;
+            f_x = f_x + gx * cos + gy * sin;
+            f_y = f_y - gx * sin + gy * cos;
+        }
+        let omega_dot = (self.big_r * (c.force_x.right - c.force_x.left) - self.d * (c.force_y.right + c.force_y.left))
+            * self.inv_i_g;
+        let u_dot = f_x * self.inv_mass + omega * v_lat + omega * omega * self.d;
+        let v_lat_dot = f_y * self.inv_mass - omega_dot * self.d - omega * u;
+        let wheel_dot = |tau: T, w: T, fx: T| (tau - self.model.friction_torque(w) - self.r * fx) * self.inv_i_m;
+        [
+            u * cos - v_lat * sin,
+            u * sin + v_lat * cos,
+            omega,
+            u_dot,
+            omega_dot,
+            w_r,
+            w_l,
+            v_lat_dot,
+            wheel_dot(tau.right, w_r, c.force_x.right),
+            wheel_dot(tau.left, w_l, c.force_x.left),
+        ]
+    }
+
+    /// One RK4 step of `dt` (s) from (`s`, `extra`) with the drive's torque for the held
+    /// `command` at each wheel's own speed.
+    pub(crate) fn step(
+        &self,
+        s: &State<T>,
+        extra: &SlipExtra<T>,
+        drive: &Drive<T>,
+        command: Wheels<T>,
+        t: T,
+        dt: T,
+    ) -> (State<T>, SlipExtra<T>) {
+        let y = [
+            s.x,
+            s.y,
+            s.theta,
+            s.v,
+            s.omega,
+            s.phi_r,
+            s.phi_l,
+            extra.v_lat,
+            extra.wheel_speeds.right,
+            extra.wheel_speeds.left,
+        ];
+        let mut f = SlipRhs { slip: self, drive, command };
+        let [x, y, theta, v, omega, phi_r, phi_l, v_lat, w_r, w_l] = rk4_step_of(&mut f, t, &y, dt);
+        (State { x, y, theta, v, omega, phi_r, phi_l }, SlipExtra { v_lat, wheel_speeds: Wheels::new(w_r, w_l) })
+    }
+
+    /// Kinetic energy, J: 1/2 m |v_G|^2 + 1/2 I_G omega^2 + 1/2 I_m (omega_r^2 + omega_l^2),
+    /// with v_G = (u, v_lat + omega d) in the body frame.
+    pub fn kinetic_energy(&self, s: &State<T>, extra: &SlipExtra<T>) -> T {
+        let half = T::lit(0.5);
+        let vg_y = extra.v_lat + s.omega * self.d;
+        let w = extra.wheel_speeds;
+        half * self.mass * (s.v * s.v + vg_y * vg_y)
+            + half * self.inv_i_g.recip() * s.omega * s.omega
+            + half * self.inv_i_m.recip() * (w.right * w.right + w.left * w.left)
+    }
+
+    /// The stiffness of the slip (1/s): an upper bound of the fastest decay rate of the
+    /// slip velocities, over every state. Linearized, the contact forces are
+    /// F = -K s with each gain at most k = mu N_max / v_eps (tanh' <= 1, tanh(x)/x <= 1),
+    /// times 1 + mu h / (|c| - mu h) for the load that the force itself moves; the slip
+    /// velocities answer the forces through the contacts' mobility matrix A (the inverse
+    /// mass matrix seen at the contacts), so the rates are the eigenvalues of A K, at most
+    /// k lambda_max(A). By the robot's left-right symmetry A splits into a common mode,
+    /// 2/m + r^2/I_m, and a 2 x 2 block [[2R^2/I_G + r^2/I_m, -2Rd/I_G], [-2Rd/I_G,
+    /// 2(1/m + d^2/I_G)]] (differential slip and lateral slip, coupled by the yaw). The
+    /// wheel's friction and the drive's damping b (N m s/rad) add b / I_m.
+    pub fn stiffness(&self, wheel_damping: T) -> T {
+        let p = &self.params;
+        let (mu, h, c) = (p.friction_coefficient, p.com_height, p.caster_offset.abs());
+        let two = T::lit(2.0);
+        let k = mu * self.max_wheel_load() / p.slip_speed * (T::one() + mu * h / (c - mu * h));
+        let r2_over_i_m = self.r * self.r * self.inv_i_m;
+        let common = two * self.inv_mass + r2_over_i_m;
+        let a = two * self.big_r * self.big_r * self.inv_i_g + r2_over_i_m;
+        let b = two * self.big_r * self.d * self.inv_i_g;
+        let cc = two * (self.inv_mass + self.d * self.d * self.inv_i_g);
+        let half_diff = (a - cc) / two;
+        let lateral = (a + cc) / two + (half_diff * half_diff + b * b).sqrt();
+        k * common.max(lateral) + wheel_damping * self.inv_i_m
+    }
+
+    /// The largest plant step (s) RK4 integrates stably: limit / stiffness.
+    pub fn max_stable_dt(&self, wheel_damping: T) -> T {
+        T::lit(RK4_REAL_STABILITY_LIMIT) / self.stiffness(wheel_damping)
+    }
+}
+
+/// The slip plant's right-hand side under a held command.
+struct SlipRhs<'a, T> {
+    slip: &'a Slip<T>,
+    drive: &'a Drive<T>,
+    command: Wheels<T>,
+}
+
+impl<T: Real> Rhs<T, SLIP_STATE_LEN> for SlipRhs<'_, T> {
+    #[inline]
+    fn eval(&mut self, _t: T, y: &[T; SLIP_STATE_LEN]) -> [T; SLIP_STATE_LEN] {
+        let (drive, command) = (self.drive, self.command);
+        self.slip.derivative(y, |w| {
+            Wheels::new(drive.wheel_torque(command.right, w.right), drive.wheel_torque(command.left, w.left))
+        })
+    }
+}
