@@ -178,12 +178,15 @@ fn stubs_list_every_robot_and_controller_key_with_its_default() {
 }
 
 /// The stub classes whose `__new__` keywords are the keys of a schema table (and kind).
-const STUB_CLASSES: [(&str, &str, Option<&str>); 5] = [
+const STUB_CLASSES: [(&str, &str, Option<&str>); 8] = [
     ("Robot", "robot", None),
     ("PaperController", "controller", Some("paper")),
     ("PaperBidirectionalController", "controller", Some("paper_bidirectional")),
     ("PolarController", "controller", Some("polar")),
     ("LyapunovController", "controller", Some("lyapunov")),
+    ("KanayamaController", "controller", Some("kanayama")),
+    ("BacksteppingController", "controller", Some("backstepping")),
+    ("PurePursuitController", "controller", Some("pure_pursuit")),
 ];
 
 const GEN_BEGIN: &str =

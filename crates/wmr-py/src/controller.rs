@@ -1,6 +1,9 @@
-//! `wmr_py.PaperController`, `PaperBidirectionalController`, `PolarController` and
-//! `LyapunovController`: each law with its wheel stage (the core's
-//! [`wmr_core::Controller`]) for loops closed in Python, one robot or a batch of N.
+//! `wmr_py.PaperController`, `PaperBidirectionalController`, `PolarController`,
+//! `LyapunovController` (point stabilization: they follow a goal) and
+//! `KanayamaController`, `BacksteppingController`, `PurePursuitController` (tracking and
+//! path following: they follow a [`crate::trajectory::PyReference`]): each law with its
+//! wheel stage (the core's [`wmr_core::Controller`]) for loops closed in Python, one
+//! robot or a batch of N.
 //!
 //! A batch holds N copies of the controller (N lanes), one per robot, all with the same
 //! gains and goal; a call with (N, k) arrays advances every lane by one tick in Rust, so
@@ -11,7 +14,7 @@ use numpy::{IntoPyArray, PyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyFloatingPointError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
-use wmr_core::{ControlOutput, Measurement, Pose2, ReferenceState, StepClock, Wheels};
+use wmr_core::{AnyReference, ControlOutput, Measurement, Pose2, Reference, ReferenceState, StepClock, Wheels};
 use wmr_scenario::BuiltController;
 
 use crate::convert::{batch_arg, finite_array, pose_table, same_rows, type_name};
@@ -19,6 +22,15 @@ use crate::error::parameter_error;
 use crate::reference::reference_arg;
 use crate::robot::{PyRobot, one_run_scenario, wheels_arg};
 use crate::scenario::scenario_arg;
+use crate::trajectory::{PyReference, reference_table};
+
+/// What a law class's constructor takes first: the goal (a fixed reference, the
+/// stabilization laws) or a moving reference (the tracking and path-following laws).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Follows {
+    Goal,
+    Reference,
+}
 
 /// The controller of one law and its lanes (one per robot of a batch).
 pub struct Lanes {
@@ -32,6 +44,8 @@ pub struct Lanes {
     /// The outputs of the tick being computed.
     next_last: Vec<ControlOutput<f64>>,
     goal: Pose2<f64>,
+    /// The moving reference of a tracking law (`None`: the goal at rest).
+    reference: Option<PyReference>,
     /// Control ticks since construction or reset: the time of a tick is the loop's clock
     /// ([`StepClock`]) at control_dt.
     ticks: u64,
@@ -46,12 +60,13 @@ impl Lanes {
     /// **gains)` documents it: the keys go through the scenario parser.
     fn new(
         kind: &str,
-        goal: &Bound<'_, PyAny>,
+        follows: Follows,
+        target: &Bound<'_, PyAny>,
         robot: Option<&Bound<'_, PyAny>>,
         drive: Option<&Bound<'_, PyAny>>,
         gains: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
-        let py = goal.py();
+        let py = target.py();
         let robot = match robot {
             None => None,
             Some(r) => match r.cast::<PyRobot>() {
@@ -78,10 +93,21 @@ impl Lanes {
             table.update(g.as_mapping())?;
         }
         table.set_item("kind", kind)?;
-        let goal = pose_table(goal, "goal")?;
         // A one-run scenario: the scenario code parses the keys, fills the defaults
-        // (servo gains by drive kind) and checks everything, as for a file.
-        let sc_dict = one_run_scenario(py, robot.as_ref(), drive, Some(&table), Some(&goal))?;
+        // (servo gains by drive kind) and checks everything, as for a file. A tracking
+        // law's run gives no goal: its `[reference]` is the goal.
+        let sc_dict = match follows {
+            Follows::Goal => {
+                let goal = pose_table(target, "goal")?;
+                one_run_scenario(py, robot.as_ref(), drive, Some(&table), Some(&goal))?
+            }
+            Follows::Reference => {
+                let d = one_run_scenario(py, robot.as_ref(), drive, Some(&table), None)?;
+                d.set_item("run", vec![PyDict::new(py)])?;
+                d.set_item("reference", reference_table(target)?)?;
+                d
+            }
+        };
         let sc = scenario_arg(sc_dict.as_any())?;
         Self::from_scenario(&sc)
     }
@@ -89,6 +115,7 @@ impl Lanes {
     fn from_scenario(sc: &wmr_scenario::Scenario) -> PyResult<Self> {
         let goal = sc.runs().first().map(|r| r.goal).unwrap_or_default();
         let proto = *sc.built_controller();
+        let reference = sc.tracking().map(|t| PyReference::from_spec(t.reference.clone()));
         Ok(Self {
             proto,
             lanes: vec![proto],
@@ -96,6 +123,7 @@ impl Lanes {
             last: vec![ControlOutput::default()],
             next_last: Vec::new(),
             goal,
+            reference,
             ticks: 0,
             batched: false,
             scenario_toml: sc.to_toml(),
@@ -135,14 +163,31 @@ impl Lanes {
 
     /// One tick of every lane, from the measurement of lane i given by `m(i)`. All or
     /// nothing: a tick whose commands or errors are not finite leaves every lane as it was.
+    /// The time of the next tick, s: the loop's own clock at control_dt, the bits a
+    /// scenario run gives the law at this tick.
+    fn tick_time(&self) -> f64 {
+        StepClock::new(self.proto.control_dt()).time(self.ticks)
+    }
+
+    /// The references of the next tick: `reference` as given, or when `None` the moving
+    /// reference's state at the tick's time (a tracking law), or the goal at rest.
+    fn references(&self, reference: Option<&Bound<'_, PyAny>>, n: usize) -> PyResult<Vec<ReferenceState<f64>>> {
+        match (&self.reference, reference.filter(|r| !r.is_none())) {
+            (Some(r), None) => Ok(vec![r.built().state_at(self.tick_time())]),
+            (_, given) => reference_arg(given, self.goal, n),
+        }
+    }
+
     fn tick(
         &mut self,
         n: usize,
         refs: &[ReferenceState<f64>],
         m: impl Fn(usize, f64) -> Measurement<f64>,
     ) -> PyResult<()> {
-        // The loop's own clock at control_dt: the bits a scenario run gives the law at this tick.
-        let t = StepClock::new(self.proto.control_dt()).time(self.ticks);
+        let t = self.tick_time();
+        // A path-following law steers by the reference's path, as the scenario loop does
+        // (wmr_core::ClosedLoop): every law is given the path when the reference has one.
+        let moving: Option<AnyReference<f64>> = self.reference.as_ref().map(PyReference::built);
         // The tick is computed into `next` and `next_last` and swapped in when every lane
         // is finite; the buffers are kept, so a tick allocates nothing after the first.
         self.next.clear();
@@ -150,7 +195,11 @@ impl Lanes {
         self.next_last.clear();
         for (i, lane) in self.next.iter_mut().enumerate() {
             // One reference for every robot, or one each (`reference_arg` gives 1 or n).
-            let out = lane.update(t, &m(i, t), &refs[i % refs.len()]);
+            let (mi, ri) = (m(i, t), &refs[i % refs.len()]);
+            let out = match moving.as_ref().and_then(|r| r.path()) {
+                Some(path) => lane.update_on_path(t, &mi, ri, path),
+                None => lane.update(t, &mi, ri),
+            };
             let e = out.errors;
             if ![out.command.right, out.command.left, e.e_s, e.e_theta, e.dl].iter().all(|v| v.is_finite()) {
                 return Err(PyFloatingPointError::new_err(format!(
@@ -184,7 +233,7 @@ impl Lanes {
             })?;
             same_rows(&a, "wheel_angles", n, "pose")?;
             same_rows(&w, "wheel_speeds", n, "pose")?;
-            let refs = reference_arg(reference, self.goal, n)?;
+            let refs = self.references(reference, n)?;
             self.lanes_for(n, "pose")?;
             let (p, a, w) = (p.as_array(), a.as_array(), w.as_array());
             self.tick(n, &refs, |i, t| Measurement {
@@ -204,7 +253,7 @@ impl Lanes {
         let [x, y, theta] = finite_array(pose, "pose", ["x", "y", "theta"])?;
         let angles = wheels_arg(wheel_angles, "wheel_angles", ["phi_r", "phi_l"])?;
         let speeds = wheels_arg(wheel_speeds, "wheel_speeds", ["omega_r", "omega_l"])?;
-        let refs = reference_arg(reference, self.goal, 1)?;
+        let refs = self.references(reference, 1)?;
         self.lanes_for(1, "pose")?;
         self.tick(1, &refs, |_, t| Measurement {
             t,
@@ -254,9 +303,10 @@ impl Lanes {
     }
 }
 
-/// One Python class per law: the constructor fixes `kind`, the rest is [`Lanes`].
+/// One Python class per law: the constructor fixes `kind` and what the law follows (its
+/// first argument, `goal` or `reference`); the rest is [`Lanes`].
 macro_rules! law_class {
-    ($(#[$doc:meta])* $rust:ident, $name:literal, $kind:literal) => {
+    ($(#[$doc:meta])* $rust:ident, $name:literal, $kind:literal, $arg:ident => $follows:ident) => {
         $(#[$doc])*
         #[pyclass(name = $name, module = "wmr_py")]
         pub struct $rust {
@@ -273,14 +323,14 @@ macro_rules! law_class {
         #[pymethods]
         impl $rust {
             #[new]
-            #[pyo3(signature = (goal, robot=None, drive=None, **gains))]
+            #[pyo3(signature = ($arg, robot=None, drive=None, **gains))]
             fn new(
-                goal: &Bound<'_, PyAny>,
+                $arg: &Bound<'_, PyAny>,
                 robot: Option<&Bound<'_, PyAny>>,
                 drive: Option<&Bound<'_, PyAny>>,
                 gains: Option<&Bound<'_, PyDict>>,
             ) -> PyResult<Self> {
-                Ok(Self { inner: Lanes::new($kind, goal, robot, drive, gains)? })
+                Ok(Self { inner: Lanes::new($kind, Follows::$follows, $arg, robot, drive, gains)? })
             }
 
             /// One control tick: the wheel commands from the measured pose (x_m, y_m,
@@ -293,8 +343,10 @@ macro_rules! law_class {
             /// commands are wheel torque demands in N m before the drive's clamp
             /// (|tau| <= motor_torque_max / gear_ratio); with dc_motor, volts.
             ///
-            /// reference: what the law tracks at this tick, the goal at rest when None: a
-            /// dict {"pose": (x_m, y_m, theta_rad), "twist": (v m/s, omega rad/s),
+            /// reference: what the law tracks at this tick; when None, the goal at rest (a
+            /// stabilization law) or the state of the class's Reference at the tick's time
+            /// (a tracking law; the path of a path-following law is always the Reference's):
+            /// a dict {"pose": (x_m, y_m, theta_rad), "twist": (v m/s, omega rad/s),
             /// "accel": (v' m/s^2, omega' rad/s^2)} (parts as dicts or sequences; a
             /// missing part is the goal's pose or zero), a row of those 7 numbers, or for
             /// a batch an (N, 7) array (one row for every robot also works). A bad or
@@ -328,11 +380,19 @@ macro_rules! law_class {
                 self.inner.proto.control_dt()
             }
 
-            /// The goal (x_m, y_m, theta_rad) of C.
+            /// The goal (x_m, y_m, theta_rad) of C; None for a tracking law (it follows
+            /// `reference`).
             #[getter]
-            fn goal(&self) -> (f64, f64, f64) {
+            fn goal(&self) -> Option<(f64, f64, f64)> {
                 let g = self.inner.goal;
-                (g.x, g.y, g.theta)
+                self.inner.reference.is_none().then_some((g.x, g.y, g.theta))
+            }
+
+            /// The Reference a tracking law follows; None for a stabilization law (it
+            /// follows `goal`).
+            #[getter]
+            fn reference(&self) -> Option<PyReference> {
+                self.inner.reference.clone()
             }
 
             /// The law's `kind` in a scenario's `[controller]`.
@@ -359,7 +419,11 @@ macro_rules! law_class {
 
             fn __repr__(&self) -> String {
                 let g = self.inner.goal;
-                format!("{}(goal=({}, {}, {}), n={}, ticks={})", $name, g.x, g.y, g.theta, self.inner.lanes.len(), self.inner.ticks)
+                let follows = match &self.inner.reference {
+                    Some(r) => format!("reference={:?}", r.built().kind()),
+                    None => format!("goal=({}, {}, {})", g.x, g.y, g.theta),
+                };
+                format!("{}({follows}, n={}, ticks={})", $name, self.inner.lanes.len(), self.inner.ticks)
             }
         }
     };
@@ -385,7 +449,8 @@ law_class!(
     /// takes one robot (1-D arguments) or a batch of N ((N, 3), (N, 2), (N, 2) arrays).
     PyPaperController,
     "PaperController",
-    "paper"
+    "paper",
+    goal => Goal
 );
 
 law_class!(
@@ -396,7 +461,8 @@ law_class!(
     /// ("freeze"), and the wheel stage's keys and control_dt.
     PyPaperBidirectionalController,
     "PaperBidirectionalController",
-    "paper_bidirectional"
+    "paper_bidirectional",
+    goal => Goal
 );
 
 law_class!(
@@ -407,7 +473,8 @@ law_class!(
     /// and control_dt.
     PyPolarController,
     "PolarController",
-    "polar"
+    "polar",
+    goal => Goal
 );
 
 law_class!(
@@ -417,7 +484,53 @@ law_class!(
     /// the wheel stage's keys and control_dt.
     PyLyapunovController,
     "LyapunovController",
-    "lyapunov"
+    "lyapunov",
+    goal => Goal
+);
+
+law_class!(
+    /// Kanayama et al.'s trajectory tracking law (kind "kanayama", docs/model.md) with the
+    /// wheel servos: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e +
+    /// ktheta sin(theta_e)).
+    ///
+    /// KanayamaController(reference, robot=None, drive=None, **gains)
+    ///
+    /// reference: the Reference it tracks (or a dict of `[reference]` keys); at each
+    /// update without `reference=` the law follows its state at the tick's time (tick k
+    /// at k control_dt, the scenario loop's clock). robot, drive: as for PaperController.
+    /// gains: kx (1/s, 10), ky (1/m^2, 64), ktheta (1/m, 16), and the wheel stage's keys
+    /// and control_dt.
+    PyKanayamaController,
+    "KanayamaController",
+    "kanayama",
+    reference => Reference
+);
+
+law_class!(
+    /// Kanayama's twist back-stepped into the dynamics (kind "backstepping", in the
+    /// manner of Fierro and Lewis 1997): wheel torques from the controller's model that
+    /// drive the measured body twist to Kanayama's at rate k4. Same arguments and
+    /// methods as KanayamaController; gains: kx (1/s, 10), ky (1/m^2, 64), ktheta (1/m,
+    /// 16), k4 (1/s, 20), and the wheel stage's keys and control_dt.
+    PyBacksteppingController,
+    "BacksteppingController",
+    "backstepping",
+    reference => Reference
+);
+
+law_class!(
+    /// Regulated pure pursuit (kind "pure_pursuit", path following in nav2's manner):
+    /// steers onto the arc through the point one lookahead ahead on the Reference's path
+    /// (its timing ignored). Same arguments and methods as KanayamaController; gains:
+    /// speed (m/s, 0.3), lookahead_time (s, 1.5), min_lookahead_dist (m, 0.3),
+    /// max_lookahead_dist (m, 0.9), regulated_linear_scaling_min_radius (m, 0.9),
+    /// regulated_linear_scaling_min_speed (m/s, 0.25), approach_velocity_scaling_dist
+    /// (m, 0.6), min_approach_linear_velocity (m/s, 0.05), xy_goal_tolerance (m, 0.01),
+    /// and the wheel stage's keys and control_dt.
+    PyPurePursuitController,
+    "PurePursuitController",
+    "pure_pursuit",
+    reference => Reference
 );
 
 /// Rebuilds a controller of class `class` from its resolved scenario (pickle's restore).
@@ -428,6 +541,9 @@ pub fn controller_from_toml(py: Python<'_>, class_name: &str, text: &str) -> PyR
         "PaperBidirectionalController" => Py::new(py, PyPaperBidirectionalController::from_toml(text)?)?.into_any(),
         "PolarController" => Py::new(py, PyPolarController::from_toml(text)?)?.into_any(),
         "LyapunovController" => Py::new(py, PyLyapunovController::from_toml(text)?)?.into_any(),
+        "KanayamaController" => Py::new(py, PyKanayamaController::from_toml(text)?)?.into_any(),
+        "BacksteppingController" => Py::new(py, PyBacksteppingController::from_toml(text)?)?.into_any(),
+        "PurePursuitController" => Py::new(py, PyPurePursuitController::from_toml(text)?)?.into_any(),
         other => return Err(parameter_error("class", format_args!("no controller class {other:?}"))),
     })
 }

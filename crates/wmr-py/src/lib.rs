@@ -12,14 +12,15 @@ pub mod interrupt;
 pub mod reference;
 pub mod robot;
 pub mod scenario;
+pub mod trajectory;
 
 /// Native part of wmr_py: models, controller and scenario runner of a differential-drive robot.
 #[pyo3::pymodule]
 mod _native {
     #[pymodule_export]
     use crate::controller::{
-        PyLyapunovController, PyPaperBidirectionalController, PyPaperController, PyPolarController,
-        controller_from_toml,
+        PyBacksteppingController, PyKanayamaController, PyLyapunovController, PyPaperBidirectionalController,
+        PyPaperController, PyPolarController, PyPurePursuitController, controller_from_toml,
     };
     #[pymodule_export]
     use crate::error::{ParameterError, ScenarioError};
@@ -30,6 +31,8 @@ mod _native {
         PyRunResult, run_batch_native, run_result_from_state, run_scenario, sweep, sweep_gather, sweep_part,
         sweep_plan, time_run_rust,
     };
+    #[pymodule_export]
+    use crate::trajectory::PyReference;
 
     /// Loads NumPy's C API now, while importing: loaded lazily, the first array made
     /// after a run that Ctrl-C interrupted would import numpy with a KeyboardInterrupt
@@ -46,6 +49,9 @@ mod _native {
         m.add("CSV_COLUMNS", PyTuple::new(m.py(), wmr_scenario::CSV_COLUMNS)?)?;
         m.add("MEASURED_COLUMNS", PyTuple::new(m.py(), wmr_scenario::MEASURED_COLUMNS)?)?;
         m.add("OUTCOME_FIELDS", PyTuple::new(m.py(), crate::scenario::outcome_fields().collect::<Vec<_>>())?)?;
+        m.add("REFERENCE_COLUMNS", PyTuple::new(m.py(), wmr_scenario::REFERENCE_COLUMNS)?)?;
+        m.add("REFERENCE_UNITS", PyTuple::new(m.py(), wmr_scenario::REFERENCE_UNITS)?)?;
+        m.add("TRACKING_FIELDS", PyTuple::new(m.py(), crate::scenario::tracking_fields().collect::<Vec<_>>())?)?;
         m.add("ARRIVAL_RADIUS_M", wmr_core::ARRIVAL_RADIUS_M)?;
         crate::scenario::add_column_properties(&m.py().get_type::<crate::scenario::PyRunResult>())?;
         crate::interrupt::load_numpy_api(m.py())

@@ -6,12 +6,16 @@ SI units and radians everywhere; keys ending in ``_deg`` take degrees.
 
 - ``run_scenario(path_or_toml_or_dict)``: every run of a scenario (docs/scenario.md) as
   numpy columns plus its summary.
-- ``simulate(start, goal, ...)``: one run with keyword overrides.
-- ``run_batch(starts, goal, ...)``: many starts in parallel, the GIL released.
+- ``simulate(start, goal, ...)``: one run with keyword overrides; ``simulate(start,
+  reference=...)`` tracks a moving reference (a ``Reference`` or a dict of the
+  scenario's ``[reference]`` keys) with a tracking law.
+- ``run_batch(starts, goal, ...)``: many starts in parallel, the GIL released (also
+  with ``reference=``).
 - ``sweep(scenario)``: every law from every start of a ``[sweep]``.
 - ``Robot``, ``PaperController``, ``PaperBidirectionalController``, ``PolarController``,
-  ``LyapunovController``: building blocks for loops closed in Python, one robot or a
-  batch of N as (N, k) arrays.
+  ``LyapunovController`` (towards a goal), ``KanayamaController``,
+  ``BacksteppingController``, ``PurePursuitController`` (along a ``Reference``):
+  building blocks for loops closed in Python, one robot or a batch of N as (N, k) arrays.
 - ``ParameterError`` / ``ScenarioError`` (both ``ValueError``): bad input, ``err.key`` names it.
 
 Results pickle (processes, joblib, Dask, caches) and become data: ``RunResult.to_pandas()``,
@@ -36,11 +40,15 @@ from typing import Any, Optional, Sequence, Union
 import numpy as np
 
 from ._native import (
+    BacksteppingController,
+    KanayamaController,
     LyapunovController,
     PaperBidirectionalController,
     PaperController,
     ParameterError,
     PolarController,
+    PurePursuitController,
+    Reference,
     Robot,
     RunResult,
     ScenarioError,
@@ -62,13 +70,23 @@ MEASURED_COLUMNS: tuple = _native.MEASURED_COLUMNS
 OUTCOME_FIELDS: tuple = _native.OUTCOME_FIELDS
 #: A run has converged when its final distance to the goal is below this, m.
 ARRIVAL_RADIUS_M: float = _native.ARRIVAL_RADIUS_M
+#: The reference columns a tracking run's RunResult (and CSV) has: the reference at each
+#: sample's t (wmr-scenario's list).
+REFERENCE_COLUMNS: tuple = _native.REFERENCE_COLUMNS
+#: The unit of each of REFERENCE_COLUMNS.
+REFERENCE_UNITS: tuple = _native.REFERENCE_UNITS
+#: The tracking summary arrays run_batch adds for a tracking scenario (RunResult has them
+#: as attributes, with ``tracking_tolerance``).
+TRACKING_FIELDS: tuple = _native.TRACKING_FIELDS
 
 __all__ = [
     "ARRIVAL_RADIUS_M",
+    "BacksteppingController",
     "BatchResult",
     "COLUMNS",
     "COLUMN_UNITS",
     "CSV_COLUMNS",
+    "KanayamaController",
     "LyapunovController",
     "MEASURED_COLUMNS",
     "OUTCOME_FIELDS",
@@ -76,10 +94,15 @@ __all__ = [
     "PaperController",
     "ParameterError",
     "PolarController",
+    "PurePursuitController",
+    "REFERENCE_COLUMNS",
+    "REFERENCE_UNITS",
+    "Reference",
     "Robot",
     "RunResult",
     "ScenarioError",
     "SweepResult",
+    "TRACKING_FIELDS",
     "run_batch",
     "run_scenario",
     "simulate",
@@ -141,6 +164,20 @@ def _table(value: Any, arg: str) -> Optional[dict]:
     raise _error(arg, f"expected a dict of scenario keys, got {type(value).__name__}")
 
 
+def _reference(value: Any) -> Optional[dict]:
+    """The ``reference=`` argument as the scenario's ``[reference]`` table: a Reference's
+    keys, or a dict passed on as is (the scenario parser checks its keys)."""
+    if value is None:
+        return None
+    if isinstance(value, Reference):
+        return value.to_dict()
+    if isinstance(value, Mapping):
+        return dict(value)
+    raise _error(
+        "reference", f"expected a wmr_py.Reference or a dict of [reference] keys, got {type(value).__name__}"
+    )
+
+
 def _scenario(
     runs: list,
     robot: Any,
@@ -151,8 +188,12 @@ def _scenario(
     log_dt: Optional[float],
     sensor: Any = None,
     world: Any = None,
+    reference: Any = None,
 ) -> dict:
     sc: dict = {"name": "simulate", "run": runs, "sim": {"t_end": t_end, "dt": dt, "log_dt": log_dt}}
+    ref = _reference(reference)
+    if ref is not None:
+        sc["reference"] = ref
     tables = (("robot", robot), ("drive", drive), ("controller", controller), ("sensor", sensor), ("world", world))
     for key, value in tables:
         table = _table(value, key)
@@ -163,7 +204,7 @@ def _scenario(
 
 def simulate(
     start: Pose,
-    goal: Pose,
+    goal: Optional[Pose] = None,
     robot: Union[None, Robot, Mapping[str, float]] = None,
     drive: Optional[Mapping[str, Any]] = None,
     controller: Optional[Mapping[str, Any]] = None,
@@ -173,11 +214,20 @@ def simulate(
     label: Optional[str] = None,
     sensor: Optional[Mapping[str, Any]] = None,
     world: Optional[Mapping[str, Any]] = None,
+    reference: Union[None, Reference, Mapping[str, Any]] = None,
 ) -> RunResult:
     """Simulate one run of the closed loop and return its RunResult.
 
     start, goal: poses of point C, as ``(x_m, y_m, theta_rad)`` or a dict with ``x``,
     ``y`` and ``theta`` (rad) or ``theta_deg`` (degrees).
+    reference: instead of a goal, a moving reference to track (a ``Reference`` or a dict
+    of the scenario's ``[reference]`` keys, ``{"kind": "circle", "radius": 1.0}``), with
+    a tracking law (``controller={"kind": "kanayama"}``, ``"backstepping"`` or
+    ``"pure_pursuit"``). The result then has the reference columns (``x_ref``, ``y_ref``,
+    ``theta_ref``, ``v_ref``, ``omega_ref``, as the CSV) and the tracking summary
+    (``rms_error``, ``max_error``, ``time_to_tolerance``, ``final_error``); it
+    converged when the tracking error stayed below ``sim.tracking_tolerance`` (1 cm)
+    over the last 10 % of t_end.
     robot, drive, controller: overrides with the scenario's ``[robot]``, ``[drive]`` and
     ``[controller]`` keys (docs/scenario.md); ``robot`` may also be a ``Robot``.
     t_end: simulated time, s. dt: RK4 step, s (default: the controller's control_dt,
@@ -194,15 +244,20 @@ def simulate(
     The same as ``run_scenario`` on a one-run scenario: same parser, checks and loop.
     Raises ScenarioError naming the key (e.g. ``robot.mass``, ``run[0].start.x``).
     """
-    run: dict = {"start": _pose(start, "start"), "goal": _pose(goal, "goal")}
+    # A tracking run gives its start only (the reference is its goal): a goal given
+    # with a reference is left to the scenario parser, which names run[0].goal.
+    run: dict = {"start": _pose(start, "start")}
+    if goal is not None or reference is None:
+        run["goal"] = _pose(goal, "goal") if goal is not None else None
     if label is not None:
         run["label"] = label
-    return run_scenario(_scenario([run], robot, drive, controller, t_end, dt, log_dt, sensor, world))[0]
+    sc = _scenario([run], robot, drive, controller, t_end, dt, log_dt, sensor, world, reference)
+    return run_scenario(sc)[0]
 
 
 def run_batch(
     starts: Any,
-    goal: Pose,
+    goal: Optional[Pose] = None,
     robot: Union[None, Robot, Mapping[str, float]] = None,
     drive: Optional[Mapping[str, Any]] = None,
     controller: Optional[Mapping[str, Any]] = None,
@@ -215,6 +270,7 @@ def run_batch(
     executor: Any = None,
     chunk_size: Optional[int] = None,
     fast: bool = False,
+    reference: Union[None, Reference, Mapping[str, Any]] = None,
 ) -> BatchResult:
     """Run the closed loop from many starts to one goal in parallel (rayon, the GIL
     released) and return a BatchResult: a dict of 1-D arrays, one entry per start, in order:
@@ -236,8 +292,12 @@ def run_batch(
     worker; the result is the local call's, bit for bit, in order.
     fast: step the runs in SIMD lanes, several at once (as ``wmr-cli sweep --fast``):
     several times faster, not bit-identical to the exact path (final poses within about
-    1e-9 relative; docs/scenario.md, "The fast path"). Runs with a real sensor take the
-    exact path.
+    1e-9 relative; docs/scenario.md, "The fast path"). Runs with a real sensor or a
+    reference take the exact path.
+    reference: instead of a goal, a moving reference every start tracks (as for
+    ``simulate``); the result then also has ``rms_error``, ``max_error`` (m, over the
+    last half), ``time_to_tolerance`` (s; NaN if the error is above the tolerance at the
+    end) and ``final_error`` (m), and ``converged`` is the tracking rule's.
     """
     arr = np.ascontiguousarray(_real_array(starts, "starts", "an array of shape (N, 3) of (x, y, theta_rad)"))
     if arr.ndim != 2 or arr.shape[1] != 3 or arr.shape[0] == 0:
@@ -251,8 +311,10 @@ def run_batch(
     # as starts[i, j].
     if not all(math.isfinite(v) for v in first) or max(abs(first[0]), abs(first[1])) > 1000.0:
         base_start = None
-    runs = [{"start": base_start, "goal": _pose(goal, "goal")}]
-    base = _scenario(runs, robot, drive, controller, t_end, dt, t_end, sensor, world)
+    run: dict = {"start": base_start}
+    if goal is not None or reference is None:
+        run["goal"] = _pose(goal, "goal") if goal is not None else None
+    base = _scenario([run], robot, drive, controller, t_end, dt, t_end, sensor, world, reference)
     law = str(controller.get("kind", "paper")) if isinstance(controller, Mapping) else "paper"
     bar = _results.progress_bar(progress, "run_batch", "run")
     try:
@@ -344,6 +406,11 @@ def sweep(
 
 def _make_robot(params: dict) -> Robot:
     return Robot(**params)
+
+
+def _make_reference(keys: dict) -> Reference:
+    keys = dict(keys)
+    return Reference(keys.pop("kind"), **keys)
 
 
 def _restore_run_result(state: dict) -> RunResult:

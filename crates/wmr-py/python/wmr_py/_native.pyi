@@ -19,6 +19,23 @@ _ScenarioLike = Union[str, os.PathLike[str], Mapping[str, Any]]
 #: (x, y, theta, v, omega, v', omega').
 _ReferenceLike = Union[Mapping[str, Any], _ArrayLike]
 
+@final
+class Reference:
+    """A moving reference: the scenario's ``[reference]`` keys (kind circle, figure_eight,
+    line, waypoints or file), read and checked by the scenario code."""
+
+    def __new__(cls, kind: str, **keys: Any) -> Self: ...
+    @property
+    def kind(self) -> str: ...
+    @property
+    def start_pose(self) -> Tuple[float, float, float]:
+        """Pose of C_ref at t = 0, (x_m, y_m, theta_rad)."""
+    def to_dict(self) -> dict[str, Any]:
+        """The keys as given, with ``kind``."""
+    def state_at(self, t_s: Union[float, _FloatArray]) -> Any:
+        """At a time (s): {"pose": (x, y, theta), "twist": (v, omega), "accel": (v', omega')};
+        at a 1-D array of N times: an (N, 7) array of those rows."""
+
 class ParameterError(ValueError):
     """A bad argument or parameter value; ``key`` names it (``robot.mass``, ``state[3]``)."""
 
@@ -118,7 +135,8 @@ class PaperController:
     ) -> Any:
         """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
         (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds.
-        reference: the reference tracked at this tick (default: the goal at rest), a dict
+        reference: the reference tracked at this tick (default: the goal at rest, or a
+        tracking law's Reference at the tick's time), a dict
         {"pose": (x, y, theta rad), "twist": (v m/s, omega rad/s), "accel": (v' m/s^2,
         omega' rad/s^2)}, a row of those 7 numbers or an (N, 7) array (or one row for all)."""
     def reset(self) -> None: ...
@@ -128,7 +146,11 @@ class PaperController:
     @property
     def control_dt(self) -> float: ...
     @property
-    def goal(self) -> Tuple[float, float, float]: ...
+    def goal(self) -> Optional[Tuple[float, float, float]]:
+        """The goal (x_m, y_m, theta_rad) of C; None for a tracking law."""
+    @property
+    def reference(self) -> Optional[Reference]:
+        """The Reference a tracking law follows; None for a stabilization law."""
     @property
     def kind(self) -> str: ...
     @property
@@ -172,7 +194,8 @@ class PaperBidirectionalController:
     ) -> Any:
         """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
         (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds.
-        reference: the reference tracked at this tick (default: the goal at rest), a dict
+        reference: the reference tracked at this tick (default: the goal at rest, or a
+        tracking law's Reference at the tick's time), a dict
         {"pose": (x, y, theta rad), "twist": (v m/s, omega rad/s), "accel": (v' m/s^2,
         omega' rad/s^2)}, a row of those 7 numbers or an (N, 7) array (or one row for all)."""
     def reset(self) -> None: ...
@@ -182,7 +205,11 @@ class PaperBidirectionalController:
     @property
     def control_dt(self) -> float: ...
     @property
-    def goal(self) -> Tuple[float, float, float]: ...
+    def goal(self) -> Optional[Tuple[float, float, float]]:
+        """The goal (x_m, y_m, theta_rad) of C; None for a tracking law."""
+    @property
+    def reference(self) -> Optional[Reference]:
+        """The Reference a tracking law follows; None for a stabilization law."""
     @property
     def kind(self) -> str: ...
     @property
@@ -225,7 +252,8 @@ class PolarController:
     ) -> Any:
         """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
         (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds.
-        reference: the reference tracked at this tick (default: the goal at rest), a dict
+        reference: the reference tracked at this tick (default: the goal at rest, or a
+        tracking law's Reference at the tick's time), a dict
         {"pose": (x, y, theta rad), "twist": (v m/s, omega rad/s), "accel": (v' m/s^2,
         omega' rad/s^2)}, a row of those 7 numbers or an (N, 7) array (or one row for all)."""
     def reset(self) -> None: ...
@@ -235,7 +263,11 @@ class PolarController:
     @property
     def control_dt(self) -> float: ...
     @property
-    def goal(self) -> Tuple[float, float, float]: ...
+    def goal(self) -> Optional[Tuple[float, float, float]]:
+        """The goal (x_m, y_m, theta_rad) of C; None for a tracking law."""
+    @property
+    def reference(self) -> Optional[Reference]:
+        """The Reference a tracking law follows; None for a stabilization law."""
     @property
     def kind(self) -> str: ...
     @property
@@ -278,7 +310,8 @@ class LyapunovController:
     ) -> Any:
         """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
         (N, 2) array for a batch of (N, 3) poses, (N, 2) wheel angles and (N, 2) wheel speeds.
-        reference: the reference tracked at this tick (default: the goal at rest), a dict
+        reference: the reference tracked at this tick (default: the goal at rest, or a
+        tracking law's Reference at the tick's time), a dict
         {"pose": (x, y, theta rad), "twist": (v m/s, omega rad/s), "accel": (v' m/s^2,
         omega' rad/s^2)}, a row of those 7 numbers or an (N, 7) array (or one row for all)."""
     def reset(self) -> None: ...
@@ -288,7 +321,174 @@ class LyapunovController:
     @property
     def control_dt(self) -> float: ...
     @property
-    def goal(self) -> Tuple[float, float, float]: ...
+    def goal(self) -> Optional[Tuple[float, float, float]]:
+        """The goal (x_m, y_m, theta_rad) of C; None for a tracking law."""
+    @property
+    def reference(self) -> Optional[Reference]:
+        """The Reference a tracking law follows; None for a stabilization law."""
+    @property
+    def kind(self) -> str: ...
+    @property
+    def n(self) -> int:
+        """Robots in the batch (1 for single calls)."""
+    @property
+    def scenario_toml(self) -> str: ...
+
+
+@final
+class KanayamaController:
+    """Kanayama et al.'s trajectory tracking law (kind "kanayama"), following a Reference."""
+
+    def __new__(
+        cls,
+        reference: Union[Reference, Mapping[str, Any]],
+        robot: Union[None, Robot, Mapping[str, float]] = None,
+        drive: Optional[Mapping[str, Any]] = None,
+        *,
+        # keys from wmr_scenario::schema(), generated: WMR_BLESS=1 cargo test -p wmr-cli --test keys_documented
+        kx: float = 10.0,
+        ky: float = 64.0,
+        ktheta: float = 16.0,
+        servo_kp: float = 14.0,  # [N m/rad or V/rad] Wheel servo Kp (the unit follows the drive: torque or dc_motor).
+        servo_kd: float = 1.4,  # [N m s/rad or V s/rad] Wheel servo Kd.
+        servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
+        wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
+        control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
+        # end of generated keys
+    ) -> Self: ...
+    def update(
+        self,
+        pose: _ArrayLike,
+        wheel_angles: _ArrayLike,
+        wheel_speeds: _ArrayLike,
+        reference: Optional[_ReferenceLike] = None,
+    ) -> Any:
+        """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
+        (N, 2) array for a batch. reference: the reference state at this tick (default: the
+        class's Reference at the tick's time, tick k at k control_dt), as for PaperController."""
+    def reset(self) -> None: ...
+    @property
+    def errors(self) -> Any:
+        """(e_s in m, e_theta in rad, dl in m) of the last update, (N, 3) after a batched one."""
+    @property
+    def control_dt(self) -> float: ...
+    @property
+    def goal(self) -> Optional[Tuple[float, float, float]]:
+        """None: a tracking law follows ``reference``."""
+    @property
+    def reference(self) -> Optional[Reference]:
+        """The Reference the law follows."""
+    @property
+    def kind(self) -> str: ...
+    @property
+    def n(self) -> int:
+        """Robots in the batch (1 for single calls)."""
+    @property
+    def scenario_toml(self) -> str: ...
+
+
+@final
+class BacksteppingController:
+    """Kanayama's twist back-stepped into the dynamics (kind "backstepping"), following a Reference."""
+
+    def __new__(
+        cls,
+        reference: Union[Reference, Mapping[str, Any]],
+        robot: Union[None, Robot, Mapping[str, float]] = None,
+        drive: Optional[Mapping[str, Any]] = None,
+        *,
+        # keys from wmr_scenario::schema(), generated: WMR_BLESS=1 cargo test -p wmr-cli --test keys_documented
+        kx: float = 10.0,
+        ky: float = 64.0,
+        ktheta: float = 16.0,
+        k4: float = 20.0,
+        servo_kp: float = 14.0,  # [N m/rad or V/rad] Wheel servo Kp (the unit follows the drive: torque or dc_motor).
+        servo_kd: float = 1.4,  # [N m s/rad or V s/rad] Wheel servo Kd.
+        servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
+        wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
+        control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
+        # end of generated keys
+    ) -> Self: ...
+    def update(
+        self,
+        pose: _ArrayLike,
+        wheel_angles: _ArrayLike,
+        wheel_speeds: _ArrayLike,
+        reference: Optional[_ReferenceLike] = None,
+    ) -> Any:
+        """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
+        (N, 2) array for a batch. reference: the reference state at this tick (default: the
+        class's Reference at the tick's time, tick k at k control_dt), as for PaperController."""
+    def reset(self) -> None: ...
+    @property
+    def errors(self) -> Any:
+        """(e_s in m, e_theta in rad, dl in m) of the last update, (N, 3) after a batched one."""
+    @property
+    def control_dt(self) -> float: ...
+    @property
+    def goal(self) -> Optional[Tuple[float, float, float]]:
+        """None: a tracking law follows ``reference``."""
+    @property
+    def reference(self) -> Optional[Reference]:
+        """The Reference the law follows."""
+    @property
+    def kind(self) -> str: ...
+    @property
+    def n(self) -> int:
+        """Robots in the batch (1 for single calls)."""
+    @property
+    def scenario_toml(self) -> str: ...
+
+
+@final
+class PurePursuitController:
+    """Regulated pure pursuit (kind "pure_pursuit"), following a Reference's path."""
+
+    def __new__(
+        cls,
+        reference: Union[Reference, Mapping[str, Any]],
+        robot: Union[None, Robot, Mapping[str, float]] = None,
+        drive: Optional[Mapping[str, Any]] = None,
+        *,
+        # keys from wmr_scenario::schema(), generated: WMR_BLESS=1 cargo test -p wmr-cli --test keys_documented
+        speed: float = 0.3,
+        lookahead_time: float = 1.5,
+        min_lookahead_dist: float = 0.3,
+        max_lookahead_dist: float = 0.9,
+        regulated_linear_scaling_min_radius: float = 0.9,
+        regulated_linear_scaling_min_speed: float = 0.25,
+        approach_velocity_scaling_dist: float = 0.6,
+        min_approach_linear_velocity: float = 0.05,
+        xy_goal_tolerance: float = 0.01,
+        servo_kp: float = 14.0,  # [N m/rad or V/rad] Wheel servo Kp (the unit follows the drive: torque or dc_motor).
+        servo_kd: float = 1.4,  # [N m s/rad or V s/rad] Wheel servo Kd.
+        servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
+        wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
+        control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
+        # end of generated keys
+    ) -> Self: ...
+    def update(
+        self,
+        pose: _ArrayLike,
+        wheel_angles: _ArrayLike,
+        wheel_speeds: _ArrayLike,
+        reference: Optional[_ReferenceLike] = None,
+    ) -> Any:
+        """One tick: (tau_r, tau_l) in N m (before the drive's clamp) for one robot, or an
+        (N, 2) array for a batch. reference: the reference state at this tick (default: the
+        class's Reference at the tick's time, tick k at k control_dt), as for PaperController."""
+    def reset(self) -> None: ...
+    @property
+    def errors(self) -> Any:
+        """(e_s in m, e_theta in rad, dl in m) of the last update, (N, 3) after a batched one."""
+    @property
+    def control_dt(self) -> float: ...
+    @property
+    def goal(self) -> Optional[Tuple[float, float, float]]:
+        """None: a tracking law follows ``reference``."""
+    @property
+    def reference(self) -> Optional[Reference]:
+        """The Reference the law follows."""
     @property
     def kind(self) -> str: ...
     @property
@@ -316,6 +516,24 @@ class RunResult:
     path_length: float
     energy: float
     summary: str
+    @property
+    def tracking(self) -> bool:
+        """True for a tracking run (a scenario with a [reference])."""
+    @property
+    def rms_error(self) -> Optional[float]:
+        """Tracking run: RMS tracking error over the last half of t_end, m."""
+    @property
+    def max_error(self) -> Optional[float]:
+        """Tracking run: largest tracking error over the last half of t_end, m."""
+    @property
+    def time_to_tolerance(self) -> Optional[float]:
+        """Tracking run: time after which the error stays below the tolerance, s."""
+    @property
+    def final_error(self) -> Optional[float]:
+        """Tracking run: the error at the last step, m."""
+    @property
+    def tracking_tolerance(self) -> Optional[float]:
+        """Tracking run: sim.tracking_tolerance, m."""
     @property
     def t(self) -> _FloatArray: ...
     @property
@@ -352,12 +570,30 @@ class RunResult:
     def y_meas(self) -> _FloatArray: ...
     @property
     def theta_meas(self) -> _FloatArray: ...
+    @property
+    def x_ref(self) -> _FloatArray:
+        """Tracking run only (AttributeError otherwise), m."""
+    @property
+    def y_ref(self) -> _FloatArray:
+        """Tracking run only, m."""
+    @property
+    def theta_ref(self) -> _FloatArray:
+        """Tracking run only, rad."""
+    @property
+    def v_ref(self) -> _FloatArray:
+        """Tracking run only, m/s."""
+    @property
+    def omega_ref(self) -> _FloatArray:
+        """Tracking run only, rad/s."""
     def __getitem__(self, name: str, /) -> _FloatArray: ...
     def __len__(self) -> int: ...
     def columns(self) -> dict[str, _FloatArray]:
         """Every CSV column (``run`` first), in CSV order."""
     def to_pandas(self) -> Any:
-        """Every column with ``run`` and ``label``, one row per sample (needs pandas)."""
+        """Every column with ``run`` and ``label``, one row per sample (needs pandas); a
+        tracking run's summary in ``df.attrs``."""
+    def to_xarray(self) -> Any:
+        """Every column along ``t`` with its units, the summary as attributes (needs xarray)."""
     def __getstate__(self) -> dict[str, Any]: ...
 
 __version__: str
@@ -367,6 +603,9 @@ CSV_COLUMNS: Tuple[str, ...]
 MEASURED_COLUMNS: Tuple[str, ...]
 OUTCOME_FIELDS: Tuple[str, ...]
 ARRIVAL_RADIUS_M: float
+REFERENCE_COLUMNS: Tuple[str, ...]
+REFERENCE_UNITS: Tuple[str, ...]
+TRACKING_FIELDS: Tuple[str, ...]
 
 _Progress = Optional[Callable[[int], Any]]
 
@@ -392,6 +631,10 @@ def _time_run_rust(scenario: _ScenarioLike, n: int) -> float:
     """Best of n wall times (s) of parse + run 0 + columns inside Rust, GIL released."""
 
 __all__ = [
+    "BacksteppingController",
+    "KanayamaController",
+    "PurePursuitController",
+    "Reference",
     "LyapunovController",
     "PaperBidirectionalController",
     "PaperController",
@@ -416,4 +659,7 @@ __all__ = [
     "MEASURED_COLUMNS",
     "OUTCOME_FIELDS",
     "ARRIVAL_RADIUS_M",
+    "REFERENCE_COLUMNS",
+    "REFERENCE_UNITS",
+    "TRACKING_FIELDS",
 ]

@@ -24,6 +24,13 @@ OUTCOME_FIELDS: tuple = _native.OUTCOME_FIELDS
 #: A run has converged when its final distance to the goal is below this, m (wmr-core's).
 ARRIVAL_RADIUS_M: float = _native.ARRIVAL_RADIUS_M
 
+#: The tracking summary arrays of a batch (or sweep) of a tracking scenario, after
+#: OUTCOME_FIELDS (float64, m, m, s, m): the native module's list.
+TRACKING_FIELDS: tuple = _native.TRACKING_FIELDS
+
+#: A tracking run's summary as RunResult attributes: TRACKING_FIELDS and the tolerance.
+RUN_TRACKING_FIELDS: tuple = (*_native.TRACKING_FIELDS, "tracking_tolerance")
+
 
 def require(package: str, what: str) -> Any:
     """Imports an optional package, or raises ImportError naming it and what needs it."""
@@ -45,18 +52,53 @@ def _shares(res: Any) -> str:
     return f"{100 * c / n:.1f}% converged, {100 * d / n:.1f}% diverged, {100 * (n - c - d) / n:.1f}% unsettled"
 
 
-def run_result_to_pandas(r: Any) -> Any:
-    """RunResult.to_pandas(): every CSV column with `run` and `label`, one row per sample."""
-    pd = require("pandas", "RunResult.to_pandas()")
-    cols = r.columns()
-    n = len(r)
-    data = {"run": np.full(n, r.run, dtype=np.int64), "label": np.full(n, r.label, dtype=object)}
-    for name, col in cols.items():
-        if name != "run":
-            data[name] = col
+def _run_columns(r: Any) -> dict:
+    """A RunResult's columns in CSV order: COLUMNS, the measured pose, and a tracking
+    run's reference columns (x_ref ... omega_ref) last."""
+    data = {name: r[name] for name in _native.COLUMNS}
     for name in _native.MEASURED_COLUMNS:
         data[name] = r[name]
-    return pd.DataFrame(data)
+    if r.tracking:
+        for name in _native.REFERENCE_COLUMNS:
+            data[name] = r[name]
+    return data
+
+
+def _run_attrs(r: Any) -> dict:
+    """A RunResult's summary: run, label, status and, for a tracking run, its tracking
+    summary (rms_error, max_error in m, time_to_tolerance in s or None, final_error and
+    tracking_tolerance in m)."""
+    attrs: dict = {"run": r.run, "label": r.label, "status": r.status, "summary": r.summary}
+    if r.tracking:
+        for name in RUN_TRACKING_FIELDS:
+            attrs[name] = getattr(r, name)
+    return attrs
+
+
+def run_result_to_pandas(r: Any) -> Any:
+    """RunResult.to_pandas(): every CSV column with `run` and `label`, one row per sample;
+    a tracking run's reference columns, and its tracking summary in ``df.attrs``."""
+    pd = require("pandas", "RunResult.to_pandas()")
+    n = len(r)
+    data = {"run": np.full(n, r.run, dtype=np.int64), "label": np.full(n, r.label, dtype=object)}
+    data.update(_run_columns(r))
+    df = pd.DataFrame(data)
+    df.attrs.update(_run_attrs(r))
+    return df
+
+
+def run_result_to_xarray(r: Any) -> Any:
+    """RunResult.to_xarray(): every column as a variable along ``t`` (s), its unit in the
+    variable's ``units``; the summary (with a tracking run's) as the Dataset's attributes."""
+    xr = require("xarray", "RunResult.to_xarray()")
+    units = dict(zip(_native.COLUMNS, _native.COLUMN_UNITS))
+    units.update(zip(_native.MEASURED_COLUMNS, ("m", "m", "rad")))
+    units.update(zip(_native.REFERENCE_COLUMNS, _native.REFERENCE_UNITS))
+    cols = _run_columns(r)
+    t = cols.pop("t")
+    data_vars = {k: ("t", v, {"units": units[k]}) for k, v in cols.items()}
+    attrs = {k: ("none" if v is None else v) for k, v in _run_attrs(r).items()}
+    return xr.Dataset(data_vars, coords={"t": ("t", t, {"units": "s"})}, attrs=attrs)
 
 
 class _Entries(dict):
@@ -110,8 +152,9 @@ class BatchResult(_Entries):
         for k in ("start", "x0", "y0", "theta0"):
             data[k] = self[k]
         data["status"] = _status(self["converged"], self["diverged"])
-        for k in OUTCOME_FIELDS:
-            data[k] = self[k]
+        for k in (*OUTCOME_FIELDS, *TRACKING_FIELDS):
+            if k in self:
+                data[k] = self[k]
         return pd.DataFrame(data)
 
     def __repr__(self) -> str:
@@ -170,8 +213,9 @@ class SweepResult(_Entries):
         if self.trials > 1:
             data["trial"] = self.trial
         data["status"] = _status(self["converged"], self["diverged"])
-        for k in OUTCOME_FIELDS:
-            data[k] = self[k]
+        for k in (*OUTCOME_FIELDS, *TRACKING_FIELDS):
+            if k in self:
+                data[k] = self[k]
         return pd.DataFrame(data)
 
     def to_xarray(self) -> Any:
@@ -206,7 +250,7 @@ class SweepResult(_Entries):
         cells, first = np.unique(flat, return_index=True)
         dense = len(cells) == math.prod(shape)
         data_vars = {}
-        for k in list(OUTCOME_FIELDS) + drawn_keys:
+        for k in [*OUTCOME_FIELDS, *(f for f in TRACKING_FIELDS if f in self), *drawn_keys]:
             col = np.asarray(self[k])
             if col.dtype == bool and dense:
                 arr = np.zeros(shape, dtype=bool)
@@ -377,9 +421,12 @@ def gather_batch(outs: Sequence[Any], parts: Sequence[tuple], starts: np.ndarray
             raise bad(k, f"returned {type(o).__name__}, not the dict of a batch part")
         if o.get("_first") != a or not np.array_equal(np.asarray(o.get("_starts")), starts[a:b]):
             raise bad(k, "returned the result of another part (swapped or foreign)")
-        for f in OUTCOME_FIELDS:
+    # A tracking scenario's parts carry the tracking arrays too (each part, as the first).
+    fields = [*OUTCOME_FIELDS, *(f for f in TRACKING_FIELDS if outs and isinstance(outs[0], Mapping) and f in outs[0])]
+    for k, (o, (a, b)) in enumerate(zip(outs, parts)):
+        for f in fields:
             col = o.get(f)
             if col is None or np.ndim(col) != 1 or len(col) != b - a:
                 got = "missing" if col is None else f"of shape {np.shape(col)}"
                 raise bad(k, f"returned {f} {got}, expected {b - a} values")
-    return {f: np.concatenate([o[f] for o in outs]) for f in OUTCOME_FIELDS}
+    return {f: np.concatenate([o[f] for o in outs]) for f in fields}

@@ -12,7 +12,7 @@ use wmr_core::Pose2;
 use wmr_core::plant::DIVERGENCE_BOX_M;
 use wmr_scenario::{RunResult, RunSpec, ScenarioError, executor};
 
-use super::outcomes::outcome_dict;
+use super::outcomes::{add_tracking_arrays, outcome_dict};
 use super::source::scenario_arg;
 use crate::error::{parameter_error, to_py};
 use crate::interrupt::{Progress, check_memory, interruptible_with};
@@ -107,7 +107,10 @@ pub fn run_batch_native<'py>(
     if let Some(p) = progress {
         p.call1((-(sc.runs().len() as i64),))?;
     }
-    if fast {
+    // A tracking scenario takes the exact path (the lanes follow a goal at rest), which
+    // also gives each run's tracking summary.
+    let tracking = sc.tracking().is_some();
+    if fast && !tracking {
         let count = || {
             done.fetch_add(1, Ordering::Relaxed);
         };
@@ -138,5 +141,11 @@ pub fn run_batch_native<'py>(
         })?;
     // `None` only when stopped, and then `interruptible` returned the signal's error.
     let results: Vec<RunResult> = results.map_err(to_py)?.into_iter().flatten().collect();
-    outcome_dict(py, results.iter().map(|r| &r.outcome))
+    let d = outcome_dict(py, results.iter().map(|r| &r.outcome))?;
+    if tracking {
+        // The run's status is the tracking rule's (wmr_scenario::RunResult::status).
+        let status: Vec<_> = results.iter().map(RunResult::status).collect();
+        add_tracking_arrays(&d, results.iter().map(|r| r.tracking.as_ref()), &status)?;
+    }
+    Ok(d)
 }

@@ -4,7 +4,10 @@
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use wmr_core::tracking::TrackingOutcome;
 use wmr_core::{Outcome, Status};
+
+use super::run_result::TRACKING_FIELDS;
 
 /// A float outcome array: its name and how it is read from an outcome.
 type FloatField = (&'static str, fn(&Outcome<f64>) -> f64);
@@ -58,4 +61,37 @@ pub(super) fn outcome_dict<'py, 'a>(
         d.set_item(name, PyArray1::from_vec(py, c))?;
     }
     Ok(d)
+}
+
+/// Adds to `d` (the arrays of [`outcome_dict`]) the tracking summary of each run, one
+/// float64 array per [`TRACKING_FIELDS`] entry but the tolerance (NaN where a run has no
+/// value: a time never reached), and sets `converged` and `diverged` from `status`, the
+/// tracking rule's outcome of each run.
+pub(super) fn add_tracking_arrays<'a>(
+    d: &Bound<'_, PyDict>,
+    tracking: impl ExactSizeIterator<Item = Option<&'a TrackingOutcome<f64>>>,
+    status: &[Status],
+) -> PyResult<()> {
+    let py = d.py();
+    let n = tracking.len();
+    let fields = &TRACKING_FIELDS[..TRACKING_FIELDS.len() - 1];
+    let mut cols: Vec<Vec<f64>> = fields.iter().map(|_| Vec::with_capacity(n)).collect();
+    for t in tracking {
+        for (c, (_, get)) in cols.iter_mut().zip(fields) {
+            c.push(t.and_then(get).unwrap_or(f64::NAN));
+        }
+    }
+    for ((name, _), c) in fields.iter().zip(cols) {
+        d.set_item(name, PyArray1::from_vec(py, c))?;
+    }
+    for (name, s) in BOOL_FIELDS {
+        d.set_item(name, PyArray1::from_vec(py, status.iter().map(|x| *x == s).collect()))?;
+    }
+    Ok(())
+}
+
+/// Names of the tracking arrays a run_batch of a tracking scenario adds after
+/// [`outcome_fields`] (`wmr_py.TRACKING_FIELDS`).
+pub fn tracking_fields() -> impl Iterator<Item = &'static str> {
+    TRACKING_FIELDS[..TRACKING_FIELDS.len() - 1].iter().map(|f| f.0)
 }

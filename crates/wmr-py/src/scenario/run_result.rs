@@ -4,9 +4,11 @@
 use numpy::{PyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
-use wmr_core::Status;
+use wmr_core::tracking::TrackingOutcome;
+use wmr_core::{AnyReference, Reference, Status};
 use wmr_scenario::{
-    MEASURED_COLUMNS, MEASURED_UNITS, RunResult, SAMPLE_COLUMNS, SAMPLE_UNITS, measured_values, sample_values,
+    MEASURED_COLUMNS, MEASURED_UNITS, REFERENCE_COLUMNS, REFERENCE_UNITS, RunResult, SAMPLE_COLUMNS, SAMPLE_UNITS,
+    measured_values, reference_values, sample_values,
 };
 
 use crate::error::parameter_error;
@@ -41,17 +43,40 @@ pub const RESULT_UNITS: [&str; N_ALL] = {
     out
 };
 
-/// One run's columns, built once in Rust: the CSV columns and the measured pose.
+/// The tracking summary of a RunResult: each name written once, next to the value it
+/// names (None for a point-stabilization run). Units: m, m, s, m, m.
+type TrackingField = (&'static str, fn(&TrackingOutcome<f64>) -> Option<f64>);
+
+/// The tracking summary fields of a tracking run ([`TrackingOutcome`]), in order: RMS and
+/// maximum tracking error over the last half of t_end (m), the time after which the
+/// error stays below the tolerance (s), the final error (m) and the tolerance (m).
+pub const TRACKING_FIELDS: [TrackingField; 5] = [
+    ("rms_error", |t| Some(t.rms_last_half)),
+    ("max_error", |t| Some(t.max_last_half)),
+    ("time_to_tolerance", |t| t.time_to_tolerance),
+    ("final_error", |t| Some(t.final_error)),
+    ("tracking_tolerance", |t| Some(t.tolerance)),
+];
+
+/// One run's columns, built once in Rust: the CSV columns, the measured pose and, for a
+/// tracking run, the reference at each sample's t (as the CSV writes it).
 pub(super) struct Columns {
     pub(super) cols: [Vec<f64>; N_COLS],
     pub(super) measured: [Vec<f64>; 3],
+    reference: Option<(AnyReference<f64>, [Vec<f64>; REFERENCE_COLUMNS.len()])>,
 }
 
 impl Columns {
-    /// Room for `n` samples in every column, or `MemoryError`.
-    pub(super) fn try_with_capacity(n: usize) -> PyResult<Self> {
-        let mut cols = Self { cols: [(); N_COLS].map(|()| Vec::new()), measured: [(); 3].map(|()| Vec::new()) };
-        for c in cols.cols.iter_mut().chain(cols.measured.iter_mut()) {
+    /// Room for `n` samples in every column (and the reference's, for a tracking run
+    /// following `reference`), or `MemoryError`.
+    pub(super) fn try_with_capacity(n: usize, reference: Option<AnyReference<f64>>) -> PyResult<Self> {
+        let mut cols = Self {
+            cols: [(); N_COLS].map(|()| Vec::new()),
+            measured: [(); 3].map(|()| Vec::new()),
+            reference: reference.map(|r| (r, [(); REFERENCE_COLUMNS.len()].map(|()| Vec::new()))),
+        };
+        let refs = cols.reference.iter_mut().flat_map(|(_, c)| c.iter_mut());
+        for c in cols.cols.iter_mut().chain(cols.measured.iter_mut()).chain(refs) {
             *c = try_vec(n)?;
         }
         Ok(cols)
@@ -63,6 +88,11 @@ impl Columns {
         }
         for (col, v) in self.measured.iter_mut().zip(measured_values(s)) {
             col.push(v);
+        }
+        if let Some((r, cols)) = &mut self.reference {
+            for (col, v) in cols.iter_mut().zip(reference_values(&r.state_at(s.t))) {
+                col.push(v);
+            }
         }
     }
 }
@@ -121,13 +151,21 @@ pub struct PyRunResult {
     /// The columns, in [`RESULT_COLUMNS`] order; each is also an attribute of the class
     /// (a property that `add_column_properties` adds from the same list).
     cols: Vec<Py<PyArray1<f64>>>,
+    /// A tracking run's reference columns, in [`REFERENCE_COLUMNS`] order (`None`: a
+    /// point-stabilization run, whose CSV has none either).
+    ref_cols: Option<Vec<Py<PyArray1<f64>>>>,
+    /// A tracking run's summary, in [`TRACKING_FIELDS`] order (`None` values for a
+    /// point-stabilization run, or a time never reached).
+    tracking: [Option<f64>; TRACKING_FIELDS.len()],
 }
 
 impl PyRunResult {
     pub(super) fn new(py: Python<'_>, r: RunResult, cols: Columns) -> Self {
         // from_vec hands each Vec's buffer to numpy: no copy.
+        let ref_cols = cols.reference.map(|(_, c)| c.into_iter().map(|c| PyArray1::from_vec(py, c).unbind()).collect());
         let cols: Vec<Py<PyArray1<f64>>> =
             cols.cols.into_iter().chain(cols.measured).map(|c| PyArray1::from_vec(py, c).unbind()).collect();
+        let tracking = TRACKING_FIELDS.map(|(_, get)| r.tracking.as_ref().and_then(get));
         let o = &r.outcome;
         Self {
             run: r.index,
@@ -145,11 +183,21 @@ impl PyRunResult {
             summary: r.summary_line(),
             label: r.label,
             cols,
+            ref_cols,
+            tracking,
         }
     }
 
     fn column(&self, name: &str) -> Option<&Py<PyArray1<f64>>> {
+        if let Some(i) = REFERENCE_COLUMNS.iter().position(|c| *c == name) {
+            return self.ref_cols.as_ref().map(|c| &c[i]);
+        }
         RESULT_COLUMNS.iter().position(|c| *c == name).map(|i| &self.cols[i])
+    }
+
+    /// The value of tracking summary field `name` ([`TRACKING_FIELDS`]).
+    fn tracking_field(&self, name: &str) -> Option<f64> {
+        TRACKING_FIELDS.iter().position(|(n, _)| *n == name).and_then(|i| self.tracking[i])
     }
 
     fn len(&self, py: Python<'_>) -> usize {
@@ -177,7 +225,10 @@ impl PyRunResult {
         d.set_item("path_length", self.path_length)?;
         d.set_item("energy", self.energy)?;
         d.set_item("summary", &self.summary)?;
-        for name in RESULT_COLUMNS {
+        for ((name, _), v) in TRACKING_FIELDS.iter().zip(self.tracking) {
+            d.set_item(name, v)?;
+        }
+        for name in RESULT_COLUMNS.iter().chain(&REFERENCE_COLUMNS) {
             if let Some(c) = self.column(name) {
                 d.set_item(name, c.bind(py))?;
             }
@@ -197,24 +248,79 @@ impl PyRunResult {
         slf.py().import("wmr_py._results")?.getattr("run_result_to_pandas")?.call1((slf,))
     }
 
-    /// A column by its CSV name, e.g. result["omega_r"].
+    /// Every column as an xarray Dataset along `t` (s), each variable with its `units`;
+    /// the summary (with a tracking run's rms_error, max_error, time_to_tolerance,
+    /// final_error, tracking_tolerance) as attributes. Needs xarray.
+    fn to_xarray<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        slf.py().import("wmr_py._results")?.getattr("run_result_to_xarray")?.call1((slf,))
+    }
+
+    /// A column by its CSV name, e.g. result["omega_r"]; a tracking run's also
+    /// result["x_ref"] ... result["omega_ref"].
     fn __getitem__(&self, py: Python<'_>, name: &str) -> PyResult<Py<PyArray1<f64>>> {
         self.column(name).map(|c| c.clone_ref(py)).ok_or_else(|| {
-            pyo3::exceptions::PyKeyError::new_err(format!("no column {name:?}; columns are {:?}", SAMPLE_COLUMNS))
+            let why = if REFERENCE_COLUMNS.contains(&name) {
+                format!(
+                    "no column {name:?}: only a tracking run (a scenario with a [reference]) has the reference columns"
+                )
+            } else {
+                format!("no column {name:?}; columns are {SAMPLE_COLUMNS:?}")
+            };
+            pyo3::exceptions::PyKeyError::new_err(why)
         })
     }
 
-    /// Every CSV column of docs/scenario.md (`run` first, as float64 like the others), in order.
+    /// Every CSV column of docs/scenario.md (`run` first, as float64 like the others), in
+    /// order; a tracking run's reference columns (x_ref ... omega_ref) last, as in its CSV.
     fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
         let n = self.len(py);
         d.set_item("run", PyArray1::from_vec(py, vec![self.run as f64; n]))?;
-        for name in SAMPLE_COLUMNS {
+        for name in SAMPLE_COLUMNS.iter().chain(&REFERENCE_COLUMNS) {
             if let Some(c) = self.column(name) {
                 d.set_item(name, c.bind(py))?;
             }
         }
         Ok(d)
+    }
+
+    /// True for a tracking or path-following run (a scenario with a `[reference]`): it
+    /// has the reference columns and the tracking summary.
+    #[getter]
+    fn tracking(&self) -> bool {
+        self.ref_cols.is_some()
+    }
+
+    /// Tracking run: RMS of the true tracking error over the last half of t_end, m (the
+    /// distance from C to C_ref, or to the path for path following); None otherwise.
+    #[getter]
+    fn rms_error(&self) -> Option<f64> {
+        self.tracking_field("rms_error")
+    }
+
+    /// Tracking run: the largest tracking error over the last half of t_end, m; None otherwise.
+    #[getter]
+    fn max_error(&self) -> Option<f64> {
+        self.tracking_field("max_error")
+    }
+
+    /// Tracking run: the time after which the tracking error stays below
+    /// `tracking_tolerance`, s; None if it is above at the end, or not a tracking run.
+    #[getter]
+    fn time_to_tolerance(&self) -> Option<f64> {
+        self.tracking_field("time_to_tolerance")
+    }
+
+    /// Tracking run: the tracking error at the last step, m; None otherwise.
+    #[getter]
+    fn final_error(&self) -> Option<f64> {
+        self.tracking_field("final_error")
+    }
+
+    /// Tracking run: `sim.tracking_tolerance`, m, the run was judged with; None otherwise.
+    #[getter]
+    fn tracking_tolerance(&self) -> Option<f64> {
+        self.tracking_field("tracking_tolerance")
     }
 
     /// Number of logged samples.
@@ -228,11 +334,33 @@ impl PyRunResult {
 }
 
 /// Adds to `RunResult` one read-only property per column of [`RESULT_COLUMNS`]
-/// (`result.x` is `result["x"]`, the same array object), with its unit as the doc.
+/// (`result.x` is `result["x"]`, the same array object), with its unit as the doc; and
+/// one per [`REFERENCE_COLUMNS`], which a run without a reference lacks (AttributeError).
 pub fn add_column_properties(cls: &Bound<'_, pyo3::types::PyType>) -> PyResult<()> {
     let py = cls.py();
     let property = py.import("builtins")?.getattr("property")?;
     let itemgetter = py.import("operator")?.getattr("itemgetter")?;
+    for (name, unit) in REFERENCE_COLUMNS.iter().zip(REFERENCE_UNITS) {
+        let name: &'static str = name;
+        let get = pyo3::types::PyCFunction::new_closure(
+            py,
+            None,
+            None,
+            move |args: &Bound<'_, PyTuple>, _kw: Option<&Bound<'_, PyDict>>| -> PyResult<Py<PyArray1<f64>>> {
+                let r = args.get_item(0)?;
+                let r = r.cast::<PyRunResult>()?;
+                r.get().column(name).map(|c| c.clone_ref(args.py())).ok_or_else(|| {
+                    pyo3::exceptions::PyAttributeError::new_err(format!(
+                        "RunResult has no {name}: only a tracking run (a scenario with a [reference]) has the reference columns"
+                    ))
+                })
+            },
+        )?;
+        let doc = format!(
+            "The {name} column of a tracking run, {unit}: the reference at each sample's t (AttributeError otherwise)."
+        );
+        cls.setattr(name, property.call1((get, py.None(), py.None(), doc))?)?;
+    }
     for (name, unit) in RESULT_COLUMNS.iter().zip(RESULT_UNITS) {
         let doc = if MEASURED_COLUMNS.contains(name) {
             format!(
@@ -280,6 +408,34 @@ pub fn run_result_from_state(state: &Bound<'_, PyDict>) -> PyResult<PyRunResult>
         }
         cols.push(a.unbind());
     }
+    // A tracking run's reference columns: all five or none, each as long as the others.
+    let mut ref_cols = Vec::new();
+    for name in REFERENCE_COLUMNS {
+        let Some(a) = state.get_item(name)?.filter(|a| !a.is_none()) else { continue };
+        let a = a.cast_into::<PyArray1<f64>>().map_err(|_| parameter_error(name, "expected a float64 array"))?;
+        if let Some((n, first)) = rows
+            && a.len() != n
+        {
+            return Err(parameter_error(
+                &format!("state.{name}"),
+                format_args!("has {} samples, {first} has {n}: every column has one value per sample", a.len()),
+            ));
+        }
+        ref_cols.push(a.unbind());
+    }
+    let ref_cols = match ref_cols.len() {
+        0 => None,
+        n if n == REFERENCE_COLUMNS.len() => Some(ref_cols),
+        n => {
+            return Err(parameter_error(
+                "state",
+                format_args!(
+                    "has {n} of the {} reference columns: a tracking run has all of them",
+                    REFERENCE_COLUMNS.len()
+                ),
+            ));
+        }
+    };
     Ok(PyRunResult {
         run: get("run")?.extract()?,
         label: get("label")?.extract()?,
@@ -295,6 +451,18 @@ pub fn run_result_from_state(state: &Bound<'_, PyDict>) -> PyResult<PyRunResult>
         path_length: get("path_length")?.extract()?,
         energy: get("energy")?.extract()?,
         summary: get("summary")?.extract()?,
+        tracking: {
+            let mut t = [None; TRACKING_FIELDS.len()];
+            for (v, (name, _)) in t.iter_mut().zip(TRACKING_FIELDS) {
+                // A state pickled before the tracking fields: a stabilization run.
+                *v = match state.get_item(name)? {
+                    Some(x) => x.extract()?,
+                    None => None,
+                };
+            }
+            t
+        },
+        ref_cols,
         cols,
     })
 }

@@ -23,7 +23,7 @@ fn text_arg(obj: &Bound<'_, PyAny>, key: &str) -> PyResult<String> {
 /// A Python value as TOML, for the scenario parser. `None` values are left out (the key
 /// takes its default); keys must be strings; numbers, strings, bools, lists, tuples and
 /// dicts are accepted. `key` is the dotted path for error messages.
-fn to_toml(obj: &Bound<'_, PyAny>, key: &str) -> PyResult<Option<toml::Value>> {
+pub(crate) fn to_toml(obj: &Bound<'_, PyAny>, key: &str) -> PyResult<Option<toml::Value>> {
     if obj.is_none() {
         return Ok(None);
     }
