@@ -200,7 +200,8 @@ pub fn in_body_frame<T: Lane>(pose: &Pose2<T>, p: &Pose2<T>) -> (T, T) {
 }
 
 /// Follows the closest point of a path from tick to tick: the cursor only moves forward,
-/// each search starting at the last closest point ([`closest_forward`]).
+/// each search starting at the last closest point ([`closest_forward`] near the path, the
+/// whole window farther from it).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PathCursor<T: Lane> {
     /// Parameter of the last closest point.
@@ -224,10 +225,18 @@ impl<T: Lane> PathCursor<T> {
         let (rate_min, _) = path.rate_bounds();
         let span = if self.started.all() { window / rate_min } else { path.first_search_span() };
         let from = T::select(self.started, self.s, T::default());
-        // The first search covers the whole path (or lap); after it, the closest point
-        // moves on from the last one: the windowed search stops at its first minimum.
+        // The first search covers the whole path (or lap). After it, near the path the
+        // closest point moves on from the last one: the search stops at its first
+        // minimum. Farther than `2 ds` from the path (a start off it, a corner cut),
+        // where the distance along the window may have several minima, the whole window
+        // is scanned, as the first minimum could be behind the robot.
         self.s = if self.started.all() {
-            closest_forward(path, x, y, from, span, ds)
+            let near = closest_forward(path, x, y, from, span, ds);
+            let (px, py) = path.point_on_path(near);
+            let (dx, dy) = (px - x, py - y);
+            let reach = T::splat(ds * <T::Scalar as crate::Real>::lit(2.0));
+            let far = (reach * reach).lt(dx * dx + dy * dy);
+            if far.any() { T::select(far, closest(path, x, y, from, span, ds), near) } else { near }
         } else {
             closest(path, x, y, from, span, ds)
         };
