@@ -125,4 +125,12 @@ impl<T: Real> Path<T> for FigureEight<T> {
     fn remaining_length(&self, _s: T) -> T {
         T::infinity()
     }
+    fn point_on_path(&self, s: T) -> (T, T) {
+        // `derivs`' position, with the same operations (so the same numbers).
+        let t = s.max(T::zero());
+        let a = T::TAU() / self.period;
+        let (s1, _) = (a * t).sin_cos_libm();
+        let (s2, _) = (T::lit(2.0) * a * t).sin_cos_libm();
+        (self.center_x + self.width * T::lit(0.5) * s1, self.center_y + self.height * T::lit(0.5) * s2)
+    }
 }

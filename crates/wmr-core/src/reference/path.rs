@@ -32,13 +32,22 @@ pub trait Path<T: Lane> {
 
     /// The path's length from `s` to its end, m (infinite for an endless path).
     fn remaining_length(&self, s: T) -> T;
+
+    /// The position of [`Path::pose_on_path`] alone (x, y in m, world frame), the same
+    /// numbers: what the distance searches ask for, without the heading (an `atan2`
+    /// costs as much as the rest of a search step).
+    #[inline(always)]
+    fn point_on_path(&self, s: T) -> (T, T) {
+        let p = self.pose_on_path(s);
+        (p.x, p.y)
+    }
 }
 
 /// Squared distance (m^2) from (x, y) to the path point at `s`.
 #[inline(always)]
 fn dist2<T: Lane>(path: &dyn Path<T>, s: T, x: T, y: T) -> T {
-    let p = path.pose_on_path(s);
-    let (dx, dy) = (p.x - x, p.y - y);
+    let (px, py) = path.point_on_path(s);
+    let (dx, dy) = (px - x, py - y);
     dx * dx + dy * dy
 }
 
@@ -65,23 +74,55 @@ const GOLDEN_ITERATIONS: u32 = 24;
 const BISECTIONS: u32 = 24;
 
 /// The parameter of the path point closest to (x, y) within `span` (in s) forward of
-/// `from`: a scan at steps that move the path point by at most `ds` (m), then a
-/// golden-section search in the step either side of the best sample (kept >= `from`).
-/// `ds` must be small against the path's radius of curvature for the answer to be the
-/// closest point and not a nearby local minimum.
+/// `from`: a scan of the whole span at steps that move the path point by at most `ds`
+/// (m), then a golden-section search in the step either side of the best sample (kept
+/// >= `from`). `ds` must be small against the path's radius of curvature for the answer
+/// to be the closest point and not a nearby local minimum. The brute-force search:
+/// [`closest_forward`] is the one a cursor makes from tick to tick.
 pub fn closest<T: Lane>(path: &dyn Path<T>, x: T, y: T, from: T, span: T::Scalar, ds: T::Scalar) -> T {
+    scan_and_refine(path, x, y, from, span, ds, false)
+}
+
+/// [`closest`] that ends its scan, lane by lane, at the first sample farther from (x, y)
+/// than the one before it (the first local minimum forward of `from`, as nav2's regulated
+/// pure pursuit takes the closest pose of the pruned plan from its last one): the same
+/// answer wherever the distance along the span falls to one minimum and rises after it
+/// (a robot near the path, a window shorter than the radius of curvature), in a few
+/// steps instead of the whole span. `tests/path_search.rs` checks it against [`closest`].
+pub fn closest_forward<T: Lane>(path: &dyn Path<T>, x: T, y: T, from: T, span: T::Scalar, ds: T::Scalar) -> T {
+    scan_and_refine(path, x, y, from, span, ds, true)
+}
+
+#[inline(always)]
+fn scan_and_refine<T: Lane>(
+    path: &dyn Path<T>,
+    x: T,
+    y: T,
+    from: T,
+    span: T::Scalar,
+    ds: T::Scalar,
+    stop_at_rise: bool,
+) -> T {
     let (_, rate_max) = path.rate_bounds();
     let step = ds / rate_max;
     let n = steps::<T>(span, step);
     let from = clamp_s(path, from);
     let mut best = from;
     let mut best_d2 = dist2(path, from, x, y);
+    let mut rising = T::Mask::splat(false);
     for k in 1..=n {
         let s = clamp_s(path, from + T::splat(step) * T::lit(f64::from(k)));
         let d2 = dist2(path, s, x, y);
-        let better = d2.lt(best_d2);
+        // A lane past its first minimum keeps its best (the scan goes on for the others).
+        let better = d2.lt(best_d2) & !rising;
         best = T::select(better, s, best);
         best_d2 = T::select(better, d2, best_d2);
+        if stop_at_rise {
+            rising = rising | best_d2.lt(d2);
+            if rising.all() {
+                break;
+            }
+        }
     }
     // Golden section on [best - step, best + step] within [from, end].
     let mut a = clamp_s(path, (best - T::splat(step)).max(from));
@@ -92,19 +133,19 @@ pub fn closest<T: Lane>(path: &dyn Path<T>, x: T, y: T, from: T, span: T::Scalar
     let mut fc = dist2(path, c, x, y);
     let mut fd = dist2(path, d, x, y);
     for _ in 0..GOLDEN_ITERATIONS {
-        // f(c) < f(d): the minimum is in [a, d]; otherwise in [c, b].
+        // f(c) < f(d): the minimum is in [a, d], d becomes the old c; otherwise in
+        // [c, b], c becomes the old d. One new point per iteration, chosen per lane.
         let left = fc.lt(fd);
         let (na, nb) = (T::select(left, a, c), T::select(left, d, b));
         a = na;
         b = nb;
-        let nc = b - g * (b - a);
-        let nd = a + g * (b - a);
-        // One of the two new points is an old one; evaluating both keeps the code
-        // branch-free per lane at the cost of one evaluation.
-        c = nc;
-        d = nd;
-        fc = dist2(path, c, x, y);
-        fd = dist2(path, d, x, y);
+        let fresh = T::select(left, b - g * (b - a), a + g * (b - a));
+        let f_fresh = dist2(path, fresh, x, y);
+        let (oc, ofc, od, ofd) = (c, fc, d, fd);
+        c = T::select(left, fresh, od);
+        fc = T::select(left, f_fresh, ofd);
+        d = T::select(left, oc, fresh);
+        fd = T::select(left, ofc, f_fresh);
     }
     let mid = (a + b) * T::lit(0.5);
     let dm = dist2(path, mid, x, y);
@@ -158,7 +199,9 @@ pub fn in_body_frame<T: Lane>(pose: &Pose2<T>, p: &Pose2<T>) -> (T, T) {
     (c * dx + s * dy, -s * dx + c * dy)
 }
 
-/// Follows the closest point of a path from tick to tick: the cursor only moves forward.
+/// Follows the closest point of a path from tick to tick: the cursor only moves forward,
+/// each search starting at the last closest point ([`closest_forward`] near the path, the
+/// whole window farther from it).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PathCursor<T: Lane> {
     /// Parameter of the last closest point.
@@ -182,7 +225,21 @@ impl<T: Lane> PathCursor<T> {
         let (rate_min, _) = path.rate_bounds();
         let span = if self.started.all() { window / rate_min } else { path.first_search_span() };
         let from = T::select(self.started, self.s, T::default());
-        self.s = closest(path, x, y, from, span, ds);
+        // The first search covers the whole path (or lap). After it, near the path the
+        // closest point moves on from the last one: the search stops at its first
+        // minimum. Farther than `2 ds` from the path (a start off it, a corner cut),
+        // where the distance along the window may have several minima, the whole window
+        // is scanned, as the first minimum could be behind the robot.
+        self.s = if self.started.all() {
+            let near = closest_forward(path, x, y, from, span, ds);
+            let (px, py) = path.point_on_path(near);
+            let (dx, dy) = (px - x, py - y);
+            let reach = T::splat(ds * <T::Scalar as crate::Real>::lit(2.0));
+            let far = (reach * reach).lt(dx * dx + dy * dy);
+            if far.any() { T::select(far, closest(path, x, y, from, span, ds), near) } else { near }
+        } else {
+            closest(path, x, y, from, span, ds)
+        };
         self.started = T::Mask::splat(true);
         self.s
     }

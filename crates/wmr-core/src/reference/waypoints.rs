@@ -336,6 +336,9 @@ impl<T: Real> Path<T> for Waypoints<T> {
     fn end(&self) -> Option<T> {
         Some(self.u[self.n - 1])
     }
+    fn point_on_path(&self, s: T) -> (T, T) {
+        self.spline(s).p
+    }
     fn rate_bounds(&self) -> (T, T) {
         self.rate
     }
