@@ -52,6 +52,8 @@ pub fn sweep(
             shown(file)
         )));
     };
+    // The kernel `WMR_FAST_KERNEL` asks for is checked before any output is opened.
+    let kernel = if fast { Some(wmr_scenario::fast::Kernel::detect()?) } else { None };
     // Every output is checked before the work: a bad path costs nothing.
     let output = Output::create(out)?;
     if let Some(free) = output.free_bytes() {
@@ -73,9 +75,9 @@ pub fn sweep(
         fast,
         scenario.sim().stop_when_settled(),
     );
-    if fast {
+    if let Some(kernel) = kernel {
         // Which vector unit the lanes run on: a figure measured here is not another CPU's.
-        note(&format!("wmr-cli: --fast: {}", wmr_scenario::fast::Kernel::detect().describe()));
+        note(&format!("wmr-cli: --fast: {}", kernel.describe()));
     }
     let bar = if show_progress && spec.len() > 50 {
         let bar = ProgressBar::with_draw_target(Some(spec.len() as u64), ProgressDrawTarget::stderr());

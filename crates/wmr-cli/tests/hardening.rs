@@ -696,3 +696,31 @@ fn regression_25_13_sweep_csv_writes_extreme_values_short_and_exact() {
     assert_eq!(x0, ["1e-300", "2e-300"], "{csv}");
     assert!(csv.lines().all(|l| l.split(',').all(|f| f.len() <= 32)), "{csv}");
 }
+
+/// Issue 26: `WMR_FAST_KERNEL` with a value that names no kernel fell back silently to
+/// the default; now `sweep --fast` refuses it before opening any output (exit 2, one
+/// line naming the variable, the value and the accepted names). Without `--fast` the
+/// variable is not read.
+#[test]
+fn regression_26_an_unknown_fast_kernel_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "s.toml", SWEEP);
+    let o = bin()
+        .current_dir(dir.path())
+        .env("WMR_FAST_KERNEL", "avx3")
+        .args(["sweep", "s.toml", "--fast", "-o", "s.csv"])
+        .output()
+        .expect("spawn wmr-cli");
+    assert_bad_input(&o, "WMR_FAST_KERNEL");
+    let err = text(&o.stderr);
+    for word in ["\"avx3\"", "avx512", "avx2", "portable", "exact"] {
+        assert!(err.contains(word), "stderr lacks {word}: {err}");
+    }
+    assert_eq!(entries(dir.path()), ["s.toml"], "no output written");
+    for (env, args) in
+        [("avx2", &["sweep", "s.toml", "--fast", "-o", "s.csv"][..]), ("avx3", &["sweep", "s.toml", "-o", "t.csv"])]
+    {
+        let o = bin().current_dir(dir.path()).env("WMR_FAST_KERNEL", env).args(args).output().expect("spawn wmr-cli");
+        assert!(o.status.success(), "{env} {args:?}: {}", text(&o.stderr));
+    }
+}

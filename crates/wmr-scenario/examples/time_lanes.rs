@@ -21,7 +21,7 @@ fn main() {
         }
         return;
     }
-    println!("kernel={}", wmr_scenario::fast::Kernel::detect().name());
+    println!("kernel={}", wmr_scenario::fast::Kernel::detect().expect("WMR_FAST_KERNEL").name());
     let text = format!(
         "[sim]\nt_end = {t_end}\n[sweep]\ngoal = {{ x = 0.0, y = 0.0 }}\ncontrollers = [{{ kind = \"{law}\" }}]\n\
          random = {{ n = {n}, seed = 2026, radius = 2.0 }}\n"

@@ -46,7 +46,7 @@ impl SweepSpec {
         done: &(dyn Fn() + Sync),
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<Option<Vec<SweepOutcome>>, ScenarioError> {
-        self.run_fast_on(sim, Kernel::detect(), done, stop)
+        self.run_fast_on(sim, Kernel::detect()?, done, stop)
     }
 
     /// [`SweepSpec::run_fast_until`] with the lanes compiled for `kernel` (which the
@@ -82,7 +82,7 @@ impl SweepSpec {
             ));
         }
         let n = range.len();
-        let kernel = Kernel::detect();
+        let kernel = Kernel::detect()?;
         let parts = self.tasks(range).into_iter().map(|task| self.run_task(sim, kernel, task, &|| {}, stop)).collect();
         gather(parts, n)
     }
@@ -175,7 +175,7 @@ impl Scenario {
             tasks.push((k, end));
             k = end;
         }
-        let kernel = Kernel::detect();
+        let kernel = Kernel::detect()?;
         let task = |t: usize| -> Result<Option<Vec<Outcome<f64>>>, ScenarioError> {
             let (first, end) = tasks[t];
             if kernel == Kernel::Exact || !self.setup().sensor.is_perfect() || self.setup().slips() {
@@ -267,8 +267,12 @@ fn gather<O>(parts: Vec<Result<Option<Vec<O>>, ScenarioError>>, n: usize) -> Res
     Ok(Some(all))
 }
 
+/// The environment variable that picks a [`Kernel`] by its [`Kernel::name`].
+pub const KERNEL_VAR: &str = "WMR_FAST_KERNEL";
+
 /// The vector instructions the fast path runs its lanes with on this processor.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Kernel {
     /// AVX-512: one 512-bit register of 8 `f64` per number of the [`LANES`] lanes.
     Avx512,
@@ -284,22 +288,37 @@ pub enum Kernel {
 }
 
 impl Kernel {
+    /// Every kernel, in the order [`Kernel::name`]s are listed in messages.
+    pub const ALL: [Kernel; 4] = [Kernel::Avx512, Kernel::Avx2, Kernel::Portable, Kernel::Exact];
+
     /// The kernel `--fast` runs on this processor: AVX2 where it has AVX2 (on AVX-512
     /// processors too: on the AMD EPYC of benches/README.md, family 26, the AVX-512 build
     /// takes 1.40x the CPU time of the AVX2 one per run-step), else [`Kernel::Exact`];
-    /// or the one `WMR_FAST_KERNEL` (`avx512`, `avx2`, `portable`, `exact`) asks for,
-    /// when the processor has it (benches and tests compare them on one machine).
-    pub fn detect() -> Kernel {
+    /// or the one [`KERNEL_VAR`] (`avx512`, `avx2`, `portable`, `exact`) asks for, when
+    /// the processor has it (benches and tests compare them on one machine; one it lacks
+    /// gives the default, which `--fast` names). A value that names no kernel is an
+    /// error naming the variable, the value and the accepted names, not a silent default.
+    pub fn detect() -> Result<Kernel, ScenarioError> {
+        Self::choose(std::env::var_os(KERNEL_VAR).as_deref())
+    }
+
+    /// [`Kernel::detect`] for the value `asked` of [`KERNEL_VAR`] (`None`: not set).
+    pub fn choose(asked: Option<&std::ffi::OsStr>) -> Result<Kernel, ScenarioError> {
         let best = Self::best();
         let default = if best == Kernel::Avx512 { Kernel::Avx2 } else { best };
-        let asked = match std::env::var("WMR_FAST_KERNEL").as_deref() {
-            Ok("avx512") => Kernel::Avx512,
-            Ok("avx2") => Kernel::Avx2,
-            Ok("portable") => Kernel::Portable,
-            Ok("exact") => Kernel::Exact,
-            _ => return default,
+        let Some(asked) = asked else { return Ok(default) };
+        let Some(kernel) = Self::ALL.into_iter().find(|k| asked == k.name()) else {
+            let names: Vec<&str> = Self::ALL.iter().map(|k| k.name()).collect();
+            return Err(ScenarioError::new(
+                KERNEL_VAR,
+                format!(
+                    "unknown kernel {:?}; accepted: {} (or leave it unset for the fastest this processor has)",
+                    asked.to_string_lossy(),
+                    names.join(", ")
+                ),
+            ));
         };
-        if asked.rank() <= best.rank() { asked } else { default }
+        Ok(if kernel.rank() <= best.rank() { kernel } else { default })
     }
 
     /// The widest kernel this processor has ([`Kernel::Exact`] without AVX2).

@@ -121,3 +121,27 @@ fn every_kernel_gives_the_same_bits_and_exact_is_the_exact_path() {
     assert_eq!(on(Kernel::Exact), spec.run(s.sim(), &|| {}).unwrap());
     assert_ne!(bits(&portable), bits(&spec.run(s.sim(), &|| {}).unwrap()), "the lanes are not the exact path");
 }
+
+/// Issue 26: every kernel name is accepted (a kernel the processor lacks gives the
+/// default), unset gives the default, anything else is an error naming the variable,
+/// the value and every accepted name.
+#[test]
+fn kernel_names_are_checked() {
+    use std::ffi::OsStr;
+    use wmr_scenario::fast::Kernel;
+    let default = Kernel::choose(None).unwrap();
+    assert_ne!(default, Kernel::Portable);
+    for k in Kernel::ALL {
+        let chosen = Kernel::choose(Some(OsStr::new(k.name()))).unwrap();
+        assert!(chosen == k || chosen == default, "{k:?} gave {chosen:?}");
+    }
+    assert_eq!(Kernel::choose(Some(OsStr::new("exact"))).unwrap(), Kernel::Exact);
+    for bad in ["", "AVX2", "avx", "avx2 ", "sse"] {
+        let e = Kernel::choose(Some(OsStr::new(bad))).unwrap_err();
+        assert_eq!(e.key, "WMR_FAST_KERNEL");
+        assert!(e.message.contains(&format!("{bad:?}")), "{}", e.message);
+        for k in Kernel::ALL {
+            assert!(e.message.contains(k.name()), "{}", e.message);
+        }
+    }
+}
