@@ -94,6 +94,7 @@ pub fn run_live(
     if let Some(l) = &layout {
         check_layout_path(l, output.as_deref())?;
     }
+    let start_after = live::start_after()?;
     // Bind first: an address that cannot be served is refused before anything is written.
     let server = live::serve(scenario, addr)?;
     let url = server.url().to_owned();
@@ -115,7 +116,7 @@ pub fn run_live(
         "wmr-cli: live on {url} at {speed}x: in Foxglove, Open connection > Foxglove WebSocket > {url}; \
          streaming starts when a client subscribes (Ctrl-C stops)"
     ));
-    let report = match server.run(scenario, speed, file) {
+    let report = match server.run(scenario, speed, file, start_after) {
         Ok(r) => r,
         Err(e) => {
             if let Some(i) = e.downcast_ref::<live::Interrupted>() {

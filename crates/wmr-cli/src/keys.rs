@@ -38,6 +38,7 @@ const SIM_RUN_SWEEP: &str = r#"[sim]
   dt = 1e-3                    s, RK4 step (default: controller.control_dt)
   log_dt = 0.01                s, output sample period; a whole multiple of dt
   stop_when_settled = false    stop a run once settled: law holding, at rest within 1 cm
+  early_arrival = false        with stop_when_settled: stop after 0.1 s of dying motion, not 1 s
   tracking_tolerance = 0.01    m; a tracking run converges when its error stays below this over the last 10 % of t_end
 
 [[run]]                        one or more

@@ -294,6 +294,9 @@ fn run(cmd: &str, cwd: &Path, bin: &Path, state: &Path, timeout_s: u32) -> (i32,
         .env("PATH", path)
         // A documented `./scripts/test` runs this harness again: the normal set only.
         .env_remove("WMR_LONG_TESTS")
+        // A documented `--live` command has no viewer here: it streams after 1 s without
+        // one and so ends by itself (docs/scenario.md, "Live view").
+        .env("WMR_LIVE_START_AFTER_S", "1")
         .output()
         .expect("spawn bash");
     let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));

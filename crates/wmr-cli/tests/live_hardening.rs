@@ -400,3 +400,31 @@ fn regression_25_5_connections_are_limited_and_memory_bounded() {
     eprintln!("peak resident memory with 16 stuck clients and 184 refused: {peak_kb} kB");
     drop((lazy, refused));
 }
+
+/// Issue 26 (27's leftover): with no viewer a `--live` session waited for one for ever,
+/// so the documented command hung the docs test for 10 min. With
+/// `WMR_LIVE_START_AFTER_S` it streams after that long without a client and ends when its
+/// runs end (exit 0, the MCAP file written); a value that is no such number is refused
+/// by name (exit 2).
+#[test]
+fn regression_26_a_live_session_without_a_viewer_ends_when_asked_to_start_anyway() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut live =
+        Live::start(dir.path(), SMALL, &["--speed", "100", "-o", "o.mcap"], &[("WMR_LIVE_START_AFTER_S", "0.2")]);
+    let (status, err) = live.await_exit(DEADLINE);
+    assert!(status.success(), "{err:?}");
+    assert!(fs::metadata(dir.path().join("o.mcap")).unwrap().len() > 0);
+    for bad in ["-1", "nan", "x", "1e7"] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_wmr-cli"))
+            .current_dir(dir.path())
+            .args(["run", "s.toml", "--live", "127.0.0.1:0"])
+            .env("WMR_LIVE_START_AFTER_S", bad)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let (status, err) = wait::exit_within(&mut child, Duration::from_secs(20), bad);
+        assert_eq!(status.code(), Some(2), "{bad}: {err}");
+        assert!(err.contains("WMR_LIVE_START_AFTER_S") && !err.contains("live on"), "{bad}: {err}");
+    }
+}

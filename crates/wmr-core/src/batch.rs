@@ -17,6 +17,7 @@
 //! `libm` in the last bits, and a closed loop carries such differences along. The clock,
 //! the control ticks, the metrics and the three outcomes are the same code.
 
+use crate::arrival::ArrivalWatch;
 use crate::clock::StepClock;
 use crate::closed_loop::control_every;
 use crate::controller::{Controller, Law};
@@ -53,6 +54,9 @@ pub struct LaneBatch<const N: usize, L, R = FixedGoal<f64>> {
     /// Each lane's metrics and settle rule, as [`crate::ClosedLoop::try_run`] keeps them.
     metrics: Metrics<Lanes<N>>,
     watch: SettleWatch<Lanes<N>>,
+    /// Stop a settling run as soon as it has arrived ([`crate::arrival`]).
+    early_arrival: bool,
+    arrival: ArrivalWatch<Lanes<N>>,
     /// The plant steps each lane's run has taken, as whole `f64`s (0 in a free lane):
     /// vector arithmetic for the clock and the t_end check.
     steps: Lanes<N>,
@@ -99,10 +103,20 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
             held_torque: Wheels::new(zero, zero),
             metrics: Metrics::default(),
             watch,
+            early_arrival: false,
+            arrival: ArrivalWatch::new(n_steps as f64 * dt),
             steps: zero,
             active: LaneMask::splat(false),
             tags: [0; N],
         })
+    }
+
+    /// With `on` (and `stop_when_settled`), a run also stops as soon as it has arrived
+    /// by the shorter test of [`crate::arrival`] (off by default), ending as
+    /// [`Termination::Settled`].
+    pub fn early_arrival(mut self, on: bool) -> Self {
+        self.early_arrival = on;
+        self
     }
 
     /// Runs every start pose `next` gives (with the caller's tag), N at a time, handing
@@ -136,13 +150,16 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
             let torque = self.plant.wheel_torque_lanes(&self.state, self.command, self.held_torque);
             self.metrics.add_step(t, &self.state, speeds, torque, goal, Lanes::splat(dt));
             if self.stop_when_settled {
-                let settled = self.watch.settled(
+                let mut settled = self.watch.settled(
                     t,
                     &self.state,
                     goal,
                     self.controller.holding(),
                     self.controller.integrator_travel(),
                 );
+                if self.early_arrival {
+                    settled = settled | self.arrival.arrived(t, &self.state, goal, self.controller.holding());
+                }
                 if settled.any() {
                     for i in (0..N).filter(|&i| settled.lane(i)) {
                         self.finish(i, Termination::Settled, &mut done);
@@ -215,6 +232,7 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
         self.active = self.active | fresh;
         self.metrics.reset_lanes(fresh);
         self.watch.reset_lanes(fresh);
+        self.arrival.reset_lanes(fresh);
         self.controller.reset_lanes(fresh);
         more
     }

@@ -19,6 +19,7 @@ use core::convert::Infallible;
 use core::ops::ControlFlow;
 
 use crate::Real;
+use crate::arrival::ArrivalWatch;
 use crate::clock::StepClock;
 use crate::controller::{ControlOutput, Controller, Law};
 use crate::error::{ParamError, check};
@@ -69,6 +70,8 @@ pub struct ClosedLoop<T: Real, L, S = PerfectSensor, R = FixedGoal<T>> {
     diverged: Option<Diverged<T>>,
     /// Stop a run once it has settled ([`crate::settle`]).
     stop_when_settled: bool,
+    /// With `stop_when_settled`, stop it as soon as it has arrived ([`crate::arrival`]).
+    early_arrival: bool,
 }
 
 impl<T: Real, L: Law<T>, R: Reference<T>> ClosedLoop<T, L, PerfectSensor, R> {
@@ -103,6 +106,7 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
             tick: Tick::default(),
             diverged: None,
             stop_when_settled: false,
+            early_arrival: false,
         };
         lp.control_tick();
         Ok(lp)
@@ -113,6 +117,14 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
     /// length). The outcome's termination is then [`Termination::Settled`].
     pub fn stop_when_settled(mut self, on: bool) -> Self {
         self.stop_when_settled = on;
+        self
+    }
+
+    /// With `on` (and [`ClosedLoop::stop_when_settled`]), a run also stops as soon as it
+    /// has arrived by the shorter test of [`crate::arrival`] (off by default), ending as
+    /// [`Termination::Settled`].
+    pub fn early_arrival(mut self, on: bool) -> Self {
+        self.early_arrival = on;
         self
     }
 
@@ -255,6 +267,7 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
         let t_end = T::lit((self.step_index + n_steps) as f64) * self.clock.dt;
         let mut watch = (self.stop_when_settled && self.sensor.deterministic() && self.reference.fixed())
             .then(|| SettleWatch::new(t_end, self.plant.robot().params()));
+        let mut arrival = (watch.is_some() && self.early_arrival).then(|| ArrivalWatch::new(t_end));
         'run: while done < n_steps {
             poll()?;
             let chunk = (n_steps - done).min(POLL_EVERY_STEPS);
@@ -268,6 +281,12 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
                 metrics.add_step(s.t, &s.state, s.wheel_speeds, s.torque, goal, self.clock.dt);
                 if let Some(w) = &mut watch
                     && w.settled(s.t, &s.state, goal, self.controller.holding(), self.controller.integrator_travel())
+                {
+                    termination = Termination::Settled;
+                    break 'run;
+                }
+                if let Some(a) = &mut arrival
+                    && a.arrived(s.t, &s.state, goal, self.controller.holding())
                 {
                     termination = Termination::Settled;
                     break 'run;

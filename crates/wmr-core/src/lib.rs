@@ -43,6 +43,7 @@
 #![no_std]
 #![warn(missing_docs)]
 
+pub mod arrival;
 pub mod batch;
 pub mod clock;
 pub mod closed_loop;

@@ -63,6 +63,6 @@ pub fn closed_loop_to(
     let plant = setup.plant(start).map_err(|e| origin.key_of(&e))?;
     let sensor = setup.sensor_for(run).map_err(|e| origin.key_of(&e))?;
     ClosedLoop::with_sensor(plant, sensor, setup.built, reference, sim.dt())
-        .map(|lp| lp.stop_when_settled(sim.stop_when_settled()))
+        .map(|lp| lp.stop_when_settled(sim.stop_when_settled()).early_arrival(sim.early_arrival()))
         .map_err(|e| origin.key_of(&e))
 }

@@ -213,7 +213,8 @@ fn lanes(
     let goal = FixedGoal::new(goal).map_err(|e| origin.key_of(&e))?;
     let controller = setup.controller.build_lanes(setup.model.params(), &setup.drive).map_err(|e| origin.key_of(&e))?;
     let mut batch = Batch::new(plant, controller, goal, sim.dt(), sim.n_steps(), sim.stop_when_settled())
-        .map_err(|e| origin.key_of(&e))?;
+        .map_err(|e| origin.key_of(&e))?
+        .early_arrival(sim.early_arrival());
     let mut next_start = starts.iter().enumerate();
     let mut outcomes = vec![None; starts.len()];
     let mut stopped = false;

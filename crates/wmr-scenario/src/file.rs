@@ -50,6 +50,9 @@ pub struct SimFile {
     pub log_dt: Option<f64>,
     /// Stop each run once it has settled (`wmr_core::settle`). Default false.
     pub stop_when_settled: Option<bool>,
+    /// With `stop_when_settled`, stop each run as soon as it has arrived by the shorter
+    /// test of `wmr_core::arrival` (0.1 s of dying motion, not the 1 s window). Default false.
+    pub early_arrival: Option<bool>,
     /// A tracking run converges when its error stays below this over the last 10 % of
     /// t_end, m. Default 0.01.
     pub tracking_tolerance: Option<f64>,

@@ -151,9 +151,17 @@ impl ScenarioFile {
         };
         let setup = Setup::resolve(&tables, "controller")?;
 
-        let SimFile { t_end, dt, log_dt, stop_when_settled, tracking_tolerance: _ } = self.sim.unwrap_or_default();
+        let SimFile { t_end, dt, log_dt, stop_when_settled, early_arrival, tracking_tolerance: _ } =
+            self.sim.unwrap_or_default();
+        if early_arrival == Some(true) && stop_when_settled != Some(true) {
+            return Err(ScenarioError::new(
+                "sim.early_arrival",
+                "is a shorter settle test: it needs stop_when_settled = true beside it",
+            ));
+        }
         let sim = SimSpec::resolve(t_end, dt, log_dt, setup.controller.control_dt)?
-            .with_stop_when_settled(stop_when_settled.unwrap_or(false));
+            .with_stop_when_settled(stop_when_settled.unwrap_or(false))
+            .with_early_arrival(early_arrival.unwrap_or(false));
         setup.check_step(sim.dt())?;
 
         let sweep = match &self.sweep {
@@ -458,6 +466,9 @@ impl Scenario {
             f(s.log_dt()),
             s.stop_when_settled()
         );
+        if s.early_arrival() {
+            let _ = writeln!(o, "early_arrival = true");
+        }
         if let Some(tr) = &self.tracking {
             let _ = writeln!(o, "tracking_tolerance = {}", f(tr.tolerance));
         }

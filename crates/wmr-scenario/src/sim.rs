@@ -21,6 +21,8 @@ pub struct SimSpec {
     n_steps: u64,
     log_every: u32,
     stop_when_settled: bool,
+    /// With `stop_when_settled`: stop a run as soon as it has arrived (`wmr_core::arrival`).
+    early_arrival: bool,
 }
 
 /// How many `dt` fit in `period` if it is a whole multiple (relative tolerance 1e-9, as
@@ -103,7 +105,7 @@ impl SimSpec {
         let log_every = whole_multiple(log_dt, dt)
             .and_then(|n| u32::try_from(n).ok())
             .ok_or_else(|| blame(log_dt_given, "sim.log_dt", log_dt))?;
-        Ok(Self { t_end, dt, log_dt, n_steps, log_every, stop_when_settled: false })
+        Ok(Self { t_end, dt, log_dt, n_steps, log_every, stop_when_settled: false, early_arrival: false })
     }
 
     /// With `on`, each run stops once it has settled (`[sim] stop_when_settled`, the
@@ -111,6 +113,18 @@ impl SimSpec {
     pub fn with_stop_when_settled(mut self, on: bool) -> Self {
         self.stop_when_settled = on;
         self
+    }
+
+    /// With `on` (and [`SimSpec::with_stop_when_settled`]), each run also stops as soon as
+    /// it has arrived by the shorter test of `wmr_core::arrival` (`[sim] early_arrival`).
+    pub fn with_early_arrival(mut self, on: bool) -> Self {
+        self.early_arrival = on;
+        self
+    }
+
+    /// Whether runs stop as soon as they have arrived (`wmr_core::arrival`).
+    pub fn early_arrival(&self) -> bool {
+        self.early_arrival
     }
 
     /// Whether runs stop once settled.

@@ -12,5 +12,5 @@ mod session;
 mod stop;
 
 pub use server::MAX_CLIENTS;
-pub use session::{DEFAULT_ADDR, MAX_SPEED, MIN_SPEED, serve};
+pub use session::{DEFAULT_ADDR, MAX_SPEED, MIN_SPEED, serve, start_after};
 pub use stop::{Interrupted, STOP_SIGNAL};

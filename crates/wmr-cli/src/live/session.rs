@@ -47,6 +47,25 @@ const QUEUE_SAMPLES: usize = 512;
 /// Least wall time between two broadcasts of the server clock.
 const CLOCK_EVERY: Duration = Duration::from_millis(20);
 
+/// The environment variable that bounds the wait for a viewer: with
+/// `WMR_LIVE_START_AFTER_S=S`, streaming starts when a client subscribes or after S
+/// seconds, whichever comes first (the docs test runs the documented `--live` commands
+/// so, with no viewer; unset, the session waits for one as long as it takes).
+pub const START_AFTER_VAR: &str = "WMR_LIVE_START_AFTER_S";
+
+/// The wait for a viewer [`START_AFTER_VAR`] asks for (`None`: unset, wait for one); a
+/// value that is not a number of seconds from 0 to 1e6 is bad input naming the variable.
+pub fn start_after() -> Result<Option<Duration>> {
+    let Some(v) = std::env::var_os(START_AFTER_VAR) else { return Ok(None) };
+    let text = v.to_string_lossy();
+    match text.trim().parse::<f64>() {
+        Ok(s) if (0.0..=1e6).contains(&s) => Ok(Some(Duration::from_secs_f64(s))),
+        _ => Err(crate::errors::bad_input(format!(
+            "{START_AFTER_VAR}: {text:?} is not a number of seconds from 0 to 1e6 (the longest wait for a viewer)"
+        ))),
+    }
+}
+
 /// After the first subscription, time for the client's other subscriptions to arrive.
 const SUBSCRIBE_GRACE: Duration = Duration::from_millis(300);
 
@@ -120,10 +139,17 @@ impl Live {
         &self.url
     }
 
-    /// Serves `scenario`'s runs at `speed` times real time once a client subscribes,
+    /// Serves `scenario`'s runs at `speed` times real time once a client subscribes (or
+    /// once `start_after` has passed without one, when given: [`START_AFTER_VAR`]),
     /// writing the MCAP file to `mcap` as well when given. The server is closed when this
     /// returns, whatever happened.
-    pub fn run(self, scenario: &Scenario, speed: f64, mcap: Option<File>) -> Result<LiveReport> {
+    pub fn run(
+        self,
+        scenario: &Scenario,
+        speed: f64,
+        mcap: Option<File>,
+        start_after: Option<Duration>,
+    ) -> Result<LiveReport> {
         let n = scenario.runs().len();
         let measured = scenario.setup().has_sensor;
         let mut file = match mcap {
@@ -137,10 +163,13 @@ impl Live {
         };
         let server = self.server;
         let outcome = (|| -> Result<(Vec<RunResult>, u64, f64)> {
-            while !server.subscribed() {
+            let give_up = start_after.and_then(|d| Instant::now().checked_add(d));
+            while !server.subscribed() && give_up.is_none_or(|g| Instant::now() < g) {
                 stop::wait_for(POLL)?;
             }
-            stop::wait_for(SUBSCRIBE_GRACE)?;
+            if server.subscribed() {
+                stop::wait_for(SUBSCRIBE_GRACE)?;
+            }
             let streamed = stream(scenario, speed, &mut file, &server)?;
             let until = Instant::now() + LINGER;
             while !server.drained() && Instant::now() < until {
