@@ -11,7 +11,7 @@
 #include <stddef.h>
 
 // Version of this C API: changes whenever a struct, a storage size or a signature does.
-#define WMR_ABI_VERSION 1
+#define WMR_ABI_VERSION 2
 
 // Alignment, bytes, of every storage struct (they are arrays of `uint64_t`).
 #define WMR_STORAGE_ALIGN 8
@@ -71,28 +71,28 @@
 #define WMR_SENSOR_F64_WORDS 112
 
 // Words of the paper's law with its wheel stage, `wmr_paper_controller_f32`.
-#define WMR_PAPER_CONTROLLER_F32_WORDS 32
+#define WMR_PAPER_CONTROLLER_F32_WORDS 40
 
 // Words of the paper's law with its wheel stage, `wmr_paper_controller_f64`.
-#define WMR_PAPER_CONTROLLER_F64_WORDS 64
+#define WMR_PAPER_CONTROLLER_F64_WORDS 72
 
 // Words of the bidirectional paper law with its wheel stage, `wmr_paper_bidirectional_controller_f32`.
-#define WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F32_WORDS 32
+#define WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F32_WORDS 40
 
 // Words of the bidirectional paper law with its wheel stage, `wmr_paper_bidirectional_controller_f64`.
-#define WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F64_WORDS 64
+#define WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F64_WORDS 72
 
 // Words of the polar law with its wheel stage, `wmr_polar_controller_f32`.
 #define WMR_POLAR_CONTROLLER_F32_WORDS 32
 
 // Words of the polar law with its wheel stage, `wmr_polar_controller_f64`.
-#define WMR_POLAR_CONTROLLER_F64_WORDS 56
+#define WMR_POLAR_CONTROLLER_F64_WORDS 64
 
 // Words of the Lyapunov law with its wheel stage, `wmr_lyapunov_controller_f32`.
 #define WMR_LYAPUNOV_CONTROLLER_F32_WORDS 32
 
 // Words of the Lyapunov law with its wheel stage, `wmr_lyapunov_controller_f64`.
-#define WMR_LYAPUNOV_CONTROLLER_F64_WORDS 56
+#define WMR_LYAPUNOV_CONTROLLER_F64_WORDS 64
 
 // What a call did. `WMR_OK` is 0; every other value is an error.
 enum wmr_status

@@ -73,7 +73,7 @@ pub use imp::{C_LAWS, CLawEntry};
 use core::ffi::c_char;
 
 /// Version of this C API: changes whenever a struct, a storage size or a signature does.
-pub const WMR_ABI_VERSION: u32 = 1;
+pub const WMR_ABI_VERSION: u32 = 2;
 
 /// Alignment, bytes, of every storage struct (they are arrays of `uint64_t`).
 pub const WMR_STORAGE_ALIGN: usize = 8;
@@ -379,21 +379,21 @@ pub const WMR_SENSOR_F32_WORDS: usize = 96;
 /// Words of a sensor, `wmr_sensor_f64` (perfect or pose sensor).
 pub const WMR_SENSOR_F64_WORDS: usize = 112;
 /// Words of the paper's law with its wheel stage, `wmr_paper_controller_f32`.
-pub const WMR_PAPER_CONTROLLER_F32_WORDS: usize = 32;
+pub const WMR_PAPER_CONTROLLER_F32_WORDS: usize = 40;
 /// Words of the paper's law with its wheel stage, `wmr_paper_controller_f64`.
-pub const WMR_PAPER_CONTROLLER_F64_WORDS: usize = 64;
+pub const WMR_PAPER_CONTROLLER_F64_WORDS: usize = 72;
 /// Words of the bidirectional paper law with its wheel stage, `wmr_paper_bidirectional_controller_f32`.
-pub const WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F32_WORDS: usize = 32;
+pub const WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F32_WORDS: usize = 40;
 /// Words of the bidirectional paper law with its wheel stage, `wmr_paper_bidirectional_controller_f64`.
-pub const WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F64_WORDS: usize = 64;
+pub const WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F64_WORDS: usize = 72;
 /// Words of the polar law with its wheel stage, `wmr_polar_controller_f32`.
 pub const WMR_POLAR_CONTROLLER_F32_WORDS: usize = 32;
 /// Words of the polar law with its wheel stage, `wmr_polar_controller_f64`.
-pub const WMR_POLAR_CONTROLLER_F64_WORDS: usize = 56;
+pub const WMR_POLAR_CONTROLLER_F64_WORDS: usize = 64;
 /// Words of the Lyapunov law with its wheel stage, `wmr_lyapunov_controller_f32`.
 pub const WMR_LYAPUNOV_CONTROLLER_F32_WORDS: usize = 32;
 /// Words of the Lyapunov law with its wheel stage, `wmr_lyapunov_controller_f64`.
-pub const WMR_LYAPUNOV_CONTROLLER_F64_WORDS: usize = 56;
+pub const WMR_LYAPUNOV_CONTROLLER_F64_WORDS: usize = 64;
 
 /// A validated robot (f32): parameters and the reduced inertia matrix.
 #[repr(C)]

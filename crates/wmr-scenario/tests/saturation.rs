@@ -20,7 +20,7 @@ fn issue_24_far_starts_at_the_torque_limit_all_converge() {
         if std::env::var_os("WMR_LONG_TESTS").is_some() { (0..150).collect() } else { (0..150).step_by(10).collect() };
     let jobs: Vec<(usize, usize)> = (0..sweep.laws.len()).flat_map(|l| starts.iter().map(move |&i| (l, i))).collect();
     let outcomes =
-        wmr_scenario::executor::map_ordered(jobs.len(), |k| sweep.run_one(&s.sim(), jobs[k].0, jobs[k].1, |_| {}));
+        wmr_scenario::executor::map_ordered(jobs.len(), |k| sweep.run_one(s.sim(), jobs[k].0, jobs[k].1, |_| {}));
     let mut failed = Vec::new();
     for (&(law, start), outcome) in jobs.iter().zip(outcomes) {
         let o = outcome.unwrap();
