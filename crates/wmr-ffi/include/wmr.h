@@ -115,11 +115,13 @@
 // Points a `wmr_reference_*` of waypoints holds at most (the core's `MAX_POINTS`).
 #define WMR_REFERENCE_MAX_POINTS 64
 
-// Words of a reference, `wmr_reference_f32` (circle, figure-eight, line or waypoints).
-#define WMR_REFERENCE_F32_WORDS 1024
+// Words of a reference, `wmr_reference_f32` (circle, figure-eight, line or waypoints:
+// 64 waypoints and their speed profile take 9.4 kB).
+#define WMR_REFERENCE_F32_WORDS 1280
 
-// Words of a reference, `wmr_reference_f64` (circle, figure-eight, line or waypoints).
-#define WMR_REFERENCE_F64_WORDS 2048
+// Words of a reference, `wmr_reference_f64` (circle, figure-eight, line or waypoints:
+// 64 waypoints and their speed profile take 18.8 kB).
+#define WMR_REFERENCE_F64_WORDS 2432
 
 // What a call did. `WMR_OK` is 0; every other value is an error.
 enum wmr_status

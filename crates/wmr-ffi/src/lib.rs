@@ -418,10 +418,12 @@ pub const WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS: usize = 40;
 pub const WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS: usize = 72;
 /// Points a `wmr_reference_*` of waypoints holds at most (the core's `MAX_POINTS`).
 pub const WMR_REFERENCE_MAX_POINTS: usize = 64;
-/// Words of a reference, `wmr_reference_f32` (circle, figure-eight, line or waypoints).
-pub const WMR_REFERENCE_F32_WORDS: usize = 1024;
-/// Words of a reference, `wmr_reference_f64` (circle, figure-eight, line or waypoints).
-pub const WMR_REFERENCE_F64_WORDS: usize = 2048;
+/// Words of a reference, `wmr_reference_f32` (circle, figure-eight, line or waypoints:
+/// 64 waypoints and their speed profile take 9.4 kB).
+pub const WMR_REFERENCE_F32_WORDS: usize = 1280;
+/// Words of a reference, `wmr_reference_f64` (circle, figure-eight, line or waypoints:
+/// 64 waypoints and their speed profile take 18.8 kB).
+pub const WMR_REFERENCE_F64_WORDS: usize = 2432;
 
 /// A validated robot (f32): parameters and the reduced inertia matrix.
 #[repr(C)]

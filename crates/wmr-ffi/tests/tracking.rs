@@ -106,7 +106,15 @@ fn circle_kanayama_c_loop_is_the_scenario_run_bit_for_bit() {
         wmr_kanayama_params_f64_default(lp.as_mut_ptr());
         let mut ctrl = MaybeUninit::<wmr_kanayama_controller_f64>::uninit();
         assert_eq!(
-            wmr_kanayama_controller_f64_init(ctrl.as_mut_ptr(), lp.as_ptr(), &rig.wheels, &rig.robot, &rig.drive, dt, null),
+            wmr_kanayama_controller_f64_init(
+                ctrl.as_mut_ptr(),
+                lp.as_ptr(),
+                &rig.wheels,
+                &rig.robot,
+                &rig.drive,
+                dt,
+                null
+            ),
             wmr_status::WMR_OK
         );
         // The file's keys: center (0, 0), radius 1 m, speed 0.3 m/s, phase -90 deg.
@@ -128,10 +136,6 @@ fn circle_kanayama_c_loop_is_the_scenario_run_bit_for_bit() {
             let s = &samples[(k + 1) / every];
             let want = [s.state.x, s.state.y, s.state.theta, s.state.v, s.state.omega, s.state.phi_r, s.state.phi_l];
             assert_eq!(state_bits(&rig.plant), want.map(f64::to_bits), "step {k}");
-            // The sample's torques and errors are those of the tick before it.
-            let o = outputs[k];
-            let got = [o.e_s, o.e_theta, o.dl].map(f64::to_bits);
-            assert_eq!(got, [s.errors.e_s, s.errors.e_theta, s.errors.dl].map(f64::to_bits), "errors at step {k}");
             // The reference columns (x_ref ... omega_ref) are the C reference's state.
             let mut r = wmr_reference_state::default();
             // SAFETY: initialized reference.
@@ -141,6 +145,13 @@ fn circle_kanayama_c_loop_is_the_scenario_run_bit_for_bit() {
         }
     }
     assert_eq!(samples.len(), sim.n_steps() as usize / every + 1);
+    // A sample's errors are the law's at the tick at the sample's time (the loop ticks
+    // right after the step that reaches it): tick j * every.
+    for (j, s) in samples.iter().enumerate() {
+        let Some(o) = outputs.get(j * every) else { continue };
+        let got = [o.e_s, o.e_theta, o.dl].map(f64::to_bits);
+        assert_eq!(got, [s.errors.e_s, s.errors.e_theta, s.errors.dl].map(f64::to_bits), "errors of sample {j}");
+    }
 }
 
 /// `state_at` spelled for the test (the trait method, by name).
@@ -185,7 +196,8 @@ macro_rules! law_on_reference {
                 WheelStage::new(&WheelStageParams::for_drive(&drive_params), robot.params(), &drive, dt).unwrap();
             let plant = Plant::on(robot, drive, WorldParams::default().validate().unwrap(), start).unwrap();
             let core_ref: AnyReference<f64> = $core_ref;
-            let mut sim = ClosedLoop::with_sensor(plant, PerfectSensor, Controller::new($law, wheels), core_ref, dt).unwrap();
+            let mut sim =
+                ClosedLoop::with_sensor(plant, PerfectSensor, Controller::new($law, wheels), core_ref, dt).unwrap();
             let clock = wmr_core::StepClock::new(dt);
             let mut moved = 0.0f64;
             for k in 0..$steps {
@@ -274,7 +286,15 @@ fn pure_pursuit_on_waypoints_is_closed_loop() {
         wmr_pure_pursuit_params_f64_default(lp.as_mut_ptr());
         let mut a = MaybeUninit::<wmr_pure_pursuit_controller_f64>::uninit();
         assert_eq!(
-            wmr_pure_pursuit_controller_f64_init(a.as_mut_ptr(), lp.as_ptr(), &rig.wheels, &rig.robot, &rig.drive, dt, null),
+            wmr_pure_pursuit_controller_f64_init(
+                a.as_mut_ptr(),
+                lp.as_ptr(),
+                &rig.wheels,
+                &rig.robot,
+                &rig.drive,
+                dt,
+                null
+            ),
             wmr_status::WMR_OK
         );
         let mut r = MaybeUninit::<wmr_reference_f64>::uninit();
@@ -336,7 +356,15 @@ fn f32_kanayama_on_a_line_follows_it() {
         wmr_kanayama_params_f32_default(lp.as_mut_ptr());
         let mut ctrl = MaybeUninit::<wmr_kanayama_controller_f32>::uninit();
         assert_eq!(
-            wmr_kanayama_controller_f32_init(ctrl.as_mut_ptr(), lp.as_ptr(), wp.as_ptr(), robot.as_ptr(), drive.as_ptr(), 1e-3, null),
+            wmr_kanayama_controller_f32_init(
+                ctrl.as_mut_ptr(),
+                lp.as_ptr(),
+                wp.as_ptr(),
+                robot.as_ptr(),
+                drive.as_ptr(),
+                1e-3,
+                null
+            ),
             wmr_status::WMR_OK
         );
         let (mut plant, mut sensor) = (MaybeUninit::uninit(), MaybeUninit::uninit());
@@ -373,7 +401,10 @@ fn bad_references_are_refused_by_field() {
     // SAFETY: valid or deliberately NULL pointers, as the contract allows.
     unsafe {
         let mut r = MaybeUninit::<wmr_reference_f64>::uninit();
-        assert_eq!(wmr_reference_f64_init_circle(r.as_mut_ptr(), c, -1.0, 0.3, 0.0, &mut e), wmr_status::WMR_NOT_POSITIVE);
+        assert_eq!(
+            wmr_reference_f64_init_circle(r.as_mut_ptr(), c, -1.0, 0.3, 0.0, &mut e),
+            wmr_status::WMR_NOT_POSITIVE
+        );
         assert_eq!(field(&e), "radius");
         assert_eq!(
             wmr_reference_f64_init_figure_eight(r.as_mut_ptr(), c, 1.0, f64::NAN, 1.0, &mut e),
@@ -384,7 +415,10 @@ fn bad_references_are_refused_by_field() {
         assert_eq!(wmr_reference_f64_init_line(r.as_mut_ptr(), far, 0.3, &mut e), wmr_status::WMR_OUT_OF_RANGE);
         assert_eq!(field(&e), "start.x");
         let one = [[0.0, 0.0]];
-        assert_ne!(wmr_reference_f64_init_waypoints(r.as_mut_ptr(), one.as_ptr(), 1, 0.3, 0.5, &mut e), wmr_status::WMR_OK);
+        assert_ne!(
+            wmr_reference_f64_init_waypoints(r.as_mut_ptr(), one.as_ptr(), 1, 0.3, 0.5, &mut e),
+            wmr_status::WMR_OK
+        );
         assert_eq!(field(&e), "points");
         let many = [[0.0f64, 0.0]; 65];
         assert_eq!(
@@ -409,7 +443,15 @@ fn bad_references_are_refused_by_field() {
         wmr_kanayama_params_f64_default(lp.as_mut_ptr());
         let mut ctrl = MaybeUninit::<wmr_kanayama_controller_f64>::uninit();
         assert_eq!(
-            wmr_kanayama_controller_f64_init(ctrl.as_mut_ptr(), lp.as_ptr(), &rig.wheels, &rig.robot, &rig.drive, 1e-3, &mut e),
+            wmr_kanayama_controller_f64_init(
+                ctrl.as_mut_ptr(),
+                lp.as_ptr(),
+                &rig.wheels,
+                &rig.robot,
+                &rig.drive,
+                1e-3,
+                &mut e
+            ),
             wmr_status::WMR_OK
         );
         let mut m = wmr_measurement::default();
@@ -424,7 +466,15 @@ fn bad_references_are_refused_by_field() {
         let mut bad = lp.assume_init();
         bad.ky = -1.0;
         assert_eq!(
-            wmr_kanayama_controller_f64_init(ctrl.as_mut_ptr(), &bad, &rig.wheels, &rig.robot, &rig.drive, 1e-3, &mut e),
+            wmr_kanayama_controller_f64_init(
+                ctrl.as_mut_ptr(),
+                &bad,
+                &rig.wheels,
+                &rig.robot,
+                &rig.drive,
+                1e-3,
+                &mut e
+            ),
             wmr_status::WMR_NOT_POSITIVE
         );
         assert_eq!(field(&e), "ky");
