@@ -94,6 +94,35 @@
 // Words of the Lyapunov law with its wheel stage, `wmr_lyapunov_controller_f64`.
 #define WMR_LYAPUNOV_CONTROLLER_F64_WORDS 64
 
+// Words of Kanayama's law with its wheel stage, `wmr_kanayama_controller_f32`.
+#define WMR_KANAYAMA_CONTROLLER_F32_WORDS 32
+
+// Words of Kanayama's law with its wheel stage, `wmr_kanayama_controller_f64`.
+#define WMR_KANAYAMA_CONTROLLER_F64_WORDS 56
+
+// Words of the back-stepping law with its wheel stage, `wmr_backstepping_controller_f32`.
+#define WMR_BACKSTEPPING_CONTROLLER_F32_WORDS 40
+
+// Words of the back-stepping law with its wheel stage, `wmr_backstepping_controller_f64`.
+#define WMR_BACKSTEPPING_CONTROLLER_F64_WORDS 72
+
+// Words of the pure pursuit law with its wheel stage, `wmr_pure_pursuit_controller_f32`.
+#define WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS 40
+
+// Words of the pure pursuit law with its wheel stage, `wmr_pure_pursuit_controller_f64`.
+#define WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS 72
+
+// Points a `wmr_reference_*` of waypoints holds at most (the core's `MAX_POINTS`).
+#define WMR_REFERENCE_MAX_POINTS 64
+
+// Words of a reference, `wmr_reference_f32` (circle, figure-eight, line or waypoints:
+// 64 waypoints and their speed profile take 9.4 kB).
+#define WMR_REFERENCE_F32_WORDS 1280
+
+// Words of a reference, `wmr_reference_f64` (circle, figure-eight, line or waypoints:
+// 64 waypoints and their speed profile take 18.8 kB).
+#define WMR_REFERENCE_F64_WORDS 2432
+
 // What a call did. `WMR_OK` is 0; every other value is an error.
 enum wmr_status
 #if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
@@ -291,6 +320,50 @@ typedef struct {
   float goal_radius;
 } wmr_lyapunov_params_f32;
 
+// Kanayama et al.'s tracking law (`[controller] kind = "kanayama"`).
+typedef struct {
+  // kx: forward speed per metre of along-track error, 1/s (> 0).
+  float kx;
+  // ky: yaw rate per metre of lateral error, per m/s of v_ref, 1/m^2 (> 0).
+  float ky;
+  // ktheta: yaw rate per unit of sin(heading error), per m/s of v_ref, 1/m (> 0).
+  float ktheta;
+} wmr_kanayama_params_f32;
+
+// Kanayama back-stepped into the dynamics (`[controller] kind = "backstepping"`).
+typedef struct {
+  // kx: Kanayama's forward speed per metre of along-track error, 1/s (> 0).
+  float kx;
+  // ky: Kanayama's yaw rate per metre of lateral error, per m/s of v_ref, 1/m^2 (> 0).
+  float ky;
+  // ktheta: Kanayama's yaw rate per unit of sin(heading error), per m/s of v_ref, 1/m (> 0).
+  float ktheta;
+  // k4: rate at which the body twist is driven to Kanayama's, 1/s (> 0).
+  float k4;
+} wmr_backstepping_params_f32;
+
+// Regulated pure pursuit (`[controller] kind = "pure_pursuit"`), nav2's names.
+typedef struct {
+  // speed: the forward speed on a straight path (nav2's desired_linear_vel), m/s (> 0).
+  float speed;
+  // The lookahead distance per m/s of speed, s (>= 0).
+  float lookahead_time;
+  // The shortest lookahead distance, m (> 0).
+  float min_lookahead_dist;
+  // The longest lookahead distance, m (>= min_lookahead_dist).
+  float max_lookahead_dist;
+  // Below this turning radius the speed is scaled down in proportion, m (>= 0).
+  float regulated_linear_scaling_min_radius;
+  // The curvature scaling never brings the speed below this, m/s (>= 0).
+  float regulated_linear_scaling_min_speed;
+  // Within this path length of the end the speed is scaled down in proportion, m (>= 0).
+  float approach_velocity_scaling_dist;
+  // The approach scaling never brings the speed below this, m/s (>= 0).
+  float min_approach_linear_velocity;
+  // Within this distance of the path's end the law stops, m (> 0).
+  float xy_goal_tolerance;
+} wmr_pure_pursuit_params_f32;
+
 // The plant (f32): robot, drive and state, stepped by RK4 under a held command.
 typedef struct {
   // Opaque: only the library reads or writes it.
@@ -376,25 +449,13 @@ typedef struct {
   wmr_wheels_f32 wheel_speeds;
 } wmr_measurement_f32;
 
-// The paper's law with its wheel stage (f32).
+// A moving reference (f32): a circle, a figure-eight, a line or a spline through
+// waypoints (the core's `wmr_core::AnyReference`), with its state at any time and its
+// path for the path-following law.
 typedef struct {
   // Opaque: only the library reads or writes it.
-  uint64_t opaque[WMR_PAPER_CONTROLLER_F32_WORDS];
-} wmr_paper_controller_f32;
-
-// One control update: the drive commands to hold until the next tick and the law's
-// logged errors.
-typedef struct {
-  // Per-wheel drive command: wheel-torque demand (N m, torque drive) or voltage (V,
-  // DC motor).
-  wmr_wheels_f32 command;
-  // The law's along-track error, m.
-  float e_s;
-  // The law's heading error, rad, in (-pi, pi].
-  float e_theta;
-  // The measured distance from C to the goal position, m.
-  float dl;
-} wmr_control_output_f32;
+  uint64_t opaque[WMR_REFERENCE_F32_WORDS];
+} wmr_reference_f32;
 
 // Body-frame velocity of a point: forward speed v in m/s, yaw rate omega in rad/s.
 typedef struct {
@@ -424,6 +485,26 @@ typedef struct {
   wmr_accel_f32 accel;
 } wmr_reference_state_f32;
 
+// The paper's law with its wheel stage (f32).
+typedef struct {
+  // Opaque: only the library reads or writes it.
+  uint64_t opaque[WMR_PAPER_CONTROLLER_F32_WORDS];
+} wmr_paper_controller_f32;
+
+// One control update: the drive commands to hold until the next tick and the law's
+// logged errors.
+typedef struct {
+  // Per-wheel drive command: wheel-torque demand (N m, torque drive) or voltage (V,
+  // DC motor).
+  wmr_wheels_f32 command;
+  // The law's along-track error, m.
+  float e_s;
+  // The law's heading error, rad, in (-pi, pi].
+  float e_theta;
+  // The measured distance from C to the goal position, m.
+  float dl;
+} wmr_control_output_f32;
+
 // The paper's law repaired (`paper_bidirectional`) with its wheel stage (f32).
 typedef struct {
   // Opaque: only the library reads or writes it.
@@ -441,6 +522,24 @@ typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_LYAPUNOV_CONTROLLER_F32_WORDS];
 } wmr_lyapunov_controller_f32;
+
+// Kanayama's law with its wheel stage (f32).
+typedef struct {
+  // Opaque: only the library reads or writes it.
+  uint64_t opaque[WMR_KANAYAMA_CONTROLLER_F32_WORDS];
+} wmr_kanayama_controller_f32;
+
+// The back-stepping law with its wheel stage (f32).
+typedef struct {
+  // Opaque: only the library reads or writes it.
+  uint64_t opaque[WMR_BACKSTEPPING_CONTROLLER_F32_WORDS];
+} wmr_backstepping_controller_f32;
+
+// The pure pursuit law with its wheel stage (f32).
+typedef struct {
+  // Opaque: only the library reads or writes it.
+  uint64_t opaque[WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS];
+} wmr_pure_pursuit_controller_f32;
 
 // Physical robot parameters, SI units (the `[robot]` keys of a scenario).
 typedef struct {
@@ -578,6 +677,50 @@ typedef struct {
   double goal_radius;
 } wmr_lyapunov_params_f64;
 
+// Kanayama et al.'s tracking law (`[controller] kind = "kanayama"`).
+typedef struct {
+  // kx: forward speed per metre of along-track error, 1/s (> 0).
+  double kx;
+  // ky: yaw rate per metre of lateral error, per m/s of v_ref, 1/m^2 (> 0).
+  double ky;
+  // ktheta: yaw rate per unit of sin(heading error), per m/s of v_ref, 1/m (> 0).
+  double ktheta;
+} wmr_kanayama_params_f64;
+
+// Kanayama back-stepped into the dynamics (`[controller] kind = "backstepping"`).
+typedef struct {
+  // kx: Kanayama's forward speed per metre of along-track error, 1/s (> 0).
+  double kx;
+  // ky: Kanayama's yaw rate per metre of lateral error, per m/s of v_ref, 1/m^2 (> 0).
+  double ky;
+  // ktheta: Kanayama's yaw rate per unit of sin(heading error), per m/s of v_ref, 1/m (> 0).
+  double ktheta;
+  // k4: rate at which the body twist is driven to Kanayama's, 1/s (> 0).
+  double k4;
+} wmr_backstepping_params_f64;
+
+// Regulated pure pursuit (`[controller] kind = "pure_pursuit"`), nav2's names.
+typedef struct {
+  // speed: the forward speed on a straight path (nav2's desired_linear_vel), m/s (> 0).
+  double speed;
+  // The lookahead distance per m/s of speed, s (>= 0).
+  double lookahead_time;
+  // The shortest lookahead distance, m (> 0).
+  double min_lookahead_dist;
+  // The longest lookahead distance, m (>= min_lookahead_dist).
+  double max_lookahead_dist;
+  // Below this turning radius the speed is scaled down in proportion, m (>= 0).
+  double regulated_linear_scaling_min_radius;
+  // The curvature scaling never brings the speed below this, m/s (>= 0).
+  double regulated_linear_scaling_min_speed;
+  // Within this path length of the end the speed is scaled down in proportion, m (>= 0).
+  double approach_velocity_scaling_dist;
+  // The approach scaling never brings the speed below this, m/s (>= 0).
+  double min_approach_linear_velocity;
+  // Within this distance of the path's end the law stops, m (> 0).
+  double xy_goal_tolerance;
+} wmr_pure_pursuit_params_f64;
+
 // The plant (f64): robot, drive and state, stepped by RK4 under a held command.
 typedef struct {
   // Opaque: only the library reads or writes it.
@@ -663,25 +806,11 @@ typedef struct {
   wmr_wheels_f64 wheel_speeds;
 } wmr_measurement_f64;
 
-// The paper's law with its wheel stage (f64).
+// A moving reference (f64), as `wmr_reference_f32`.
 typedef struct {
   // Opaque: only the library reads or writes it.
-  uint64_t opaque[WMR_PAPER_CONTROLLER_F64_WORDS];
-} wmr_paper_controller_f64;
-
-// One control update: the drive commands to hold until the next tick and the law's
-// logged errors.
-typedef struct {
-  // Per-wheel drive command: wheel-torque demand (N m, torque drive) or voltage (V,
-  // DC motor).
-  wmr_wheels_f64 command;
-  // The law's along-track error, m.
-  double e_s;
-  // The law's heading error, rad, in (-pi, pi].
-  double e_theta;
-  // The measured distance from C to the goal position, m.
-  double dl;
-} wmr_control_output_f64;
+  uint64_t opaque[WMR_REFERENCE_F64_WORDS];
+} wmr_reference_f64;
 
 // Body-frame velocity of a point: forward speed v in m/s, yaw rate omega in rad/s.
 typedef struct {
@@ -711,6 +840,26 @@ typedef struct {
   wmr_accel_f64 accel;
 } wmr_reference_state_f64;
 
+// The paper's law with its wheel stage (f64).
+typedef struct {
+  // Opaque: only the library reads or writes it.
+  uint64_t opaque[WMR_PAPER_CONTROLLER_F64_WORDS];
+} wmr_paper_controller_f64;
+
+// One control update: the drive commands to hold until the next tick and the law's
+// logged errors.
+typedef struct {
+  // Per-wheel drive command: wheel-torque demand (N m, torque drive) or voltage (V,
+  // DC motor).
+  wmr_wheels_f64 command;
+  // The law's along-track error, m.
+  double e_s;
+  // The law's heading error, rad, in (-pi, pi].
+  double e_theta;
+  // The measured distance from C to the goal position, m.
+  double dl;
+} wmr_control_output_f64;
+
 // The paper's law repaired (`paper_bidirectional`) with its wheel stage (f64).
 typedef struct {
   // Opaque: only the library reads or writes it.
@@ -728,6 +877,24 @@ typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_LYAPUNOV_CONTROLLER_F64_WORDS];
 } wmr_lyapunov_controller_f64;
+
+// Kanayama's law with its wheel stage (f64).
+typedef struct {
+  // Opaque: only the library reads or writes it.
+  uint64_t opaque[WMR_KANAYAMA_CONTROLLER_F64_WORDS];
+} wmr_kanayama_controller_f64;
+
+// The back-stepping law with its wheel stage (f64).
+typedef struct {
+  // Opaque: only the library reads or writes it.
+  uint64_t opaque[WMR_BACKSTEPPING_CONTROLLER_F64_WORDS];
+} wmr_backstepping_controller_f64;
+
+// The pure pursuit law with its wheel stage (f64).
+typedef struct {
+  // Opaque: only the library reads or writes it.
+  uint64_t opaque[WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS];
+} wmr_pure_pursuit_controller_f64;
 
 #ifdef __cplusplus
 extern "C" {
@@ -776,6 +943,15 @@ wmr_status wmr_polar_params_f32_default(wmr_polar_params_f32 *out);
 
 // Fills `out` with the Lyapunov law's defaults (gamma 0.5, k 3, h 9).
 wmr_status wmr_lyapunov_params_f32_default(wmr_lyapunov_params_f32 *out);
+
+// Fills `out` with Kanayama et al.'s gains (kx 10 1/s, ky 64 1/m^2, ktheta 16 1/m).
+wmr_status wmr_kanayama_params_f32_default(wmr_kanayama_params_f32 *out);
+
+// Fills `out` with Kanayama's gains and k4 20 1/s.
+wmr_status wmr_backstepping_params_f32_default(wmr_backstepping_params_f32 *out);
+
+// Fills `out` with nav2's defaults with speed 0.3 m/s and a 1 cm goal tolerance.
+wmr_status wmr_pure_pursuit_params_f32_default(wmr_pure_pursuit_params_f32 *out);
 
 // A plant at rest at `start` (m, m, rad; finite, |x| and |y| <= 1000 m), encoders at
 // zero, no command held, on the ground `world` (NULL: flat).
@@ -828,6 +1004,50 @@ wmr_status wmr_sensor_f32_measure(wmr_sensor_f32 *sensor,
 // Forgets the sensor's memory, as at t = 0.
 wmr_status wmr_sensor_f32_reset(wmr_sensor_f32 *sensor);
 
+// A circle at constant speed (the `[reference] kind = "circle"` keys): centre (m, m;
+// theta unused), radius (m, > 0), speed (m/s, nonzero: > 0 counter-clockwise) and phase
+// (rad, the angle of C_ref - centre at t = 0). Checked like the scenario's keys; `err`
+// (may be NULL) names the field.
+wmr_status wmr_reference_f32_init_circle(wmr_reference_f32 *out,
+                                         wmr_pose_f32 center,
+                                         float radius,
+                                         float speed,
+                                         float phase,
+                                         wmr_error *err);
+
+// A figure-eight (`kind = "figure_eight"`): centre (m, m; theta unused), width and
+// height (m, > 0) and period (s, > 0).
+wmr_status wmr_reference_f32_init_figure_eight(wmr_reference_f32 *out,
+                                               wmr_pose_f32 center,
+                                               float width,
+                                               float height,
+                                               float period,
+                                               wmr_error *err);
+
+// A straight line (`kind = "line"`) from `start` (m, m, rad) along its heading at
+// `speed` (m/s, nonzero; < 0 backwards).
+wmr_status wmr_reference_f32_init_line(wmr_reference_f32 *out,
+                                       wmr_pose_f32 start,
+                                       float speed,
+                                       wmr_error *err);
+
+// A C2 spline through `n` waypoints (`kind = "waypoints"`; `points` is `n` pairs
+// (x, y) in m, 2 to `WMR_REFERENCE_MAX_POINTS`) with a speed profile from rest to rest,
+// at most `speed` (m/s, > 0) and |acceleration| at most `accel_max` (m/s^2, > 0).
+wmr_status wmr_reference_f32_init_waypoints(wmr_reference_f32 *out,
+                                            const float (*points)[2],
+                                            size_t n,
+                                            float speed,
+                                            float accel_max,
+                                            wmr_error *err);
+
+// The state of the reference point at time `t` (s): pose (m, m, rad), twist (m/s,
+// rad/s) and acceleration (m/s^2, rad/s^2), what `_update_reference` takes: the same
+// bits as the scenario's x_ref ... omega_ref columns.
+wmr_status wmr_reference_f32_state_at(const wmr_reference_f32 *reference,
+                                      float t,
+                                      wmr_reference_state_f32 *out);
+
 // The paper's law with its wheel stage, for the controller's robot model (r and R),
 // the drive it commands and the control period `control_dt` (s).
 wmr_status wmr_paper_controller_f32_init(wmr_paper_controller_f32 *out,
@@ -862,6 +1082,16 @@ wmr_status wmr_paper_controller_f32_update_reference(wmr_paper_controller_f32 *c
                                                      wmr_control_output_f32 *out,
                                                      wmr_error *err);
 
+// One control tick at time `t` (s) following the reference object `reference` (a
+// `wmr_reference_*`): its state at `t` and, for the path-following law, its path, as a
+// scenario run steps the law. Refusals as for `_update_reference`.
+wmr_status wmr_paper_controller_f32_update_on(wmr_paper_controller_f32 *ctrl,
+                                              float t,
+                                              const wmr_measurement_f32 *measurement,
+                                              const wmr_reference_f32 *reference,
+                                              wmr_control_output_f32 *out,
+                                              wmr_error *err);
+
 // Clears the integrators and memories, as at t = 0.
 wmr_status wmr_paper_controller_f32_reset(wmr_paper_controller_f32 *ctrl);
 
@@ -892,6 +1122,15 @@ wmr_status wmr_paper_bidirectional_controller_f32_update_reference(wmr_paper_bid
                                                                    wmr_control_output_f32 *out,
                                                                    wmr_error *err);
 
+// One control tick following a reference object (see
+// `wmr_paper_controller_f32_update_on`).
+wmr_status wmr_paper_bidirectional_controller_f32_update_on(wmr_paper_bidirectional_controller_f32 *ctrl,
+                                                            float t,
+                                                            const wmr_measurement_f32 *measurement,
+                                                            const wmr_reference_f32 *reference,
+                                                            wmr_control_output_f32 *out,
+                                                            wmr_error *err);
+
 // Clears the integrators and memories, as at t = 0.
 wmr_status wmr_paper_bidirectional_controller_f32_reset(wmr_paper_bidirectional_controller_f32 *ctrl);
 
@@ -919,6 +1158,15 @@ wmr_status wmr_polar_controller_f32_update_reference(wmr_polar_controller_f32 *c
                                                      const wmr_reference_state_f32 *reference,
                                                      wmr_control_output_f32 *out,
                                                      wmr_error *err);
+
+// One control tick following a reference object (see
+// `wmr_paper_controller_f32_update_on`).
+wmr_status wmr_polar_controller_f32_update_on(wmr_polar_controller_f32 *ctrl,
+                                              float t,
+                                              const wmr_measurement_f32 *measurement,
+                                              const wmr_reference_f32 *reference,
+                                              wmr_control_output_f32 *out,
+                                              wmr_error *err);
 
 // Clears the direction choice, the servos and the references, as at t = 0.
 wmr_status wmr_polar_controller_f32_reset(wmr_polar_controller_f32 *ctrl);
@@ -949,8 +1197,134 @@ wmr_status wmr_lyapunov_controller_f32_update_reference(wmr_lyapunov_controller_
                                                         wmr_control_output_f32 *out,
                                                         wmr_error *err);
 
+// One control tick following a reference object (see
+// `wmr_paper_controller_f32_update_on`).
+wmr_status wmr_lyapunov_controller_f32_update_on(wmr_lyapunov_controller_f32 *ctrl,
+                                                 float t,
+                                                 const wmr_measurement_f32 *measurement,
+                                                 const wmr_reference_f32 *reference,
+                                                 wmr_control_output_f32 *out,
+                                                 wmr_error *err);
+
 // Clears the direction choice, the servos and the references, as at t = 0.
 wmr_status wmr_lyapunov_controller_f32_reset(wmr_lyapunov_controller_f32 *ctrl);
+
+// Kanayama et al.'s trajectory tracking law (v = v_ref cos(theta_e) + kx x_e, omega =
+// omega_ref + v_ref (ky y_e + ktheta sin(theta_e))) with its wheel stage (see
+// `wmr_paper_controller_f32_init`).
+wmr_status wmr_kanayama_controller_f32_init(wmr_kanayama_controller_f32 *out,
+                                            const wmr_kanayama_params_f32 *params,
+                                            const wmr_wheel_stage_params_f32 *wheels,
+                                            const wmr_robot_f32 *model,
+                                            const wmr_drive_f32 *drive,
+                                            float control_dt,
+                                            wmr_error *err);
+
+// One control tick (see `wmr_paper_controller_f32_update`).
+wmr_status wmr_kanayama_controller_f32_update(wmr_kanayama_controller_f32 *ctrl,
+                                              float t,
+                                              const wmr_measurement_f32 *measurement,
+                                              wmr_pose_f32 goal,
+                                              wmr_control_output_f32 *out);
+
+// One control tick following a reference (see
+// `wmr_paper_controller_f32_update_reference`).
+wmr_status wmr_kanayama_controller_f32_update_reference(wmr_kanayama_controller_f32 *ctrl,
+                                                        float t,
+                                                        const wmr_measurement_f32 *measurement,
+                                                        const wmr_reference_state_f32 *reference,
+                                                        wmr_control_output_f32 *out,
+                                                        wmr_error *err);
+
+// One control tick following a reference object (see
+// `wmr_paper_controller_f32_update_on`).
+wmr_status wmr_kanayama_controller_f32_update_on(wmr_kanayama_controller_f32 *ctrl,
+                                                 float t,
+                                                 const wmr_measurement_f32 *measurement,
+                                                 const wmr_reference_f32 *reference,
+                                                 wmr_control_output_f32 *out,
+                                                 wmr_error *err);
+
+// Clears the servos and the references, as at t = 0.
+wmr_status wmr_kanayama_controller_f32_reset(wmr_kanayama_controller_f32 *ctrl);
+
+// Kanayama's twist back-stepped into the dynamics (wheel torques from the controller's
+// model driving the body twist to Kanayama's at rate k4) with its wheel stage (see
+// `wmr_paper_controller_f32_init`).
+wmr_status wmr_backstepping_controller_f32_init(wmr_backstepping_controller_f32 *out,
+                                                const wmr_backstepping_params_f32 *params,
+                                                const wmr_wheel_stage_params_f32 *wheels,
+                                                const wmr_robot_f32 *model,
+                                                const wmr_drive_f32 *drive,
+                                                float control_dt,
+                                                wmr_error *err);
+
+// One control tick (see `wmr_paper_controller_f32_update`).
+wmr_status wmr_backstepping_controller_f32_update(wmr_backstepping_controller_f32 *ctrl,
+                                                  float t,
+                                                  const wmr_measurement_f32 *measurement,
+                                                  wmr_pose_f32 goal,
+                                                  wmr_control_output_f32 *out);
+
+// One control tick following a reference (see
+// `wmr_paper_controller_f32_update_reference`).
+wmr_status wmr_backstepping_controller_f32_update_reference(wmr_backstepping_controller_f32 *ctrl,
+                                                            float t,
+                                                            const wmr_measurement_f32 *measurement,
+                                                            const wmr_reference_state_f32 *reference,
+                                                            wmr_control_output_f32 *out,
+                                                            wmr_error *err);
+
+// One control tick following a reference object (see
+// `wmr_paper_controller_f32_update_on`).
+wmr_status wmr_backstepping_controller_f32_update_on(wmr_backstepping_controller_f32 *ctrl,
+                                                     float t,
+                                                     const wmr_measurement_f32 *measurement,
+                                                     const wmr_reference_f32 *reference,
+                                                     wmr_control_output_f32 *out,
+                                                     wmr_error *err);
+
+// Clears the last twist and the servos, as at t = 0.
+wmr_status wmr_backstepping_controller_f32_reset(wmr_backstepping_controller_f32 *ctrl);
+
+// Regulated pure pursuit (path following; it steers by the path of a
+// `wmr_reference_*`, so use `_update_on`: given only a reference state it stops) with
+// its wheel stage (see `wmr_paper_controller_f32_init`).
+wmr_status wmr_pure_pursuit_controller_f32_init(wmr_pure_pursuit_controller_f32 *out,
+                                                const wmr_pure_pursuit_params_f32 *params,
+                                                const wmr_wheel_stage_params_f32 *wheels,
+                                                const wmr_robot_f32 *model,
+                                                const wmr_drive_f32 *drive,
+                                                float control_dt,
+                                                wmr_error *err);
+
+// One control tick (see `wmr_paper_controller_f32_update`).
+wmr_status wmr_pure_pursuit_controller_f32_update(wmr_pure_pursuit_controller_f32 *ctrl,
+                                                  float t,
+                                                  const wmr_measurement_f32 *measurement,
+                                                  wmr_pose_f32 goal,
+                                                  wmr_control_output_f32 *out);
+
+// One control tick following a reference (see
+// `wmr_paper_controller_f32_update_reference`).
+wmr_status wmr_pure_pursuit_controller_f32_update_reference(wmr_pure_pursuit_controller_f32 *ctrl,
+                                                            float t,
+                                                            const wmr_measurement_f32 *measurement,
+                                                            const wmr_reference_state_f32 *reference,
+                                                            wmr_control_output_f32 *out,
+                                                            wmr_error *err);
+
+// One control tick following a reference object (see
+// `wmr_paper_controller_f32_update_on`).
+wmr_status wmr_pure_pursuit_controller_f32_update_on(wmr_pure_pursuit_controller_f32 *ctrl,
+                                                     float t,
+                                                     const wmr_measurement_f32 *measurement,
+                                                     const wmr_reference_f32 *reference,
+                                                     wmr_control_output_f32 *out,
+                                                     wmr_error *err);
+
+// Clears the path cursor and the servos, as at t = 0.
+wmr_status wmr_pure_pursuit_controller_f32_reset(wmr_pure_pursuit_controller_f32 *ctrl);
 
 // Fills `out` with the paper's robot: m = 5 kg, r = 0.1 m, R = 0.2 m, d = 0.25 m,
 // I_m = 0.002 kg m^2, I_p = 0.005 kg m^2, k_t = 0.1, no friction.
@@ -987,6 +1361,15 @@ wmr_status wmr_polar_params_f64_default(wmr_polar_params_f64 *out);
 
 // Fills `out` with the Lyapunov law's defaults (gamma 0.5, k 3, h 9).
 wmr_status wmr_lyapunov_params_f64_default(wmr_lyapunov_params_f64 *out);
+
+// Fills `out` with Kanayama et al.'s gains (kx 10 1/s, ky 64 1/m^2, ktheta 16 1/m).
+wmr_status wmr_kanayama_params_f64_default(wmr_kanayama_params_f64 *out);
+
+// Fills `out` with Kanayama's gains and k4 20 1/s.
+wmr_status wmr_backstepping_params_f64_default(wmr_backstepping_params_f64 *out);
+
+// Fills `out` with nav2's defaults with speed 0.3 m/s and a 1 cm goal tolerance.
+wmr_status wmr_pure_pursuit_params_f64_default(wmr_pure_pursuit_params_f64 *out);
 
 // A plant at rest at `start` (m, m, rad; finite, |x| and |y| <= 1000 m), encoders at
 // zero, no command held, on the ground `world` (NULL: flat).
@@ -1039,6 +1422,50 @@ wmr_status wmr_sensor_f64_measure(wmr_sensor_f64 *sensor,
 // Forgets the sensor's memory, as at t = 0.
 wmr_status wmr_sensor_f64_reset(wmr_sensor_f64 *sensor);
 
+// A circle at constant speed (the `[reference] kind = "circle"` keys): centre (m, m;
+// theta unused), radius (m, > 0), speed (m/s, nonzero: > 0 counter-clockwise) and phase
+// (rad, the angle of C_ref - centre at t = 0). Checked like the scenario's keys; `err`
+// (may be NULL) names the field.
+wmr_status wmr_reference_f64_init_circle(wmr_reference_f64 *out,
+                                         wmr_pose_f64 center,
+                                         double radius,
+                                         double speed,
+                                         double phase,
+                                         wmr_error *err);
+
+// A figure-eight (`kind = "figure_eight"`): centre (m, m; theta unused), width and
+// height (m, > 0) and period (s, > 0).
+wmr_status wmr_reference_f64_init_figure_eight(wmr_reference_f64 *out,
+                                               wmr_pose_f64 center,
+                                               double width,
+                                               double height,
+                                               double period,
+                                               wmr_error *err);
+
+// A straight line (`kind = "line"`) from `start` (m, m, rad) along its heading at
+// `speed` (m/s, nonzero; < 0 backwards).
+wmr_status wmr_reference_f64_init_line(wmr_reference_f64 *out,
+                                       wmr_pose_f64 start,
+                                       double speed,
+                                       wmr_error *err);
+
+// A C2 spline through `n` waypoints (`kind = "waypoints"`; `points` is `n` pairs
+// (x, y) in m, 2 to `WMR_REFERENCE_MAX_POINTS`) with a speed profile from rest to rest,
+// at most `speed` (m/s, > 0) and |acceleration| at most `accel_max` (m/s^2, > 0).
+wmr_status wmr_reference_f64_init_waypoints(wmr_reference_f64 *out,
+                                            const double (*points)[2],
+                                            size_t n,
+                                            double speed,
+                                            double accel_max,
+                                            wmr_error *err);
+
+// The state of the reference point at time `t` (s): pose (m, m, rad), twist (m/s,
+// rad/s) and acceleration (m/s^2, rad/s^2), what `_update_reference` takes: the same
+// bits as the scenario's x_ref ... omega_ref columns.
+wmr_status wmr_reference_f64_state_at(const wmr_reference_f64 *reference,
+                                      double t,
+                                      wmr_reference_state_f64 *out);
+
 // The paper's law with its wheel stage, for the controller's robot model (r and R),
 // the drive it commands and the control period `control_dt` (s).
 wmr_status wmr_paper_controller_f64_init(wmr_paper_controller_f64 *out,
@@ -1073,6 +1500,16 @@ wmr_status wmr_paper_controller_f64_update_reference(wmr_paper_controller_f64 *c
                                                      wmr_control_output_f64 *out,
                                                      wmr_error *err);
 
+// One control tick at time `t` (s) following the reference object `reference` (a
+// `wmr_reference_*`): its state at `t` and, for the path-following law, its path, as a
+// scenario run steps the law. Refusals as for `_update_reference`.
+wmr_status wmr_paper_controller_f64_update_on(wmr_paper_controller_f64 *ctrl,
+                                              double t,
+                                              const wmr_measurement_f64 *measurement,
+                                              const wmr_reference_f64 *reference,
+                                              wmr_control_output_f64 *out,
+                                              wmr_error *err);
+
 // Clears the integrators and memories, as at t = 0.
 wmr_status wmr_paper_controller_f64_reset(wmr_paper_controller_f64 *ctrl);
 
@@ -1103,6 +1540,15 @@ wmr_status wmr_paper_bidirectional_controller_f64_update_reference(wmr_paper_bid
                                                                    wmr_control_output_f64 *out,
                                                                    wmr_error *err);
 
+// One control tick following a reference object (see
+// `wmr_paper_controller_f64_update_on`).
+wmr_status wmr_paper_bidirectional_controller_f64_update_on(wmr_paper_bidirectional_controller_f64 *ctrl,
+                                                            double t,
+                                                            const wmr_measurement_f64 *measurement,
+                                                            const wmr_reference_f64 *reference,
+                                                            wmr_control_output_f64 *out,
+                                                            wmr_error *err);
+
 // Clears the integrators and memories, as at t = 0.
 wmr_status wmr_paper_bidirectional_controller_f64_reset(wmr_paper_bidirectional_controller_f64 *ctrl);
 
@@ -1130,6 +1576,15 @@ wmr_status wmr_polar_controller_f64_update_reference(wmr_polar_controller_f64 *c
                                                      const wmr_reference_state_f64 *reference,
                                                      wmr_control_output_f64 *out,
                                                      wmr_error *err);
+
+// One control tick following a reference object (see
+// `wmr_paper_controller_f64_update_on`).
+wmr_status wmr_polar_controller_f64_update_on(wmr_polar_controller_f64 *ctrl,
+                                              double t,
+                                              const wmr_measurement_f64 *measurement,
+                                              const wmr_reference_f64 *reference,
+                                              wmr_control_output_f64 *out,
+                                              wmr_error *err);
 
 // Clears the direction choice, the servos and the references, as at t = 0.
 wmr_status wmr_polar_controller_f64_reset(wmr_polar_controller_f64 *ctrl);
@@ -1160,8 +1615,134 @@ wmr_status wmr_lyapunov_controller_f64_update_reference(wmr_lyapunov_controller_
                                                         wmr_control_output_f64 *out,
                                                         wmr_error *err);
 
+// One control tick following a reference object (see
+// `wmr_paper_controller_f64_update_on`).
+wmr_status wmr_lyapunov_controller_f64_update_on(wmr_lyapunov_controller_f64 *ctrl,
+                                                 double t,
+                                                 const wmr_measurement_f64 *measurement,
+                                                 const wmr_reference_f64 *reference,
+                                                 wmr_control_output_f64 *out,
+                                                 wmr_error *err);
+
 // Clears the direction choice, the servos and the references, as at t = 0.
 wmr_status wmr_lyapunov_controller_f64_reset(wmr_lyapunov_controller_f64 *ctrl);
+
+// Kanayama et al.'s trajectory tracking law (v = v_ref cos(theta_e) + kx x_e, omega =
+// omega_ref + v_ref (ky y_e + ktheta sin(theta_e))) with its wheel stage (see
+// `wmr_paper_controller_f64_init`).
+wmr_status wmr_kanayama_controller_f64_init(wmr_kanayama_controller_f64 *out,
+                                            const wmr_kanayama_params_f64 *params,
+                                            const wmr_wheel_stage_params_f64 *wheels,
+                                            const wmr_robot_f64 *model,
+                                            const wmr_drive_f64 *drive,
+                                            double control_dt,
+                                            wmr_error *err);
+
+// One control tick (see `wmr_paper_controller_f64_update`).
+wmr_status wmr_kanayama_controller_f64_update(wmr_kanayama_controller_f64 *ctrl,
+                                              double t,
+                                              const wmr_measurement_f64 *measurement,
+                                              wmr_pose_f64 goal,
+                                              wmr_control_output_f64 *out);
+
+// One control tick following a reference (see
+// `wmr_paper_controller_f64_update_reference`).
+wmr_status wmr_kanayama_controller_f64_update_reference(wmr_kanayama_controller_f64 *ctrl,
+                                                        double t,
+                                                        const wmr_measurement_f64 *measurement,
+                                                        const wmr_reference_state_f64 *reference,
+                                                        wmr_control_output_f64 *out,
+                                                        wmr_error *err);
+
+// One control tick following a reference object (see
+// `wmr_paper_controller_f64_update_on`).
+wmr_status wmr_kanayama_controller_f64_update_on(wmr_kanayama_controller_f64 *ctrl,
+                                                 double t,
+                                                 const wmr_measurement_f64 *measurement,
+                                                 const wmr_reference_f64 *reference,
+                                                 wmr_control_output_f64 *out,
+                                                 wmr_error *err);
+
+// Clears the servos and the references, as at t = 0.
+wmr_status wmr_kanayama_controller_f64_reset(wmr_kanayama_controller_f64 *ctrl);
+
+// Kanayama's twist back-stepped into the dynamics (wheel torques from the controller's
+// model driving the body twist to Kanayama's at rate k4) with its wheel stage (see
+// `wmr_paper_controller_f64_init`).
+wmr_status wmr_backstepping_controller_f64_init(wmr_backstepping_controller_f64 *out,
+                                                const wmr_backstepping_params_f64 *params,
+                                                const wmr_wheel_stage_params_f64 *wheels,
+                                                const wmr_robot_f64 *model,
+                                                const wmr_drive_f64 *drive,
+                                                double control_dt,
+                                                wmr_error *err);
+
+// One control tick (see `wmr_paper_controller_f64_update`).
+wmr_status wmr_backstepping_controller_f64_update(wmr_backstepping_controller_f64 *ctrl,
+                                                  double t,
+                                                  const wmr_measurement_f64 *measurement,
+                                                  wmr_pose_f64 goal,
+                                                  wmr_control_output_f64 *out);
+
+// One control tick following a reference (see
+// `wmr_paper_controller_f64_update_reference`).
+wmr_status wmr_backstepping_controller_f64_update_reference(wmr_backstepping_controller_f64 *ctrl,
+                                                            double t,
+                                                            const wmr_measurement_f64 *measurement,
+                                                            const wmr_reference_state_f64 *reference,
+                                                            wmr_control_output_f64 *out,
+                                                            wmr_error *err);
+
+// One control tick following a reference object (see
+// `wmr_paper_controller_f64_update_on`).
+wmr_status wmr_backstepping_controller_f64_update_on(wmr_backstepping_controller_f64 *ctrl,
+                                                     double t,
+                                                     const wmr_measurement_f64 *measurement,
+                                                     const wmr_reference_f64 *reference,
+                                                     wmr_control_output_f64 *out,
+                                                     wmr_error *err);
+
+// Clears the last twist and the servos, as at t = 0.
+wmr_status wmr_backstepping_controller_f64_reset(wmr_backstepping_controller_f64 *ctrl);
+
+// Regulated pure pursuit (path following; it steers by the path of a
+// `wmr_reference_*`, so use `_update_on`: given only a reference state it stops) with
+// its wheel stage (see `wmr_paper_controller_f64_init`).
+wmr_status wmr_pure_pursuit_controller_f64_init(wmr_pure_pursuit_controller_f64 *out,
+                                                const wmr_pure_pursuit_params_f64 *params,
+                                                const wmr_wheel_stage_params_f64 *wheels,
+                                                const wmr_robot_f64 *model,
+                                                const wmr_drive_f64 *drive,
+                                                double control_dt,
+                                                wmr_error *err);
+
+// One control tick (see `wmr_paper_controller_f64_update`).
+wmr_status wmr_pure_pursuit_controller_f64_update(wmr_pure_pursuit_controller_f64 *ctrl,
+                                                  double t,
+                                                  const wmr_measurement_f64 *measurement,
+                                                  wmr_pose_f64 goal,
+                                                  wmr_control_output_f64 *out);
+
+// One control tick following a reference (see
+// `wmr_paper_controller_f64_update_reference`).
+wmr_status wmr_pure_pursuit_controller_f64_update_reference(wmr_pure_pursuit_controller_f64 *ctrl,
+                                                            double t,
+                                                            const wmr_measurement_f64 *measurement,
+                                                            const wmr_reference_state_f64 *reference,
+                                                            wmr_control_output_f64 *out,
+                                                            wmr_error *err);
+
+// One control tick following a reference object (see
+// `wmr_paper_controller_f64_update_on`).
+wmr_status wmr_pure_pursuit_controller_f64_update_on(wmr_pure_pursuit_controller_f64 *ctrl,
+                                                     double t,
+                                                     const wmr_measurement_f64 *measurement,
+                                                     const wmr_reference_f64 *reference,
+                                                     wmr_control_output_f64 *out,
+                                                     wmr_error *err);
+
+// Clears the path cursor and the servos, as at t = 0.
+wmr_status wmr_pure_pursuit_controller_f64_reset(wmr_pure_pursuit_controller_f64 *ctrl);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -2,7 +2,7 @@
 // do not edit. Regenerate with WMR_BLESS=1 cargo test -p wmr-ffi --test header
 //! The f32 entry points (`api_f64.rs`: the same in f64).
 
-use crate::imp::{self, Paper, PaperBidirectional, Polar, Lyapunov};
+use crate::imp::{self, Paper, PaperBidirectional, Polar, Lyapunov, Kanayama, Backstepping, PurePursuit};
 use crate::*;
 
 /// Fills `out` with the paper's robot: m = 5 kg, r = 0.1 m, R = 0.2 m, d = 0.25 m,
@@ -79,6 +79,30 @@ pub unsafe extern "C" fn wmr_lyapunov_params_f32_default(
     out: *mut wmr_lyapunov_params<f32>,
 ) -> wmr_status {
     imp::law_params_default::<f32, Lyapunov>(out)
+}
+
+/// Fills `out` with Kanayama et al.'s gains (kx 10 1/s, ky 64 1/m^2, ktheta 16 1/m).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_kanayama_params_f32_default(
+    out: *mut wmr_kanayama_params<f32>,
+) -> wmr_status {
+    imp::law_params_default::<f32, Kanayama>(out)
+}
+
+/// Fills `out` with Kanayama's gains and k4 20 1/s.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_backstepping_params_f32_default(
+    out: *mut wmr_backstepping_params<f32>,
+) -> wmr_status {
+    imp::law_params_default::<f32, Backstepping>(out)
+}
+
+/// Fills `out` with nav2's defaults with speed 0.3 m/s and a 1 cm goal tolerance.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_pure_pursuit_params_f32_default(
+    out: *mut wmr_pure_pursuit_params<f32>,
+) -> wmr_status {
+    imp::law_params_default::<f32, PurePursuit>(out)
 }
 
 /// A plant at rest at `start` (m, m, rad; finite, |x| and |y| <= 1000 m), encoders at
@@ -161,6 +185,75 @@ pub unsafe extern "C" fn wmr_sensor_f32_reset(sensor: *mut wmr_sensor_f32) -> wm
     imp::sensor_reset::<f32>(sensor)
 }
 
+/// A circle at constant speed (the `[reference] kind = "circle"` keys): centre (m, m;
+/// theta unused), radius (m, > 0), speed (m/s, nonzero: > 0 counter-clockwise) and phase
+/// (rad, the angle of C_ref - centre at t = 0). Checked like the scenario's keys; `err`
+/// (may be NULL) names the field.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_reference_f32_init_circle(
+    out: *mut wmr_reference_f32,
+    center: wmr_pose<f32>,
+    radius: f32,
+    speed: f32,
+    phase: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::reference_init_circle::<f32>(out, center, radius, speed, phase, err)
+}
+
+/// A figure-eight (`kind = "figure_eight"`): centre (m, m; theta unused), width and
+/// height (m, > 0) and period (s, > 0).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_reference_f32_init_figure_eight(
+    out: *mut wmr_reference_f32,
+    center: wmr_pose<f32>,
+    width: f32,
+    height: f32,
+    period: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::reference_init_figure_eight::<f32>(out, center, width, height, period, err)
+}
+
+/// A straight line (`kind = "line"`) from `start` (m, m, rad) along its heading at
+/// `speed` (m/s, nonzero; < 0 backwards).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_reference_f32_init_line(
+    out: *mut wmr_reference_f32,
+    start: wmr_pose<f32>,
+    speed: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::reference_init_line::<f32>(out, start, speed, err)
+}
+
+/// A C2 spline through `n` waypoints (`kind = "waypoints"`; `points` is `n` pairs
+/// (x, y) in m, 2 to `WMR_REFERENCE_MAX_POINTS`) with a speed profile from rest to rest,
+/// at most `speed` (m/s, > 0) and |acceleration| at most `accel_max` (m/s^2, > 0).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_reference_f32_init_waypoints(
+    out: *mut wmr_reference_f32,
+    points: *const [f32; 2],
+    n: usize,
+    speed: f32,
+    accel_max: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::reference_init_waypoints::<f32>(out, points, n, speed, accel_max, err)
+}
+
+/// The state of the reference point at time `t` (s): pose (m, m, rad), twist (m/s,
+/// rad/s) and acceleration (m/s^2, rad/s^2), what `_update_reference` takes: the same
+/// bits as the scenario's x_ref ... omega_ref columns.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_reference_f32_state_at(
+    reference: *const wmr_reference_f32,
+    t: f32,
+    out: *mut wmr_reference_state<f32>,
+) -> wmr_status {
+    imp::reference_state_at::<f32>(reference, t, out)
+}
+
 /// The paper's law with its wheel stage, for the controller's robot model (r and R),
 /// the drive it commands and the control period `control_dt` (s).
 #[unsafe(no_mangle)]
@@ -208,6 +301,21 @@ pub unsafe extern "C" fn wmr_paper_controller_f32_update_reference(
     err: *mut wmr_error,
 ) -> wmr_status {
     imp::controller_update_reference::<f32, Paper>(ctrl, t, measurement, reference, out, err)
+}
+
+/// One control tick at time `t` (s) following the reference object `reference` (a
+/// `wmr_reference_*`): its state at `t` and, for the path-following law, its path, as a
+/// scenario run steps the law. Refusals as for `_update_reference`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_controller_f32_update_on(
+    ctrl: *mut wmr_paper_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    reference: *const wmr_reference_f32,
+    out: *mut wmr_control_output<f32>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_on::<f32, Paper>(ctrl, t, measurement, reference, out, err)
 }
 
 /// Clears the integrators and memories, as at t = 0.
@@ -260,6 +368,20 @@ pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f32_update_reference
     imp::controller_update_reference::<f32, PaperBidirectional>(ctrl, t, measurement, reference, out, err)
 }
 
+/// One control tick following a reference object (see
+/// `wmr_paper_controller_f32_update_on`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f32_update_on(
+    ctrl: *mut wmr_paper_bidirectional_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    reference: *const wmr_reference_f32,
+    out: *mut wmr_control_output<f32>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_on::<f32, PaperBidirectional>(ctrl, t, measurement, reference, out, err)
+}
+
 /// Clears the integrators and memories, as at t = 0.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f32_reset(
@@ -306,6 +428,20 @@ pub unsafe extern "C" fn wmr_polar_controller_f32_update_reference(
     err: *mut wmr_error,
 ) -> wmr_status {
     imp::controller_update_reference::<f32, Polar>(ctrl, t, measurement, reference, out, err)
+}
+
+/// One control tick following a reference object (see
+/// `wmr_paper_controller_f32_update_on`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_polar_controller_f32_update_on(
+    ctrl: *mut wmr_polar_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    reference: *const wmr_reference_f32,
+    out: *mut wmr_control_output<f32>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_on::<f32, Polar>(ctrl, t, measurement, reference, out, err)
 }
 
 /// Clears the direction choice, the servos and the references, as at t = 0.
@@ -357,10 +493,216 @@ pub unsafe extern "C" fn wmr_lyapunov_controller_f32_update_reference(
     imp::controller_update_reference::<f32, Lyapunov>(ctrl, t, measurement, reference, out, err)
 }
 
+/// One control tick following a reference object (see
+/// `wmr_paper_controller_f32_update_on`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_lyapunov_controller_f32_update_on(
+    ctrl: *mut wmr_lyapunov_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    reference: *const wmr_reference_f32,
+    out: *mut wmr_control_output<f32>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_on::<f32, Lyapunov>(ctrl, t, measurement, reference, out, err)
+}
+
 /// Clears the direction choice, the servos and the references, as at t = 0.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_lyapunov_controller_f32_reset(
     ctrl: *mut wmr_lyapunov_controller_f32,
 ) -> wmr_status {
     imp::controller_reset::<f32, Lyapunov>(ctrl)
+}
+
+/// Kanayama et al.'s trajectory tracking law (v = v_ref cos(theta_e) + kx x_e, omega =
+/// omega_ref + v_ref (ky y_e + ktheta sin(theta_e))) with its wheel stage (see
+/// `wmr_paper_controller_f32_init`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_kanayama_controller_f32_init(
+    out: *mut wmr_kanayama_controller_f32,
+    params: *const wmr_kanayama_params<f32>,
+    wheels: *const wmr_wheel_stage_params<f32>,
+    model: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    control_dt: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init::<f32, Kanayama>(out, params, wheels, model, drive, control_dt, err)
+}
+
+/// One control tick (see `wmr_paper_controller_f32_update`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_kanayama_controller_f32_update(
+    ctrl: *mut wmr_kanayama_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    goal: wmr_pose<f32>,
+    out: *mut wmr_control_output<f32>,
+) -> wmr_status {
+    imp::controller_update::<f32, Kanayama>(ctrl, t, measurement, goal, out)
+}
+
+/// One control tick following a reference (see
+/// `wmr_paper_controller_f32_update_reference`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_kanayama_controller_f32_update_reference(
+    ctrl: *mut wmr_kanayama_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    reference: *const wmr_reference_state<f32>,
+    out: *mut wmr_control_output<f32>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_reference::<f32, Kanayama>(ctrl, t, measurement, reference, out, err)
+}
+
+/// One control tick following a reference object (see
+/// `wmr_paper_controller_f32_update_on`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_kanayama_controller_f32_update_on(
+    ctrl: *mut wmr_kanayama_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    reference: *const wmr_reference_f32,
+    out: *mut wmr_control_output<f32>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_on::<f32, Kanayama>(ctrl, t, measurement, reference, out, err)
+}
+
+/// Clears the servos and the references, as at t = 0.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_kanayama_controller_f32_reset(
+    ctrl: *mut wmr_kanayama_controller_f32,
+) -> wmr_status {
+    imp::controller_reset::<f32, Kanayama>(ctrl)
+}
+
+/// Kanayama's twist back-stepped into the dynamics (wheel torques from the controller's
+/// model driving the body twist to Kanayama's at rate k4) with its wheel stage (see
+/// `wmr_paper_controller_f32_init`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_backstepping_controller_f32_init(
+    out: *mut wmr_backstepping_controller_f32,
+    params: *const wmr_backstepping_params<f32>,
+    wheels: *const wmr_wheel_stage_params<f32>,
+    model: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    control_dt: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init::<f32, Backstepping>(out, params, wheels, model, drive, control_dt, err)
+}
+
+/// One control tick (see `wmr_paper_controller_f32_update`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_backstepping_controller_f32_update(
+    ctrl: *mut wmr_backstepping_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    goal: wmr_pose<f32>,
+    out: *mut wmr_control_output<f32>,
+) -> wmr_status {
+    imp::controller_update::<f32, Backstepping>(ctrl, t, measurement, goal, out)
+}
+
+/// One control tick following a reference (see
+/// `wmr_paper_controller_f32_update_reference`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_backstepping_controller_f32_update_reference(
+    ctrl: *mut wmr_backstepping_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    reference: *const wmr_reference_state<f32>,
+    out: *mut wmr_control_output<f32>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_reference::<f32, Backstepping>(ctrl, t, measurement, reference, out, err)
+}
+
+/// One control tick following a reference object (see
+/// `wmr_paper_controller_f32_update_on`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_backstepping_controller_f32_update_on(
+    ctrl: *mut wmr_backstepping_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    reference: *const wmr_reference_f32,
+    out: *mut wmr_control_output<f32>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_on::<f32, Backstepping>(ctrl, t, measurement, reference, out, err)
+}
+
+/// Clears the last twist and the servos, as at t = 0.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_backstepping_controller_f32_reset(
+    ctrl: *mut wmr_backstepping_controller_f32,
+) -> wmr_status {
+    imp::controller_reset::<f32, Backstepping>(ctrl)
+}
+
+/// Regulated pure pursuit (path following; it steers by the path of a
+/// `wmr_reference_*`, so use `_update_on`: given only a reference state it stops) with
+/// its wheel stage (see `wmr_paper_controller_f32_init`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_pure_pursuit_controller_f32_init(
+    out: *mut wmr_pure_pursuit_controller_f32,
+    params: *const wmr_pure_pursuit_params<f32>,
+    wheels: *const wmr_wheel_stage_params<f32>,
+    model: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    control_dt: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init::<f32, PurePursuit>(out, params, wheels, model, drive, control_dt, err)
+}
+
+/// One control tick (see `wmr_paper_controller_f32_update`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_pure_pursuit_controller_f32_update(
+    ctrl: *mut wmr_pure_pursuit_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    goal: wmr_pose<f32>,
+    out: *mut wmr_control_output<f32>,
+) -> wmr_status {
+    imp::controller_update::<f32, PurePursuit>(ctrl, t, measurement, goal, out)
+}
+
+/// One control tick following a reference (see
+/// `wmr_paper_controller_f32_update_reference`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_pure_pursuit_controller_f32_update_reference(
+    ctrl: *mut wmr_pure_pursuit_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    reference: *const wmr_reference_state<f32>,
+    out: *mut wmr_control_output<f32>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_reference::<f32, PurePursuit>(ctrl, t, measurement, reference, out, err)
+}
+
+/// One control tick following a reference object (see
+/// `wmr_paper_controller_f32_update_on`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_pure_pursuit_controller_f32_update_on(
+    ctrl: *mut wmr_pure_pursuit_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    reference: *const wmr_reference_f32,
+    out: *mut wmr_control_output<f32>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_on::<f32, PurePursuit>(ctrl, t, measurement, reference, out, err)
+}
+
+/// Clears the path cursor and the servos, as at t = 0.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_pure_pursuit_controller_f32_reset(
+    ctrl: *mut wmr_pure_pursuit_controller_f32,
+) -> wmr_status {
+    imp::controller_reset::<f32, PurePursuit>(ctrl)
 }

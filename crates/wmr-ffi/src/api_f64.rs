@@ -2,7 +2,7 @@
 // do not edit. Regenerate with WMR_BLESS=1 cargo test -p wmr-ffi --test header
 //! The f64 entry points (`api_f64.rs`: the same in f64).
 
-use crate::imp::{self, Paper, PaperBidirectional, Polar, Lyapunov};
+use crate::imp::{self, Paper, PaperBidirectional, Polar, Lyapunov, Kanayama, Backstepping, PurePursuit};
 use crate::*;
 
 /// Fills `out` with the paper's robot: m = 5 kg, r = 0.1 m, R = 0.2 m, d = 0.25 m,
@@ -79,6 +79,30 @@ pub unsafe extern "C" fn wmr_lyapunov_params_f64_default(
     out: *mut wmr_lyapunov_params<f64>,
 ) -> wmr_status {
     imp::law_params_default::<f64, Lyapunov>(out)
+}
+
+/// Fills `out` with Kanayama et al.'s gains (kx 10 1/s, ky 64 1/m^2, ktheta 16 1/m).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_kanayama_params_f64_default(
+    out: *mut wmr_kanayama_params<f64>,
+) -> wmr_status {
+    imp::law_params_default::<f64, Kanayama>(out)
+}
+
+/// Fills `out` with Kanayama's gains and k4 20 1/s.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_backstepping_params_f64_default(
+    out: *mut wmr_backstepping_params<f64>,
+) -> wmr_status {
+    imp::law_params_default::<f64, Backstepping>(out)
+}
+
+/// Fills `out` with nav2's defaults with speed 0.3 m/s and a 1 cm goal tolerance.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_pure_pursuit_params_f64_default(
+    out: *mut wmr_pure_pursuit_params<f64>,
+) -> wmr_status {
+    imp::law_params_default::<f64, PurePursuit>(out)
 }
 
 /// A plant at rest at `start` (m, m, rad; finite, |x| and |y| <= 1000 m), encoders at
@@ -161,6 +185,75 @@ pub unsafe extern "C" fn wmr_sensor_f64_reset(sensor: *mut wmr_sensor_f64) -> wm
     imp::sensor_reset::<f64>(sensor)
 }
 
+/// A circle at constant speed (the `[reference] kind = "circle"` keys): centre (m, m;
+/// theta unused), radius (m, > 0), speed (m/s, nonzero: > 0 counter-clockwise) and phase
+/// (rad, the angle of C_ref - centre at t = 0). Checked like the scenario's keys; `err`
+/// (may be NULL) names the field.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_reference_f64_init_circle(
+    out: *mut wmr_reference_f64,
+    center: wmr_pose<f64>,
+    radius: f64,
+    speed: f64,
+    phase: f64,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::reference_init_circle::<f64>(out, center, radius, speed, phase, err)
+}
+
+/// A figure-eight (`kind = "figure_eight"`): centre (m, m; theta unused), width and
+/// height (m, > 0) and period (s, > 0).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_reference_f64_init_figure_eight(
+    out: *mut wmr_reference_f64,
+    center: wmr_pose<f64>,
+    width: f64,
+    height: f64,
+    period: f64,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::reference_init_figure_eight::<f64>(out, center, width, height, period, err)
+}
+
+/// A straight line (`kind = "line"`) from `start` (m, m, rad) along its heading at
+/// `speed` (m/s, nonzero; < 0 backwards).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_reference_f64_init_line(
+    out: *mut wmr_reference_f64,
+    start: wmr_pose<f64>,
+    speed: f64,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::reference_init_line::<f64>(out, start, speed, err)
+}
+
+/// A C2 spline through `n` waypoints (`kind = "waypoints"`; `points` is `n` pairs
+/// (x, y) in m, 2 to `WMR_REFERENCE_MAX_POINTS`) with a speed profile from rest to rest,
+/// at most `speed` (m/s, > 0) and |acceleration| at most `accel_max` (m/s^2, > 0).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_reference_f64_init_waypoints(
+    out: *mut wmr_reference_f64,
+    points: *const [f64; 2],
+    n: usize,
+    speed: f64,
+    accel_max: f64,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::reference_init_waypoints::<f64>(out, points, n, speed, accel_max, err)
+}
+
+/// The state of the reference point at time `t` (s): pose (m, m, rad), twist (m/s,
+/// rad/s) and acceleration (m/s^2, rad/s^2), what `_update_reference` takes: the same
+/// bits as the scenario's x_ref ... omega_ref columns.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_reference_f64_state_at(
+    reference: *const wmr_reference_f64,
+    t: f64,
+    out: *mut wmr_reference_state<f64>,
+) -> wmr_status {
+    imp::reference_state_at::<f64>(reference, t, out)
+}
+
 /// The paper's law with its wheel stage, for the controller's robot model (r and R),
 /// the drive it commands and the control period `control_dt` (s).
 #[unsafe(no_mangle)]
@@ -208,6 +301,21 @@ pub unsafe extern "C" fn wmr_paper_controller_f64_update_reference(
     err: *mut wmr_error,
 ) -> wmr_status {
     imp::controller_update_reference::<f64, Paper>(ctrl, t, measurement, reference, out, err)
+}
+
+/// One control tick at time `t` (s) following the reference object `reference` (a
+/// `wmr_reference_*`): its state at `t` and, for the path-following law, its path, as a
+/// scenario run steps the law. Refusals as for `_update_reference`.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_controller_f64_update_on(
+    ctrl: *mut wmr_paper_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    reference: *const wmr_reference_f64,
+    out: *mut wmr_control_output<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_on::<f64, Paper>(ctrl, t, measurement, reference, out, err)
 }
 
 /// Clears the integrators and memories, as at t = 0.
@@ -260,6 +368,20 @@ pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f64_update_reference
     imp::controller_update_reference::<f64, PaperBidirectional>(ctrl, t, measurement, reference, out, err)
 }
 
+/// One control tick following a reference object (see
+/// `wmr_paper_controller_f64_update_on`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f64_update_on(
+    ctrl: *mut wmr_paper_bidirectional_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    reference: *const wmr_reference_f64,
+    out: *mut wmr_control_output<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_on::<f64, PaperBidirectional>(ctrl, t, measurement, reference, out, err)
+}
+
 /// Clears the integrators and memories, as at t = 0.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f64_reset(
@@ -306,6 +428,20 @@ pub unsafe extern "C" fn wmr_polar_controller_f64_update_reference(
     err: *mut wmr_error,
 ) -> wmr_status {
     imp::controller_update_reference::<f64, Polar>(ctrl, t, measurement, reference, out, err)
+}
+
+/// One control tick following a reference object (see
+/// `wmr_paper_controller_f64_update_on`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_polar_controller_f64_update_on(
+    ctrl: *mut wmr_polar_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    reference: *const wmr_reference_f64,
+    out: *mut wmr_control_output<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_on::<f64, Polar>(ctrl, t, measurement, reference, out, err)
 }
 
 /// Clears the direction choice, the servos and the references, as at t = 0.
@@ -357,10 +493,216 @@ pub unsafe extern "C" fn wmr_lyapunov_controller_f64_update_reference(
     imp::controller_update_reference::<f64, Lyapunov>(ctrl, t, measurement, reference, out, err)
 }
 
+/// One control tick following a reference object (see
+/// `wmr_paper_controller_f64_update_on`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_lyapunov_controller_f64_update_on(
+    ctrl: *mut wmr_lyapunov_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    reference: *const wmr_reference_f64,
+    out: *mut wmr_control_output<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_on::<f64, Lyapunov>(ctrl, t, measurement, reference, out, err)
+}
+
 /// Clears the direction choice, the servos and the references, as at t = 0.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_lyapunov_controller_f64_reset(
     ctrl: *mut wmr_lyapunov_controller_f64,
 ) -> wmr_status {
     imp::controller_reset::<f64, Lyapunov>(ctrl)
+}
+
+/// Kanayama et al.'s trajectory tracking law (v = v_ref cos(theta_e) + kx x_e, omega =
+/// omega_ref + v_ref (ky y_e + ktheta sin(theta_e))) with its wheel stage (see
+/// `wmr_paper_controller_f64_init`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_kanayama_controller_f64_init(
+    out: *mut wmr_kanayama_controller_f64,
+    params: *const wmr_kanayama_params<f64>,
+    wheels: *const wmr_wheel_stage_params<f64>,
+    model: *const wmr_robot_f64,
+    drive: *const wmr_drive_f64,
+    control_dt: f64,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init::<f64, Kanayama>(out, params, wheels, model, drive, control_dt, err)
+}
+
+/// One control tick (see `wmr_paper_controller_f64_update`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_kanayama_controller_f64_update(
+    ctrl: *mut wmr_kanayama_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    goal: wmr_pose<f64>,
+    out: *mut wmr_control_output<f64>,
+) -> wmr_status {
+    imp::controller_update::<f64, Kanayama>(ctrl, t, measurement, goal, out)
+}
+
+/// One control tick following a reference (see
+/// `wmr_paper_controller_f64_update_reference`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_kanayama_controller_f64_update_reference(
+    ctrl: *mut wmr_kanayama_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    reference: *const wmr_reference_state<f64>,
+    out: *mut wmr_control_output<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_reference::<f64, Kanayama>(ctrl, t, measurement, reference, out, err)
+}
+
+/// One control tick following a reference object (see
+/// `wmr_paper_controller_f64_update_on`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_kanayama_controller_f64_update_on(
+    ctrl: *mut wmr_kanayama_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    reference: *const wmr_reference_f64,
+    out: *mut wmr_control_output<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_on::<f64, Kanayama>(ctrl, t, measurement, reference, out, err)
+}
+
+/// Clears the servos and the references, as at t = 0.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_kanayama_controller_f64_reset(
+    ctrl: *mut wmr_kanayama_controller_f64,
+) -> wmr_status {
+    imp::controller_reset::<f64, Kanayama>(ctrl)
+}
+
+/// Kanayama's twist back-stepped into the dynamics (wheel torques from the controller's
+/// model driving the body twist to Kanayama's at rate k4) with its wheel stage (see
+/// `wmr_paper_controller_f64_init`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_backstepping_controller_f64_init(
+    out: *mut wmr_backstepping_controller_f64,
+    params: *const wmr_backstepping_params<f64>,
+    wheels: *const wmr_wheel_stage_params<f64>,
+    model: *const wmr_robot_f64,
+    drive: *const wmr_drive_f64,
+    control_dt: f64,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init::<f64, Backstepping>(out, params, wheels, model, drive, control_dt, err)
+}
+
+/// One control tick (see `wmr_paper_controller_f64_update`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_backstepping_controller_f64_update(
+    ctrl: *mut wmr_backstepping_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    goal: wmr_pose<f64>,
+    out: *mut wmr_control_output<f64>,
+) -> wmr_status {
+    imp::controller_update::<f64, Backstepping>(ctrl, t, measurement, goal, out)
+}
+
+/// One control tick following a reference (see
+/// `wmr_paper_controller_f64_update_reference`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_backstepping_controller_f64_update_reference(
+    ctrl: *mut wmr_backstepping_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    reference: *const wmr_reference_state<f64>,
+    out: *mut wmr_control_output<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_reference::<f64, Backstepping>(ctrl, t, measurement, reference, out, err)
+}
+
+/// One control tick following a reference object (see
+/// `wmr_paper_controller_f64_update_on`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_backstepping_controller_f64_update_on(
+    ctrl: *mut wmr_backstepping_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    reference: *const wmr_reference_f64,
+    out: *mut wmr_control_output<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_on::<f64, Backstepping>(ctrl, t, measurement, reference, out, err)
+}
+
+/// Clears the last twist and the servos, as at t = 0.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_backstepping_controller_f64_reset(
+    ctrl: *mut wmr_backstepping_controller_f64,
+) -> wmr_status {
+    imp::controller_reset::<f64, Backstepping>(ctrl)
+}
+
+/// Regulated pure pursuit (path following; it steers by the path of a
+/// `wmr_reference_*`, so use `_update_on`: given only a reference state it stops) with
+/// its wheel stage (see `wmr_paper_controller_f64_init`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_pure_pursuit_controller_f64_init(
+    out: *mut wmr_pure_pursuit_controller_f64,
+    params: *const wmr_pure_pursuit_params<f64>,
+    wheels: *const wmr_wheel_stage_params<f64>,
+    model: *const wmr_robot_f64,
+    drive: *const wmr_drive_f64,
+    control_dt: f64,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init::<f64, PurePursuit>(out, params, wheels, model, drive, control_dt, err)
+}
+
+/// One control tick (see `wmr_paper_controller_f64_update`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_pure_pursuit_controller_f64_update(
+    ctrl: *mut wmr_pure_pursuit_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    goal: wmr_pose<f64>,
+    out: *mut wmr_control_output<f64>,
+) -> wmr_status {
+    imp::controller_update::<f64, PurePursuit>(ctrl, t, measurement, goal, out)
+}
+
+/// One control tick following a reference (see
+/// `wmr_paper_controller_f64_update_reference`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_pure_pursuit_controller_f64_update_reference(
+    ctrl: *mut wmr_pure_pursuit_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    reference: *const wmr_reference_state<f64>,
+    out: *mut wmr_control_output<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_reference::<f64, PurePursuit>(ctrl, t, measurement, reference, out, err)
+}
+
+/// One control tick following a reference object (see
+/// `wmr_paper_controller_f64_update_on`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_pure_pursuit_controller_f64_update_on(
+    ctrl: *mut wmr_pure_pursuit_controller_f64,
+    t: f64,
+    measurement: *const wmr_measurement<f64>,
+    reference: *const wmr_reference_f64,
+    out: *mut wmr_control_output<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_on::<f64, PurePursuit>(ctrl, t, measurement, reference, out, err)
+}
+
+/// Clears the path cursor and the servos, as at t = 0.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_pure_pursuit_controller_f64_reset(
+    ctrl: *mut wmr_pure_pursuit_controller_f64,
+) -> wmr_status {
+    imp::controller_reset::<f64, PurePursuit>(ctrl)
 }

@@ -7,11 +7,14 @@ use core::marker::PhantomData;
 use core::mem::{align_of, size_of};
 
 use wmr_core::controller::Law;
+use wmr_core::reference::{Circle, FigureEight, Line, Waypoints};
 use wmr_core::{
-    Controller, DcMotorParams, Drive, DriveParams, HoldMode, LyapunovLaw, LyapunovParams, Measurement,
-    PaperBidirectionalLaw, PaperBidirectionalParams, PaperLaw, PaperMode, PaperParams, ParamError, PerfectSensor,
-    Plant, PolarLaw, PolarParams, Pose2, PoseSensor, Real, Reason, ReferenceState, Robot, RobotParams, Sensor,
-    SensorParams, State, Termination, TorqueDriveParams, Twist2, WheelStage, WheelStageParams, Wheels,
+    AnyReference, BacksteppingLaw, BacksteppingParams, Controller, DcMotorParams, Drive, DriveParams, HoldMode,
+    KanayamaLaw, KanayamaParams, LyapunovLaw, LyapunovParams, Measurement, PaperBidirectionalLaw,
+    PaperBidirectionalParams, PaperLaw, PaperMode, PaperParams, ParamError, PerfectSensor, Plant, PolarLaw,
+    PolarParams, Pose2, PoseSensor, PurePursuitLaw, PurePursuitParams, Real, Reason, Reference, ReferenceState, Robot,
+    RobotParams, Sensor, SensorParams, State, Termination, TorqueDriveParams, Twist2, WheelStage, WheelStageParams,
+    Wheels,
 };
 
 use crate::*;
@@ -270,6 +273,8 @@ storage_of! {
     wmr_plant_f64 => Plant<f64>, 0x574d_5203_0000_0f64, check check_plant;
     wmr_sensor_f32 => AnySensor<f32>, 0x574d_5204_0000_0f32;
     wmr_sensor_f64 => AnySensor<f64>, 0x574d_5204_0000_0f64;
+    wmr_reference_f32 => AnyReference<f32>, 0x574d_520c_0000_0f32;
+    wmr_reference_f64 => AnyReference<f64>, 0x574d_520c_0000_0f64;
 }
 
 /// Fills `out` with `value` and its tag.
@@ -492,6 +497,9 @@ macro_rules! c_params {
 c_params! {
     alias PaperParams { mode: PaperMode, hold: HoldMode };
     alias PaperBidirectionalParams { hold: HoldMode };
+    alias KanayamaParams {};
+    alias BacksteppingParams {};
+    alias PurePursuitParams {};
     mirror wmr_polar_params = PolarParams { k_rho, k_alpha, k_beta, reverse_hysteresis, goal_radius; flags reverse };
     mirror wmr_lyapunov_params = LyapunovParams { gamma, k, h, reverse_hysteresis, goal_radius; flags reverse };
 }
@@ -544,6 +552,8 @@ macro_rules! c_laws {
             type Plant: Storage<Value = Plant<Self>>;
             /// `wmr_sensor_*`.
             type Sensor: Storage<Value = AnySensor<Self>>;
+            /// `wmr_reference_*`.
+            type Reference: Storage<Value = AnyReference<Self>>;
             $(
                 /// The controller storage of this law.
                 type $marker: Storage<Value = Controller<Self, $law<Self>>>;
@@ -555,6 +565,7 @@ macro_rules! c_laws {
             type Drive = wmr_drive_f32;
             type Plant = wmr_plant_f32;
             type Sensor = wmr_sensor_f32;
+            type Reference = wmr_reference_f32;
             $( type $marker = $s32; )+
         }
 
@@ -563,6 +574,7 @@ macro_rules! c_laws {
             type Drive = wmr_drive_f64;
             type Plant = wmr_plant_f64;
             type Sensor = wmr_sensor_f64;
+            type Reference = wmr_reference_f64;
             $( type $marker = $s64; )+
         }
 
@@ -616,6 +628,15 @@ c_laws! {
     /// Aicardi et al.'s Lyapunov law.
     Lyapunov(wmr_lyapunov_params, LyapunovLaw) storage(wmr_lyapunov_controller_f32 = 0x574d_5207_0000_0f32, wmr_lyapunov_controller_f64 = 0x574d_5207_0000_0f64), new(p, model, dt) => LyapunovLaw::new(p),
         c("lyapunov", about = "Aicardi et al.'s Lyapunov law", defaults = "the Lyapunov law's defaults (gamma 0.5, k 3, h 9)", reset = "Clears the direction choice, the servos and the references, as at t = 0.");
+    /// Kanayama et al.'s tracking law.
+    Kanayama(wmr_kanayama_params, KanayamaLaw) storage(wmr_kanayama_controller_f32 = 0x574d_5209_0000_0f32, wmr_kanayama_controller_f64 = 0x574d_5209_0000_0f64), new(p, model, dt) => KanayamaLaw::for_lanes(p),
+        c("kanayama", about = "Kanayama et al.'s trajectory tracking law (v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)))", defaults = "Kanayama et al.'s gains (kx 10 1/s, ky 64 1/m^2, ktheta 16 1/m)", reset = "Clears the servos and the references, as at t = 0.");
+    /// Kanayama back-stepped into the dynamics.
+    Backstepping(wmr_backstepping_params, BacksteppingLaw) storage(wmr_backstepping_controller_f32 = 0x574d_520a_0000_0f32, wmr_backstepping_controller_f64 = 0x574d_520a_0000_0f64), new(p, model, dt) => BacksteppingLaw::for_lanes(p, model, dt),
+        c("backstepping", about = "Kanayama's twist back-stepped into the dynamics (wheel torques from the controller's model driving the body twist to Kanayama's at rate k4)", defaults = "Kanayama's gains and k4 20 1/s", reset = "Clears the last twist and the servos, as at t = 0.");
+    /// Regulated pure pursuit.
+    PurePursuit(wmr_pure_pursuit_params, PurePursuitLaw) storage(wmr_pure_pursuit_controller_f32 = 0x574d_520b_0000_0f32, wmr_pure_pursuit_controller_f64 = 0x574d_520b_0000_0f64), new(p, model, dt) => PurePursuitLaw::for_lanes(p, model),
+        c("pure_pursuit", about = "Regulated pure pursuit (path following; it steers by the path of a `wmr_reference_*`, so use `_update_on`: given only a reference state it stops)", defaults = "nav2's defaults with speed 0.3 m/s and a 1 cm goal tolerance", reset = "Clears the path cursor and the servos, as at t = 0.");
 }
 
 // ---------------------------------------------------------------------------------------
@@ -913,6 +934,20 @@ fn tick<T: Prec, L: CLaw<T>>(
     reference: &ReferenceState<T>,
     out: *mut wmr_control_output<T>,
 ) -> Result<(), Fail> {
+    tick_on::<T, L>(ctrl, t, m, reference_fields, reference, None, out)
+}
+
+/// [`tick`] with the reference's path, when it has one: the law is updated as the
+/// scenario loop updates it (`wmr_core::ClosedLoop`), on the path when there is one.
+fn tick_on<T: Prec, L: CLaw<T>>(
+    ctrl: *mut L::Storage,
+    t: T,
+    m: &wmr_measurement<T>,
+    reference_fields: &[(&'static str, T)],
+    reference: &ReferenceState<T>,
+    path: Option<&dyn wmr_core::reference::Path<T>>,
+    out: *mut wmr_control_output<T>,
+) -> Result<(), Fail> {
     if out.is_null() {
         return Err(Fail::null("out"));
     }
@@ -942,7 +977,10 @@ fn tick<T: Prec, L: CLaw<T>>(
     // Finite inputs can still overflow (gains of 1e300, wheel angles of 1e308): such a
     // tick is refused, the controller restored and `out` untouched, as for a bad input.
     let before = *ctrl;
-    let o = ctrl.update(t, &m, reference);
+    let o = match path {
+        Some(path) => ctrl.update_on_path(t, &m, reference, path),
+        None => ctrl.update(t, &m, reference),
+    };
     let out_value = wmr_control_output {
         command: c_wheels(o.command),
         e_s: o.errors.e_s,
@@ -961,6 +999,131 @@ fn tick<T: Prec, L: CLaw<T>>(
         return Err(Fail::not_finite_output(f, v.to_f64_lossless()));
     }
     write(out, "out", out_value)
+}
+
+pub fn reference_init_circle<T: Prec>(
+    out: *mut T::Reference,
+    center: wmr_pose<T>,
+    radius: T,
+    speed: T,
+    phase: T,
+    err: *mut wmr_error,
+) -> wmr_status {
+    guard(err, || {
+        in_box(["center.x", "center.y"], center.x, center.y)?;
+        let c = Circle::new(center.x, center.y, radius, speed, phase)?;
+        put(out, "out", AnyReference::Circle(c))
+    })
+}
+
+pub fn reference_init_figure_eight<T: Prec>(
+    out: *mut T::Reference,
+    center: wmr_pose<T>,
+    width: T,
+    height: T,
+    period: T,
+    err: *mut wmr_error,
+) -> wmr_status {
+    guard(err, || {
+        in_box(["center.x", "center.y"], center.x, center.y)?;
+        let f = FigureEight::new(center.x, center.y, width, height, period)?;
+        put(out, "out", AnyReference::FigureEight(f))
+    })
+}
+
+pub fn reference_init_line<T: Prec>(
+    out: *mut T::Reference,
+    start: wmr_pose<T>,
+    speed: T,
+    err: *mut wmr_error,
+) -> wmr_status {
+    guard(err, || {
+        in_box(["start.x", "start.y"], start.x, start.y)?;
+        put(out, "out", AnyReference::Line(Line::new(pose(start), speed)?))
+    })
+}
+
+pub fn reference_init_waypoints<T: Prec>(
+    out: *mut T::Reference,
+    points: *const [T; 2],
+    n: usize,
+    speed: T,
+    accel_max: T,
+    err: *mut wmr_error,
+) -> wmr_status {
+    guard(err, || {
+        if points.is_null() {
+            return Err(Fail::null("points"));
+        }
+        if !points.is_aligned() {
+            return Err(Fail::misaligned("points"));
+        }
+        if n > WMR_REFERENCE_MAX_POINTS {
+            return Err(Fail::out_of_range("n", "must be at most WMR_REFERENCE_MAX_POINTS (64)", n as f64));
+        }
+        // SAFETY: not NULL, aligned (checked) and valid for reads of `n` pairs (caller
+        // contract); at most 64 pairs (checked), plain numbers.
+        let points = unsafe { core::slice::from_raw_parts(points, n) };
+        for p in points {
+            in_box(["points.x", "points.y"], p[0], p[1])?;
+        }
+        put(out, "out", AnyReference::Waypoints(Waypoints::new(points, speed, accel_max)?))
+    })
+}
+
+pub fn reference_state_at<T: Prec>(
+    reference: *const T::Reference,
+    t: T,
+    out: *mut wmr_reference_state<T>,
+) -> wmr_status {
+    guard(core::ptr::null_mut(), || {
+        finite("t", t)?;
+        let s = get(reference, "reference")?.state_at(t);
+        let value = wmr_reference_state {
+            pose: c_pose(s.pose),
+            twist: wmr_twist { v: s.twist.v, omega: s.twist.omega },
+            accel: wmr_accel { v: s.accel.v, omega: s.accel.omega },
+        };
+        let fields = [
+            ("out.pose.x", value.pose.x),
+            ("out.pose.y", value.pose.y),
+            ("out.pose.theta", value.pose.theta),
+            ("out.twist.v", value.twist.v),
+            ("out.twist.omega", value.twist.omega),
+            ("out.accel.v", value.accel.v),
+            ("out.accel.omega", value.accel.omega),
+        ];
+        if let Some(&(f, v)) = fields.iter().find(|(_, v)| !v.is_finite()) {
+            return Err(Fail::not_finite_output(f, v.to_f64_lossless()));
+        }
+        write(out, "out", value)
+    })
+}
+
+pub fn controller_update_on<T: Prec, L: CLaw<T>>(
+    ctrl: *mut L::Storage,
+    t: T,
+    m: *const wmr_measurement<T>,
+    reference: *const T::Reference,
+    out: *mut wmr_control_output<T>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    guard(err, || {
+        let m = read(m, "measurement")?;
+        finite("t", t)?;
+        let r = get(reference, "reference")?;
+        let state = r.state_at(t);
+        let fields = [
+            ("reference.pose.x", state.pose.x),
+            ("reference.pose.y", state.pose.y),
+            ("reference.pose.theta", state.pose.theta),
+            ("reference.twist.v", state.twist.v),
+            ("reference.twist.omega", state.twist.omega),
+            ("reference.accel.v", state.accel.v),
+            ("reference.accel.omega", state.accel.omega),
+        ];
+        tick_on::<T, L>(ctrl, t, m, &fields, &state, r.path(), out)
+    })
 }
 
 pub fn controller_reset<T: Prec, L: CLaw<T>>(ctrl: *mut L::Storage) -> wmr_status {

@@ -290,6 +290,16 @@ pub type wmr_paper_params<T> = wmr_core::PaperParams<T>;
 /// `wmr_core::PaperBidirectionalParams`, `hold` a `WMR_HOLD_*` constant.
 /// cbindgen:ignore
 pub type wmr_paper_bidirectional_params<T> = wmr_core::PaperBidirectionalParams<T>;
+/// Kanayama et al.'s tracking law (`kind = "kanayama"`): `wmr_core::KanayamaParams`.
+/// cbindgen:ignore
+pub type wmr_kanayama_params<T> = wmr_core::KanayamaParams<T>;
+/// Kanayama back-stepped into the dynamics (`kind = "backstepping"`):
+/// `wmr_core::BacksteppingParams`.
+/// cbindgen:ignore
+pub type wmr_backstepping_params<T> = wmr_core::BacksteppingParams<T>;
+/// Regulated pure pursuit (`kind = "pure_pursuit"`): `wmr_core::PurePursuitParams`.
+/// cbindgen:ignore
+pub type wmr_pure_pursuit_params<T> = wmr_core::PurePursuitParams<T>;
 
 // The C constants are the core enums' discriminants (`#[repr(u32)]`).
 const _: () = {
@@ -394,6 +404,26 @@ pub const WMR_POLAR_CONTROLLER_F64_WORDS: usize = 64;
 pub const WMR_LYAPUNOV_CONTROLLER_F32_WORDS: usize = 32;
 /// Words of the Lyapunov law with its wheel stage, `wmr_lyapunov_controller_f64`.
 pub const WMR_LYAPUNOV_CONTROLLER_F64_WORDS: usize = 64;
+/// Words of Kanayama's law with its wheel stage, `wmr_kanayama_controller_f32`.
+pub const WMR_KANAYAMA_CONTROLLER_F32_WORDS: usize = 32;
+/// Words of Kanayama's law with its wheel stage, `wmr_kanayama_controller_f64`.
+pub const WMR_KANAYAMA_CONTROLLER_F64_WORDS: usize = 56;
+/// Words of the back-stepping law with its wheel stage, `wmr_backstepping_controller_f32`.
+pub const WMR_BACKSTEPPING_CONTROLLER_F32_WORDS: usize = 40;
+/// Words of the back-stepping law with its wheel stage, `wmr_backstepping_controller_f64`.
+pub const WMR_BACKSTEPPING_CONTROLLER_F64_WORDS: usize = 72;
+/// Words of the pure pursuit law with its wheel stage, `wmr_pure_pursuit_controller_f32`.
+pub const WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS: usize = 40;
+/// Words of the pure pursuit law with its wheel stage, `wmr_pure_pursuit_controller_f64`.
+pub const WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS: usize = 72;
+/// Points a `wmr_reference_*` of waypoints holds at most (the core's `MAX_POINTS`).
+pub const WMR_REFERENCE_MAX_POINTS: usize = 64;
+/// Words of a reference, `wmr_reference_f32` (circle, figure-eight, line or waypoints:
+/// 64 waypoints and their speed profile take 9.4 kB).
+pub const WMR_REFERENCE_F32_WORDS: usize = 1280;
+/// Words of a reference, `wmr_reference_f64` (circle, figure-eight, line or waypoints:
+/// 64 waypoints and their speed profile take 18.8 kB).
+pub const WMR_REFERENCE_F64_WORDS: usize = 2432;
 
 /// A validated robot (f32): parameters and the reduced inertia matrix.
 #[repr(C)]
@@ -490,6 +520,57 @@ pub struct wmr_lyapunov_controller_f32 {
 pub struct wmr_lyapunov_controller_f64 {
     /// Opaque: only the library reads or writes it.
     pub opaque: [u64; WMR_LYAPUNOV_CONTROLLER_F64_WORDS],
+}
+
+/// Kanayama's law with its wheel stage (f32).
+#[repr(C)]
+pub struct wmr_kanayama_controller_f32 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_KANAYAMA_CONTROLLER_F32_WORDS],
+}
+/// Kanayama's law with its wheel stage (f64).
+#[repr(C)]
+pub struct wmr_kanayama_controller_f64 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_KANAYAMA_CONTROLLER_F64_WORDS],
+}
+/// The back-stepping law with its wheel stage (f32).
+#[repr(C)]
+pub struct wmr_backstepping_controller_f32 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_BACKSTEPPING_CONTROLLER_F32_WORDS],
+}
+/// The back-stepping law with its wheel stage (f64).
+#[repr(C)]
+pub struct wmr_backstepping_controller_f64 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_BACKSTEPPING_CONTROLLER_F64_WORDS],
+}
+/// The pure pursuit law with its wheel stage (f32).
+#[repr(C)]
+pub struct wmr_pure_pursuit_controller_f32 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS],
+}
+/// The pure pursuit law with its wheel stage (f64).
+#[repr(C)]
+pub struct wmr_pure_pursuit_controller_f64 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS],
+}
+/// A moving reference (f32): a circle, a figure-eight, a line or a spline through
+/// waypoints (the core's `wmr_core::AnyReference`), with its state at any time and its
+/// path for the path-following law.
+#[repr(C)]
+pub struct wmr_reference_f32 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_REFERENCE_F32_WORDS],
+}
+/// A moving reference (f64), as `wmr_reference_f32`.
+#[repr(C)]
+pub struct wmr_reference_f64 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_REFERENCE_F64_WORDS],
 }
 
 /// The version of the C API this library implements; compare it with the header's

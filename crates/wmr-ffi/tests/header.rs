@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 
 use wmr_core::describe::{Described, ParamField};
 use wmr_core::{
-    LyapunovParams, PaperBidirectionalParams, PaperParams, PolarParams, RobotParams, SensorParams, WheelStageParams,
-    WorldParams,
+    BacksteppingParams, KanayamaParams, LyapunovParams, PaperBidirectionalParams, PaperParams, PolarParams,
+    PurePursuitParams, RobotParams, SensorParams, WheelStageParams, WorldParams,
 };
 
 fn crate_dir() -> PathBuf {
@@ -162,6 +162,75 @@ pub unsafe extern "C" fn wmr_sensor_f32_measure(
 pub unsafe extern "C" fn wmr_sensor_f32_reset(sensor: *mut wmr_sensor_f32) -> wmr_status {
     imp::sensor_reset::<f32>(sensor)
 }
+
+/// A circle at constant speed (the `[reference] kind = "circle"` keys): centre (m, m;
+/// theta unused), radius (m, > 0), speed (m/s, nonzero: > 0 counter-clockwise) and phase
+/// (rad, the angle of C_ref - centre at t = 0). Checked like the scenario's keys; `err`
+/// (may be NULL) names the field.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_reference_f32_init_circle(
+    out: *mut wmr_reference_f32,
+    center: wmr_pose<f32>,
+    radius: f32,
+    speed: f32,
+    phase: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::reference_init_circle::<f32>(out, center, radius, speed, phase, err)
+}
+
+/// A figure-eight (`kind = "figure_eight"`): centre (m, m; theta unused), width and
+/// height (m, > 0) and period (s, > 0).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_reference_f32_init_figure_eight(
+    out: *mut wmr_reference_f32,
+    center: wmr_pose<f32>,
+    width: f32,
+    height: f32,
+    period: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::reference_init_figure_eight::<f32>(out, center, width, height, period, err)
+}
+
+/// A straight line (`kind = "line"`) from `start` (m, m, rad) along its heading at
+/// `speed` (m/s, nonzero; < 0 backwards).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_reference_f32_init_line(
+    out: *mut wmr_reference_f32,
+    start: wmr_pose<f32>,
+    speed: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::reference_init_line::<f32>(out, start, speed, err)
+}
+
+/// A C2 spline through `n` waypoints (`kind = "waypoints"`; `points` is `n` pairs
+/// (x, y) in m, 2 to `WMR_REFERENCE_MAX_POINTS`) with a speed profile from rest to rest,
+/// at most `speed` (m/s, > 0) and |acceleration| at most `accel_max` (m/s^2, > 0).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_reference_f32_init_waypoints(
+    out: *mut wmr_reference_f32,
+    points: *const [f32; 2],
+    n: usize,
+    speed: f32,
+    accel_max: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::reference_init_waypoints::<f32>(out, points, n, speed, accel_max, err)
+}
+
+/// The state of the reference point at time `t` (s): pose (m, m, rad), twist (m/s,
+/// rad/s) and acceleration (m/s^2, rad/s^2), what `_update_reference` takes: the same
+/// bits as the scenario's x_ref ... omega_ref columns.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_reference_f32_state_at(
+    reference: *const wmr_reference_f32,
+    t: f32,
+    out: *mut wmr_reference_state<f32>,
+) -> wmr_status {
+    imp::reference_state_at::<f32>(reference, t, out)
+}
 "#;
 
 /// `text` as `///` doc lines of at most 88 columns.
@@ -221,6 +290,14 @@ fn api_f32() -> String {
     for (i, l) in laws.iter().enumerate() {
         let (c, m) = (l.c_name, l.marker);
         let see = |what: &str| format!("(see `wmr_{first}_controller_f32_{what}`)");
+        let update_on = if i == 0 {
+            "One control tick at time `t` (s) following the reference object `reference` (a \
+             `wmr_reference_*`): its state at `t` and, for the path-following law, its path, as a \
+             scenario run steps the law. Refusals as for `_update_reference`."
+                .to_owned()
+        } else {
+            format!("One control tick following a reference object {}.", see("update_on"))
+        };
         let (init, update, update_reference) = if i == 0 {
             (
                 format!(
@@ -292,6 +369,20 @@ fn api_f32() -> String {
         ));
         out.push('\n');
         out.push_str(&entry_point(
+            &update_on,
+            &format!("wmr_{c}_controller_f32_update_on"),
+            &[
+                ctrl.clone(),
+                "t: f32".into(),
+                "measurement: *const wmr_measurement<f32>".into(),
+                "reference: *const wmr_reference_f32".into(),
+                "out: *mut wmr_control_output<f32>".into(),
+                "err: *mut wmr_error".into(),
+            ],
+            &format!("imp::controller_update_on::<f32, {m}>(ctrl, t, measurement, reference, out, err)"),
+        ));
+        out.push('\n');
+        out.push_str(&entry_point(
             l.reset,
             &format!("wmr_{c}_controller_f32_reset"),
             &[ctrl],
@@ -313,7 +404,7 @@ fn api_files_are_generated_from_the_law_list() {
     let f32_src = api_f32();
     assert!(f32_src.starts_with("// @generated"));
     for law in wmr_ffi::C_LAWS {
-        for f in ["init", "update", "update_reference", "reset"] {
+        for f in ["init", "update", "update_reference", "update_on", "reset"] {
             assert!(f32_src.contains(&format!("fn wmr_{}_controller_f32_{f}(", law.c_name)), "{} {f}", law.c_name);
         }
     }
@@ -323,7 +414,7 @@ fn api_files_are_generated_from_the_law_list() {
 
 /// The core parameter structs the C API takes as they are (`pub type` aliases in
 /// `src/lib.rs`): C name, doc, fields.
-fn shared_structs() -> [(&'static str, &'static str, &'static [ParamField]); 6] {
+fn shared_structs() -> [(&'static str, &'static str, &'static [ParamField]); 9] {
     [
         (
             "wmr_robot_params",
@@ -354,6 +445,21 @@ fn shared_structs() -> [(&'static str, &'static str, &'static [ParamField]); 6] 
             "wmr_paper_bidirectional_params",
             "The paper's law repaired (`[controller] kind = \"paper_bidirectional\"`).",
             PaperBidirectionalParams::<f64>::FIELDS,
+        ),
+        (
+            "wmr_kanayama_params",
+            "Kanayama et al.'s tracking law (`[controller] kind = \"kanayama\"`).",
+            KanayamaParams::<f64>::FIELDS,
+        ),
+        (
+            "wmr_backstepping_params",
+            "Kanayama back-stepped into the dynamics (`[controller] kind = \"backstepping\"`).",
+            BacksteppingParams::<f64>::FIELDS,
+        ),
+        (
+            "wmr_pure_pursuit_params",
+            "Regulated pure pursuit (`[controller] kind = \"pure_pursuit\"`), nav2's names.",
+            PurePursuitParams::<f64>::FIELDS,
         ),
     ]
 }
@@ -440,11 +546,14 @@ fn every_law_struct_has_the_core_fields_in_order() {
     // `uint32_t` in C); the paper structs come from the core's tables. Either way the C
     // members must be the core's fields, in the core's order.
     let header = generate();
-    let laws: [(&str, &[ParamField]); 4] = [
+    let laws: [(&str, &[ParamField]); 7] = [
         ("wmr_paper_params_f64", PaperParams::<f64>::FIELDS),
         ("wmr_paper_bidirectional_params_f64", PaperBidirectionalParams::<f64>::FIELDS),
         ("wmr_polar_params_f64", PolarParams::<f64>::FIELDS),
         ("wmr_lyapunov_params_f64", LyapunovParams::<f64>::FIELDS),
+        ("wmr_kanayama_params_f64", KanayamaParams::<f64>::FIELDS),
+        ("wmr_backstepping_params_f64", BacksteppingParams::<f64>::FIELDS),
+        ("wmr_pure_pursuit_params_f64", PurePursuitParams::<f64>::FIELDS),
     ];
     for (name, fields) in laws {
         let core: Vec<&str> = fields.iter().map(|f| f.name).collect();

@@ -346,9 +346,9 @@ class KanayamaController:
         drive: Optional[Mapping[str, Any]] = None,
         *,
         # keys from wmr_scenario::schema(), generated: WMR_BLESS=1 cargo test -p wmr-cli --test keys_documented
-        kx: float = 10.0,
-        ky: float = 64.0,
-        ktheta: float = 16.0,
+        kx: float = 10.0,  # [1/s] kx: forward speed per metre of along-track error.
+        ky: float = 64.0,  # [1/m^2] ky: yaw rate per metre of lateral error, per m/s of v_ref.
+        ktheta: float = 16.0,  # [1/m] ktheta: yaw rate per unit of sin(heading error), per m/s of v_ref.
         servo_kp: float = 14.0,  # [N m/rad or V/rad] Wheel servo Kp (the unit follows the drive: torque or dc_motor).
         servo_kd: float = 1.4,  # [N m s/rad or V s/rad] Wheel servo Kd.
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
@@ -398,10 +398,10 @@ class BacksteppingController:
         drive: Optional[Mapping[str, Any]] = None,
         *,
         # keys from wmr_scenario::schema(), generated: WMR_BLESS=1 cargo test -p wmr-cli --test keys_documented
-        kx: float = 10.0,
-        ky: float = 64.0,
-        ktheta: float = 16.0,
-        k4: float = 20.0,
+        kx: float = 10.0,  # [1/s] kx: Kanayama's forward speed per metre of along-track error.
+        ky: float = 64.0,  # [1/m^2] ky: Kanayama's yaw rate per metre of lateral error, per m/s of v_ref.
+        ktheta: float = 16.0,  # [1/m] ktheta: Kanayama's yaw rate per unit of sin(heading error), per m/s of v_ref.
+        k4: float = 20.0,  # [1/s] k4: rate at which the body twist is driven to Kanayama's.
         servo_kp: float = 14.0,  # [N m/rad or V/rad] Wheel servo Kp (the unit follows the drive: torque or dc_motor).
         servo_kd: float = 1.4,  # [N m s/rad or V s/rad] Wheel servo Kd.
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
@@ -451,15 +451,15 @@ class PurePursuitController:
         drive: Optional[Mapping[str, Any]] = None,
         *,
         # keys from wmr_scenario::schema(), generated: WMR_BLESS=1 cargo test -p wmr-cli --test keys_documented
-        speed: float = 0.3,
-        lookahead_time: float = 1.5,
-        min_lookahead_dist: float = 0.3,
-        max_lookahead_dist: float = 0.9,
-        regulated_linear_scaling_min_radius: float = 0.9,
-        regulated_linear_scaling_min_speed: float = 0.25,
-        approach_velocity_scaling_dist: float = 0.6,
-        min_approach_linear_velocity: float = 0.05,
-        xy_goal_tolerance: float = 0.01,
+        speed: float = 0.3,  # [m/s] speed: the forward speed on a straight path (nav2's desired_linear_vel).
+        lookahead_time: float = 1.5,  # [s] The lookahead distance per m/s of speed.
+        min_lookahead_dist: float = 0.3,  # [m] The shortest lookahead distance.
+        max_lookahead_dist: float = 0.9,  # [m] The longest lookahead distance.
+        regulated_linear_scaling_min_radius: float = 0.9,  # [m] Below this turning radius the speed is scaled down in proportion.
+        regulated_linear_scaling_min_speed: float = 0.25,  # [m/s] The curvature scaling never brings the speed below this.
+        approach_velocity_scaling_dist: float = 0.6,  # [m] Within this path length of the end the speed is scaled down in proportion.
+        min_approach_linear_velocity: float = 0.05,  # [m/s] The approach scaling never brings the speed below this.
+        xy_goal_tolerance: float = 0.01,  # [m] Within this distance of the path's end the law stops.
         servo_kp: float = 14.0,  # [N m/rad or V/rad] Wheel servo Kp (the unit follows the drive: torque or dc_motor).
         servo_kd: float = 1.4,  # [N m s/rad or V s/rad] Wheel servo Kd.
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
