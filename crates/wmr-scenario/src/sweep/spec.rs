@@ -240,11 +240,13 @@ fn check_setup(
     setup.check_step(sim.dt()).map_err(prefix)?;
     let origin = Origin { run: "sweep", controller: path };
     match tracking {
-        None => drop(assemble::closed_loop(&setup, 0, goal, goal, sim, origin).map_err(prefix)?),
+        None => {
+            assemble::closed_loop(&setup, 0, goal, goal, sim, origin).map_err(prefix)?;
+        }
         Some(tr) => {
             for (_, r) in &tr.references {
                 let start = r.built.start_pose();
-                drop(assemble::closed_loop_to(&setup, 0, start, r.built, sim, origin).map_err(prefix)?);
+                assemble::closed_loop_to(&setup, 0, start, r.built, sim, origin).map_err(prefix)?;
             }
         }
     }
