@@ -7,7 +7,10 @@ use anyhow::{Context as _, Result};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use wmr_plot::{ShareSeries, SweepCell, region_svg, share_svg};
 use wmr_scenario::robustness::{ShareCurve, share_curves, share_table, varied_columns, varied_row};
-use wmr_scenario::{SWEEP_COLUMNS, Scenario, SweepOutcome, SweepSpec, shown, summarize, summary_table, sweep_row};
+use wmr_scenario::{
+    SWEEP_COLUMNS, Scenario, SweepOutcome, SweepSpec, TRACKING_SWEEP_COLUMNS, shown, summarize, summary_table,
+    sweep_row, tracking_summary, tracking_summary_table, tracking_sweep_row,
+};
 
 use crate::atomic::{Output, write_text};
 use crate::errors::{bad_input, is_broken_pipe, note, say_raw};
@@ -69,9 +72,21 @@ pub fn sweep(
     if let Some(dir) = plots {
         crate::plot_cmd::prepare_dir(dir)?;
     }
+    let what = match &spec.tracking {
+        None => format!("{} laws x {} starts", spec.laws.len(), spec.starts.len()),
+        Some(tr) => {
+            format!("{} laws x {} references x {} starts", spec.laws.len(), tr.references.len(), spec.starts.len())
+        }
+    };
+    // A sweep the lanes cannot run goes the exact way, and says so (no silent fallback).
+    let refusal = if fast { spec.fast_refusal() } else { None };
+    let fast = fast && refusal.is_none();
+    if let Some(why) = refusal {
+        note(&format!("wmr-cli: --fast: {why}"));
+    }
     announce_sweep(
         u128::from(scenario.sim().n_steps()) * spec.len() as u128,
-        &format!("{} laws x {} starts", spec.laws.len(), spec.starts.len()),
+        &what,
         fast,
         scenario.sim().stop_when_settled(),
     );
@@ -104,7 +119,11 @@ pub fn sweep(
         write_regions(spec, &outcomes, dir)?;
         write_share_curves(&curves, dir)?;
     }
-    let table = format!("{}{}", summary_table(&summarize(spec, &outcomes)), share_table(&curves));
+    let summary = match &spec.tracking {
+        None => summary_table(&summarize(spec, &outcomes)),
+        Some(tr) => tracking_summary_table(&tracking_summary(spec, &outcomes), tr.tolerance),
+    };
+    let table = format!("{summary}{}", share_table(&curves));
     // With the CSV on stdout, the tables go to stderr.
     if to_stdout {
         table.lines().for_each(note);
@@ -130,9 +149,18 @@ fn write_csv(spec: &SweepSpec, outcomes: &[SweepOutcome], out: Output) -> Result
     let written = (|| -> Result<()> {
         let mut w = csv::Writer::from_writer(std::io::BufWriter::new(out.writer()?));
         // One column per varied key after the outcome columns (none without `vary`).
-        w.write_record(SWEEP_COLUMNS.iter().map(|c| c.to_string()).chain(varied_columns(spec)))?;
-        for o in outcomes {
-            w.write_record(sweep_row(spec, o).into_iter().chain(varied_row(spec, o)))?;
+        if spec.tracking.is_some() {
+            w.write_record(TRACKING_SWEEP_COLUMNS.iter().map(|c| c.to_string()).chain(varied_columns(spec)))?;
+            for o in outcomes {
+                let row = tracking_sweep_row(spec, o)
+                    .context("a run of a sweep over references without its tracking outcome")?;
+                w.write_record(row.into_iter().chain(varied_row(spec, o)))?;
+            }
+        } else {
+            w.write_record(SWEEP_COLUMNS.iter().map(|c| c.to_string()).chain(varied_columns(spec)))?;
+            for o in outcomes {
+                w.write_record(sweep_row(spec, o).into_iter().chain(varied_row(spec, o)))?;
+            }
         }
         w.flush()?;
         Ok(())
@@ -149,13 +177,34 @@ fn cell(o: &SweepOutcome) -> SweepCell {
     SweepCell { x: o.start.x, y: o.start.y, theta: o.start.theta, outcome: o.status() }
 }
 
+/// One `region-<law>.svg` per law (per law and reference, `region-<law>-<reference>.svg`,
+/// in a sweep over references: each start drawn at its offset from the reference's pose
+/// at t = 0, the origin of the map).
 fn write_regions(spec: &SweepSpec, outcomes: &[SweepOutcome], dir: &Path) -> Result<()> {
     for (i, (name, _)) in spec.laws.iter().enumerate() {
-        let cells: Vec<SweepCell> = outcomes.iter().filter(|o| o.law == i).map(cell).collect();
-        let title = format!("{name}: how the run from each start ended");
-        let svg = region_svg(&title, &cells, spec.goal)?;
-        let file = dir.join(format!("region-{}.svg", safe_file_stem(&name.replace('#', "-"))));
-        write_text(&file, &svg).with_context(|| format!("cannot write the region map of {name}"))?;
+        let Some(tr) = &spec.tracking else {
+            let cells: Vec<SweepCell> = outcomes.iter().filter(|o| o.law == i).map(cell).collect();
+            let title = format!("{name}: how the run from each start ended");
+            let svg = region_svg(&title, &cells, spec.goal)?;
+            let file = dir.join(format!("region-{}.svg", safe_file_stem(&name.replace('#', "-"))));
+            write_text(&file, &svg).with_context(|| format!("cannot write the region map of {name}"))?;
+            continue;
+        };
+        for (r, (reference, _)) in tr.references.iter().enumerate() {
+            let cells: Vec<SweepCell> = outcomes
+                .iter()
+                .filter(|o| o.law == i && o.reference == r)
+                .map(|o| {
+                    let offset = spec.starts[o.start_index];
+                    SweepCell { x: offset.x, y: offset.y, theta: offset.theta, outcome: o.status() }
+                })
+                .collect();
+            let title = format!("{name} on {reference}: outcome by start offset (reference frame at t = 0)");
+            let svg = region_svg(&title, &cells, wmr_core::Pose2::default())?;
+            let stem = safe_file_stem(&format!("{name}-{reference}").replace('#', "-"));
+            write_text(&dir.join(format!("region-{stem}.svg")), &svg)
+                .with_context(|| format!("cannot write the region map of {name} on {reference}"))?;
+        }
     }
     Ok(())
 }

@@ -60,8 +60,8 @@ fn weave<T: Real>(path: &dyn Path<T>, ticks: usize, amplitude_m: f64) -> Vec<(T,
         .map(|k| {
             let s = (ds * T::lit(k as f64)).min(end);
             let p = path.pose_on_path(s);
-            let e = T::lit(amplitude_m) * (T::lit(k as f64) * T::lit(0.01)).sin();
-            let (sn, c) = p.theta.sin_cos();
+            let e = T::lit(amplitude_m) * (T::lit(k as f64) * T::lit(0.01)).sin_cos_libm().0;
+            let (sn, c) = p.theta.sin_cos_libm();
             (p.x - sn * e, p.y + c * e)
         })
         .collect()
@@ -88,7 +88,7 @@ fn incremental_matches_brute_force<T: Real>(tol_m: f64) {
             brute_from = s_brute;
             let d = |s: T| {
                 let (px, py) = path.point_on_path(s);
-                (px - x).hypot(py - y).to_f64().unwrap()
+                (px - x).hypot_libm(py - y).to_f64().unwrap()
             };
             assert!(
                 (d(s_inc) - d(s_brute)).abs() <= tol_m,

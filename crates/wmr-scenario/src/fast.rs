@@ -7,8 +7,9 @@
 //! (chosen at run time; an AVX-512 build is there too, [`Kernel`]); without AVX2 the
 //! lanes do not beat the exact path, and `--fast` runs the exact path. The lanes' controllers see the true state: runs with a real
 //! sensor (rate, latency, noise, encoders) take the exact path, as do runs whose values
-//! `vary` draws one by one (each has its own plant) and runs whose wheels slip (the
-//! lanes step the rolling plant only; `wmr-cli sweep --fast` says so).
+//! `vary` draws one by one (each has its own plant), runs whose wheels slip (the
+//! lanes step the rolling plant only; `wmr-cli sweep --fast` says so) and the runs of a
+//! sweep over references (the lanes follow a fixed goal; [`SweepSpec::fast_refusal`] says so).
 //!
 //! Not bit-identical to [`SweepSpec::run`]: the lanes' sin and cos are not `libm`'s.
 //! `crates/wmr-scenario/tests/fast.rs` bounds the difference on `examples/compare.toml`.
@@ -97,7 +98,7 @@ impl SweepSpec {
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<Option<Vec<SweepOutcome>>, ScenarioError> {
         let mut drawn = None;
-        let exact = kernel == Kernel::Exact || self.variation.has_draws() || {
+        let exact = kernel == Kernel::Exact || self.tracking.is_some() || self.variation.has_draws() || {
             let setup = self.setup_of(sim, first, &mut drawn)?;
             !setup.sensor.is_perfect() || setup.slips()
         };
@@ -105,6 +106,15 @@ impl SweepSpec {
             return self.run_lanes(sim, kernel, first..end, done, stop);
         }
         one_by_one(first..end, done, stop, |k, poll| self.run_exact(sim, k, poll))
+    }
+
+    /// Why `--fast` runs this sweep on the exact path as a whole, if it does: the words
+    /// the CLI prints (`None`: the lanes run what they can).
+    pub fn fast_refusal(&self) -> Option<&'static str> {
+        self.tracking.as_ref().map(|_| {
+            "a sweep over a reference runs on the exact path (the lanes follow a fixed goal only): same outcomes as \
+             without --fast"
+        })
     }
 
     /// [`SweepSpec::run`] on the fast path.

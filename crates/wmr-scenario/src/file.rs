@@ -114,8 +114,13 @@ impl PoseFile {
 #[derive(Clone, Debug, Default, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct SweepFile {
-    /// Goal pose of C; default (0, 0, 0).
+    /// Goal pose of C; default (0, 0, 0). Refused in a sweep over references (the
+    /// reference is the goal).
     pub goal: Option<PoseFile>,
+    /// The references to follow, each a `[reference]` table: every law runs on every
+    /// one, from starts given as offsets from its pose at t = 0. Default: the scenario's
+    /// `[reference]`, when it has one; none (a goal at rest) otherwise.
+    pub references: Option<Vec<Table>>,
     /// The laws to compare, each a `[controller]` table; default: every law with its defaults.
     pub controllers: Option<Vec<Table>>,
     /// A grid of starts.
@@ -166,4 +171,8 @@ pub struct RandomFile {
     /// Smallest distance from the goal, m; default 0.
     #[serde(default)]
     pub min_radius: f64,
+    /// Largest |heading| drawn, deg (the heading is uniform in [-max, max)); default 180
+    /// (any heading). For a sweep over references, the heading offset from the reference's.
+    #[serde(default)]
+    pub max_heading_deg: Option<f64>,
 }

@@ -77,6 +77,7 @@ pub use schema::{SchemaKey, schema};
 pub use setup::{BuiltController, Setup, Tables};
 pub use sim::{DEFAULT_LOG_DT_S, DEFAULT_T_END_S, MAX_STEPS, MAX_T_END_S, SimSpec};
 pub use sweep::{
-    LawSummary, SWEEP_COLUMNS, Spread, StartsSource, SweepOutcome, SweepSpec, summarize, summary_table, sweep_row,
+    LawSummary, SWEEP_COLUMNS, Spread, StartsSource, SweepOutcome, SweepSpec, SweepTracking, TRACKING_SWEEP_COLUMNS,
+    TrackingSummary, summarize, summary_table, sweep_row, tracking_summary, tracking_summary_table, tracking_sweep_row,
 };
 pub use warnings::{Writer, warnings, warnings_for};

@@ -164,12 +164,7 @@ impl RunResult {
     /// tracking run converges when its tracking error stays below `sim.tracking_tolerance`
     /// over the last 10 % of t_end.
     pub fn status(&self) -> Status {
-        match (&self.tracking, self.outcome.status()) {
-            (_, Status::Diverged) => Status::Diverged,
-            (Some(t), _) if t.within_tolerance() => Status::Converged,
-            (Some(_), _) => Status::Unsettled,
-            (None, s) => s,
-        }
+        crate::tracking_run::status(&self.outcome, self.tracking.as_ref())
     }
 
     /// The state stopped being finite or C left the 1 km box.

@@ -26,7 +26,8 @@ pub fn varied_row(spec: &SweepSpec, o: &SweepOutcome) -> Vec<String> {
 pub struct ShareCurve {
     /// The varied key.
     pub key: String,
-    /// The law's name.
+    /// The law's name (with the reference's, `law / reference`, when a sweep over
+    /// references has several).
     pub law: String,
     /// (value of the key, share of runs converged in 0..1, runs): one point per listed
     /// value, or per bin of equal counts (at the bin's mean) for a drawn key.
@@ -38,11 +39,13 @@ pub fn share_curves(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<ShareCur
     let mut curves = Vec::new();
     let values: Vec<Vec<f64>> = outcomes.iter().map(|o| spec.varied_values(o)).collect();
     for (ki, k) in spec.variation.keys.iter().enumerate() {
-        for (li, (law, _)) in spec.laws.iter().enumerate() {
+        let cases = (0..spec.laws.len()).flat_map(|l| (0..spec.n_references()).map(move |r| (l, r)));
+        for (li, ri) in cases {
+            let law = spec.case_name(li, ri);
             let runs: Vec<(f64, bool)> = outcomes
                 .iter()
                 .zip(&values)
-                .filter(|(o, _)| o.law == li)
+                .filter(|(o, _)| o.law == li && o.reference == ri)
                 .filter(|(o, _)| match &k.spread {
                     // A listed key's curve uses only the variants that set it.
                     Spread::Values(_) => spec.variants[o.variant].is_some_and(|(i, _)| i == ki),
@@ -72,7 +75,7 @@ pub fn share_curves(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<ShareCur
                         .collect()
                 }
             };
-            curves.push(ShareCurve { key: k.key.clone(), law: law.clone(), points });
+            curves.push(ShareCurve { key: k.key.clone(), law, points });
         }
     }
     curves

@@ -20,7 +20,7 @@ use crate::reference::ReferenceSpec;
 use crate::run::{RunSpec, short};
 use crate::setup::{BuiltController, Setup, Tables};
 use crate::sim::SimSpec;
-use crate::sweep::SweepSpec;
+use crate::sweep::{SweepSpec, SweepTracking};
 use crate::{bounds, budget, controller, locate, read};
 
 /// A complete, validated scenario: every default filled in, every key checked once.
@@ -82,9 +82,35 @@ impl ScenarioFile {
                 ));
             }
         };
-        if reference.is_none() && self.sim.as_ref().is_some_and(|s| s.tracking_tolerance.is_some()) {
-            return Err(ScenarioError::new("sim.tracking_tolerance", "only a scenario with a [reference] tracks"));
+        // The references a [sweep] follows: its own list, else the scenario's [reference].
+        let sweep_references = match self.sweep.as_mut().and_then(|sw| sw.references.take()) {
+            Some(list) if list.is_empty() => {
+                return Err(ScenarioError::new("sweep.references", "name at least one reference (or leave it out)"));
+            }
+            Some(list) => Some(
+                list.iter()
+                    .enumerate()
+                    .map(|(i, t)| {
+                        crate::reference::resolve(t, dir).map_err(|e| ScenarioError {
+                            key: e.key.replacen("reference", &format!("sweep.references[{i}]"), 1),
+                            ..e
+                        })
+                    })
+                    .collect::<Result<Vec<_>, _>>()?,
+            ),
+            None if self.sweep.is_some() => reference.clone().map(|r| vec![r]),
+            None => None,
+        };
+        if reference.is_none()
+            && sweep_references.is_none()
+            && self.sim.as_ref().is_some_and(|s| s.tracking_tolerance.is_some())
+        {
+            return Err(ScenarioError::new(
+                "sim.tracking_tolerance",
+                "only a scenario with a [reference] (or a [sweep] with references) tracks",
+            ));
         }
+        let sweep_tracking = sweep_references.map(|r| SweepTracking::named(r, tolerance));
         let mut runs = std::mem::take(&mut self.run);
         let mut starts_only = Vec::new();
         if reference.is_some() {
@@ -101,7 +127,7 @@ impl ScenarioFile {
             }
         }
         self.run = runs;
-        let mut scenario = self.resolve(default_name)?;
+        let mut scenario = self.resolve_with(default_name, sweep_tracking)?;
         if let Some(reference) = reference {
             let start = reference.built.start_pose();
             for i in starts_only {
@@ -124,17 +150,6 @@ impl ScenarioFile {
             scenario.tracking.as_ref().map(|t| &t.reference),
             "controller",
         )?;
-        if let Some(sw) = &scenario.sweep {
-            if scenario.tracking.is_some() {
-                return Err(ScenarioError::new(
-                    "sweep",
-                    "a [sweep] of a scenario with a [reference] is not supported yet: give the starts as [[run]]s",
-                ));
-            }
-            for (i, (_, setup)) in sw.laws.iter().enumerate() {
-                crate::reference::check_law(&setup.controller.law, None, &format!("sweep.controllers[{i}]"))?;
-            }
-        }
         scenario.check_runs()?;
         Ok(scenario)
     }
@@ -142,6 +157,15 @@ impl ScenarioFile {
     /// Fills the defaults and checks everything by building the core types once.
     /// `default_name` is used when the file has no `name`.
     pub fn resolve(self, default_name: &str) -> Result<Scenario, ScenarioError> {
+        self.resolve_with(default_name, None)
+    }
+
+    /// [`ScenarioFile::resolve`] with the references a `[sweep]` follows (checked).
+    fn resolve_with(
+        self,
+        default_name: &str,
+        sweep_tracking: Option<SweepTracking>,
+    ) -> Result<Scenario, ScenarioError> {
         let tables = Tables {
             robot: self.robot.unwrap_or_default(),
             drive: self.drive.unwrap_or_default(),
@@ -165,7 +189,7 @@ impl ScenarioFile {
         setup.check_step(sim.dt())?;
 
         let sweep = match &self.sweep {
-            Some(sw) => Some(SweepSpec::resolve(sw, &tables, &sim)?),
+            Some(sw) => Some(SweepSpec::resolve(sw, &tables, &sim, sweep_tracking)?),
             None => None,
         };
         if self.run.is_empty() && sweep.is_none() {
@@ -469,8 +493,13 @@ impl Scenario {
         if s.early_arrival() {
             let _ = writeln!(o, "early_arrival = true");
         }
-        if let Some(tr) = &self.tracking {
-            let _ = writeln!(o, "tracking_tolerance = {}", f(tr.tolerance));
+        let tolerance = self
+            .tracking
+            .as_ref()
+            .map(|t| t.tolerance)
+            .or_else(|| self.sweep.as_ref().and_then(|s| s.tracking.as_ref()).map(|t| t.tolerance));
+        if let Some(tol) = tolerance {
+            let _ = writeln!(o, "tracking_tolerance = {}", f(tol));
         }
         let _ = writeln!(o, "# {} steps and {} samples per run", s.n_steps(), s.n_samples());
         for run in &self.runs {

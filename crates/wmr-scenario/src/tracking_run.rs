@@ -6,7 +6,7 @@
 use std::ops::ControlFlow;
 
 use wmr_core::tracking::{TrackingError, TrackingOutcome, TrackingWatch};
-use wmr_core::{Outcome, Sample};
+use wmr_core::{Outcome, Sample, Status};
 
 use crate::assemble::RunLoop;
 use crate::sim::SimSpec;
@@ -49,4 +49,17 @@ pub(crate) fn run<B>(
         sink(&h)?;
     }
     ControlFlow::Continue((outcome, watch.finish()))
+}
+
+/// The status of a run: the core's for a run towards a goal; for a tracking run
+/// (`tracking` given) diverged as the core says, else converged when the tracking error
+/// stayed below the tolerance over the last 10 % of t_end, else unsettled. The one rule
+/// for a scenario's runs and a sweep's.
+pub(crate) fn status(outcome: &Outcome<f64>, tracking: Option<&TrackingOutcome<f64>>) -> Status {
+    match (tracking, outcome.status()) {
+        (_, Status::Diverged) => Status::Diverged,
+        (Some(t), _) if t.within_tolerance() => Status::Converged,
+        (Some(_), _) => Status::Unsettled,
+        (None, s) => s,
+    }
 }

@@ -76,9 +76,9 @@ const BISECTIONS: u32 = 24;
 /// The parameter of the path point closest to (x, y) within `span` (in s) forward of
 /// `from`: a scan of the whole span at steps that move the path point by at most `ds`
 /// (m), then a golden-section search in the step either side of the best sample (kept
-/// >= `from`). `ds` must be small against the path's radius of curvature for the answer
-/// to be the closest point and not a nearby local minimum. The brute-force search:
-/// [`closest_forward`] is the one a cursor makes from tick to tick.
+/// at or after `from`). `ds` must be small against the path's radius of curvature for
+/// the answer to be the closest point and not a nearby local minimum. The brute-force
+/// search: [`closest_forward`] is the one a cursor makes from tick to tick.
 pub fn closest<T: Lane>(path: &dyn Path<T>, x: T, y: T, from: T, span: T::Scalar, ds: T::Scalar) -> T {
     scan_and_refine(path, x, y, from, span, ds, false)
 }

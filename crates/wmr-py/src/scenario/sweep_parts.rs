@@ -87,6 +87,9 @@ fn row_outcome(r: &[f64]) -> Option<SweepOutcome> {
             path_length: r[20],
             energy: r[21],
         },
+        // Python refuses a sweep over references (`sweep_of`): its runs go to a goal.
+        reference: 0,
+        tracking: None,
     })
 }
 

@@ -16,7 +16,18 @@ use crate::interrupt::{Progress, interruptible_with};
 
 /// The parsed sweep of a scenario, or a `ScenarioError` naming `sweep`.
 pub(super) fn sweep_of(sc: &Scenario) -> PyResult<&SweepSpec> {
-    sc.sweep().ok_or_else(|| scenario_error("sweep", None, "sweep: the scenario has no [sweep] table".to_owned()))
+    let spec = sc
+        .sweep()
+        .ok_or_else(|| scenario_error("sweep", None, "sweep: the scenario has no [sweep] table".to_owned()))?;
+    // Its rows carry no tracking outcome yet: refused, not judged as a run to a goal.
+    if spec.tracking.is_some() {
+        return Err(scenario_error(
+            "sweep",
+            None,
+            "sweep: a sweep over a reference runs with `wmr-cli sweep` only, for now".to_owned(),
+        ));
+    }
+    Ok(spec)
 }
 
 /// Runs a scenario's `[sweep]` (every law from every start, rayon, GIL released) and

@@ -11,8 +11,10 @@ use super::spec::{SweepSpec, with_settings};
 use crate::assemble::{self, Origin};
 use crate::error::ScenarioError;
 use crate::executor::map_ordered;
+use crate::reference::is_path_following;
 use crate::setup::Setup;
 use crate::sim::SimSpec;
+use crate::tracking_run;
 
 impl SweepSpec {
     /// Runs every (law, variant, trial, start) in parallel with the scenario's `[sim]`;
@@ -73,7 +75,8 @@ impl SweepSpec {
     }
 
     /// Run `k` of the sweep through the exact closed loop, asking `poll` about every
-    /// millisecond of work whether to go on.
+    /// millisecond of work whether to go on. A run of a sweep over references follows
+    /// its reference and is judged by its tracking error, as a scenario's run is.
     pub(crate) fn run_exact(
         &self,
         sim: &SimSpec,
@@ -85,11 +88,22 @@ impl SweepSpec {
         let origin = Origin { run: "sweep", controller: &path };
         let mut drawn = None;
         let setup = self.setup_of(sim, k, &mut drawn)?;
-        let start = self.starts[i.start];
-        let mut lp = assemble::closed_loop(setup, k as u64, start, self.goal, sim, origin)?;
-        Ok(lp
-            .try_run(sim.n_steps(), u32::MAX, |_| ControlFlow::Continue(()), poll)
-            .map_continue(|outcome| self.outcome_of(k, outcome)))
+        let start = self.start_pose(i.reference, i.start);
+        let Some(tr) = &self.tracking else {
+            let mut lp = assemble::closed_loop(setup, k as u64, start, self.goal, sim, origin)?;
+            return Ok(lp
+                .try_run(sim.n_steps(), u32::MAX, |_| ControlFlow::Continue(()), poll)
+                .map_continue(|outcome| self.outcome_of(k, outcome)));
+        };
+        let reference = tr.references[i.reference].1.built;
+        let mut lp = assemble::closed_loop_to(setup, k as u64, start, reference, sim, origin)?;
+        let path_following = is_path_following(&setup.controller.law);
+        // Only the outcome counts: the samples go nowhere (every plant step is watched).
+        Ok(tracking_run::run(&mut lp, sim, tr.tolerance, path_following, |_| ControlFlow::Continue(()), poll)
+            .map_continue(|(outcome, tracking)| SweepOutcome {
+                tracking: Some(tracking),
+                ..self.outcome_of(k, outcome)
+            }))
     }
 
     /// Run `k`'s outcome with where it sits in the sweep.
@@ -101,14 +115,16 @@ impl SweepSpec {
             trial: i.trial as u32,
             run: k as u64,
             start_index: i.start,
-            start: self.starts[i.start],
+            start: self.start_pose(i.reference, i.start),
             outcome,
+            reference: i.reference,
+            tracking: None,
         }
     }
 
-    /// One run of law `law` from start `start_index` (the first variant and trial, as the
-    /// sweep runs it), handing `sink` every `sim.log_dt` sample: what `wmr-cli plot` draws
-    /// to compare the laws from one start.
+    /// One run of law `law` from start `start_index` (the first reference, variant and
+    /// trial, as the sweep runs it), handing `sink` every `sim.log_dt` sample: what
+    /// `wmr-cli plot` draws to compare the laws from one start.
     pub fn run_one(
         &self,
         sim: &SimSpec,
@@ -122,8 +138,8 @@ impl SweepSpec {
         if law >= self.laws.len() || start_index >= n_starts {
             return Err(ScenarioError::new("sweep", format!("no run of law {law} from start {start_index}")));
         }
-        // The run's index as `run_until` numbers it (variant 0, trial 0).
-        let run = (law * n_variants * trials * n_starts + start_index) as u64;
+        // The run's index as `run_until` numbers it (reference 0, variant 0, trial 0).
+        let run = (law * self.n_references() * n_variants * trials * n_starts + start_index) as u64;
         let path = format!("sweep.controllers[{law}]");
         let origin = Origin { run: "sweep", controller: &path };
         let drawn;
@@ -135,7 +151,11 @@ impl SweepSpec {
         } else {
             &self.setups[law * n_variants]
         };
-        let mut lp = assemble::closed_loop(setup, run, self.starts[start_index], self.goal, sim, origin)?;
+        let start = self.start_pose(0, start_index);
+        let mut lp = match &self.tracking {
+            None => assemble::closed_loop(setup, run, start, self.goal, sim, origin)?,
+            Some(tr) => assemble::closed_loop_to(setup, run, start, tr.references[0].1.built, sim, origin)?,
+        };
         Ok(lp.run(sim.n_steps(), sim.log_every(), sink))
     }
 }

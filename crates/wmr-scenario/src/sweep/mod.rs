@@ -19,7 +19,12 @@
 //!   `crate::fast`);
 //! - `outcome`: one run's outcome and where it sits;
 //! - `row`: an outcome as a CSV row; `write`: the table written back as TOML;
-//! - `summary`: the per-law comparison table.
+//! - `summary`: the per-law comparison table; `tracking_summary`: the per (law,
+//!   reference) one of a sweep over references.
+//!
+//! A sweep over references (`references = [{ kind = "circle" }, ...]`, or the scenario's
+//! `[reference]`) runs every law on every reference, from starts that are offsets from
+//! the reference's pose at t = 0, and judges each run by its tracking error.
 
 mod exact;
 mod outcome;
@@ -27,10 +32,12 @@ mod row;
 mod spec;
 mod starts;
 mod summary;
+mod tracking_summary;
 mod write;
 
 pub use outcome::SweepOutcome;
-pub use row::{SWEEP_COLUMNS, csv_num, sweep_row};
-pub use spec::SweepSpec;
+pub use row::{SWEEP_COLUMNS, TRACKING_SWEEP_COLUMNS, csv_num, sweep_row, tracking_sweep_row};
+pub use spec::{SweepSpec, SweepTracking};
 pub use starts::StartsSource;
 pub use summary::{LawSummary, Spread, summarize, summary_table};
+pub use tracking_summary::{TrackingSummary, tracking_summary, tracking_summary_table};

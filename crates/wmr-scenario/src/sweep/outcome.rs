@@ -1,5 +1,6 @@
 //! The outcome of one run of a sweep, with where it sits in the sweep.
 
+use wmr_core::tracking::TrackingOutcome;
 use wmr_core::{Outcome, Pose2, Status};
 
 /// The outcome of one (law, variant, trial, start) run.
@@ -15,15 +16,21 @@ pub struct SweepOutcome {
     pub run: u64,
     /// Index into [`SweepSpec::starts`](crate::SweepSpec::starts).
     pub start_index: usize,
-    /// Start pose of C.
+    /// Start pose of C (world frame; m, m, rad).
     pub start: Pose2<f64>,
     /// The core's outcome.
     pub outcome: Outcome<f64>,
+    /// Index into the references of a sweep over references
+    /// ([`SweepSpec::tracking`](crate::SweepSpec::tracking)); 0 for a sweep towards a goal.
+    pub reference: usize,
+    /// How the tracking error went, for a sweep over references.
+    pub tracking: Option<TrackingOutcome<f64>>,
 }
 
 impl SweepOutcome {
-    /// Converged, diverged or unsettled (decided by the core).
+    /// Converged, diverged or unsettled (decided by the core; a tracking run converges
+    /// when its error stays below `sim.tracking_tolerance` over the last 10 % of t_end).
     pub fn status(&self) -> Status {
-        self.outcome.status()
+        crate::tracking_run::status(&self.outcome, self.tracking.as_ref())
     }
 }

@@ -6,13 +6,14 @@ use toml::{Table, Value};
 use wmr_core::Pose2;
 
 use super::outcome::SweepOutcome;
-use super::starts::{StartsSource, grid_starts, random_starts};
+use super::starts::{StartsSource, grid_starts, random_starts, start_from};
 use crate::assemble::{self, Origin};
 use crate::bounds::check_in_box;
 use crate::budget::MAX_SWEEP_RUNS;
-use crate::controller::stabilization_law_kinds;
+use crate::controller::{stabilization_law_kinds, tracking_law_kinds};
 use crate::error::ScenarioError;
 use crate::file::{GridFile, SweepFile};
+use crate::reference::{ReferenceSpec, check_law};
 use crate::setup::{Setup, Tables};
 use crate::sim::SimSpec;
 use crate::vary::{Variant, Variation};
@@ -34,43 +35,96 @@ pub struct SweepSpec {
     pub variants: Vec<Variant>,
     /// The configuration of each (law, variant), index law * variants + variant.
     pub setups: Vec<Setup>,
-    /// Start poses of C: m, m, rad.
+    /// Start poses of C: m, m, rad. In a sweep over references, the offsets from each
+    /// reference's pose at t = 0 (x along its heading, y to its left, m; heading added,
+    /// rad): [`SweepSpec::start_pose`] gives a run's start.
     pub starts: Vec<Pose2<f64>>,
     /// Where the starts come from, every default filled in (written back by `to_toml`).
     pub source: StartsSource,
+    /// For a sweep over references (tracking, path following): the references and the
+    /// tolerance the runs are judged with; `None` for a sweep towards `goal`.
+    pub tracking: Option<SweepTracking>,
+}
+
+/// The references of a sweep over references and the tolerance its runs are judged with.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepTracking {
+    /// The references, in file order: a unique name for each (`kind`, or `kind#2` ...)
+    /// and the checked reference.
+    pub references: Vec<(String, ReferenceSpec)>,
+    /// `sim.tracking_tolerance`, m.
+    pub tolerance: f64,
+}
+
+impl SweepTracking {
+    /// Names each reference by its kind (`circle`, `circle#2` for a second circle).
+    pub(crate) fn named(references: Vec<ReferenceSpec>, tolerance: f64) -> Self {
+        let mut named: Vec<(String, ReferenceSpec)> = Vec::with_capacity(references.len());
+        for r in references {
+            let kind = r.table.get("kind").and_then(Value::as_str).unwrap_or(r.built.kind()).to_owned();
+            let same = named.iter().filter(|(n, _)| n == &kind || n.starts_with(&format!("{kind}#"))).count();
+            let name = if same == 0 { kind } else { format!("{kind}#{}", same + 1) };
+            named.push((name, r));
+        }
+        Self { references: named, tolerance }
+    }
 }
 
 /// Two sweeps are equal when they run the same: the tables as written may differ.
 impl PartialEq for SweepSpec {
     fn eq(&self, other: &Self) -> bool {
-        (&self.goal, &self.laws, &self.variation, &self.variants, &self.setups, &self.starts, &self.source)
-            == (
-                &other.goal,
-                &other.laws,
-                &other.variation,
-                &other.variants,
-                &other.setups,
-                &other.starts,
-                &other.source,
-            )
+        (
+            &self.goal,
+            &self.laws,
+            &self.variation,
+            &self.variants,
+            &self.setups,
+            &self.starts,
+            &self.source,
+            &self.tracking,
+        ) == (
+            &other.goal,
+            &other.laws,
+            &other.variation,
+            &other.variants,
+            &other.setups,
+            &other.starts,
+            &other.source,
+            &other.tracking,
+        )
     }
 }
 
 impl SweepSpec {
     /// Checks a `[sweep]` table and draws the starts; every law is validated, for every
     /// variant, with the scenario's tables (`base`) and its own controller table, and its
-    /// loop assembled towards the goal.
-    pub(crate) fn resolve(sw: &SweepFile, base: &Tables, sim: &SimSpec) -> Result<Self, ScenarioError> {
+    /// loop assembled towards the goal (towards each reference, for a sweep over
+    /// references: `tracking`).
+    pub(crate) fn resolve(
+        sw: &SweepFile,
+        base: &Tables,
+        sim: &SimSpec,
+        tracking: Option<SweepTracking>,
+    ) -> Result<Self, ScenarioError> {
+        if tracking.is_some() && sw.goal.is_some() {
+            return Err(ScenarioError::new(
+                "sweep.goal",
+                "a sweep over a reference has no goal: the reference is the goal, and the starts are offsets from its \
+                 pose at t = 0",
+            ));
+        }
         let goal = sw.goal.clone().unwrap_or_default().resolve("sweep.goal")?;
         check_in_box("sweep.goal", goal)?;
+        let default_kinds = if tracking.is_some() { tracking_law_kinds() } else { stabilization_law_kinds() };
         let controllers: Vec<Table> = match &sw.controllers {
             Some(v) if v.is_empty() => return Err(ScenarioError::new("sweep.controllers", "name at least one law")),
             Some(v) => v.clone(),
-            None => stabilization_law_kinds()
+            None => default_kinds
                 .into_iter()
                 .map(|k| Table::from_iter([("kind".to_owned(), Value::String(k.to_owned()))]))
                 .collect(),
         };
+        let n_references = tracking.as_ref().map_or(1, |t| t.references.len());
         let variation =
             Variation::resolve(sw.vary.as_deref().unwrap_or_default(), sw.seed.unwrap_or(0), sw.trials.unwrap_or(1))?;
         let variants = variation.variants();
@@ -91,6 +145,7 @@ impl SweepSpec {
         };
         let runs = starts
             .len()
+            .saturating_mul(n_references)
             .saturating_mul(controllers.len())
             .saturating_mul(variants.len())
             .saturating_mul(variation.trials as usize);
@@ -98,8 +153,9 @@ impl SweepSpec {
             return Err(ScenarioError::new(
                 "sweep",
                 format!(
-                    "{} starts x {} laws x {} variants x {} trials is more than {MAX_SWEEP_RUNS} runs",
+                    "{} starts x {} references x {} laws x {} variants x {} trials is more than {MAX_SWEEP_RUNS} runs",
                     starts.len(),
+                    n_references,
                     controllers.len(),
                     variants.len(),
                     variation.trials
@@ -115,14 +171,28 @@ impl SweepSpec {
             if let (None, Some(model)) = (t.controller.get("model"), base.controller.get("model")) {
                 t.controller.insert("model".to_owned(), model.clone());
             }
-            let setup = check_setup(&t, &path, sim, goal, None)?;
+            let law = Setup::resolve(&t, &path)?.controller.law;
+            check_law(&law, tracking.as_ref().and_then(|tr| tr.references.first()).map(|(_, r)| r), &path)?;
+            let setup = check_setup(&t, &path, sim, goal, None, tracking.as_ref())?;
             let kind = setup.controller.law.kind();
             let same = laws.iter().filter(|(_, s)| s.controller.law.kind() == kind).count();
             let name = if same == 0 { kind.to_owned() } else { format!("{kind}#{}", same + 1) };
             laws.push((name, setup));
             tables.push(t);
         }
-        let mut spec = SweepSpec { goal, laws, tables, variation, variants, setups: Vec::new(), starts, source };
+        if let Some(tr) = &tracking {
+            // Every start inside the box, from every reference.
+            let key = match source {
+                StartsSource::Grid(_) => "sweep.grid",
+                StartsSource::Random(_) => "sweep.random",
+            };
+            for (_, r) in &tr.references {
+                let origin = r.built.start_pose();
+                starts.iter().try_for_each(|o| check_in_box(key, start_from(origin, *o)))?;
+            }
+        }
+        let mut spec =
+            SweepSpec { goal, laws, tables, variation, variants, setups: Vec::new(), starts, source, tracking };
         // Every run's draws before the variants (whose setups hold run 0's draws), so a bad
         // draw is named as one.
         spec.check_draws(sim)?;
@@ -133,7 +203,7 @@ impl SweepSpec {
                 let vt = with_settings(t, &spec.variation.settings(*v, 0))?;
                 let blame =
                     v.map(|(k, x)| (format!("sweep.vary[{k}]"), format!("{} = {x}", spec.variation.keys[k].key)));
-                setups.push(check_setup(&vt, &path, sim, goal, blame)?);
+                setups.push(check_setup(&vt, &path, sim, goal, blame, spec.tracking.as_ref())?);
             }
         }
         spec.setups = setups;
@@ -150,15 +220,17 @@ pub(super) fn with_settings(t: &Tables, settings: &[(&str, Value)]) -> Result<Ta
     Ok(t)
 }
 
-/// Resolves `t` and assembles its loop at the goal, so every check a run makes is made
-/// now. With `blame` (the `vary` entry's key path and the value it set), an error names
-/// that entry, which is what the file says, and quotes the key and reason inside.
+/// Resolves `t` and assembles its loop at the goal (on each reference of `tracking`), so
+/// every check a run makes is made now. With `blame` (the `vary` entry's key path and the
+/// value it set), an error names that entry, which is what the file says, and quotes the
+/// key and reason inside.
 fn check_setup(
     t: &Tables,
     path: &str,
     sim: &SimSpec,
     goal: Pose2<f64>,
     blame: Option<(String, String)>,
+    tracking: Option<&SweepTracking>,
 ) -> Result<Setup, ScenarioError> {
     let prefix = |e: ScenarioError| match &blame {
         None => e,
@@ -166,7 +238,18 @@ fn check_setup(
     };
     let setup = Setup::resolve(t, path).map_err(prefix)?;
     setup.check_step(sim.dt()).map_err(prefix)?;
-    assemble::closed_loop(&setup, 0, goal, goal, sim, Origin { run: "sweep", controller: path }).map_err(prefix)?;
+    let origin = Origin { run: "sweep", controller: path };
+    match tracking {
+        None => {
+            assemble::closed_loop(&setup, 0, goal, goal, sim, origin).map_err(prefix)?;
+        }
+        Some(tr) => {
+            for (_, r) in &tr.references {
+                let start = r.built.start_pose();
+                assemble::closed_loop_to(&setup, 0, start, r.built, sim, origin).map_err(prefix)?;
+            }
+        }
+    }
     Ok(setup)
 }
 
@@ -175,15 +258,40 @@ fn check_setup(
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct RunIndex {
     pub law: usize,
+    pub reference: usize,
     pub variant: usize,
     pub trial: usize,
     pub start: usize,
 }
 
 impl SweepSpec {
-    /// Number of runs: laws x variants x trials x starts.
+    /// Number of runs: laws x references x variants x trials x starts.
     pub fn len(&self) -> usize {
-        self.laws.len() * self.variants.len() * self.variation.trials as usize * self.starts.len()
+        self.laws.len() * self.n_references() * self.variants.len() * self.variation.trials as usize * self.starts.len()
+    }
+
+    /// The references of a sweep over references; 1 for a sweep towards a goal.
+    pub fn n_references(&self) -> usize {
+        self.tracking.as_ref().map_or(1, |t| t.references.len())
+    }
+
+    /// The name of (law, reference) in tables and plots: the law's name, with the
+    /// reference's after it (`kanayama / circle`) when the sweep has several.
+    pub fn case_name(&self, law: usize, reference: usize) -> String {
+        match &self.tracking {
+            Some(tr) if tr.references.len() > 1 => format!("{} / {}", self.laws[law].0, tr.references[reference].0),
+            _ => self.laws[law].0.clone(),
+        }
+    }
+
+    /// The start pose of C of a run from start `start` on reference `reference` (world
+    /// frame; m, m, rad): the start itself, or in a sweep over references the offset
+    /// from the reference's pose at t = 0.
+    pub fn start_pose(&self, reference: usize, start: usize) -> Pose2<f64> {
+        match &self.tracking {
+            None => self.starts[start],
+            Some(tr) => start_from(tr.references[reference].1.built.start_pose(), self.starts[start]),
+        }
     }
 
     /// True when there is nothing to run.
@@ -191,17 +299,19 @@ impl SweepSpec {
         self.len() == 0
     }
 
-    /// Which (law, variant, trial, start) run `k` of the sweep is: law, then variant,
-    /// trial and start, the order of every sweep output.
+    /// Which (law, reference, variant, trial, start) run `k` of the sweep is: law, then
+    /// reference, variant, trial and start, the order of every sweep output.
     pub(crate) fn index_of(&self, k: usize) -> RunIndex {
         let n_starts = self.starts.len();
         let trials = self.variation.trials as usize;
         let n_variants = self.variants.len();
+        let n_references = self.n_references();
         RunIndex {
             start: k % n_starts,
             trial: (k / n_starts) % trials,
             variant: (k / (n_starts * trials)) % n_variants,
-            law: k / (n_starts * trials * n_variants),
+            reference: (k / (n_starts * trials * n_variants)) % n_references,
+            law: k / (n_starts * trials * n_variants * n_references),
         }
     }
 
@@ -237,7 +347,7 @@ impl SweepSpec {
             let settings = self.variation.settings(self.variants[i.variant], k as u64);
             let path = self.law_path(i.law);
             let t = with_settings(&self.tables[i.law], &settings)?;
-            check_setup(&t, &path, sim, self.goal, None).map(drop).map_err(|e| {
+            check_setup(&t, &path, sim, self.goal, None, self.tracking.as_ref()).map(drop).map_err(|e| {
                 let drawn: Vec<(usize, f64)> = self.variation.draws(k as u64);
                 let shown: Vec<String> =
                     drawn.iter().map(|(j, v)| format!("{} = {v}", self.variation.keys[*j].key)).collect();

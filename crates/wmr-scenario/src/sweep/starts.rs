@@ -1,7 +1,13 @@
 //! The start poses of a sweep: a grid, or random starts uniform over the annulus
-//! `min_radius <= |C - goal| <= radius` with a uniform heading in [-180, 180) deg, drawn
-//! from `fastrand`'s generator seeded with `seed` (the same file gives the same starts).
-//! Every start lies inside the box a run may not leave.
+//! `min_radius <= |C - goal| <= radius` with a uniform heading in [-180, 180) deg
+//! (`[-max_heading_deg, max_heading_deg)` when given), drawn from `fastrand`'s generator
+//! seeded with `seed` (the same file gives the same starts). Every start lies inside the
+//! box a run may not leave.
+//!
+//! In a sweep over references the same tables give offsets from each reference's pose at
+//! t = 0 ([`start_from`]): x along the reference's heading, y to its left (m), the heading
+//! added (so `random` draws starts around the reference's start, `grid` a grid in its
+//! frame).
 
 use wmr_core::Pose2;
 use wmr_core::plant::DIVERGENCE_BOX_M;
@@ -118,6 +124,17 @@ pub(super) fn random_starts(r: &RandomFile, goal: Pose2<f64>) -> Result<Vec<Pose
             ),
         ));
     }
+    // The heading's half range as a factor of pi; none: the draw as it always was.
+    let heading_scale = match r.max_heading_deg {
+        None => None,
+        Some(h) if h.is_finite() && (0.0..=180.0).contains(&h) => Some(h / 180.0),
+        Some(h) => {
+            return Err(ScenarioError::new(
+                "sweep.random.max_heading_deg",
+                format!("must be a number in [0, 180] (got {})", num(h)),
+            ));
+        }
+    };
     let mut rng = fastrand::Rng::with_seed(r.seed);
     let tau = std::f64::consts::TAU;
     let (a2, b2) = (min_radius * min_radius, radius * radius);
@@ -127,7 +144,52 @@ pub(super) fn random_starts(r: &RandomFile, goal: Pose2<f64>) -> Result<Vec<Pose
             let rho = (a2 + (b2 - a2) * rng.f64()).sqrt();
             let phi = tau * rng.f64();
             let theta = tau * rng.f64() - std::f64::consts::PI;
+            let theta = heading_scale.map_or(theta, |k| theta * k);
             Pose2::new(goal.x + rho * phi.cos(), goal.y + rho * phi.sin(), theta)
         })
         .collect())
+}
+
+/// The start of a run of a sweep over references: `offset` (x along the heading of the
+/// reference's pose at t = 0, y to its left, m; heading added, rad) from `origin`, that pose.
+pub(crate) fn start_from(origin: Pose2<f64>, offset: Pose2<f64>) -> Pose2<f64> {
+    let (s, c) = origin.theta.sin_cos();
+    Pose2::new(
+        origin.x + c * offset.x - s * offset.y,
+        origin.y + s * offset.x + c * offset.y,
+        origin.theta + offset.theta,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn offsets_are_in_the_reference_frame() {
+        // A reference heading +y at (1, 2): 1 m ahead is (1, 3), 1 m left is (0, 2).
+        let origin = Pose2::new(1.0, 2.0, std::f64::consts::FRAC_PI_2);
+        let ahead = start_from(origin, Pose2::new(1.0, 0.0, 0.0));
+        let left = start_from(origin, Pose2::new(0.0, 1.0, 0.5));
+        assert!((ahead.x - 1.0).abs() < 1e-15 && (ahead.y - 3.0).abs() < 1e-15);
+        assert!((left.x - 0.0).abs() < 1e-15 && (left.y - 2.0).abs() < 1e-15);
+        assert_eq!(left.theta, std::f64::consts::FRAC_PI_2 + 0.5);
+    }
+
+    #[test]
+    fn max_heading_bounds_the_draw_and_none_keeps_the_old_draw() {
+        let r = RandomFile { n: 500, seed: 3, radius: 1.0, min_radius: 0.0, max_heading_deg: Some(30.0) };
+        let all = RandomFile { max_heading_deg: None, ..r.clone() };
+        let bounded = random_starts(&r, Pose2::default()).unwrap();
+        let free = random_starts(&all, Pose2::default()).unwrap();
+        assert!(bounded.iter().all(|p| p.theta.abs() <= 30f64.to_radians() + 1e-12));
+        assert!(free.iter().any(|p| p.theta.abs() > 90f64.to_radians()));
+        // Same positions; the heading is the old draw scaled by 30/180.
+        for (b, f) in bounded.iter().zip(&free) {
+            assert_eq!((b.x, b.y), (f.x, f.y));
+            assert!((b.theta - f.theta / 6.0).abs() < 1e-15);
+        }
+        let bad = RandomFile { max_heading_deg: Some(200.0), ..r };
+        assert_eq!(random_starts(&bad, Pose2::default()).unwrap_err().key, "sweep.random.max_heading_deg");
+    }
 }

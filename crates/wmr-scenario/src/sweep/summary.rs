@@ -15,7 +15,7 @@ pub struct Spread {
     pub worst: f64,
 }
 
-fn spread(mut v: Vec<f64>) -> Spread {
+pub(super) fn spread(mut v: Vec<f64>) -> Spread {
     v.retain(|x| x.is_finite());
     if v.is_empty() {
         return Spread { median: f64::NAN, worst: f64::NAN };

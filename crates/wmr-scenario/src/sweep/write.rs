@@ -12,7 +12,19 @@ impl SweepSpec {
         use std::fmt::Write as _;
         let f = crate::keys::toml_f64;
         let g = &self.goal;
-        let _ = writeln!(out, "\n[sweep]\ngoal = {{ x = {}, y = {}, theta = {} }}", f(g.x), f(g.y), f(g.theta));
+        match &self.tracking {
+            None => {
+                let _ = writeln!(out, "\n[sweep]\ngoal = {{ x = {}, y = {}, theta = {} }}", f(g.x), f(g.y), f(g.theta));
+            }
+            Some(tr) => {
+                let _ = writeln!(out, "\n[sweep]\nreferences = [");
+                for (_, r) in &tr.references {
+                    let keys: Vec<String> = r.table.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+                    let _ = writeln!(out, "  {{ {} }},", keys.join(", "));
+                }
+                let _ = writeln!(out, "]");
+            }
+        }
         let _ = writeln!(out, "controllers = [");
         for (_, setup) in &self.laws {
             let mut table = String::new();
@@ -41,9 +53,10 @@ impl SweepSpec {
                 );
             }
             StartsSource::Random(r) => {
+                let heading = r.max_heading_deg.map(|h| format!(", max_heading_deg = {}", f(h))).unwrap_or_default();
                 let _ = writeln!(
                     out,
-                    "random = {{ n = {}, seed = {}, radius = {}, min_radius = {} }}",
+                    "random = {{ n = {}, seed = {}, radius = {}, min_radius = {}{heading} }}",
                     r.n,
                     r.seed,
                     f(r.radius),
@@ -67,9 +80,11 @@ impl SweepSpec {
             }
             let _ = writeln!(out, "]");
         }
+        let refs =
+            if self.tracking.is_some() { format!(" x {} references", self.n_references()) } else { String::new() };
         let _ = writeln!(
             out,
-            "# {} laws x {} variants x {} trials x {} starts = {} runs",
+            "# {} laws{refs} x {} variants x {} trials x {} starts = {} runs",
             self.laws.len(),
             self.variants.len(),
             v.trials,
