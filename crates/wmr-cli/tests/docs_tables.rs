@@ -11,8 +11,8 @@
 use std::path::PathBuf;
 use std::process::Command;
 
-use wmr_core::RobotParams;
 use wmr_core::describe::Described;
+use wmr_core::{RobotParams, TractionParams};
 use wmr_scenario::keys::toml_scalar;
 use wmr_scenario::{SchemaKey, schema};
 
@@ -136,11 +136,12 @@ fn help_robot_lines() -> Vec<(String, String)> {
     lines
 }
 
-/// A robot key is declared once (`RobotParams` in wmr-core) and appears, in declaration
-/// order, in the schema, in `--help` and in the docs table, with its unit, rule and doc.
+/// A robot key is declared once (`RobotParams`, then the traction keys of
+/// `TractionParams`, in wmr-core) and appears, in declaration order, in the schema, in
+/// `--help` and in the docs table, with its unit, rule and doc.
 #[test]
 fn every_robot_field_is_in_the_schema_the_help_and_the_docs_in_order() {
-    let fields = RobotParams::<f64>::FIELDS;
+    let fields: Vec<_> = RobotParams::<f64>::FIELDS.iter().chain(TractionParams::<f64>::FIELDS).collect();
     let declared: Vec<&str> = fields.iter().map(|f| f.name).collect();
     let keys = schema();
 

@@ -65,12 +65,12 @@ crate::params! {
         /// Traction model: "rolling" (the paper's, no slip) or "slip" (forces within mu N).
         pub traction: TractionKind [unit = "", rule = "\"rolling\" or \"slip\""],
         /// mu, friction coefficient between tyre and ground (0.8 asphalt, 0.3 wet tiles, 0.1 ice).
-        pub friction_coefficient: T [unit = "", rule = "> 0, and friction_coefficient * com_height <= |com_offset|"],
+        pub friction_coefficient: T [unit = "", rule = "> 0, and friction_coefficient * com_height <= abs(com_offset)"],
         /// c, distance from C forward to the caster's contact (negative: caster behind C).
         pub caster_offset: T [unit = "m", rule = "finite, 0 <= com_offset / caster_offset < 1"],
         /// h, height of the centre of mass G above the ground.
         pub com_height: T [unit = "m", rule = ">= 0"],
-        /// v_eps, slip speed of the regularised Coulomb law: F = mu N tanh(|s| / v_eps).
+        /// v_eps, slip speed of the regularised Coulomb law: F = mu N tanh(slip / v_eps).
         pub slip_speed: T [unit = "m/s", rule = "> 0, and dt * stiffness < 2.785"],
     }
 }
