@@ -193,6 +193,7 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
             torque: self.plant.wheel_torque(),
             errors: self.tick.output.errors,
             measured: self.tick.measurement.pose,
+            odometry: self.sensor.odometry(),
         }
     }
 

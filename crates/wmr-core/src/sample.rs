@@ -22,4 +22,7 @@ pub struct Sample<T> {
     /// The pose of C the controller used at the last control tick at or before `t`
     /// (what its sensor delivered: late, noisy; the true pose for a perfect sensor).
     pub measured: Pose2<T>,
+    /// The pose of C dead-reckoned from the encoders at that tick, for an odometry sensor
+    /// (`measured` is then the fused pose, [`crate::sensor::odometry`]); `None` otherwise.
+    pub odometry: Option<Pose2<T>>,
 }

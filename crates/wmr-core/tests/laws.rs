@@ -493,7 +493,7 @@ fn paper_default_is_unchanged() {
         );
         plant.apply(command);
         let torque = plant.wheel_torque();
-        lb.push(Sample { t, state: s, wheel_speeds: w, torque, errors, measured: s.pose() });
+        lb.push(Sample { t, state: s, wheel_speeds: w, torque, errors, measured: s.pose(), odometry: None });
         let dl = (goal.x - s.x).hypot_libm(goal.y - s.y);
         if dl < ARRIVAL_RADIUS_M {
             arrived.get_or_insert(t);
