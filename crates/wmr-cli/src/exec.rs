@@ -171,8 +171,11 @@ pub fn run_command(
     let writer = out.writer()?;
     let measured = scenario.setup().has_sensor;
     let mut sink: Box<dyn Sink> = match format {
-        Format::Csv => csv_sink::CsvSink::new(writer, measured, scenario.tracking().map(|t| t.reference.built))
-            .map(|s| Box::new(s) as Box<dyn Sink>),
+        Format::Csv => {
+            let odometry = scenario.setup().odometry();
+            csv_sink::CsvSink::new(writer, measured, odometry, scenario.tracking().map(|t| t.reference.built))
+        }
+        .map(|s| Box::new(s) as Box<dyn Sink>),
         Format::Mcap => mcap_sink::McapSink::new(writer, scenario).map(|s| Box::new(s) as Box<dyn Sink>),
     }
     .map_err(sink_err)
@@ -299,7 +302,8 @@ pub fn execute(scenario: &Scenario, sink: &mut dyn Sink, show_progress: bool) ->
 /// What a streamed run hands to the sink: its samples in blocks, then its result.
 enum Piece {
     Samples(Vec<Sample<f64>>),
-    Done(Result<RunResult>),
+    // Boxed: a run's result is ten times a batch handle, and one is sent per run.
+    Done(Box<Result<RunResult>>),
 }
 
 /// Streams every run into `sink` in run order with memory bounded by `budget` (bytes of
@@ -356,7 +360,7 @@ fn stream_runs(
                 if !block.is_empty() && tx.send(Piece::Samples(block)).is_err() {
                     return;
                 }
-                let _ = tx.send(Piece::Done(done));
+                let _ = tx.send(Piece::Done(Box::new(done)));
             });
             (i, rx)
         };
@@ -373,7 +377,7 @@ fn stream_runs(
                         }
                         count += block.len() as u64;
                     }
-                    Ok(Piece::Done(result)) => break result?,
+                    Ok(Piece::Done(result)) => break (*result)?,
                     Err(_) => anyhow::bail!("run {i} stopped without a result"),
                 }
             };

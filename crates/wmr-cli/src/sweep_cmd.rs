@@ -6,7 +6,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context as _, Result};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use wmr_plot::{ShareSeries, SweepCell, region_svg, share_svg};
-use wmr_scenario::robustness::{ShareCurve, share_curves, share_table, varied_columns, varied_row};
+use wmr_scenario::robustness::{
+    ShareCurve, drift_curves, drift_table, share_curves, share_table, varied_columns, varied_row,
+};
 use wmr_scenario::{SWEEP_COLUMNS, Scenario, SweepOutcome, SweepSpec, shown, summarize, summary_table, sweep_row};
 
 use crate::atomic::{Output, write_text};
@@ -102,7 +104,9 @@ pub fn sweep(
         write_regions(spec, &outcomes, dir)?;
         write_share_curves(&curves, dir)?;
     }
-    let table = format!("{}{}", summary_table(&summarize(spec, &outcomes)), share_table(&curves));
+    // A sweep on odometry also shows how far the odometry drifted (nothing otherwise).
+    let drift = drift_table(&drift_curves(spec, &outcomes));
+    let table = format!("{}{}{drift}", summary_table(&summarize(spec, &outcomes)), share_table(&curves));
     // With the CSV on stdout, the tables go to stderr.
     if to_stdout {
         table.lines().for_each(note);

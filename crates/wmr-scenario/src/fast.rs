@@ -98,7 +98,7 @@ impl SweepSpec {
         let mut drawn = None;
         let exact = kernel == Kernel::Exact
             || self.variation.has_draws()
-            || !self.setup_of(sim, first, &mut drawn)?.sensor.is_perfect();
+            || !self.setup_of(sim, first, &mut drawn)?.sensor_is_perfect();
         if !exact {
             return self.run_lanes(sim, kernel, first..end, done, stop);
         }
@@ -176,7 +176,7 @@ impl Scenario {
         let kernel = Kernel::detect();
         let task = |t: usize| -> Result<Option<Vec<Outcome<f64>>>, ScenarioError> {
             let (first, end) = tasks[t];
-            if kernel == Kernel::Exact || !self.setup().sensor.is_perfect() {
+            if kernel == Kernel::Exact || !self.setup().sensor_is_perfect() {
                 return one_by_one(first..end, done, stop, |i, poll| {
                     Ok(match self.try_run_as(i, i as u64 + stream_offset, |_| ControlFlow::Continue(()), poll)? {
                         ControlFlow::Continue(r) => ControlFlow::Continue(r.outcome),

@@ -66,8 +66,9 @@ pub use error::{ScenarioError, escape_controls, is_unsafe_char, shown};
 pub use file::{GridFile, PoseFile, RandomFile, RunFile, ScenarioFile, SimFile, SweepFile};
 pub use memory::available_memory_bytes;
 pub use output::{
-    CSV_COLUMNS, MEASURED_COLUMNS, MEASURED_UNITS, REFERENCE_COLUMNS, REFERENCE_UNITS, RunResult, SAMPLE_COLUMNS,
-    SAMPLE_UNITS, Sink, SinkError, measured_values, reference_values, sample_values,
+    CSV_COLUMNS, MEASURED_COLUMNS, MEASURED_UNITS, ODOMETRY_COLUMNS, ODOMETRY_UNITS, OdometryDrift, REFERENCE_COLUMNS,
+    REFERENCE_UNITS, RunResult, SAMPLE_COLUMNS, SAMPLE_UNITS, Sink, SinkError, measured_values, odometry_values,
+    reference_values, sample_values,
 };
 pub use read::{MAX_FILE_BYTES, default_name, read_text};
 pub use run::RunSpec;

@@ -11,15 +11,17 @@
 //!           G = [[c/2 - ds s/(4R), c/2 + ds s/(4R)],                           d x+/d (d_r, d_l)
 //!                [s/2 + ds c/(4R), s/2 - ds c/(4R)],     c, s = cos, sin theta_m
 //!                [1/(2R),          -1/(2R)        ]]
-//!           Q = diag(var_r, var_l),  var_w = r^2 q^2 / 6 + k^2 |d_w|
+//!           Q = diag(var_r, var_l),  var_w = (r q)^2 / 12 min(1, |d_w| / (r q)) + k^2 |d_w|
 //!           P <- F P F^T + G Q G^T
 //! update:   z = a pose fix (H = I), R_z = diag(sigma_p^2, sigma_p^2, sigma_th^2)
 //!           nu = z - x (heading wrapped),  S = P + R_z,  K = P S^-1
 //!           x <- x + K nu,  P <- (I - K) P (I - K)^T + K R_z K^T   (Joseph form)
 //! ```
 //!
-//! q is the encoder quantum (rad; each reading is rounded, so an increment, the
-//! difference of two, errs with variance q^2/6), k the slip and radius term
+//! q is the encoder quantum (rad): each reading is rounded, with an error uniform in a
+//! quantum (variance (r q)^2 / 12 in travel) that changes only when a count boundary is
+//! crossed, so a tick adds a fresh rounding error in proportion to the counts crossed
+//! (at most one) and a wheel at rest adds none. k is the slip and radius term
 //! (`odometry_noise`, m^(1/2): the standard deviation of a wheel's travel error grows
 //! as k sqrt(distance)). The Joseph form keeps P symmetric positive definite in
 //! rounding; P is also symmetrized after each step.

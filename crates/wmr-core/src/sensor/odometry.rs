@@ -94,8 +94,8 @@ pub struct OdometrySensor<T, const N: usize = 256> {
     /// The controller's model of the robot (its r and R).
     model: RobotParams<T>,
     fixes: bool,
-    /// Per-tick variance of a wheel's travel from quantization, (r q)^2 / 6, m^2.
-    quantum_var_m2: T,
+    /// The encoder quantum in wheel travel, r q, m (0: ideal encoders).
+    quantum_m: T,
     /// odometry_noise^2, m.
     noise_per_m: T,
     fix_noise: Mat3<T>,
@@ -148,7 +148,7 @@ impl<T: Real, const N: usize> OdometrySensor<T, N> {
             params: odometry,
             model: *model,
             fixes,
-            quantum_var_m2: rq * rq / T::lit(6.0),
+            quantum_m: rq,
             noise_per_m: odometry.odometry_noise * odometry.odometry_noise,
             fix_noise: diag(sigma_p * sigma_p, sigma_p * sigma_p, sigma_th * sigma_th),
             track: None,
@@ -190,8 +190,13 @@ impl<T: Real, const N: usize> Sensor<T> for OdometrySensor<T, N> {
             }
             Some(track) => {
                 let travel = track.odometry.update(wheel_angles);
-                // The process noise: var_w = (r q)^2 / 6 + k^2 |d_w|, m^2.
-                let variance = travel.map(|d| self.quantum_var_m2 + self.noise_per_m * d.abs());
+                // The process noise (super::ekf): var_w = (r q)^2 / 12 min(1, |d_w| / (r q)) + k^2 |d_w|, m^2.
+                let rq = self.quantum_m;
+                let variance = travel.map(|d| {
+                    let rounding =
+                        if rq > T::zero() { rq * rq / T::lit(12.0) * (d.abs() / rq).min(T::one()) } else { T::zero() };
+                    rounding + self.noise_per_m * d.abs()
+                });
                 track.ekf.predict(travel, variance, self.model.half_track);
                 track
             }

@@ -87,6 +87,8 @@ fn row_outcome(r: &[f64]) -> Option<SweepOutcome> {
             path_length: r[20],
             energy: r[21],
         },
+        // The rows of an outside executor's parts carry the outcome only (not the drift).
+        odometry_drift: None,
     })
 }
 

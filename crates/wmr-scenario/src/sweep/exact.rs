@@ -11,6 +11,7 @@ use super::spec::{SweepSpec, with_settings};
 use crate::assemble::{self, Origin};
 use crate::error::ScenarioError;
 use crate::executor::map_ordered;
+use crate::output::OdometryDrift;
 use crate::setup::Setup;
 use crate::sim::SimSpec;
 
@@ -87,9 +88,10 @@ impl SweepSpec {
         let setup = self.setup_of(sim, k, &mut drawn)?;
         let start = self.starts[i.start];
         let mut lp = assemble::closed_loop(setup, k as u64, start, self.goal, sim, origin)?;
-        Ok(lp
-            .try_run(sim.n_steps(), u32::MAX, |_| ControlFlow::Continue(()), poll)
-            .map_continue(|outcome| self.outcome_of(k, outcome)))
+        Ok(lp.try_run(sim.n_steps(), u32::MAX, |_| ControlFlow::Continue(()), poll).map_continue(|outcome| {
+            let drift = OdometryDrift::of(&lp, &outcome);
+            SweepOutcome { odometry_drift: drift, ..self.outcome_of(k, outcome) }
+        }))
     }
 
     /// Run `k`'s outcome with where it sits in the sweep.
@@ -103,6 +105,7 @@ impl SweepSpec {
             start_index: i.start,
             start: self.starts[i.start],
             outcome,
+            odometry_drift: None,
         }
     }
 

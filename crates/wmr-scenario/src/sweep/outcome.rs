@@ -1,5 +1,6 @@
 //! The outcome of one run of a sweep, with where it sits in the sweep.
 
+use crate::output::OdometryDrift;
 use wmr_core::{Outcome, Pose2, Status};
 
 /// The outcome of one (law, variant, trial, start) run.
@@ -19,6 +20,8 @@ pub struct SweepOutcome {
     pub start: Pose2<f64>,
     /// The core's outcome.
     pub outcome: Outcome<f64>,
+    /// For a run on odometry (`[sensor] pose = "odometry"`), its drift at the end.
+    pub odometry_drift: Option<OdometryDrift>,
 }
 
 impl SweepOutcome {
