@@ -209,7 +209,7 @@ impl Variation {
     /// The (key, value) pairs a run sets: its variant's axis value, then its draws.
     pub fn settings(&self, variant: Variant, run: u64) -> Vec<(&str, Value)> {
         let mut out: Vec<(&str, Value)> = Vec::new();
-        for (i, v) in variant {
+        if let Some((i, v)) = variant {
             out.push((self.keys[i].key.as_str(), Value::Float(v)));
             out.extend(self.keys[i].with.iter().map(|(k, w)| (k.as_str(), w.clone())));
         }
