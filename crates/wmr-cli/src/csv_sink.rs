@@ -5,8 +5,8 @@ use std::io::BufWriter;
 
 use wmr_core::{AnyReference, Reference, Sample};
 use wmr_scenario::{
-    CONTACT_COLUMNS, CSV_COLUMNS, MEASURED_COLUMNS, REFERENCE_COLUMNS, Sink, SinkError, contact_values,
-    measured_values, reference_values, sample_values,
+    CONTACT_COLUMNS, CSV_COLUMNS, MEASURED_COLUMNS, ODOMETRY_COLUMNS, REFERENCE_COLUMNS, Sink, SinkError,
+    contact_values, measured_values, odometry_values, reference_values, sample_values,
 };
 
 use crate::atomic::OutWriter;
@@ -17,6 +17,8 @@ pub struct CsvSink {
     field: String,
     /// Also write the measured pose (`x_meas, y_meas, theta_meas`): the run has a `[sensor]`.
     measured: bool,
+    /// Also write the dead-reckoned pose (`x_odom, y_odom, theta_odom`): the run is on odometry.
+    odometry: bool,
     /// Also write the wheels' contact (`slip_r, ..., n_l`): the wheels slip.
     contact: bool,
     /// Also write the reference at each sample's t (`x_ref, ..., omega_ref`): a tracking run.
@@ -41,22 +43,26 @@ impl CsvSink {
     /// Writes the header to `out` (with `measured`, the measured pose's columns too) and
     /// flushes it, so an output that cannot be written at all (a full disk) fails before
     /// any run starts.
-    /// With `contact` (wheels that slip), the contact columns follow. For the runs of a
+    /// With `odometry` (the controller's pose is dead reckoning, so `measured` is too),
+    /// the odometry pose's columns follow the measured (fused) pose's. With `contact` (wheels that slip),
+    /// the contact columns follow. For the runs of a
     /// tracking scenario (`reference`), the reference's columns come last.
     pub fn new(
         out: OutWriter,
         measured: bool,
+        odometry: bool,
         contact: bool,
         reference: Option<AnyReference<f64>>,
     ) -> Result<Self, SinkError> {
         let mut writer =
             csv::WriterBuilder::new().buffer_capacity(1 << 16).from_writer(BufWriter::with_capacity(1 << 16, out));
         let extra: &[&str] = if measured { &MEASURED_COLUMNS } else { &[] };
+        let odometry_columns: &[&str] = if odometry { &ODOMETRY_COLUMNS } else { &[] };
         let slip: &[&str] = if contact { &CONTACT_COLUMNS } else { &[] };
         let tracking: &[&str] = if reference.is_some() { &REFERENCE_COLUMNS } else { &[] };
-        writer.write_record(CSV_COLUMNS.iter().chain(extra).chain(slip).chain(tracking))?;
+        writer.write_record(CSV_COLUMNS.iter().chain(extra).chain(odometry_columns).chain(slip).chain(tracking))?;
         writer.flush()?;
-        Ok(Self { writer, field: String::with_capacity(32), measured, contact, reference })
+        Ok(Self { writer, field: String::with_capacity(32), measured, odometry, contact, reference })
     }
 }
 
@@ -71,6 +77,12 @@ impl Sink for CsvSink {
         }
         if self.measured {
             for v in measured_values(sample) {
+                format_f64(v, &mut self.field);
+                self.writer.write_field(&self.field)?;
+            }
+        }
+        if self.odometry {
+            for v in odometry_values(sample) {
                 format_f64(v, &mut self.field);
                 self.writer.write_field(&self.field)?;
             }

@@ -172,8 +172,10 @@ pub fn run_command(
     let measured = scenario.setup().has_sensor;
     let mut sink: Box<dyn Sink> = match format {
         Format::Csv => {
+            let odometry = scenario.setup().odometry();
             let contact = scenario.setup().slips();
-            csv_sink::CsvSink::new(writer, measured, contact, scenario.tracking().map(|t| t.reference.built))
+            let reference = scenario.tracking().map(|t| t.reference.built);
+            csv_sink::CsvSink::new(writer, measured, odometry, contact, reference)
         }
         .map(|s| Box::new(s) as Box<dyn Sink>),
         Format::Mcap => mcap_sink::McapSink::new(writer, scenario).map(|s| Box::new(s) as Box<dyn Sink>),
@@ -302,7 +304,8 @@ pub fn execute(scenario: &Scenario, sink: &mut dyn Sink, show_progress: bool) ->
 /// What a streamed run hands to the sink: its samples in blocks, then its result.
 enum Piece {
     Samples(Vec<Sample<f64>>),
-    Done(Result<RunResult>),
+    // Boxed: a run's result is ten times a batch handle, and one is sent per run.
+    Done(Box<Result<RunResult>>),
 }
 
 /// Streams every run into `sink` in run order with memory bounded by `budget` (bytes of
@@ -359,7 +362,7 @@ fn stream_runs(
                 if !block.is_empty() && tx.send(Piece::Samples(block)).is_err() {
                     return;
                 }
-                let _ = tx.send(Piece::Done(done));
+                let _ = tx.send(Piece::Done(Box::new(done)));
             });
             (i, rx)
         };
@@ -376,7 +379,7 @@ fn stream_runs(
                         }
                         count += block.len() as u64;
                     }
-                    Ok(Piece::Done(result)) => break result?,
+                    Ok(Piece::Done(result)) => break (*result)?,
                     Err(_) => anyhow::bail!("run {i} stopped without a result"),
                 }
             };

@@ -6,7 +6,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context as _, Result};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use wmr_plot::{ShareSeries, SweepCell, region_svg, share_svg};
-use wmr_scenario::robustness::{ShareCurve, share_curves, share_table, varied_columns, varied_row};
+use wmr_scenario::robustness::{
+    ShareCurve, drift_curves, drift_table, share_curves, share_table, varied_columns, varied_row,
+};
 use wmr_scenario::{
     SWEEP_COLUMNS, Scenario, SweepOutcome, SweepSpec, TRACKING_SWEEP_COLUMNS, shown, summarize, summary_table,
     sweep_row, tracking_summary, tracking_summary_table, tracking_sweep_row,
@@ -123,7 +125,9 @@ pub fn sweep(
         None => summary_table(&summarize(spec, &outcomes)),
         Some(tr) => tracking_summary_table(&tracking_summary(spec, &outcomes), tr.tolerance),
     };
-    let table = format!("{summary}{}", share_table(&curves));
+    // A sweep on odometry also shows how far the odometry drifted (nothing otherwise).
+    let drift = drift_table(&drift_curves(spec, &outcomes));
+    let table = format!("{summary}{}{drift}", share_table(&curves));
     // With the CSV on stdout, the tables go to stderr.
     if to_stdout {
         table.lines().for_each(note);

@@ -225,6 +225,14 @@ fn write_error(out: &Output, e: impl Into<anyhow::Error>) -> anyhow::Error {
 /// Writes the trace of run `run` of `scenario` to `output`.
 pub fn trace(scenario: &Scenario, run: usize, output: &Path, format: Option<TraceFormat>) -> Result<Traced> {
     let format = TraceFormat::of(output, format)?;
+    // Checked before OUT is created: nothing is written for a scenario the trace cannot hold.
+    if scenario.setup().odometry() {
+        return Err(bad_input(
+            "sensor.pose: a trace carries the absolute pose sensor only (the firmware replays its records); \
+             a scenario with pose = \"odometry\" cannot be traced: remove the key or set pose = \"absolute\""
+                .to_owned(),
+        ));
+    }
     let config_words = config_of(scenario, run)?.encode();
     let config = Config::decode(&config_words).map_err(|e| anyhow!("trace config: {}", e.0))?;
     let sensor = scenario.setup().sensor.cast::<f32>();

@@ -206,6 +206,7 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
             errors: self.tick.output.errors,
             measured: self.tick.measurement.pose,
             contact: self.plant.contact(),
+            odometry: self.sensor.odometry(),
         }
     }
 

@@ -89,7 +89,9 @@ pub use plant::Plant;
 pub use real::Real;
 pub use reference::{AnyReference, FixedGoal, Path, Reference, ReferenceState};
 pub use sample::Sample;
-pub use sensor::{Measurement, PerfectSensor, PoseSensor, Sensor, SensorParams};
+pub use sensor::{
+    AnySensor, Measurement, OdometryParams, OdometrySensor, PerfectSensor, PoseSensor, PoseSource, Sensor, SensorParams,
+};
 pub use state::State;
 pub use traction::{Contact, SlipExtra, Traction, TractionKind, TractionParams};
 pub use world::{World, WorldParams};

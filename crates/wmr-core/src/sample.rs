@@ -26,4 +26,7 @@ pub struct Sample<T> {
     /// The wheels' contact with the ground at `t`: slip velocities, forces and loads
     /// (zero for a rolling plant, [`crate::traction`]).
     pub contact: Contact<T>,
+    /// The pose of C dead-reckoned from the encoders at that tick, for an odometry sensor
+    /// (`measured` is then the fused pose, [`crate::sensor::odometry`]); `None` otherwise.
+    pub odometry: Option<Pose2<T>>,
 }

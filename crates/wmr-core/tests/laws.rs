@@ -501,6 +501,7 @@ fn paper_default_is_unchanged() {
             errors,
             measured: s.pose(),
             contact: Default::default(),
+            odometry: None,
         });
         let dl = (goal.x - s.x).hypot_libm(goal.y - s.y);
         if dl < ARRIVAL_RADIUS_M {

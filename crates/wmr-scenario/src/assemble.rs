@@ -1,7 +1,7 @@
 //! One run's closed loop from a validated [`Setup`]: the plant at its start pose, the
 //! run's sensor, a fresh copy of the built controller, a fixed goal and the plant step.
 
-use wmr_core::{AnyLaw, AnyReference, ClosedLoop, FixedGoal, ParamError, Pose2, PoseSensor};
+use wmr_core::{AnyLaw, AnyReference, AnySensor, ClosedLoop, FixedGoal, ParamError, Pose2};
 
 use crate::error::ScenarioError;
 use crate::keys::join;
@@ -9,7 +9,7 @@ use crate::setup::Setup;
 use crate::sim::SimSpec;
 
 /// The closed loop of one run.
-pub type RunLoop = ClosedLoop<f64, AnyLaw<f64>, PoseSensor<f64>, AnyReference<f64>>;
+pub type RunLoop = ClosedLoop<f64, AnyLaw<f64>, AnySensor<f64>, AnyReference<f64>>;
 
 /// Where a run's values came from, to name them in errors: the table holding its start
 /// and goal (`run[2]`, `sweep`) and its controller (`controller`, `sweep.controllers[1]`).
@@ -27,7 +27,8 @@ impl Origin<'_> {
         let key = match e.field {
             "dt" => "sim.dt".to_owned(),
             "control_dt" => join(self.controller, "control_dt"),
-            field @ ("rate_hz" | "latency" | "position_noise" | "heading_noise_deg") => join("sensor", field),
+            field @ ("rate_hz" | "latency" | "position_noise" | "heading_noise_deg" | "pose" | "fix_rate_hz"
+            | "odometry_noise") => join("sensor", field),
             field => join(self.run, field),
         };
         ScenarioError::from_param(e, &key)

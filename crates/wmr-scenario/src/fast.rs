@@ -100,7 +100,7 @@ impl SweepSpec {
         let mut drawn = None;
         let exact = kernel == Kernel::Exact || self.tracking.is_some() || self.variation.has_draws() || {
             let setup = self.setup_of(sim, first, &mut drawn)?;
-            !setup.sensor.is_perfect() || setup.slips()
+            !setup.sensor_is_perfect() || setup.slips()
         };
         if !exact {
             return self.run_lanes(sim, kernel, first..end, done, stop);
@@ -188,7 +188,7 @@ impl Scenario {
         let kernel = Kernel::detect()?;
         let task = |t: usize| -> Result<Option<Vec<Outcome<f64>>>, ScenarioError> {
             let (first, end) = tasks[t];
-            if kernel == Kernel::Exact || !self.setup().sensor.is_perfect() || self.setup().slips() {
+            if kernel == Kernel::Exact || !self.setup().sensor_is_perfect() || self.setup().slips() {
                 return one_by_one(first..end, done, stop, |i, poll| {
                     Ok(match self.try_run_as(i, i as u64 + stream_offset, |_| ControlFlow::Continue(()), poll)? {
                         ControlFlow::Continue(r) => ControlFlow::Continue(r.outcome),

@@ -95,6 +95,62 @@ pub fn contact_values(s: &Sample<f64>) -> [f64; 9] {
     ]
 }
 
+/// The columns a run on odometry (`[sensor] pose = "odometry"`) adds after
+/// [`MEASURED_COLUMNS`] (which are then the fused pose the controller used): the pose
+/// dead-reckoned from the encoders at the last tick (m, m, rad). The true pose is `x, y, theta`.
+pub const ODOMETRY_COLUMNS: [&str; 3] = ["x_odom", "y_odom", "theta_odom"];
+
+/// The unit of each of [`ODOMETRY_COLUMNS`], in order.
+pub const ODOMETRY_UNITS: [&str; ODOMETRY_COLUMNS.len()] = ["m", "m", "rad"];
+
+/// A sample's values in [`ODOMETRY_COLUMNS`] order (NaN for a sample without odometry,
+/// which a run on odometry never hands out).
+#[inline]
+pub fn odometry_values(s: &Sample<f64>) -> [f64; 3] {
+    s.odometry.map_or([f64::NAN; 3], |p| [p.x, p.y, p.theta])
+}
+
+/// How far the odometry drifted from the true pose by the end of a run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OdometryDrift {
+    /// Distance between the dead-reckoned and the true position of C at the end, m.
+    pub drift_m: f64,
+    /// Path length of C, m (the outcome's `path_length`).
+    pub distance_m: f64,
+}
+
+impl OdometryDrift {
+    /// The drift of the loop `lp` at its end, whose `outcome` gives the distance
+    /// travelled: the dead reckoning at the last tick against the true pose; `None` for a
+    /// loop whose sensor keeps no odometry.
+    pub fn of<L, R>(
+        lp: &wmr_core::ClosedLoop<f64, L, wmr_core::AnySensor<f64>, R>,
+        outcome: &Outcome<f64>,
+    ) -> Option<Self>
+    where
+        L: wmr_core::Law<f64>,
+        R: wmr_core::Reference<f64>,
+    {
+        let odo = wmr_core::Sensor::odometry(lp.sensor())?;
+        Some(Self { drift_m: (odo.x - lp.state().x).hypot(odo.y - lp.state().y), distance_m: outcome.path_length })
+    }
+
+    /// The drift in % of the distance travelled; `None` for a run that did not move.
+    pub fn percent(&self) -> Option<f64> {
+        (self.distance_m > 0.0).then(|| 100.0 * self.drift_m / self.distance_m)
+    }
+
+    /// `odometry drift 0.0123 m (1.02 % of 1.206 m travelled)`.
+    pub fn describe(&self) -> String {
+        match self.percent() {
+            Some(p) => {
+                format!("odometry drift {:.4} m ({p:.2} % of {:.3} m travelled)", self.drift_m, self.distance_m)
+            }
+            None => format!("odometry drift {:.4} m (no distance travelled)", self.drift_m),
+        }
+    }
+}
+
 /// The columns a tracking run adds after the others: the reference at the sample's t
 /// (m, m, rad, m/s, rad/s).
 pub const REFERENCE_COLUMNS: [&str; 5] = ["x_ref", "y_ref", "theta_ref", "v_ref", "omega_ref"];
@@ -146,12 +202,20 @@ pub struct RunResult {
     pub outcome: Outcome<f64>,
     /// For a tracking run, how the tracking error went (`wmr_core::tracking`).
     pub tracking: Option<TrackingOutcome<f64>>,
+    /// For a run on odometry, its drift at the end.
+    pub odometry_drift: Option<OdometryDrift>,
 }
 
 impl RunResult {
     /// Wraps a core outcome.
     pub fn new(index: usize, label: String, outcome: Outcome<f64>) -> Self {
-        Self { index, label, outcome, tracking: None }
+        Self { index, label, outcome, tracking: None, odometry_drift: None }
+    }
+
+    /// The same run with its final odometry drift (a run on odometry).
+    pub fn with_odometry_drift(mut self, drift: Option<OdometryDrift>) -> Self {
+        self.odometry_drift = drift;
+        self
     }
 
     /// The same run with its tracking outcome (a tracking run).
@@ -179,7 +243,15 @@ impl RunResult {
 
     /// The summary line: label, final dl (m), final heading error (deg),
     /// time to dl < 1 cm (s or "never"), status.
+    /// A run on odometry adds its drift at the end ([`OdometryDrift::describe`]).
     pub fn summary_line(&self) -> String {
+        match &self.odometry_drift {
+            Some(d) => format!("{}, {}", self.plain_summary_line(), d.describe()),
+            None => self.plain_summary_line(),
+        }
+    }
+
+    fn plain_summary_line(&self) -> String {
         let o = &self.outcome;
         if let Some(tr) = &self.tracking {
             let settle = match tr.time_to_tolerance {

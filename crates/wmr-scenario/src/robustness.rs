@@ -36,13 +36,28 @@ pub struct ShareCurve {
 
 /// The converged share of each law against each varied key.
 pub fn share_curves(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<ShareCurve> {
+    curves(spec, outcomes, |o| if o.status() == Status::Converged { 1.0 } else { 0.0 })
+}
+
+/// For a sweep on odometry (`[sensor] pose = "odometry"`), each law's mean odometry drift
+/// at the end, in % of the distance travelled, against each varied key: curves whose
+/// points hold that mean where [`share_curves`] hold a share. Empty for other sweeps.
+pub fn drift_curves(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<ShareCurve> {
+    if outcomes.iter().all(|o| o.odometry_drift.is_none()) {
+        return Vec::new();
+    }
+    curves(spec, outcomes, |o| o.odometry_drift.and_then(|d| d.percent()).unwrap_or(f64::NAN))
+}
+
+/// The mean of `value` over the runs of each law at each value of each varied key.
+fn curves(spec: &SweepSpec, outcomes: &[SweepOutcome], value: impl Fn(&SweepOutcome) -> f64) -> Vec<ShareCurve> {
     let mut curves = Vec::new();
     let values: Vec<Vec<f64>> = outcomes.iter().map(|o| spec.varied_values(o)).collect();
     for (ki, k) in spec.variation.keys.iter().enumerate() {
         let cases = (0..spec.laws.len()).flat_map(|l| (0..spec.n_references()).map(move |r| (l, r)));
         for (li, ri) in cases {
             let law = spec.case_name(li, ri);
-            let runs: Vec<(f64, bool)> = outcomes
+            let runs: Vec<(f64, f64)> = outcomes
                 .iter()
                 .zip(&values)
                 .filter(|(o, _)| o.law == li && o.reference == ri)
@@ -51,14 +66,14 @@ pub fn share_curves(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<ShareCur
                     Spread::Values(_) => spec.variants[o.variant].is_some_and(|(i, _)| i == ki),
                     _ => true,
                 })
-                .map(|(o, v)| (v[ki], o.status() == Status::Converged))
+                .map(|(o, v)| (v[ki], value(o)))
                 .collect();
             let points = match &k.spread {
                 Spread::Values(list) => list
                     .iter()
                     .map(|&x| {
-                        let at: Vec<bool> = runs.iter().filter(|(v, _)| *v == x).map(|(_, c)| *c).collect();
-                        (x, share(&at), at.len())
+                        let at: Vec<f64> = runs.iter().filter(|(v, _)| *v == x).map(|(_, c)| *c).collect();
+                        (x, mean(&at), at.len())
                     })
                     .collect(),
                 _ => {
@@ -68,9 +83,9 @@ pub fn share_curves(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<ShareCur
                     (0..DRAW_BINS.min(n))
                         .map(|b| {
                             let bin = &sorted[b * n / DRAW_BINS.min(n)..(b + 1) * n / DRAW_BINS.min(n)];
-                            let mean = bin.iter().map(|(v, _)| v).sum::<f64>() / bin.len().max(1) as f64;
-                            let conv: Vec<bool> = bin.iter().map(|(_, c)| *c).collect();
-                            (mean, share(&conv), bin.len())
+                            let mean_x = bin.iter().map(|(v, _)| v).sum::<f64>() / bin.len().max(1) as f64;
+                            let conv: Vec<f64> = bin.iter().map(|(_, c)| *c).collect();
+                            (mean_x, mean(&conv), bin.len())
                         })
                         .collect()
                 }
@@ -81,23 +96,31 @@ pub fn share_curves(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<ShareCur
     curves
 }
 
-fn share(converged: &[bool]) -> f64 {
-    if converged.is_empty() {
-        f64::NAN
-    } else {
-        converged.iter().filter(|c| **c).count() as f64 / converged.len() as f64
-    }
+/// The mean (NaN for none): of 1s and 0s, the share of 1s, exactly.
+fn mean(values: &[f64]) -> f64 {
+    if values.is_empty() { f64::NAN } else { values.iter().sum::<f64>() / values.len() as f64 }
 }
 
 /// The share curves as text: per varied key, one row per law, one column per value.
 pub fn share_table(curves: &[ShareCurve]) -> String {
+    table(curves, "converged share against", 100.0, 1)
+}
+
+/// The drift curves ([`drift_curves`]) as text, like [`share_table`].
+pub fn drift_table(curves: &[ShareCurve]) -> String {
+    table(curves, "odometry drift at the end (mean, % of the distance travelled) against", 1.0, 2)
+}
+
+/// Curves as text under `title {key}`, each point's value times `scale` in % with
+/// `decimals` decimals.
+fn table(curves: &[ShareCurve], title: &str, scale: f64, decimals: usize) -> String {
     let mut out = String::new();
     let mut key = "";
     let width = curves.iter().map(|c| c.law.len()).max().unwrap_or(3).max(12);
     for c in curves {
         if c.key != key {
             key = &c.key;
-            let _ = write!(out, "\nconverged share against {key}\n{:<width$}", "law");
+            let _ = write!(out, "\n{title} {key}\n{:<width$}", "law");
             for (x, _, _) in &c.points {
                 let _ = write!(out, " {:>9}", format!("{x:.4}").trim_end_matches('0').trim_end_matches('.'));
             }
@@ -105,7 +128,7 @@ pub fn share_table(curves: &[ShareCurve]) -> String {
         }
         let _ = write!(out, "{:<width$}", c.law);
         for (_, s, _) in &c.points {
-            let _ = write!(out, " {:>8.1}%", 100.0 * s);
+            let _ = write!(out, " {:>8.decimals$}%", scale * s);
         }
         out.push('\n');
     }

@@ -8,13 +8,13 @@ use std::ops::ControlFlow;
 use std::path::Path;
 
 use toml::Value;
-use wmr_core::{ControllerParams, Drive, Pose2, Robot, RobotParams, Sample, SensorParams, WorldParams};
+use wmr_core::{ControllerParams, Drive, OdometryParams, Pose2, Robot, RobotParams, Sample, SensorParams, WorldParams};
 
 use crate::assemble::{self, Origin, RunLoop};
 use crate::error::ScenarioError;
 use crate::file::{RunFile, ScenarioFile, SimFile};
 use crate::keys::{fields_of, fields_read_by, join, to_table, toml_f64, write_keys, write_keys_noted};
-use crate::output::RunResult;
+use crate::output::{OdometryDrift, RunResult};
 use crate::preset::{self, Origins};
 use crate::reference::ReferenceSpec;
 use crate::run::{RunSpec, short};
@@ -375,7 +375,7 @@ impl Scenario {
         poll: impl FnMut() -> ControlFlow<B>,
     ) -> ControlFlow<B, RunResult> {
         let sim = self.sim();
-        match &self.tracking {
+        let result = match &self.tracking {
             None => {
                 lp.try_run(sim.n_steps(), sim.log_every(), sink, poll).map_continue(|o| RunResult::new(index, label, o))
             }
@@ -384,7 +384,11 @@ impl Scenario {
                 crate::tracking_run::run(lp, sim, tr.tolerance, path, sink, poll)
                     .map_continue(|(o, t)| RunResult::new(index, label, o).with_tracking(t))
             }
-        }
+        };
+        result.map_continue(|r| {
+            let drift = OdometryDrift::of(lp, &r.outcome);
+            r.with_odometry_drift(drift)
+        })
     }
 
     /// Simulates run `run_index` from t = 0 to t_end (or divergence), handing `sink`
@@ -472,6 +476,7 @@ impl Scenario {
         if setup.has_sensor {
             let _ = writeln!(o, "\n[sensor]");
             write_keys(&mut o, &to_table(&setup.sensor), fields_of::<SensorParams<f64>>());
+            write_keys(&mut o, &to_table(&setup.pose), fields_of::<OdometryParams<f64>>());
         }
         let _ = writeln!(o, "\n[world]");
         write_keys(&mut o, &to_table(setup.world.params()), fields_of::<WorldParams<f64>>());

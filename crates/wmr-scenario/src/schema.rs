@@ -6,7 +6,9 @@ use std::borrow::Cow;
 
 use toml::Value;
 use wmr_core::describe::{Described, ParamField};
-use wmr_core::{DriveParams, LawParams, RobotParams, SensorParams, TractionParams, WheelStageParams, WorldParams};
+use wmr_core::{
+    DriveParams, LawParams, OdometryParams, RobotParams, SensorParams, TractionParams, WheelStageParams, WorldParams,
+};
 
 use crate::file::{GridFile, PoseFile, RandomFile, RunFile, ScenarioFile, SimFile, SweepFile};
 use crate::keys::{fields_of, to_table};
@@ -162,6 +164,7 @@ pub fn schema() -> Vec<SchemaKey> {
     out.push(SchemaKey::described("controller", None, &CONTROL_DT, Some(control_dt)));
     out.push(SchemaKey::described("controller", None, &MODEL, None));
     out.extend(declared("sensor", None, SensorParams::<f64>::FIELDS, &SensorParams::<f64>::default()));
+    out.extend(declared("sensor", None, OdometryParams::<f64>::FIELDS, &OdometryParams::<f64>::default()));
     out.extend(declared("world", None, WorldParams::<f64>::FIELDS, &WorldParams::<f64>::default()));
     out.extend(reference_keys());
     out.extend(plain("sim", fields_of::<SimFile>()));
@@ -190,6 +193,7 @@ mod tests {
         assert_eq!(names(RobotParams::<f64>::FIELDS), fields_of::<RobotParams<f64>>());
         assert_eq!(names(TractionParams::<f64>::FIELDS), fields_of::<TractionParams<f64>>());
         assert_eq!(names(SensorParams::<f64>::FIELDS), fields_of::<SensorParams<f64>>());
+        assert_eq!(names(OdometryParams::<f64>::FIELDS), fields_of::<OdometryParams<f64>>());
         assert_eq!(names(WorldParams::<f64>::FIELDS), fields_of::<WorldParams<f64>>());
         assert_eq!(names(WheelStageParams::<f64>::FIELDS), fields_of::<WheelStageParams<f64>>());
         for d in DriveParams::<f64>::defaults() {

@@ -6,13 +6,13 @@
 use toml::{Table, Value};
 use wmr_core::describe::Described;
 use wmr_core::{
-    AnyLaw, Controller, ControllerParams, Drive, DriveParams, Plant, Pose2, PoseSensor, Robot, RobotParams,
-    SensorParams, Traction, TractionParams, World, WorldParams,
+    AnyLaw, AnySensor, Controller, ControllerParams, Drive, DriveParams, OdometryParams, Plant, Pose2, PoseSource,
+    Robot, RobotParams, SensorParams, Traction, TractionParams, World, WorldParams,
 };
 
 use crate::controller;
 use crate::error::ScenarioError;
-use crate::keys::{join, kind_of, overlay, overlay_table, read_with, to_table};
+use crate::keys::{join, kind_of, overlay, overlay_table, read_with, to_table, unknown_key};
 
 /// A built controller of any law, at t = 0.
 pub type BuiltController = Controller<f64, AnyLaw<f64>>;
@@ -83,6 +83,9 @@ pub struct Setup {
     pub world: World<f64>,
     /// What the controller sees (`[sensor]`; every default when absent).
     pub sensor: SensorParams<f64>,
+    /// Where the controller's pose comes from (`[sensor] pose`, `fix_rate_hz`,
+    /// `odometry_noise`; absolute, today's sensor, by default).
+    pub pose: OdometryParams<f64>,
     /// True when the file has a `[sensor]` table: outputs then carry the measured pose.
     pub has_sensor: bool,
     /// The controller's idea of the robot: `[robot]` with `[controller.model]` laid over it.
@@ -136,9 +139,21 @@ impl Setup {
             overlay(&WorldParams::<f64>::default(), &t.world, "world")?.validate().map_err(param_error("world"))?;
         let traction_params = overlay(&TractionParams::<f64>::default(), &traction_keys, "robot")?;
         let traction = traction_params.validate(&robot, &world).map_err(param_error("robot"))?;
-        let sensor = match &t.sensor {
-            Some(s) => overlay(&SensorParams::<f64>::default(), s, "sensor")?,
-            None => SensorParams::default(),
+        // `[sensor]` holds the keys of two types: the pose source's, and the sensor's.
+        let (sensor, pose) = match &t.sensor {
+            Some(s) => {
+                let is_pose_key = |k: &str| OdometryParams::<f64>::FIELDS.iter().any(|f| f.name == k);
+                let names = || SensorParams::<f64>::FIELDS.iter().chain(OdometryParams::<f64>::FIELDS).map(|f| f.name);
+                if let Some(k) = s.keys().find(|k| !names().any(|n| n == k.as_str())) {
+                    return Err(unknown_key("sensor", k, names()));
+                }
+                let (pose_keys, sensor_keys): (Table, Table) = s.clone().into_iter().partition(|(k, _)| is_pose_key(k));
+                (
+                    overlay(&SensorParams::<f64>::default(), &sensor_keys, "sensor")?,
+                    overlay(&OdometryParams::<f64>::default(), &pose_keys, "sensor")?,
+                )
+            }
+            None => (SensorParams::default(), OdometryParams::default()),
         };
         let mut table = t.controller.clone();
         let model_path = join(controller_path, "model");
@@ -153,7 +168,7 @@ impl Setup {
         };
         let controller = controller::resolve(&table, controller_path, &drive_params)?;
         let built = controller.build(model.params(), &drive).map_err(param_error(controller_path))?;
-        PoseSensor::<f64>::new(sensor, controller.control_dt, 0).map_err(param_error("sensor"))?;
+        AnySensor::<f64>::new(sensor, pose, model.params(), controller.control_dt, 0).map_err(param_error("sensor"))?;
         Ok(Self {
             robot,
             traction_params,
@@ -161,6 +176,7 @@ impl Setup {
             drive,
             world,
             sensor,
+            pose,
             has_sensor: t.sensor.is_some(),
             model,
             controller,
@@ -253,7 +269,11 @@ impl Setup {
             }
             "drive" => to_table(&self.drive.params()),
             "world" => to_table(self.world.params()),
-            "sensor" => to_table(&self.sensor),
+            "sensor" => {
+                let mut t = to_table(&self.sensor);
+                t.extend(to_table(&self.pose));
+                t
+            }
             "controller" => match rest.strip_prefix("model.") {
                 Some(k) => return number(to_table(self.model.params()).get(k)?),
                 None => {
@@ -268,8 +288,21 @@ impl Setup {
         number(t.get(rest)?)
     }
 
-    /// The sensor of run `run` (its noise stream).
-    pub fn sensor_for(&self, run: u64) -> Result<PoseSensor<f64>, wmr_core::ParamError> {
-        PoseSensor::new(self.sensor, self.controller.control_dt, run)
+    /// The sensor of run `run` (its noise stream): the pose sensor, or odometry with the
+    /// controller's model.
+    pub fn sensor_for(&self, run: u64) -> Result<AnySensor<f64>, wmr_core::ParamError> {
+        AnySensor::new(self.sensor, self.pose, self.model.params(), self.controller.control_dt, run)
+    }
+
+    /// True when the controller's pose is dead reckoning (`[sensor] pose = "odometry"`):
+    /// outputs then carry the odometry pose beside the fused one.
+    pub fn odometry(&self) -> bool {
+        self.pose.pose == PoseSource::Odometry
+    }
+
+    /// True when the controller sees the true state at every tick (the paper's sensor):
+    /// what the lanes of the fast path assume.
+    pub fn sensor_is_perfect(&self) -> bool {
+        self.sensor.is_perfect() && !self.odometry()
     }
 }

@@ -18,7 +18,9 @@
 //! variant, every other key at its nominal value (the scenario's), so the converged share
 //! of each law can be read against each key. Keys with `uniform` or `normal` are drawn
 //! for every run, jointly, on top of its variant. The controller's model stays nominal
-//! unless a `controller.model.*` key is varied.
+//! unless a `controller.model.*` key is varied. An entry with `values` may set other keys
+//! with each value (`with = { "sensor.pose" = "odometry" }`): the fix rate of odometry
+//! means nothing on the absolute sensor.
 
 use serde::Deserialize;
 use toml::Value;
@@ -39,6 +41,9 @@ pub struct VaryFile {
     pub uniform: Option<Vec<f64>>,
     /// `[mean, standard deviation]`: drawn for every run (exactly two numbers).
     pub normal: Option<Vec<f64>>,
+    /// Keys set alongside each of `values` (dotted, e.g. `{ "sensor.pose" = "odometry" }`):
+    /// what a value needs to mean anything (a fix rate needs the odometry).
+    pub with: Option<toml::Table>,
 }
 
 /// How a varied key spreads.
@@ -59,6 +64,8 @@ pub struct Varied {
     pub key: String,
     /// Its values or distribution.
     pub spread: Spread,
+    /// Keys set alongside each value (`with`), in file order.
+    pub with: Vec<(String, Value)>,
 }
 
 /// Every varied key of a sweep, with the seed of the draws and the trials per run.
@@ -149,7 +156,17 @@ impl Variation {
             if keys.iter().any(|k: &Varied| k.key == f.key) {
                 return Err(ScenarioError::new(format!("{path}.key"), format!("{} is varied twice", f.key)));
             }
-            keys.push(Varied { key: f.key.clone(), spread });
+            let with: Vec<(String, Value)> = f.with.clone().unwrap_or_default().into_iter().collect();
+            if !with.is_empty() && !matches!(spread, Spread::Values(_)) {
+                return Err(ScenarioError::new(
+                    format!("{path}.with"),
+                    "only an entry with values can set keys with them",
+                ));
+            }
+            if let Some((k, _)) = with.iter().find(|(k, _)| *k == f.key) {
+                return Err(ScenarioError::new(format!("{path}.with"), format!("{k} is the varied key itself")));
+            }
+            keys.push(Varied { key: f.key.clone(), spread, with });
         }
         Ok(Self { keys, seed, trials })
     }
@@ -191,8 +208,11 @@ impl Variation {
 
     /// The (key, value) pairs a run sets: its variant's axis value, then its draws.
     pub fn settings(&self, variant: Variant, run: u64) -> Vec<(&str, Value)> {
-        let mut out: Vec<(&str, Value)> =
-            variant.into_iter().map(|(i, v)| (self.keys[i].key.as_str(), Value::Float(v))).collect();
+        let mut out: Vec<(&str, Value)> = Vec::new();
+        if let Some((i, v)) = variant {
+            out.push((self.keys[i].key.as_str(), Value::Float(v)));
+            out.extend(self.keys[i].with.iter().map(|(k, w)| (k.as_str(), w.clone())));
+        }
         out.extend(self.draws(run).into_iter().map(|(i, v)| (self.keys[i].key.as_str(), Value::Float(v))));
         out
     }

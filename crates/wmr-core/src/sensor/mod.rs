@@ -5,10 +5,19 @@
 //! exactly that, the true pose and wheel state at the instant of the control tick.
 //! [`PoseSensor`] is the real one: a pose sampled at its own rate, late, noisy, and
 //! quantized wheel encoders ([`pose_sensor`]); [`gaussian`] draws its noise.
+//! [`OdometrySensor`] hands the controller the pose dead-reckoned from the encoders
+//! ([`dead_reckoning`]) and fused with optional absolute fixes by the pose EKF ([`ekf`]),
+//! as `[sensor] pose = "odometry"` asks ([`odometry`]); [`AnySensor`] is either ([`any`]).
 
+pub mod any;
+pub mod dead_reckoning;
+pub mod ekf;
 pub mod gaussian;
+pub mod odometry;
 pub mod pose_sensor;
 
+pub use any::AnySensor;
+pub use odometry::{OdometryParams, OdometrySensor, PoseSource};
 pub use pose_sensor::{PoseSensor, SensorParams};
 
 use crate::math::{Pose2, Wheels};
@@ -42,6 +51,12 @@ pub trait Sensor<T: Real> {
     /// moving, and its runs are never stopped early ([`crate::settle`]).
     fn deterministic(&self) -> bool {
         true
+    }
+
+    /// The pose of C dead-reckoned from the encoders at the last measurement (world
+    /// frame), for a sensor that keeps one (logged beside the pose it hands the controller).
+    fn odometry(&self) -> Option<Pose2<T>> {
+        None
     }
 }
 

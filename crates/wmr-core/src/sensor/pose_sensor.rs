@@ -71,6 +71,9 @@ impl<T: Real> SensorParams<T> {
     }
 }
 
+/// A pose sample as delivered: its index j (taken at j P) and its noisy pose.
+pub(crate) type Fix<T> = (u64, Pose2<T>);
+
 /// One pose sample in flight: its index j and the (noisy) pose.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct InFlight<T> {
@@ -198,8 +201,9 @@ impl<T: Real, const N: usize> PoseSensor<T, N> {
         if sigma > T::zero() { value + sigma * T::lit(self.noise.next_normal()) } else { value }
     }
 
-    /// The pose the controller sees at this tick, and when it was taken (s).
-    fn pose_at_tick(&mut self, truth: Pose2<T>) -> (Pose2<T>, T) {
+    /// The pose the controller sees at this tick, when it was taken (s), and the index j
+    /// of the newest sample delivered at this tick (none: the pose seen is an older one).
+    fn pose_at_tick(&mut self, truth: Pose2<T>) -> (Pose2<T>, T, Option<u64>) {
         let k = self.tick;
         if k.is_multiple_of(self.ticks_per_sample) {
             let j = k / self.ticks_per_sample;
@@ -211,17 +215,51 @@ impl<T: Real, const N: usize> PoseSensor<T, N> {
             self.len += 1;
         }
         // Deliver every sample that has arrived: j P + L <= k dt_c.
+        let mut delivered = None;
         while self.len > 0 {
             let s = self.ring[self.head];
             if s.index * self.ticks_per_sample + self.latency_ticks > k {
                 break;
             }
             self.seen = Some((s.pose, T::lit(s.index as f64) * self.sample_period));
+            delivered = Some(s.index);
             self.head = (self.head + 1) % N;
             self.len -= 1;
         }
         // Before the first sample arrives: the start pose, without noise.
-        *self.seen.get_or_insert((truth, T::zero()))
+        let (pose, taken) = *self.seen.get_or_insert((truth, T::zero()));
+        (pose, taken, delivered)
+    }
+
+    /// The encoder quantum q = 2 pi / encoder_counts, rad (0: ideal encoders).
+    pub(crate) fn quantum(&self) -> T {
+        self.quantum
+    }
+
+    /// Control ticks per pose sample (P / dt_c): sample j is taken at tick j times this.
+    pub(crate) fn ticks_per_sample(&self) -> u64 {
+        self.ticks_per_sample
+    }
+
+    /// One control tick for a sensor built on this one ([`super::odometry`]): the
+    /// encoder angles (rad) and speeds (rad/s), and, with `fixes`, the pose sample
+    /// delivered at this tick if one is (its index j and its noisy pose). Without
+    /// `fixes` no sample is taken and no noise is drawn.
+    pub(crate) fn encoders_and_fix(
+        &mut self,
+        state: &State<T>,
+        robot: &RobotParams<T>,
+        fixes: bool,
+    ) -> (Wheels<T>, Wheels<T>, Option<Fix<T>>) {
+        let fix = if fixes {
+            let (pose, _, delivered) = self.pose_at_tick(state.pose());
+            delivered.map(|j| (j, pose))
+        } else {
+            None
+        };
+        let (angles, speeds) = self.encoders(state, robot);
+        self.tick += 1;
+        (angles, speeds, fix)
     }
 
     /// Encoder angles (rad) and speeds (rad/s) at this tick.
@@ -263,7 +301,7 @@ impl<T: Real, const N: usize> Sensor<T> for PoseSensor<T, N> {
         if self.perfect {
             return super::PerfectSensor.measure(t, state, robot);
         }
-        let (pose, taken) = self.pose_at_tick(state.pose());
+        let (pose, taken, _) = self.pose_at_tick(state.pose());
         let (wheel_angles, wheel_speeds) = self.encoders(state, robot);
         self.tick += 1;
         Measurement { t: taken, pose, wheel_angles, wheel_speeds }

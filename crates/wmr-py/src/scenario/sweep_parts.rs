@@ -90,6 +90,8 @@ fn row_outcome(r: &[f64]) -> Option<SweepOutcome> {
         // Python refuses a sweep over references (`sweep_of`): its runs go to a goal.
         reference: 0,
         tracking: None,
+        // The rows of an outside executor's parts carry the outcome only (not the drift).
+        odometry_drift: None,
     })
 }
 

@@ -12,6 +12,7 @@ use crate::assemble::{self, Origin};
 use crate::error::ScenarioError;
 use crate::executor::map_ordered;
 use crate::reference::is_path_following;
+use crate::output::OdometryDrift;
 use crate::setup::Setup;
 use crate::sim::SimSpec;
 use crate::tracking_run;
@@ -91,9 +92,10 @@ impl SweepSpec {
         let start = self.start_pose(i.reference, i.start);
         let Some(tr) = &self.tracking else {
             let mut lp = assemble::closed_loop(setup, k as u64, start, self.goal, sim, origin)?;
-            return Ok(lp
-                .try_run(sim.n_steps(), u32::MAX, |_| ControlFlow::Continue(()), poll)
-                .map_continue(|outcome| self.outcome_of(k, outcome)));
+            return Ok(lp.try_run(sim.n_steps(), u32::MAX, |_| ControlFlow::Continue(()), poll).map_continue(|outcome| {
+                let drift = OdometryDrift::of(&lp, &outcome);
+                SweepOutcome { odometry_drift: drift, ..self.outcome_of(k, outcome) }
+            }));
         };
         let reference = tr.references[i.reference].1.built;
         let mut lp = assemble::closed_loop_to(setup, k as u64, start, reference, sim, origin)?;
@@ -102,6 +104,7 @@ impl SweepSpec {
         Ok(tracking_run::run(&mut lp, sim, tr.tolerance, path_following, |_| ControlFlow::Continue(()), poll)
             .map_continue(|(outcome, tracking)| SweepOutcome {
                 tracking: Some(tracking),
+                odometry_drift: OdometryDrift::of(&lp, &outcome),
                 ..self.outcome_of(k, outcome)
             }))
     }
@@ -119,6 +122,7 @@ impl SweepSpec {
             outcome,
             reference: i.reference,
             tracking: None,
+            odometry_drift: None,
         }
     }
 

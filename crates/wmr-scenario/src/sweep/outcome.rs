@@ -1,6 +1,7 @@
 //! The outcome of one run of a sweep, with where it sits in the sweep.
 
 use wmr_core::tracking::TrackingOutcome;
+use crate::output::OdometryDrift;
 use wmr_core::{Outcome, Pose2, Status};
 
 /// The outcome of one (law, variant, trial, start) run.
@@ -25,6 +26,8 @@ pub struct SweepOutcome {
     pub reference: usize,
     /// How the tracking error went, for a sweep over references.
     pub tracking: Option<TrackingOutcome<f64>>,
+    /// For a run on odometry (`[sensor] pose = "odometry"`), its drift at the end.
+    pub odometry_drift: Option<OdometryDrift>,
 }
 
 impl SweepOutcome {

@@ -76,7 +76,14 @@ impl SweepSpec {
                     crate::vary::Spread::Uniform(lo, hi) => format!("uniform = [{}, {}]", f(*lo), f(*hi)),
                     crate::vary::Spread::Normal(m, sd) => format!("normal = [{}, {}]", f(*m), f(*sd)),
                 };
-                let _ = writeln!(out, "  {{ key = {}, {spread} }},", Value::String(k.key.clone()));
+                let with = if k.with.is_empty() {
+                    String::new()
+                } else {
+                    let pairs: Vec<String> =
+                        k.with.iter().map(|(key, v)| format!("{} = {v}", Value::String(key.clone()))).collect();
+                    format!(", with = {{ {} }}", pairs.join(", "))
+                };
+                let _ = writeln!(out, "  {{ key = {}, {spread}{with} }},", Value::String(k.key.clone()));
             }
             let _ = writeln!(out, "]");
         }
