@@ -59,10 +59,10 @@
 #define WMR_DRIVE_F64_WORDS 12
 
 // Words of a plant, `wmr_plant_f32`.
-#define WMR_PLANT_F32_WORDS 32
+#define WMR_PLANT_F32_WORDS 48
 
 // Words of a plant, `wmr_plant_f64`.
-#define WMR_PLANT_F64_WORDS 64
+#define WMR_PLANT_F64_WORDS 96
 
 // Words of a sensor, `wmr_sensor_f32` (perfect or pose sensor).
 #define WMR_SENSOR_F32_WORDS 96

@@ -381,9 +381,9 @@ pub const WMR_DRIVE_F32_WORDS: usize = 8;
 /// Words of a validated drive, `wmr_drive_f64`.
 pub const WMR_DRIVE_F64_WORDS: usize = 12;
 /// Words of a plant, `wmr_plant_f32`.
-pub const WMR_PLANT_F32_WORDS: usize = 32;
+pub const WMR_PLANT_F32_WORDS: usize = 48;
 /// Words of a plant, `wmr_plant_f64`.
-pub const WMR_PLANT_F64_WORDS: usize = 64;
+pub const WMR_PLANT_F64_WORDS: usize = 96;
 /// Words of a sensor, `wmr_sensor_f32` (perfect or pose sensor).
 pub const WMR_SENSOR_F32_WORDS: usize = 96;
 /// Words of a sensor, `wmr_sensor_f64` (perfect or pose sensor).
