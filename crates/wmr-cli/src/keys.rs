@@ -51,7 +51,11 @@ const SIM_RUN_SWEEP: &str = r#"[sim]
   controllers = [{ kind = "paper" }, { kind = "paper_bidirectional" }, { kind = "polar" }, { kind = "lyapunov" }]
                                laws to compare, each with its [controller] keys (default: these)
   grid = { x_min = -2.0, x_max = 2.0, nx = 21, y_min = -2.0, y_max = 2.0, ny = 21, theta_deg = [0.0] }
-  random = { n = 1000, seed = 1, radius = 2.0, min_radius = 0.1 }
+  references = [{ kind = "circle", radius = 1.0, speed = 0.3 }, { kind = "figure_eight" }]
+                               a sweep over references (each a [reference] table): every
+                               tracking law on each; grid/random starts are offsets from its
+                               start pose (x along its heading, y to its left); no goal
+  random = { n = 1000, seed = 1, radius = 2.0, min_radius = 0.1, max_heading_deg = 180.0 }
   vary = [{ key = "sensor.latency", values = [0.0, 0.05] }, { key = "world.slope_deg", uniform = [0, 5] }]
                                robustness: vary keys of [robot], [drive], [controller] (and
                                controller.model), [sensor], [world]: values one at a time, or

@@ -194,9 +194,16 @@ const GEN_BEGIN: &str =
 const GEN_END: &str = "# end of generated keys\n";
 
 /// The schema keys a stub class takes: the table's keys for every kind and for its own.
+/// Python's `Robot` is the core's `RobotParams`: the traction keys of `[robot]`
+/// (`wmr_core::TractionParams`, wheels that slip) are read by scenarios only.
 fn class_keys(keys: &[SchemaKey], table: &str, kind: Option<&str>) -> Vec<SchemaKey> {
+    let traction = |k: &SchemaKey| {
+        k.table == "robot"
+            && <wmr_core::TractionParams<f64> as wmr_core::describe::Described>::FIELDS.iter().any(|f| f.name == k.key)
+    };
     keys.iter()
         .filter(|k| k.table == table && !matches!(k.key, "kind" | "model") && (k.kind.is_none() || k.kind == kind))
+        .filter(|k| !traction(k))
         .cloned()
         .collect()
 }

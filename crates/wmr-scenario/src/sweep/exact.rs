@@ -11,8 +11,8 @@ use super::spec::{SweepSpec, with_settings};
 use crate::assemble::{self, Origin};
 use crate::error::ScenarioError;
 use crate::executor::map_ordered;
-use crate::reference::is_path_following;
 use crate::output::OdometryDrift;
+use crate::reference::is_path_following;
 use crate::setup::Setup;
 use crate::sim::SimSpec;
 use crate::tracking_run;
@@ -92,10 +92,12 @@ impl SweepSpec {
         let start = self.start_pose(i.reference, i.start);
         let Some(tr) = &self.tracking else {
             let mut lp = assemble::closed_loop(setup, k as u64, start, self.goal, sim, origin)?;
-            return Ok(lp.try_run(sim.n_steps(), u32::MAX, |_| ControlFlow::Continue(()), poll).map_continue(|outcome| {
-                let drift = OdometryDrift::of(&lp, &outcome);
-                SweepOutcome { odometry_drift: drift, ..self.outcome_of(k, outcome) }
-            }));
+            return Ok(lp.try_run(sim.n_steps(), u32::MAX, |_| ControlFlow::Continue(()), poll).map_continue(
+                |outcome| {
+                    let drift = OdometryDrift::of(&lp, &outcome);
+                    SweepOutcome { odometry_drift: drift, ..self.outcome_of(k, outcome) }
+                },
+            ));
         };
         let reference = tr.references[i.reference].1.built;
         let mut lp = assemble::closed_loop_to(setup, k as u64, start, reference, sim, origin)?;

@@ -1,7 +1,7 @@
 //! The outcome of one run of a sweep, with where it sits in the sweep.
 
-use wmr_core::tracking::TrackingOutcome;
 use crate::output::OdometryDrift;
+use wmr_core::tracking::TrackingOutcome;
 use wmr_core::{Outcome, Pose2, Status};
 
 /// The outcome of one (law, variant, trial, start) run.
