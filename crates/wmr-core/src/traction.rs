@@ -1,5 +1,5 @@
 //! Traction: how the wheels hold the ground. Rolling (the paper's no-slip constraints,
-//! [`crate::dynamics`]) or slip: each driven wheel pushes on the ground through a
+//! `dynamics.rs`) or slip: each driven wheel pushes on the ground through a
 //! regularised Coulomb law limited by mu times its normal load (docs/model.md, "Traction").
 //!
 //! The slip plant drops the two constraints of (15) and gains three speeds: each wheel's
@@ -136,7 +136,7 @@ impl<T: Real> TractionParams<T> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum Traction<T> {
-    /// The paper's rolling wheels ([`crate::dynamics`]).
+    /// The paper's rolling wheels (`dynamics.rs`).
     Rolling,
     /// Wheels that slip ([`Slip`]).
     Slip(Slip<T>),

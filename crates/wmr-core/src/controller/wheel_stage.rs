@@ -10,7 +10,7 @@
 //! references pass through bit for bit.
 //!
 //! **Twist demands** (v, omega): wheel speed references by the inverse of (1), scaled
-//! together by [`limit_wheel_speeds`], integrated into moving angle references that the
+//! together by [`limit_wheel_speeds`](super::saturation::limit_wheel_speeds), integrated into moving angle references that the
 //! servos track with the derivative on the speed error ([`WheelServo::update_tracking`]):
 //!
 //! ```text
