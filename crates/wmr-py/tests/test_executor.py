@@ -3,6 +3,7 @@ in workers give the local call's result bit for bit, in order."""
 
 from __future__ import annotations
 
+import multiprocessing
 import os
 import time
 from concurrent.futures import Future, ProcessPoolExecutor
@@ -74,7 +75,9 @@ def test_sweep_parts_are_the_local_sweep() -> None:
 def test_process_pool() -> None:
     s = starts(16)
     local = wmr_py.run_batch(s, (0.2, 0, 1.0), t_end=3.0, sensor=NOISY)
-    with ProcessPoolExecutor(2) as ex:
+    # Spawned, not forked: a worker forked from a parent whose thread pool has run would
+    # wait on that pool's copied locks forever (the test hung in CI with fork).
+    with ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("spawn")) as ex:
         parted = wmr_py.run_batch(s, (0.2, 0, 1.0), t_end=3.0, sensor=NOISY, executor=ex)
         swept = wmr_py.sweep(VARY_SWEEP, executor=ex)
     assert all(same(parted[k], local[k]) for k in local)
