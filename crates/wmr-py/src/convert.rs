@@ -4,11 +4,31 @@
 //! A NaN or an infinity never enters the models from Python: it is refused here with a
 //! `ParameterError` naming the argument and the component (e.g. `state[3]`: `v must be a finite number`).
 
-use numpy::{PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::ndarray::Dimension;
+use numpy::{Element, PyReadonlyArray, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyByteArray, PyBytes, PyDict, PyList, PyString, PyTuple};
 
 use crate::error::parameter_error;
+
+/// `obj` as a read-only numpy array of `T` and dimension `D`, or `None` if it is not
+/// one; an unaligned array is copied to an aligned one first.
+///
+/// Why: numpy allows unaligned arrays (`np.frombuffer` at an odd offset, a record
+/// array's field, and pickle-5 buffers as Dask ships arrays to its workers), but a view
+/// of one as `&[f64]` is undefined behaviour, and ndarray's debug check panics on it.
+/// Every array argument of wmr-py is read through here.
+pub fn readonly_array<'py, T: Element, D: Dimension>(
+    obj: &Bound<'py, PyAny>,
+) -> PyResult<Option<PyReadonlyArray<'py, T, D>>> {
+    let Ok(a) = obj.extract::<PyReadonlyArray<'py, T, D>>() else { return Ok(None) };
+    if a.is_aligned() {
+        return Ok(Some(a));
+    }
+    drop(a);
+    let copy = obj.py().import("numpy")?.call_method1("require", (obj, obj.py().None(), "A"))?;
+    Ok(copy.extract::<PyReadonlyArray<'py, T, D>>().ok())
+}
 
 /// Reads `N` floats from a 1-D float64 array or any sequence of real numbers, each finite.
 ///
@@ -30,7 +50,8 @@ pub fn finite_array<const N: usize>(obj: &Bound<'_, PyAny>, arg: &str, names: [&
     {
         return Err(parameter_error(arg, format_args!("{}, got an array of {}", expected(), kind_name(kind))));
     }
-    let values: Vec<f64> = if let Ok(a) = obj.extract::<PyReadonlyArray1<'_, f64>>() {
+    let values: Vec<f64> = if let Some(a) = readonly_array::<f64, _>(obj)? {
+        let a: PyReadonlyArray1<'_, f64> = a;
         if a.len() != N {
             return Err(wrong_length(arg, N, a.len(), &names));
         }
@@ -141,9 +162,9 @@ pub fn batch_arg<'py, const K: usize>(
     arg: &str,
     names: [&str; K],
 ) -> PyResult<Option<PyReadonlyArray2<'py, f64>>> {
-    let arr = match obj.extract::<PyReadonlyArray2<'py, f64>>() {
-        Ok(a) => a,
-        Err(_) => {
+    let arr = match readonly_array::<f64, _>(obj)? {
+        Some(a) => a,
+        None => {
             let ndim = match obj.getattr("ndim") {
                 Ok(n) => n.extract::<usize>().unwrap_or(0),
                 // A list of rows (lists or arrays) is a batch; a flat list is one robot.
@@ -172,9 +193,9 @@ pub fn batch_arg<'py, const K: usize>(
             let converted = np
                 .call_method1("asarray", (obj, "float64"))
                 .map_err(|e| parameter_error(arg, format_args!("expected an (N, {K}) array of real numbers: {e}")))?;
-            converted
-                .extract::<PyReadonlyArray2<'py, f64>>()
-                .map_err(|_| parameter_error(arg, format_args!("expected an (N, {K}) array, got {}", type_name(obj))))?
+            readonly_array::<f64, _>(&converted)?.ok_or_else(|| {
+                parameter_error(arg, format_args!("expected an (N, {K}) array, got {}", type_name(obj)))
+            })?
         }
     };
     let shape = arr.shape();

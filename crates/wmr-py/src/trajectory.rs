@@ -10,7 +10,7 @@ use pyo3::types::{PyDict, PyList, PyTuple};
 use wmr_core::{AnyReference, Reference, ReferenceState};
 use wmr_scenario::reference::{ReferenceSpec, resolve};
 
-use crate::convert::{finite_scalar, type_name};
+use crate::convert::{finite_scalar, readonly_array, type_name};
 use crate::error::{from_scenario, parameter_error, scenario_error};
 use crate::scenario::to_toml;
 
@@ -155,7 +155,8 @@ impl PyReference {
     /// the CSV's x_ref ... omega_ref columns at those times.
     fn state_at<'py>(&self, py: Python<'py>, t_s: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let r = &self.spec.built;
-        if let Ok(a) = t_s.extract::<PyReadonlyArray1<'_, f64>>() {
+        if let Some(a) = readonly_array::<f64, _>(t_s)? {
+            let a: PyReadonlyArray1<'_, f64> = a;
             let a = a.as_array();
             let mut out = Array2::<f64>::zeros((a.len(), 7));
             for (i, (mut row, &t)) in out.rows_mut().into_iter().zip(a.iter()).enumerate() {

@@ -178,3 +178,34 @@ def test_regression_12_15_times_are_exact_decimals() -> None:
     r = wmr_py.simulate((0, 0, 0), GOAL, t_end=2.0)
     assert [repr(float(t)) for t in r.t[:9]] == ["0.0", "0.01", "0.02", "0.03", "0.04", "0.05", "0.06", "0.07", "0.08"]
     assert all(float(f"{k / 100:.2f}") == t for k, t in enumerate(r.t))
+
+
+# --- unaligned arrays (found when Dask shipped a batch's starts to its workers) --------
+
+
+def _unaligned(a: np.ndarray) -> np.ndarray:
+    """A float64 copy of `a` whose data starts one byte past an 8-byte boundary, as
+    np.frombuffer at an odd offset (or a pickle-5 buffer) gives."""
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    buf = bytearray(a.nbytes + 1)
+    out = np.frombuffer(buf, dtype=np.float64, count=a.size, offset=1).reshape(a.shape)
+    out[...] = a
+    assert not out.flags.aligned
+    return out
+
+
+def test_unaligned_arrays_are_read_as_their_aligned_copies() -> None:
+    starts = np.array([[0.5, 0.2, 0.1], [-0.4, 0.3, 2.0], [0.1, -0.6, -1.0]])
+    ref = wmr_py.run_batch(starts, (0, 0, 0), t_end=2.0)
+    # Through the worker part an executor runs (what Dask called with unaligned starts).
+    base = wmr_py._scenario([{"start": {"x": 0.5, "y": 0.2, "theta": 0.1}, "goal": wmr_py._pose((0, 0, 0), "goal")}], None, None, None, 2.0, None, 2.0, None, None, None)
+    part = wmr_py._results.batch_task(base, _unaligned(starts), None, 0)
+    assert all(np.array_equal(part[k], ref[k], equal_nan=True) for k in ref if k in part)
+    robot = wmr_py.Robot()
+    states = np.array([[0.0, 0.0, 0.3, 0.4, 0.1, 0.0, 0.0], [1.0, 2.0, -0.3, 0.2, -0.5, 1.0, 2.0]])
+    tau = np.array([[0.1, -0.2], [0.3, 0.05]])
+    assert np.array_equal(robot.step(_unaligned(states), _unaligned(tau), 0.01), robot.step(states, tau, 0.01))
+    assert np.array_equal(robot.derivative(_unaligned(states[0]), _unaligned(tau[0])), robot.derivative(states[0], tau[0]))
+    circle = wmr_py.Reference("circle", radius=1.0, speed=0.3)
+    t = np.linspace(0.0, 2.0, 5)
+    assert np.array_equal(circle.state_at(_unaligned(t)), circle.state_at(t))

@@ -14,6 +14,7 @@ use wmr_scenario::{RunResult, RunSpec, ScenarioError, executor};
 
 use super::outcomes::{add_tracking_arrays, outcome_dict};
 use super::source::scenario_arg;
+use crate::convert::{readonly_array, type_name};
 use crate::error::{parameter_error, to_py};
 use crate::interrupt::{Progress, check_memory, interruptible_with};
 
@@ -31,8 +32,8 @@ use crate::interrupt::{Progress, check_memory, interruptible_with};
 pub fn run_batch_native<'py>(
     py: Python<'py>,
     base: &Bound<'py, PyAny>,
-    starts: PyReadonlyArray2<'py, f64>,
-    goals: Option<PyReadonlyArray2<'py, f64>>,
+    starts: &Bound<'py, PyAny>,
+    goals: Option<&Bound<'py, PyAny>>,
     first: usize,
     threads: usize,
     progress: Option<&Bound<'py, PyAny>>,
@@ -42,7 +43,11 @@ pub fn run_batch_native<'py>(
         return Err(parameter_error("threads", format_args!("0 (rayon's pool) or 1, got {threads}")));
     }
     let sc = scenario_arg(base)?;
-    let poses = |a: &PyReadonlyArray2<'py, f64>, arg: &str| -> PyResult<Vec<Pose2<f64>>> {
+    let poses = |a: &Bound<'py, PyAny>, arg: &str| -> PyResult<Vec<Pose2<f64>>> {
+        let a: PyReadonlyArray2<'py, f64> = readonly_array(a)?.ok_or_else(|| {
+            parameter_error(arg, format_args!("expected a float64 array of shape (N, 3), got {}", type_name(a)))
+        })?;
+        let a = &a;
         let shape = a.shape();
         if shape.len() != 2 || shape[1] != 3 {
             return Err(parameter_error(
@@ -76,7 +81,7 @@ pub fn run_batch_native<'py>(
         }
         Ok(out)
     };
-    let starts = poses(&starts, "starts")?;
+    let starts = poses(starts, "starts")?;
     // Every run's result is held until the arrays are made: refuse what memory cannot hold.
     let per_run = (std::mem::size_of::<RunSpec>() + std::mem::size_of::<Option<RunResult>>() + 32 + 12 * 8) as u128;
     let n = starts.len();
@@ -86,7 +91,7 @@ pub fn run_batch_native<'py>(
     let default_goal = sc.runs().first().map(|r| r.goal).unwrap_or_default();
     let goals = match goals {
         Some(g) => {
-            let g = poses(&g, "goals")?;
+            let g = poses(g, "goals")?;
             if g.len() != starts.len() && g.len() != 1 {
                 return Err(parameter_error(
                     "goals",

@@ -14,6 +14,7 @@ use wmr_scenario::{Scenario, SweepOutcome};
 
 use super::source::{Source, scenario_arg};
 use super::sweep_run::{sweep_dict, sweep_of};
+use crate::convert::{readonly_array, type_name};
 use crate::error::{from_scenario, parameter_error, to_py};
 use crate::interrupt::interruptible;
 
@@ -142,11 +143,10 @@ pub fn sweep_part<'py>(
 
 /// The result of `sweep` from the rows of every part (`_sweep_part`), in run order.
 #[pyfunction(name = "_sweep_gather")]
-pub fn sweep_gather<'py>(
-    py: Python<'py>,
-    text: &str,
-    rows: PyReadonlyArray2<'py, f64>,
-) -> PyResult<Bound<'py, PyDict>> {
+pub fn sweep_gather<'py>(py: Python<'py>, text: &str, rows: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+    let rows: PyReadonlyArray2<'py, f64> = readonly_array(rows)?.ok_or_else(|| {
+        parameter_error("rows", format_args!("expected a 2-D float64 array, got {}", type_name(rows)))
+    })?;
     let sc = parse_text(text)?;
     let spec = sweep_of(&sc)?;
     let rows = rows.as_array();
