@@ -210,8 +210,12 @@ mod tests {
         let keys = schema();
         let key = |name: &str| keys.iter().find(|k| k.key == name).unwrap();
         assert_eq!(key("servo_kd").default, None);
-        assert_eq!(key("servo_kd").default_by_drive, [("torque", Value::Float(1.4)), ("dc_motor", Value::Float(1.1))]);
-        assert_eq!(key("servo_kp").default, Some(Value::Float(14.0)));
+        assert_eq!(key("servo_kd").default_by_drive, [("torque", Value::Float(1.4)), ("dc_motor", Value::Float(7.6))]);
+        assert_eq!(key("servo_kp").default, None);
+        assert_eq!(
+            key("servo_kp").default_by_drive,
+            [("torque", Value::Float(14.0)), ("dc_motor", Value::Float(81.5))]
+        );
         assert_eq!(key("wheel_speed_max").default, Some(Value::Float(f64::INFINITY)));
     }
 }

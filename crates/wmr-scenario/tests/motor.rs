@@ -1,9 +1,11 @@
 //! Issue 24 (motors from a datasheet): the default DC motor changed (Pololu 37D 50:1,
-//! `wmr_core::DcMotorParams`); a scenario that names every motor key keeps its results.
+//! `wmr_core::DcMotorParams`) and with it the DC servo gains; a scenario that names every
+//! motor key and the servo gains keeps its results.
 
 use wmr_scenario::Scenario;
 
-/// Fig. 7's manoeuvre with the earlier default motor (maxon RE 40 24 V) named key by key.
+/// Fig. 7's manoeuvre with the earlier default motor (maxon RE 40 24 V) and its servo
+/// gains named key by key.
 const OLD_MOTOR: &str = r#"
 [drive]
 kind = "dc_motor"
@@ -12,6 +14,9 @@ torque_constant = 0.0302
 back_emf_constant = 0.0302
 armature_resistance = 0.299
 current_max = inf
+[controller]
+servo_kp = 14.0
+servo_kd = 1.1
 [sim]
 t_end = 20.0
 log_dt = 0.01

@@ -25,14 +25,15 @@ impl<T: Real> ServoGains<T> {
         Self { kp: T::lit(14.0), kd: T::lit(1.4), ki: T::zero() }
     }
 
-    /// DC-motor defaults: Kp = 14 V/rad, Kd = 1.1 V s/rad, Ki = 0. Tuned for the
-    /// earlier default motor (maxon RE 40, about 1.01 N m/V at the wheel, back-EMF damping
-    /// 0.31 N m s/rad: the torque-drive defaults' stiffness and damping at the wheel) and
-    /// kept so that scenarios naming every motor key keep their results; with today's
-    /// default (Pololu 37D, 0.172 N m/V, 0.098 N m s/rad) they give 2.4 N m/rad and
-    /// 0.29 N m s/rad at the wheel.
+    /// DC-motor defaults: Kp = 81.5 V/rad, Kd = 7.6 V s/rad, Ki = 0: the torque-drive
+    /// defaults' stiffness and damping at the wheel with the default motor (Pololu 37D
+    /// through k_t = 0.1: b = k_tau / (R_a k_t) = 0.1717 N m/V and back-EMF damping
+    /// b k_e / k_t = 0.098 N m s/rad, so Kp = 14 / b and Kd = (1.4 - 0.098) / b). For
+    /// another motor the same rule gives its gains (docs/scenario.md). The gains of the
+    /// earlier default motor (14 and 1.1, for a maxon RE 40 at 1.01 N m/V) left the
+    /// Pololu's wheels a fifth as stiff: the polar and Lyapunov laws then circled the goal.
     pub fn dc_motor_default() -> Self {
-        Self { kp: T::lit(14.0), kd: T::lit(1.1), ki: T::zero() }
+        Self { kp: T::lit(81.5), kd: T::lit(7.6), ki: T::zero() }
     }
 
     pub(crate) fn validate(self) -> Result<Self, ParamError> {
