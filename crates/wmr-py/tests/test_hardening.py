@@ -209,3 +209,25 @@ def test_unaligned_arrays_are_read_as_their_aligned_copies() -> None:
     circle = wmr_py.Reference("circle", radius=1.0, speed=0.3)
     t = np.linspace(0.0, 2.0, 5)
     assert np.array_equal(circle.state_at(_unaligned(t)), circle.state_at(t))
+
+
+class _FakePanic(BaseException):
+    """Stands for pyo3's PanicException, a BaseException."""
+
+
+def test_a_panic_in_a_worker_part_is_an_exception_an_executor_reports(monkeypatch: pytest.MonkeyPatch) -> None:
+    # A Dask worker does not catch a BaseException: the future never completed and the
+    # caller hung (how the unaligned-array panic showed in CI). Raised as RuntimeError, it
+    # reaches the caller as every other error of a part does.
+    def panics(*_args: object) -> None:
+        raise _FakePanic("The pointer must be aligned.")
+
+    monkeypatch.setattr(wmr_py._results._native, "_run_batch", panics)
+    monkeypatch.setattr(wmr_py._results._native, "_sweep_part", panics)
+    with pytest.raises(RuntimeError, match="_FakePanic: The pointer must be aligned"):
+        wmr_py._results.batch_task({}, np.zeros((1, 3)), None, 0)
+    with pytest.raises(RuntimeError, match="_FakePanic"):
+        wmr_py._results.sweep_task("", 0, 1)
+    with pytest.raises(KeyboardInterrupt):  # what stops a run stays what it is
+        monkeypatch.setattr(wmr_py._results._native, "_sweep_part", lambda *_a: (_ for _ in ()).throw(KeyboardInterrupt()))
+        wmr_py._results.sweep_task("", 0, 1)

@@ -388,15 +388,29 @@ def run_tasks(executor: Any, fn: Callable, tasks: Sequence[tuple], bar: Optional
 # running its part on one thread in the worker.
 
 
+def _in_worker(call: Callable[[], Any]) -> Any:
+    """call(), with a Rust panic re-raised as a RuntimeError: pyo3's PanicException is a
+    BaseException, which a Dask worker does not catch, so the task's future would never
+    complete and the caller would wait forever instead of seeing the error."""
+    try:
+        return call()
+    except (KeyboardInterrupt, SystemExit, GeneratorExit):
+        raise
+    except Exception:
+        raise
+    except BaseException as e:
+        raise RuntimeError(f"wmr_py worker part failed: {type(e).__name__}: {e}") from e
+
+
 def sweep_task(text: str, first: int, last: int, fast: bool = False) -> np.ndarray:
     """Runs first..last of a sweep on one thread: an (n, 22) array of outcome rows."""
-    return _native._sweep_part(text, first, last, fast)
+    return _in_worker(lambda: _native._sweep_part(text, first, last, fast))
 
 
 def batch_task(base: dict, starts: np.ndarray, goals: Optional[np.ndarray], first: int, fast: bool = False) -> dict:
     """Runs a part of a batch (starts[first:...] of the whole) on one thread; the result
     says which part it is (``_first``, ``_starts``), for ``gather_batch`` to check."""
-    out = dict(_native._run_batch(base, starts, goals, first, 1, None, fast))
+    out = dict(_in_worker(lambda: _native._run_batch(base, starts, goals, first, 1, None, fast)))
     out["_first"] = first
     out["_starts"] = np.asarray(starts)
     return out
