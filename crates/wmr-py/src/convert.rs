@@ -4,8 +4,8 @@
 //! A NaN or an infinity never enters the models from Python: it is refused here with a
 //! `ParameterError` naming the argument and the component (e.g. `state[3]`: `v must be a finite number`).
 
-use numpy::ndarray::Dimension;
-use numpy::{Element, PyReadonlyArray, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::ndarray::{Dimension, Ix1};
+use numpy::{Element, PyReadonlyArray, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyByteArray, PyBytes, PyDict, PyList, PyString, PyTuple};
 
@@ -50,8 +50,7 @@ pub fn finite_array<const N: usize>(obj: &Bound<'_, PyAny>, arg: &str, names: [&
     {
         return Err(parameter_error(arg, format_args!("{}, got an array of {}", expected(), kind_name(kind))));
     }
-    let values: Vec<f64> = if let Some(a) = readonly_array::<f64, _>(obj)? {
-        let a: PyReadonlyArray1<'_, f64> = a;
+    let values: Vec<f64> = if let Some(a) = readonly_array::<f64, Ix1>(obj)? {
         if a.len() != N {
             return Err(wrong_length(arg, N, a.len(), &names));
         }

@@ -3,8 +3,8 @@
 //! the scenario code (`wmr_scenario::reference::resolve`): one description of the keys,
 //! the one parser, the one set of checks and error names (`reference.radius`).
 
-use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyReadonlyArray1};
+use numpy::IntoPyArray;
+use numpy::ndarray::{Array2, Ix1};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use wmr_core::{AnyReference, Reference, ReferenceState};
@@ -155,8 +155,7 @@ impl PyReference {
     /// the CSV's x_ref ... omega_ref columns at those times.
     fn state_at<'py>(&self, py: Python<'py>, t_s: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         let r = &self.spec.built;
-        if let Some(a) = readonly_array::<f64, _>(t_s)? {
-            let a: PyReadonlyArray1<'_, f64> = a;
+        if let Some(a) = readonly_array::<f64, Ix1>(t_s)? {
             let a = a.as_array();
             let mut out = Array2::<f64>::zeros((a.len(), 7));
             for (i, (mut row, &t)) in out.rows_mut().into_iter().zip(a.iter()).enumerate() {

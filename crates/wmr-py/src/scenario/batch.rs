@@ -43,11 +43,10 @@ pub fn run_batch_native<'py>(
         return Err(parameter_error("threads", format_args!("0 (rayon's pool) or 1, got {threads}")));
     }
     let sc = scenario_arg(base)?;
-    let poses = |a: &Bound<'py, PyAny>, arg: &str| -> PyResult<Vec<Pose2<f64>>> {
-        let a: PyReadonlyArray2<'py, f64> = readonly_array(a)?.ok_or_else(|| {
-            parameter_error(arg, format_args!("expected a float64 array of shape (N, 3), got {}", type_name(a)))
+    let poses = |obj: &Bound<'py, PyAny>, arg: &str| -> PyResult<Vec<Pose2<f64>>> {
+        let a: PyReadonlyArray2<'py, f64> = readonly_array(obj)?.ok_or_else(|| {
+            parameter_error(arg, format_args!("expected a float64 array of shape (N, 3), got {}", type_name(obj)))
         })?;
-        let a = &a;
         let shape = a.shape();
         if shape.len() != 2 || shape[1] != 3 {
             return Err(parameter_error(
