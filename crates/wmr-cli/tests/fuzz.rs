@@ -9,17 +9,16 @@ use std::process::{Command, Output, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
+use wmr_core::sensor::gaussian::Gaussian;
 use wmr_scenario::Scenario;
 
-/// xorshift64*: a small seeded generator, enough to pick mutations.
-struct Rng(u64);
+/// The core's seeded SplitMix64 stream, enough to pick mutations (a failure replays from
+/// its seed and case number).
+struct Rng(Gaussian);
 
 impl Rng {
     fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+        self.0.next_u64()
     }
 
     fn below(&mut self, n: usize) -> usize {
@@ -29,14 +28,6 @@ impl Rng {
     fn pick<'a, T>(&mut self, v: &'a [T]) -> &'a T {
         &v[self.below(v.len())]
     }
-}
-
-/// splitmix64: spreads a case number into a generator state.
-fn splitmix(x: u64) -> u64 {
-    let mut z = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
 }
 
 fn repo() -> PathBuf {
@@ -255,7 +246,7 @@ fn mutated_scenarios_exit_0_or_2_with_one_line_naming_the_key() {
                         if i >= cases {
                             break;
                         }
-                        let mut rng = Rng(splitmix(seed ^ splitmix(i as u64)) | 1);
+                        let mut rng = Rng(Gaussian::new(seed, i as u64));
                         let base = rng.pick(&seeds).clone();
                         let mut text = mutate(&base, &mut rng);
                         if rng.below(3) == 0 {
@@ -394,7 +385,7 @@ fn live_server_survives_malformed_frames_slow_clients_and_many_connections() {
     let mut failures = Vec::new();
     let started = Instant::now();
     for i in 0..cases {
-        let mut rng = Rng(splitmix(seed ^ splitmix(0x11fe ^ i as u64)) | 1);
+        let mut rng = Rng(Gaussian::new(seed, 0x11fe ^ i as u64));
         let kind = rng.below(7);
         let outcome: Result<(), String> = (|| match kind {
             // Garbage instead of an HTTP request, then our side closed.

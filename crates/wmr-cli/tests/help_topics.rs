@@ -6,20 +6,7 @@ use std::collections::BTreeSet;
 use std::process::Command;
 
 /// Two runs with a `[sensor]`, so every kind of topic is written.
-const SCENARIO: &str = r#"
-[sim]
-t_end = 2.0
-
-[sensor]
-rate_hz = 100.0
-latency = 0.01
-
-[[run]]
-goal = { x = 1.0, y = 0.5 }
-
-[[run]]
-goal = { x = -1.0, y = 0.5, theta_deg = 90.0 }
-"#;
+const SCENARIO: &str = include_str!("fixtures/two-runs-sensor.toml");
 
 /// `(topic, schema)` of every channel in `bytes`, with the run index replaced by `N`.
 fn file_topics(bytes: &[u8]) -> BTreeSet<(String, String)> {

@@ -11,19 +11,7 @@ fn run(args: &[&str]) -> Output {
 }
 
 /// 3 s of Fig. 7 on odometry with the model's wheel radius 1 % large.
-const ON_ODOMETRY: &str = r#"
-[sim]
-t_end = 3.0
-log_dt = 0.01
-[sensor]
-pose = "odometry"
-encoder_counts = 4096
-[controller.model]
-wheel_radius = 0.101
-[[run]]
-start = { x = 0.0, y = 0.0, theta_deg = 0.0 }
-goal = { x = 1.0, y = 1.0, theta_deg = 120.0 }
-"#;
+const ON_ODOMETRY: &str = include_str!("fixtures/odometry-3s.toml");
 
 fn write(dir: &Path, body: &str) -> String {
     let p = dir.join("odo.toml");

@@ -10,18 +10,15 @@
 use std::ffi::CStr;
 use std::mem::MaybeUninit;
 
+use wmr_core::sensor::gaussian::Gaussian;
 use wmr_ffi::*;
 
-/// SplitMix64: a small seeded generator, so a failure replays from its seed.
-struct Rng(u64);
+/// The core's seeded SplitMix64 stream, so a failure replays from its seed.
+struct Rng(Gaussian);
 
 impl Rng {
     fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
     /// Uniform in [0, 1).
     fn unit(&mut self) -> f64 {
@@ -159,7 +156,10 @@ macro_rules! fuzz {
         fn $name() {
             let started = std::time::Instant::now();
             let name = stringify!($name);
-            let mut rng = Rng(seed() ^ name.bytes().fold(0u64, |h, b| h.wrapping_mul(31).wrapping_add(u64::from(b))));
+            let mut rng = Rng(Gaussian::new(
+                seed(),
+                name.bytes().fold(0u64, |h, b| h.wrapping_mul(31).wrapping_add(u64::from(b))),
+            ));
             let mut scratch = Scratch::new();
             let max = f64::from(<$t>::MAX) * 0.5;
             let to_t = |v: f64| v as $t;

@@ -6,24 +6,7 @@ use wmr_scenario::Scenario;
 
 /// Fig. 7's manoeuvre with the earlier default motor (maxon RE 40 24 V) and its servo
 /// gains named key by key.
-const OLD_MOTOR: &str = r#"
-[drive]
-kind = "dc_motor"
-voltage_max = 24.0
-torque_constant = 0.0302
-back_emf_constant = 0.0302
-armature_resistance = 0.299
-current_max = inf
-[controller]
-servo_kp = 14.0
-servo_kd = 1.1
-[sim]
-t_end = 20.0
-log_dt = 0.01
-[[run]]
-start = { x = 0.0, y = 0.0, theta_deg = 0.0 }
-goal = { x = 1.0, y = 1.0, theta_deg = 120.0 }
-"#;
+const OLD_MOTOR: &str = include_str!("data/maxon-re40.toml");
 
 /// The last sample at t = 20 s, as `wmr-cli run` of commit 96ef285 (before the new
 /// defaults) wrote it to CSV (shortest round-trip decimals, so these are its exact bits):
