@@ -31,13 +31,23 @@ def read_csv(path: pathlib.Path) -> dict[str, np.ndarray]:
 
 
 def build_cli() -> pathlib.Path:
-    """Builds wmr-cli on its own (debug profile: Rust does not reorder floating point, so
-    the numbers are those of a release build) and returns the binary.
+    """The wmr-cli to compare with: `WMR_TEST_CLI` when set (the test command passes the
+    binary its Rust tests just built, with the workspace's features), else wmr-cli built
+    on its own (debug profile: Rust does not reorder floating point, so the numbers are
+    those of a release build) and returned.
 
-    Built alone on purpose: its dependency features then differ from the wheel's (numpy
-    turns on num-traits' `std`), and the results must not. wmr-core calls the `libm` crate
-    itself for that reason; before it did, the two differed by up to ~2e-10 in Fig. 7.
+    Built alone, its dependency features differ from the wheel's (numpy turns on
+    num-traits' `std`), and the results must not. wmr-core calls the `libm` crate itself
+    for that reason; before it did, the two differed by up to ~2e-10 in Fig. 7. That
+    second build of wmr-core and wmr-scenario takes minutes, so the test command runs it
+    only under WMR_LONG_TESTS=1 (the firmware check compares a third build, no_std, too).
     """
+    given = os.environ.get("WMR_TEST_CLI")
+    if given:
+        path = pathlib.Path(given)
+        if not path.is_file():
+            raise FileNotFoundError(f"WMR_TEST_CLI={given}: no such file")
+        return path
     subprocess.run(["cargo", "build", "--quiet", "-p", "wmr-cli"], cwd=REPO, check=True, timeout=1800)
     meta = subprocess.run(
         ["cargo", "metadata", "--format-version", "1", "--no-deps", "--offline"],
