@@ -746,9 +746,7 @@ pub fn plant_step<T: Prec>(plant: *mut T::Plant, t: T, dt: T) -> wmr_status {
 
 pub fn plant_state<T: Prec>(plant: *const T::Plant, out: *mut wmr_state<T>) -> wmr_status {
     guard(core::ptr::null_mut(), || {
-        let s = get(plant, "plant")?.state();
-        let state =
-            wmr_state { x: s.x, y: s.y, theta: s.theta, v: s.v, omega: s.omega, phi_r: s.phi_r, phi_l: s.phi_l };
+        let state = *get(plant, "plant")?.state();
         write(out, "out", state)
     })
 }
