@@ -66,38 +66,34 @@ impl CsvSink {
     }
 }
 
+impl CsvSink {
+    /// Writes each of `values` as a field ([`format_f64`]).
+    fn write_values(&mut self, values: impl IntoIterator<Item = f64>) -> Result<(), SinkError> {
+        for v in values {
+            format_f64(v, &mut self.field);
+            self.writer.write_field(&self.field)?;
+        }
+        Ok(())
+    }
+}
+
 impl Sink for CsvSink {
     fn sample(&mut self, index: usize, sample: &Sample<f64>) -> Result<(), SinkError> {
         self.field.clear();
         let _ = write!(self.field, "{index}");
         self.writer.write_field(&self.field)?;
-        for v in sample_values(sample) {
-            format_f64(v, &mut self.field);
-            self.writer.write_field(&self.field)?;
-        }
+        self.write_values(sample_values(sample))?;
         if self.measured {
-            for v in measured_values(sample) {
-                format_f64(v, &mut self.field);
-                self.writer.write_field(&self.field)?;
-            }
+            self.write_values(measured_values(sample))?;
         }
         if self.odometry {
-            for v in odometry_values(sample) {
-                format_f64(v, &mut self.field);
-                self.writer.write_field(&self.field)?;
-            }
+            self.write_values(odometry_values(sample))?;
         }
         if self.contact {
-            for v in contact_values(sample) {
-                format_f64(v, &mut self.field);
-                self.writer.write_field(&self.field)?;
-            }
+            self.write_values(contact_values(sample))?;
         }
-        if let Some(r) = &self.reference {
-            for v in reference_values(&r.state_at(sample.t)) {
-                format_f64(v, &mut self.field);
-                self.writer.write_field(&self.field)?;
-            }
+        if let Some(values) = self.reference.as_ref().map(|r| reference_values(&r.state_at(sample.t))) {
+            self.write_values(values)?;
         }
         self.writer.write_record(None::<&[u8]>)?;
         Ok(())

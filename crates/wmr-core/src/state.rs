@@ -11,8 +11,9 @@ pub const STATE_LEN: usize = 7;
 ///
 /// (x, y) is point C (axle midpoint) in the world frame, m; theta the heading, rad;
 /// v the forward speed of C, m/s; omega = theta', rad/s; phi_r, phi_l the wheel
-/// angles, rad (encoder readings, zero at start).
+/// angles, rad (encoder readings, zero at start). `#[repr(C)]`: the C API's `wmr_state`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
 pub struct State<T> {
     /// x of C, world frame, m.
     pub x: T,

@@ -65,29 +65,38 @@ fn flag(w: u32, what: &'static str) -> Result<bool, FormatError> {
     }
 }
 
-/// For a parameter struct whose fields are all `T`: its number of words (one per
-/// declared field), a writer of its fields in declaration order ([`crate::params!`]),
-/// each rounded to f32, and a reader of the struct from those words. A key declared
-/// there is in the trace with no edit here.
+/// The word of each `T` field of `P` among its words, one per declared field in
+/// declaration order ([`crate::params!`]): the others (flags, modes) are laid by hand.
+fn real_slots<P: Described>() -> impl Iterator<Item = usize> {
+    P::FIELDS.iter().enumerate().filter(|(_, field)| field.ty == "T").map(|(i, _)| i)
+}
+
+/// The word of `P`'s field `name` among its words (as [`real_slots`]): a flag or mode.
+fn slot<P: Described>(name: &str) -> usize {
+    P::FIELDS.iter().position(|field| field.name == name).unwrap_or(usize::MAX)
+}
+
+/// For a parameter struct: its number of words (one per declared field), a writer of its
+/// `T` fields into their words ([`real_slots`]), each rounded to f32, and a reader of the
+/// struct from those words, the other fields copied from `$template` (the caller reads
+/// them). A `T` key declared there is in the trace with no edit here.
 macro_rules! real_words {
     ($len:ident, $put:ident, $read:ident, $ty:ident, $template:expr) => {
         const $len: usize = <$ty<f32> as Described>::FIELDS.len();
 
         fn $put<T: Real>(p: &$ty<T>, out: &mut [u32]) {
-            let mut i = 0;
+            let mut slots = real_slots::<$ty<f32>>();
             let _ = p.map(|v| {
-                out[i] = f(v);
-                i += 1;
+                if let Some(i) = slots.next() {
+                    out[i] = f(v);
+                }
             });
         }
 
         fn $read(w: &[u32]) -> $ty<f32> {
-            let mut i = 0;
+            let mut slots = real_slots::<$ty<f32>>();
             let template: $ty<f32> = $template;
-            template.map(|_| {
-                i += 1;
-                r(w[i - 1])
-            })
+            template.map(|v| slots.next().map_or(v, |i| r(w[i])))
         }
     };
 }
@@ -97,10 +106,21 @@ real_words!(WHEELS, put_wheels, read_wheels, WheelStageParams, WheelStageParams:
 real_words!(WORLD, put_world, read_world, WorldParams, WorldParams::default());
 real_words!(TORQUE, put_torque, read_torque, TorqueDriveParams, TorqueDriveParams::default());
 real_words!(DC_MOTOR, put_dc_motor, read_dc_motor, DcMotorParams, DcMotorParams::default());
+real_words!(PAPER, put_paper, read_paper, PaperParams, PaperParams::paper());
+real_words!(
+    PAPER_BIDIRECTIONAL,
+    put_paper_bidirectional,
+    read_paper_bidirectional,
+    PaperBidirectionalParams,
+    Default::default()
+);
+real_words!(POLAR, put_polar, read_polar, PolarParams, PolarParams::default());
+real_words!(LYAPUNOV, put_lyapunov, read_lyapunov, LyapunovParams, LyapunovParams::default());
+const _: () = assert!(PAPER < LAW && PAPER_BIDIRECTIONAL < LAW && POLAR < LAW && LYAPUNOV < LAW);
 
 /// The law-kind word of a law the format does not carry (a tracking law).
 const NOT_IN_TRACE: u32 = u32::MAX;
-/// Words of the law: its kind, then at most 8 keys.
+/// Words of the law: its kind, then at most 8 keys (one word per declared key).
 const LAW: usize = 9;
 /// Where each part of the config starts (word index).
 const DRIVE_AT: usize = LAW;
@@ -143,53 +163,37 @@ impl<T: Real> ConfigOf<T> {
     /// The config words, every value rounded to f32.
     pub fn encode(&self) -> [u32; CONFIG_WORDS] {
         let mut w = [0u32; CONFIG_WORDS];
-        let law: [u32; 9] = match self.law {
-            LawParams::Paper(p) => [
-                0,
-                match p.mode {
+        // The kind word, then one word per declared key ([`real_slots`]).
+        let (kind, keys) = w[0..LAW].split_at_mut(1);
+        kind[0] = match self.law {
+            LawParams::Paper(p) => {
+                put_paper(&p, keys);
+                keys[slot::<PaperParams<f32>>("mode")] = match p.mode {
                     PaperMode::Pose => 0,
                     PaperMode::Position => 1,
-                },
-                f(p.kp_theta),
-                f(p.ki_theta),
-                f(p.kp_s),
-                f(p.ki_s),
-                f(p.goal_radius),
-                f(p.hold_radius),
-                hold_word(p.hold),
-            ],
-            LawParams::Polar(p) => [
-                1,
-                f(p.k_rho),
-                f(p.k_alpha),
-                f(p.k_beta),
-                u32::from(p.reverse),
-                f(p.reverse_hysteresis),
-                f(p.goal_radius),
-                0,
-                0,
-            ],
-            LawParams::Lyapunov(p) => {
-                [2, f(p.gamma), f(p.k), f(p.h), u32::from(p.reverse), f(p.reverse_hysteresis), f(p.goal_radius), 0, 0]
+                };
+                keys[slot::<PaperParams<f32>>("hold")] = hold_word(p.hold);
+                0
             }
-            LawParams::PaperBidirectional(p) => [
-                3,
-                f(p.kp_theta),
-                f(p.ki_theta),
-                f(p.kp_s),
-                f(p.ki_s),
-                f(p.goal_radius),
-                f(p.hold_radius),
-                hold_word(p.hold),
-                0,
-            ],
+            LawParams::Polar(p) => {
+                put_polar(&p, keys);
+                keys[slot::<PolarParams<f32>>("reverse")] = u32::from(p.reverse);
+                1
+            }
+            LawParams::Lyapunov(p) => {
+                put_lyapunov(&p, keys);
+                keys[slot::<LyapunovParams<f32>>("reverse")] = u32::from(p.reverse);
+                2
+            }
+            LawParams::PaperBidirectional(p) => {
+                put_paper_bidirectional(&p, keys);
+                keys[slot::<PaperBidirectionalParams<f32>>("hold")] = hold_word(p.hold);
+                3
+            }
             // The tracking laws follow a moving reference, which the format (a goal pose)
             // does not carry yet: the kind word says so and decoding refuses it.
-            LawParams::Kanayama(_) | LawParams::Backstepping(_) | LawParams::PurePursuit(_) => {
-                [NOT_IN_TRACE, 0, 0, 0, 0, 0, 0, 0, 0]
-            }
+            LawParams::Kanayama(_) | LawParams::Backstepping(_) | LawParams::PurePursuit(_) => NOT_IN_TRACE,
         };
-        w[0..LAW].copy_from_slice(&law);
         let d = &mut w[DRIVE_AT..ROBOT_AT];
         match self.drive {
             DriveParams::Torque(p) => put_torque(&p, &mut d[1..]),
@@ -216,45 +220,28 @@ impl<T: Real> ConfigOf<T> {
 impl Config {
     /// Reads the config words.
     pub fn decode(w: &[u32; CONFIG_WORDS]) -> Result<Self, FormatError> {
+        let keys = &w[1..LAW];
         let law = match w[0] {
             0 => LawParams::Paper(PaperParams {
-                mode: match w[1] {
+                mode: match keys[slot::<PaperParams<f32>>("mode")] {
                     0 => PaperMode::Pose,
                     1 => PaperMode::Position,
                     _ => return Err(FormatError("paper mode is not 0 or 1")),
                 },
-                kp_theta: r(w[2]),
-                ki_theta: r(w[3]),
-                kp_s: r(w[4]),
-                ki_s: r(w[5]),
-                goal_radius: r(w[6]),
-                hold_radius: r(w[7]),
-                hold: hold_of(w[8])?,
+                hold: hold_of(keys[slot::<PaperParams<f32>>("hold")])?,
+                ..read_paper(keys)
             }),
             3 => LawParams::PaperBidirectional(PaperBidirectionalParams {
-                kp_theta: r(w[1]),
-                ki_theta: r(w[2]),
-                kp_s: r(w[3]),
-                ki_s: r(w[4]),
-                goal_radius: r(w[5]),
-                hold_radius: r(w[6]),
-                hold: hold_of(w[7])?,
+                hold: hold_of(keys[slot::<PaperBidirectionalParams<f32>>("hold")])?,
+                ..read_paper_bidirectional(keys)
             }),
             1 => LawParams::Polar(PolarParams {
-                k_rho: r(w[1]),
-                k_alpha: r(w[2]),
-                k_beta: r(w[3]),
-                reverse: flag(w[4], "polar reverse is not 0 or 1")?,
-                reverse_hysteresis: r(w[5]),
-                goal_radius: r(w[6]),
+                reverse: flag(keys[slot::<PolarParams<f32>>("reverse")], "polar reverse is not 0 or 1")?,
+                ..read_polar(keys)
             }),
             2 => LawParams::Lyapunov(LyapunovParams {
-                gamma: r(w[1]),
-                k: r(w[2]),
-                h: r(w[3]),
-                reverse: flag(w[4], "lyapunov reverse is not 0 or 1")?,
-                reverse_hysteresis: r(w[5]),
-                goal_radius: r(w[6]),
+                reverse: flag(keys[slot::<LyapunovParams<f32>>("reverse")], "lyapunov reverse is not 0 or 1")?,
+                ..read_lyapunov(keys)
             }),
             NOT_IN_TRACE => return Err(FormatError("the tracking laws are not in the trace format yet")),
             _ => return Err(FormatError("unknown law kind")),

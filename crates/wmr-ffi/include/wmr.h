@@ -396,16 +396,19 @@ typedef struct {
   float left;
 } wmr_wheels_f32;
 
-// The robot's state: C in the world frame (m, m, rad), forward speed v (m/s), yaw
-// rate omega (rad/s) and the wheel angles (rad, encoders, zero at start).
+// State of the robot (docs/model.md, "The robot"): `[x, y, theta, v, omega, phi_r, phi_l]`.
+//
+// (x, y) is point C (axle midpoint) in the world frame, m; theta the heading, rad;
+// v the forward speed of C, m/s; omega = theta', rad/s; phi_r, phi_l the wheel
+// angles, rad (encoder readings, zero at start). `#[repr(C)]`: the C API's `wmr_state`.
 typedef struct {
-  // x of C, m.
+  // x of C, world frame, m.
   float x;
-  // y of C, m.
+  // y of C, world frame, m.
   float y;
   // Heading, rad.
   float theta;
-  // Forward speed of C, m/s.
+  // Forward speed of C, body frame, m/s.
   float v;
   // Yaw rate, rad/s.
   float omega;
@@ -753,16 +756,19 @@ typedef struct {
   double left;
 } wmr_wheels_f64;
 
-// The robot's state: C in the world frame (m, m, rad), forward speed v (m/s), yaw
-// rate omega (rad/s) and the wheel angles (rad, encoders, zero at start).
+// State of the robot (docs/model.md, "The robot"): `[x, y, theta, v, omega, phi_r, phi_l]`.
+//
+// (x, y) is point C (axle midpoint) in the world frame, m; theta the heading, rad;
+// v the forward speed of C, m/s; omega = theta', rad/s; phi_r, phi_l the wheel
+// angles, rad (encoder readings, zero at start). `#[repr(C)]`: the C API's `wmr_state`.
 typedef struct {
-  // x of C, m.
+  // x of C, world frame, m.
   double x;
-  // y of C, m.
+  // y of C, world frame, m.
   double y;
   // Heading, rad.
   double theta;
-  // Forward speed of C, m/s.
+  // Forward speed of C, body frame, m/s.
   double v;
   // Yaw rate, rad/s.
   double omega;

@@ -19,6 +19,29 @@ use wmr_core::{
 
 use crate::*;
 
+/// The listed fields of `$v` with their names, `$prefix.field` (as `err` names them):
+/// what the finiteness checks go through.
+macro_rules! named {
+    ($prefix:literal, $v:expr; $($($f:ident).+),+ $(,)?) => {
+        [$( (concat!($prefix $(, ".", stringify!($f))+), $v$(.$f)+) ),+]
+    };
+}
+
+/// The numbers of a reference state (`wmr_reference_state` or the core's
+/// `ReferenceState`), named `$prefix.pose.x` and so on.
+macro_rules! reference_fields {
+    ($prefix:literal, $v:expr) => {
+        named!($prefix, $v; pose.x, pose.y, pose.theta, twist.v, twist.omega, accel.v, accel.omega)
+    };
+}
+
+/// The numbers of a `wmr_measurement`, named `$prefix.t`, `$prefix.pose.x` and so on.
+macro_rules! measurement_fields {
+    ($prefix:literal, $v:expr) => {
+        named!($prefix, $v; t, pose.x, pose.y, pose.theta, wheel_angles.right, wheel_angles.left, wheel_speeds.right, wheel_speeds.left)
+    };
+}
+
 /// Why a call failed, before it is written into a [`wmr_error`].
 #[derive(Clone, Copy, Debug)]
 pub struct Fail {
@@ -746,9 +769,7 @@ pub fn plant_step<T: Prec>(plant: *mut T::Plant, t: T, dt: T) -> wmr_status {
 
 pub fn plant_state<T: Prec>(plant: *const T::Plant, out: *mut wmr_state<T>) -> wmr_status {
     guard(core::ptr::null_mut(), || {
-        let s = get(plant, "plant")?.state();
-        let state =
-            wmr_state { x: s.x, y: s.y, theta: s.theta, v: s.v, omega: s.omega, phi_r: s.phi_r, phi_l: s.phi_l };
+        let state = *get(plant, "plant")?.state();
         write(out, "out", state)
     })
 }
@@ -804,20 +825,7 @@ pub fn sensor_measure<T: Prec>(
             wheel_angles: c_wheels(m.wheel_angles),
             wheel_speeds: c_wheels(m.wheel_speeds),
         };
-        let values = [
-            ("out.t", m.t),
-            ("out.pose.x", m.pose.x),
-            ("out.pose.y", m.pose.y),
-            ("out.pose.theta", m.pose.theta),
-            ("out.wheel_angles.right", m.wheel_angles.right),
-            ("out.wheel_angles.left", m.wheel_angles.left),
-            ("out.wheel_speeds.right", m.wheel_speeds.right),
-            ("out.wheel_speeds.left", m.wheel_speeds.left),
-        ];
-        if let Some(&(f, v)) = values.iter().find(|(_, v)| !v.is_finite()) {
-            *sensor = before;
-            return Err(Fail::not_finite_output(f, v.to_f64_lossless()));
-        }
+        finite_output(&measurement_fields!("out", m)).inspect_err(|_| *sensor = before)?;
         write(out, "out", m)
     })
 }
@@ -859,6 +867,15 @@ pub fn controller_init<T: Prec, L: CLaw<T>>(
 
 fn finite<T: Real>(field: &'static str, v: T) -> Result<(), Fail> {
     if v.is_finite() { Ok(()) } else { Err(Fail::not_finite(field, v.to_f64_lossless())) }
+}
+
+/// Refuses the first non-finite value of an output by its field name
+/// (`WMR_NOT_FINITE`, "came out non-finite"): the caller restores what the call changed.
+fn finite_output<T: Real>(values: &[(&'static str, T)]) -> Result<(), Fail> {
+    match values.iter().find(|(_, v)| !v.is_finite()) {
+        Some(&(field, v)) => Err(Fail::not_finite_output(field, v.to_f64_lossless())),
+        None => Ok(()),
+    }
 }
 
 /// A position inside the plant's divergence box (|x|, |y| <= 1 km): where C can be (a
@@ -906,15 +923,7 @@ pub fn controller_update_reference<T: Prec, L: CLaw<T>>(
         let m = read(m, "measurement")?;
         let r = read(reference, "reference")?;
         in_box(["reference.pose.x", "reference.pose.y"], r.pose.x, r.pose.y)?;
-        let fields = [
-            ("reference.pose.x", r.pose.x),
-            ("reference.pose.y", r.pose.y),
-            ("reference.pose.theta", r.pose.theta),
-            ("reference.twist.v", r.twist.v),
-            ("reference.twist.omega", r.twist.omega),
-            ("reference.accel.v", r.accel.v),
-            ("reference.accel.omega", r.accel.omega),
-        ];
+        let fields = reference_fields!("reference", r);
         let state = ReferenceState {
             pose: pose(r.pose),
             twist: Twist2 { v: r.twist.v, omega: r.twist.omega },
@@ -951,18 +960,8 @@ fn tick_on<T: Prec, L: CLaw<T>>(
     if out.is_null() {
         return Err(Fail::null("out"));
     }
-    let values = [
-        ("t", t),
-        ("measurement.t", m.t),
-        ("measurement.pose.x", m.pose.x),
-        ("measurement.pose.y", m.pose.y),
-        ("measurement.pose.theta", m.pose.theta),
-        ("measurement.wheel_angles.right", m.wheel_angles.right),
-        ("measurement.wheel_angles.left", m.wheel_angles.left),
-        ("measurement.wheel_speeds.right", m.wheel_speeds.right),
-        ("measurement.wheel_speeds.left", m.wheel_speeds.left),
-    ];
-    values.iter().chain(reference_fields).try_for_each(|&(f, v)| finite(f, v))?;
+    let values = measurement_fields!("measurement", m);
+    [("t", t)].iter().chain(&values).chain(reference_fields).try_for_each(|&(f, v)| finite(f, v))?;
     in_box(["measurement.pose.x", "measurement.pose.y"], m.pose.x, m.pose.y)?;
     let ctrl = get_mut(ctrl, "ctrl")?;
     if !out.is_aligned() {
@@ -987,17 +986,8 @@ fn tick_on<T: Prec, L: CLaw<T>>(
         e_theta: o.errors.e_theta,
         dl: o.errors.dl,
     };
-    let outputs = [
-        ("out.command.right", out_value.command.right),
-        ("out.command.left", out_value.command.left),
-        ("out.e_s", out_value.e_s),
-        ("out.e_theta", out_value.e_theta),
-        ("out.dl", out_value.dl),
-    ];
-    if let Some(&(f, v)) = outputs.iter().find(|(_, v)| !v.is_finite()) {
-        *ctrl = before;
-        return Err(Fail::not_finite_output(f, v.to_f64_lossless()));
-    }
+    finite_output(&named!("out", out_value; command.right, command.left, e_s, e_theta, dl))
+        .inspect_err(|_| *ctrl = before)?;
     write(out, "out", out_value)
 }
 
@@ -1084,18 +1074,7 @@ pub fn reference_state_at<T: Prec>(
             twist: wmr_twist { v: s.twist.v, omega: s.twist.omega },
             accel: wmr_accel { v: s.accel.v, omega: s.accel.omega },
         };
-        let fields = [
-            ("out.pose.x", value.pose.x),
-            ("out.pose.y", value.pose.y),
-            ("out.pose.theta", value.pose.theta),
-            ("out.twist.v", value.twist.v),
-            ("out.twist.omega", value.twist.omega),
-            ("out.accel.v", value.accel.v),
-            ("out.accel.omega", value.accel.omega),
-        ];
-        if let Some(&(f, v)) = fields.iter().find(|(_, v)| !v.is_finite()) {
-            return Err(Fail::not_finite_output(f, v.to_f64_lossless()));
-        }
+        finite_output(&reference_fields!("out", value))?;
         write(out, "out", value)
     })
 }
@@ -1113,15 +1092,7 @@ pub fn controller_update_on<T: Prec, L: CLaw<T>>(
         finite("t", t)?;
         let r = get(reference, "reference")?;
         let state = r.state_at(t);
-        let fields = [
-            ("reference.pose.x", state.pose.x),
-            ("reference.pose.y", state.pose.y),
-            ("reference.pose.theta", state.pose.theta),
-            ("reference.twist.v", state.twist.v),
-            ("reference.twist.omega", state.twist.omega),
-            ("reference.accel.v", state.accel.v),
-            ("reference.accel.omega", state.accel.omega),
-        ];
+        let fields = reference_fields!("reference", state);
         tick_on::<T, L>(ctrl, t, m, &fields, &state, r.path(), out)
     })
 }

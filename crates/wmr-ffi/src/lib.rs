@@ -214,26 +214,10 @@ pub struct wmr_wheels<T> {
     pub left: T,
 }
 
-/// The robot's state: C in the world frame (m, m, rad), forward speed v (m/s), yaw
-/// rate omega (rad/s) and the wheel angles (rad, encoders, zero at start).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct wmr_state<T> {
-    /// x of C, m.
-    pub x: T,
-    /// y of C, m.
-    pub y: T,
-    /// Heading, rad.
-    pub theta: T,
-    /// Forward speed of C, m/s.
-    pub v: T,
-    /// Yaw rate, rad/s.
-    pub omega: T,
-    /// Right wheel angle, rad.
-    pub phi_r: T,
-    /// Left wheel angle, rad.
-    pub phi_l: T,
-}
+/// The robot's state: the core's `wmr_core::State` (`#[repr(C)]`; cbindgen reads its
+/// declaration from the core's src/state.rs, tests/header.rs).
+/// cbindgen:ignore
+pub type wmr_state<T> = wmr_core::State<T>;
 
 /// What a controller sees at one control tick.
 #[repr(C)]

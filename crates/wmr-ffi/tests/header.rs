@@ -561,13 +561,25 @@ fn every_law_struct_has_the_core_fields_in_order() {
     }
 }
 
+/// The core's `#[repr(C)]` `State` (crates/wmr-core/src/state.rs), its declaration as
+/// written there, named `wmr_state` for cbindgen (which does not follow the alias in
+/// src/lib.rs).
+fn core_state_source() -> String {
+    let path = crate_dir().join("../wmr-core/src/state.rs");
+    let src = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    let decl = src.find("pub struct State<T> {").expect("the core's State");
+    let start = src[..decl].rfind("\n\n").expect("a blank line before State's doc") + 2;
+    let end = decl + src[decl..].find("\n}\n").expect("the end of State") + 3;
+    src[start..end].replace("pub struct State<T>", "pub struct wmr_state<T>")
+}
+
 fn generate() -> String {
     let dir = crate_dir();
     // One file per call: tests run generate() on several threads at once.
     static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let shared = std::env::temp_dir().join(format!("wmr-ffi-shared-{}-{call}.rs", std::process::id()));
-    std::fs::write(&shared, shared_structs_source()).expect("temporary source");
+    std::fs::write(&shared, shared_structs_source() + &core_state_source()).expect("temporary source");
     let config = cbindgen::Config::from_file(dir.join("cbindgen.toml")).expect("cbindgen.toml");
     let bindings = cbindgen::Builder::new()
         .with_config(config)

@@ -45,11 +45,7 @@ pub fn closed_loop(
     sim: &SimSpec,
     origin: Origin<'_>,
 ) -> Result<RunLoop, ScenarioError> {
-    // Checked in this order so a run's first error stays the one it always was.
-    setup.plant(start).map_err(|e| origin.key_of(&e))?;
-    setup.sensor_for(run).map_err(|e| origin.key_of(&e))?;
-    let goal = FixedGoal::new(goal).map_err(|e| origin.key_of(&e))?;
-    closed_loop_to(setup, run, start, AnyReference::Goal(goal), sim, origin)
+    assemble(setup, run, start, || FixedGoal::new(goal).map(AnyReference::Goal), sim, origin)
 }
 
 /// [`closed_loop`] following `reference` (a moving one, for a tracking run).
@@ -61,8 +57,22 @@ pub fn closed_loop_to(
     sim: &SimSpec,
     origin: Origin<'_>,
 ) -> Result<RunLoop, ScenarioError> {
+    assemble(setup, run, start, || Ok(reference), sim, origin)
+}
+
+/// The loop with the reference `reference` makes. Checked in this order (plant, sensor,
+/// reference, loop) so a run's first error stays the one it always was.
+fn assemble(
+    setup: &Setup,
+    run: u64,
+    start: Pose2<f64>,
+    reference: impl FnOnce() -> Result<AnyReference<f64>, ParamError>,
+    sim: &SimSpec,
+    origin: Origin<'_>,
+) -> Result<RunLoop, ScenarioError> {
     let plant = setup.plant(start).map_err(|e| origin.key_of(&e))?;
     let sensor = setup.sensor_for(run).map_err(|e| origin.key_of(&e))?;
+    let reference = reference().map_err(|e| origin.key_of(&e))?;
     ClosedLoop::with_sensor(plant, sensor, setup.built, reference, sim.dt())
         .map(|lp| lp.stop_when_settled(sim.stop_when_settled()).early_arrival(sim.early_arrival()))
         .map_err(|e| origin.key_of(&e))

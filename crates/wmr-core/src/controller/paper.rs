@@ -112,6 +112,17 @@ impl<T: Real> PaperParams<T> {
             hold: HoldMode::Auto,
         }
     }
+
+    /// Checks every key; errors name it.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        check::non_negative("kp_theta", self.kp_theta)?;
+        check::non_negative("ki_theta", self.ki_theta)?;
+        check::non_negative("kp_s", self.kp_s)?;
+        check::non_negative("ki_s", self.ki_s)?;
+        check::non_negative("goal_radius", self.goal_radius)?;
+        check::non_negative("hold_radius", self.hold_radius)?;
+        Ok(())
+    }
 }
 
 impl<T: Real> Default for PaperParams<T> {
@@ -120,43 +131,79 @@ impl<T: Real> Default for PaperParams<T> {
     }
 }
 
-/// The paper's outer law. Implements [`Law`] with [`WheelDemand::Angles`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PaperLaw<T: Lane> {
-    params: PaperParams<T::Scalar>,
-    outer: OuterLoops<T>,
-}
+/// Defines a law on [`OuterLoops`] (the paper's and its repair): the struct of its keys
+/// and loops, `new` and `for_lanes` (the keys' `validate`, then the loops, with the
+/// anti-windup on or off), `params` and the [`Law`] impl, whose update is the law's own
+/// `references` (wheel angle references, [`WheelDemand::Angles`]).
+macro_rules! outer_law {
+    ($(#[$doc:meta])* pub struct $law:ident($params:ident), anti_windup: $anti_windup:literal;) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug, PartialEq)]
+        pub struct $law<T: Lane> {
+            params: $params<T::Scalar>,
+            outer: OuterLoops<T>,
+        }
 
-impl<T: Real> PaperLaw<T> {
-    /// Validates `params` (errors name `kp_theta`, `ki_theta`, `kp_s`, `ki_s`,
-    /// `goal_radius`, `hold_radius`) for the controller's robot model (r and R) and the
-    /// control period (s, `control_dt`).
-    pub fn new(params: PaperParams<T>, model: &RobotParams<T>, control_dt: T) -> Result<Self, ParamError> {
-        Self::for_lanes(params, model, control_dt)
-    }
+        impl<T: Real> $law<T> {
+            /// Validates `params` (errors name the key) for the controller's robot model
+            /// (r and R) and the control period (s, `control_dt`).
+            pub fn new(params: $params<T>, model: &RobotParams<T>, control_dt: T) -> Result<Self, ParamError> {
+                Self::for_lanes(params, model, control_dt)
+            }
+        }
+
+        impl<T: Lane> $law<T> {
+            #[doc = concat!("[`", stringify!($law), "::new`] for several runs side by side ([`crate::lane`]).")]
+            pub fn for_lanes(
+                params: $params<T::Scalar>,
+                model: &RobotParams<T::Scalar>,
+                control_dt: T::Scalar,
+            ) -> Result<Self, ParamError> {
+                params.validate()?;
+                Ok(Self { params, outer: OuterLoops::new(model, control_dt, $anti_windup)? })
+            }
+
+            /// The parameters.
+            pub fn params(&self) -> &$params<T::Scalar> {
+                &self.params
+            }
+        }
+
+        impl<T: Lane> Law<T> for $law<T> {
+            #[cfg_attr(target_os = "none", inline)]
+            #[cfg_attr(not(target_os = "none"), inline(always))]
+            fn update(&mut self, _t: T, m: &Measurement<T>, r: &ReferenceState<T>) -> LawOutput<T> {
+                let (refs, errors) = self.references(m.pose, r.pose);
+                LawOutput { demand: WheelDemand::Angles(refs), errors }
+            }
+
+            fn reset_lanes(&mut self, lanes: T::Mask) {
+                self.outer.reset_lanes(lanes);
+            }
+
+            fn holding(&self) -> T::Mask {
+                self.outer.held
+            }
+
+            #[inline(always)]
+            fn wheels_saturated(&mut self, lanes: T::Mask) {
+                self.outer.saturated = lanes;
+            }
+
+            fn anti_windup(&self) -> bool {
+                self.outer.anti_windup
+            }
+        }
+    };
+}
+pub(crate) use outer_law;
+
+outer_law! {
+    /// The paper's outer law. Implements [`Law`] with [`WheelDemand::Angles`].
+    pub struct PaperLaw(PaperParams), anti_windup: false;
 }
 
 impl<T: Lane> PaperLaw<T> {
-    /// [`PaperLaw::new`] for several runs side by side ([`crate::lane`]).
-    pub fn for_lanes(
-        params: PaperParams<T::Scalar>,
-        model: &RobotParams<T::Scalar>,
-        control_dt: T::Scalar,
-    ) -> Result<Self, ParamError> {
-        check::non_negative("kp_theta", params.kp_theta)?;
-        check::non_negative("ki_theta", params.ki_theta)?;
-        check::non_negative("kp_s", params.kp_s)?;
-        check::non_negative("ki_s", params.ki_s)?;
-        check::non_negative("goal_radius", params.goal_radius)?;
-        check::non_negative("hold_radius", params.hold_radius)?;
-        Ok(Self { params, outer: OuterLoops::new(model, control_dt, false)? })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &PaperParams<T::Scalar> {
-        &self.params
-    }
-
     /// The law itself: errors and wheel angle references (rad) for the measured `pose`
     /// and the `goal` (m, m, rad), advancing the PI integrators by one control period.
     #[cfg_attr(target_os = "none", inline)]
@@ -189,32 +236,6 @@ impl<T: Lane> PaperLaw<T> {
                 (dl * diff.cos(), wrap_angle(diff))
             },
         )
-    }
-}
-
-impl<T: Lane> Law<T> for PaperLaw<T> {
-    #[cfg_attr(target_os = "none", inline)]
-    #[cfg_attr(not(target_os = "none"), inline(always))]
-    fn update(&mut self, _t: T, m: &Measurement<T>, r: &ReferenceState<T>) -> LawOutput<T> {
-        let (refs, errors) = self.references(m.pose, r.pose);
-        LawOutput { demand: WheelDemand::Angles(refs), errors }
-    }
-
-    fn reset_lanes(&mut self, lanes: T::Mask) {
-        self.outer.reset_lanes(lanes);
-    }
-
-    fn holding(&self) -> T::Mask {
-        self.outer.held
-    }
-
-    #[inline(always)]
-    fn wheels_saturated(&mut self, lanes: T::Mask) {
-        self.outer.saturated = lanes;
-    }
-
-    fn anti_windup(&self) -> bool {
-        self.outer.anti_windup
     }
 }
 

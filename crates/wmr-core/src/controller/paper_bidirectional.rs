@@ -61,7 +61,7 @@
 //! wrap(theta_R - theta) as the paper's, dl the distance.
 
 use super::law::{ControlErrors, Law, LawOutput, WheelDemand};
-use super::paper::{Hold, HoldMode, OuterLoops, PiGains};
+use super::paper::{Hold, HoldMode, OuterLoops, PiGains, outer_law};
 use crate::error::{ParamError, check};
 use crate::lane::Lane;
 use crate::math::{Pose2, Wheels, wrap_angle};
@@ -150,37 +150,12 @@ impl<T: Real> PaperBidirectionalParams<T> {
     }
 }
 
-/// The repaired paper law. Implements [`Law`] with [`WheelDemand::Angles`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PaperBidirectionalLaw<T: Lane> {
-    params: PaperBidirectionalParams<T::Scalar>,
-    outer: OuterLoops<T>,
-}
-
-impl<T: Real> PaperBidirectionalLaw<T> {
-    /// Validates `params` for the controller's robot model (r and R) and the control
-    /// period (s, `control_dt`).
-    pub fn new(params: PaperBidirectionalParams<T>, model: &RobotParams<T>, control_dt: T) -> Result<Self, ParamError> {
-        Self::for_lanes(params, model, control_dt)
-    }
+outer_law! {
+    /// The repaired paper law. Implements [`Law`] with [`WheelDemand::Angles`].
+    pub struct PaperBidirectionalLaw(PaperBidirectionalParams), anti_windup: true;
 }
 
 impl<T: Lane> PaperBidirectionalLaw<T> {
-    /// [`PaperBidirectionalLaw::new`] for several runs side by side ([`crate::lane`]).
-    pub fn for_lanes(
-        params: PaperBidirectionalParams<T::Scalar>,
-        model: &RobotParams<T::Scalar>,
-        control_dt: T::Scalar,
-    ) -> Result<Self, ParamError> {
-        params.validate()?;
-        Ok(Self { params, outer: OuterLoops::new(model, control_dt, true)? })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &PaperBidirectionalParams<T::Scalar> {
-        &self.params
-    }
-
     /// The law itself: errors and wheel angle references (rad) for the measured `pose`
     /// and the `goal` (m, m, rad, world frame), advancing the PI integrators by one
     /// control period.
@@ -206,28 +181,6 @@ impl<T: Lane> PaperBidirectionalLaw<T> {
                 (e_s, e_theta)
             },
         )
-    }
-}
-
-impl<T: Lane> Law<T> for PaperBidirectionalLaw<T> {
-    #[cfg_attr(target_os = "none", inline)]
-    #[cfg_attr(not(target_os = "none"), inline(always))]
-    fn update(&mut self, _t: T, m: &Measurement<T>, r: &ReferenceState<T>) -> LawOutput<T> {
-        let (refs, errors) = self.references(m.pose, r.pose);
-        LawOutput { demand: WheelDemand::Angles(refs), errors }
-    }
-
-    fn reset_lanes(&mut self, lanes: T::Mask) {
-        self.outer.reset_lanes(lanes);
-    }
-
-    fn holding(&self) -> T::Mask {
-        self.outer.held
-    }
-
-    #[inline(always)]
-    fn wheels_saturated(&mut self, lanes: T::Mask) {
-        self.outer.saturated = lanes;
     }
 }
 

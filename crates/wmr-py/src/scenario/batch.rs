@@ -48,7 +48,7 @@ pub fn run_batch_native<'py>(
             parameter_error(arg, format_args!("expected a float64 array of shape (N, 3), got {}", type_name(obj)))
         })?;
         let shape = a.shape();
-        if shape.len() != 2 || shape[1] != 3 {
+        if shape[1] != 3 {
             return Err(parameter_error(
                 arg,
                 format_args!("expected shape (N, 3) of (x, y, theta_rad), got {shape:?}"),

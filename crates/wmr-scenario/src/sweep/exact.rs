@@ -90,25 +90,27 @@ impl SweepSpec {
         let mut drawn = None;
         let setup = self.setup_of(sim, k, &mut drawn)?;
         let start = self.start_pose(i.reference, i.start);
-        let Some(tr) = &self.tracking else {
-            let mut lp = assemble::closed_loop(setup, k as u64, start, self.goal, sim, origin)?;
-            return Ok(lp.try_run(sim.n_steps(), u32::MAX, |_| ControlFlow::Continue(()), poll).map_continue(
-                |outcome| {
-                    let drift = OdometryDrift::of(&lp, &outcome);
-                    SweepOutcome { odometry_drift: drift, ..self.outcome_of(k, outcome) }
-                },
-            ));
+        let (lp, run) = match &self.tracking {
+            None => {
+                let mut lp = assemble::closed_loop(setup, k as u64, start, self.goal, sim, origin)?;
+                let run = lp.try_run(sim.n_steps(), u32::MAX, |_| ControlFlow::Continue(()), poll);
+                (lp, run.map_continue(|outcome| (outcome, None)))
+            }
+            Some(tr) => {
+                let reference = tr.references[i.reference].1.built;
+                let mut lp = assemble::closed_loop_to(setup, k as u64, start, reference, sim, origin)?;
+                let path_following = is_path_following(&setup.controller.law);
+                // Only the outcome counts: the samples go nowhere (every plant step is watched).
+                let run =
+                    tracking_run::run(&mut lp, sim, tr.tolerance, path_following, |_| ControlFlow::Continue(()), poll);
+                (lp, run.map_continue(|(outcome, tracking)| (outcome, Some(tracking))))
+            }
         };
-        let reference = tr.references[i.reference].1.built;
-        let mut lp = assemble::closed_loop_to(setup, k as u64, start, reference, sim, origin)?;
-        let path_following = is_path_following(&setup.controller.law);
-        // Only the outcome counts: the samples go nowhere (every plant step is watched).
-        Ok(tracking_run::run(&mut lp, sim, tr.tolerance, path_following, |_| ControlFlow::Continue(()), poll)
-            .map_continue(|(outcome, tracking)| SweepOutcome {
-                tracking: Some(tracking),
-                odometry_drift: OdometryDrift::of(&lp, &outcome),
-                ..self.outcome_of(k, outcome)
-            }))
+        Ok(run.map_continue(|(outcome, tracking)| SweepOutcome {
+            tracking,
+            odometry_drift: OdometryDrift::of(&lp, &outcome),
+            ..self.outcome_of(k, outcome)
+        }))
     }
 
     /// Run `k`'s outcome with where it sits in the sweep.
