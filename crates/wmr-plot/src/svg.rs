@@ -240,6 +240,33 @@ impl Svg {
         );
     }
 
+    /// A rectangle (pt) of class `class` (so a reader can find it), its fill of opacity
+    /// `fill_opacity` (0..1).
+    #[allow(clippy::too_many_arguments)]
+    pub fn rect_class(
+        &mut self,
+        class: &str,
+        x: f64,
+        y: f64,
+        w: f64,
+        h: f64,
+        fill: &str,
+        fill_opacity: f64,
+        outline: Option<Stroke<'_>>,
+    ) {
+        let stroke = outline.map_or_else(|| "stroke=\"none\"".to_owned(), |s| s.attrs());
+        let _ = writeln!(
+            self.body,
+            "<rect class=\"{}\" x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"{fill}\" fill-opacity=\"{}\" {stroke}/>",
+            escape(class),
+            num(x),
+            num(y),
+            num(w),
+            num(h),
+            num(fill_opacity)
+        );
+    }
+
     /// Text at (x, y) (pt, the baseline), `markup` already escaped (see [`escape`], [`math`]),
     /// `size` in pt, turned by `rotate` degrees about its anchor.
     pub fn text(&mut self, at: (f64, f64), markup: &str, size: f64, anchor: Anchor, rotate: f64, bold: bool) {
