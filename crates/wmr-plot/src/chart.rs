@@ -269,20 +269,13 @@ pub(crate) fn rows_height(entries: &[Entry], width: f64) -> f64 {
     legend_height(row_layout(entries, width).iter().map(|(_, row)| *row).max().map_or(0, |r| r + 1))
 }
 
-/// Where each entry goes in rows across `width` pt: (x offset, row).
+/// Where each entry goes in rows across `width` pt: (x offset, row). The entries are laid
+/// on a grid of equal columns, as many as fit (the widest entry sets the column width), so
+/// the keys line up from row to row.
 fn row_layout(entries: &[Entry], width: f64) -> Vec<(f64, usize)> {
-    let mut out = Vec::with_capacity(entries.len());
-    let (mut x, mut row) = (0.0, 0);
-    for e in entries {
-        let w = legend_width(std::slice::from_ref(e)) + 8.0;
-        if x > 0.0 && x + w > width {
-            x = 0.0;
-            row += 1;
-        }
-        out.push((x, row));
-        x += w;
-    }
-    out
+    let col_w = legend_width(entries) + 8.0;
+    let cols = ((width / col_w).floor() as usize).clamp(1, entries.len().max(1));
+    (0..entries.len()).map(|i| ((i % cols) as f64 * col_w, i / cols)).collect()
 }
 
 /// The legend in rows, filling `width` pt from (x, y) (pt), for legends below the data.

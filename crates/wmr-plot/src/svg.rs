@@ -304,10 +304,24 @@ impl Svg {
     }
 }
 
-/// Width (pt) a text of `chars` characters takes at `size` pt, roughly (DejaVu Sans:
-/// about 0.6 em per character on average); used only to make room for legends.
+/// Width (pt) a text takes at `size` pt, from DejaVu Sans's advance widths (in em; the
+/// widest of the three fonts asked for, so Helvetica and Arial fit in it too): narrow
+/// letters, spaces and punctuation count for what they take, not an average letter's
+/// width; used only to make room for legends and tick labels.
 pub(crate) fn text_width(s: &str, size: f64) -> f64 {
-    0.6 * size * s.chars().count() as f64
+    let em: f64 = s
+        .chars()
+        .map(|c| match c {
+            'i' | 'j' | 'l' | '\'' | '|' => 0.28,
+            ' ' | ',' | '.' | ':' | ';' | '!' => 0.33,
+            'f' | 't' | 'r' | '(' | ')' | '[' | ']' | '-' | '/' | 'I' | 'J' => 0.41,
+            'm' | 'w' | 'M' | 'W' | '%' | '\u{2212}' | '=' | '+' | '<' | '>' | '\u{2265}' | '\u{2264}' => 0.98,
+            'A'..='Z' => 0.78,
+            '0'..='9' => 0.64,
+            _ => 0.64,
+        })
+        .sum();
+    em * size
 }
 
 #[cfg(test)]
