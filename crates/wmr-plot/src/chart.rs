@@ -331,11 +331,11 @@ const LEGEND_INSET: f64 = 4.0;
 const LEGEND_PAD: f64 = 4.0;
 /// Gap between the columns of a legend, pt.
 const LEGEND_COL_GAP: f64 = 6.0;
-/// Most ink (see [`Ink`]) a legend inside a panel may cover: this share of the panel's,
-/// and never more than [`LEGEND_MAX_COVER`] points (about that many pt of line, 5 cm on
-/// the page). Under its translucent box a line stays visible, but a legend on the data is
-/// still in the way.
-const LEGEND_MAX_SHARE: f64 = 0.02;
+/// Most of the lines (see [`Ink`]) a legend inside a panel may cover: this share of the
+/// panel's, and never more than [`LEGEND_MAX_COVER`] points (about that many pt of line,
+/// 5 cm on the page). Under its translucent box a line stays visible, but a legend on the
+/// data is still in the way.
+pub(crate) const LINES_MAX_SHARE: f64 = 0.02;
 const LEGEND_MAX_COVER: usize = 150;
 
 /// A legend inside a panel: its box (pt) and its entries in columns.
@@ -360,13 +360,14 @@ fn columns(entries: &[Entry], rows: usize) -> Vec<f64> {
 
 /// The legend's place inside `panel`: of the four corners and one to three columns, the
 /// box that covers the least of `ink` (ties: fewer columns, then top right, top left,
-/// bottom right, bottom left); `None` when even that one covers more than the panel can
-/// spare (see [`LEGEND_MAX_SHARE`]) or none fits: the legend then goes below the figure.
-pub(crate) fn place_legend(panel: &Panel, entries: &[Entry], ink: &Ink) -> Option<LegendBox> {
+/// bottom right, bottom left); `None` when even that one covers more than `max_share` of
+/// the panel's ink (see [`LINES_MAX_SHARE`]; 0 for markers, none of which may be hidden)
+/// or none fits: the legend then goes below the figure.
+pub(crate) fn place_legend(panel: &Panel, entries: &[Entry], ink: &Ink, max_share: f64) -> Option<LegendBox> {
     if entries.is_empty() {
         return None;
     }
-    let allowed = ((LEGEND_MAX_SHARE * ink.count_on(panel) as f64) as usize).min(LEGEND_MAX_COVER);
+    let allowed = ((max_share * ink.count_on(panel) as f64) as usize).min(LEGEND_MAX_COVER);
     let mut best: Option<(usize, LegendBox)> = None;
     for cols in 1..=entries.len().min(3) {
         let rows = entries.len().div_ceil(cols);

@@ -4,9 +4,9 @@
 use wmr_core::{Pose2, Sample, wrap_angle};
 
 use crate::chart::{
-    BOTTOM, Entry, FONT, GOAL_HEAD, GOAL_LEN, HEADING_HEAD, HEADING_LEN, Ink, Key, LEFT, LINE_W, LegendBox, PAGE_W,
-    Panel, RIGHT, TOP, color, cross, dash, equal_aspect, legend_boxed, legend_rows, padded_range, place_legend,
-    rows_height, title,
+    BOTTOM, Entry, FONT, GOAL_HEAD, GOAL_LEN, HEADING_HEAD, HEADING_LEN, Ink, Key, LEFT, LINE_W, LINES_MAX_SHARE,
+    LegendBox, PAGE_W, Panel, RIGHT, TOP, color, cross, dash, equal_aspect, legend_boxed, legend_rows, padded_range,
+    place_legend, rows_height, title,
 };
 use crate::svg::{Anchor, Stroke, Svg, escape, math, text_width};
 use crate::{PlotError, Trace};
@@ -174,7 +174,7 @@ pub fn paths_svg(title_text: &str, traces: &[Trace<'_>]) -> Result<String, PlotE
     for &(a, b) in arrows.iter().flatten() {
         ink.line(&[a, b]);
     }
-    let inside = place_legend(&panel, &entries, &ink);
+    let inside = place_legend(&panel, &entries, &ink, LINES_MAX_SHARE);
     let height = match inside {
         Some(_) => TOP + h + BOTTOM,
         None => TOP + h + BOTTOM + 4.0 + rows_height(&entries, w),
@@ -326,7 +326,7 @@ fn time_panels(title_text: &str, t: &[f64], panels: &[(&str, Vec<Series<'_>>)]) 
             .iter()
             .enumerate()
             .filter(|(_, p)| p.group == group)
-            .find_map(|(k, _)| place_legend(&drawn[k].panel, &entries, &drawn[k].ink));
+            .find_map(|(k, _)| place_legend(&drawn[k].panel, &entries, &drawn[k].ink, LINES_MAX_SHARE));
         if place.is_none() {
             below.extend(entries);
         }

@@ -58,8 +58,9 @@ pub fn region_svg(title_text: &str, cells: &[SweepCell], goal: Pose2<f64>) -> Re
     let area = (xr.1 - xr.0) * (yr.1 - yr.0) * panel.scale_x() * panel.scale_x();
     let len = (0.9 * (area / cells.len().max(1) as f64).sqrt()).clamp(3.5, 8.0);
     let binned = cells.len() > MAX_MARKERS;
-    // Every start is data: the legend goes in a corner only where no start is (a sweep
-    // over a disc leaves the corners of its square empty), else below the map.
+    // Every start is data, and one hidden under the legend would be a start without its
+    // outcome: the legend goes in a corner only where it hides no start (a few starts
+    // leave room; a disc of many fills its square to the corners), else below the map.
     let g = panel.p((goal.x, goal.y));
     let tip = (g.0 + GOAL_LEN * goal.theta.cos(), g.1 - GOAL_LEN * goal.theta.sin());
     let mut ink = Ink::default();
@@ -67,7 +68,7 @@ pub fn region_svg(title_text: &str, cells: &[SweepCell], goal: Pose2<f64>) -> Re
         ink.point(panel.p((c.x, c.y)));
     }
     ink.line(&[g, tip]);
-    let inside = place_legend(&panel, &entries, &ink);
+    let inside = place_legend(&panel, &entries, &ink, 0.0);
     let legend_y = TOP + h + BOTTOM;
     let height = match inside {
         Some(_) => legend_y + 10.0,

@@ -3,8 +3,8 @@
 
 use crate::PlotError;
 use crate::chart::{
-    BOTTOM, Entry, Ink, Key, LEFT, LINE_W, PAGE_W, Panel, RIGHT, TOP, color, legend_boxed, legend_rows, place_legend,
-    rows_height, title,
+    BOTTOM, Entry, Ink, Key, LEFT, LINE_W, LINES_MAX_SHARE, PAGE_W, Panel, RIGHT, TOP, color, legend_boxed,
+    legend_rows, place_legend, rows_height, title,
 };
 use crate::svg::{Stroke, Svg, escape};
 
@@ -38,7 +38,7 @@ pub fn share_svg(title_text: &str, key_desc: &str, series: &[ShareSeries<'_>]) -
     for c in &curves {
         ink.line(c);
     }
-    let inside = place_legend(&panel, &entries, &ink);
+    let inside = place_legend(&panel, &entries, &ink, LINES_MAX_SHARE);
     let height = match inside {
         Some(_) => TOP + h + BOTTOM,
         None => TOP + h + BOTTOM + 4.0 + rows_height(&entries, w),

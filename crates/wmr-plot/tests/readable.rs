@@ -204,6 +204,53 @@ fn a_legend_that_would_hide_data_goes_below_the_plot() {
     assert!(y > frame.y + frame.h, "the legend at y = {y} is on the map {frame:?}");
 }
 
+/// A start under the legend would be a start without its outcome: on a map of starts
+/// over a disc (the corners of its square are nearly empty) the legend hides none.
+#[test]
+fn a_map_legend_hides_no_start() {
+    // 1,000 starts spread uniformly over a disc of radius 2 m (a fixed LCG, any heading),
+    // like examples/compare.toml.
+    let mut state: u64 = 2026;
+    let mut uniform = || {
+        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let cells: Vec<SweepCell> = (0..1000)
+        .map(|_| {
+            let (r, phi, theta) =
+                (2.0 * uniform().sqrt(), std::f64::consts::TAU * uniform(), std::f64::consts::TAU * uniform());
+            SweepCell { x: r * phi.cos(), y: r * phi.sin(), theta, outcome: Status::Converged }
+        })
+        .collect();
+    let svg = region_svg("disc", &cells, Pose2::default()).unwrap();
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    // The start markers: the triangles drawn in the clipped map (legend keys are outside it).
+    let starts: Vec<(f64, f64)> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("polygon") && n.ancestors().any(|a| a.attribute("clip-path").is_some()))
+        .map(|n| {
+            let p = polygon_points(&n);
+            (p.iter().map(|q| q.0).sum::<f64>() / 3.0, p.iter().map(|q| q.1).sum::<f64>() / 3.0)
+        })
+        .collect();
+    assert_eq!(starts.len(), cells.len());
+    for b in legend_boxes(&doc) {
+        let hidden = starts.iter().filter(|p| b.contains(**p)).count();
+        assert_eq!(hidden, 0, "the legend {b:?} hides {hidden} starts");
+    }
+}
+
+fn polygon_points(n: &roxmltree::Node<'_, '_>) -> Vec<(f64, f64)> {
+    n.attribute("points")
+        .unwrap()
+        .split_whitespace()
+        .map(|p| {
+            let (x, y) = p.split_once(',').unwrap();
+            (x.parse().unwrap(), y.parse().unwrap())
+        })
+        .collect()
+}
+
 /// The heads of the arrows along a path and at its goal: at least 1.5 % of the figure's
 /// width, so 1.3 mm with the figure scaled to an 85 mm column.
 #[test]
@@ -227,15 +274,7 @@ fn heading_arrows_are_sized_to_the_page_and_visible_at_column_width() {
             .descendants()
             .filter(|n| n.has_tag_name("polygon") && n.attribute("fill") == Some(colour))
             .map(|n| {
-                let p: Vec<(f64, f64)> = n
-                    .attribute("points")
-                    .unwrap()
-                    .split_whitespace()
-                    .map(|p| {
-                        let (x, y) = p.split_once(',').unwrap();
-                        (x.parse().unwrap(), y.parse().unwrap())
-                    })
-                    .collect();
+                let p = polygon_points(&n);
                 assert_eq!(p.len(), 3);
                 let base = (0.5 * (p[1].0 + p[2].0), 0.5 * (p[1].1 + p[2].1));
                 (p[0].0 - base.0).hypot(p[0].1 - base.1)
