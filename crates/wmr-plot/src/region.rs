@@ -97,7 +97,11 @@ pub fn region_svg(title_text: &str, cells: &[SweepCell], goal: Pose2<f64>) -> Re
         }
     }
     svg.end_clip();
+    // A white halo first: the goal's black arrow stays visible on black (diverged) bins.
+    let (ux, uy) = (goal.theta.cos(), -goal.theta.sin());
+    svg.arrow(g, (tip.0 + 1.5 * ux, tip.1 + 1.5 * uy), GOAL_HEAD + 3.0, Stroke::solid("#ffffff", 3.8));
     svg.arrow(g, tip, GOAL_HEAD, Stroke::solid("#000000", 1.6));
+    svg.circle(g, 5.0, "#ffffff", None);
     svg.circle(g, 3.6, "#ffffff", Some(Stroke::solid("#000000", 1.6)));
     match &inside {
         Some(b) => legend_boxed(&mut svg, b, &entries),
