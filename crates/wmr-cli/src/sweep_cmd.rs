@@ -239,10 +239,9 @@ fn write_share_curves(curves: &[ShareCurve], dir: &Path) -> Result<()> {
             .filter(|c| c.key == key)
             .map(|c| (c.law.as_str(), c.points.iter().map(|(x, s, _)| (*x, *s)).collect()))
             .collect();
-        let axis = match unit_of(key) {
-            Some(unit) => format!("{key} ({unit})"),
-            None => key.to_owned(),
-        };
+        // Every axis names its unit (issue 27): a key without one is a pure number (a
+        // friction coefficient, a gear ratio, a seed).
+        let axis = format!("{key} ({})", unit_of(key).unwrap_or("dimensionless"));
         let svg = share_svg(&format!("Converged share against {key}"), &axis, &series)?;
         write_text(&dir.join(format!("share-{}.svg", safe_file_stem(&key.replace('.', "-")))), &svg)?;
     }
@@ -252,6 +251,14 @@ fn write_share_curves(curves: &[ShareCurve], dir: &Path) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn varied_keys_have_their_schema_units() {
+        assert_eq!(unit_of("sensor.position_noise"), Some("m"));
+        assert_eq!(unit_of("controller.model.wheel_radius"), unit_of("robot.wheel_radius"));
+        assert_eq!(unit_of("robot.gear_ratio"), None, "a pure number");
+        assert!(wmr_scenario::schema().iter().any(|k| k.table == "robot" && k.key == "gear_ratio"));
+    }
 
     #[test]
     fn default_names_stay_in_the_working_directory() {

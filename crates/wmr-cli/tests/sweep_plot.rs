@@ -96,3 +96,26 @@ fn plot_writes_the_paper_figures_with_one_path_per_run() {
         assert!((3..=12).contains(&n), "dl, e_s and e_theta: {n} curves");
     }
 }
+
+/// Every axis names its unit (issue 27): a varied key without one is a pure number, and
+/// its share curve's axis says so.
+#[test]
+fn a_share_curve_of_a_key_without_a_unit_says_it_is_dimensionless() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("s.toml");
+    std::fs::write(
+        &file,
+        "[sim]\nt_end = 1.0\n[sweep]\ncontrollers = [{ kind = \"polar\" }]\n\
+         grid = { x_min = -1.0, x_max = 1.0, nx = 2, y_min = 0.0, y_max = 0.0, ny = 1 }\n\
+         vary = [{ key = \"robot.gear_ratio\", values = [1.0, 2.0] }, { key = \"sensor.latency\", values = [0.0, 0.01] }]\n",
+    )
+    .unwrap();
+    let csv = dir.path().join("out.csv");
+    let plots = dir.path().join("plots");
+    let out = run(&["sweep", file.to_str().unwrap(), "-o", csv.to_str().unwrap(), "--plots", plots.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let gear = std::fs::read_to_string(plots.join("share-robot-gear_ratio.svg")).unwrap();
+    assert!(gear.contains(">robot.gear_ratio (dimensionless)<"), "no unit on the gear ratio's axis");
+    let latency = std::fs::read_to_string(plots.join("share-sensor-latency.svg")).unwrap();
+    assert!(latency.contains(">sensor.latency (s)<"));
+}

@@ -4,11 +4,15 @@
 use wmr_core::{Pose2, Sample, wrap_angle};
 
 use crate::chart::{
-    BOTTOM, Entry, FONT, Key, LEFT, LINE_W, PAGE_W, Panel, RIGHT, TOP, color, cross, dash, equal_aspect, legend,
-    legend_height, legend_width, padded_range, title,
+    BOTTOM, Entry, FONT, GOAL_HEAD, GOAL_LEN, HEADING_HEAD, HEADING_LEN, Ink, Key, LEFT, LINE_W, LINES_MAX_SHARE,
+    LegendBox, PAGE_W, Panel, RIGHT, TOP, color, cross, dash, equal_aspect, legend_boxed, legend_rows, padded_range,
+    place_legend, rows_height, title,
 };
-use crate::svg::{Anchor, Stroke, Svg, escape, math};
+use crate::svg::{Anchor, Stroke, Svg, escape, math, text_width};
 use crate::{PlotError, Trace};
+
+/// A point on the page, pt.
+type Point = (f64, f64);
 
 /// Heading arrows drawn along each path.
 const HEADING_TICKS: usize = 7;
@@ -76,8 +80,8 @@ pub fn paths_svg(title_text: &str, traces: &[Trace<'_>]) -> Result<String, PlotE
     let far_runs: Vec<bool> = traces.iter().map(|t| goes_far(t, far)).collect();
     let mut xs = Vec::new();
     let mut ys = Vec::new();
-    // The goal arrows' tips too (drawn 1.6 heading-arrow lengths long, about 7 % of the
-    // frame): a twelfth of the starts-to-goals extent, at least 5 cm.
+    // The goal arrows' tips too (drawn GOAL_LEN long, about 8 % of the frame's width):
+    // 8 % of the starts-to-goals extent, at least 5 cm.
     let reach = 0.08
         * traces
             .iter()
@@ -118,37 +122,73 @@ pub fn paths_svg(title_text: &str, traces: &[Trace<'_>]) -> Result<String, PlotE
     if far_runs.iter().any(|f| *f) {
         entries.push(Entry::math("leaves the plot", Key::Cross("#404040")));
     }
-    let lw = legend_width(&entries);
-    let below = lw > 0.38 * PAGE_W;
-    let w = if below { PAGE_W - LEFT - RIGHT } else { PAGE_W - LEFT - RIGHT - lw - 10.0 };
+    // The panel takes the page's width; the legend goes in its emptiest corner.
+    let w = PAGE_W - LEFT - RIGHT;
     let aspect = ((yr.1 - yr.0) / (xr.1 - xr.0)).clamp(0.55, 1.15);
     let h = w * aspect;
     let (xr, yr) = equal_aspect(xr, yr, w, h);
     let panel = Panel { x: LEFT, y: TOP, w, h, xr, yr };
-    let legend_h = legend_height(entries.len());
-    let height = if below { TOP + h + BOTTOM + 6.0 + legend_h } else { TOP + h.max(legend_h) + BOTTOM };
+
+    // Everything drawn in the panel, in page points, before drawing: the legend's place
+    // depends on it.
+    let paths: Vec<Vec<(f64, f64)>> = traces
+        .iter()
+        .map(|t| {
+            t.samples
+                .iter()
+                .filter(|s| s.state.x.is_finite() && s.state.y.is_finite())
+                .map(|s| panel.p((s.state.x, s.state.y)))
+                .collect()
+        })
+        .collect();
+    // Heading arrows: (tail, tip) in pt, a far run's on its part inside the frame.
+    let arrows: Vec<Vec<(Point, Point)>> = traces
+        .iter()
+        .map(|t| {
+            let inside =
+                t.samples.iter().position(|s| !panel.contains((s.state.x, s.state.y))).unwrap_or(t.samples.len());
+            spread_along_path(&t.samples[..inside.max(1)], t.goal, HEADING_TICKS)
+                .into_iter()
+                .skip(1)
+                .map(|k| {
+                    let s = &t.samples[k].state;
+                    let a = panel.p((s.x, s.y));
+                    (a, (a.0 + HEADING_LEN * s.theta.cos(), a.1 - HEADING_LEN * s.theta.sin()))
+                })
+                .collect()
+        })
+        .collect();
+    let goal_tip = |g: Pose2<f64>| {
+        let p = panel.p((g.x, g.y));
+        (p, (p.0 + GOAL_LEN * g.theta.cos(), p.1 - GOAL_LEN * g.theta.sin()))
+    };
+    let mut ink = Ink::default();
+    for (t, path) in traces.iter().zip(&paths) {
+        ink.line(path);
+        let (g, tip) = goal_tip(t.goal);
+        ink.line(&[g, tip]);
+        if let Some(s) = t.samples.first() {
+            ink.point(panel.p((s.state.x, s.state.y)));
+        }
+    }
+    for &(a, b) in arrows.iter().flatten() {
+        ink.line(&[a, b]);
+    }
+    let inside = place_legend(&panel, &entries, &ink, LINES_MAX_SHARE);
+    let height = match inside {
+        Some(_) => TOP + h + BOTTOM,
+        None => TOP + h + BOTTOM + 4.0 + rows_height(&entries, w),
+    };
     let mut svg = Svg::new(PAGE_W, height);
     title(&mut svg, panel.x, panel.w, title_text);
     panel.axes(&mut svg, Some("x (m)"), "y (m)");
 
-    let arrow_len = 0.05 * w;
     let clip = panel.clip(&mut svg);
     svg.begin_clip(&clip);
-    for (i, t) in traces.iter().enumerate() {
-        let pts: Vec<(f64, f64)> = t
-            .samples
-            .iter()
-            .filter(|s| s.state.x.is_finite() && s.state.y.is_finite())
-            .map(|s| panel.p((s.state.x, s.state.y)))
-            .collect();
-        svg.polyline(&pts, Stroke { dash: dash(i), ..Stroke::solid(color(i), LINE_W) });
-        // A far run's arrows go on its part inside the frame.
-        let inside = t.samples.iter().position(|s| !panel.contains((s.state.x, s.state.y))).unwrap_or(t.samples.len());
-        for k in spread_along_path(&t.samples[..inside.max(1)], t.goal, HEADING_TICKS).into_iter().skip(1) {
-            let s = &t.samples[k].state;
-            let a = panel.p((s.x, s.y));
-            let b = (a.0 + arrow_len * s.theta.cos(), a.1 - arrow_len * s.theta.sin());
-            svg.arrow(a, b, 3.6, Stroke { opacity: 0.9, ..Stroke::solid(color(i), 0.8) });
+    for (i, (path, arrows)) in paths.iter().zip(&arrows).enumerate() {
+        svg.polyline(path, Stroke { dash: dash(i), ..Stroke::solid(color(i), LINE_W) });
+        for &(a, b) in arrows {
+            svg.arrow(a, b, HEADING_HEAD, Stroke { opacity: 0.9, ..Stroke::solid(color(i), 0.9) });
         }
     }
     svg.end_clip();
@@ -177,15 +217,13 @@ pub fn paths_svg(title_text: &str, traces: &[Trace<'_>]) -> Result<String, PlotE
             continue;
         }
         let gc = if shared { "#404040" } else { c };
-        let g = panel.p((t.goal.x, t.goal.y));
-        let tip = (g.0 + 1.6 * arrow_len * t.goal.theta.cos(), g.1 - 1.6 * arrow_len * t.goal.theta.sin());
-        svg.arrow(g, tip, 5.0, Stroke::solid(gc, 1.2));
+        let (g, tip) = goal_tip(t.goal);
+        svg.arrow(g, tip, GOAL_HEAD, Stroke::solid(gc, 1.2));
         svg.circle(g, 3.0, "#ffffff", Some(Stroke::solid(gc, 1.2)));
     }
-    if below {
-        legend(&mut svg, LEFT, TOP + h + BOTTOM + 2.0, &entries);
-    } else {
-        legend(&mut svg, LEFT + w + 12.0, TOP, &entries);
+    match &inside {
+        Some(b) => legend_boxed(&mut svg, b, &entries),
+        None => legend_rows(&mut svg, LEFT, TOP + h + BOTTOM, w, &entries),
     }
     Ok(svg.finish())
 }
@@ -219,58 +257,108 @@ fn detail_from(t: &[f64], series: &[Series<'_>]) -> Option<f64> {
     ((rest.1 - rest.0) < 0.4 * (full.1 - full.0)).then_some(t[from])
 }
 
-/// Panels of time series sharing the time axis, the legend at the right.
+/// Panels of time series sharing the time axis; each requested panel's legend in the
+/// emptiest corner of it (or of its detail panel), else below the figure.
 fn time_panels(title_text: &str, t: &[f64], panels: &[(&str, Vec<Series<'_>>)]) -> Result<String, PlotError> {
     if t.is_empty() {
         return Err(PlotError::new("no sample to plot"));
     }
     let t_end = t.last().copied().unwrap_or(1.0).max(1e-9);
-    // Each requested panel, and after it a detail panel when its start-up dwarfs the rest.
+    // Each requested panel (`group`), and after it a detail panel when its start-up
+    // dwarfs the rest.
     struct Pane<'p, 'a> {
         y_label: String,
         series: &'p [Series<'a>],
         from: Option<f64>,
+        group: usize,
     }
     let mut panes = Vec::new();
-    for (label, series) in panels {
-        panes.push(Pane { y_label: (*label).to_owned(), series, from: None });
+    for (group, (label, series)) in panels.iter().enumerate() {
+        panes.push(Pane { y_label: (*label).to_owned(), series, from: None, group });
         if let Some(from) = detail_from(t, series) {
-            panes.push(Pane { y_label: format!("{label}, detail"), series, from: Some(from) });
+            panes.push(Pane { y_label: format!("{label}, detail"), series, from: Some(from), group });
         }
     }
-    let mut entries = Vec::new();
-    for (_, series) in panels {
-        for s in series {
-            entries.push(Entry::math(s.name, Key::Line(color(s.index), dash(s.index))));
-        }
-    }
-    let lw = legend_width(&entries);
-    let w = PAGE_W - LEFT - RIGHT - lw - 10.0;
+    let w = PAGE_W - LEFT - RIGHT;
     let h = 118.0;
     let gap = 12.0;
-    let height = TOP + panes.len() as f64 * (h + gap) - gap + BOTTOM;
+    // Each pane's panel, curves (pt), note and ink.
+    struct Drawn {
+        panel: Panel,
+        curves: Vec<Vec<Point>>,
+        note: Option<String>,
+        ink: Ink,
+    }
+    let drawn: Vec<Drawn> = panes
+        .iter()
+        .enumerate()
+        .map(|(k, pane)| {
+            let from_idx = pane.from.map_or(0, |f| t.iter().position(|x| *x >= f).unwrap_or(0));
+            let yr = padded_range(pane.series.iter().flat_map(|s| s.values[from_idx..].iter().copied()), 0.06, 1e-6);
+            let panel = Panel { x: LEFT, y: TOP + k as f64 * (h + gap), w, h, xr: (0.0, t_end), yr };
+            let curves: Vec<Vec<(f64, f64)>> = pane
+                .series
+                .iter()
+                .map(|s| {
+                    t.iter().zip(&s.values).filter(|(_, v)| v.is_finite()).map(|(t, v)| panel.p((*t, *v))).collect()
+                })
+                .collect();
+            let mut ink = Ink::default();
+            for c in &curves {
+                ink.line(c);
+            }
+            let note = pane.from.map(|f| format!("y fitted to t \u{2265} {f:.1} s"));
+            if let Some(n) = &note {
+                // The note, at the top right, is in a legend's way like a line.
+                let (x1, y) = (panel.x + panel.w - 4.0, panel.y + 7.0);
+                ink.line(&[(x1 - text_width(n, FONT), y), (x1, y)]);
+            }
+            Drawn { panel, curves, note, ink }
+        })
+        .collect();
+    // Each group's legend: in the first of its panes where it fits, else below.
+    let mut inside: Vec<Option<LegendBox>> = Vec::new();
+    let mut below = Vec::new();
+    for (group, (_, series)) in panels.iter().enumerate() {
+        let entries: Vec<Entry> =
+            series.iter().map(|s| Entry::math(s.name, Key::Line(color(s.index), dash(s.index)))).collect();
+        let place = panes
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.group == group)
+            .find_map(|(k, _)| place_legend(&drawn[k].panel, &entries, &drawn[k].ink, LINES_MAX_SHARE));
+        if place.is_none() {
+            below.extend(entries);
+        }
+        inside.push(place);
+    }
+    let panels_end = TOP + panes.len() as f64 * (h + gap) - gap + BOTTOM;
+    let height = if below.is_empty() { panels_end } else { panels_end + 4.0 + rows_height(&below, w) };
     let mut svg = Svg::new(PAGE_W, height);
     title(&mut svg, LEFT, w, title_text);
-    for (k, pane) in panes.iter().enumerate() {
-        let from_idx = pane.from.map_or(0, |f| t.iter().position(|x| *x >= f).unwrap_or(0));
-        let yr = padded_range(pane.series.iter().flat_map(|s| s.values[from_idx..].iter().copied()), 0.06, 1e-6);
-        let panel = Panel { x: LEFT, y: TOP + k as f64 * (h + gap), w, h, xr: (0.0, t_end), yr };
+    for (k, (pane, Drawn { panel, curves, note, .. })) in panes.iter().zip(&drawn).enumerate() {
         let last = k + 1 == panes.len();
         panel.axes(&mut svg, last.then_some("t (s)"), &math(&pane.y_label));
         let clip = panel.clip(&mut svg);
         svg.begin_clip(&clip);
-        for s in pane.series {
-            let pts: Vec<(f64, f64)> =
-                t.iter().zip(&s.values).filter(|(_, v)| v.is_finite()).map(|(t, v)| panel.p((*t, *v))).collect();
-            svg.polyline(&pts, Stroke { dash: dash(s.index), ..Stroke::solid(color(s.index), LINE_W) });
+        for (s, pts) in pane.series.iter().zip(curves) {
+            svg.polyline(pts, Stroke { dash: dash(s.index), ..Stroke::solid(color(s.index), LINE_W) });
         }
         svg.end_clip();
-        if let Some(f) = pane.from {
-            let note = format!("y fitted to t \u{2265} {f:.1} s");
-            svg.text((panel.x + panel.w - 4.0, panel.y + 10.0), &escape(&note), FONT, Anchor::End, 0.0, false);
+        if let Some(n) = note {
+            svg.text((panel.x + panel.w - 4.0, panel.y + 10.0), &escape(n), FONT, Anchor::End, 0.0, false);
         }
     }
-    legend(&mut svg, LEFT + w + 12.0, TOP, &entries);
+    for (group, place) in inside.iter().enumerate() {
+        if let Some(b) = place {
+            let entries: Vec<Entry> =
+                panels[group].1.iter().map(|s| Entry::math(s.name, Key::Line(color(s.index), dash(s.index)))).collect();
+            legend_boxed(&mut svg, b, &entries);
+        }
+    }
+    if !below.is_empty() {
+        legend_rows(&mut svg, LEFT, panels_end, w, &below);
+    }
     Ok(svg.finish())
 }
 

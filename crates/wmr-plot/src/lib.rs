@@ -5,7 +5,9 @@
 //! Every figure is 141 mm wide (400 pt) with 8 to 9 pt text, coordinates written to a
 //! hundredth of a point (smooth curves at any resolution), colours from Okabe and Ito's
 //! colour-blind-safe palette (one per run, carried to its start and goal markers),
-//! legends beside the data, never on it, and equal scale on both axes of every map.
+//! legends inside the plot in the corner where they hide the least data (on a light box),
+//! or below the figure when every corner would hide too much, arrows sized to the page
+//! (legible with the figure scaled to a column), and equal scale on both axes of every map.
 //! Every function returns the SVG document as a `String`; writing it (atomically) is the
 //! caller's job, so this crate does no file I/O. Text is SVG `<text>`, set by the viewer
 //! in DejaVu Sans, Helvetica or Arial: no font library is needed.

@@ -6,8 +6,8 @@
 use wmr_core::{Pose2, Status};
 
 use crate::chart::{
-    BOTTOM, Entry, FONT, Key, LEFT, PAGE_W, Panel, RIGHT, TOP, equal_aspect, legend_rows, padded_range, rows_height,
-    title,
+    BOTTOM, Entry, FONT, GOAL_HEAD, GOAL_LEN, Ink, Key, LEFT, PAGE_W, Panel, RIGHT, TOP, equal_aspect, legend_boxed,
+    legend_rows, padded_range, place_legend, rows_height, title,
 };
 use crate::svg::{Anchor, Stroke, Svg};
 use crate::{PlotError, status_color};
@@ -48,24 +48,38 @@ pub fn region_svg(title_text: &str, cells: &[SweepCell], goal: Pose2<f64>) -> Re
         .map(|s| Entry::math(format!("{} ({})", s.name(), count(*s)), Key::Triangle(status_color(*s))))
         .collect();
     entries.push(Entry::math("goal and its heading", Key::GoalArrow("#000000")));
-    // The map takes the page's width; the legend and a note go below it.
+    // The map takes the page's width; a note goes below it.
     let w = PAGE_W - LEFT - RIGHT;
     let aspect = ((yr.1 - yr.0) / (xr.1 - xr.0)).clamp(0.6, 1.0);
     let h = w * aspect;
     let (xr, yr) = equal_aspect(xr, yr, w, h);
     let panel = Panel { x: LEFT, y: TOP, w, h, xr, yr };
+    // Marker length: about the spacing of the starts (pt), within 3.5 to 8 pt.
+    let area = (xr.1 - xr.0) * (yr.1 - yr.0) * panel.scale_x() * panel.scale_x();
+    let len = (0.9 * (area / cells.len().max(1) as f64).sqrt()).clamp(3.5, 8.0);
+    let binned = cells.len() > MAX_MARKERS;
+    // Every start is data, and one hidden under the legend would be a start without its
+    // outcome: the legend goes in a corner only where it hides no start (a few starts
+    // leave room; a disc of many fills its square to the corners), else below the map.
+    let g = panel.p((goal.x, goal.y));
+    let tip = (g.0 + GOAL_LEN * goal.theta.cos(), g.1 - GOAL_LEN * goal.theta.sin());
+    let mut ink = Ink::default();
+    for c in cells {
+        ink.point(panel.p((c.x, c.y)));
+    }
+    ink.line(&[g, tip]);
+    let inside = place_legend(&panel, &entries, &ink, 0.0);
     let legend_y = TOP + h + BOTTOM;
-    let height = legend_y + rows_height(&entries, w) + 16.0;
+    let height = match inside {
+        Some(_) => legend_y + 10.0,
+        None => legend_y + rows_height(&entries, w) + 16.0,
+    };
     let mut svg = Svg::new(PAGE_W, height);
     title(&mut svg, panel.x, panel.w, title_text);
     panel.axes(&mut svg, Some("start x (m)"), "start y (m)");
 
-    // Marker length: about the spacing of the starts (pt), within 3.5 to 8 pt.
-    let area = (xr.1 - xr.0) * (yr.1 - yr.0) * panel.scale_x() * panel.scale_x();
-    let len = (0.9 * (area / cells.len().max(1) as f64).sqrt()).clamp(3.5, 8.0);
     let clip = panel.clip(&mut svg);
     svg.begin_clip(&clip);
-    let binned = cells.len() > MAX_MARKERS;
     if binned {
         draw_bins(&mut svg, &panel, cells);
     }
@@ -83,11 +97,16 @@ pub fn region_svg(title_text: &str, cells: &[SweepCell], goal: Pose2<f64>) -> Re
         }
     }
     svg.end_clip();
-    let g = panel.p((goal.x, goal.y));
-    let arrow = 0.07 * w;
-    svg.arrow(g, (g.0 + arrow * goal.theta.cos(), g.1 - arrow * goal.theta.sin()), 6.0, Stroke::solid("#000000", 1.6));
+    // A white halo first: the goal's black arrow stays visible on black (diverged) bins.
+    let (ux, uy) = (goal.theta.cos(), -goal.theta.sin());
+    svg.arrow(g, (tip.0 + 1.5 * ux, tip.1 + 1.5 * uy), GOAL_HEAD + 3.0, Stroke::solid("#ffffff", 3.8));
+    svg.arrow(g, tip, GOAL_HEAD, Stroke::solid("#000000", 1.6));
+    svg.circle(g, 5.0, "#ffffff", None);
     svg.circle(g, 3.6, "#ffffff", Some(Stroke::solid("#000000", 1.6)));
-    legend_rows(&mut svg, LEFT, legend_y, w, &entries);
+    match &inside {
+        Some(b) => legend_boxed(&mut svg, b, &entries),
+        None => legend_rows(&mut svg, LEFT, legend_y, w, &entries),
+    }
     let note = if binned {
         "Each square: the most common outcome of the starts in it."
     } else {

@@ -240,6 +240,33 @@ impl Svg {
         );
     }
 
+    /// A rectangle (pt) of class `class` (so a reader can find it), its fill of opacity
+    /// `fill_opacity` (0..1).
+    #[allow(clippy::too_many_arguments)]
+    pub fn rect_class(
+        &mut self,
+        class: &str,
+        x: f64,
+        y: f64,
+        w: f64,
+        h: f64,
+        fill: &str,
+        fill_opacity: f64,
+        outline: Option<Stroke<'_>>,
+    ) {
+        let stroke = outline.map_or_else(|| "stroke=\"none\"".to_owned(), |s| s.attrs());
+        let _ = writeln!(
+            self.body,
+            "<rect class=\"{}\" x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"{fill}\" fill-opacity=\"{}\" {stroke}/>",
+            escape(class),
+            num(x),
+            num(y),
+            num(w),
+            num(h),
+            num(fill_opacity)
+        );
+    }
+
     /// Text at (x, y) (pt, the baseline), `markup` already escaped (see [`escape`], [`math`]),
     /// `size` in pt, turned by `rotate` degrees about its anchor.
     pub fn text(&mut self, at: (f64, f64), markup: &str, size: f64, anchor: Anchor, rotate: f64, bold: bool) {
@@ -277,10 +304,24 @@ impl Svg {
     }
 }
 
-/// Width (pt) a text of `chars` characters takes at `size` pt, roughly (DejaVu Sans:
-/// about 0.6 em per character on average); used only to make room for legends.
+/// Width (pt) a text takes at `size` pt, from DejaVu Sans's advance widths (in em; the
+/// widest of the three fonts asked for, so Helvetica and Arial fit in it too): narrow
+/// letters, spaces and punctuation count for what they take, not an average letter's
+/// width; used only to make room for legends and tick labels.
 pub(crate) fn text_width(s: &str, size: f64) -> f64 {
-    0.6 * size * s.chars().count() as f64
+    let em: f64 = s
+        .chars()
+        .map(|c| match c {
+            'i' | 'j' | 'l' | '\'' | '|' => 0.28,
+            ' ' | ',' | '.' | ':' | ';' | '!' => 0.33,
+            'f' | 't' | 'r' | '(' | ')' | '[' | ']' | '-' | '/' | 'I' | 'J' => 0.41,
+            'm' | 'w' | 'M' | 'W' | '%' | '\u{2212}' | '=' | '+' | '<' | '>' | '\u{2265}' | '\u{2264}' => 0.98,
+            'A'..='Z' => 0.78,
+            '0'..='9' => 0.64,
+            _ => 0.64,
+        })
+        .sum();
+    em * size
 }
 
 #[cfg(test)]
