@@ -119,10 +119,20 @@ fn resolve_drive(given: &Table) -> Result<DriveParams<f64>, ScenarioError> {
     read_with("drive", Value::Table(merged), |d| default.deserialize_variant(d))
 }
 
-/// `[robot]` split into the keys of [`RobotParams`] and those of [`TractionParams`].
-pub fn split_robot(robot: &Table) -> (Table, Table) {
+/// `[robot]` split into the keys of [`RobotParams`] and those of [`TractionParams`]; a
+/// key of neither is an error that lists both, and `from` (the preset, read before).
+pub fn split_robot(robot: &Table) -> Result<(Table, Table), ScenarioError> {
     let traction_keys: Vec<&str> = TractionParams::<f64>::FIELDS.iter().map(|f| f.name).collect();
-    robot.clone().into_iter().partition(|(k, _)| !traction_keys.contains(&k.as_str()))
+    let accepted = || {
+        let own = RobotParams::<f64>::FIELDS.iter().map(|f| f.name);
+        own.chain(traction_keys.iter().copied()).chain(["from"])
+    };
+    if let Some(k) = robot.keys().find(|k| !accepted().any(|a| a == k.as_str())) {
+        let mut listed: Vec<&str> = accepted().collect();
+        listed.sort_unstable();
+        return Err(unknown_key("robot", k, listed));
+    }
+    Ok(robot.clone().into_iter().partition(|(k, _)| !traction_keys.contains(&k.as_str())))
 }
 
 impl Setup {
@@ -130,7 +140,7 @@ impl Setup {
     /// (`controller`, `sweep.controllers[1]`) and its control period must divide into
     /// the sensor's timing.
     pub fn resolve(t: &Tables, controller_path: &str) -> Result<Self, ScenarioError> {
-        let (robot_keys, traction_keys) = split_robot(&t.robot);
+        let (robot_keys, traction_keys) = split_robot(&t.robot)?;
         let robot_params = overlay(&RobotParams::<f64>::paper(), &robot_keys, "robot")?;
         let robot = robot_params.validate().map_err(param_error("robot"))?;
         let drive_params = resolve_drive(&t.drive)?;

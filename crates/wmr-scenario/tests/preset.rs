@@ -126,5 +126,16 @@ fn regression_27_a_mistyped_key_gets_a_did_you_mean() {
     // Far from every key: the list, no guess.
     let e = err("[robot]\ncolour = 1.0");
     assert!(!e.message.contains("did you mean"), "{}", e.message);
-    assert!(e.message.contains("the keys here are com_offset, coulomb_friction"), "{}", e.message);
+    assert!(e.message.contains("the keys here are caster_offset, com_height, com_offset"), "{}", e.message);
+    // [robot] holds the traction keys and `from` too: a near miss of one is named, and the
+    // list has them all.
+    let e = err("[robot]
+friction_coeficient = 0.8");
+    assert!(e.message.starts_with("unknown key; did you mean friction_coefficient?"), "{}", e.message);
+    let e = err("[robot]
+frmo = \"paper\"");
+    assert!(e.message.starts_with("unknown key; did you mean from?"), "{}", e.message);
+    for key in ["traction", "slip_speed", "from"] {
+        assert!(e.message.contains(key), "{key} not listed: {}", e.message);
+    }
 }
