@@ -412,6 +412,33 @@ pub(crate) fn title(svg: &mut Svg, panel_x: f64, panel_w: f64, text: &str) {
     svg.text((panel_x + 0.5 * panel_w, 14.0), &escape(text), FONT_TITLE, Anchor::Middle, 0.0, true);
 }
 
+/// A panel as wide as the page between its margins, as tall as the data's aspect allows
+/// within `aspect` (min, max, height over width), one data unit as long on both axes.
+pub(crate) fn page_wide_panel(xr: (f64, f64), yr: (f64, f64), aspect: (f64, f64)) -> Panel {
+    let w = PAGE_W - LEFT - RIGHT;
+    let h = w * ((yr.1 - yr.0) / (xr.1 - xr.0)).clamp(aspect.0, aspect.1);
+    let (xr, yr) = equal_aspect(xr, yr, w, h);
+    Panel { x: LEFT, y: TOP, w, h, xr, yr }
+}
+
+/// The legend's box in the emptiest corner of `panel` ([`place_legend`]; `None`: rows
+/// below the panel) and the page sized for it, with its title.
+pub(crate) fn page_with_legend(
+    panel: &Panel,
+    entries: &[Entry],
+    ink: &Ink,
+    title_text: &str,
+) -> (Option<LegendBox>, Svg) {
+    let inside = place_legend(panel, entries, ink, LINES_MAX_SHARE);
+    let height = match inside {
+        Some(_) => TOP + panel.h + BOTTOM,
+        None => TOP + panel.h + BOTTOM + 4.0 + rows_height(entries, panel.w),
+    };
+    let mut svg = Svg::new(PAGE_W, height);
+    title(&mut svg, panel.x, panel.w, title_text);
+    (inside, svg)
+}
+
 /// Widens the ranges (lo, hi) of x and y so that one data unit is as long on both axes
 /// for a panel of w x h pt: the shorter side grows about its middle.
 pub(crate) fn equal_aspect(xr: (f64, f64), yr: (f64, f64), w: f64, h: f64) -> ((f64, f64), (f64, f64)) {

@@ -5,8 +5,8 @@ use wmr_core::{Pose2, Sample, wrap_angle};
 
 use crate::chart::{
     BOTTOM, Entry, FONT, GOAL_HEAD, GOAL_LEN, HEADING_HEAD, HEADING_LEN, Ink, Key, LEFT, LINE_W, LINES_MAX_SHARE,
-    LegendBox, PAGE_W, Panel, RIGHT, TOP, color, cross, dash, equal_aspect, legend_boxed, legend_rows, padded_range,
-    place_legend, rows_height, title,
+    LegendBox, PAGE_W, Panel, RIGHT, TOP, color, cross, dash, legend_boxed, legend_rows, padded_range, page_wide_panel,
+    page_with_legend, place_legend, rows_height, title,
 };
 use crate::svg::{Anchor, Stroke, Svg, escape, math, text_width};
 use crate::{PlotError, Trace};
@@ -123,11 +123,8 @@ pub fn paths_svg(title_text: &str, traces: &[Trace<'_>]) -> Result<String, PlotE
         entries.push(Entry::math("leaves the plot", Key::Cross("#404040")));
     }
     // The panel takes the page's width; the legend goes in its emptiest corner.
-    let w = PAGE_W - LEFT - RIGHT;
-    let aspect = ((yr.1 - yr.0) / (xr.1 - xr.0)).clamp(0.55, 1.15);
-    let h = w * aspect;
-    let (xr, yr) = equal_aspect(xr, yr, w, h);
-    let panel = Panel { x: LEFT, y: TOP, w, h, xr, yr };
+    let panel = page_wide_panel(xr, yr, (0.55, 1.15));
+    let (w, h) = (panel.w, panel.h);
 
     // Everything drawn in the panel, in page points, before drawing: the legend's place
     // depends on it.
@@ -174,13 +171,7 @@ pub fn paths_svg(title_text: &str, traces: &[Trace<'_>]) -> Result<String, PlotE
     for &(a, b) in arrows.iter().flatten() {
         ink.line(&[a, b]);
     }
-    let inside = place_legend(&panel, &entries, &ink, LINES_MAX_SHARE);
-    let height = match inside {
-        Some(_) => TOP + h + BOTTOM,
-        None => TOP + h + BOTTOM + 4.0 + rows_height(&entries, w),
-    };
-    let mut svg = Svg::new(PAGE_W, height);
-    title(&mut svg, panel.x, panel.w, title_text);
+    let (inside, mut svg) = page_with_legend(&panel, &entries, &ink, title_text);
     panel.axes(&mut svg, Some("x (m)"), "y (m)");
 
     let clip = panel.clip(&mut svg);

@@ -6,8 +6,8 @@
 use wmr_core::{Pose2, Status};
 
 use crate::chart::{
-    BOTTOM, Entry, FONT, GOAL_HEAD, GOAL_LEN, Ink, Key, LEFT, PAGE_W, Panel, RIGHT, TOP, equal_aspect, legend_boxed,
-    legend_rows, padded_range, place_legend, rows_height, title,
+    BOTTOM, Entry, FONT, GOAL_HEAD, GOAL_LEN, Ink, Key, LEFT, PAGE_W, Panel, TOP, legend_boxed, legend_rows,
+    padded_range, page_wide_panel, place_legend, rows_height, title,
 };
 use crate::svg::{Anchor, Stroke, Svg};
 use crate::{PlotError, status_color};
@@ -49,11 +49,8 @@ pub fn region_svg(title_text: &str, cells: &[SweepCell], goal: Pose2<f64>) -> Re
         .collect();
     entries.push(Entry::math("goal and its heading", Key::GoalArrow("#000000")));
     // The map takes the page's width; a note goes below it.
-    let w = PAGE_W - LEFT - RIGHT;
-    let aspect = ((yr.1 - yr.0) / (xr.1 - xr.0)).clamp(0.6, 1.0);
-    let h = w * aspect;
-    let (xr, yr) = equal_aspect(xr, yr, w, h);
-    let panel = Panel { x: LEFT, y: TOP, w, h, xr, yr };
+    let panel = page_wide_panel(xr, yr, (0.6, 1.0));
+    let (w, h) = (panel.w, panel.h);
     // Marker length: about the spacing of the starts (pt), within 3.5 to 8 pt.
     let area = (xr.1 - xr.0) * (yr.1 - yr.0) * panel.scale_x() * panel.scale_x();
     let len = (0.9 * (area / cells.len().max(1) as f64).sqrt()).clamp(3.5, 8.0);

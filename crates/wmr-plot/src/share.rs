@@ -3,10 +3,10 @@
 
 use crate::PlotError;
 use crate::chart::{
-    BOTTOM, Entry, Ink, Key, LEFT, LINE_W, LINES_MAX_SHARE, PAGE_W, Panel, RIGHT, TOP, color, legend_boxed,
-    legend_rows, place_legend, rows_height, title,
+    BOTTOM, Entry, Ink, Key, LEFT, LINE_W, PAGE_W, Panel, RIGHT, TOP, color, legend_boxed, legend_rows,
+    page_with_legend,
 };
-use crate::svg::{Stroke, Svg, escape};
+use crate::svg::{Stroke, escape};
 
 /// One law's curve: its name and (value of the key, converged share in 0..1) points.
 pub type ShareSeries<'a> = (&'a str, Vec<(f64, f64)>);
@@ -38,13 +38,7 @@ pub fn share_svg(title_text: &str, key_desc: &str, series: &[ShareSeries<'_>]) -
     for c in &curves {
         ink.line(c);
     }
-    let inside = place_legend(&panel, &entries, &ink, LINES_MAX_SHARE);
-    let height = match inside {
-        Some(_) => TOP + h + BOTTOM,
-        None => TOP + h + BOTTOM + 4.0 + rows_height(&entries, w),
-    };
-    let mut svg = Svg::new(PAGE_W, height);
-    title(&mut svg, panel.x, panel.w, title_text);
+    let (inside, mut svg) = page_with_legend(&panel, &entries, &ink, title_text);
     panel.axes(&mut svg, Some(&escape(key_desc)), "converged (%)");
     for (i, pts) in curves.iter().enumerate() {
         svg.polyline(pts, Stroke::solid(color(i), LINE_W));

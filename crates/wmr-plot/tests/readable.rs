@@ -3,19 +3,11 @@
 //! takes the width the legend freed; heading arrows are sized to the page, big enough to
 //! see with the figure scaled to a column; every axis names its unit.
 
-use wmr_core::{ClosedLoop, ControllerParams, DriveParams, FixedGoal, Plant, Pose2, Robot, Sample, Status};
-use wmr_plot::{SweepCell, Trace, errors_svg, paths_svg, region_svg, share_svg, wheel_speeds_svg};
+mod common;
 
-fn run(start: Pose2<f64>, goal: Pose2<f64>, secs: u64) -> Vec<Sample<f64>> {
-    let robot = Robot::<f64>::paper();
-    let drive = DriveParams::default().validate(&robot).unwrap();
-    let ctrl = ControllerParams::paper().build(robot.params(), &drive).unwrap();
-    let plant = Plant::new(robot, drive, start).unwrap();
-    let mut sim = ClosedLoop::new(plant, ctrl, FixedGoal::new(goal).unwrap(), 1e-3).unwrap();
-    let mut out = Vec::new();
-    sim.run(secs * 1000, 50, |s| out.push(*s));
-    out
-}
+use common::run;
+use wmr_core::{Pose2, Sample, Status};
+use wmr_plot::{SweepCell, Trace, errors_svg, paths_svg, region_svg, share_svg, wheel_speeds_svg};
 
 /// The paper's Fig. 4: from the origin to (1, 1) at six goal headings.
 fn fig4_runs() -> Vec<(String, Pose2<f64>, Vec<Sample<f64>>)> {

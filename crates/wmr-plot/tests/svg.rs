@@ -2,19 +2,11 @@
 //! start, print at their intended size, keep sub-point coordinates, and keep the axes
 //! on what matters.
 
-use wmr_core::{ClosedLoop, ControllerParams, DriveParams, FixedGoal, Plant, Pose2, Robot, Sample, Status};
-use wmr_plot::{SweepCell, Trace, errors_svg, paths_svg, region_svg, share_svg, status_color, wheel_speeds_svg};
+mod common;
 
-fn run(start: Pose2<f64>, goal: Pose2<f64>, secs: u64) -> Vec<Sample<f64>> {
-    let robot = Robot::<f64>::paper();
-    let drive = DriveParams::default().validate(&robot).unwrap();
-    let ctrl = ControllerParams::paper().build(robot.params(), &drive).unwrap();
-    let plant = Plant::new(robot, drive, start).unwrap();
-    let mut sim = ClosedLoop::new(plant, ctrl, FixedGoal::new(goal).unwrap(), 1e-3).unwrap();
-    let mut out = Vec::new();
-    sim.run(secs * 1000, 50, |s| out.push(*s));
-    out
-}
+use common::run;
+use wmr_core::{Pose2, Sample, Status};
+use wmr_plot::{SweepCell, Trace, errors_svg, paths_svg, region_svg, share_svg, status_color, wheel_speeds_svg};
 
 /// Polylines with more than `min` points (data curves; legend keys are lines).
 fn curves<'a>(doc: &'a roxmltree::Document<'a>, min: usize) -> Vec<roxmltree::Node<'a, 'a>> {
