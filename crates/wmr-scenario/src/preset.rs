@@ -6,10 +6,10 @@
 use std::path::Path;
 
 use toml::{Table, Value};
-use wmr_core::RobotParams;
 
 use crate::error::ScenarioError;
-use crate::keys::{fields_of, unknown_key};
+use crate::keys::unknown_key;
+use crate::setup::robot_keys;
 
 /// The built-in presets: name and the text of `robots/NAME.toml` (each file cites the
 /// source of every number).
@@ -88,9 +88,9 @@ pub fn expand(robot: &mut Option<Table>, drive: &mut Option<Table>, dir: &Path) 
         }
     };
     let (p_robot, p_drive) = (table("robot")?, table("drive")?);
-    let fields = fields_of::<RobotParams<f64>>();
+    let fields = robot_keys(false);
     if let Some(k) = p_robot.keys().find(|k| !fields.contains(&k.as_str())) {
-        let e = unknown_key("robot", k, fields.iter().copied());
+        let e = unknown_key("robot", k, fields);
         return Err(from_error(format!("{from}: {}: {}", e.key, e.message)));
     }
     let label = from.clone();

@@ -119,19 +119,23 @@ fn resolve_drive(given: &Table) -> Result<DriveParams<f64>, ScenarioError> {
     read_with("drive", Value::Table(merged), |d| default.deserialize_variant(d))
 }
 
+/// The keys a `[robot]` table holds, sorted: [`RobotParams`]'s and [`TractionParams`]'s,
+/// and `from` when `with_from` (a scenario's, not a preset's).
+pub fn robot_keys(with_from: bool) -> Vec<&'static str> {
+    let own = RobotParams::<f64>::FIELDS.iter().chain(TractionParams::<f64>::FIELDS).map(|f| f.name);
+    let mut keys: Vec<&str> = own.chain(with_from.then_some("from")).collect();
+    keys.sort_unstable();
+    keys
+}
+
 /// `[robot]` split into the keys of [`RobotParams`] and those of [`TractionParams`]; a
-/// key of neither is an error that lists both, and `from` (the preset, read before).
+/// key of neither (nor `from`, the preset, read before) is an error that lists them.
 pub fn split_robot(robot: &Table) -> Result<(Table, Table), ScenarioError> {
-    let traction_keys: Vec<&str> = TractionParams::<f64>::FIELDS.iter().map(|f| f.name).collect();
-    let accepted = || {
-        let own = RobotParams::<f64>::FIELDS.iter().map(|f| f.name);
-        own.chain(traction_keys.iter().copied()).chain(["from"])
-    };
-    if let Some(k) = robot.keys().find(|k| !accepted().any(|a| a == k.as_str())) {
-        let mut listed: Vec<&str> = accepted().collect();
-        listed.sort_unstable();
-        return Err(unknown_key("robot", k, listed));
+    let accepted = robot_keys(true);
+    if let Some(k) = robot.keys().find(|k| !accepted.contains(&k.as_str())) {
+        return Err(unknown_key("robot", k, accepted));
     }
+    let traction_keys: Vec<&str> = TractionParams::<f64>::FIELDS.iter().map(|f| f.name).collect();
     Ok(robot.clone().into_iter().partition(|(k, _)| !traction_keys.contains(&k.as_str())))
 }
 

@@ -110,6 +110,14 @@ fn a_bad_from_is_named_with_its_line_and_reason() {
     let text = format!("[robot]\nfrom = \"ok.toml\"\n{RUN}");
     assert_eq!(Scenario::from_toml_str_in(&text, "s", dir.path()).unwrap().robot().params().mass, 2.0);
     assert!(Scenario::from_toml_str_in(&text, "s", Path::new("/nonexistent")).is_err());
+    // A preset holds the robot's traction keys too (a real robot's tyres), not `from`.
+    std::fs::write(dir.path().join("tyres.toml"), "[robot]\nfriction_coefficient = 0.6\n").unwrap();
+    let text = format!("[robot]\nfrom = \"tyres.toml\"\n{RUN}");
+    Scenario::from_toml_str_in(&text, "s", dir.path()).expect("a preset with a traction key");
+    std::fs::write(dir.path().join("nested.toml"), "[robot]\nfrom = \"paper\"\n").unwrap();
+    let text = format!("[robot]\nfrom = \"nested.toml\"\n{RUN}");
+    let e = Scenario::from_toml_str_in(&text, "s", dir.path()).unwrap_err();
+    assert!(e.message.contains("nested.toml: robot.from: unknown key"), "{}", e.message);
 }
 
 /// Issue 27: `robot.mas: unknown key; did you mean mass?`.
