@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::run;
+use common::{points, run};
 use wmr_core::{Pose2, Sample, Status};
 use wmr_plot::{SweepCell, Trace, errors_svg, paths_svg, region_svg, share_svg, wheel_speeds_svg};
 
@@ -221,7 +221,7 @@ fn a_map_legend_hides_no_start() {
         .descendants()
         .filter(|n| n.has_tag_name("polygon") && n.ancestors().any(|a| a.attribute("clip-path").is_some()))
         .map(|n| {
-            let p = polygon_points(&n);
+            let p = points(&n);
             (p.iter().map(|q| q.0).sum::<f64>() / 3.0, p.iter().map(|q| q.1).sum::<f64>() / 3.0)
         })
         .collect();
@@ -230,17 +230,6 @@ fn a_map_legend_hides_no_start() {
         let hidden = starts.iter().filter(|p| b.contains(**p)).count();
         assert_eq!(hidden, 0, "the legend {b:?} hides {hidden} starts");
     }
-}
-
-fn polygon_points(n: &roxmltree::Node<'_, '_>) -> Vec<(f64, f64)> {
-    n.attribute("points")
-        .unwrap()
-        .split_whitespace()
-        .map(|p| {
-            let (x, y) = p.split_once(',').unwrap();
-            (x.parse().unwrap(), y.parse().unwrap())
-        })
-        .collect()
 }
 
 /// The heads of the arrows along a path and at its goal: at least 1.5 % of the figure's
@@ -266,7 +255,7 @@ fn heading_arrows_are_sized_to_the_page_and_visible_at_column_width() {
             .descendants()
             .filter(|n| n.has_tag_name("polygon") && n.attribute("fill") == Some(colour))
             .map(|n| {
-                let p = polygon_points(&n);
+                let p = points(&n);
                 assert_eq!(p.len(), 3);
                 let base = (0.5 * (p[1].0 + p[2].0), 0.5 * (p[1].1 + p[2].1));
                 (p[0].0 - base.0).hypot(p[0].1 - base.1)

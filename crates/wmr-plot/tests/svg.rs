@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::run;
+use common::{points, run};
 use wmr_core::{Pose2, Sample, Status};
 use wmr_plot::{SweepCell, Trace, errors_svg, paths_svg, region_svg, share_svg, status_color, wheel_speeds_svg};
 
@@ -13,18 +13,6 @@ fn curves<'a>(doc: &'a roxmltree::Document<'a>, min: usize) -> Vec<roxmltree::No
     doc.descendants()
         .filter(|n| n.has_tag_name("polyline"))
         .filter(|n| n.attribute("points").is_some_and(|p| p.split_whitespace().count() > min))
-        .collect()
-}
-
-/// The numbers of every point of a polyline.
-fn points(n: &roxmltree::Node<'_, '_>) -> Vec<(f64, f64)> {
-    n.attribute("points")
-        .unwrap()
-        .split_whitespace()
-        .map(|p| {
-            let (x, y) = p.split_once(',').unwrap();
-            (x.parse().unwrap(), y.parse().unwrap())
-        })
         .collect()
 }
 

@@ -13,3 +13,15 @@ pub fn run(start: Pose2<f64>, goal: Pose2<f64>, secs: u64) -> Vec<Sample<f64>> {
     sim.run(secs * 1000, 50, |s| out.push(*s));
     out
 }
+
+/// The numbers of every point of a polyline or polygon (its `points` attribute).
+pub fn points(n: &roxmltree::Node<'_, '_>) -> Vec<(f64, f64)> {
+    n.attribute("points")
+        .unwrap()
+        .split_whitespace()
+        .map(|p| {
+            let (x, y) = p.split_once(',').unwrap();
+            (x.parse().unwrap(), y.parse().unwrap())
+        })
+        .collect()
+}
