@@ -22,6 +22,8 @@ fn bless() -> bool {
 fn check_or_bless(path: &Path, fresh: &str, how: &str) {
     if bless() {
         std::fs::write(path, fresh).unwrap_or_else(|e| panic!("cannot write {}: {e}", path.display()));
+        // Blessing rewrites instead of comparing: said, so a blessed run is not read as a check.
+        eprintln!("WMR_BLESS=1: rewrote {} instead of comparing it", path.display());
         return;
     }
     let current = std::fs::read_to_string(path).unwrap_or_default();
