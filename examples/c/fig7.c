@@ -74,7 +74,7 @@ static void print_decimal(const char *name, double v, const char *unit) {
         CHECK(wmr_robot_##P##_init(&robot, &robot_params, &err), &err);                          \
         CHECK(wmr_drive_params_##P##_default(WMR_DRIVE_TORQUE, &drive_params), NULL);            \
         CHECK(wmr_drive_##P##_init(&drive, &drive_params, &robot, &err), &err);                  \
-        CHECK(wmr_wheel_stage_params_##P##_default(&drive_params, &wheel_params), NULL);         \
+        CHECK(wmr_wheel_stage_params_##P##_default(&drive_params, &robot, &wheel_params), NULL); \
         CHECK(wmr_paper_params_##P##_default(&law_params), NULL);                                \
         CHECK(wmr_paper_controller_##P##_init(&ctrl, &law_params, &wheel_params, &robot, &drive, \
                                               dt, &err),                                         \

@@ -85,7 +85,7 @@ pub fn run<L: FirmwareLaw>(meter: &mut impl Meter) -> Option<Ran> {
     let robot = Robot::<f32>::paper();
     let drive_params = DriveParams::default();
     let drive = drive_params.validate(&robot).ok()?;
-    let wheels = WheelStage::new(&WheelStageParams::for_drive(&drive_params), robot.params(), &drive, DT).ok()?;
+    let wheels = WheelStage::new(&WheelStageParams::for_drive(&drive_params, robot.params()), robot.params(), &drive, DT).ok()?;
     let mut ctrl = Controller::new(L::build()?, wheels);
     let mut plant = Plant::new(robot, drive, Pose2::default()).ok()?;
     let goal = ReferenceState::at_rest(goal());

@@ -28,7 +28,7 @@ fn main() -> ! {
     // The paper's law and its wheel servos, composed directly: no `AnyLaw`, so the other
     // laws are not linked in.
     let Ok(law) = PaperLaw::new(PaperParams::paper(), robot.params(), dt) else { halt() };
-    let wheel_params = WheelStageParams::for_drive(&drive_params);
+    let wheel_params = WheelStageParams::for_drive(&drive_params, robot.params());
     let Ok(wheels) = WheelStage::new(&wheel_params, robot.params(), &drive, dt) else { halt() };
     let ctrl = Controller::new(law, wheels);
     let Ok(plant) = Plant::new(robot, drive, Pose2::default()) else { halt() };

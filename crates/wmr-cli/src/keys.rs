@@ -4,7 +4,7 @@
 
 use std::fmt::Write as _;
 
-use wmr_scenario::keys::toml_scalar;
+use wmr_scenario::keys::{toml_scalar, toml_scalar_rounded};
 use wmr_scenario::{SchemaKey, schema};
 
 use crate::foxglove_topics::{Kind, Schemas};
@@ -131,7 +131,7 @@ pub fn describe(k: &SchemaKey) -> String {
     let mut rule = k.rule.to_string();
     if let [(_, shown), others @ ..] = k.default_by_drive.as_slice() {
         for (kind, v) in others.iter().filter(|(_, v)| v != shown) {
-            let _ = write!(rule, "; default {} with kind = \"{kind}\"", toml_scalar(v));
+            let _ = write!(rule, "; default {} with kind = \"{kind}\"", toml_scalar_rounded(v));
         }
     }
     if !rule.is_empty() {

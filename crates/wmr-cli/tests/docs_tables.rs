@@ -13,7 +13,7 @@ use std::process::Command;
 
 use wmr_core::describe::Described;
 use wmr_core::{RobotParams, TractionParams};
-use wmr_scenario::keys::toml_scalar;
+use wmr_scenario::keys::{toml_scalar, toml_scalar_rounded};
 use wmr_scenario::{SchemaKey, schema};
 
 const BLESS: &str = "WMR_BLESS=1 cargo test -p wmr-cli --test docs_tables";
@@ -51,7 +51,8 @@ fn default_cell(k: &SchemaKey) -> String {
     match &k.default {
         Some(v) => show(v),
         None => {
-            k.default_by_drive.iter().map(|(kind, v)| format!("{} ({kind})", show(v))).collect::<Vec<_>>().join(", ")
+            let shown = |v: &toml::Value| if v.is_float() { toml_scalar_rounded(v) } else { show(v) };
+            k.default_by_drive.iter().map(|(kind, v)| format!("{} ({kind})", shown(v))).collect::<Vec<_>>().join(", ")
         }
     }
 }

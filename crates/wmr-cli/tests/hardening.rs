@@ -264,7 +264,7 @@ fn regression_12_3_trace_of_a_long_run_is_refused_not_aborted() {
         return;
     }
     let o = run_in(dir.path(), &["trace", f.to_str().unwrap(), "-o", "t.bin"]);
-    assert_bad_input(&o, "sim.t_end: a trace of 1000000001 ticks to t.bin takes at least 96000000324 bytes");
+    assert_bad_input(&o, "sim.t_end: a trace of 1000000001 ticks to t.bin takes at least 96000000328 bytes");
     assert_eq!(entries(dir.path()), ["long.toml"]);
 }
 

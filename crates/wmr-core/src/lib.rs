@@ -75,10 +75,10 @@ pub mod world;
 pub use clock::StepClock;
 pub use closed_loop::{ClosedLoop, Diverged, Tick};
 pub use controller::{
-    AnyLaw, BacksteppingLaw, BacksteppingParams, ControlErrors, ControlOutput, Controller, ControllerParams, HoldMode,
-    KanayamaLaw, KanayamaParams, Law, LawParams, LyapunovLaw, LyapunovParams, PaperBidirectionalLaw,
-    PaperBidirectionalParams, PaperLaw, PaperMode, PaperParams, PolarLaw, PolarParams, PurePursuitLaw,
-    PurePursuitParams, ServoGains, WheelDemand, WheelStage, WheelStageParams,
+    AntiWindup, AnyLaw, BacksteppingLaw, BacksteppingParams, ControlErrors, ControlOutput, Controller,
+    ControllerParams, HoldMode, KanayamaLaw, KanayamaParams, Law, LawParams, LyapunovLaw, LyapunovParams,
+    PaperBidirectionalLaw, PaperBidirectionalParams, PaperLaw, PaperMode, PaperParams, PolarLaw, PolarParams,
+    PurePursuitLaw, PurePursuitParams, ServoGains, WheelDemand, WheelStage, WheelStageParams,
 };
 pub use drive::{DcMotorParams, Drive, DriveParams, TorqueDriveParams};
 pub use error::{ParamError, Reason};

@@ -26,14 +26,14 @@
 
 use crate::describe::Described;
 use crate::{
-    DcMotorParams, DriveParams, HoldMode, LawParams, LyapunovParams, PaperBidirectionalParams, PaperMode, PaperParams,
-    PolarParams, Pose2, Real, RobotParams, TorqueDriveParams, WheelStageParams, WorldParams,
+    AntiWindup, DcMotorParams, DriveParams, HoldMode, LawParams, LyapunovParams, PaperBidirectionalParams, PaperMode,
+    PaperParams, PolarParams, Pose2, Real, RobotParams, TorqueDriveParams, WheelStageParams, WorldParams,
 };
 
 /// The first 8 bytes of a trace file.
 pub const MAGIC: [u8; 8] = *b"WMRTRACE";
 /// Format version.
-pub const VERSION: u32 = 1;
+pub const VERSION: u32 = 2;
 /// Words of the header before the config: magic (2), version, config words, record words, ticks.
 pub const HEADER_WORDS: usize = 6;
 /// Words of [`Config`].
@@ -120,8 +120,8 @@ const _: () = assert!(PAPER < LAW && PAPER_BIDIRECTIONAL < LAW && POLAR < LAW &&
 
 /// The law-kind word of a law the format does not carry (a tracking law).
 const NOT_IN_TRACE: u32 = u32::MAX;
-/// Words of the law: its kind, then at most 8 keys (one word per declared key).
-const LAW: usize = 9;
+/// Words of the law: its kind, then at most 9 keys (one word per declared key).
+const LAW: usize = 10;
 /// Where each part of the config starts (word index).
 const DRIVE_AT: usize = LAW;
 const ROBOT_AT: usize = DRIVE_AT + 1 + TORQUE + DC_MOTOR;
@@ -173,6 +173,7 @@ impl<T: Real> ConfigOf<T> {
                     PaperMode::Position => 1,
                 };
                 keys[slot::<PaperParams<f32>>("hold")] = hold_word(p.hold);
+                keys[slot::<PaperParams<f32>>("anti_windup")] = p.anti_windup as u32;
                 0
             }
             LawParams::Polar(p) => {
@@ -229,6 +230,11 @@ impl Config {
                     _ => return Err(FormatError("paper mode is not 0 or 1")),
                 },
                 hold: hold_of(keys[slot::<PaperParams<f32>>("hold")])?,
+                anti_windup: match keys[slot::<PaperParams<f32>>("anti_windup")] {
+                    0 => AntiWindup::Off,
+                    1 => AntiWindup::Conditional,
+                    _ => return Err(FormatError("paper anti_windup is not 0 or 1")),
+                },
                 ..read_paper(keys)
             }),
             3 => LawParams::PaperBidirectional(PaperBidirectionalParams {
@@ -418,7 +424,7 @@ mod tests {
                     robot: RobotParams::paper(),
                     model: RobotParams { mass: 6.0, ..RobotParams::paper() },
                     world: WorldParams { slope_deg: 2.0, slope_direction_deg: -45.0 },
-                    wheels: WheelStageParams::for_drive(&drive),
+                    wheels: WheelStageParams::for_drive(&drive, &RobotParams::paper()),
                     control_dt: 2e-3,
                     dt: 1e-3,
                     steps_per_tick: 2,

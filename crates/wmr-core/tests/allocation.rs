@@ -35,7 +35,8 @@ fn hundred_thousand_closed_loop_steps_allocate_nothing() {
     assert_eq!(steps_allocate::<f64>(DriveParams::default(), ServoGains::torque_default()), 0);
     assert_eq!(steps_allocate::<f32>(DriveParams::default(), ServoGains::torque_default()), 0);
     let dc = DriveParams::DcMotor(DcMotorParams::default());
-    assert_eq!(steps_allocate::<f64>(dc, ServoGains::dc_motor_default()), 0);
+    let dc_gains = wmr_core::WheelStageParams::for_drive(&dc, &wmr_core::RobotParams::paper()).servo();
+    assert_eq!(steps_allocate::<f64>(dc, dc_gains), 0);
 }
 
 /// The controller on odometry from 1024-count encoders, fused by the EKF with noisy 1 Hz

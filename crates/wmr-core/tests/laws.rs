@@ -622,9 +622,22 @@ fn wheel_speed_max_validation() {
         let ctrl = p.build(robot.params(), &drive).unwrap();
         assert_eq!(ctrl.wheels().wheel_speed_max(), f64::INFINITY);
     }
-    // The defaults follow the drive: torque or DC motor servo gains, no limit.
-    let dc = WheelStageParams::<f64>::for_drive(&DriveParams::DcMotor(wmr_core::DcMotorParams::default()));
-    assert_eq!((dc.servo(), dc.wheel_speed_max), (ServoGains::dc_motor_default(), f64::INFINITY));
+    // The defaults follow the drive: with a DC motor, the torque drive's 14 N m/rad and
+    // 1.4 N m s/rad at the wheel (less the back-EMF's damping) and the no-load speed at the
+    // wheel as the limit, by hand from the Pololu 37D's constants through k_t = 0.1.
+    let m = wmr_core::DcMotorParams::<f64>::default();
+    let dc = WheelStageParams::<f64>::for_drive(&DriveParams::DcMotor(m), &RobotParams::paper());
+    let b = m.torque_constant / (m.armature_resistance * 0.1); // N m/V at the wheel
+    let emf = m.back_emf_constant / 0.1; // V per rad/s of the wheel
+    assert!((dc.servo_kp - 14.0 / b).abs() < 1e-12 && (dc.servo_kp - 81.5).abs() < 0.05, "{dc:?}");
+    assert!((dc.servo_kd - (1.4 - b * emf) / b).abs() < 1e-12 && (dc.servo_kd - 7.58).abs() < 0.01, "{dc:?}");
+    assert_eq!(dc.servo_ki, 0.0);
+    // 12 V / 0.573 V s/rad = 20.94 rad/s: the datasheet's 200 rpm free-running at the output.
+    assert!((dc.wheel_speed_max - 12.0 / emf).abs() < 1e-12, "{dc:?}");
+    assert!((dc.wheel_speed_max - 200.0 * std::f64::consts::TAU / 60.0).abs() < 0.01, "{dc:?}");
+    // A motor without back-EMF has no no-load speed: no limit.
+    let no_emf = DriveParams::DcMotor(wmr_core::DcMotorParams { back_emf_constant: 0.0, ..m });
+    assert_eq!(WheelStageParams::<f64>::for_drive(&no_emf, &RobotParams::paper()).wheel_speed_max, f64::INFINITY);
     assert_eq!(WheelStageParams::<f64>::default().servo(), ServoGains::torque_default());
     let bad_goal = Pose2::new(f64::NAN, 0.0, 0.0);
     assert_eq!(FixedGoal::new(bad_goal).unwrap_err().field, "goal.x");
@@ -738,4 +751,38 @@ fn direction_switches_only_with_hysteresis() {
     assert!(!fwd.select(at(deg(179.0)), goal).0);
     sel.reset();
     assert_eq!(sel.current(), None);
+}
+
+/// The paper's law with `anti_windup = "conditional"`: after a tick at which the wheel
+/// stage saturated its integrators hold, so for a fixed measured pose the wheel references
+/// stay where they are; without the key (the paper's law as printed, the default) they
+/// move on by Ki e dt / r per tick. Both checked against the PI sums written out here.
+#[test]
+fn paper_anti_windup_holds_the_integrators_while_saturated() {
+    use wmr_core::AntiWindup;
+    let model = RobotParams::<f64>::paper();
+    let (pose_now, goal) = (pose::<f64>(0.0, 0.0, 0.0), pose::<f64>(3.0, 0.0, 0.0));
+    for (aw, holds) in [(AntiWindup::Off, false), (AntiWindup::Conditional, true)] {
+        let params = PaperParams { anti_windup: aw, ..PaperParams::paper() };
+        let mut law = PaperLaw::new(params, &model, DT).unwrap();
+        assert_eq!(law.anti_windup(), holds);
+        let (first, errors) = law.references(pose_now, goal);
+        // Straight ahead: e_theta = 0, e_s = 3 m; u_s = Kp_s e_s + Ki_s e_s dt.
+        assert_eq!((errors.e_s, errors.e_theta), (3.0, 0.0));
+        let u_s = |ticks: f64| params.kp_s * 3.0 + params.ki_s * 3.0 * DT * ticks;
+        assert!((first.right - u_s(1.0) / model.wheel_radius).abs() < 1e-12);
+        law.wheels_saturated(true);
+        let mut last = first;
+        for tick in 2..=50 {
+            let (refs, _) = law.references(pose_now, goal);
+            let want = if holds { u_s(1.0) } else { u_s(f64::from(tick)) };
+            assert!((refs.right - want / model.wheel_radius).abs() < 1e-12, "{aw:?} tick {tick}: {refs:?}");
+            assert_eq!(refs.left, refs.right);
+            last = refs;
+        }
+        // Released: the sums move on from where they held.
+        law.wheels_saturated(false);
+        let (refs, _) = law.references(pose_now, goal);
+        assert!(refs.right > last.right, "{aw:?}");
+    }
 }

@@ -275,7 +275,7 @@ fn current_limit_bounds_the_wheel_torque() {
     let drive = DriveParams::DcMotor(dc).validate(&robot).unwrap();
     let limit = dc.torque_constant * dc.current_max / robot.params().gear_ratio;
     let mut params = ControllerParams::paper();
-    params.wheels = WheelStageParams::for_drive(&DriveParams::DcMotor(dc));
+    params.wheels = WheelStageParams::for_drive(&DriveParams::DcMotor(dc), robot.params());
     let ctrl = params.build(robot.params(), &drive).unwrap();
     let (start, goal) = fig7::<f64>();
     let mut lp =

@@ -212,7 +212,7 @@ fn regression_17_wheel_speed_max_bounds_the_measured_wheel_speeds() {
             for w_max in [4.0, 10.0] {
                 for start in starts {
                     let mut params = ControllerParams::with_law(law);
-                    params.wheels = wmr_core::WheelStageParams::for_drive(&drive.params());
+                    params.wheels = wmr_core::WheelStageParams::for_drive(&drive.params(), robot.params());
                     params.wheels.wheel_speed_max = w_max;
                     let ctrl = params.build(robot.params(), &drive).unwrap();
                     let plant = Plant::new(robot, drive, start).unwrap();

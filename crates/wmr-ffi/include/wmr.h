@@ -11,7 +11,7 @@
 #include <stddef.h>
 
 // Version of this C API: changes whenever a struct, a storage size or a signature does.
-#define WMR_ABI_VERSION 2
+#define WMR_ABI_VERSION 3
 
 // Alignment, bytes, of every storage struct (they are arrays of `uint64_t`).
 #define WMR_STORAGE_ALIGN 8
@@ -45,6 +45,14 @@
 
 // `wmr_paper_params_*.hold`: zero errors in pose mode, freeze in position mode (default).
 #define WMR_HOLD_AUTO 2
+
+// `wmr_paper_params_*.anti_windup`: the integrators run on while the wheels saturate
+// (the paper's law as printed; its default).
+#define WMR_ANTI_WINDUP_OFF 0
+
+// `wmr_paper_params_*.anti_windup`: conditional integration, the integrators hold while
+// the wheels saturate.
+#define WMR_ANTI_WINDUP_CONDITIONAL 1
 
 // Words (8 bytes each) of a validated robot, `wmr_robot_f32`.
 #define WMR_ROBOT_F32_WORDS 12
@@ -268,6 +276,8 @@ typedef struct {
   float hold_radius;
   // The hold: auto (zero_errors in pose mode, freeze in position mode), zero_errors (references step on entry) or freeze (bumpless) (`WMR_HOLD_AUTO`, `WMR_HOLD_ZERO_ERRORS` or `WMR_HOLD_FREEZE`).
   uint32_t hold;
+  // Anti-windup of the integrators (outer loops and wheel servos): off (as printed in the paper) or conditional (they hold while the wheels saturate) (`WMR_ANTI_WINDUP_OFF` or `WMR_ANTI_WINDUP_CONDITIONAL`).
+  uint32_t anti_windup;
 } wmr_paper_params_f32;
 
 // The paper's law repaired (`[controller] kind = "paper_bidirectional"`).
@@ -628,6 +638,8 @@ typedef struct {
   double hold_radius;
   // The hold: auto (zero_errors in pose mode, freeze in position mode), zero_errors (references step on entry) or freeze (bumpless) (`WMR_HOLD_AUTO`, `WMR_HOLD_ZERO_ERRORS` or `WMR_HOLD_FREEZE`).
   uint32_t hold;
+  // Anti-windup of the integrators (outer loops and wheel servos): off (as printed in the paper) or conditional (they hold while the wheels saturate) (`WMR_ANTI_WINDUP_OFF` or `WMR_ANTI_WINDUP_CONDITIONAL`).
+  uint32_t anti_windup;
 } wmr_paper_params_f64;
 
 // The paper's law repaired (`[controller] kind = "paper_bidirectional"`).
@@ -933,8 +945,10 @@ wmr_status wmr_drive_f32_init(wmr_drive_f32 *out,
                               const wmr_robot_f32 *robot,
                               wmr_error *err);
 
-// Fills `out` with the wheel stage defaults for the drive kind of `drive`.
+// Fills `out` with the wheel stage defaults for `drive` on the controller's robot
+// `model` (its gear ratio): a DC motor's servo gains and speed limit follow its keys.
 wmr_status wmr_wheel_stage_params_f32_default(const wmr_drive_params_f32 *drive,
+                                              const wmr_robot_f32 *model,
                                               wmr_wheel_stage_params_f32 *out);
 
 // Fills `out` with the paper's gains (section 4) and the default radii and hold.
@@ -1351,8 +1365,10 @@ wmr_status wmr_drive_f64_init(wmr_drive_f64 *out,
                               const wmr_robot_f64 *robot,
                               wmr_error *err);
 
-// Fills `out` with the wheel stage defaults for the drive kind of `drive`.
+// Fills `out` with the wheel stage defaults for `drive` on the controller's robot
+// `model` (its gear ratio): a DC motor's servo gains and speed limit follow its keys.
 wmr_status wmr_wheel_stage_params_f64_default(const wmr_drive_params_f64 *drive,
+                                              const wmr_robot_f64 *model,
                                               wmr_wheel_stage_params_f64 *out);
 
 // Fills `out` with the paper's gains (section 4) and the default radii and hold.

@@ -39,13 +39,15 @@ pub unsafe extern "C" fn wmr_drive_f32_init(
     imp::drive_init(out, params, robot, err)
 }
 
-/// Fills `out` with the wheel stage defaults for the drive kind of `drive`.
+/// Fills `out` with the wheel stage defaults for `drive` on the controller's robot
+/// `model` (its gear ratio): a DC motor's servo gains and speed limit follow its keys.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_wheel_stage_params_f32_default(
     drive: *const wmr_drive_params<f32>,
+    model: *const wmr_robot_f32,
     out: *mut wmr_wheel_stage_params<f32>,
 ) -> wmr_status {
-    imp::wheel_stage_params_default(drive, out)
+    imp::wheel_stage_params_default(drive, model, out)
 }
 
 /// Fills `out` with the paper's gains (section 4) and the default radii and hold.

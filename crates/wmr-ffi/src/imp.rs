@@ -9,8 +9,8 @@ use core::mem::{align_of, size_of};
 use wmr_core::controller::Law;
 use wmr_core::reference::{Circle, FigureEight, Line, Waypoints};
 use wmr_core::{
-    AnyReference, BacksteppingLaw, BacksteppingParams, Controller, DcMotorParams, Drive, DriveParams, HoldMode,
-    KanayamaLaw, KanayamaParams, LyapunovLaw, LyapunovParams, Measurement, PaperBidirectionalLaw,
+    AntiWindup, AnyReference, BacksteppingLaw, BacksteppingParams, Controller, DcMotorParams, Drive, DriveParams,
+    HoldMode, KanayamaLaw, KanayamaParams, LyapunovLaw, LyapunovParams, Measurement, PaperBidirectionalLaw,
     PaperBidirectionalParams, PaperLaw, PaperMode, PaperParams, ParamError, PerfectSensor, Plant, PolarLaw,
     PolarParams, Pose2, PoseSensor, PurePursuitLaw, PurePursuitParams, Real, Reason, Reference, ReferenceState, Robot,
     RobotParams, Sensor, SensorParams, State, Termination, TorqueDriveParams, Twist2, WheelStage, WheelStageParams,
@@ -452,6 +452,14 @@ impl CEnum for HoldMode {
     }
 }
 
+impl CEnum for AntiWindup {
+    const ALL: &'static [Self] = &[AntiWindup::Off, AntiWindup::Conditional];
+    const REASON: &'static str = "must be WMR_ANTI_WINDUP_OFF (0) or WMR_ANTI_WINDUP_CONDITIONAL (1)";
+    fn code(self) -> u32 {
+        self as u32
+    }
+}
+
 /// Refuses a `uint32_t` that is not a code of `E`.
 fn enum_code<E: CEnum>(field: &'static str, code: u32) -> Result<(), Fail> {
     if E::ALL.iter().any(|e| e.code() == code) {
@@ -518,7 +526,7 @@ macro_rules! c_params {
 }
 
 c_params! {
-    alias PaperParams { mode: PaperMode, hold: HoldMode };
+    alias PaperParams { mode: PaperMode, hold: HoldMode, anti_windup: AntiWindup };
     alias PaperBidirectionalParams { hold: HoldMode };
     alias KanayamaParams {};
     alias BacksteppingParams {};
@@ -695,11 +703,13 @@ pub fn drive_init<T: Prec>(
 
 pub fn wheel_stage_params_default<T: Prec>(
     drive: *const wmr_drive_params<T>,
+    model: *const T::Robot,
     out: *mut wmr_wheel_stage_params<T>,
 ) -> wmr_status {
     guard(core::ptr::null_mut(), || {
         let drive = drive_params(read(drive, "drive")?)?;
-        write(out, "out", WheelStageParams::for_drive(&drive))
+        let model = get(model, "model")?;
+        write(out, "out", WheelStageParams::for_drive(&drive, model.params()))
     })
 }
 

@@ -73,7 +73,7 @@ pub use imp::{C_LAWS, CLawEntry};
 use core::ffi::c_char;
 
 /// Version of this C API: changes whenever a struct, a storage size or a signature does.
-pub const WMR_ABI_VERSION: u32 = 2;
+pub const WMR_ABI_VERSION: u32 = 3;
 
 /// Alignment, bytes, of every storage struct (they are arrays of `uint64_t`).
 pub const WMR_STORAGE_ALIGN: usize = 8;
@@ -103,6 +103,13 @@ pub const WMR_HOLD_ZERO_ERRORS: u32 = 0;
 pub const WMR_HOLD_FREEZE: u32 = 1;
 /// `wmr_paper_params_*.hold`: zero errors in pose mode, freeze in position mode (default).
 pub const WMR_HOLD_AUTO: u32 = 2;
+
+/// `wmr_paper_params_*.anti_windup`: the integrators run on while the wheels saturate
+/// (the paper's law as printed; its default).
+pub const WMR_ANTI_WINDUP_OFF: u32 = 0;
+/// `wmr_paper_params_*.anti_windup`: conditional integration, the integrators hold while
+/// the wheels saturate.
+pub const WMR_ANTI_WINDUP_CONDITIONAL: u32 = 1;
 
 /// What a call did. `WMR_OK` is 0; every other value is an error.
 #[repr(i32)]

@@ -172,7 +172,7 @@ proptest! {
         let mut ctrl = MaybeUninit::<wmr_lyapunov_controller_f64>::uninit();
         // SAFETY: valid pointers.
         let code = unsafe {
-            wmr_wheel_stage_params_f64_default(&dp, wp.as_mut_ptr());
+            wmr_wheel_stage_params_f64_default(&dp, &robot_c, wp.as_mut_ptr());
             wmr_lyapunov_controller_f64_init(ctrl.as_mut_ptr(), &lp, wp.as_ptr(), &robot_c, &drive_c, 1e-3, &mut err)
         };
         prop_assert_ne!(code, wmr_status::WMR_PANIC);
@@ -289,7 +289,7 @@ macro_rules! compare_loop {
                 let mut fresh = MaybeUninit::<$storage>::uninit();
                 let mut plant = MaybeUninit::<wmr_plant_f64>::uninit();
                 let mut sensor = MaybeUninit::<wmr_sensor_f64>::uninit();
-                wmr_wheel_stage_params_f64_default(&dp, wp.as_mut_ptr());
+                wmr_wheel_stage_params_f64_default(&dp, &robot_c, wp.as_mut_ptr());
                 $default(lp.as_mut_ptr());
                 assert_eq!(
                     $init(ctrl.as_mut_ptr(), lp.as_ptr(), wp.as_ptr(), &robot_c, &drive_c, dt, null),
@@ -345,8 +345,13 @@ macro_rules! compare_loop {
             let robot = Robot::<f64>::paper();
             let drive_params = DriveParams::DcMotor(Default::default());
             let drive = drive_params.validate(&robot).unwrap();
-            let wheels =
-                WheelStage::new(&WheelStageParams::for_drive(&drive_params), robot.params(), &drive, dt).unwrap();
+            let wheels = WheelStage::new(
+                &WheelStageParams::for_drive(&drive_params, robot.params()),
+                robot.params(),
+                &drive,
+                dt,
+            )
+            .unwrap();
             let world = WorldParams { slope_deg: SLOPE_DEG, slope_direction_deg: SLOPE_DIR_DEG }.validate().unwrap();
             let plant = Plant::on(robot, drive, world, start).unwrap();
             let sensor = PoseSensor::<f64>::new(sensor_params(), dt, RUN).unwrap();
@@ -417,7 +422,7 @@ fn enum_codes_outside_the_constants_are_refused_by_name() {
     // SAFETY: valid pointers; the bad codes are written through raw u32 pointers into
     // C-layout structs, as C would write them.
     unsafe {
-        wmr_wheel_stage_params_f64_default(&dp, wp.as_mut_ptr());
+        wmr_wheel_stage_params_f64_default(&dp, &robot_c, wp.as_mut_ptr());
         let mut pp = MaybeUninit::<wmr_paper_params<f64>>::uninit();
         let mut ctrl = MaybeUninit::<wmr_paper_controller_f64>::uninit();
         for (offset, code, name) in [
@@ -489,7 +494,7 @@ fn paper_bidirectional_gains_are_checked_by_the_core() {
     let mut ctrl = MaybeUninit::<wmr_paper_bidirectional_controller_f64>::uninit();
     // SAFETY: valid pointers.
     let c = unsafe {
-        wmr_wheel_stage_params_f64_default(&dp, wp.as_mut_ptr());
+        wmr_wheel_stage_params_f64_default(&dp, &robot_c, wp.as_mut_ptr());
         wmr_paper_bidirectional_controller_f64_init(
             ctrl.as_mut_ptr(),
             &p,
@@ -524,7 +529,7 @@ macro_rules! reference_at_rest {
                 $drive_default(WMR_DRIVE_DC_MOTOR, dp.as_mut_ptr());
                 assert_eq!($drive_init(drive.as_mut_ptr(), dp.as_ptr(), robot.as_ptr(), null), wmr_status::WMR_OK);
                 let (mut wp, mut lp) = (MaybeUninit::uninit(), MaybeUninit::<$params>::uninit());
-                $wheels_default(dp.as_ptr(), wp.as_mut_ptr());
+                $wheels_default(dp.as_ptr(), robot.as_ptr(), wp.as_mut_ptr());
                 $default(lp.as_mut_ptr());
                 let mut a = MaybeUninit::<$storage>::uninit();
                 let mut b = MaybeUninit::<$storage>::uninit();

@@ -91,7 +91,9 @@ fn rust_f32_final_pose() -> Pose2<f32> {
     let drive = drive_params.validate(&robot).unwrap();
     let goal = FixedGoal::new(Pose2::new(1.0, 1.0, 120f64.to_radians() as f32)).unwrap();
     let law = PaperLaw::new(PaperParams::paper(), robot.params(), dt).unwrap();
-    let wheels = WheelStage::new(&WheelStageParams::for_drive(&drive_params), robot.params(), &drive, dt).unwrap();
+    let wheels =
+        WheelStage::new(&WheelStageParams::for_drive(&drive_params, robot.params()), robot.params(), &drive, dt)
+            .unwrap();
     let plant = Plant::new(robot, drive, Pose2::default()).unwrap();
     let mut sim = ClosedLoop::new(plant, Controller::new(law, wheels), goal, dt).unwrap();
     for _ in 0..60_000 {

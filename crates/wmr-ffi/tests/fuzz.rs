@@ -212,11 +212,17 @@ macro_rules! fuzz {
                     wmr_status::WMR_OK
                 );
                 let mut wp = MaybeUninit::<wmr_wheel_stage_params<$t>>::uninit();
-                assert_eq!($wheels_default(std::ptr::null(), wp.as_mut_ptr()), wmr_status::WMR_NULL_POINTER);
-                assert_eq!($wheels_default(dp.as_ptr(), std::ptr::null_mut()), wmr_status::WMR_NULL_POINTER);
-                assert_eq!($wheels_default(scratch.ptr(), wp.as_mut_ptr()), wmr_status::WMR_MISALIGNED);
-                assert_eq!($wheels_default(dp.as_ptr(), scratch.ptr()), wmr_status::WMR_MISALIGNED);
-                assert_eq!($wheels_default(dp.as_ptr(), wp.as_mut_ptr()), wmr_status::WMR_OK);
+                let r = robot.as_ptr();
+                assert_eq!($wheels_default(std::ptr::null(), r, wp.as_mut_ptr()), wmr_status::WMR_NULL_POINTER);
+                assert_eq!(
+                    $wheels_default(dp.as_ptr(), std::ptr::null(), wp.as_mut_ptr()),
+                    wmr_status::WMR_NULL_POINTER
+                );
+                assert_eq!($wheels_default(dp.as_ptr(), r, std::ptr::null_mut()), wmr_status::WMR_NULL_POINTER);
+                assert_eq!($wheels_default(scratch.ptr(), r, wp.as_mut_ptr()), wmr_status::WMR_MISALIGNED);
+                assert_eq!($wheels_default(dp.as_ptr(), scratch.ptr(), wp.as_mut_ptr()), wmr_status::WMR_MISALIGNED);
+                assert_eq!($wheels_default(dp.as_ptr(), r, scratch.ptr()), wmr_status::WMR_MISALIGNED);
+                assert_eq!($wheels_default(dp.as_ptr(), r, wp.as_mut_ptr()), wmr_status::WMR_OK);
                 let mut lp = MaybeUninit::<$law_params>::uninit();
                 assert_eq!($law_default(std::ptr::null_mut()), wmr_status::WMR_NULL_POINTER);
                 assert_eq!($law_default(scratch.ptr()), wmr_status::WMR_MISALIGNED);
@@ -390,7 +396,7 @@ macro_rules! fuzz {
                         continue;
                     }
                     let mut wp = MaybeUninit::<wmr_wheel_stage_params<$t>>::uninit();
-                    assert_eq!($wheels_default(&dp, wp.as_mut_ptr()), wmr_status::WMR_OK, "{what}");
+                    assert_eq!($wheels_default(&dp, robot.as_ptr(), wp.as_mut_ptr()), wmr_status::WMR_OK, "{what}");
                     if rng.chance(0.3) {
                         perturb::<_, $t>(&mut rng, wp.as_mut_ptr(), 0.3, to_t, max);
                     }

@@ -73,13 +73,15 @@ pub unsafe extern "C" fn wmr_drive_f32_init(
     imp::drive_init(out, params, robot, err)
 }
 
-/// Fills `out` with the wheel stage defaults for the drive kind of `drive`.
+/// Fills `out` with the wheel stage defaults for `drive` on the controller's robot
+/// `model` (its gear ratio): a DC motor's servo gains and speed limit follow its keys.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_wheel_stage_params_f32_default(
     drive: *const wmr_drive_params<f32>,
+    model: *const wmr_robot_f32,
     out: *mut wmr_wheel_stage_params<f32>,
 ) -> wmr_status {
-    imp::wheel_stage_params_default(drive, out)
+    imp::wheel_stage_params_default(drive, model, out)
 }
 "#;
 
@@ -472,6 +474,7 @@ fn c_type(ty: &'static str) -> (&'static str, &'static str) {
     match ty {
         "PaperMode" => ("u32", "`WMR_PAPER_MODE_POSE` or `WMR_PAPER_MODE_POSITION`"),
         "HoldMode" => ("u32", "`WMR_HOLD_AUTO`, `WMR_HOLD_ZERO_ERRORS` or `WMR_HOLD_FREEZE`"),
+        "AntiWindup" => ("u32", "`WMR_ANTI_WINDUP_OFF` or `WMR_ANTI_WINDUP_CONDITIONAL`"),
         other => (other, ""),
     }
 }
@@ -518,10 +521,11 @@ fn shared_structs_have_the_core_layout() {
         std::mem::offset_of!(wmr_ffi::wmr_paper_params<f64>, goal_radius),
         std::mem::offset_of!(wmr_ffi::wmr_paper_params<f64>, hold_radius),
         std::mem::offset_of!(wmr_ffi::wmr_paper_params<f64>, hold),
+        std::mem::offset_of!(wmr_ffi::wmr_paper_params<f64>, anti_windup),
     ];
     assert_eq!(paper.len(), offsets.len());
-    assert_eq!(offsets, [0, 8, 16, 24, 32, 40, 48, 56]);
-    assert_eq!(std::mem::size_of::<wmr_ffi::wmr_paper_params<f32>>(), 8 * 4);
+    assert_eq!(offsets, [0, 8, 16, 24, 32, 40, 48, 56, 60]);
+    assert_eq!(std::mem::size_of::<wmr_ffi::wmr_paper_params<f32>>(), 9 * 4);
     assert_eq!(std::mem::size_of::<wmr_ffi::wmr_paper_params<f64>>(), 64);
     assert_eq!(std::mem::size_of::<wmr_ffi::wmr_paper_bidirectional_params<f32>>(), 7 * 4);
     assert_eq!(std::mem::offset_of!(wmr_ffi::wmr_paper_bidirectional_params<f64>, hold), 6 * 8);

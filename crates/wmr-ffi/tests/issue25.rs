@@ -172,7 +172,7 @@ fn paper_controller(
     // SAFETY: valid pointers.
     unsafe {
         wmr_drive_params_f64_default(WMR_DRIVE_TORQUE, dp.as_mut_ptr());
-        wmr_wheel_stage_params_f64_default(dp.as_ptr(), wp.as_mut_ptr());
+        wmr_wheel_stage_params_f64_default(dp.as_ptr(), robot, wp.as_mut_ptr());
         let mut wp = wp.assume_init();
         wp.servo_kp = kp;
         wp.servo_kd = kd;
@@ -337,7 +337,7 @@ fn issue25_10_misaligned_pointers_are_refused_by_name() {
         let mut wp = MaybeUninit::uninit();
         let mut dp = MaybeUninit::uninit();
         wmr_drive_params_f64_default(WMR_DRIVE_TORQUE, dp.as_mut_ptr());
-        wmr_wheel_stage_params_f64_default(dp.as_ptr(), wp.as_mut_ptr());
+        wmr_wheel_stage_params_f64_default(dp.as_ptr(), &robot, wp.as_mut_ptr());
         let mut c2 = MaybeUninit::<wmr_paper_controller_f64>::uninit();
         let code =
             wmr_paper_controller_f64_init(c2.as_mut_ptr(), lp.ptr(), wp.as_ptr(), &robot, &drive, 1e-3, &mut err);

@@ -45,7 +45,7 @@ fn rig(start: Pose2<f64>) -> Rig {
         wmr_drive_params_f64_default(WMR_DRIVE_TORQUE, dp.as_mut_ptr());
         assert_eq!(wmr_drive_f64_init(drive.as_mut_ptr(), dp.as_ptr(), robot.as_ptr(), null), wmr_status::WMR_OK);
         let mut wheels = MaybeUninit::uninit();
-        wmr_wheel_stage_params_f64_default(dp.as_ptr(), wheels.as_mut_ptr());
+        wmr_wheel_stage_params_f64_default(dp.as_ptr(), robot.as_ptr(), wheels.as_mut_ptr());
         let (mut plant, mut sensor) = (MaybeUninit::uninit(), MaybeUninit::uninit());
         let s = wmr_pose { x: start.x, y: start.y, theta: start.theta };
         assert_eq!(
@@ -192,8 +192,13 @@ macro_rules! law_on_reference {
             let robot = Robot::<f64>::paper();
             let drive_params = DriveParams::Torque(TorqueDriveParams::default());
             let drive = drive_params.validate(&robot).unwrap();
-            let wheels =
-                WheelStage::new(&WheelStageParams::for_drive(&drive_params), robot.params(), &drive, dt).unwrap();
+            let wheels = WheelStage::new(
+                &WheelStageParams::for_drive(&drive_params, robot.params()),
+                robot.params(),
+                &drive,
+                dt,
+            )
+            .unwrap();
             let plant = Plant::on(robot, drive, WorldParams::default().validate().unwrap(), start).unwrap();
             let core_ref: AnyReference<f64> = $core_ref;
             let mut sim =
@@ -307,7 +312,9 @@ fn pure_pursuit_on_waypoints_is_closed_loop() {
     let robot = Robot::<f64>::paper();
     let drive_params = DriveParams::Torque(TorqueDriveParams::default());
     let drive = drive_params.validate(&robot).unwrap();
-    let wheels = WheelStage::new(&WheelStageParams::for_drive(&drive_params), robot.params(), &drive, dt).unwrap();
+    let wheels =
+        WheelStage::new(&WheelStageParams::for_drive(&drive_params, robot.params()), robot.params(), &drive, dt)
+            .unwrap();
     let plant = Plant::on(robot, drive, WorldParams::default().validate().unwrap(), start).unwrap();
     let law = PurePursuitLaw::for_lanes(PurePursuitParams::default(), robot.params()).unwrap();
     let core_ref = AnyReference::Waypoints(Waypoints::new(&POINTS, 0.3, 0.5).unwrap());
@@ -352,7 +359,7 @@ fn f32_kanayama_on_a_line_follows_it() {
         wmr_drive_params_f32_default(WMR_DRIVE_TORQUE, dp.as_mut_ptr());
         assert_eq!(wmr_drive_f32_init(drive.as_mut_ptr(), dp.as_ptr(), robot.as_ptr(), null), wmr_status::WMR_OK);
         let (mut wp, mut lp) = (MaybeUninit::uninit(), MaybeUninit::uninit());
-        wmr_wheel_stage_params_f32_default(dp.as_ptr(), wp.as_mut_ptr());
+        wmr_wheel_stage_params_f32_default(dp.as_ptr(), robot.as_ptr(), wp.as_mut_ptr());
         wmr_kanayama_params_f32_default(lp.as_mut_ptr());
         let mut ctrl = MaybeUninit::<wmr_kanayama_controller_f32>::uninit();
         assert_eq!(

@@ -440,7 +440,7 @@ law_class!(
     /// servo's defaults and anti-windup bound. gains: the scenario's `[controller]` keys of
     /// kind "paper": the law's mode ("pose" or "position"), kp_theta (rad/rad, 2), ki_theta
     /// (1/s, 0.1), kp_s (m/m, 1), ki_s (1/s, 0.25), goal_radius (m, 0.001), hold_radius (m,
-    /// 0.005; 0 = off), hold ("auto", "zero_errors" or "freeze"); the wheel stage's servo_kp
+    /// 0.005; 0 = off), hold ("auto", "zero_errors" or "freeze"), anti_windup ("off" or "conditional"); the wheel stage's servo_kp
     /// (N m/rad, 14), servo_kd (N m s/rad, 1.4), servo_ki (N m/(rad s), 0), wheel_speed_max
     /// (rad/s, inf); control_dt (s, 0.001). Parsed and checked by the scenario code: a bad or
     /// unknown key raises ScenarioError naming it (``controller.kp_s``).

@@ -5,7 +5,7 @@
 
 use serde::Deserialize;
 use toml::{Table, Value};
-use wmr_core::{ControllerParams, DriveParams, LawParams, WheelStageParams};
+use wmr_core::{ControllerParams, DriveParams, LawParams, RobotParams, WheelStageParams};
 
 use crate::error::ScenarioError;
 use crate::keys::{
@@ -30,10 +30,10 @@ pub fn tracking_law_kinds() -> Vec<&'static str> {
 
 /// The keys of law `kind` (without `kind`), the wheel stage's keys and `control_dt`:
 /// everything a `[controller]` table of that kind accepts besides `kind`.
-pub fn controller_keys(kind: &str, drive: &DriveParams<f64>) -> Vec<String> {
+pub fn controller_keys(kind: &str) -> Vec<String> {
     let law = LawParams::<f64>::defaults().into_iter().find(|d| d.kind() == kind);
     let mut keys: Vec<String> = law.map(|l| law_table(&l).keys().cloned().collect()).unwrap_or_default();
-    keys.extend(to_table(&WheelStageParams::for_drive(drive)).keys().cloned());
+    keys.extend(to_table(&WheelStageParams::<f64>::default()).keys().cloned());
     keys.push("control_dt".to_owned());
     keys.push("model".to_owned());
     keys
@@ -47,8 +47,13 @@ fn law_table(law: &LawParams<f64>) -> Table {
 }
 
 /// Reads a `[controller]` table at `path` (`controller`, `sweep.controllers[1]`); the
-/// wheel stage's defaults follow the drive.
-pub fn resolve(given: &Table, path: &str, drive: &DriveParams<f64>) -> Result<ControllerParams<f64>, ScenarioError> {
+/// wheel stage's defaults follow the drive and the controller's robot `model`.
+pub fn resolve(
+    given: &Table,
+    path: &str,
+    drive: &DriveParams<f64>,
+    model: &RobotParams<f64>,
+) -> Result<ControllerParams<f64>, ScenarioError> {
     let kinds = law_kinds();
     let kind = kind_of(given, path, "paper", &kinds)?;
     let law_default = LawParams::<f64>::defaults()
@@ -56,7 +61,7 @@ pub fn resolve(given: &Table, path: &str, drive: &DriveParams<f64>) -> Result<Co
         .find(|d| d.kind() == kind)
         .ok_or_else(|| ScenarioError::new(join(path, "kind"), "unknown kind"))?;
     let law_defaults = law_table(&law_default);
-    let wheels_default = WheelStageParams::for_drive(drive);
+    let wheels_default = WheelStageParams::for_drive(drive, model);
     let wheel_defaults = to_table(&wheels_default);
     let (mut law_given, mut wheels_given, mut control_dt) = (Table::new(), Table::new(), None);
     for (k, v) in given {
@@ -69,7 +74,7 @@ pub fn resolve(given: &Table, path: &str, drive: &DriveParams<f64>) -> Result<Co
         } else if k == "control_dt" {
             control_dt = Some(v.clone());
         } else {
-            let accepted = controller_keys(kind, drive);
+            let accepted = controller_keys(kind);
             return Err(unknown_key(path, k, accepted.iter().map(String::as_str)));
         }
     }

@@ -142,14 +142,29 @@ fn edit_distance(a: &str, b: &str) -> usize {
 pub fn read_with<T>(
     path: &str,
     value: Value,
-    read: impl for<'a, 'b> FnOnce(serde_path_to_error::Deserializer<'a, 'b, Value>) -> Result<T, toml::de::Error>,
+    read: impl for<'a, 'b> Fn(serde_path_to_error::Deserializer<'a, 'b, Value>) -> Result<T, toml::de::Error>,
 ) -> Result<T, ScenarioError> {
     let mut track = serde_path_to_error::Track::new();
-    let out = read(serde_path_to_error::Deserializer::new(value, &mut track));
+    let out = read(serde_path_to_error::Deserializer::new(value.clone(), &mut track));
     out.map_err(|e| {
         let inner = track.path().to_string();
         let key = if inner == "." { path.to_owned() } else { join(path, &inner) };
-        ScenarioError::new(key, e.message().trim().to_owned())
+        let message = e.message().trim();
+        // A number or a flag where a name belongs: serde says "invalid type: unit variant,
+        // expected string only", which names neither. Read again with a name no enum has
+        // to learn the names it takes, and say what was written.
+        let names = || {
+            let mut probe = value.clone();
+            let slot = inner.split('.').try_fold(&mut probe, |v, k| v.as_table_mut()?.get_mut(k))?;
+            let written = std::mem::replace(slot, Value::String("\u{0}".into()));
+            let again = read(serde_path_to_error::Deserializer::new(probe, &mut serde_path_to_error::Track::new()));
+            let expected = again.err()?.message().split_once("expected ")?.1.trim().to_owned();
+            Some(format!("expected {expected} (a string), got {written}"))
+        };
+        match message.ends_with("expected string only").then(names).flatten() {
+            Some(better) => ScenarioError::new(key, better),
+            None => ScenarioError::new(key, message.to_owned()),
+        }
     })
 }
 
@@ -208,6 +223,19 @@ pub fn toml_scalar(v: &Value) -> String {
     match v {
         Value::Float(f) => toml_f64(*f),
         other => other.to_string(),
+    }
+}
+
+/// [`toml_scalar`] for a reader: a float of more than 4 significant digits rounded to 4
+/// (a default derived from other keys, such as a DC motor's servo gains: 81.52).
+pub fn toml_scalar_rounded(v: &Value) -> String {
+    match v {
+        Value::Float(f) if f.is_finite() && *f != 0.0 => {
+            let digits = (3 - f.abs().log10().floor() as i32).max(0) as usize;
+            let rounded: f64 = format!("{f:.digits$}").parse().unwrap_or(*f);
+            toml_f64(rounded)
+        }
+        other => toml_scalar(other),
     }
 }
 

@@ -145,9 +145,11 @@ pub fn schema() -> Vec<SchemaKey> {
     for law in laws {
         out.extend(declared("controller", Some(law.kind()), law.fields(), &law));
     }
-    // The wheel stage's defaults follow the drive: fixed where every drive agrees.
+    // The wheel stage's defaults follow the drive (on the paper's robot: a DC motor's
+    // depend on the gear ratio too): fixed where every drive agrees.
+    let robot = wmr_core::RobotParams::paper();
     let by_drive: Vec<(&'static str, toml::Table)> =
-        drives.iter().map(|d| (d.kind(), to_table(&WheelStageParams::for_drive(d)))).collect();
+        drives.iter().map(|d| (d.kind(), to_table(&WheelStageParams::for_drive(d, &robot)))).collect();
     for f in WheelStageParams::<f64>::FIELDS {
         let values: Vec<(&'static str, Value)> =
             by_drive.iter().filter_map(|(kind, t)| Some((*kind, t.get(f.name)?.clone()))).collect();
@@ -206,16 +208,18 @@ mod tests {
     }
 
     #[test]
-    fn servo_defaults_follow_the_drive_and_the_limit_is_fixed() {
+    fn servo_defaults_and_the_limit_follow_the_drive() {
         let keys = schema();
         let key = |name: &str| keys.iter().find(|k| k.key == name).unwrap();
-        assert_eq!(key("servo_kd").default, None);
-        assert_eq!(key("servo_kd").default_by_drive, [("torque", Value::Float(1.4)), ("dc_motor", Value::Float(7.6))]);
-        assert_eq!(key("servo_kp").default, None);
-        assert_eq!(
-            key("servo_kp").default_by_drive,
-            [("torque", Value::Float(14.0)), ("dc_motor", Value::Float(81.5))]
-        );
-        assert_eq!(key("wheel_speed_max").default, Some(Value::Float(f64::INFINITY)));
+        let near = |v: &Value, want: f64| v.as_float().is_some_and(|v| (v - want).abs() < 0.01 * want);
+        for (name, torque, dc) in
+            [("servo_kp", 14.0, 81.5), ("servo_kd", 1.4, 7.58), ("wheel_speed_max", f64::INFINITY, 20.94)]
+        {
+            let by = &key(name).default_by_drive;
+            assert_eq!(key(name).default, None, "{name}");
+            assert_eq!((by[0].0, by[1].0), ("torque", "dc_motor"), "{name}");
+            assert_eq!(by[0].1, Value::Float(torque), "{name}");
+            assert!(near(&by[1].1, dc), "{name}: {by:?}");
+        }
     }
 }

@@ -180,7 +180,7 @@ impl Setup {
                 return Err(ScenarioError::new(model_path, format!("expected a table, got {}", other.type_str())));
             }
         };
-        let controller = controller::resolve(&table, controller_path, &drive_params)?;
+        let controller = controller::resolve(&table, controller_path, &drive_params, model.params())?;
         let built = controller.build(model.params(), &drive).map_err(param_error(controller_path))?;
         AnySensor::<f64>::new(sensor, pose, model.params(), controller.control_dt, 0).map_err(param_error("sensor"))?;
         Ok(Self {

@@ -2,7 +2,7 @@
 
 use wmr_core::{
     ClosedLoop, ControllerParams, DcMotorParams, DriveParams, FixedGoal, LawParams, PaperParams, Plant, Pose2, Robot,
-    ServoGains, WheelStageParams,
+    RobotParams, WheelStageParams,
 };
 use wmr_scenario::{CSV_COLUMNS, SAMPLE_COLUMNS, Scenario, sample_values};
 
@@ -34,13 +34,15 @@ fn defaults_are_the_spec_values() {
 fn dc_motor_takes_its_own_servo_defaults() {
     let s = Scenario::from_toml_str("[drive]\nkind = \"dc_motor\"\n[[run]]\ngoal = {}\n", "x").unwrap();
     assert_eq!(s.drive().params(), DriveParams::DcMotor(DcMotorParams::default()));
-    assert_eq!(s.controller().wheels.servo(), ServoGains::dc_motor_default());
+    let dc = WheelStageParams::for_drive(&DriveParams::DcMotor(DcMotorParams::default()), &RobotParams::paper());
+    assert_eq!(s.controller().wheels, dc);
+    assert!((dc.servo_kp - 81.5).abs() < 0.05 && dc.wheel_speed_max.is_finite(), "{dc:?}");
     let s =
         Scenario::from_toml_str("[drive]\nkind = \"dc_motor\"\n[controller]\nservo_kd = 2\n[[run]]\ngoal = {}\n", "x")
             .unwrap();
     let w: WheelStageParams<f64> = s.controller().wheels;
     assert_eq!(w.servo_kd, 2.0);
-    assert_eq!(w.servo_kp, ServoGains::<f64>::dc_motor_default().kp);
+    assert_eq!(w.servo_kp, dc.servo_kp);
 }
 
 #[test]

@@ -44,7 +44,7 @@ impl<T: Real> ControllerParams<T> {
     }
 
     /// The paper's law with the torque drive's wheel stage, 1 ms. For a DC-motor drive,
-    /// set `wheels` to [`WheelStageParams::for_drive`] of it.
+    /// set `wheels` to [`WheelStageParams::for_drive`] of it and the controller's model.
     pub fn paper() -> Self {
         Self::with_law(LawParams::Paper(PaperParams::paper()))
     }

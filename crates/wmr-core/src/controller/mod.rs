@@ -30,7 +30,7 @@ pub use composed::{ControlOutput, Controller, ControllerParams};
 pub use kanayama::{KanayamaLaw, KanayamaParams};
 pub use law::{ControlErrors, Law, LawOutput, WheelDemand};
 pub use lyapunov::{LyapunovLaw, LyapunovParams};
-pub use paper::{HoldMode, PaperLaw, PaperMode, PaperParams};
+pub use paper::{AntiWindup, HoldMode, PaperLaw, PaperMode, PaperParams};
 pub use paper_bidirectional::{PaperBidirectionalLaw, PaperBidirectionalParams};
 pub use polar::{PolarLaw, PolarParams};
 pub use polar_frame::{Direction, DirectionSelector, PolarCoordinateLaw, PolarCoords, PolarGains, Steering};

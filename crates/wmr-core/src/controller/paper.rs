@@ -69,6 +69,21 @@ impl HoldMode {
     }
 }
 
+/// What the law's integrators do while the wheel stage saturates (`anti_windup`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize), serde(rename_all = "snake_case"))]
+#[repr(u32)]
+pub enum AntiWindup {
+    /// They integrate on, as the paper prints the law (the default of `paper`): a
+    /// saturated wheel lets them wind up.
+    #[default]
+    Off = 0,
+    /// Conditional integration: the outer integrators and the wheel servos' integrators
+    /// hold at every tick after one at which the wheel stage saturated (the repaired law
+    /// and the others always do this).
+    Conditional = 1,
+}
+
 crate::params! {
     /// `[controller] kind = "paper"`: the law's own keys.
     #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,12 +109,14 @@ crate::params! {
         /// [`HoldMode::ZeroErrors`] takes the errors as zero, so the wheel references
         /// step on entry; [`HoldMode::Freeze`] keeps the last references (bumpless).
         pub hold: HoldMode [unit = "", rule = "\"auto\", \"zero_errors\" or \"freeze\""],
+        /// Anti-windup of the integrators (outer loops and wheel servos): off (as printed in the paper) or conditional (they hold while the wheels saturate).
+        pub anti_windup: AntiWindup [unit = "", rule = "\"off\" or \"conditional\""],
     }
 }
 
 impl<T: Real> PaperParams<T> {
     /// The paper's gains (section 4), the default radii and the default hold
-    /// ([`HoldMode::Auto`]: the paper's zero-errors hold in pose mode).
+    /// ([`HoldMode::Auto`]: the paper's zero-errors hold in pose mode), anti-windup off.
     pub fn paper() -> Self {
         Self {
             mode: PaperMode::Pose,
@@ -110,6 +127,7 @@ impl<T: Real> PaperParams<T> {
             goal_radius: T::lit(1e-3),
             hold_radius: T::lit(5e-3),
             hold: HoldMode::Auto,
+            anti_windup: AntiWindup::Off,
         }
     }
 
@@ -133,10 +151,10 @@ impl<T: Real> Default for PaperParams<T> {
 
 /// Defines a law on [`OuterLoops`] (the paper's and its repair): the struct of its keys
 /// and loops, `new` and `for_lanes` (the keys' `validate`, then the loops, with the
-/// anti-windup on or off), `params` and the [`Law`] impl, whose update is the law's own
+/// anti-windup `$aw` of the keys `$p`), `params` and the [`Law`] impl, whose update is the law's own
 /// `references` (wheel angle references, [`WheelDemand::Angles`]).
 macro_rules! outer_law {
-    ($(#[$doc:meta])* pub struct $law:ident($params:ident), anti_windup: $anti_windup:literal;) => {
+    ($(#[$doc:meta])* pub struct $law:ident($params:ident), anti_windup($p:ident) => $aw:expr;) => {
         $(#[$doc])*
         #[derive(Clone, Copy, Debug, PartialEq)]
         pub struct $law<T: Lane> {
@@ -160,7 +178,11 @@ macro_rules! outer_law {
                 control_dt: T::Scalar,
             ) -> Result<Self, ParamError> {
                 params.validate()?;
-                Ok(Self { params, outer: OuterLoops::new(model, control_dt, $anti_windup)? })
+                let anti_windup = {
+                    let $p = &params;
+                    $aw
+                };
+                Ok(Self { params, outer: OuterLoops::new(model, control_dt, anti_windup)? })
             }
 
             /// The parameters.
@@ -200,7 +222,7 @@ pub(crate) use outer_law;
 
 outer_law! {
     /// The paper's outer law. Implements [`Law`] with [`WheelDemand::Angles`].
-    pub struct PaperLaw(PaperParams), anti_windup: false;
+    pub struct PaperLaw(PaperParams), anti_windup(p) => p.anti_windup == AntiWindup::Conditional;
 }
 
 impl<T: Lane> PaperLaw<T> {

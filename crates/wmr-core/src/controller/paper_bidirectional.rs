@@ -152,7 +152,7 @@ impl<T: Real> PaperBidirectionalParams<T> {
 
 outer_law! {
     /// The repaired paper law. Implements [`Law`] with [`WheelDemand::Angles`].
-    pub struct PaperBidirectionalLaw(PaperBidirectionalParams), anti_windup: true;
+    pub struct PaperBidirectionalLaw(PaperBidirectionalParams), anti_windup(_p) => true;
 }
 
 impl<T: Lane> PaperBidirectionalLaw<T> {

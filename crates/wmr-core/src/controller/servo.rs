@@ -25,15 +25,19 @@ impl<T: Real> ServoGains<T> {
         Self { kp: T::lit(14.0), kd: T::lit(1.4), ki: T::zero() }
     }
 
-    /// DC-motor defaults: Kp = 81.5 V/rad, Kd = 7.6 V s/rad, Ki = 0: the torque-drive
-    /// defaults' stiffness and damping at the wheel with the default motor (Pololu 37D
-    /// through k_t = 0.1: b = k_tau / (R_a k_t) = 0.1717 N m/V and back-EMF damping
-    /// b k_e / k_t = 0.098 N m s/rad, so Kp = 14 / b and Kd = (1.4 - 0.098) / b). For
-    /// another motor the same rule gives its gains (docs/scenario.md). The gains of the
-    /// earlier default motor (14 and 1.1, for a maxon RE 40 at 1.01 N m/V) left the
-    /// Pololu's wheels a fifth as stiff: the polar and Lyapunov laws then circled the goal.
-    pub fn dc_motor_default() -> Self {
-        Self { kp: T::lit(81.5), kd: T::lit(7.6), ki: T::zero() }
+    /// DC-motor defaults for a motor of `torque_per_volt` b = k_tau / (R_a k_t) N m/V and
+    /// back-EMF damping `emf_damping` b k_e / k_t N m s/rad at the wheel: the torque-drive
+    /// defaults' stiffness and damping at the wheel, Kp = 14 / b V/rad and
+    /// Kd = max(1.4 - b k_e / k_t, 0) / b V s/rad (the motor's own back-EMF damps the wheel
+    /// already), Ki = 0. For the default motor (Pololu 37D through k_t = 0.1: b = 0.1717
+    /// N m/V, 0.098 N m s/rad) Kp = 81.5 and Kd = 7.58. Fixed gains for one motor left a
+    /// stronger or weaker motor's wheels several times too stiff or too soft (with the
+    /// maxon's 14 and 1.1 the Pololu's wheels were a fifth as stiff: the polar and
+    /// Lyapunov laws circled the goal).
+    pub fn for_dc_motor(torque_per_volt: T, emf_damping: T) -> Self {
+        let torque = Self::torque_default();
+        let kd = (torque.kd - emf_damping).max(T::zero()) / torque_per_volt;
+        Self { kp: torque.kp / torque_per_volt, kd, ki: T::zero() }
     }
 
     pub(crate) fn validate(self) -> Result<Self, ParamError> {

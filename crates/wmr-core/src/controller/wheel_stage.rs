@@ -83,14 +83,25 @@ crate::params! {
 }
 
 impl<T: Real> WheelStageParams<T> {
-    /// The defaults for a drive: the servo gains of [`ServoGains::torque_default`] or
-    /// [`ServoGains::dc_motor_default`], no speed limit.
-    pub fn for_drive(drive: &DriveParams<T>) -> Self {
-        let g = match drive {
-            DriveParams::Torque(_) => ServoGains::torque_default(),
-            DriveParams::DcMotor(_) => ServoGains::dc_motor_default(),
+    /// The defaults for a drive on the controller's robot model (its gear ratio k_t):
+    /// with the torque drive the gains of [`ServoGains::torque_default`] and no speed
+    /// limit; with a DC motor the gains of [`ServoGains::for_dc_motor`] for that motor and
+    /// the speed limit at what it can deliver, its no-load speed at the wheel
+    /// u_max k_t / k_e (rad/s; infinite without back-EMF). Faster references than that
+    /// only wind the servos up: the wheels cannot follow them.
+    pub fn for_drive(drive: &DriveParams<T>, model: &RobotParams<T>) -> Self {
+        let (g, wheel_speed_max) = match drive {
+            DriveParams::Torque(_) => (ServoGains::torque_default(), T::infinity()),
+            DriveParams::DcMotor(m) => {
+                let k_t = model.gear_ratio;
+                let torque_per_volt = m.torque_constant / (m.armature_resistance * k_t);
+                let emf_per_wheel_speed = m.back_emf_constant / k_t;
+                let no_load =
+                    if emf_per_wheel_speed > T::zero() { m.voltage_max / emf_per_wheel_speed } else { T::infinity() };
+                (ServoGains::for_dc_motor(torque_per_volt, torque_per_volt * emf_per_wheel_speed), no_load)
+            }
         };
-        Self { servo_kp: g.kp, servo_kd: g.kd, servo_ki: g.ki, wheel_speed_max: T::infinity() }
+        Self { servo_kp: g.kp, servo_kd: g.kd, servo_ki: g.ki, wheel_speed_max }
     }
 
     /// The servo gains.
@@ -100,9 +111,9 @@ impl<T: Real> WheelStageParams<T> {
 }
 
 impl<T: Real> Default for WheelStageParams<T> {
-    /// The torque drive's defaults.
+    /// The torque drive's defaults (which do not depend on the robot).
     fn default() -> Self {
-        Self::for_drive(&DriveParams::default())
+        Self::for_drive(&DriveParams::default(), &RobotParams::paper())
     }
 }
 
@@ -358,7 +369,7 @@ mod tests {
         let robot = Robot::<f64>::paper();
         for params in [DriveParams::default(), DriveParams::DcMotor(DcMotorParams::default())] {
             let drive = params.validate(&robot).unwrap();
-            let wheels = WheelStageParams::for_drive(&params);
+            let wheels = WheelStageParams::for_drive(&params, robot.params());
             let mut stage = WheelStage::new(&wheels, robot.params(), &drive, 1e-3).unwrap();
             let speeds = Wheels::new(3.0, -1.5);
             let m = Measurement {

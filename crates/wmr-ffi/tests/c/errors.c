@@ -46,7 +46,7 @@ int main(void) {
     dp.kind = WMR_DRIVE_TORQUE;
     expect("valid drive", wmr_drive_f64_init(&drive, &dp, &robot, &err), WMR_OK, &err, "");
 
-    wmr_wheel_stage_params_f64_default(&dp, &wp);
+    wmr_wheel_stage_params_f64_default(&dp, &robot, &wp);
     wmr_polar_params_f64_default(&pp);
     pp.k_beta = 0.5;
     expect("k_beta >= 0", wmr_polar_controller_f64_init(&ctrl, &pp, &wp, &robot, &drive, 1e-3, &err),
@@ -55,7 +55,7 @@ int main(void) {
     wp.servo_kp = 0.0;
     expect("servo_kp = 0", wmr_polar_controller_f64_init(&ctrl, &pp, &wp, &robot, &drive, 1e-3, &err),
            WMR_NOT_POSITIVE, &err, "servo_kp");
-    wmr_wheel_stage_params_f64_default(&dp, &wp);
+    wmr_wheel_stage_params_f64_default(&dp, &robot, &wp);
     expect("control_dt = 0", wmr_polar_controller_f64_init(&ctrl, &pp, &wp, &robot, &drive, 0.0, &err),
            WMR_NOT_POSITIVE, &err, "control_dt");
 

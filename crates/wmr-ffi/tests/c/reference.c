@@ -42,7 +42,7 @@ static int bad = 0;
         CHECK(wmr_robot_##P##_init(&robot, &rp, &err));                                        \
         CHECK(wmr_drive_params_##P##_default(WMR_DRIVE_TORQUE, &dp));                          \
         CHECK(wmr_drive_##P##_init(&drive, &dp, &robot, &err));                                \
-        CHECK(wmr_wheel_stage_params_##P##_default(&dp, &wp));                                 \
+        CHECK(wmr_wheel_stage_params_##P##_default(&dp, &robot, &wp));                         \
         CHECK(wmr_paper_params_##P##_default(&lp));                                            \
         CHECK(wmr_paper_controller_##P##_init(&a, &lp, &wp, &robot, &drive, dt, &err));        \
         CHECK(wmr_paper_controller_##P##_init(&b, &lp, &wp, &robot, &drive, dt, &err));        \

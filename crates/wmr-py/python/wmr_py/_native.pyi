@@ -119,6 +119,7 @@ class PaperController:
         goal_radius: float = 0.001,  # [m] Within this distance of the goal alpha keeps its last value.
         hold_radius: float = 0.005,  # [m] Within this distance of the goal the outer errors are zero and the outer integrators stop (0: off).
         hold: str = "auto",  # The hold: auto (zero_errors in pose mode, freeze in position mode), zero_errors (references step on entry) or freeze (bumpless).
+        anti_windup: str = "off",  # Anti-windup of the integrators (outer loops and wheel servos): off (as printed in the paper) or conditional (they hold while the wheels saturate).
         servo_kp: float = 14.0,  # [N m/rad or V/rad] Wheel servo Kp (the unit follows the drive: torque or dc_motor).
         servo_kd: float = 1.4,  # [N m s/rad or V s/rad] Wheel servo Kd.
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
