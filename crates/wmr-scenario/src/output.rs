@@ -207,6 +207,17 @@ impl ColumnGroup {
         }
     }
 
+    /// The group's name, for messages: `odometry` (the odometry columns).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Sample => "sample",
+            Self::Measured => "measured",
+            Self::Odometry => "odometry",
+            Self::Contact => "contact",
+            Self::Reference => "reference",
+        }
+    }
+
     /// Which runs carry the group, for messages: "a run on odometry (...)".
     pub fn carried_by(self) -> &'static str {
         match self {
