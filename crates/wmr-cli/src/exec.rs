@@ -170,8 +170,9 @@ pub fn run_command(
     announce_work(u128::from(scenario.sim().n_steps()) * n_runs as u128, &format!("{n_runs} run(s)"));
     let writer = out.writer()?;
     let mut sink: Box<dyn Sink> = match format {
-        Format::Csv => csv_sink::CsvSink::new(writer, wmr_scenario::Columns::of(scenario))
-        .map(|s| Box::new(s) as Box<dyn Sink>),
+        Format::Csv => {
+            csv_sink::CsvSink::new(writer, wmr_scenario::Columns::of(scenario)).map(|s| Box::new(s) as Box<dyn Sink>)
+        }
         Format::Mcap => mcap_sink::McapSink::new(writer, scenario).map(|s| Box::new(s) as Box<dyn Sink>),
     }
     .map_err(sink_err)

@@ -3,7 +3,7 @@
 //! panel code: `ThreeDeeRender` and `Plot`).
 //!
 //! - **3D** (`3D!wmr-plane`): the plane seen from above (orthographic camera framing every
-//!   start and goal, x to the right, y up), a grid with round spacing, and per run its
+//!   start and goal and a reference's path, x to the right, y up), a grid with round spacing, and per run its
 //!   `scene` (body, goal), `path` and `path_tip` topics visible; with a `[sensor]`, its
 //!   `pose_meas` as an arrow, on odometry its `pose_odom` as a darker arrow, and with a
 //!   `[reference]` its `reference` topic (the dashed reference path, the ghost on
@@ -105,11 +105,21 @@ pub fn layout(scenario: &Scenario) -> Value {
     let columns = Columns::of(scenario);
     let tracking = columns.reference.is_some();
 
-    // Frame every start and goal with a margin of a robot length and 15 %.
+    // Frame every start and goal (and a reference's path, at the log times) with a margin
+    // of a robot length and 15 %.
+    let sim = scenario.sim();
+    let reference_path: Vec<wmr_core::Pose2<f64>> = columns
+        .reference
+        .map(|r| {
+            (0..sim.n_samples())
+                .map(|k| wmr_core::Reference::state_at(&r, (k as f64 * sim.log_dt()).min(sim.t_end())).pose)
+                .collect()
+        })
+        .unwrap_or_default();
     let body = (2.0 * robot.com_offset.abs()).max(2.0 * robot.wheel_radius) + 2.0 * robot.wheel_radius;
     let reach = body.max(2.0 * robot.half_track);
     let (mut x0, mut y0, mut x1, mut y1) = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
-    for p in runs.iter().flat_map(|r| [r.start, r.goal]) {
+    for p in runs.iter().flat_map(|r| [r.start, r.goal]).chain(reference_path) {
         x0 = x0.min(p.x);
         y0 = y0.min(p.y);
         x1 = x1.max(p.x);
@@ -215,7 +225,10 @@ pub fn layout(scenario: &Scenario) -> Value {
     config.insert(PANEL_3D.into(), three_d);
     // A tracking run's dl is its tracking error: the plot of dl becomes the tracking-error plot.
     let (dl_id, dl_title) = if tracking {
-        ("Plot!wmr-tracking-error", "tracking error dl (m): distance of C to C_ref (to the path, for pure_pursuit), every run")
+        (
+            "Plot!wmr-tracking-error",
+            "tracking error dl (m): distance of C to C_ref (to the path, for pure_pursuit), every run",
+        )
     } else {
         ("Plot!wmr-dl", "dl (m): distance of C to the goal, every run")
     };

@@ -369,11 +369,8 @@ fn every_csv_column_of_odometry_slip_and_tracking_runs_is_in_the_sample_topic() 
 
         // The topics: the five of every run and those of this kind of run, no others.
         let summary = mcap::read::Summary::read(&bytes).unwrap().unwrap();
-        let topics: BTreeMap<String, String> = summary
-            .channels
-            .values()
-            .map(|c| (c.topic.clone(), c.schema.as_ref().unwrap().name.clone()))
-            .collect();
+        let topics: BTreeMap<String, String> =
+            summary.channels.values().map(|c| (c.topic.clone(), c.schema.as_ref().unwrap().name.clone())).collect();
         let mut want = BTreeMap::new();
         for r in 0..runs {
             for t in ["tf", "sample", "scene", "path", "path_tip"].iter().chain(extra_topics) {
@@ -437,7 +434,10 @@ fn every_csv_column_of_odometry_slip_and_tracking_runs_is_in_the_sample_topic() 
                 assert_eq!(tfs.len(), mine.len(), "{name} run {r}");
                 for (m, row) in tfs.iter().zip(&mine) {
                     let tf = FrameTransform::decode(&m.data[..]).unwrap();
-                    assert_eq!((tf.parent_frame_id.as_str(), tf.child_frame_id.clone()), ("world", format!("run{r}/reference")));
+                    assert_eq!(
+                        (tf.parent_frame_id.as_str(), tf.child_frame_id.clone()),
+                        ("world", format!("run{r}/reference"))
+                    );
                     let t = tf.translation.unwrap();
                     assert_eq!((t.x, t.y), (row[x], row[y]));
                     let q = tf.rotation.unwrap();
@@ -889,7 +889,10 @@ fn the_layout_has_the_drift_tracking_and_speed_plots_only_where_the_scenario_has
         };
         match name {
             "odometry" => {
-                assert_eq!(fields("Plot!wmr-odometry"), ["x", "x_odom", "y", "y_odom"].map(|f| format!("/run0/sample.{f}")));
+                assert_eq!(
+                    fields("Plot!wmr-odometry"),
+                    ["x", "x_odom", "y", "y_odom"].map(|f| format!("/run0/sample.{f}"))
+                );
                 assert!(topics.contains("/run0/pose_odom") && topics.contains("/run0/pose_meas"));
                 assert_eq!(cfg["3D!wmr-plane"]["topics"]["/run0/pose_odom"]["type"], "arrow");
             }

@@ -77,7 +77,7 @@ impl RunEncoder {
             color: Some(run_color(run, 0.6)),
         };
         // The reference robot's ghost: the same box, fainter, locked to the reference's frame.
-        let ghost = CubePrimitive { color: Some(run_color(run, GHOST_ALPHA)), ..body.clone() };
+        let ghost = CubePrimitive { color: Some(run_color(run, GHOST_ALPHA)), ..body };
         let reference = columns.reference.map(|reference| SceneUpdate {
             deletions: vec![],
             entities: vec![

@@ -386,7 +386,8 @@ pub fn add_column_properties(cls: &Bound<'_, pyo3::types::PyType>) -> PyResult<(
                 ColumnGroup::Contact => "the wheels' contact with the ground",
                 _ => "the reference at each sample's t",
             };
-            let doc = format!("The {name} column of {}, {unit}: {what} (AttributeError otherwise).", group.carried_by());
+            let doc =
+                format!("The {name} column of {}, {unit}: {what} (AttributeError otherwise).", group.carried_by());
             cls.setattr(name, property.call1((get, py.None(), py.None(), doc))?)?;
         }
     }
