@@ -4,9 +4,9 @@
 //!
 //! One module per concept, data flowing one way: [`topics`] names the topics and their
 //! schemas, [`sample`] lays out `wmr.Sample`, [`clock`] stamps log times, [`colour`] picks
-//! each run's colour, [`path`] keeps the path as polyline pieces, [`reference`] draws a tracking run's
-//! reference path, and [`encoder`], built on
-//! all of them, turns a run's samples into the messages of every topic.
+//! each run's colour, [`path`] keeps the path as polyline pieces, [`mod@reference`] draws
+//! a tracking run's reference path, and [`encoder`], built on all of them, turns a run's
+//! samples into the messages of every topic.
 
 mod clock;
 mod colour;
