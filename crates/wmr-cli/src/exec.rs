@@ -169,15 +169,10 @@ pub fn run_command(
     check_space(scenario, &out, format, samples)?;
     announce_work(u128::from(scenario.sim().n_steps()) * n_runs as u128, &format!("{n_runs} run(s)"));
     let writer = out.writer()?;
-    let measured = scenario.setup().has_sensor;
     let mut sink: Box<dyn Sink> = match format {
         Format::Csv => {
-            let odometry = scenario.setup().odometry();
-            let contact = scenario.setup().slips();
-            let reference = scenario.tracking().map(|t| t.reference.built);
-            csv_sink::CsvSink::new(writer, measured, odometry, contact, reference)
+            csv_sink::CsvSink::new(writer, wmr_scenario::Columns::of(scenario)).map(|s| Box::new(s) as Box<dyn Sink>)
         }
-        .map(|s| Box::new(s) as Box<dyn Sink>),
         Format::Mcap => mcap_sink::McapSink::new(writer, scenario).map(|s| Box::new(s) as Box<dyn Sink>),
     }
     .map_err(sink_err)

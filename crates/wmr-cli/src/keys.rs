@@ -186,7 +186,7 @@ fn push_tables(out: &mut String, keys: &[SchemaKey]) {
 
 /// The MCAP topics, one line each, from [`Kind::ALL`] and the schemas the file carries.
 fn push_topics(out: &mut String) {
-    let schemas = Schemas::new(true);
+    let schemas = Schemas::new(&wmr_scenario::Columns::default());
     out.push_str("  MCAP: per run N (0-based), log time = simulation time:\n");
     for kind in Kind::ALL {
         let head = format!("        /runN/{}", kind.name());

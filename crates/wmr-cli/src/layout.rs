@@ -3,18 +3,23 @@
 //! panel code: `ThreeDeeRender` and `Plot`).
 //!
 //! - **3D** (`3D!wmr-plane`): the plane seen from above (orthographic camera framing every
-//!   start and goal, x to the right, y up), a grid with round spacing, and per run its
-//!   `scene` (body, goal), `path` and `path_tip` topics visible and, with a `[sensor]`, its
-//!   `pose_meas` as an arrow. Frame settings where Foxglove reads them: axis scale and label
+//!   start and goal and a reference's path, x to the right, y up), a grid with round spacing, and per run its
+//!   `scene` (body, goal), `path` and `path_tip` topics visible; with a `[sensor]`, its
+//!   `pose_meas` as an arrow, on odometry its `pose_odom` as a darker arrow, and with a
+//!   `[reference]` its `reference` topic (the dashed reference path, the ghost on
+//!   `runN/reference`). Frame settings where Foxglove reads them: axis scale and label
 //!   size under `scene.transforms`, one `frame:<id>` entry per frame under `transforms`.
-//! - **Plots**, titled with their units (`foxglovePanelTitle`): dl of every run, e_theta of
-//!   every run, the wheel speeds of run 0 and, with a `[sensor]`, run 0's true and
-//!   measured position. A run's series has the colour of its path in the 3D panel.
+//! - **Plots**, titled with their units (`foxglovePanelTitle`): dl of every run (with a
+//!   `[reference]` the tracking-error plot, as dl is then), e_theta of every run, the
+//!   wheel speeds of run 0; with a `[sensor]` run 0's true and measured position, on
+//!   odometry run 0's true and dead-reckoned position (the drift), with a `[reference]`
+//!   run 0's reference and actual speed. A run's series has the colour of its path in the
+//!   3D panel.
 
 use serde_json::{Value, json};
-use wmr_scenario::Scenario;
+use wmr_scenario::{Columns, Scenario};
 
-use crate::foxglove_topics::{Kind, WORLD_FRAME, base_link, run_hex, run_rgb, topic};
+use crate::foxglove_topics::{Kind, WORLD_FRAME, base_link, reference_frame, run_hex, run_rgb, topic};
 
 /// Id (type!name) of the 3D panel.
 pub const PANEL_3D: &str = "3D!wmr-plane";
@@ -97,13 +102,24 @@ fn column(ids: &[&str]) -> Value {
 pub fn layout(scenario: &Scenario) -> Value {
     let runs = scenario.runs();
     let robot = scenario.robot().params();
-    let measured = scenario.setup().has_sensor;
+    let columns = Columns::of(scenario);
+    let tracking = columns.reference.is_some();
 
-    // Frame every start and goal with a margin of a robot length and 15 %.
+    // Frame every start and goal (and a reference's path, at the log times) with a margin
+    // of a robot length and 15 %.
+    let sim = scenario.sim();
+    let reference_path: Vec<wmr_core::Pose2<f64>> = columns
+        .reference
+        .map(|r| {
+            (0..sim.n_samples())
+                .map(|k| wmr_core::Reference::state_at(&r, (k as f64 * sim.log_dt()).min(sim.t_end())).pose)
+                .collect()
+        })
+        .unwrap_or_default();
     let body = (2.0 * robot.com_offset.abs()).max(2.0 * robot.wheel_radius) + 2.0 * robot.wheel_radius;
     let reach = body.max(2.0 * robot.half_track);
     let (mut x0, mut y0, mut x1, mut y1) = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
-    for p in runs.iter().flat_map(|r| [r.start, r.goal]) {
+    for p in runs.iter().flat_map(|r| [r.start, r.goal]).chain(reference_path) {
         x0 = x0.min(p.x);
         y0 = y0.min(p.y);
         x1 = x1.max(p.x);
@@ -127,17 +143,25 @@ pub fn layout(scenario: &Scenario) -> Value {
         for kind in [Kind::Scene, Kind::Path, Kind::PathTip] {
             topics.insert(topic(i, kind), json!({ "visible": true }));
         }
-        if measured {
-            let s = robot.half_track;
-            topics.insert(
-                topic(i, Kind::PoseMeas),
-                json!({
-                    "visible": true,
-                    "type": "arrow",
-                    "arrowScale": [r6(1.2 * s), r6(0.08 * s), r6(0.08 * s)],
-                    "color": format!("{}ff", run_hex(i))
-                }),
-            );
+        // A pose as an arrow (ThreeDeeRender's PoseInFrame settings: type, arrowScale, color).
+        let s = robot.half_track;
+        let arrow = |color: String| {
+            json!({
+                "visible": true,
+                "type": "arrow",
+                "arrowScale": [r6(1.2 * s), r6(0.08 * s), r6(0.08 * s)],
+                "color": format!("{color}ff")
+            })
+        };
+        if columns.measured {
+            topics.insert(topic(i, Kind::PoseMeas), arrow(run_hex(i)));
+        }
+        if columns.odometry {
+            topics.insert(topic(i, Kind::PoseOdom), arrow(shade(i, 0.0, 0.45)));
+        }
+        if tracking {
+            transforms.insert(format!("frame:{}", reference_frame(i)), json!({ "visible": true }));
+            topics.insert(topic(i, Kind::Reference), json!({ "visible": true }));
         }
     }
 
@@ -199,7 +223,16 @@ pub fn layout(scenario: &Scenario) -> Value {
     };
     let mut config = serde_json::Map::new();
     config.insert(PANEL_3D.into(), three_d);
-    config.insert("Plot!wmr-dl".into(), plot("dl (m): distance of C to the goal, every run", every("dl")));
+    // A tracking run's dl is its tracking error: the plot of dl becomes the tracking-error plot.
+    let (dl_id, dl_title) = if tracking {
+        (
+            "Plot!wmr-tracking-error",
+            "tracking error dl (m): distance of C to C_ref (to the path, for pure_pursuit), every run",
+        )
+    } else {
+        ("Plot!wmr-dl", "dl (m): distance of C to the goal, every run")
+    };
+    config.insert(dl_id.into(), plot(dl_title, every("dl")));
     config.insert("Plot!wmr-heading".into(), plot("e_theta (rad): heading error, every run", every("e_theta")));
     config.insert(
         "Plot!wmr-wheels".into(),
@@ -211,8 +244,8 @@ pub fn layout(scenario: &Scenario) -> Value {
             ],
         ),
     );
-    let mut plots = vec!["Plot!wmr-dl", "Plot!wmr-heading", "Plot!wmr-wheels"];
-    if measured {
+    let mut plots = vec![dl_id, "Plot!wmr-heading", "Plot!wmr-wheels"];
+    if columns.measured {
         config.insert(
             "Plot!wmr-sensor".into(),
             plot(
@@ -226,6 +259,34 @@ pub fn layout(scenario: &Scenario) -> Value {
             ),
         );
         plots.push("Plot!wmr-sensor");
+    }
+    if columns.odometry {
+        config.insert(
+            "Plot!wmr-odometry".into(),
+            plot(
+                "run 0: odometry drift, true and dead-reckoned position x, x_odom, y, y_odom (m)",
+                vec![
+                    series(0, "x", "x (m)".into(), run_hex(0)),
+                    series(0, "x_odom", "x_odom (m)".into(), shade(0, 1.0, 0.5)),
+                    series(0, "y", "y (m)".into(), shade(0, 0.0, 0.45)),
+                    series(0, "y_odom", "y_odom (m)".into(), shade(0, 0.0, 0.75)),
+                ],
+            ),
+        );
+        plots.push("Plot!wmr-odometry");
+    }
+    if tracking {
+        config.insert(
+            "Plot!wmr-speed".into(),
+            plot(
+                "run 0: reference and actual speed v_ref, v (m/s)",
+                vec![
+                    series(0, "v_ref", "v_ref (m/s)".into(), shade(0, 1.0, 0.5)),
+                    series(0, "v", "v (m/s)".into(), run_hex(0)),
+                ],
+            ),
+        );
+        plots.push("Plot!wmr-speed");
     }
 
     json!({

@@ -14,10 +14,10 @@ use std::io::{self, BufWriter, Seek, Write};
 use mcap::records::MessageHeader;
 use mcap::{Compression, WriteOptions, Writer};
 use wmr_core::{RobotParams, Sample};
-use wmr_scenario::{RunSpec, Scenario, Sink, SinkError};
+use wmr_scenario::{Columns, RunSpec, Scenario, SimSpec, Sink, SinkError};
 
 use crate::atomic::OutWriter;
-use crate::foxglove_topics::{Kind, LogClock, MESSAGE_ENCODING, RunEncoder, Schemas, topic};
+use crate::foxglove_topics::{Kind, MESSAGE_ENCODING, RunEncoder, Schemas, topic};
 
 /// Decompressed bytes a seek should cost at most, when chunks need not be smaller than
 /// [`MIN_CHUNK_BYTES`].
@@ -28,11 +28,12 @@ pub const MIN_CHUNK_BYTES: u64 = 64 << 10;
 /// Largest chunk (uncompressed bytes).
 pub const MAX_CHUNK_BYTES: u64 = 1 << 20;
 
-/// Uncompressed bytes after which a chunk is closed, for `runs` runs (`measured`: with the
-/// measured pose's topic): [`SEEK_BUDGET_BYTES`] over the number of topics, within
-/// [`MIN_CHUNK_BYTES`]..=[`MAX_CHUNK_BYTES`]. Fig. 7 (5 topics): 1 MiB; 30 runs: 64 KiB.
-pub fn chunk_bytes(runs: usize, measured: bool) -> u64 {
-    let topics = (runs.max(1) * Kind::present(measured).count()) as u64;
+/// Uncompressed bytes after which a chunk is closed, for `runs` runs carrying `columns`
+/// (which decide the topics, [`Kind::present`]): [`SEEK_BUDGET_BYTES`] over the number of
+/// topics, within [`MIN_CHUNK_BYTES`]..=[`MAX_CHUNK_BYTES`]. Fig. 7 (5 topics): 1 MiB; 30
+/// runs: 64 KiB.
+pub fn chunk_bytes(runs: usize, columns: &Columns) -> u64 {
+    let topics = (runs.max(1) * Kind::present(columns).count()) as u64;
     (SEEK_BUDGET_BYTES / topics).clamp(MIN_CHUNK_BYTES, MAX_CHUNK_BYTES)
 }
 
@@ -48,7 +49,7 @@ pub struct McapFile<W: Target = File> {
     writer: Writer<BufWriter<W>>,
     /// Schema ids by [`Kind`].
     schema_ids: [u16; Kind::ALL.len()],
-    measured: bool,
+    columns: Columns,
     sequence: u32,
 }
 
@@ -78,8 +79,8 @@ fn mcap_err(e: mcap::McapError) -> SinkError {
 }
 
 impl<W: Target> McapFile<W> {
-    /// Starts the file on `file` for `runs` runs; `measured`: the scenario has a `[sensor]`.
-    pub fn new(file: W, runs: usize, measured: bool) -> Result<Self, SinkError> {
+    /// Starts the file on `file` for `runs` runs carrying `columns`.
+    pub fn new(file: W, runs: usize, columns: Columns) -> Result<Self, SinkError> {
         let options = WriteOptions::new()
             .disable_seeking(!file.seekable())
             .profile("")
@@ -89,22 +90,22 @@ impl<W: Target> McapFile<W> {
             // One thread: zstd's worker threads cost more in locking than they save on
             // 64 KiB chunks, and this keeps the writer's cost plain CPU time on this thread.
             .compression_threads(0)
-            .chunk_size(Some(chunk_bytes(runs, measured)));
+            .chunk_size(Some(chunk_bytes(runs, &columns)));
         let mut writer = options.create(BufWriter::with_capacity(1 << 16, file)).map_err(mcap_err)?;
-        let schemas = Schemas::new(measured);
+        let schemas = Schemas::new(&columns);
         let mut schema_ids = [0u16; Kind::ALL.len()];
-        for kind in Kind::present(measured) {
+        for kind in Kind::present(&columns) {
             let s = kind.schema(&schemas);
             schema_ids[kind as usize] = writer.add_schema(&s.name, &s.encoding, &s.data).map_err(mcap_err)?;
         }
-        Ok(Self { writer, schema_ids, measured, sequence: 0 })
+        Ok(Self { writer, schema_ids, columns, sequence: 0 })
     }
 
     /// Adds the channels of run `run`.
     pub fn add_run(&mut self, run: usize) -> Result<RunChannels, SinkError> {
         let mut channels = [0u16; Kind::ALL.len()];
         let none = BTreeMap::new();
-        for kind in Kind::present(self.measured) {
+        for kind in Kind::present(&self.columns) {
             let id = self.schema_ids[kind as usize];
             channels[kind as usize] = self
                 .writer
@@ -150,8 +151,8 @@ struct RunState {
 pub struct McapSink {
     file: Option<McapFile<OutWriter>>,
     robot: RobotParams<f64>,
-    clock: LogClock,
-    measured: bool,
+    sim: SimSpec,
+    columns: Columns,
     run: Option<RunState>,
     runs_begun: usize,
 }
@@ -159,12 +160,12 @@ pub struct McapSink {
 impl McapSink {
     /// Starts an MCAP file on `file` for the runs of `scenario`.
     pub fn new(file: OutWriter, scenario: &Scenario) -> Result<Self, SinkError> {
-        let measured = scenario.setup().has_sensor;
+        let columns = Columns::of(scenario);
         Ok(Self {
-            file: Some(McapFile::new(file, scenario.runs().len(), measured)?),
+            file: Some(McapFile::new(file, scenario.runs().len(), columns)?),
             robot: *scenario.robot().params(),
-            clock: LogClock::new(scenario.sim().dt()),
-            measured,
+            sim: *scenario.sim(),
+            columns,
             run: None,
             runs_begun: 0,
         })
@@ -187,7 +188,7 @@ impl Sink for McapSink {
         }
         let channels = file.add_run(index)?;
         self.run = Some(RunState {
-            encoder: RunEncoder::new(index, run, &self.robot, self.measured, self.clock),
+            encoder: RunEncoder::new(index, run, &self.robot, self.columns, &self.sim),
             channels,
             last_t: 0.0,
         });

@@ -257,6 +257,215 @@ fn topics_schemas_and_samples_equal_the_csv_on_the_exact_log_grid() {
     }
 }
 
+/// 3 s of Fig. 7 whose wheels slip on asphalt (examples/slip.toml's robot).
+const SLIPPING: &str = r#"
+[robot]
+traction = "slip"
+friction_coefficient = 0.8
+caster_offset = 0.35
+com_height = 0.1
+[sim]
+t_end = 3.0
+log_dt = 0.01
+[[run]]
+start = { x = 0.0, y = 0.0, theta_deg = 0.0 }
+goal = { x = 1.0, y = 1.0, theta_deg = 120.0 }
+"#;
+
+/// 3 s of two runs tracking a figure-eight (examples/tracking/figure_eight.toml, shorter).
+const TRACKING: &str = r#"
+[reference]
+kind = "figure_eight"
+width = 2.0
+height = 1.0
+period = 30.0
+[controller]
+kind = "kanayama"
+[sim]
+t_end = 3.0
+log_dt = 0.01
+[[run]]
+start = { x = 0.0, y = 0.0, theta_deg = 45.0 }
+[[run]]
+start = { x = 0.1, y = -0.1, theta_deg = 65.0 }
+"#;
+
+/// Every column group at once: tracking on odometry, on wheels that slip.
+const EVERYTHING: &str = r#"
+[robot]
+traction = "slip"
+friction_coefficient = 0.8
+caster_offset = 0.35
+com_height = 0.1
+[sensor]
+pose = "odometry"
+encoder_counts = 4096
+[reference]
+kind = "figure_eight"
+width = 2.0
+height = 1.0
+period = 30.0
+[controller]
+kind = "kanayama"
+[sim]
+t_end = 2.0
+log_dt = 0.01
+[[run]]
+start = { x = 0.0, y = 0.0, theta_deg = 45.0 }
+"#;
+
+fn odometry_3s() -> String {
+    fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/odometry-3s.toml")).unwrap()
+}
+
+/// The names of `wmr.Sample`'s fields in an MCAP file, in field-number order (checked to be
+/// doubles numbered 1, 2, ...).
+fn sample_schema_fields(bytes: &[u8]) -> Vec<String> {
+    let summary = mcap::read::Summary::read(bytes).unwrap().unwrap();
+    let schema = summary.schemas.values().find(|s| s.name == "wmr.Sample").unwrap();
+    let set = FileDescriptorSet::decode(&schema.data[..]).unwrap();
+    let fields = &set.file[0].message_type[0].field;
+    for (i, f) in fields.iter().enumerate() {
+        assert_eq!((f.number(), f.r#type()), (i as i32 + 1, Type::Double), "{}", f.name());
+    }
+    fields.iter().map(|f| f.name().to_owned()).collect()
+}
+
+/// Issue text: "The CSV and MCAP carry the true pose, the odometry pose and the fused pose
+/// as separate columns and channels", and a tracking run's reference: every CSV column is
+/// a field of `/runN/sample` in the CSV's order with the same f64, for runs on odometry,
+/// with wheels that slip, tracking a reference, and all three at once; and the new topics
+/// (`pose_odom`, `tf_ref`, `reference`) are there exactly when they should be.
+#[test]
+fn every_csv_column_of_odometry_slip_and_tracking_runs_is_in_the_sample_topic() {
+    let dir = tempfile::tempdir().unwrap();
+    let odometry = odometry_3s();
+    let cases: [(&str, &str, usize, &[&str]); 4] = [
+        ("odometry", &odometry, 1, &["pose_meas", "pose_odom"]),
+        ("slip", SLIPPING, 1, &[]),
+        ("tracking", TRACKING, 2, &["tf_ref", "reference"]),
+        ("everything", EVERYTHING, 1, &["pose_meas", "pose_odom", "tf_ref", "reference"]),
+    ];
+    for (name, body, runs, extra_topics) in cases {
+        let scen = write(dir.path(), &format!("{name}.toml"), body);
+        let mcap_path = dir.path().join(format!("{name}.mcap"));
+        let csv_path = dir.path().join(format!("{name}.csv"));
+        ok(&["run", s(&scen), "-o", s(&mcap_path)]);
+        ok(&["run", s(&csv_path.with_extension("toml")), "-o", s(&csv_path)]);
+        let text = fs::read_to_string(&csv_path).unwrap();
+        let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+        let rows = csv_rows(&csv_path);
+        let bytes = fs::read(&mcap_path).unwrap();
+
+        // The schema: the CSV header after `run`, in order.
+        assert_eq!(sample_schema_fields(&bytes), header[1..], "{name}: wmr.Sample fields");
+        let group = |cols: &[&str]| cols.iter().all(|c| header.contains(c));
+        match name {
+            "odometry" => assert!(group(&["x_meas", "x_odom", "theta_odom"]) && !group(&["slip_r"])),
+            "slip" => assert!(group(&["slip_r", "n_l"]) && !group(&["x_odom"])),
+            "tracking" => assert!(group(&["x_ref", "omega_ref"]) && !group(&["x_meas"])),
+            _ => assert!(group(&["x_meas", "x_odom", "slip_r", "n_l", "x_ref", "omega_ref"])),
+        }
+
+        // The topics: the five of every run and those of this kind of run, no others.
+        let summary = mcap::read::Summary::read(&bytes).unwrap().unwrap();
+        let topics: BTreeMap<String, String> =
+            summary.channels.values().map(|c| (c.topic.clone(), c.schema.as_ref().unwrap().name.clone())).collect();
+        let mut want = BTreeMap::new();
+        for r in 0..runs {
+            for t in ["tf", "sample", "scene", "path", "path_tip"].iter().chain(extra_topics) {
+                let schema = match *t {
+                    "tf" | "tf_ref" => "foxglove.FrameTransform",
+                    "sample" => "wmr.Sample",
+                    "pose_meas" | "pose_odom" => "foxglove.PoseInFrame",
+                    _ => "foxglove.SceneUpdate",
+                };
+                want.insert(format!("/run{r}/{t}"), schema.to_owned());
+            }
+        }
+        assert_eq!(topics, want, "{name}");
+
+        // Every sample: the CSV row's numbers bit for bit.
+        let msgs = messages(&mcap_path);
+        let samples: Vec<&Msg> = msgs.iter().filter(|m| m.schema == "wmr.Sample").collect();
+        assert_eq!(samples.len(), rows.len(), "{name}");
+        for (m, row) in samples.iter().zip(&rows) {
+            assert_eq!(m.topic, format!("/run{}/sample", row[0]));
+            let f: Vec<f64> = sample_fields(&m.data).into_values().collect();
+            assert_eq!(f.len(), header.len() - 1, "{name}");
+            for (i, v) in f.iter().enumerate() {
+                // The same f64 (the CSV writes -0 as 0: its one value that reads back otherwise).
+                let same = v.to_bits() == row[1 + i].to_bits() || (*v == 0.0 && row[1 + i] == 0.0);
+                assert!(same, "{name} {} {} at t = {}: {v} vs {}", m.topic, header[1 + i], row[1], row[1 + i]);
+            }
+        }
+        let col = |c: &str| header.iter().position(|h| *h == c).unwrap();
+
+        // pose_odom: the dead-reckoned pose whenever it changes, apart from pose_meas (fused).
+        if extra_topics.contains(&"pose_odom") {
+            let (x, y) = (col("x_odom"), col("y_odom"));
+            let mut changes = Vec::new();
+            for row in &rows {
+                if changes.last().is_none_or(|c: &&Vec<f64>| (c[x], c[y]) != (row[x], row[y])) {
+                    changes.push(row);
+                }
+            }
+            let odom: Vec<&Msg> = msgs.iter().filter(|m| m.topic == "/run0/pose_odom").collect();
+            assert!(changes.len() > 10, "{name}: {} changes", changes.len());
+            assert_eq!(odom.len(), changes.len(), "{name}: one pose_odom message per change");
+            for (m, row) in odom.iter().zip(&changes) {
+                let p = PoseInFrame::decode(&m.data[..]).unwrap();
+                assert_eq!(p.frame_id, "world");
+                let at = p.pose.unwrap().position.unwrap();
+                assert_eq!((at.x, at.y), (row[x], row[y]), "{name}");
+                assert_eq!(m.log_time, (row[1] * 1e9).round() as u64);
+            }
+            let meas = msgs.iter().filter(|m| m.topic == "/run0/pose_meas").count();
+            assert!(meas > 0, "{name}: no fused pose");
+        }
+
+        // A reference: tf_ref every sample at (x_ref, y_ref, theta_ref); `reference` once at
+        // t = 0 with the dashed path on the reference's positions and the ghost on its frame.
+        if extra_topics.contains(&"reference") {
+            let (x, y, th) = (col("x_ref"), col("y_ref"), col("theta_ref"));
+            for r in 0..runs {
+                let mine: Vec<&Vec<f64>> = rows.iter().filter(|row| row[0] as usize == r).collect();
+                let tfs: Vec<&Msg> = msgs.iter().filter(|m| m.topic == format!("/run{r}/tf_ref")).collect();
+                assert_eq!(tfs.len(), mine.len(), "{name} run {r}");
+                for (m, row) in tfs.iter().zip(&mine) {
+                    let tf = FrameTransform::decode(&m.data[..]).unwrap();
+                    assert_eq!(
+                        (tf.parent_frame_id.as_str(), tf.child_frame_id.clone()),
+                        ("world", format!("run{r}/reference"))
+                    );
+                    let t = tf.translation.unwrap();
+                    assert_eq!((t.x, t.y), (row[x], row[y]));
+                    let q = tf.rotation.unwrap();
+                    let d = 2.0 * q.z.atan2(q.w) - row[th];
+                    assert!((d - std::f64::consts::TAU * (d / std::f64::consts::TAU).round()).abs() < 1e-12);
+                }
+                let refs: Vec<&Msg> = msgs.iter().filter(|m| m.topic == format!("/run{r}/reference")).collect();
+                assert_eq!((refs.len(), refs[0].log_time), (1, 0), "{name} run {r}: drawn once, at t = 0");
+                let u = SceneUpdate::decode(&refs[0].data[..]).unwrap();
+                let ghost = u.entities.iter().find(|e| e.id == "ghost").unwrap();
+                assert!(ghost.frame_locked && ghost.frame_id == format!("run{r}/reference"));
+                assert!(ghost.cubes[0].color.unwrap().a < 0.5, "the ghost is translucent");
+                let path = u.entities.iter().find(|e| e.id == "reference_path").unwrap();
+                assert_eq!(path.frame_id, "world");
+                let line = &path.lines[0];
+                assert_eq!(line.r#type, 2, "LINE_LIST: dashes");
+                assert!(line.points.len() >= 4 && line.points.len() % 2 == 0, "{} points", line.points.len());
+                // Every dash end lies on the reference's logged positions (within 1 mm).
+                let logged: Vec<(f64, f64)> = mine.iter().map(|row| (row[x], row[y])).collect();
+                for p in &line.points {
+                    let d = logged.windows(2).map(|w| seg_dist((p.x, p.y), w[0], w[1])).fold(f64::INFINITY, f64::min);
+                    assert!(d < 1e-3, "{name} run {r}: dash end ({}, {}) {d} m off the reference", p.x, p.y);
+                }
+            }
+        }
+    }
+}
+
 /// Distance from `p` to segment a-b, m.
 fn seg_dist(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
@@ -520,10 +729,17 @@ fn with_30_runs_a_seek_decompresses_one_small_chunk_per_topic_and_no_chunk_spans
 
 /// Foxglove's panels read these keys; the layout must use them and name only what the
 /// file has.
-fn check_layout(layout: &serde_json::Value, msgs: &[Msg], runs: usize, measured: bool) {
-    let topics: BTreeMap<&str, &str> = msgs.iter().map(|m| (m.topic.as_str(), m.schema.as_str())).collect();
-    let sample_fields: Vec<&str> =
-        SAMPLE_COLUMNS.iter().chain(if measured { &MEASURED_COLUMNS[..] } else { &[] }).copied().collect();
+fn check_layout(layout: &serde_json::Value, file: &Path, runs: usize) {
+    let msgs = &messages(file)[..];
+    let bytes = fs::read(file).unwrap();
+    let sample_fields = sample_schema_fields(&bytes);
+    // The file's topics (a channel may have no message yet in a short run).
+    let summary = mcap::read::Summary::read(&bytes).unwrap().unwrap();
+    let topics: BTreeMap<&str, &str> = summary
+        .channels
+        .values()
+        .map(|c| (c.topic.as_str(), c.schema.as_ref().map_or("", |s| s.name.as_str())))
+        .collect();
     let cfg = &layout["configById"];
     let three = &cfg["3D!wmr-plane"];
     // Frame settings where FrameAxes.ts reads them.
@@ -557,7 +773,7 @@ fn check_layout(layout: &serde_json::Value, msgs: &[Msg], runs: usize, measured:
             let value = p["value"].as_str().unwrap();
             let (topic, field) = value.split_once('.').unwrap();
             assert_eq!(topics.get(topic), Some(&"wmr.Sample"), "{id}: {value}");
-            assert!(sample_fields.contains(&field), "{id}: {value}: no such field");
+            assert!(sample_fields.iter().any(|f| f == field), "{id}: {value}: no such field");
             if title.contains("every run") {
                 let r: usize = topic[4..].split('/').next().unwrap().parse().unwrap();
                 plotted_runs.insert(r);
@@ -608,7 +824,7 @@ fn the_layout_names_what_the_file_has_and_matches_its_colours() {
             -0.1 * k as f64
         );
     }
-    for (name, body, runs, measured) in [("twelve", body.as_str(), 12, false), ("sensor", WITH_SENSOR, 1, true)] {
+    for (name, body, runs) in [("twelve", body.as_str(), 12), ("sensor", WITH_SENSOR, 1)] {
         let scen = write(dir.path(), &format!("{name}.toml"), body);
         let out = dir.path().join(format!("{name}.mcap"));
         let beside = dir.path().join(format!("{name}.layout.json"));
@@ -617,7 +833,7 @@ fn the_layout_names_what_the_file_has_and_matches_its_colours() {
         ok(&["layout", s(&scen), "-o", s(&alone)]);
         assert_eq!(fs::read(&beside).unwrap(), fs::read(&alone).unwrap(), "run --layout and layout differ");
         let layout: serde_json::Value = serde_json::from_slice(&fs::read(&alone).unwrap()).unwrap();
-        check_layout(&layout, &messages(&out), runs, measured);
+        check_layout(&layout, &out, runs);
     }
     // --layout with a CSV output is a usage error.
     let scen = dir.path().join("twelve.toml");
@@ -630,6 +846,66 @@ fn the_layout_names_what_the_file_has_and_matches_its_colours() {
         let o = run(&["run", s(&scen), "-o", s(&out), "--layout", s(&layout)]);
         assert_eq!(o.status.code(), Some(2), "--layout {}: {}", layout.display(), String::from_utf8_lossy(&o.stderr));
         assert!(!out.exists(), "--layout {}: OUT written", layout.display());
+    }
+}
+
+/// The plots of a layout, by panel id, and the topics its 3D panel shows.
+fn plots_and_3d_topics(layout: &serde_json::Value) -> (BTreeSet<String>, BTreeSet<String>) {
+    let cfg = layout["configById"].as_object().unwrap();
+    let plots = cfg.keys().filter(|k| k.starts_with("Plot!")).cloned().collect();
+    let topics = cfg["3D!wmr-plane"]["topics"].as_object().unwrap().keys().cloned().collect();
+    (plots, topics)
+}
+
+/// Issue text: Foxglove "shows the three [poses] in the 3D panel and a drift plot"; for
+/// tracking "the reference path in the 3D panel (...), the generated layout plots tracking
+/// error and reference vs actual speed". The layout of a run on odometry has the drift plot
+/// (true against dead-reckoned position) and shows pose_odom; a tracking layout has the
+/// tracking-error and speed plots (v_ref against v) and shows the reference; a plain run's
+/// has neither; and each names only what its file has.
+#[test]
+fn the_layout_has_the_drift_tracking_and_speed_plots_only_where_the_scenario_has_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let odometry = odometry_3s();
+    let base: BTreeSet<String> = ["Plot!wmr-heading", "Plot!wmr-wheels"].map(String::from).into();
+    for (name, body, runs) in [("plain", TWO_RUNS, 2), ("odometry", odometry.as_str(), 1), ("tracking", TRACKING, 2)] {
+        let scen = write(dir.path(), &format!("{name}.toml"), body);
+        let out = dir.path().join(format!("{name}.mcap"));
+        let json = dir.path().join(format!("{name}.json"));
+        ok(&["run", s(&scen), "-o", s(&out), "--layout", s(&json)]);
+        let layout: serde_json::Value = serde_json::from_slice(&fs::read(&json).unwrap()).unwrap();
+        check_layout(&layout, &out, runs);
+        let (plots, topics) = plots_and_3d_topics(&layout);
+        let extra: BTreeSet<String> = plots.difference(&base).cloned().collect();
+        let want: &[&str] = match name {
+            "plain" => &["Plot!wmr-dl"],
+            "odometry" => &["Plot!wmr-dl", "Plot!wmr-sensor", "Plot!wmr-odometry"],
+            _ => &["Plot!wmr-tracking-error", "Plot!wmr-speed"],
+        };
+        assert_eq!(extra, want.iter().map(|s| s.to_string()).collect(), "{name}");
+        let cfg = &layout["configById"];
+        let fields = |id: &str| -> Vec<String> {
+            cfg[id]["paths"].as_array().unwrap().iter().map(|p| p["value"].as_str().unwrap().to_owned()).collect()
+        };
+        match name {
+            "odometry" => {
+                assert_eq!(
+                    fields("Plot!wmr-odometry"),
+                    ["x", "x_odom", "y", "y_odom"].map(|f| format!("/run0/sample.{f}"))
+                );
+                assert!(topics.contains("/run0/pose_odom") && topics.contains("/run0/pose_meas"));
+                assert_eq!(cfg["3D!wmr-plane"]["topics"]["/run0/pose_odom"]["type"], "arrow");
+            }
+            "tracking" => {
+                assert_eq!(fields("Plot!wmr-speed"), ["v_ref", "v"].map(|f| format!("/run0/sample.{f}")));
+                assert_eq!(fields("Plot!wmr-tracking-error"), ["/run0/sample.dl", "/run1/sample.dl"]);
+                for r in 0..2 {
+                    assert!(topics.contains(&format!("/run{r}/reference")));
+                    assert_eq!(cfg["3D!wmr-plane"]["transforms"][format!("frame:run{r}/reference")]["visible"], true);
+                }
+            }
+            _ => assert!(!topics.iter().any(|t| t.ends_with("pose_odom") || t.ends_with("reference"))),
+        }
     }
 }
 

@@ -5,8 +5,8 @@
 use std::collections::BTreeSet;
 use std::process::Command;
 
-/// Two runs with a `[sensor]`, so every kind of topic is written.
-const SCENARIO: &str = include_str!("fixtures/two-runs-sensor.toml");
+/// Two runs tracking a reference on odometry, so every kind of topic is written.
+const SCENARIO: &str = include_str!("fixtures/two-runs-every-topic.toml");
 
 /// `(topic, schema)` of every channel in `bytes`, with the run index replaced by `N`.
 fn file_topics(bytes: &[u8]) -> BTreeSet<(String, String)> {
@@ -40,7 +40,7 @@ fn help_topics(help: &str) -> BTreeSet<(String, String)> {
 }
 
 #[test]
-fn help_names_exactly_the_topics_of_an_mcap_with_a_sensor() {
+fn help_names_exactly_the_topics_of_an_mcap_with_every_topic() {
     let dir = tempfile::tempdir().unwrap();
     let scenario = dir.path().join("sensor.toml");
     std::fs::write(&scenario, SCENARIO).unwrap();
@@ -51,7 +51,7 @@ fn help_names_exactly_the_topics_of_an_mcap_with_a_sensor() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let in_file = file_topics(&std::fs::read(&mcap).unwrap());
-    assert!(in_file.len() >= 6, "{in_file:?}");
+    assert!(in_file.len() >= 9, "{in_file:?}");
 
     for args in [&["--help"][..], &["run", "--help"]] {
         let o = Command::new(env!("CARGO_BIN_EXE_wmr-cli")).args(args).output().unwrap();

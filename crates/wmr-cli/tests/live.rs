@@ -47,8 +47,13 @@ impl Drop for Guard {
 /// Starts `wmr-cli run FILE --live 127.0.0.1:0 ARGS` and returns it with the port it
 /// announced and the rest of its stderr (collected by a thread).
 fn start(dir: &Path, args: &[&str]) -> (Guard, u16, mpsc::Receiver<String>) {
+    start_with(dir, SCENARIO, args)
+}
+
+/// [`start`] for the scenario `body`.
+fn start_with(dir: &Path, body: &str, args: &[&str]) -> (Guard, u16, mpsc::Receiver<String>) {
     let scen = dir.join("s.toml");
-    fs::write(&scen, SCENARIO).unwrap();
+    fs::write(&scen, body).unwrap();
     let mut child = Command::new(env!("CARGO_BIN_EXE_wmr-cli"))
         .current_dir(dir)
         .args(["run", "s.toml", "--live", "127.0.0.1:0"])
@@ -91,6 +96,11 @@ type Channels = BTreeMap<String, u64>;
 type Socket = tungstenite::WebSocket<TcpStream>;
 
 fn connect(port: u16) -> (Socket, Channels) {
+    connect_to(port, 10)
+}
+
+/// [`connect`], waiting for `n` channels.
+fn connect_to(port: u16, n: usize) -> (Socket, Channels) {
     let stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
     stream.set_read_timeout(Some(Duration::from_secs(20))).unwrap();
     let mut req = format!("ws://127.0.0.1:{port}").into_client_request().unwrap();
@@ -99,7 +109,7 @@ fn connect(port: u16) -> (Socket, Channels) {
     assert_eq!(resp.headers().get("sec-websocket-protocol").unwrap(), "foxglove.sdk.v1");
     let mut channels = Channels::new();
     let mut time_capability = false;
-    while channels.len() < 10 {
+    while channels.len() < n {
         match ws.read().expect("serverInfo and advertise") {
             Message::Text(t) => {
                 let v: serde_json::Value = serde_json::from_str(&t).unwrap();
@@ -242,6 +252,48 @@ fn a_subscribed_client_gets_the_mcap_messages_in_time_order_at_the_given_speed()
     assert!(clock.windows(2).all(|w| w[0] <= w[1]));
     assert_eq!(clock.last(), Some(&2_000_000_000));
     assert!(log.iter().any(|l| l.contains("messages/s")), "{log:?}");
+}
+
+/// Two runs tracking a figure-eight on odometry for 2 s: every topic a run can have.
+const EVERY_TOPIC: &str = include_str!("fixtures/two-runs-every-topic.toml");
+
+/// The live server serves the topics of a run on odometry tracking a reference (the
+/// dead-reckoned pose, the reference's frame and its drawing) with the MCAP's messages.
+#[test]
+fn the_live_server_serves_the_odometry_and_reference_topics_as_the_mcap_has_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut guard, port, stderr) = start_with(dir.path(), EVERY_TOPIC, &["--speed", "20", "-o", "live.mcap"]);
+    let (mut ws, channels) = connect_to(port, 18);
+    let topics: Vec<&str> = channels.keys().map(String::as_str).collect();
+    let want = ["path", "path_tip", "pose_meas", "pose_odom", "reference", "sample", "scene", "tf", "tf_ref"];
+    let want: Vec<String> = (0..2).flat_map(|r| want.map(|t| format!("/run{r}/{t}"))).collect();
+    assert_eq!(topics, want);
+    let new = ["/run1/pose_odom", "/run1/tf_ref", "/run1/reference"];
+    let subs: Vec<serde_json::Value> =
+        new.iter().enumerate().map(|(i, t)| serde_json::json!({ "id": i, "channelId": channels[*t] })).collect();
+    ws.send(Message::text(serde_json::json!({ "op": "subscribe", "subscriptions": subs }).to_string())).unwrap();
+    let t0 = Instant::now();
+    let mut got: Vec<Vec<(u64, Vec<u8>)>> = vec![Vec::new(); new.len()];
+    loop {
+        assert!(t0.elapsed() < DEADLINE, "the stream did not end in time");
+        match ws.read() {
+            Ok(Message::Binary(b)) if b[0] == 1 => {
+                let sub = u32::from_le_bytes(b[1..5].try_into().unwrap()) as usize;
+                got[sub].push((u64::from_le_bytes(b[5..13].try_into().unwrap()), b[13..].to_vec()));
+            }
+            Ok(_) => {}
+            Err(_) => break,
+        }
+    }
+    let status = guard.0.as_mut().unwrap().wait().unwrap();
+    assert!(status.success(), "wmr-cli failed: {:?}", rest_of(&stderr));
+    for (topic, got) in new.iter().zip(&got) {
+        let file = mcap_topic(&dir.path().join("live.mcap"), topic);
+        assert!(!file.is_empty(), "{topic}: no message in the MCAP");
+        assert_eq!(got, &file, "{topic}: the live messages are the MCAP's");
+    }
+    assert_eq!(got[1].len(), 201, "tf_ref: one per sample");
+    assert_eq!(got[2].len(), 1, "reference: drawn once");
 }
 
 #[cfg(unix)]

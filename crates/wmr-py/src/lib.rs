@@ -49,6 +49,10 @@ mod _native {
         m.add("CSV_COLUMNS", PyTuple::new(m.py(), wmr_scenario::CSV_COLUMNS)?)?;
         m.add("MEASURED_COLUMNS", PyTuple::new(m.py(), wmr_scenario::MEASURED_COLUMNS)?)?;
         m.add("OUTCOME_FIELDS", PyTuple::new(m.py(), crate::scenario::outcome_fields().collect::<Vec<_>>())?)?;
+        m.add("ODOMETRY_COLUMNS", PyTuple::new(m.py(), wmr_scenario::ODOMETRY_COLUMNS)?)?;
+        m.add("ODOMETRY_UNITS", PyTuple::new(m.py(), wmr_scenario::ODOMETRY_UNITS)?)?;
+        m.add("CONTACT_COLUMNS", PyTuple::new(m.py(), wmr_scenario::CONTACT_COLUMNS)?)?;
+        m.add("CONTACT_UNITS", PyTuple::new(m.py(), wmr_scenario::CONTACT_UNITS)?)?;
         m.add("REFERENCE_COLUMNS", PyTuple::new(m.py(), wmr_scenario::REFERENCE_COLUMNS)?)?;
         m.add("REFERENCE_UNITS", PyTuple::new(m.py(), wmr_scenario::REFERENCE_UNITS)?)?;
         m.add("TRACKING_FIELDS", PyTuple::new(m.py(), crate::scenario::tracking_fields().collect::<Vec<_>>())?)?;

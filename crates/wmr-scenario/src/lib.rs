@@ -66,9 +66,9 @@ pub use error::{ScenarioError, escape_controls, is_unsafe_char, shown};
 pub use file::{GridFile, PoseFile, RandomFile, RunFile, ScenarioFile, SimFile, SweepFile};
 pub use memory::available_memory_bytes;
 pub use output::{
-    CONTACT_COLUMNS, CONTACT_UNITS, CSV_COLUMNS, MEASURED_COLUMNS, MEASURED_UNITS, ODOMETRY_COLUMNS, ODOMETRY_UNITS,
-    OdometryDrift, REFERENCE_COLUMNS, REFERENCE_UNITS, RunResult, SAMPLE_COLUMNS, SAMPLE_UNITS, Sink, SinkError,
-    contact_values, measured_values, odometry_values, reference_values, sample_values,
+    CONTACT_COLUMNS, CONTACT_UNITS, CSV_COLUMNS, ColumnGroup, Columns, MEASURED_COLUMNS, MEASURED_UNITS,
+    ODOMETRY_COLUMNS, ODOMETRY_UNITS, OdometryDrift, REFERENCE_COLUMNS, REFERENCE_UNITS, RunResult, SAMPLE_COLUMNS,
+    SAMPLE_UNITS, Sink, SinkError, contact_values, measured_values, odometry_values, reference_values, sample_values,
 };
 pub use read::{MAX_FILE_BYTES, default_name, read_text};
 pub use run::RunSpec;

@@ -4,8 +4,9 @@
 use std::error::Error;
 
 use wmr_core::tracking::TrackingOutcome;
-use wmr_core::{Outcome, ReferenceState, Sample, Status};
+use wmr_core::{AnyReference, Outcome, Reference, ReferenceState, Sample, Status};
 
+use crate::Scenario;
 use crate::run::RunSpec;
 
 /// The CSV header, in order: `run`, then [`SAMPLE_COLUMNS`] (built from it, not copied).
@@ -162,6 +163,143 @@ pub const REFERENCE_UNITS: [&str; REFERENCE_COLUMNS.len()] = ["m", "m", "rad", "
 #[inline]
 pub fn reference_values(r: &ReferenceState<f64>) -> [f64; 5] {
     [r.pose.x, r.pose.y, r.pose.theta, r.twist.v, r.twist.omega]
+}
+
+/// One group of columns a run's output may carry; [`ColumnGroup::ALL`] is their order in
+/// the CSV (and so in `wmr.Sample` and Python's tables).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ColumnGroup {
+    /// [`SAMPLE_COLUMNS`]: every run.
+    Sample,
+    /// [`MEASURED_COLUMNS`]: runs with a `[sensor]` (the fused pose on odometry).
+    Measured,
+    /// [`ODOMETRY_COLUMNS`]: runs with `[sensor] pose = "odometry"`.
+    Odometry,
+    /// [`CONTACT_COLUMNS`]: runs with `[robot] traction = "slip"`.
+    Contact,
+    /// [`REFERENCE_COLUMNS`]: runs with a `[reference]` (tracking and path following).
+    Reference,
+}
+
+impl ColumnGroup {
+    /// Every group, in CSV order.
+    pub const ALL: [Self; 5] = [Self::Sample, Self::Measured, Self::Odometry, Self::Contact, Self::Reference];
+
+    /// The group's column names, in order.
+    pub fn names(self) -> &'static [&'static str] {
+        match self {
+            Self::Sample => &SAMPLE_COLUMNS,
+            Self::Measured => &MEASURED_COLUMNS,
+            Self::Odometry => &ODOMETRY_COLUMNS,
+            Self::Contact => &CONTACT_COLUMNS,
+            Self::Reference => &REFERENCE_COLUMNS,
+        }
+    }
+
+    /// The unit of each of [`ColumnGroup::names`], in order.
+    pub fn units(self) -> &'static [&'static str] {
+        match self {
+            Self::Sample => &SAMPLE_UNITS,
+            Self::Measured => &MEASURED_UNITS,
+            Self::Odometry => &ODOMETRY_UNITS,
+            Self::Contact => &CONTACT_UNITS,
+            Self::Reference => &REFERENCE_UNITS,
+        }
+    }
+
+    /// The group's name, for messages: `odometry` (the odometry columns).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Sample => "sample",
+            Self::Measured => "measured",
+            Self::Odometry => "odometry",
+            Self::Contact => "contact",
+            Self::Reference => "reference",
+        }
+    }
+
+    /// Which runs carry the group, for messages: "a run on odometry (...)".
+    pub fn carried_by(self) -> &'static str {
+        match self {
+            Self::Sample => "every run",
+            Self::Measured => "a run with a [sensor]",
+            Self::Odometry => "a run on odometry ([sensor] pose = \"odometry\")",
+            Self::Contact => "a run whose wheels slip ([robot] traction = \"slip\")",
+            Self::Reference => "a tracking run (a scenario with a [reference])",
+        }
+    }
+}
+
+/// The columns every run of a scenario carries after `run`, decided once from the
+/// scenario: the CSV writes them, `wmr.Sample` has one field per column and Python one
+/// array, all in this order ([`ColumnGroup::ALL`]) with the same f64. The default is
+/// the sample columns alone.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Columns {
+    /// The measured pose ([`MEASURED_COLUMNS`]).
+    pub measured: bool,
+    /// The dead-reckoned pose ([`ODOMETRY_COLUMNS`]).
+    pub odometry: bool,
+    /// The wheels' contact ([`CONTACT_COLUMNS`]).
+    pub contact: bool,
+    /// The reference whose state at each sample's t fills [`REFERENCE_COLUMNS`].
+    pub reference: Option<AnyReference<f64>>,
+}
+
+impl Columns {
+    /// The columns of `scenario`'s runs.
+    pub fn of(scenario: &Scenario) -> Self {
+        let setup = scenario.setup();
+        Self {
+            measured: setup.has_sensor,
+            odometry: setup.odometry(),
+            contact: setup.slips(),
+            reference: scenario.tracking().map(|t| t.reference.built),
+        }
+    }
+
+    /// Whether the runs carry `group`.
+    pub fn has(&self, group: ColumnGroup) -> bool {
+        match group {
+            ColumnGroup::Sample => true,
+            ColumnGroup::Measured => self.measured,
+            ColumnGroup::Odometry => self.odometry,
+            ColumnGroup::Contact => self.contact,
+            ColumnGroup::Reference => self.reference.is_some(),
+        }
+    }
+
+    /// The groups carried, in order.
+    pub fn groups(&self) -> impl Iterator<Item = ColumnGroup> + '_ {
+        ColumnGroup::ALL.into_iter().filter(|g| self.has(*g))
+    }
+
+    /// The column names, in order (the CSV header after `run`).
+    pub fn names(&self) -> impl Iterator<Item = &'static str> + '_ {
+        self.groups().flat_map(|g| g.names().iter().copied())
+    }
+
+    /// The number of columns.
+    pub fn len(&self) -> usize {
+        self.groups().map(|g| g.names().len()).sum()
+    }
+
+    /// Never: every run has the sample columns.
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// Sample `s`'s values, one per [`Columns::names`], in order.
+    #[inline]
+    pub fn values(&self, s: &Sample<f64>) -> impl Iterator<Item = f64> {
+        let group = |on: bool, v: fn(&Sample<f64>) -> [f64; 3]| on.then(|| v(s)).into_iter().flatten();
+        sample_values(s)
+            .into_iter()
+            .chain(group(self.measured, measured_values))
+            .chain(group(self.odometry, odometry_values))
+            .chain(self.contact.then(|| contact_values(s)).into_iter().flatten())
+            .chain(self.reference.map(|r| reference_values(&r.state_at(s.t))).into_iter().flatten())
+    }
 }
 
 /// The error a sink reports (I/O, encoding, ...).

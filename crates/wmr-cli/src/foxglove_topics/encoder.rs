@@ -6,14 +6,15 @@ use foxglove::messages::{
     ArrowPrimitive, CubePrimitive, FrameTransform, LinePrimitive, Point3, Pose, PoseInFrame, Quaternion, SceneEntity,
     SceneEntityDeletion, SceneUpdate, Vector3, line_primitive, scene_entity_deletion,
 };
-use wmr_core::{Pose2, RobotParams, Sample};
-use wmr_scenario::RunSpec;
+use wmr_core::{Pose2, Reference, RobotParams, Sample};
+use wmr_scenario::{Columns, RunSpec, SimSpec};
 
 use super::clock::{LogClock, stamp};
 use super::colour::run_color;
 use super::path::{P2, PathPieces, RECENT_VERTICES};
+use super::reference::dashes;
 use super::sample::encode_sample;
-use super::topics::{Kind, WORLD_FRAME, base_link};
+use super::topics::{Kind, WORLD_FRAME, base_link, reference_frame};
 
 fn yaw(theta: f64) -> Quaternion {
     let h = 0.5 * theta;
@@ -30,13 +31,23 @@ const PATH_WIDTH_PX: f64 = 2.5;
 /// The entity id of a path piece on its topic.
 pub const PATH_ENTITY: &str = "path";
 
+/// Opacity of the reference robot's ghost (the robot's body is 0.6).
+const GHOST_ALPHA: f64 = 0.25;
+
+/// Dash length of the drawn reference path, in half-tracks (a 0.16 m half-track: 8 cm).
+const DASH_HALF_TRACKS: f64 = 0.5;
+
 /// Encodes one run's messages.
 pub struct RunEncoder {
     clock: LogClock,
-    measured: bool,
+    columns: Columns,
     tf: FrameTransform,
     meas: PoseInFrame,
     last_meas: Option<Pose2<f64>>,
+    last_odom: Option<Pose2<f64>>,
+    tf_ref: FrameTransform,
+    /// A tracking run's `reference` message (path and ghost), until sent at the first sample.
+    reference: Option<SceneUpdate>,
     body: SceneEntity,
     goal: SceneEntity,
     line: LinePrimitive,
@@ -46,9 +57,10 @@ pub struct RunEncoder {
 }
 
 impl RunEncoder {
-    /// The encoder of run `run` (`spec`) of robot `robot`; `measured`: the scenario has a
-    /// `[sensor]`, so `pose_meas` and the measured fields are written.
-    pub fn new(run: usize, spec: &RunSpec, robot: &RobotParams<f64>, measured: bool, clock: LogClock) -> Self {
+    /// The encoder of run `run` (`spec`) of robot `robot`, simulated with `sim`, whose
+    /// samples carry `columns`: `wmr.Sample` has their fields, and the topics
+    /// [`Kind::present`] says (`pose_meas`, `pose_odom`, the reference's) are written.
+    pub fn new(run: usize, spec: &RunSpec, robot: &RobotParams<f64>, columns: Columns, sim: &SimSpec) -> Self {
         let r = robot;
         let colour = run_color(run, 1.0);
         // The body: a box of the track's width, locked to base_link (C at the axle).
@@ -64,6 +76,34 @@ impl RunEncoder {
             }),
             color: Some(run_color(run, 0.6)),
         };
+        // The reference robot's ghost: the same box, fainter, locked to the reference's frame.
+        let ghost = CubePrimitive { color: Some(run_color(run, GHOST_ALPHA)), ..body };
+        let reference = columns.reference.map(|reference| SceneUpdate {
+            deletions: vec![],
+            entities: vec![
+                SceneEntity {
+                    frame_id: WORLD_FRAME.into(),
+                    id: "reference_path".into(),
+                    lines: vec![LinePrimitive {
+                        r#type: line_primitive::Type::LineList as i32,
+                        pose: Some(pose(Pose2::new(0.0, 0.0, 0.0))),
+                        thickness: PATH_WIDTH_PX,
+                        scale_invariant: true,
+                        points: dashes(&reference, sim, DASH_HALF_TRACKS * r.half_track),
+                        color: Some(colour),
+                        ..Default::default()
+                    }],
+                    ..Default::default()
+                },
+                SceneEntity {
+                    frame_id: reference_frame(run),
+                    id: "ghost".into(),
+                    frame_locked: true,
+                    cubes: vec![ghost],
+                    ..Default::default()
+                },
+            ],
+        });
         let scale = r.half_track;
         let arrow = ArrowPrimitive {
             pose: Some(pose(spec.goal)),
@@ -74,8 +114,8 @@ impl RunEncoder {
             color: Some(colour),
         };
         Self {
-            clock,
-            measured,
+            clock: LogClock::new(sim.dt()),
+            columns,
             tf: FrameTransform {
                 timestamp: None,
                 parent_frame_id: WORLD_FRAME.into(),
@@ -85,6 +125,15 @@ impl RunEncoder {
             },
             meas: PoseInFrame { timestamp: None, frame_id: WORLD_FRAME.into(), pose: None },
             last_meas: None,
+            last_odom: None,
+            tf_ref: FrameTransform {
+                timestamp: None,
+                parent_frame_id: WORLD_FRAME.into(),
+                child_frame_id: reference_frame(run),
+                translation: None,
+                rotation: None,
+            },
+            reference,
             body: SceneEntity {
                 frame_id: base_link(run),
                 id: "body".into(),
@@ -127,6 +176,14 @@ impl RunEncoder {
         if first {
             self.path = Some(PathPieces::new(here));
             self.send_scene(ns, out)?;
+            if let Some(mut update) = self.reference.take() {
+                for e in &mut update.entities {
+                    e.timestamp = ts;
+                }
+                self.buf.clear();
+                let _ = prost::Message::encode(&update, &mut self.buf);
+                out(Kind::Reference, ns, &self.buf)?;
+            }
         }
 
         self.tf.timestamp = ts;
@@ -136,17 +193,30 @@ impl RunEncoder {
         let _ = prost::Message::encode(&self.tf, &mut self.buf);
         out(Kind::Tf, ns, &self.buf)?;
 
+        if let Some(reference) = &self.columns.reference {
+            let c_ref = reference.state_at(s.t).pose;
+            self.tf_ref.timestamp = ts;
+            self.tf_ref.translation = Some(Vector3 { x: c_ref.x, y: c_ref.y, z: 0.0 });
+            self.tf_ref.rotation = Some(yaw(c_ref.theta));
+            self.buf.clear();
+            let _ = prost::Message::encode(&self.tf_ref, &mut self.buf);
+            out(Kind::TfRef, ns, &self.buf)?;
+        }
+
         self.buf.clear();
-        encode_sample(s, self.measured, &mut self.buf);
+        encode_sample(s, &self.columns, &mut self.buf);
         out(Kind::Sample, ns, &self.buf)?;
 
-        if self.measured && self.last_meas != Some(s.measured) {
+        if self.columns.measured && self.last_meas != Some(s.measured) {
             self.last_meas = Some(s.measured);
-            self.meas.timestamp = ts;
-            self.meas.pose = Some(pose(s.measured));
-            self.buf.clear();
-            let _ = prost::Message::encode(&self.meas, &mut self.buf);
-            out(Kind::PoseMeas, ns, &self.buf)?;
+            self.send_pose(Kind::PoseMeas, s.measured, ns, out)?;
+        }
+        if self.columns.odometry
+            && let Some(odo) = s.odometry
+            && self.last_odom != Some(odo)
+        {
+            self.last_odom = Some(odo);
+            self.send_pose(Kind::PoseOdom, odo, ns, out)?;
         }
 
         if let Some(path) = self.path.as_mut()
@@ -168,6 +238,21 @@ impl RunEncoder {
             }
             _ => Ok(()),
         }
+    }
+
+    /// Sends pose `p` (frame world) on `kind`, stamped `ns`.
+    fn send_pose<E>(
+        &mut self,
+        kind: Kind,
+        p: Pose2<f64>,
+        ns: u64,
+        out: &mut impl FnMut(Kind, u64, &[u8]) -> Result<(), E>,
+    ) -> Result<(), E> {
+        self.meas.timestamp = Some(stamp(ns));
+        self.meas.pose = Some(pose(p));
+        self.buf.clear();
+        let _ = prost::Message::encode(&self.meas, &mut self.buf);
+        out(kind, ns, &self.buf)
     }
 
     /// Fills `self.points` with `pts`.
@@ -273,7 +358,9 @@ mod tests {
     fn path_bytes_for_laps(laps: usize) -> usize {
         let robot = RobotParams::<f64>::default();
         let spec = RunSpec::new(Pose2::new(1.0, 0.0, 0.0), Pose2::new(0.0, 0.0, 0.0));
-        let mut enc = RunEncoder::new(0, &spec, &robot, false, LogClock::new(1e-3));
+        let columns = Columns::default();
+        let sim = SimSpec::new(laps as f64 * 13.0, 1e-3, 0.01).unwrap();
+        let mut enc = RunEncoder::new(0, &spec, &robot, columns, &sim);
         let mut bytes = 0;
         let mut out = |kind: Kind, _ns: u64, data: &[u8]| -> Result<(), ()> {
             if matches!(kind, Kind::Scene | Kind::Path | Kind::PathTip) {

@@ -4,17 +4,19 @@
 //!
 //! One module per concept, data flowing one way: [`topics`] names the topics and their
 //! schemas, [`sample`] lays out `wmr.Sample`, [`clock`] stamps log times, [`colour`] picks
-//! each run's colour, [`path`] keeps the path as polyline pieces, and [`encoder`], built on
-//! all of them, turns a run's samples into the messages of every topic.
+//! each run's colour, [`path`] keeps the path as polyline pieces, [`mod@reference`] draws
+//! a tracking run's reference path, and [`encoder`], built on all of them, turns a run's
+//! samples into the messages of every topic.
 
 mod clock;
 mod colour;
 mod encoder;
 mod path;
+mod reference;
 mod sample;
 mod topics;
 
 pub use clock::LogClock;
 pub use colour::{run_hex, run_rgb};
 pub use encoder::RunEncoder;
-pub use topics::{Kind, MESSAGE_ENCODING, Schemas, WORLD_FRAME, base_link, topic};
+pub use topics::{Kind, MESSAGE_ENCODING, Schemas, WORLD_FRAME, base_link, reference_frame, topic};

@@ -11,6 +11,7 @@
 
 use foxglove::messages::{FrameTransform, PoseInFrame, SceneUpdate};
 use foxglove::{Encode, Schema};
+use wmr_scenario::Columns;
 
 use super::sample::sample_schema;
 
@@ -30,13 +31,31 @@ pub enum Kind {
     Path,
     /// `foxglove.SceneUpdate`: newest piece of the path, up to C.
     PathTip,
-    /// `foxglove.PoseInFrame`: the measured pose (runs with a `[sensor]`).
+    /// `foxglove.PoseInFrame`: the measured pose (runs with a `[sensor]`; the fused pose
+    /// on odometry).
     PoseMeas,
+    /// `foxglove.PoseInFrame`: the dead-reckoned pose (runs on odometry).
+    PoseOdom,
+    /// `foxglove.FrameTransform`, every sample: the reference's frame (tracking runs).
+    TfRef,
+    /// `foxglove.SceneUpdate`, once: the reference path and the reference robot's ghost
+    /// (tracking runs).
+    Reference,
 }
 
 impl Kind {
     /// Every kind, in the order channels are created.
-    pub const ALL: [Kind; 6] = [Kind::Tf, Kind::Sample, Kind::Scene, Kind::Path, Kind::PathTip, Kind::PoseMeas];
+    pub const ALL: [Kind; 9] = [
+        Kind::Tf,
+        Kind::Sample,
+        Kind::Scene,
+        Kind::Path,
+        Kind::PathTip,
+        Kind::PoseMeas,
+        Kind::PoseOdom,
+        Kind::TfRef,
+        Kind::Reference,
+    ];
 
     /// The last part of the topic name.
     pub fn name(self) -> &'static str {
@@ -47,6 +66,9 @@ impl Kind {
             Kind::Path => "path",
             Kind::PathTip => "path_tip",
             Kind::PoseMeas => "pose_meas",
+            Kind::PoseOdom => "pose_odom",
+            Kind::TfRef => "tf_ref",
+            Kind::Reference => "reference",
         }
     }
 
@@ -60,22 +82,41 @@ impl Kind {
             }
             Kind::Path => "the middle piece of the path, whenever it grows",
             Kind::PathTip => "the newest piece of the path, up to C, whenever C has moved on by a few mm",
-            Kind::PoseMeas => "with a [sensor]: the pose the controller used, whenever it changes",
+            Kind::PoseMeas => {
+                "with a [sensor]: the pose the controller used (on odometry the fused pose), whenever it changes"
+            }
+            Kind::PoseOdom => "on odometry: the pose dead-reckoned from the encoders, whenever it changes",
+            Kind::TfRef => "with a [reference], every sample: world -> runN/reference (pose of C_ref)",
+            Kind::Reference => {
+                "with a [reference], at t = 0: the reference path (dashed), the reference robot's ghost on runN/reference"
+            }
         }
     }
 
-    /// The kinds a file has: [`Kind::PoseMeas`] only with a `[sensor]`.
-    pub fn present(measured: bool) -> impl Iterator<Item = Kind> {
-        Kind::ALL.into_iter().filter(move |k| measured || *k != Kind::PoseMeas)
+    /// Whether runs with `columns` have this topic: [`Kind::PoseMeas`] with a `[sensor]`,
+    /// [`Kind::PoseOdom`] on odometry, [`Kind::TfRef`] and [`Kind::Reference`] with a
+    /// `[reference]`, the others always.
+    pub fn is_present(self, columns: &Columns) -> bool {
+        match self {
+            Kind::PoseMeas => columns.measured,
+            Kind::PoseOdom => columns.odometry,
+            Kind::TfRef | Kind::Reference => columns.reference.is_some(),
+            Kind::Tf | Kind::Sample | Kind::Scene | Kind::Path | Kind::PathTip => true,
+        }
+    }
+
+    /// The kinds a file of runs with `columns` has, in [`Kind::ALL`] order.
+    pub fn present(columns: &Columns) -> impl Iterator<Item = Kind> + '_ {
+        Kind::ALL.into_iter().filter(move |k| k.is_present(columns))
     }
 
     /// The schema of this kind's messages.
     pub fn schema(self, schemas: &Schemas) -> &Schema {
         match self {
-            Kind::Tf => &schemas.frame_transform,
+            Kind::Tf | Kind::TfRef => &schemas.frame_transform,
             Kind::Sample => &schemas.sample,
-            Kind::Scene | Kind::Path | Kind::PathTip => &schemas.scene_update,
-            Kind::PoseMeas => &schemas.pose_in_frame,
+            Kind::Scene | Kind::Path | Kind::PathTip | Kind::Reference => &schemas.scene_update,
+            Kind::PoseMeas | Kind::PoseOdom => &schemas.pose_in_frame,
         }
     }
 }
@@ -88,6 +129,11 @@ pub fn topic(run: usize, kind: Kind) -> String {
 /// The child frame of run `run`'s transforms: `run3/base_link` (C, x forward).
 pub fn base_link(run: usize) -> String {
     format!("run{run}/base_link")
+}
+
+/// The frame of run `run`'s reference: `run3/reference` (C_ref, x along the reference's heading).
+pub fn reference_frame(run: usize) -> String {
+    format!("run{run}/reference")
 }
 
 /// Message encoding of every topic.
@@ -106,14 +152,14 @@ pub struct Schemas {
 }
 
 impl Schemas {
-    /// The schemas; `measured`: `wmr.Sample` has the measured pose's fields too.
-    pub fn new(measured: bool) -> Self {
+    /// The schemas; `wmr.Sample` has one field per column of `columns`.
+    pub fn new(columns: &Columns) -> Self {
         let fox = |s: Option<Schema>, name: &str| s.unwrap_or_else(|| Schema::new(name, "protobuf", Vec::new()));
         Self {
             frame_transform: fox(FrameTransform::get_schema(), "foxglove.FrameTransform"),
             scene_update: fox(SceneUpdate::get_schema(), "foxglove.SceneUpdate"),
             pose_in_frame: fox(PoseInFrame::get_schema(), "foxglove.PoseInFrame"),
-            sample: sample_schema(measured),
+            sample: sample_schema(columns),
         }
     }
 }

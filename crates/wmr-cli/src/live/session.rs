@@ -20,7 +20,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context as _, Result, anyhow};
 use wmr_core::Sample;
-use wmr_scenario::{RunResult, Scenario};
+use wmr_scenario::{Columns, RunResult, Scenario};
 
 use super::protocol::ChannelInfo;
 use super::server::{Limits, Server, Stats};
@@ -105,11 +105,11 @@ pub fn serve(scenario: &Scenario, addr: SocketAddr) -> Result<Live> {
             "--live streams at most {MAX_LIVE_RUNS} runs at once; this scenario has {n} [[run]] tables"
         )));
     }
-    let measured = scenario.setup().has_sensor;
-    let schemas = Schemas::new(measured);
+    let columns = Columns::of(scenario);
+    let schemas = Schemas::new(&columns);
     let mut channels = Vec::new();
     for i in 0..n {
-        for kind in Kind::present(measured) {
+        for kind in Kind::present(&columns) {
             let s = kind.schema(&schemas);
             channels.push(ChannelInfo {
                 id: channel_id(i, kind),
@@ -151,10 +151,9 @@ impl Live {
         start_after: Option<Duration>,
     ) -> Result<LiveReport> {
         let n = scenario.runs().len();
-        let measured = scenario.setup().has_sensor;
         let mut file = match mcap {
             Some(f) => {
-                let mut m = McapFile::new(f, n, measured).map_err(|e| anyhow!(e))?;
+                let mut m = McapFile::new(f, n, Columns::of(scenario)).map_err(|e| anyhow!(e))?;
                 let ids =
                     (0..n).map(|i| m.add_run(i)).collect::<Result<Vec<RunChannels>, _>>().map_err(|e| anyhow!(e))?;
                 Some((m, ids))
@@ -216,7 +215,7 @@ fn stream(
     let n = runs.len();
     let sim = scenario.sim();
     let clock = LogClock::new(sim.dt());
-    let measured = scenario.setup().has_sensor;
+    let columns = Columns::of(scenario);
     let robot = *scenario.robot().params();
     let closed = Arc::new(AtomicBool::new(false));
 
@@ -244,7 +243,7 @@ fn stream(
         }
 
         let mut encoders: Vec<RunEncoder> =
-            runs.iter().enumerate().map(|(i, spec)| RunEncoder::new(i, spec, &robot, measured, clock)).collect();
+            runs.iter().enumerate().map(|(i, spec)| RunEncoder::new(i, spec, &robot, columns, sim)).collect();
         let mut heads: Vec<Option<Sample<f64>>> = vec![None; n];
         let mut last_t = vec![0.0; n];
         let mut messages = 0u64;

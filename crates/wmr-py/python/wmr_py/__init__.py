@@ -66,6 +66,16 @@ COLUMN_UNITS: tuple = _native.COLUMN_UNITS
 CSV_COLUMNS: tuple = _native.CSV_COLUMNS
 #: The measured-pose columns a RunResult has after COLUMNS (and the CSV with a [sensor]).
 MEASURED_COLUMNS: tuple = _native.MEASURED_COLUMNS
+#: The dead-reckoned pose columns a run on odometry's RunResult (and CSV) has after the
+#: measured (then fused) pose (wmr-scenario's list).
+ODOMETRY_COLUMNS: tuple = _native.ODOMETRY_COLUMNS
+#: The unit of each of ODOMETRY_COLUMNS.
+ODOMETRY_UNITS: tuple = _native.ODOMETRY_UNITS
+#: The wheel-ground contact columns a run whose wheels slip has (RunResult and CSV), after
+#: the odometry's place (wmr-scenario's list).
+CONTACT_COLUMNS: tuple = _native.CONTACT_COLUMNS
+#: The unit of each of CONTACT_COLUMNS.
+CONTACT_UNITS: tuple = _native.CONTACT_UNITS
 #: The outcome arrays of run_batch and sweep, in order.
 OUTCOME_FIELDS: tuple = _native.OUTCOME_FIELDS
 #: A run has converged when its final distance to the goal is below this, m.
@@ -85,10 +95,14 @@ __all__ = [
     "BatchResult",
     "COLUMNS",
     "COLUMN_UNITS",
+    "CONTACT_COLUMNS",
+    "CONTACT_UNITS",
     "CSV_COLUMNS",
     "KanayamaController",
     "LyapunovController",
     "MEASURED_COLUMNS",
+    "ODOMETRY_COLUMNS",
+    "ODOMETRY_UNITS",
     "OUTCOME_FIELDS",
     "PaperBidirectionalController",
     "PaperController",

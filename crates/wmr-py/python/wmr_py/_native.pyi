@@ -572,6 +572,42 @@ class RunResult:
     @property
     def theta_meas(self) -> _FloatArray: ...
     @property
+    def x_odom(self) -> _FloatArray:
+        """Run on odometry only (AttributeError otherwise), m."""
+    @property
+    def y_odom(self) -> _FloatArray:
+        """Run on odometry only, m."""
+    @property
+    def theta_odom(self) -> _FloatArray:
+        """Run on odometry only, rad."""
+    @property
+    def slip_r(self) -> _FloatArray:
+        """Run whose wheels slip only (AttributeError otherwise), m/s."""
+    @property
+    def slip_l(self) -> _FloatArray:
+        """Run whose wheels slip only, m/s."""
+    @property
+    def v_lat(self) -> _FloatArray:
+        """Run whose wheels slip only, m/s."""
+    @property
+    def fx_r(self) -> _FloatArray:
+        """Run whose wheels slip only, N."""
+    @property
+    def fx_l(self) -> _FloatArray:
+        """Run whose wheels slip only, N."""
+    @property
+    def fy_r(self) -> _FloatArray:
+        """Run whose wheels slip only, N."""
+    @property
+    def fy_l(self) -> _FloatArray:
+        """Run whose wheels slip only, N."""
+    @property
+    def n_r(self) -> _FloatArray:
+        """Run whose wheels slip only, N."""
+    @property
+    def n_l(self) -> _FloatArray:
+        """Run whose wheels slip only, N."""
+    @property
     def x_ref(self) -> _FloatArray:
         """Tracking run only (AttributeError otherwise), m."""
     @property
@@ -586,6 +622,9 @@ class RunResult:
     @property
     def omega_ref(self) -> _FloatArray:
         """Tracking run only, rad/s."""
+    @property
+    def column_names(self) -> list[str]:
+        """The run's columns in CSV order (the measured pose always)."""
     def __getitem__(self, name: str, /) -> _FloatArray: ...
     def __len__(self) -> int: ...
     def columns(self) -> dict[str, _FloatArray]:
@@ -602,6 +641,10 @@ COLUMNS: Tuple[str, ...]
 COLUMN_UNITS: Tuple[str, ...]
 CSV_COLUMNS: Tuple[str, ...]
 MEASURED_COLUMNS: Tuple[str, ...]
+ODOMETRY_COLUMNS: Tuple[str, ...]
+ODOMETRY_UNITS: Tuple[str, ...]
+CONTACT_COLUMNS: Tuple[str, ...]
+CONTACT_UNITS: Tuple[str, ...]
 OUTCOME_FIELDS: Tuple[str, ...]
 ARRIVAL_RADIUS_M: float
 REFERENCE_COLUMNS: Tuple[str, ...]
@@ -658,6 +701,10 @@ __all__ = [
     "COLUMN_UNITS",
     "CSV_COLUMNS",
     "MEASURED_COLUMNS",
+    "ODOMETRY_COLUMNS",
+    "ODOMETRY_UNITS",
+    "CONTACT_COLUMNS",
+    "CONTACT_UNITS",
     "OUTCOME_FIELDS",
     "ARRIVAL_RADIUS_M",
     "REFERENCE_COLUMNS",

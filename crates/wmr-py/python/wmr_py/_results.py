@@ -53,15 +53,10 @@ def _shares(res: Any) -> str:
 
 
 def _run_columns(r: Any) -> dict:
-    """A RunResult's columns in CSV order: COLUMNS, the measured pose, and a tracking
-    run's reference columns (x_ref ... omega_ref) last."""
-    data = {name: r[name] for name in _native.COLUMNS}
-    for name in _native.MEASURED_COLUMNS:
-        data[name] = r[name]
-    if r.tracking:
-        for name in _native.REFERENCE_COLUMNS:
-            data[name] = r[name]
-    return data
+    """A RunResult's columns in CSV order (``r.column_names``): COLUMNS, the measured pose,
+    then a run on odometry's ODOMETRY_COLUMNS, a slipping run's CONTACT_COLUMNS and a
+    tracking run's reference columns (x_ref ... omega_ref) last."""
+    return {name: r[name] for name in r.column_names}
 
 
 def _run_attrs(r: Any) -> dict:
@@ -93,6 +88,8 @@ def run_result_to_xarray(r: Any) -> Any:
     xr = require("xarray", "RunResult.to_xarray()")
     units = dict(zip(_native.COLUMNS, _native.COLUMN_UNITS))
     units.update(zip(_native.MEASURED_COLUMNS, ("m", "m", "rad")))
+    units.update(zip(_native.ODOMETRY_COLUMNS, _native.ODOMETRY_UNITS))
+    units.update(zip(_native.CONTACT_COLUMNS, _native.CONTACT_UNITS))
     units.update(zip(_native.REFERENCE_COLUMNS, _native.REFERENCE_UNITS))
     cols = _run_columns(r)
     t = cols.pop("t")

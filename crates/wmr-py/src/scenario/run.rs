@@ -9,16 +9,15 @@ use std::time::Instant;
 use pyo3::prelude::*;
 use wmr_scenario::{RunResult, Scenario, ScenarioError, executor};
 
-use super::run_result::{Columns, N_COLS, PyRunResult};
+use super::run_result::{Columns, PyRunResult};
 use super::source::{Source, scenario_arg};
 use crate::error::{scenario_error, to_py};
 use crate::interrupt::{Progress, Stop, check_memory, interruptible_with};
 
-/// Bytes of the columns of every run of `sc`: n_samples x (CSV columns + measured
-/// pose, + the reference's for a tracking run) x 8, summed over the runs.
+/// Bytes of the columns of every run of `sc`: n_samples x (its columns, [`Columns::shape`])
+/// x 8, summed over the runs.
 fn columns_bytes(sc: &Scenario) -> u128 {
-    let reference = if sc.tracking().is_some() { wmr_scenario::REFERENCE_COLUMNS.len() } else { 0 };
-    u128::from(sc.sim().n_samples()) * ((N_COLS + 3 + reference) * 8) as u128 * sc.runs().len() as u128
+    u128::from(sc.sim().n_samples()) * (Columns::shape(sc).len() * 8) as u128 * sc.runs().len() as u128
 }
 
 /// Refuses runs whose columns the memory cannot hold, naming `sim.log_dt` and the value
@@ -35,7 +34,7 @@ fn check_columns_memory(sc: &Scenario) -> PyResult<()> {
 /// `done` counts the samples logged (progress).
 fn run_one(sc: &Scenario, i: usize, stop: &Stop, done: &AtomicUsize) -> PyResult<Option<(RunResult, Columns)>> {
     let n = usize::try_from(sc.sim().n_samples()).unwrap_or(usize::MAX);
-    let mut cols = Columns::try_with_capacity(n, sc.tracking().map(|t| t.reference.built))?;
+    let mut cols = Columns::try_with_capacity(n, Columns::shape(sc))?;
     let poll = || if stop.requested() { ControlFlow::Break(()) } else { ControlFlow::Continue(()) };
     let flow = sc
         .try_run(

@@ -4,18 +4,15 @@
 use numpy::{PyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
+use wmr_core::Status;
 use wmr_core::tracking::TrackingOutcome;
-use wmr_core::{AnyReference, Reference, Status};
-use wmr_scenario::{
-    MEASURED_COLUMNS, MEASURED_UNITS, REFERENCE_COLUMNS, REFERENCE_UNITS, RunResult, SAMPLE_COLUMNS, SAMPLE_UNITS,
-    measured_values, reference_values, sample_values,
-};
+use wmr_scenario::{ColumnGroup, MEASURED_COLUMNS, MEASURED_UNITS, RunResult, SAMPLE_COLUMNS, SAMPLE_UNITS};
 
 use crate::error::parameter_error;
 use crate::interrupt::try_vec;
 
 /// Number of sample columns (the CSV columns after `run`).
-pub(super) const N_COLS: usize = SAMPLE_COLUMNS.len();
+const N_COLS: usize = SAMPLE_COLUMNS.len();
 
 /// Number of a RunResult's columns: the sample columns, then the measured pose.
 const N_ALL: usize = N_COLS + MEASURED_COLUMNS.len();
@@ -58,41 +55,39 @@ pub const TRACKING_FIELDS: [TrackingField; 5] = [
     ("tracking_tolerance", |t| Some(t.tolerance)),
 ];
 
-/// One run's columns, built once in Rust: the CSV columns, the measured pose and, for a
-/// tracking run, the reference at each sample's t (as the CSV writes it).
+/// The column groups a RunResult may have after [`RESULT_COLUMNS`], in CSV order: each
+/// only on the runs whose CSV has it ([`ColumnGroup::carried_by`]).
+const OPTIONAL_GROUPS: [ColumnGroup; 3] = [ColumnGroup::Odometry, ColumnGroup::Contact, ColumnGroup::Reference];
+
+/// The optional group that has column `name`, if any.
+fn optional_group(name: &str) -> Option<ColumnGroup> {
+    OPTIONAL_GROUPS.into_iter().find(|g| g.names().contains(&name))
+}
+
+/// One run's columns, built once in Rust: those of the scenario's
+/// [`wmr_scenario::Columns`] (the CSV's), with the measured pose always (the true pose
+/// without a `[sensor]`), each with the CSV's values.
 pub(super) struct Columns {
-    pub(super) cols: [Vec<f64>; N_COLS],
-    pub(super) measured: [Vec<f64>; 3],
-    reference: Option<(AnyReference<f64>, [Vec<f64>; REFERENCE_COLUMNS.len()])>,
+    shape: wmr_scenario::Columns,
+    /// One per name of `shape`, in order.
+    pub(super) cols: Vec<Vec<f64>>,
 }
 
 impl Columns {
-    /// Room for `n` samples in every column (and the reference's, for a tracking run
-    /// following `reference`), or `MemoryError`.
-    pub(super) fn try_with_capacity(n: usize, reference: Option<AnyReference<f64>>) -> PyResult<Self> {
-        let mut cols = Self {
-            cols: [(); N_COLS].map(|()| Vec::new()),
-            measured: [(); 3].map(|()| Vec::new()),
-            reference: reference.map(|r| (r, [(); REFERENCE_COLUMNS.len()].map(|()| Vec::new()))),
-        };
-        let refs = cols.reference.iter_mut().flat_map(|(_, c)| c.iter_mut());
-        for c in cols.cols.iter_mut().chain(cols.measured.iter_mut()).chain(refs) {
-            *c = try_vec(n)?;
-        }
-        Ok(cols)
+    /// The shape of a RunResult of `scenario`: its CSV's columns, with the measured pose.
+    pub(super) fn shape(scenario: &wmr_scenario::Scenario) -> wmr_scenario::Columns {
+        wmr_scenario::Columns { measured: true, ..wmr_scenario::Columns::of(scenario) }
+    }
+
+    /// Room for `n` samples in every column of `shape`, or `MemoryError`.
+    pub(super) fn try_with_capacity(n: usize, shape: wmr_scenario::Columns) -> PyResult<Self> {
+        let cols = (0..shape.len()).map(|_| try_vec(n)).collect::<PyResult<_>>()?;
+        Ok(Self { shape, cols })
     }
 
     pub(super) fn push(&mut self, s: &wmr_core::Sample<f64>) {
-        for (col, v) in self.cols.iter_mut().zip(sample_values(s)) {
+        for (col, v) in self.cols.iter_mut().zip(self.shape.values(s)) {
             col.push(v);
-        }
-        for (col, v) in self.measured.iter_mut().zip(measured_values(s)) {
-            col.push(v);
-        }
-        if let Some((r, cols)) = &mut self.reference {
-            for (col, v) in cols.iter_mut().zip(reference_values(&r.state_at(s.t))) {
-                col.push(v);
-            }
         }
     }
 }
@@ -151,9 +146,9 @@ pub struct PyRunResult {
     /// The columns, in [`RESULT_COLUMNS`] order; each is also an attribute of the class
     /// (a property that `add_column_properties` adds from the same list).
     cols: Vec<Py<PyArray1<f64>>>,
-    /// A tracking run's reference columns, in [`REFERENCE_COLUMNS`] order (`None`: a
-    /// point-stabilization run, whose CSV has none either).
-    ref_cols: Option<Vec<Py<PyArray1<f64>>>>,
+    /// The run's groups of [`OPTIONAL_GROUPS`] (those its CSV has), in order, each with
+    /// its columns in the group's order.
+    groups: Vec<(ColumnGroup, Vec<Py<PyArray1<f64>>>)>,
     /// A tracking run's summary, in [`TRACKING_FIELDS`] order (`None` values for a
     /// point-stabilization run, or a time never reached).
     tracking: [Option<f64>; TRACKING_FIELDS.len()],
@@ -162,9 +157,17 @@ pub struct PyRunResult {
 impl PyRunResult {
     pub(super) fn new(py: Python<'_>, r: RunResult, cols: Columns) -> Self {
         // from_vec hands each Vec's buffer to numpy: no copy.
-        let ref_cols = cols.reference.map(|(_, c)| c.into_iter().map(|c| PyArray1::from_vec(py, c).unbind()).collect());
-        let cols: Vec<Py<PyArray1<f64>>> =
-            cols.cols.into_iter().chain(cols.measured).map(|c| PyArray1::from_vec(py, c).unbind()).collect();
+        let mut arrays = cols.cols.into_iter().map(|c| PyArray1::from_vec(py, c).unbind());
+        let mut groups = Vec::new();
+        let mut result_cols = Vec::with_capacity(N_ALL);
+        for g in cols.shape.groups() {
+            let group: Vec<_> = arrays.by_ref().take(g.names().len()).collect();
+            match g {
+                ColumnGroup::Sample | ColumnGroup::Measured => result_cols.extend(group),
+                g => groups.push((g, group)),
+            }
+        }
+        let cols = result_cols;
         let tracking = TRACKING_FIELDS.map(|(_, get)| r.tracking.as_ref().and_then(get));
         let o = &r.outcome;
         Self {
@@ -183,16 +186,26 @@ impl PyRunResult {
             summary: r.summary_line(),
             label: r.label,
             cols,
-            ref_cols,
+            groups,
             tracking,
         }
     }
 
     fn column(&self, name: &str) -> Option<&Py<PyArray1<f64>>> {
-        if let Some(i) = REFERENCE_COLUMNS.iter().position(|c| *c == name) {
-            return self.ref_cols.as_ref().map(|c| &c[i]);
+        if let Some(i) = RESULT_COLUMNS.iter().position(|c| *c == name) {
+            return Some(&self.cols[i]);
         }
-        RESULT_COLUMNS.iter().position(|c| *c == name).map(|i| &self.cols[i])
+        self.groups.iter().find_map(|(g, cols)| g.names().iter().position(|c| *c == name).map(|i| &cols[i]))
+    }
+
+    /// Whether the run has the columns of `group`.
+    fn has(&self, group: ColumnGroup) -> bool {
+        self.groups.iter().any(|(g, _)| *g == group)
+    }
+
+    /// The run's column names in CSV order: [`RESULT_COLUMNS`], then its optional groups'.
+    fn names(&self) -> impl Iterator<Item = &'static str> + '_ {
+        RESULT_COLUMNS.iter().copied().chain(self.groups.iter().flat_map(|(g, _)| g.names().iter().copied()))
     }
 
     /// The value of tracking summary field `name` ([`TRACKING_FIELDS`]).
@@ -228,7 +241,7 @@ impl PyRunResult {
         for ((name, _), v) in TRACKING_FIELDS.iter().zip(self.tracking) {
             d.set_item(name, v)?;
         }
-        for name in RESULT_COLUMNS.iter().chain(&REFERENCE_COLUMNS) {
+        for name in self.names() {
             if let Some(c) = self.column(name) {
                 d.set_item(name, c.bind(py))?;
             }
@@ -256,13 +269,12 @@ impl PyRunResult {
     }
 
     /// A column by its CSV name, e.g. result["omega_r"]; a tracking run's also
-    /// result["x_ref"] ... result["omega_ref"].
+    /// result["x_ref"] ... result["omega_ref"], a run on odometry's result["x_odom"] ...,
+    /// a run whose wheels slip result["slip_r"] ... result["n_l"].
     fn __getitem__(&self, py: Python<'_>, name: &str) -> PyResult<Py<PyArray1<f64>>> {
         self.column(name).map(|c| c.clone_ref(py)).ok_or_else(|| {
-            let why = if REFERENCE_COLUMNS.contains(&name) {
-                format!(
-                    "no column {name:?}: only a tracking run (a scenario with a [reference]) has the reference columns"
-                )
+            let why = if let Some(g) = optional_group(name) {
+                format!("no column {name:?}: only {} has the {} columns", g.carried_by(), g.name())
             } else {
                 format!("no column {name:?}; columns are {SAMPLE_COLUMNS:?}")
             };
@@ -271,12 +283,13 @@ impl PyRunResult {
     }
 
     /// Every CSV column of docs/scenario.md (`run` first, as float64 like the others), in
-    /// order; a tracking run's reference columns (x_ref ... omega_ref) last, as in its CSV.
+    /// order: the sample columns, then those of the run's odometry, contact and reference
+    /// (x_ref ... omega_ref last), as in its CSV.
     fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
         let n = self.len(py);
         d.set_item("run", PyArray1::from_vec(py, vec![self.run as f64; n]))?;
-        for name in SAMPLE_COLUMNS.iter().chain(&REFERENCE_COLUMNS) {
+        for name in self.names().filter(|n| !MEASURED_COLUMNS.contains(n)) {
             if let Some(c) = self.column(name) {
                 d.set_item(name, c.bind(py))?;
             }
@@ -284,11 +297,19 @@ impl PyRunResult {
         Ok(d)
     }
 
+    /// The run's column names in CSV order: `wmr_py.COLUMNS`, `wmr_py.MEASURED_COLUMNS`,
+    /// then a run on odometry's `ODOMETRY_COLUMNS`, a run whose wheels slip's
+    /// `CONTACT_COLUMNS` and a tracking run's `REFERENCE_COLUMNS`.
+    #[getter]
+    fn column_names(&self) -> Vec<&'static str> {
+        self.names().collect()
+    }
+
     /// True for a tracking or path-following run (a scenario with a `[reference]`): it
     /// has the reference columns and the tracking summary.
     #[getter]
     fn tracking(&self) -> bool {
-        self.ref_cols.is_some()
+        self.has(ColumnGroup::Reference)
     }
 
     /// Tracking run: RMS of the true tracking error over the last half of t_end, m (the
@@ -335,31 +356,40 @@ impl PyRunResult {
 
 /// Adds to `RunResult` one read-only property per column of [`RESULT_COLUMNS`]
 /// (`result.x` is `result["x"]`, the same array object), with its unit as the doc; and
-/// one per [`REFERENCE_COLUMNS`], which a run without a reference lacks (AttributeError).
+/// one per column of [`OPTIONAL_GROUPS`], which a run without the group lacks
+/// (AttributeError).
 pub fn add_column_properties(cls: &Bound<'_, pyo3::types::PyType>) -> PyResult<()> {
     let py = cls.py();
     let property = py.import("builtins")?.getattr("property")?;
     let itemgetter = py.import("operator")?.getattr("itemgetter")?;
-    for (name, unit) in REFERENCE_COLUMNS.iter().zip(REFERENCE_UNITS) {
-        let name: &'static str = name;
-        let get = pyo3::types::PyCFunction::new_closure(
-            py,
-            None,
-            None,
-            move |args: &Bound<'_, PyTuple>, _kw: Option<&Bound<'_, PyDict>>| -> PyResult<Py<PyArray1<f64>>> {
-                let r = args.get_item(0)?;
-                let r = r.cast::<PyRunResult>()?;
-                r.get().column(name).map(|c| c.clone_ref(args.py())).ok_or_else(|| {
-                    pyo3::exceptions::PyAttributeError::new_err(format!(
-                        "RunResult has no {name}: only a tracking run (a scenario with a [reference]) has the reference columns"
-                    ))
-                })
-            },
-        )?;
-        let doc = format!(
-            "The {name} column of a tracking run, {unit}: the reference at each sample's t (AttributeError otherwise)."
-        );
-        cls.setattr(name, property.call1((get, py.None(), py.None(), doc))?)?;
+    for group in OPTIONAL_GROUPS {
+        for (name, unit) in group.names().iter().zip(group.units()) {
+            let name: &'static str = name;
+            let get = pyo3::types::PyCFunction::new_closure(
+                py,
+                None,
+                None,
+                move |args: &Bound<'_, PyTuple>, _kw: Option<&Bound<'_, PyDict>>| -> PyResult<Py<PyArray1<f64>>> {
+                    let r = args.get_item(0)?;
+                    let r = r.cast::<PyRunResult>()?;
+                    r.get().column(name).map(|c| c.clone_ref(args.py())).ok_or_else(|| {
+                        pyo3::exceptions::PyAttributeError::new_err(format!(
+                            "RunResult has no {name}: only {} has the {} columns",
+                            group.carried_by(),
+                            group.name()
+                        ))
+                    })
+                },
+            )?;
+            let what = match group {
+                ColumnGroup::Odometry => "the pose dead-reckoned from the encoders at the controller's last tick",
+                ColumnGroup::Contact => "the wheels' contact with the ground",
+                _ => "the reference at each sample's t",
+            };
+            let doc =
+                format!("The {name} column of {}, {unit}: {what} (AttributeError otherwise).", group.carried_by());
+            cls.setattr(name, property.call1((get, py.None(), py.None(), doc))?)?;
+        }
     }
     for (name, unit) in RESULT_COLUMNS.iter().zip(RESULT_UNITS) {
         let doc = if MEASURED_COLUMNS.contains(name) {
@@ -408,34 +438,39 @@ pub fn run_result_from_state(state: &Bound<'_, PyDict>) -> PyResult<PyRunResult>
         }
         cols.push(a.unbind());
     }
-    // A tracking run's reference columns: all five or none, each as long as the others.
-    let mut ref_cols = Vec::new();
-    for name in REFERENCE_COLUMNS {
-        let Some(a) = state.get_item(name)?.filter(|a| !a.is_none()) else { continue };
-        let a = a.cast_into::<PyArray1<f64>>().map_err(|_| parameter_error(name, "expected a float64 array"))?;
-        if let Some((n, first)) = rows
-            && a.len() != n
-        {
-            return Err(parameter_error(
-                &format!("state.{name}"),
-                format_args!("has {} samples, {first} has {n}: every column has one value per sample", a.len()),
-            ));
+    // Each optional group's columns: all or none, each as long as the others.
+    let mut groups = Vec::new();
+    for group in OPTIONAL_GROUPS {
+        let mut cols = Vec::new();
+        for name in group.names() {
+            let Some(a) = state.get_item(name)?.filter(|a| !a.is_none()) else { continue };
+            let a = a.cast_into::<PyArray1<f64>>().map_err(|_| parameter_error(name, "expected a float64 array"))?;
+            if let Some((n, first)) = rows
+                && a.len() != n
+            {
+                return Err(parameter_error(
+                    &format!("state.{name}"),
+                    format_args!("has {} samples, {first} has {n}: every column has one value per sample", a.len()),
+                ));
+            }
+            cols.push(a.unbind());
         }
-        ref_cols.push(a.unbind());
+        match cols.len() {
+            0 => {}
+            n if n == group.names().len() => groups.push((group, cols)),
+            n => {
+                return Err(parameter_error(
+                    "state",
+                    format_args!(
+                        "has {n} of the {} {} columns: {} has all of them",
+                        group.names().len(),
+                        group.name(),
+                        group.carried_by()
+                    ),
+                ));
+            }
+        }
     }
-    let ref_cols = match ref_cols.len() {
-        0 => None,
-        n if n == REFERENCE_COLUMNS.len() => Some(ref_cols),
-        n => {
-            return Err(parameter_error(
-                "state",
-                format_args!(
-                    "has {n} of the {} reference columns: a tracking run has all of them",
-                    REFERENCE_COLUMNS.len()
-                ),
-            ));
-        }
-    };
     Ok(PyRunResult {
         run: get("run")?.extract()?,
         label: get("label")?.extract()?,
@@ -462,7 +497,7 @@ pub fn run_result_from_state(state: &Bound<'_, PyDict>) -> PyResult<PyRunResult>
             }
             t
         },
-        ref_cols,
+        groups,
         cols,
     })
 }
