@@ -72,3 +72,26 @@ fn trace_refuses_odometry_by_name_and_writes_nothing() {
     assert!(!err.contains("panicked"), "{err}");
     assert!(!out.exists());
 }
+
+/// A sweep whose odometry is one `with` entry among absolute ones (examples/robustness.toml):
+/// the drift table is printed for the key whose runs were on odometry only; the absolute
+/// keys had no drift to report (they printed rows of NaN% before).
+#[test]
+fn drift_table_only_for_the_keys_on_odometry() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(
+        dir.path(),
+        "[sim]\nt_end = 2.0\n[sweep]\ngoal = { x = 0.5, y = 0.0, theta_deg = 0.0 }\ncontrollers = [{ kind = \"polar\" }]\n\
+         random = { n = 2, seed = 1, radius = 1.0, min_radius = 0.5 }\nvary = [\n\
+         { key = \"world.slope_deg\", values = [0.0, 2.0] },\n\
+         { key = \"sensor.fix_rate_hz\", values = [0.0, 1.0], with = { \"sensor.pose\" = \"odometry\" } },\n]\n",
+    );
+    let out = run(&["sweep", &path, "-o", dir.path().join("o.csv").to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        stdout.contains("odometry drift at the end (mean, % of the distance travelled) against sensor.fix_rate_hz")
+    );
+    assert!(!stdout.contains("odometry drift at the end (mean, % of the distance travelled) against world.slope_deg"));
+    assert!(!stdout.contains("NaN"), "{stdout}");
+}

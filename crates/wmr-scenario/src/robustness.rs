@@ -41,12 +41,17 @@ pub fn share_curves(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<ShareCur
 
 /// For a sweep on odometry (`[sensor] pose = "odometry"`), each law's mean odometry drift
 /// at the end, in % of the distance travelled, against each varied key: curves whose
-/// points hold that mean where [`share_curves`] hold a share. Empty for other sweeps.
+/// points hold that mean where [`share_curves`] hold a share. Only the keys whose runs
+/// were on odometry (a `with = { "sensor.pose" = "odometry" }` entry among others); empty
+/// for other sweeps.
 pub fn drift_curves(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<ShareCurve> {
     if outcomes.iter().all(|o| o.odometry_drift.is_none()) {
         return Vec::new();
     }
-    curves(spec, outcomes, |o| o.odometry_drift.and_then(|d| d.percent()).unwrap_or(f64::NAN))
+    let all = curves(spec, outcomes, |o| o.odometry_drift.and_then(|d| d.percent()).unwrap_or(f64::NAN));
+    let on_odometry =
+        |key: &str| all.iter().filter(|c| c.key == key).any(|c| c.points.iter().any(|(_, d, _)| d.is_finite()));
+    all.iter().filter(|c| on_odometry(&c.key)).cloned().collect()
 }
 
 /// The mean of `value` over the runs of each law at each value of each varied key.
