@@ -1,6 +1,8 @@
 //! Criterion benches of the core's hot paths (issue 6), at both precisions where it matters:
 //! one closed-loop step, the controller update alone, one RK4 step of the model, and a
-//! whole 60 s Fig. 7 run. `cargo bench --bench core`; the C comparison is `benches/compare`.
+//! whole 60 s Fig. 7 run, and one closed-loop step with wheels that roll and that slip
+//! (the cost of the slip model). `cargo bench --bench core`; the C comparison is
+//! `benches/compare`.
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -9,7 +11,7 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use wmr_core::integrator::rk4_step;
 use wmr_core::{
     ClosedLoop, Controller, DriveParams, FixedGoal, Measurement, PaperLaw, PaperParams, Plant, Pose2, Real,
-    ReferenceState, Robot, State, WheelStage, WheelStageParams, Wheels,
+    ReferenceState, Robot, State, TractionKind, TractionParams, WheelStage, WheelStageParams, Wheels, World,
 };
 
 /// Fig. 7: (0, 0, 0) -> (1, 1, 120 deg), every default, dt = control_dt = 1 ms.
@@ -24,13 +26,26 @@ fn fig7_goal<T: Real>() -> Pose2<T> {
 
 /// The paper's law and the default wheel stage, composed directly (no `AnyLaw` dispatch).
 fn fig7_loop<T: Real>() -> ClosedLoop<T, PaperLaw<T>> {
+    fig7_loop_on(TractionKind::Rolling)
+}
+
+/// [`fig7_loop`] with wheels that roll or slip (`examples/slip.toml`'s geometry: the
+/// caster 0.35 m ahead of C, G 0.1 m high, mu = 0.8).
+fn fig7_loop_on<T: Real>(traction: TractionKind) -> ClosedLoop<T, PaperLaw<T>> {
     let robot = Robot::<T>::paper();
     let drive = DriveParams::default().validate(&robot).expect("default drive is valid");
     let dt = T::lit(1e-3);
     let law = PaperLaw::new(PaperParams::paper(), robot.params(), dt).expect("paper gains are valid");
     let wheels = WheelStage::new(&WheelStageParams::default(), robot.params(), &drive, dt).expect("valid servos");
     let ctrl = Controller::new(law, wheels);
-    let plant = Plant::new(robot, drive, Pose2::default()).expect("finite start");
+    let keys = TractionParams {
+        traction,
+        caster_offset: T::lit(0.35),
+        com_height: T::lit(0.1),
+        ..TractionParams::default()
+    };
+    let traction = keys.validate(&robot, &World::flat()).expect("valid traction keys");
+    let plant = Plant::new(robot, drive, Pose2::default()).expect("finite start").with_traction(traction);
     ClosedLoop::new(plant, ctrl, FixedGoal::new(fig7_goal()).expect("finite goal"), dt).expect("dt divides control_dt")
 }
 
@@ -120,6 +135,28 @@ fn fig7_run(c: &mut Criterion) {
     group.finish();
 }
 
+/// One closed-loop step of Fig. 7 (f64) with wheels that roll (the paper's model) and that
+/// slip: the slip model's cost per step against the rolling one.
+fn traction_step(c: &mut Criterion) {
+    let mut group = c.benchmark_group("closed_loop_step_traction");
+    for (name, kind) in [("rolling", TractionKind::Rolling), ("slip", TractionKind::Slip)] {
+        let mut start = fig7_loop_on::<f64>(kind);
+        for _ in 0..WARM_STEPS {
+            start.step().expect("Fig. 7 does not diverge");
+        }
+        let mut sim = start.clone();
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                if sim.steps() >= FIG7_STEPS {
+                    sim = start.clone();
+                }
+                black_box(sim.step()).ok();
+            })
+        });
+    }
+    group.finish();
+}
+
 fn per_step(c: &mut Criterion) {
     closed_loop_step::<f64>(c, "f64");
     closed_loop_step::<f32>(c, "f32");
@@ -131,6 +168,6 @@ fn per_step(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(2));
-    targets = per_step, fig7_run
+    targets = per_step, traction_step, fig7_run
 }
 criterion_main!(benches);
