@@ -38,12 +38,8 @@ fn fig7_loop_on<T: Real>(traction: TractionKind) -> ClosedLoop<T, PaperLaw<T>> {
     let law = PaperLaw::new(PaperParams::paper(), robot.params(), dt).expect("paper gains are valid");
     let wheels = WheelStage::new(&WheelStageParams::default(), robot.params(), &drive, dt).expect("valid servos");
     let ctrl = Controller::new(law, wheels);
-    let keys = TractionParams {
-        traction,
-        caster_offset: T::lit(0.35),
-        com_height: T::lit(0.1),
-        ..TractionParams::default()
-    };
+    let keys =
+        TractionParams { traction, caster_offset: T::lit(0.35), com_height: T::lit(0.1), ..TractionParams::default() };
     let traction = keys.validate(&robot, &World::flat()).expect("valid traction keys");
     let plant = Plant::new(robot, drive, Pose2::default()).expect("finite start").with_traction(traction);
     ClosedLoop::new(plant, ctrl, FixedGoal::new(fig7_goal()).expect("finite goal"), dt).expect("dt divides control_dt")
