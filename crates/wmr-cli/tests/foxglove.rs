@@ -258,19 +258,7 @@ fn topics_schemas_and_samples_equal_the_csv_on_the_exact_log_grid() {
 }
 
 /// 3 s of Fig. 7 whose wheels slip on asphalt (examples/slip.toml's robot).
-const SLIPPING: &str = r#"
-[robot]
-traction = "slip"
-friction_coefficient = 0.8
-caster_offset = 0.35
-com_height = 0.1
-[sim]
-t_end = 3.0
-log_dt = 0.01
-[[run]]
-start = { x = 0.0, y = 0.0, theta_deg = 0.0 }
-goal = { x = 1.0, y = 1.0, theta_deg = 120.0 }
-"#;
+const SLIPPING: &str = include_str!("fixtures/slip-3s.toml");
 
 /// 3 s of two runs tracking a figure-eight (examples/tracking/figure_eight.toml, shorter).
 const TRACKING: &str = r#"

@@ -19,19 +19,7 @@ from conftest import REPO
 ODOMETRY = REPO / "crates" / "wmr-cli" / "tests" / "fixtures" / "odometry-3s.toml"
 
 # 3 s of Fig. 7 on examples/slip.toml's robot (wheels that slip on asphalt).
-SLIP = """\
-[robot]
-traction = "slip"
-friction_coefficient = 0.8
-caster_offset = 0.35
-com_height = 0.1
-[sim]
-t_end = 3.0
-log_dt = 0.01
-[[run]]
-start = { x = 0.0, y = 0.0, theta_deg = 0.0 }
-goal = { x = 1.0, y = 1.0, theta_deg = 120.0 }
-"""
+SLIP = (REPO / "crates" / "wmr-cli" / "tests" / "fixtures" / "slip-3s.toml").read_text()
 
 
 def read_csv(path: pathlib.Path) -> tuple[list[str], np.ndarray]:
