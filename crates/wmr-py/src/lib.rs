@@ -45,6 +45,8 @@ mod _native {
         // The column and outcome names, each from its one list (wmr-scenario's output
         // module, wmr-core's arrival radius): `_results.py` and the tests read them here.
         m.add("COLUMNS", PyTuple::new(m.py(), wmr_scenario::SAMPLE_COLUMNS)?)?;
+        // Values per run in an outside executor's sweep rows (`_sweep_part`).
+        m.add("_SWEEP_ROW_LEN", crate::scenario::SWEEP_ROW_LEN)?;
         m.add("COLUMN_UNITS", PyTuple::new(m.py(), wmr_scenario::SAMPLE_UNITS)?)?;
         m.add("CSV_COLUMNS", PyTuple::new(m.py(), wmr_scenario::CSV_COLUMNS)?)?;
         m.add("MEASURED_COLUMNS", PyTuple::new(m.py(), wmr_scenario::MEASURED_COLUMNS)?)?;

@@ -275,3 +275,61 @@ def test_update_reference_overrides_the_reference_state() -> None:
     assert e_s == pytest.approx(c * dx + sn * dy, abs=1e-15)
     assert e_theta == pytest.approx(s["pose"][2] - pose[2], abs=1e-15)
     assert dl == pytest.approx(math.hypot(dx, dy), abs=1e-15) and ex != a.errors
+
+
+def _small_compare_tracking() -> str:
+    """examples/tracking/compare-tracking.toml with 3 starts of 8 s (27 runs)."""
+    text = (REPO / "examples" / "tracking" / "compare-tracking.toml").read_text()
+    assert "n = 200" in text and "\nt_end = 60.0" in text
+    return text.replace("n = 200", "n = 3").replace("\nt_end = 60.0", "\nt_end = 8.0")
+
+
+@pytest.mark.skipif(shutil.which("cargo") is None, reason="cargo is not on PATH: cannot build wmr-cli to compare with")
+def test_sweep_over_references_is_the_clis(tmp_path: pathlib.Path) -> None:
+    """A sweep over references (every tracking law on every reference, issue 23) from
+    Python: the CLI's table, and per run its reference, status and tracking errors, bit for
+    bit the CLI's outcome CSV; an outside executor's parts give the same arrays."""
+    from test_scenario import build_cli
+
+    scenario = tmp_path / "ct.toml"
+    scenario.write_text(_small_compare_tracking())
+    out = tmp_path / "ct.csv"
+    done = subprocess.run(
+        [str(build_cli()), "sweep", str(scenario), "-o", str(out)], check=True, capture_output=True, timeout=600
+    )
+    res = wmr_py.sweep(str(scenario))
+    assert res.references == ["circle", "figure_eight", "waypoints"]
+    assert res.tracking_tolerance == 0.01
+    assert res.table.strip() in done.stdout.decode()
+    with open(out, newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == len(res) == 27
+    status = np.where(res.converged, "converged", np.where(res.diverged, "diverged", "unsettled"))
+    for i, row in enumerate(rows):
+        assert (res.law[i], res.reference[i], int(res.start[i])) == (row["law"], row["reference"], int(row["start"]))
+        assert status[i] == row["status"], i
+        for name in ("rms_error", "max_error", "final_error"):
+            assert res[name][i] == float(row[f"{name}_m"]), (i, name)
+        ttt = row["time_to_tolerance_s"]
+        assert (np.isnan(res.time_to_tolerance[i]) and ttt in ("", "NaN")) or res.time_to_tolerance[i] == float(ttt)
+    df = res.to_pandas()
+    assert list(df["reference"][:3]) == ["circle"] * 3
+    ds = res.to_xarray()
+    assert dict(ds.sizes) == {"law": 3, "reference": 3, "start": 3}
+
+    class Inline:
+        """An executor that runs each part at once, in order (the parts' rows, not the threads)."""
+
+        def submit(self, fn, *args):
+            value = fn(*args)
+
+            class Done:
+                def result(self):
+                    return value
+
+            return Done()
+
+    again = wmr_py.sweep(str(scenario), executor=Inline(), chunk_size=5)
+    assert again.table == res.table
+    for name in ("reference", "converged", "diverged", "rms_error", "max_error", "time_to_tolerance", "final_error"):
+        np.testing.assert_array_equal(np.asarray(again[name]), np.asarray(res[name]), err_msg=name)

@@ -408,7 +408,7 @@ def sweep(
         parts = _results.chunks(n, chunk_size)
         tasks = [(text, a, b, fast) for a, b in parts]
         rows = _results.run_tasks(executor, _results.sweep_task, tasks, bar, [b - a for a, b in parts])
-        stacked = np.concatenate(rows) if rows else np.zeros((0, 22))
+        stacked = np.concatenate(rows) if rows else np.zeros((0, _native._SWEEP_ROW_LEN))
         return SweepResult(_native._sweep_gather(text, stacked))
     finally:
         if bar is not None:

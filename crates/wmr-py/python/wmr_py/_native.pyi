@@ -646,6 +646,7 @@ ODOMETRY_UNITS: Tuple[str, ...]
 CONTACT_COLUMNS: Tuple[str, ...]
 CONTACT_UNITS: Tuple[str, ...]
 OUTCOME_FIELDS: Tuple[str, ...]
+_SWEEP_ROW_LEN: int
 ARRIVAL_RADIUS_M: float
 REFERENCE_COLUMNS: Tuple[str, ...]
 REFERENCE_UNITS: Tuple[str, ...]

@@ -163,9 +163,12 @@ class SweepResult(_Entries):
     variant, trial and start order: ``law`` (list of names), ``start`` (int64), ``x0``,
     ``y0`` (m), ``theta0`` (rad), the outcome arrays of ``run_batch``, one array per
     varied key of ``[sweep] vary`` (the value each run used), and ``table`` (the CLI's
-    comparison table).
+    comparison table). A sweep over references (``[sweep] references``) adds ``reference``
+    (the reference's name per run) and the tracking arrays (``rms_error`` ...
+    ``final_error``); its ``converged``/``diverged`` are the tracking rule's.
 
-    Attributes: ``laws`` (names, in order), ``varied`` ({key: "values", "uniform" or
+    Attributes: ``laws`` (names, in order), ``references`` (names, in order; empty for a
+    sweep towards a goal), ``tracking_tolerance`` (m, or None), ``varied`` ({key: "values", "uniform" or
     "normal"}), ``trials``, ``scenario_toml`` (the resolved scenario), ``seed`` (of the
     draws), ``starts_seed`` (of random starts, or None), ``goal``, ``version`` (wmr's);
     every entry reads as an attribute too (``res.table``, ``res["table"]``; ``res.law`` is
@@ -173,6 +176,8 @@ class SweepResult(_Entries):
     """
 
     laws: list
+    references: list
+    tracking_tolerance: Optional[float]
     varied: dict
     trials: int
     scenario_toml: str
@@ -187,6 +192,8 @@ class SweepResult(_Entries):
         self.trial = meta.get("trial")
         super().__init__(data)
         self.laws = list(meta.get("laws", []))
+        self.references = list(meta.get("references", []))
+        self.tracking_tolerance = meta.get("tracking_tolerance")
         self.varied = dict(meta.get("varied", {}))
         self.trials = int(meta.get("trials", 1))
         self.scenario_toml = meta.get("scenario_toml", "")
@@ -199,10 +206,13 @@ class SweepResult(_Entries):
         return len(self["start"]) if "start" in self else 0
 
     def to_pandas(self) -> Any:
-        """One row per run (law and start, variant, trial): law, start, x0, y0, theta0,
-        the varied keys, trial (when trials > 1), status and the outcome columns."""
+        """One row per run (law, reference, start, variant, trial): law, reference (a sweep
+        over references), start, x0, y0, theta0, the varied keys, trial (when trials > 1),
+        status and the outcome columns (and the tracking ones)."""
         pd = require("pandas", "SweepResult.to_pandas()")
         data: dict = {"law": np.asarray(self["law"], dtype=object)}
+        if self.references:
+            data["reference"] = np.asarray(self["reference"], dtype=object)
         for k in ("start", "x0", "y0", "theta0"):
             data[k] = self[k]
         for k in self.varied:
@@ -216,7 +226,9 @@ class SweepResult(_Entries):
         return pd.DataFrame(data)
 
     def to_xarray(self) -> Any:
-        """The sweep as an ``xarray.Dataset`` with dimensions ``law`` x (one per varied key
+        """The sweep as an ``xarray.Dataset`` with dimensions ``law`` x (``reference`` for a
+        sweep over references, whose start poses are then data variables: each reference
+        has its own) x (one per varied key
         with ``values``) x (``trial`` when trials > 1) x ``start``; the start poses ``x0``,
         ``y0``, ``theta0`` as coordinates along ``start``. Keys varied one at a time fill
         the cells where the other keys are nominal (NaN elsewhere, and ``converged`` /
@@ -231,6 +243,9 @@ class SweepResult(_Entries):
         n_starts = int(starts.max()) + 1 if len(starts) else 0
         coords: dict = {"law": self.laws}
         idx = [np.array([self.laws.index(name) for name in self["law"]], dtype=np.int64)]
+        if self.references:
+            coords["reference"] = self.references
+            idx.append(np.array([self.references.index(name) for name in self["reference"]], dtype=np.int64))
         for k in axis_keys:
             values = np.unique(self[k])
             coords[k] = values
@@ -247,7 +262,8 @@ class SweepResult(_Entries):
         cells, first = np.unique(flat, return_index=True)
         dense = len(cells) == math.prod(shape)
         data_vars = {}
-        for k in [*OUTCOME_FIELDS, *(f for f in TRACKING_FIELDS if f in self), *drawn_keys]:
+        poses = ["x0", "y0", "theta0"] if self.references else []
+        for k in [*OUTCOME_FIELDS, *(f for f in TRACKING_FIELDS if f in self), *drawn_keys, *poses]:
             col = np.asarray(self[k])
             if col.dtype == bool and dense:
                 arr = np.zeros(shape, dtype=bool)
@@ -255,13 +271,14 @@ class SweepResult(_Entries):
                 arr = np.full(shape, np.nan)
             arr.reshape(-1)[cells] = col[first]
             data_vars[k] = (dims, arr)
-        x0 = np.zeros(n_starts)
-        y0 = np.zeros(n_starts)
-        t0 = np.zeros(n_starts)
-        x0[starts], y0[starts], t0[starts] = self["x0"], self["y0"], self["theta0"]
-        coords["x0"] = ("start", x0)
-        coords["y0"] = ("start", y0)
-        coords["theta0"] = ("start", t0)
+        if not self.references:
+            x0 = np.zeros(n_starts)
+            y0 = np.zeros(n_starts)
+            t0 = np.zeros(n_starts)
+            x0[starts], y0[starts], t0[starts] = self["x0"], self["y0"], self["theta0"]
+            coords["x0"] = ("start", x0)
+            coords["y0"] = ("start", y0)
+            coords["theta0"] = ("start", t0)
         attrs = {
             "scenario": self.scenario_toml,
             "seed": self.seed,
@@ -400,7 +417,7 @@ def _in_worker(call: Callable[[], Any]) -> Any:
 
 
 def sweep_task(text: str, first: int, last: int, fast: bool = False) -> np.ndarray:
-    """Runs first..last of a sweep on one thread: an (n, 22) array of outcome rows."""
+    """Runs first..last of a sweep on one thread: an (n, _SWEEP_ROW_LEN) array of outcome rows."""
     return _in_worker(lambda: _native._sweep_part(text, first, last, fast))
 
 

@@ -9,6 +9,7 @@ use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use wmr_core::tracking::TrackingOutcome;
 use wmr_core::{Outcome, Pose2, Termination};
 use wmr_scenario::{Scenario, SweepOutcome};
 
@@ -30,15 +31,21 @@ pub fn sweep_plan(scenario: &Bound<'_, PyAny>) -> PyResult<(String, usize)> {
 }
 
 /// Values per run in the rows of `_sweep_part` (see [`outcome_row`]).
-const ROW_LEN: usize = 22;
+pub const SWEEP_ROW_LEN: usize = 30;
+const ROW_LEN: usize = SWEEP_ROW_LEN;
 
 /// One sweep outcome as floats (exact: indices below 2^53, f64 values as they are):
 /// law, variant, trial, run, start index, start (3), diverged, t_final, final pose (3),
 /// goal (3), final_dl, final heading error, time to 1 cm (NaN: never), peak wheel speed,
-/// path length, energy.
+/// path length, energy; then the reference's index, 1 when the run has a tracking outcome
+/// (0: none, the 6 values after it NaN), and that outcome: RMS and max error over the last
+/// half, max over the last tenth, time to the tolerance (NaN: never), final error,
+/// tolerance.
 fn outcome_row(o: &SweepOutcome) -> [f64; ROW_LEN] {
     let u = &o.outcome;
     let termination = f64::from(u.termination.code());
+    let t = o.tracking.as_ref();
+    let tr = |get: fn(&TrackingOutcome<f64>) -> f64| t.map_or(f64::NAN, get);
     [
         o.law as f64,
         o.variant as f64,
@@ -62,6 +69,14 @@ fn outcome_row(o: &SweepOutcome) -> [f64; ROW_LEN] {
         u.peak_wheel_speed,
         u.path_length,
         u.energy,
+        o.reference as f64,
+        f64::from(u8::from(t.is_some())),
+        tr(|t| t.rms_last_half),
+        tr(|t| t.max_last_half),
+        tr(|t| t.max_last_tenth),
+        tr(|t| t.time_to_tolerance.unwrap_or(f64::NAN)),
+        tr(|t| t.final_error),
+        tr(|t| t.tolerance),
     ]
 }
 
@@ -88,9 +103,19 @@ fn row_outcome(r: &[f64]) -> Option<SweepOutcome> {
             path_length: r[20],
             energy: r[21],
         },
-        // Python refuses a sweep over references (`sweep_of`): its runs go to a goal.
-        reference: 0,
-        tracking: None,
+        reference: index(r[22])?,
+        tracking: match r[23] {
+            0.0 => None,
+            1.0 => Some(TrackingOutcome {
+                rms_last_half: r[24],
+                max_last_half: r[25],
+                max_last_tenth: r[26],
+                time_to_tolerance: (!r[27].is_nan()).then_some(r[27]),
+                final_error: r[28],
+                tolerance: r[29],
+            }),
+            _ => return None,
+        },
         // The rows of an outside executor's parts carry the outcome only (not the drift).
         odometry_drift: None,
     })
@@ -102,7 +127,7 @@ fn parse_text(text: &str) -> PyResult<Scenario> {
 }
 
 /// Runs `first..last` of the sweep of `text` (from `_sweep_plan`) on one thread, GIL
-/// released: the work of one outside executor's task. Returns an (n, 22) float64 array,
+/// released: the work of one outside executor's task. Returns an (n, 30) float64 array,
 /// one row per run, which `_sweep_gather` puts together.
 #[pyfunction(name = "_sweep_part")]
 #[pyo3(signature = (text, first, last, fast=false))]
@@ -159,8 +184,13 @@ pub fn sweep_gather<'py>(py: Python<'py>, text: &str, rows: &Bound<'py, PyAny>) 
     let mut outcomes = Vec::with_capacity(rows.nrows());
     for (k, r) in rows.rows().into_iter().enumerate() {
         let r = r.to_vec();
-        let o =
-            row_outcome(&r).filter(|o| o.run == k as u64 && o.law < spec.laws.len() && o.variant < spec.variants.len());
+        let o = row_outcome(&r).filter(|o| {
+            o.run == k as u64
+                && o.law < spec.laws.len()
+                && o.variant < spec.variants.len()
+                && o.reference < spec.n_references()
+                && o.tracking.is_some() == spec.tracking.is_some()
+        });
         outcomes.push(o.ok_or_else(|| parameter_error(&format!("rows[{k}]"), "is not the outcome of run {k}"))?);
     }
     sweep_dict(py, &sc, spec, &outcomes)

@@ -9,25 +9,14 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wmr_scenario::{Scenario, StartsSource, SweepOutcome, SweepSpec};
 
-use super::outcomes::outcome_dict;
+use super::outcomes::{add_tracking_arrays, outcome_dict};
 use super::source::scenario_arg;
 use crate::error::{scenario_error, to_py};
 use crate::interrupt::{Progress, interruptible_with};
 
 /// The parsed sweep of a scenario, or a `ScenarioError` naming `sweep`.
 pub(super) fn sweep_of(sc: &Scenario) -> PyResult<&SweepSpec> {
-    let spec = sc
-        .sweep()
-        .ok_or_else(|| scenario_error("sweep", None, "sweep: the scenario has no [sweep] table".to_owned()))?;
-    // Its rows carry no tracking outcome yet: refused, not judged as a run to a goal.
-    if spec.tracking.is_some() {
-        return Err(scenario_error(
-            "sweep",
-            None,
-            "sweep: a sweep over a reference runs with `wmr-cli sweep` only, for now".to_owned(),
-        ));
-    }
-    Ok(spec)
+    sc.sweep().ok_or_else(|| scenario_error("sweep", None, "sweep: the scenario has no [sweep] table".to_owned()))
 }
 
 /// Runs a scenario's `[sweep]` (every law from every start, rayon, GIL released) and
@@ -35,7 +24,11 @@ pub(super) fn sweep_of(sc: &Scenario) -> PyResult<&SweepSpec> {
 /// `start` (int64), `x0`, `y0` (m), `theta0` (rad), the outcome arrays of `run_batch`
 /// (`final_x` ... `energy`, `converged`, `diverged`), one array per varied key, and
 /// `table`, the comparison `wmr-cli sweep` prints; `_meta`: the laws, the varied keys, the
-/// resolved scenario (TOML) and the seeds. `progress`: as for `run_scenario`, counting runs.
+/// resolved scenario (TOML) and the seeds. A sweep over references adds `reference` (the
+/// reference's name per run) and the tracking arrays of `run_batch` (`rms_error` ...
+/// `final_error`, m and s), its `converged`/`diverged` are the tracking rule's and its
+/// `table` is the CLI's tracking table; `_meta` then names the references and the
+/// tolerance. `progress`: as for `run_scenario`, counting runs.
 #[pyfunction(name = "_sweep")]
 #[pyo3(signature = (scenario, progress=None, fast=false))]
 pub fn sweep<'py>(
@@ -84,8 +77,20 @@ pub(super) fn sweep_dict<'py>(
     for (j, k) in spec.variation.keys.iter().enumerate() {
         d.set_item(k.key.as_str(), PyArray1::from_vec(py, values.iter().map(|v| v[j]).collect()))?;
     }
-    d.set_item("table", wmr_scenario::summary_table(&wmr_scenario::summarize(spec, outcomes)))?;
     let meta = PyDict::new(py);
+    match &spec.tracking {
+        None => d.set_item("table", wmr_scenario::summary_table(&wmr_scenario::summarize(spec, outcomes)))?,
+        Some(tr) => {
+            let names: Vec<&str> = outcomes.iter().map(|o| tr.references[o.reference].0.as_str()).collect();
+            d.set_item("reference", names)?;
+            let status: Vec<_> = outcomes.iter().map(SweepOutcome::status).collect();
+            add_tracking_arrays(&d, outcomes.iter().map(|o| o.tracking.as_ref()), &status)?;
+            let summary = wmr_scenario::tracking_summary(spec, outcomes);
+            d.set_item("table", wmr_scenario::tracking_summary_table(&summary, tr.tolerance))?;
+            meta.set_item("references", tr.references.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>())?;
+            meta.set_item("tracking_tolerance", tr.tolerance)?;
+        }
+    }
     meta.set_item("laws", spec.laws.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>())?;
     let varied = PyDict::new(py);
     for k in &spec.variation.keys {
