@@ -699,6 +699,7 @@ __all__ = [
     "_time_run_rust",
     "__version__",
     "COLUMNS",
+    "_SWEEP_ROW_LEN",
     "COLUMN_UNITS",
     "CSV_COLUMNS",
     "MEASURED_COLUMNS",
