@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use anyhow::Result;
-use wmr_core::Sample;
+use wmr_core::{Pose2, Reference, Sample};
 use wmr_plot::{Trace, errors_svg, paths_svg, wheel_speeds_svg};
 use wmr_scenario::{Scenario, executor, shown};
 
@@ -110,11 +110,18 @@ pub fn plot(scenario: &Scenario, file: &Path, dir: &Path) -> Result<Vec<String>>
     })
     .into_iter()
     .collect::<Result<_, _>>()?;
+    // A tracking run's reference pose at each sample's time, as the CSV's x_ref ... columns.
+    let reference = scenario.tracking().map(|t| t.reference.built);
+    let refs: Vec<Vec<Pose2<f64>>> = samples
+        .iter()
+        .map(|s| reference.map_or_else(Vec::new, |r| s.iter().map(|x| Reference::state_at(&r, x.t).pose).collect()))
+        .collect();
     let traces: Vec<Trace<'_>> = scenario
         .runs()
         .iter()
         .zip(&samples)
-        .map(|(r, s)| Trace { label: &r.label, goal: r.goal, samples: s })
+        .zip(&refs)
+        .map(|((r, s), reference)| Trace { label: &r.label, goal: r.goal, samples: s, reference })
         .collect();
     let mut written = Vec::new();
     let mut put = |name: String, svg: String| -> Result<()> {
@@ -152,7 +159,12 @@ fn plot_sweep(scenario: &Scenario, spec: &wmr_scenario::SweepSpec, dir: &Path) -
             .laws
             .iter()
             .enumerate()
-            .map(|(i, (name, _))| Trace { label: name, goal: spec.goal, samples: &samples[k * n_laws + i] })
+            .map(|(i, (name, _))| Trace {
+                label: name,
+                goal: spec.goal,
+                samples: &samples[k * n_laws + i],
+                reference: &[],
+            })
             .collect();
         let title = format!(
             "{}: every law from ({}, {}, {} deg)",

@@ -12,7 +12,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut sim = ClosedLoop::new(plant, ctrl, FixedGoal::new(goal)?, 1e-3)?;
     let mut samples = Vec::new();
     sim.run(60_000, 10, |s| samples.push(*s));
-    let trace = Trace { label: "(0,0,0) -> (1,1,120 deg)", goal, samples: &samples };
+    let trace = Trace { label: "(0,0,0) -> (1,1,120 deg)", goal, samples: &samples, reference: &[] };
     std::fs::write("fig7.svg", paths_svg("Fig. 7: path of C", &[trace])?)?;
     std::fs::write("fig8.svg", wheel_speeds_svg("Fig. 8: wheel speeds", &trace)?)?;
     std::fs::write("fig9.svg", errors_svg("Fig. 9: errors", &trace)?)?;

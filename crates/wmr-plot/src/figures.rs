@@ -67,19 +67,45 @@ fn spread_along_path(samples: &[Sample<f64>], goal: Pose2<f64>, n: usize) -> Vec
         .collect()
 }
 
+/// The finite points of a reference path up to where it first comes back to its start
+/// pose (one lap of a circle or a figure-eight): a second lap drawn over the first would fill
+/// the gaps of its dashes.
+fn first_lap(r: &[Pose2<f64>]) -> Vec<Pose2<f64>> {
+    let pts: Vec<Pose2<f64>> = r.iter().copied().filter(|p| p.x.is_finite() && p.y.is_finite()).collect();
+    let step = pts.windows(2).map(|w| (w[1].x - w[0].x).hypot(w[1].y - w[0].y)).fold(0.0, f64::max);
+    let Some(start) = pts.first().copied() else { return pts };
+    // At the start with its heading (a figure-eight crosses its start at half a lap).
+    let near = |p: &Pose2<f64>| {
+        (p.x - start.x).hypot(p.y - start.y) <= 0.5 * step && wrap_angle(p.theta - start.theta).abs() < 0.1
+    };
+    // Back at the start after having left it (by more than 10 steps).
+    let away = pts.iter().position(|p| (p.x - start.x).hypot(p.y - start.y) > 10.0 * step);
+    match away.and_then(|a| pts[a..].iter().position(near).map(|k| a + k)) {
+        Some(end) => pts[..=end].to_vec(),
+        None => pts,
+    }
+}
+
+/// Ink and dash pattern of a tracking run's reference path: dark grey, long dashes.
+const REFERENCE_INK: &str = "#404040";
+const REFERENCE_DASH: &str = "7 4";
+
 /// Paths of C in the plane, one colour per run carried to its start dot and goal arrow,
 /// with arrows showing the heading along the way (a robot backing up has its arrows
 /// pointing against its travel). Equal scale on x and y; the axes fit the starts, the
 /// goals and every run that stays near its goal: a run that goes far (or diverges) is
 /// clipped at the frame and marked with a cross where it leaves (the paper's Figs. 4-7).
+/// Tracking runs ([`Trace::reference`]) have their reference path, dashed, instead of goals.
 pub fn paths_svg(title_text: &str, traces: &[Trace<'_>]) -> Result<String, PlotError> {
     if traces.is_empty() {
         return Err(PlotError::new("no run to plot"));
     }
     let far = far_radius(traces);
     let far_runs: Vec<bool> = traces.iter().map(|t| goes_far(t, far)).collect();
-    let mut xs = Vec::new();
-    let mut ys = Vec::new();
+    // Tracking runs follow one reference: drawn once, dashed, in place of the goals.
+    let reference = traces.iter().map(|t| t.reference).find(|r| !r.is_empty());
+    let mut xs: Vec<f64> = reference.iter().flat_map(|r| r.iter().map(|p| p.x)).collect();
+    let mut ys: Vec<f64> = reference.iter().flat_map(|r| r.iter().map(|p| p.y)).collect();
     // The goal arrows' tips too (drawn GOAL_LEN long, about 8 % of the frame's width):
     // 8 % of the starts-to-goals extent, at least 5 cm.
     let reach = 0.08
@@ -88,8 +114,10 @@ pub fn paths_svg(title_text: &str, traces: &[Trace<'_>]) -> Result<String, PlotE
             .filter_map(|t| t.samples.first().map(|s| (t.goal.x - s.state.x).abs().max((t.goal.y - s.state.y).abs())))
             .fold(0.6, f64::max);
     for (t, is_far) in traces.iter().zip(&far_runs) {
-        xs.extend([t.goal.x, t.goal.x + reach * t.goal.theta.cos()]);
-        ys.extend([t.goal.y, t.goal.y + reach * t.goal.theta.sin()]);
+        if reference.is_none() {
+            xs.extend([t.goal.x, t.goal.x + reach * t.goal.theta.cos()]);
+            ys.extend([t.goal.y, t.goal.y + reach * t.goal.theta.sin()]);
+        }
         if *is_far {
             if let Some(s) = t.samples.first() {
                 xs.push(s.state.x);
@@ -118,7 +146,11 @@ pub fn paths_svg(title_text: &str, traces: &[Trace<'_>]) -> Result<String, PlotE
         .collect();
     entries.push(Entry::math("start", Key::Dot("#404040")));
     entries.push(Entry::math("heading on the way", Key::Arrow("#404040")));
-    entries.push(Entry::math("goal and its heading", Key::GoalArrow("#404040")));
+    if reference.is_some() {
+        entries.push(Entry::math("reference", Key::Line(REFERENCE_INK, Some(REFERENCE_DASH))));
+    } else {
+        entries.push(Entry::math("goal and its heading", Key::GoalArrow("#404040")));
+    }
     if far_runs.iter().any(|f| *f) {
         entries.push(Entry::math("leaves the plot", Key::Cross("#404040")));
     }
@@ -159,11 +191,16 @@ pub fn paths_svg(title_text: &str, traces: &[Trace<'_>]) -> Result<String, PlotE
         let p = panel.p((g.x, g.y));
         (p, (p.0 + GOAL_LEN * g.theta.cos(), p.1 - GOAL_LEN * g.theta.sin()))
     };
+    let reference_path: Vec<Point> =
+        reference.map(first_lap).unwrap_or_default().into_iter().map(|p| panel.p((p.x, p.y))).collect();
     let mut ink = Ink::default();
+    ink.line(&reference_path);
     for (t, path) in traces.iter().zip(&paths) {
         ink.line(path);
-        let (g, tip) = goal_tip(t.goal);
-        ink.line(&[g, tip]);
+        if reference.is_none() {
+            let (g, tip) = goal_tip(t.goal);
+            ink.line(&[g, tip]);
+        }
         if let Some(s) = t.samples.first() {
             ink.point(panel.p((s.state.x, s.state.y)));
         }
@@ -181,6 +218,10 @@ pub fn paths_svg(title_text: &str, traces: &[Trace<'_>]) -> Result<String, PlotE
         for &(a, b) in arrows {
             svg.arrow(a, b, HEADING_HEAD, Stroke { opacity: 0.9, ..Stroke::solid(color(i), 0.9) });
         }
+    }
+    // On top: a run that tracks well lies on its reference, which must still show.
+    if !reference_path.is_empty() {
+        svg.polyline(&reference_path, Stroke { dash: Some(REFERENCE_DASH), ..Stroke::solid(REFERENCE_INK, 1.0) });
     }
     svg.end_clip();
     for (i, t) in traces.iter().enumerate() {
@@ -202,7 +243,11 @@ pub fn paths_svg(title_text: &str, traces: &[Trace<'_>]) -> Result<String, PlotE
             }
         }
         // A goal shared by several runs is drawn once, in dark grey (its colour would be
-        // the last run's); a goal of its own takes its run's colour.
+        // the last run's); a goal of its own takes its run's colour. A tracking run has
+        // its reference instead.
+        if reference.is_some() {
+            continue;
+        }
         let shared = traces.iter().filter(|o| o.goal == t.goal).count() > 1;
         if shared && traces[..i].iter().any(|o| o.goal == t.goal) {
             continue;
@@ -375,18 +420,33 @@ pub fn wheel_speeds_svg(title_text: &str, trace: &Trace<'_>) -> Result<String, P
 /// The law's errors over time (the paper's Fig. 9): the distance dl and the position error
 /// e_s (m) in one panel; the heading error e_theta the law steers by and the true heading
 /// error theta_d - theta (deg) in another (for the paper's law e_theta is measured towards
-/// the moving false target, so the two differ).
+/// the moving false target, so the two differ). A tracking run's distance is to its
+/// reference point and its true heading error theta_ref - theta.
 pub fn errors_svg(title_text: &str, trace: &Trace<'_>) -> Result<String, PlotError> {
     let t: Vec<f64> = trace.samples.iter().map(|s| s.t).collect();
+    let tracking = trace.reference.len() == trace.samples.len() && !trace.samples.is_empty();
     let dist = vec![
-        Series { name: "distance dl (m)", index: 0, values: trace.samples.iter().map(|s| s.errors.dl).collect() },
+        Series {
+            name: if tracking { "distance to the reference dl (m)" } else { "distance dl (m)" },
+            index: 0,
+            values: trace.samples.iter().map(|s| s.errors.dl).collect(),
+        },
         Series {
             name: "position error e_s (m)",
             index: 1,
             values: trace.samples.iter().map(|s| s.errors.e_s).collect(),
         },
     ];
-    let goal = trace.goal.theta;
+    let true_heading: Vec<f64> = if tracking {
+        trace
+            .samples
+            .iter()
+            .zip(trace.reference)
+            .map(|(s, r)| wrap_angle(r.theta - s.state.theta).to_degrees())
+            .collect()
+    } else {
+        trace.samples.iter().map(|s| wrap_angle(trace.goal.theta - s.state.theta).to_degrees()).collect()
+    };
     let heading = vec![
         Series {
             name: "heading error e_θ (deg)",
@@ -394,9 +454,7 @@ pub fn errors_svg(title_text: &str, trace: &Trace<'_>) -> Result<String, PlotErr
             values: trace.samples.iter().map(|s| s.errors.e_theta.to_degrees()).collect(),
         },
         Series {
-            name: "θ_d − θ (deg)",
-            index: 3,
-            values: trace.samples.iter().map(|s| wrap_angle(goal - s.state.theta).to_degrees()).collect(),
+            name: if tracking { "θ_ref − θ (deg)" } else { "θ_d − θ (deg)" }, index: 3, values: true_heading
         },
     ];
     time_panels(title_text, &t, &[("distance, error (m)", dist), ("heading error (deg)", heading)])

@@ -33,6 +33,10 @@ pub struct Trace<'a> {
     pub goal: Pose2<f64>,
     /// Logged samples, in time order.
     pub samples: &'a [Sample<f64>],
+    /// A tracking run's reference pose of C at each sample's time (m, m, rad); empty for a
+    /// run to a goal. The path figure draws it dashed instead of the goal, the errors
+    /// figure measures the heading against it.
+    pub reference: &'a [Pose2<f64>],
 }
 
 /// A plot could not be drawn.

@@ -143,7 +143,8 @@ fn assert_legend_inside(svg: &str, frame_index: usize, labels: &[&str]) {
 #[test]
 fn the_paths_legend_sits_in_the_plot_corner_that_hides_the_fewest_data_points() {
     let runs = fig4_runs();
-    let traces: Vec<Trace<'_>> = runs.iter().map(|(l, g, s)| Trace { label: l, goal: *g, samples: s }).collect();
+    let traces: Vec<Trace<'_>> =
+        runs.iter().map(|(l, g, s)| Trace { label: l, goal: *g, samples: s, reference: &[] }).collect();
     let svg = paths_svg("Fig. 4", &traces).unwrap();
     let labels: Vec<&str> = runs.iter().map(|(l, _, _)| l.as_str()).chain(["start"]).collect();
     assert_legend_inside(&svg, 0, &labels);
@@ -153,7 +154,7 @@ fn the_paths_legend_sits_in_the_plot_corner_that_hides_the_fewest_data_points() 
 fn time_plots_and_share_curves_keep_their_legends_inside_the_plot() {
     let goal = Pose2::new(1.0, 1.0, 120f64.to_radians());
     let s = run(Pose2::default(), goal, 30);
-    let trace = Trace { label: "fig7", goal, samples: &s };
+    let trace = Trace { label: "fig7", goal, samples: &s, reference: &[] };
     let speeds = wheel_speeds_svg("Fig. 8", &trace).unwrap();
     assert_legend_inside(&speeds, 0, &["right wheel ω", "left wheel ω"]);
     let errors = errors_svg("Fig. 9", &trace).unwrap();
@@ -170,7 +171,8 @@ fn time_plots_and_share_curves_keep_their_legends_inside_the_plot() {
 #[test]
 fn the_plot_takes_the_width_the_legend_freed() {
     let runs = fig4_runs();
-    let traces: Vec<Trace<'_>> = runs.iter().map(|(l, g, s)| Trace { label: l, goal: *g, samples: s }).collect();
+    let traces: Vec<Trace<'_>> =
+        runs.iter().map(|(l, g, s)| Trace { label: l, goal: *g, samples: s, reference: &[] }).collect();
     let svg = paths_svg("Fig. 4", &traces).unwrap();
     let doc = roxmltree::Document::parse(&svg).unwrap();
     let page_w =
@@ -242,7 +244,7 @@ fn heading_arrows_are_sized_to_the_page_and_visible_at_column_width() {
         (Pose2::new(0.0, 0.0, 0.0), Pose2::new(0.1, 0.05, 0.0), 10),
     ] {
         let s = run(start, goal, secs);
-        let svg = paths_svg("arrows", &[Trace { label: "run", goal, samples: &s }]).unwrap();
+        let svg = paths_svg("arrows", &[Trace { label: "run", goal, samples: &s, reference: &[] }]).unwrap();
         let doc = roxmltree::Document::parse(&svg).unwrap();
         let page_w =
             doc.root_element().attribute("viewBox").unwrap().split_whitespace().nth(2).unwrap().parse::<f64>().unwrap();
@@ -273,7 +275,7 @@ fn heading_arrows_are_sized_to_the_page_and_visible_at_column_width() {
 fn every_axis_of_every_figure_names_its_unit() {
     let goal = Pose2::new(1.0, 1.0, 120f64.to_radians());
     let s = run(Pose2::default(), goal, 20);
-    let trace = Trace { label: "fig7", goal, samples: &s };
+    let trace = Trace { label: "fig7", goal, samples: &s, reference: &[] };
     let cells = [SweepCell { x: 1.0, y: 0.5, theta: 0.0, outcome: Status::Converged }];
     let series = [("paper", vec![(0.0, 0.8), (0.01, 0.5)])];
     let figures = [

@@ -31,8 +31,8 @@ fn paths_plot_one_curve_per_run_in_its_own_colour_with_its_goal_marker() {
     let a = run(Pose2::default(), goal_a, 20);
     let b = run(Pose2::default(), goal_b, 20);
     let traces = [
-        Trace { label: "theta_d = 120 deg", goal: goal_a, samples: &a },
-        Trace { label: "theta_d = 0 deg", goal: goal_b, samples: &b },
+        Trace { label: "theta_d = 120 deg", goal: goal_a, samples: &a, reference: &[] },
+        Trace { label: "theta_d = 0 deg", goal: goal_b, samples: &b, reference: &[] },
     ];
     let svg = paths_svg("Fig. 4", &traces).unwrap();
     let doc = roxmltree::Document::parse(&svg).expect("valid XML");
@@ -55,7 +55,7 @@ fn paths_plot_one_curve_per_run_in_its_own_colour_with_its_goal_marker() {
 fn figures_print_at_their_size_with_fonts_of_at_least_8_pt_and_smooth_curves() {
     let goal = Pose2::new(1.0, 1.0, 120f64.to_radians());
     let s = run(Pose2::default(), goal, 10);
-    let trace = Trace { label: "fig7", goal, samples: &s };
+    let trace = Trace { label: "fig7", goal, samples: &s, reference: &[] };
     for svg in [paths_svg("Fig. 7", &[trace]).unwrap(), wheel_speeds_svg("Fig. 8", &trace).unwrap()] {
         let doc = roxmltree::Document::parse(&svg).expect("valid XML");
         let root = doc.root_element();
@@ -75,7 +75,7 @@ fn figures_print_at_their_size_with_fonts_of_at_least_8_pt_and_smooth_curves() {
 fn time_plots_have_one_curve_per_series_and_a_detail_panel_after_a_start_up_spike() {
     let goal = Pose2::new(1.0, 1.0, 120f64.to_radians());
     let s = run(Pose2::default(), goal, 30);
-    let trace = Trace { label: "fig7", goal, samples: &s };
+    let trace = Trace { label: "fig7", goal, samples: &s, reference: &[] };
     let speeds = wheel_speeds_svg("Fig. 8", &trace).unwrap();
     let doc = roxmltree::Document::parse(&speeds).unwrap();
     // Two wheels, drawn in the full panel and again in the detail panel.
@@ -99,7 +99,10 @@ fn a_run_that_goes_far_is_clipped_and_does_not_stretch_the_axes() {
             s
         })
         .collect();
-    let traces = [Trace { label: "near", goal, samples: &near }, Trace { label: "far", goal, samples: &far }];
+    let traces = [
+        Trace { label: "near", goal, samples: &near, reference: &[] },
+        Trace { label: "far", goal, samples: &far, reference: &[] },
+    ];
     let svg = paths_svg("clipped", &traces).unwrap();
     let doc = roxmltree::Document::parse(&svg).unwrap();
     let largest = numbers(&doc).into_iter().filter(|v| v.abs() < 1e6).fold(0.0f64, |m, v| m.max(v.abs()));
@@ -203,4 +206,42 @@ fn a_region_map_of_many_starts_is_drawn_as_bins() {
             assert_eq!(r.attribute("fill"), Some(colour_of(s)));
         }
     }
+}
+
+/// A tracking run (issue 23): its reference is drawn once, dashed, on top of the runs and
+/// one lap long (a second lap over the first would fill its dashes' gaps), with no goal
+/// marker; the errors figure measures the true heading against the reference.
+#[test]
+fn a_tracking_run_has_its_reference_dashed_and_no_goal() {
+    let goal = Pose2::new(1.0, 1.0, 0.0);
+    let s = run(Pose2::default(), goal, 20);
+    // Two laps of a 1 m circle around (0, 1), counter-clockwise, over the samples' times.
+    let period = s.last().unwrap().t / 2.0;
+    let reference: Vec<Pose2<f64>> = s
+        .iter()
+        .map(|x| {
+            let phi = -std::f64::consts::FRAC_PI_2 + std::f64::consts::TAU * x.t / period;
+            Pose2::new(phi.cos(), 1.0 + phi.sin(), phi + std::f64::consts::FRAC_PI_2)
+        })
+        .collect();
+    let trace = Trace { label: "kanayama", goal, samples: &s, reference: &reference };
+    let svg = paths_svg("circle", &[trace]).unwrap();
+    let doc = roxmltree::Document::parse(&svg).expect("valid XML");
+    let dashed: Vec<_> =
+        curves(&doc, 10).into_iter().filter(|n| n.attribute("stroke-dasharray") == Some("7 4")).collect();
+    assert_eq!(dashed.len(), 1, "one dashed reference");
+    let n = dashed[0].attribute("points").unwrap().split_whitespace().count();
+    assert!(n > s.len() / 3 && n < s.len() * 2 / 3, "one lap of two: {n} of {} points", s.len());
+    // Drawn after (on top of) the run's own path.
+    let all = curves(&doc, 10);
+    assert_eq!(all.last().and_then(|c| c.attribute("stroke-dasharray")), Some("7 4"));
+    assert!(svg.contains(">reference<"), "the legend names it");
+    assert!(!svg.contains("goal and its heading"), "no goal in a tracking figure");
+    assert!(!doc.descendants().any(|n| n.has_tag_name("circle") && n.attribute("fill") == Some("#ffffff")));
+    let errors = errors_svg("circle", &trace).unwrap();
+    assert!(errors.contains(">ref</tspan>"), "theta_ref - theta");
+    assert!(!errors.contains(">d</tspan>"), "not the goal's heading theta_d");
+    // Without a reference the goal is back.
+    let svg = paths_svg("goal", &[Trace { reference: &[], ..trace }]).unwrap();
+    assert!(svg.contains("goal and its heading"));
 }
