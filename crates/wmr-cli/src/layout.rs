@@ -245,34 +245,25 @@ pub fn layout(scenario: &Scenario) -> Value {
         ),
     );
     let mut plots = vec![dl_id, "Plot!wmr-heading", "Plot!wmr-wheels"];
+    // Run 0's true position against another estimate of it (columns `x_{suffix}`, `y_{suffix}`).
+    let true_and = |what: &str, suffix: &str| {
+        let (x, y) = (format!("x_{suffix}"), format!("y_{suffix}"));
+        plot(
+            &format!("run 0: {what} position x, {x}, y, {y} (m)"),
+            vec![
+                series(0, "x", "x (m)".into(), run_hex(0)),
+                series(0, &x, format!("{x} (m)"), shade(0, 1.0, 0.5)),
+                series(0, "y", "y (m)".into(), shade(0, 0.0, 0.45)),
+                series(0, &y, format!("{y} (m)"), shade(0, 0.0, 0.75)),
+            ],
+        )
+    };
     if columns.measured {
-        config.insert(
-            "Plot!wmr-sensor".into(),
-            plot(
-                "run 0: true and measured position x, x_meas, y, y_meas (m)",
-                vec![
-                    series(0, "x", "x (m)".into(), run_hex(0)),
-                    series(0, "x_meas", "x_meas (m)".into(), shade(0, 1.0, 0.5)),
-                    series(0, "y", "y (m)".into(), shade(0, 0.0, 0.45)),
-                    series(0, "y_meas", "y_meas (m)".into(), shade(0, 0.0, 0.75)),
-                ],
-            ),
-        );
+        config.insert("Plot!wmr-sensor".into(), true_and("true and measured", "meas"));
         plots.push("Plot!wmr-sensor");
     }
     if columns.odometry {
-        config.insert(
-            "Plot!wmr-odometry".into(),
-            plot(
-                "run 0: odometry drift, true and dead-reckoned position x, x_odom, y, y_odom (m)",
-                vec![
-                    series(0, "x", "x (m)".into(), run_hex(0)),
-                    series(0, "x_odom", "x_odom (m)".into(), shade(0, 1.0, 0.5)),
-                    series(0, "y", "y (m)".into(), shade(0, 0.0, 0.45)),
-                    series(0, "y_odom", "y_odom (m)".into(), shade(0, 0.0, 0.75)),
-                ],
-            ),
-        );
+        config.insert("Plot!wmr-odometry".into(), true_and("odometry drift, true and dead-reckoned", "odom"));
         plots.push("Plot!wmr-odometry");
     }
     if tracking {
