@@ -356,7 +356,7 @@ impl PyRunResult {
 
 /// Adds to `RunResult` one read-only property per column of [`RESULT_COLUMNS`]
 /// (`result.x` is `result["x"]`, the same array object), with its unit as the doc; and
-/// one per column of [`OPTIONAL_GROUPS`], which a run without the group lacks
+/// one per column of `OPTIONAL_GROUPS`, which a run without the group lacks
 /// (AttributeError).
 pub fn add_column_properties(cls: &Bound<'_, pyo3::types::PyType>) -> PyResult<()> {
     let py = cls.py();

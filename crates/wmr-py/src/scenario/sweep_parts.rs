@@ -30,7 +30,7 @@ pub fn sweep_plan(scenario: &Bound<'_, PyAny>) -> PyResult<(String, usize)> {
     Ok((text, sweep_of(&sc)?.len()))
 }
 
-/// Values per run in the rows of `_sweep_part` (see [`outcome_row`]).
+/// Values per run in the rows of `_sweep_part` (see `outcome_row`).
 pub const SWEEP_ROW_LEN: usize = 30;
 const ROW_LEN: usize = SWEEP_ROW_LEN;
 
