@@ -441,7 +441,9 @@ mod tests {
                 assert_eq!(d.law.kind(), law.kind());
                 assert_eq!(d.drive.kind(), drive.kind());
                 assert_eq!(d.goal.theta, 120f64.to_radians() as f32);
-                assert!(d.wheels.wheel_speed_max.is_infinite());
+                // Infinite for the torque drive, the motor's no-load speed for a DC motor.
+                assert_eq!(d.wheels.wheel_speed_max, c.wheels.wheel_speed_max as f32);
+                assert_eq!(d.wheels.wheel_speed_max.is_finite(), matches!(drive, DriveParams::DcMotor(_)));
                 assert_eq!(d.model.mass, 6.0);
                 assert_eq!(d.world.slope_direction_deg, -45.0);
                 // f32 -> words -> f32 is exact.
