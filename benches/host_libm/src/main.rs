@@ -14,7 +14,7 @@ fn main() {
     let goal = FixedGoal::new(Pose2::new(1.0, 1.0, 120f64.to_radians() as f32)).expect("finite goal");
     // As the firmware: the paper's law and its wheel servos, composed directly.
     let law = PaperLaw::new(PaperParams::paper(), robot.params(), dt).expect("paper gains are valid");
-    let wheel_params = WheelStageParams::for_drive(&drive_params);
+    let wheel_params = WheelStageParams::for_drive(&drive_params, robot.params());
     let wheels = WheelStage::new(&wheel_params, robot.params(), &drive, dt).expect("valid servos");
     let ctrl = Controller::new(law, wheels);
     let plant = Plant::new(robot, drive, Pose2::default()).expect("finite start");
