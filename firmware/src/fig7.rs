@@ -1,13 +1,17 @@
-//! The Fig. 7 run in f32 with any law: start (0, 0, 0), goal (1, 1, 120 deg), torque
-//! drive, the paper's robot, 60 s at dt = control_dt = 1 ms. The loop is `ClosedLoop`'s,
-//! composed by hand so a meter can wrap the control update and the plant step.
+//! The Fig. 7 run in f32 with any stabilization law: start (0, 0, 0), goal (1, 1,
+//! 120 deg); a tracking law follows the figure-eight of `examples/tracking` (2 m x 1 m in
+//! 30 s) from its start. Torque drive, the paper's robot, 60 s at dt = control_dt = 1 ms.
+//! The loop is `ClosedLoop`'s, composed by hand so a meter can wrap the control update
+//! (the reference's state at the tick, then the law and the wheel stage) and the plant
+//! step.
 
 use wmr_core::controller::Law;
+use wmr_core::reference::{FigureEight, Reference};
 use wmr_core::sensor::Sensor as _;
 use wmr_core::{
-    ControlOutput, Controller, DriveParams, LyapunovLaw, LyapunovParams, Measurement, PaperLaw, PaperParams,
-    PerfectSensor, Plant, PolarLaw, PolarParams, Pose2, ReferenceState, Robot, Termination, WheelStage,
-    WheelStageParams, Wheels,
+    BacksteppingLaw, BacksteppingParams, ControlOutput, Controller, DriveParams, FixedGoal, KanayamaLaw,
+    KanayamaParams, LyapunovLaw, LyapunovParams, Measurement, PaperLaw, PaperParams, PerfectSensor, Plant, PolarLaw,
+    PolarParams, Pose2, PurePursuitLaw, PurePursuitParams, Robot, Termination, WheelStage, WheelStageParams, Wheels,
 };
 
 /// Plant steps: 60 s at 1 ms.
@@ -42,32 +46,92 @@ impl Meter for Plain {
     }
 }
 
-/// The law of a cost program, built for the paper's robot at 1 ms.
+/// The law of a cost program, built for the paper's robot at 1 ms, and what it follows.
 pub trait FirmwareLaw: Law<f32> + Copy + Sized {
     /// Its `kind` name.
     const KIND: &'static str;
+    /// What it follows: Fig. 7's goal, or the figure-eight.
+    type Reference: Reference<f32>;
     /// The law with its default keys.
     fn build() -> Option<Self>;
+    /// Its reference.
+    fn reference() -> Option<Self::Reference>;
+}
+
+/// Fig. 7's goal, for a stabilization law.
+fn fig7_goal() -> Option<FixedGoal<f32>> {
+    FixedGoal::new(goal()).ok()
+}
+
+/// The figure-eight of `examples/tracking/figure_eight.toml` (2 m x 1 m, 30 s), for a
+/// tracking law.
+fn figure_eight() -> Option<FigureEight<f32>> {
+    FigureEight::new(0.0, 0.0, 2.0, 1.0, 30.0).ok()
 }
 
 impl FirmwareLaw for PaperLaw<f32> {
     const KIND: &'static str = "paper";
+    type Reference = FixedGoal<f32>;
     fn build() -> Option<Self> {
         PaperLaw::new(PaperParams::paper(), Robot::<f32>::paper().params(), DT).ok()
+    }
+    fn reference() -> Option<Self::Reference> {
+        fig7_goal()
     }
 }
 
 impl FirmwareLaw for PolarLaw<f32> {
     const KIND: &'static str = "polar";
+    type Reference = FixedGoal<f32>;
     fn build() -> Option<Self> {
         PolarLaw::new(PolarParams::default()).ok()
+    }
+    fn reference() -> Option<Self::Reference> {
+        fig7_goal()
     }
 }
 
 impl FirmwareLaw for LyapunovLaw<f32> {
     const KIND: &'static str = "lyapunov";
+    type Reference = FixedGoal<f32>;
     fn build() -> Option<Self> {
         LyapunovLaw::new(LyapunovParams::default()).ok()
+    }
+    fn reference() -> Option<Self::Reference> {
+        fig7_goal()
+    }
+}
+
+impl FirmwareLaw for KanayamaLaw<f32> {
+    const KIND: &'static str = "kanayama";
+    type Reference = FigureEight<f32>;
+    fn build() -> Option<Self> {
+        KanayamaLaw::for_lanes(KanayamaParams::default()).ok()
+    }
+    fn reference() -> Option<Self::Reference> {
+        figure_eight()
+    }
+}
+
+impl FirmwareLaw for BacksteppingLaw<f32> {
+    const KIND: &'static str = "backstepping";
+    type Reference = FigureEight<f32>;
+    fn build() -> Option<Self> {
+        BacksteppingLaw::for_lanes(BacksteppingParams::default(), Robot::<f32>::paper().params(), DT).ok()
+    }
+    fn reference() -> Option<Self::Reference> {
+        figure_eight()
+    }
+}
+
+impl FirmwareLaw for PurePursuitLaw<f32> {
+    const KIND: &'static str = "pure_pursuit";
+    type Reference = FigureEight<f32>;
+    fn build() -> Option<Self> {
+        PurePursuitLaw::for_lanes(PurePursuitParams::default(), Robot::<f32>::paper().params()).ok()
+    }
+    fn reference() -> Option<Self::Reference> {
+        figure_eight()
     }
 }
 
@@ -79,22 +143,32 @@ pub struct Ran {
     pub steps: u32,
 }
 
-/// Fig. 7 with law `L` and its wheel stage, the plant and the perfect sensor. `None` when
-/// a parameter is refused (they are the defaults, so never in practice).
+/// Law `L` and its wheel stage on its reference, the plant and the perfect sensor, from
+/// the reference's pose at t = 0 (Fig. 7's start for its goal). `None` when a parameter
+/// is refused (they are the defaults, so never in practice).
 pub fn run<L: FirmwareLaw>(meter: &mut impl Meter) -> Option<Ran> {
     let robot = Robot::<f32>::paper();
     let drive_params = DriveParams::default();
     let drive = drive_params.validate(&robot).ok()?;
-    let wheels = WheelStage::new(&WheelStageParams::for_drive(&drive_params, robot.params()), robot.params(), &drive, DT).ok()?;
+    let wheels =
+        WheelStage::new(&WheelStageParams::for_drive(&drive_params, robot.params()), robot.params(), &drive, DT)
+            .ok()?;
     let mut ctrl = Controller::new(L::build()?, wheels);
-    let mut plant = Plant::new(robot, drive, Pose2::default()).ok()?;
-    let goal = ReferenceState::at_rest(goal());
+    let reference = L::reference()?;
+    let start = if reference.fixed() { Pose2::default() } else { reference.pose_at(0.0) };
+    let mut plant = Plant::new(robot, drive, start).ok()?;
     let mut sensor = PerfectSensor;
     let mut k = 0;
     loop {
         let t = k as f32 * DT;
         let m: Measurement<f32> = sensor.measure(t, plant.state(), robot.params());
-        let out = meter.update(&mut || ctrl.update(t, &m, &goal));
+        let out = meter.update(&mut || {
+            let r = reference.state_at(t);
+            match reference.path() {
+                Some(path) => ctrl.update_on_path(t, &m, &r, path),
+                None => ctrl.update(t, &m, &r),
+            }
+        });
         plant.apply(out.command);
         if k == core::hint::black_box(STEPS) {
             break;

@@ -1,6 +1,7 @@
 //! `wmr-cli trace FILE.toml -o OUT.bin|OUT.csv [--run I]`: one run of a scenario in f32,
 //! as a microcontroller runs it, with every control tick's inputs (true state,
-//! measurement, goal) and outputs (drive command, the law's errors).
+//! measurement, the reference's state: a goal at rest or a moving reference) and outputs
+//! (drive command, the law's errors).
 //!
 //! The binary form is the trace format of `wmr_core::trace` (little-endian 32-bit words:
 //! header, the loop's configuration, one record per tick); the firmware's `replay`
@@ -27,8 +28,8 @@ use std::io::{Seek as _, SeekFrom, Write};
 use std::path::Path;
 
 use anyhow::{Result, anyhow};
-use wmr_core::trace::{self, CONFIG_WORDS, Config, ConfigOf, HEADER_WORDS, RECORD_WORDS, Record};
-use wmr_core::{ClosedLoop, Controller, FixedGoal, ParamError, Plant, PoseSensor, SensorParams, WheelStage, Wheels};
+use wmr_core::trace::{self, CONFIG_WORDS, Config, ConfigOf, HEADER_WORDS, RECORD_WORDS, Record, ReferenceConfig};
+use wmr_core::{ClosedLoop, Controller, ParamError, Plant, PoseSensor, SensorParams, WheelStage, Wheels};
 use wmr_scenario::{Scenario, ScenarioError};
 
 use crate::atomic::{OutWriter, Output};
@@ -101,7 +102,10 @@ fn config_of(scenario: &Scenario, run: usize) -> Result<ConfigOf<f64>, ScenarioE
         dt,
         steps_per_tick,
         start: spec.start,
-        goal: spec.goal,
+        reference: match scenario.tracking() {
+            Some(t) => ReferenceConfig::of(&t.reference.built),
+            None => ReferenceConfig::Goal(spec.goal),
+        },
     })
 }
 
@@ -143,8 +147,8 @@ pub fn run_f32<E>(
         let wheels = WheelStage::new(&config.wheels, model.params(), &drive, config.control_dt)?;
         let controller = Controller::new(law, wheels);
         let sensor = PoseSensor::<f32>::new(sensor, config.control_dt, run)?;
-        let goal = FixedGoal::new(config.goal)?;
-        ClosedLoop::with_sensor(plant, sensor, controller, goal, config.dt)
+        let reference = config.reference.build()?;
+        ClosedLoop::with_sensor(plant, sensor, controller, reference, config.dt)
     };
     let mut lp = built().map_err(RunError::Invalid)?;
     let per_tick = u64::from(config.steps_per_tick);
@@ -152,13 +156,13 @@ pub fn run_f32<E>(
     loop {
         // Right after a tick the plant still holds the state the sensor measured.
         let tick = lp.last_tick();
-        let (m, r, out) = (tick.measurement, tick.reference.pose, tick.output);
+        let (m, r, out) = (tick.measurement, tick.reference, tick.output);
         let Wheels { right: wr, left: wl } = m.wheel_speeds;
         let record = Record {
             t: tick.t,
             state: lp.state().to_array(),
             measurement: [m.t, m.pose.x, m.pose.y, m.pose.theta, m.wheel_angles.right, m.wheel_angles.left, wr, wl],
-            goal: [r.x, r.y, r.theta],
+            reference: [r.pose.x, r.pose.y, r.pose.theta, r.twist.v, r.twist.omega, r.accel.v, r.accel.omega],
             command: [out.command.right, out.command.left],
             errors: [out.errors.e_s, out.errors.e_theta, out.errors.dl],
         };

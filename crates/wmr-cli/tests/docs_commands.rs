@@ -343,11 +343,11 @@ fn every_documented_command_does_what_its_doc_says() {
     let mut not_selected = Vec::new();
     for doc in documents(&root) {
         let name = doc.to_string_lossy().into_owned();
-        if let Some(only) = &only {
-            if !only.iter().any(|o| !o.is_empty() && name.starts_with(o.as_str())) {
-                not_selected.push(name);
-                continue;
-            }
+        if let Some(only) = &only
+            && !only.iter().any(|o| !o.is_empty() && name.starts_with(o.as_str()))
+        {
+            not_selected.push(name);
+            continue;
         }
         let text = fs::read_to_string(root.join(&doc)).unwrap();
         let cmds = commands(&name, &text, &root);

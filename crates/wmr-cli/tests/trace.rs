@@ -1,12 +1,12 @@
 //! `wmr-cli trace`: the f32 run it records is `ClosedLoop`'s, tick for tick and bit for
-//! bit (Fig. 7, and a run with every real-world effect); the CSV form holds the same
-//! values; bad input exits 2 naming the argument.
+//! bit (Fig. 7, a run with every real-world effect, the tracking laws on moving
+//! references); the CSV form holds the same values; bad input exits 2 naming the argument.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use wmr_core::trace::{self, CONFIG_WORDS, Config, HEADER_WORDS, RECORD_WORDS, Record};
-use wmr_core::{ClosedLoop, Controller, FixedGoal, Plant, PoseSensor, SensorParams, WheelStage};
+use wmr_core::trace::{self, CONFIG_WORDS, Config, HEADER_WORDS, RECORD_WORDS, Record, ReferenceConfig};
+use wmr_core::{ClosedLoop, Controller, Plant, Pose2, PoseSensor, SensorParams, WheelStage};
 
 fn cli(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wmr-cli")).args(args).output().expect("wmr-cli runs")
@@ -29,8 +29,8 @@ fn read_trace(path: &Path) -> (Config, Vec<Record>) {
     (config, records)
 }
 
-/// `ClosedLoop` (f32) from the trace's own config: every tick's true state and held
-/// command must be the recorded ones.
+/// `ClosedLoop` (f32) from the trace's own config: every tick's true state, reference
+/// state and held command must be the recorded ones.
 fn check_against_closed_loop(config: &Config, sensor: SensorParams<f32>, run: u64, records: &[Record]) {
     let robot = config.robot.validate().unwrap();
     let model = config.model.validate().unwrap();
@@ -39,8 +39,8 @@ fn check_against_closed_loop(config: &Config, sensor: SensorParams<f32>, run: u6
     let law = config.law.build(model.params(), config.control_dt).unwrap();
     let wheels = WheelStage::new(&config.wheels, model.params(), &drive, config.control_dt).unwrap();
     let sensor = PoseSensor::<f32>::new(sensor, config.control_dt, run).unwrap();
-    let goal = FixedGoal::new(config.goal).unwrap();
-    let mut sim = ClosedLoop::with_sensor(plant, sensor, Controller::new(law, wheels), goal, config.dt).unwrap();
+    let reference = config.reference.build().unwrap();
+    let mut sim = ClosedLoop::with_sensor(plant, sensor, Controller::new(law, wheels), reference, config.dt).unwrap();
     for (k, r) in records.iter().enumerate() {
         if k > 0 {
             for _ in 0..config.steps_per_tick {
@@ -52,6 +52,52 @@ fn check_against_closed_loop(config: &Config, sensor: SensorParams<f32>, run: u6
         assert_eq!(s.map(f32::to_bits), r.state.map(f32::to_bits), "tick {k}: state");
         let c = sim.plant().command();
         assert_eq!([c.right.to_bits(), c.left.to_bits()], r.command.map(f32::to_bits), "tick {k}: command");
+        let at = sim.last_tick().reference;
+        let at = [at.pose.x, at.pose.y, at.pose.theta, at.twist.v, at.twist.omega, at.accel.v, at.accel.omega];
+        assert_eq!(at.map(f32::to_bits), r.reference.map(f32::to_bits), "tick {k}: reference");
+    }
+}
+
+/// The tracking examples (each tracking law, each moving kind but the line): the trace
+/// carries the scenario's reference and law, the records are `ClosedLoop`'s in f32, and
+/// the recorded reference is the analytic one (the circle, by hand).
+#[test]
+fn tracking_traces_are_the_closed_loop_in_f32() {
+    let dir = tempfile::tempdir().unwrap();
+    for (file, law, kind) in [
+        ("circle", "kanayama", "circle"),
+        ("figure_eight", "backstepping", "figure_eight"),
+        ("waypoints", "pure_pursuit", "waypoints"),
+    ] {
+        let bin = dir.path().join(format!("{file}.bin"));
+        let scenario = repo().join(format!("examples/tracking/{file}.toml"));
+        let out = cli(&["trace", scenario.to_str().unwrap(), "-o", bin.to_str().unwrap(), "--run", "1"]);
+        assert!(out.status.success(), "{file}: {}", String::from_utf8_lossy(&out.stderr));
+        let (config, records) = read_trace(&bin);
+        assert_eq!(config.law.kind(), law);
+        assert_eq!(config.reference.build().unwrap().kind(), kind);
+        check_against_closed_loop(&config, SensorParams::default(), 1, &records);
+        if let ReferenceConfig::Circle(c) = config.reference {
+            assert_eq!((c.center_x, c.center_y, c.radius, c.speed), (0.0, 0.0, 1.0, 0.3));
+            assert_eq!(c.phase, (-90f64).to_radians() as f32);
+            // C_ref(t) = center + R (cos phi, sin phi), phi = phase + (v / R) t, heading phi + pi/2.
+            for r in records.iter().step_by(1999) {
+                let phi = -std::f64::consts::FRAC_PI_2 + 0.3 * f64::from(r.t);
+                let want = [phi.cos(), phi.sin(), phi + std::f64::consts::FRAC_PI_2, 0.3, 0.3, 0.0, 0.0];
+                for (i, (got, want)) in r.reference.iter().zip(want).enumerate() {
+                    let d = (f64::from(*got) - want).abs();
+                    let d = if i == 2 {
+                        (d + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
+                    } else {
+                        d
+                    };
+                    assert!(d.abs() < 2e-5, "circle at t = {}: word {i} is {got}, by hand {want}", r.t);
+                }
+            }
+        }
+        // The reference moves: it is not the goal at rest of a stabilization trace.
+        assert_ne!(records[0].reference[0..3], records[records.len() - 1].reference[0..3], "{file}");
+        assert_eq!(config.start, Pose2::new(records[0].state[0], records[0].state[1], records[0].state[2]));
     }
 }
 
@@ -64,7 +110,7 @@ fn fig7_trace_is_the_closed_loop_in_f32() {
     assert!(String::from_utf8_lossy(&out.stdout).starts_with("trace: 60001 ticks of paper (f32)"));
     let (config, records) = read_trace(&bin);
     assert_eq!(records.len(), 60_001);
-    assert_eq!(config.goal.theta, 120f64.to_radians() as f32);
+    assert_eq!(config.reference, ReferenceConfig::Goal(Pose2::new(1.0, 1.0, 120f64.to_radians() as f32)));
     assert_eq!(config.steps_per_tick, 1);
     check_against_closed_loop(&config, SensorParams::default(), 0, &records);
     // The perfect sensor: the measurement is the true pose.

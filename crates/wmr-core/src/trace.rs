@@ -11,35 +11,42 @@
 //! header   magic "WMRTRACE" (2 words), VERSION, CONFIG_WORDS, RECORD_WORDS, ticks
 //! config   CONFIG_WORDS words (ConfigOf::encode): law, drive, robot (the plant's),
 //!          model (the controller's robot), wheel stage, control_dt, dt, plant steps
-//!          per tick, start pose, goal pose, ground slope
+//!          per tick, start pose, ground slope, reference (ReferenceConfig: its kind
+//!          and what builds it)
 //! records  `ticks` records of RECORD_WORDS words (Record::encode), tick k at
 //!          t = k * control_dt:
 //!          t, true state (x y theta v omega phi_r phi_l), measurement (t x y theta
-//!          phi_r phi_l omega_r omega_l), goal (x y theta), command (right left),
-//!          errors (e_s e_theta dl)
+//!          phi_r phi_l omega_r omega_l), reference state (x y theta v omega v'
+//!          omega'), command (right left), errors (e_s e_theta dl)
 //! ```
 //!
-//! Replaying: tick k's controller, fed the recorded measurement and goal, must give the
-//! recorded command and errors; the plant, started at `start` and driven by the recorded
-//! commands, must reach each recorded state (the zero-order hold of `ClosedLoop`:
-//! control tick at t = 0, then `plant steps per tick` RK4 steps of `dt` between ticks).
+//! Replaying: the reference, rebuilt from the config, must give the recorded reference
+//! state at each tick; tick k's controller, fed the recorded measurement and that
+//! reference (and its path, for a path-following law), must give the recorded command
+//! and errors; the plant, started at `start` and driven by the recorded commands, must
+//! reach each recorded state (the zero-order hold of `ClosedLoop`: control tick at
+//! t = 0, then `plant steps per tick` RK4 steps of `dt` between ticks).
 
 use crate::describe::Described;
+use crate::error::ParamError;
+use crate::reference::waypoints::MAX_POINTS;
+use crate::reference::{AnyReference, Circle, FigureEight, FixedGoal, Line, Waypoints};
 use crate::{
-    AntiWindup, DcMotorParams, DriveParams, HoldMode, LawParams, LyapunovParams, PaperBidirectionalParams, PaperMode,
-    PaperParams, PolarParams, Pose2, Real, RobotParams, TorqueDriveParams, WheelStageParams, WorldParams,
+    AntiWindup, BacksteppingParams, DcMotorParams, DriveParams, HoldMode, KanayamaParams, LawParams, LyapunovParams,
+    PaperBidirectionalParams, PaperMode, PaperParams, PolarParams, Pose2, PurePursuitParams, Real, RobotParams,
+    TorqueDriveParams, WheelStageParams, WorldParams,
 };
 
 /// The first 8 bytes of a trace file.
 pub const MAGIC: [u8; 8] = *b"WMRTRACE";
 /// Format version.
-pub const VERSION: u32 = 2;
+pub const VERSION: u32 = 3;
 /// Words of the header before the config: magic (2), version, config words, record words, ticks.
 pub const HEADER_WORDS: usize = 6;
 /// Words of [`Config`].
-pub const CONFIG_WORDS: usize = WORLD_AT + WORLD;
+pub const CONFIG_WORDS: usize = REFERENCE_AT + REFERENCE;
 /// Words of one [`Record`].
-pub const RECORD_WORDS: usize = 24;
+pub const RECORD_WORDS: usize = 28;
 
 /// What was run: everything the replay needs to build the same loop, in f32.
 pub type Config = ConfigOf<f32>;
@@ -116,10 +123,18 @@ real_words!(
 );
 real_words!(POLAR, put_polar, read_polar, PolarParams, PolarParams::default());
 real_words!(LYAPUNOV, put_lyapunov, read_lyapunov, LyapunovParams, LyapunovParams::default());
-const _: () = assert!(PAPER < LAW && PAPER_BIDIRECTIONAL < LAW && POLAR < LAW && LYAPUNOV < LAW);
-
-/// The law-kind word of a law the format does not carry (a tracking law).
-const NOT_IN_TRACE: u32 = u32::MAX;
+real_words!(KANAYAMA, put_kanayama, read_kanayama, KanayamaParams, KanayamaParams::default());
+real_words!(BACKSTEPPING, put_backstepping, read_backstepping, BacksteppingParams, BacksteppingParams::default());
+real_words!(PURE_PURSUIT, put_pure_pursuit, read_pure_pursuit, PurePursuitParams, PurePursuitParams::default());
+const _: () = assert!(
+    PAPER < LAW
+        && PAPER_BIDIRECTIONAL < LAW
+        && POLAR < LAW
+        && LYAPUNOV < LAW
+        && KANAYAMA < LAW
+        && BACKSTEPPING < LAW
+        && PURE_PURSUIT < LAW
+);
 /// Words of the law: its kind, then at most 9 keys (one word per declared key).
 const LAW: usize = 10;
 /// Where each part of the config starts (word index).
@@ -129,8 +144,148 @@ const MODEL_AT: usize = ROBOT_AT + ROBOT;
 const WHEELS_AT: usize = MODEL_AT + ROBOT;
 const TIMING_AT: usize = WHEELS_AT + WHEELS;
 const START_AT: usize = TIMING_AT + 3;
-const GOAL_AT: usize = START_AT + 3;
-const WORLD_AT: usize = GOAL_AT + 3;
+const WORLD_AT: usize = START_AT + 3;
+const REFERENCE_AT: usize = WORLD_AT + WORLD;
+/// Words of the reference: its kind, then its arguments (at most a waypoints
+/// reference's: point count, speed, accel_max, then x and y of each point).
+const REFERENCE: usize = 1 + 3 + 2 * MAX_POINTS;
+
+/// The reference as the trace carries it: what builds it, not what it precomputes. A
+/// waypoints reference (`waypoints` or `file`) is its points and limits; its spline and
+/// speed profile are rebuilt from them, in f32, by the same code on the host and the
+/// target, so the replay checks that construction too.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ReferenceConfig<T> {
+    /// A goal at rest (point stabilization): x, y in m, theta in rad.
+    Goal(Pose2<T>),
+    /// A circle ([`Circle`]'s fields).
+    Circle(Circle<T>),
+    /// A figure-eight: center x, y (m), width, height (m), period (s), as [`FigureEight::new`] takes them.
+    FigureEight([T; 5]),
+    /// A line ([`Line`]'s fields).
+    Line(Line<T>),
+    /// A spline through the first `n` of `points` (x, y in m) with peak `speed` (m/s)
+    /// and `accel_max` (m/s^2), as [`Waypoints::new`] takes them.
+    Waypoints {
+        /// Points in use.
+        n: usize,
+        /// x, y in m; zeros past `n`.
+        points: [[T; 2]; MAX_POINTS],
+        /// Peak speed, m/s.
+        speed: T,
+        /// Acceleration bound, m/s^2.
+        accel_max: T,
+    },
+}
+
+impl<T: Real> ReferenceConfig<T> {
+    /// What builds `r`.
+    pub fn of(r: &AnyReference<T>) -> Self {
+        match r {
+            AnyReference::Goal(g) => ReferenceConfig::Goal(g.pose()),
+            AnyReference::Circle(c) => ReferenceConfig::Circle(*c),
+            AnyReference::FigureEight(f) => {
+                ReferenceConfig::FigureEight([f.center_x, f.center_y, f.width, f.height, f.period])
+            }
+            AnyReference::Line(l) => ReferenceConfig::Line(*l),
+            AnyReference::Waypoints(w) => {
+                let mut points = [[T::zero(); 2]; MAX_POINTS];
+                for (i, p) in points.iter_mut().enumerate().take(w.len()) {
+                    *p = w.point(i);
+                }
+                let (speed, accel_max) = w.limits();
+                ReferenceConfig::Waypoints { n: w.len(), points, speed, accel_max }
+            }
+        }
+    }
+
+    /// Builds the reference (its constructor checks the values; errors name the key).
+    pub fn build(&self) -> Result<AnyReference<T>, ParamError> {
+        Ok(match *self {
+            ReferenceConfig::Goal(g) => AnyReference::Goal(FixedGoal::new(g)?),
+            ReferenceConfig::Circle(c) => {
+                AnyReference::Circle(Circle::new(c.center_x, c.center_y, c.radius, c.speed, c.phase)?)
+            }
+            ReferenceConfig::FigureEight([x, y, w, h, p]) => {
+                AnyReference::FigureEight(FigureEight::new(x, y, w, h, p)?)
+            }
+            ReferenceConfig::Line(l) => AnyReference::Line(Line::new(l.start, l.speed)?),
+            ReferenceConfig::Waypoints { n, ref points, speed, accel_max } => {
+                let points = points.get(..n).ok_or_else(|| {
+                    crate::error::check::out_of_range("points", "holds at most 64 points", T::lit(n as f64))
+                })?;
+                AnyReference::Waypoints(Waypoints::new(points, speed, accel_max)?)
+            }
+        })
+    }
+
+    /// The reference's words, every value rounded to f32.
+    fn encode(&self, w: &mut [u32]) {
+        let (kind, args) = w.split_at_mut(1);
+        let mut put = |i: usize, v: T| args[i] = f(v);
+        kind[0] = match *self {
+            ReferenceConfig::Goal(g) => {
+                [g.x, g.y, g.theta].into_iter().enumerate().for_each(|(i, v)| put(i, v));
+                0
+            }
+            ReferenceConfig::Circle(c) => {
+                let v = [c.center_x, c.center_y, c.radius, c.speed, c.phase];
+                v.into_iter().enumerate().for_each(|(i, v)| put(i, v));
+                1
+            }
+            ReferenceConfig::FigureEight(v) => {
+                v.into_iter().enumerate().for_each(|(i, v)| put(i, v));
+                2
+            }
+            ReferenceConfig::Line(l) => {
+                let v = [l.start.x, l.start.y, l.start.theta, l.speed];
+                v.into_iter().enumerate().for_each(|(i, v)| put(i, v));
+                3
+            }
+            ReferenceConfig::Waypoints { n, ref points, speed, accel_max } => {
+                put(1, speed);
+                put(2, accel_max);
+                for (i, p) in points.iter().enumerate().take(n) {
+                    put(3 + 2 * i, p[0]);
+                    put(4 + 2 * i, p[1]);
+                }
+                args[0] = n as u32;
+                4
+            }
+        };
+    }
+}
+
+impl ReferenceConfig<f32> {
+    /// Reads the reference's words.
+    fn decode(w: &[u32]) -> Result<Self, FormatError> {
+        let a = |i: usize| r(w[1 + i]);
+        Ok(match w[0] {
+            0 => ReferenceConfig::Goal(Pose2::new(a(0), a(1), a(2))),
+            1 => ReferenceConfig::Circle(Circle {
+                center_x: a(0),
+                center_y: a(1),
+                radius: a(2),
+                speed: a(3),
+                phase: a(4),
+            }),
+            2 => ReferenceConfig::FigureEight(core::array::from_fn(a)),
+            3 => ReferenceConfig::Line(Line { start: Pose2::new(a(0), a(1), a(2)), speed: a(3) }),
+            4 => {
+                let n = w[1] as usize;
+                if !(2..=MAX_POINTS).contains(&n) {
+                    return Err(FormatError("waypoints point count is not within 2..=64"));
+                }
+                let mut points = [[0.0; 2]; MAX_POINTS];
+                for (i, p) in points.iter_mut().enumerate().take(n) {
+                    *p = [a(3 + 2 * i), a(4 + 2 * i)];
+                }
+                ReferenceConfig::Waypoints { n, points, speed: a(1), accel_max: a(2) }
+            }
+            _ => return Err(FormatError("unknown reference kind")),
+        })
+    }
+}
 
 /// The loop as the scenario gives it (f64) or as it ran ([`Config`], f32).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -155,8 +310,8 @@ pub struct ConfigOf<T> {
     pub steps_per_tick: u32,
     /// Start pose (m, m, rad).
     pub start: Pose2<T>,
-    /// Goal pose (m, m, rad).
-    pub goal: Pose2<T>,
+    /// What the controller follows: a goal at rest or a moving reference.
+    pub reference: ReferenceConfig<T>,
 }
 
 impl<T: Real> ConfigOf<T> {
@@ -191,9 +346,18 @@ impl<T: Real> ConfigOf<T> {
                 keys[slot::<PaperBidirectionalParams<f32>>("hold")] = hold_word(p.hold);
                 3
             }
-            // The tracking laws follow a moving reference, which the format (a goal pose)
-            // does not carry yet: the kind word says so and decoding refuses it.
-            LawParams::Kanayama(_) | LawParams::Backstepping(_) | LawParams::PurePursuit(_) => NOT_IN_TRACE,
+            LawParams::Kanayama(p) => {
+                put_kanayama(&p, keys);
+                4
+            }
+            LawParams::Backstepping(p) => {
+                put_backstepping(&p, keys);
+                5
+            }
+            LawParams::PurePursuit(p) => {
+                put_pure_pursuit(&p, keys);
+                6
+            }
         };
         let d = &mut w[DRIVE_AT..ROBOT_AT];
         match self.drive {
@@ -209,11 +373,11 @@ impl<T: Real> ConfigOf<T> {
         w[TIMING_AT] = f(self.control_dt);
         w[TIMING_AT + 1] = f(self.dt);
         w[TIMING_AT + 2] = self.steps_per_tick;
-        let poses = [self.start.x, self.start.y, self.start.theta, self.goal.x, self.goal.y, self.goal.theta];
-        for (d, v) in w[START_AT..WORLD_AT].iter_mut().zip(poses) {
+        for (d, v) in w[START_AT..WORLD_AT].iter_mut().zip([self.start.x, self.start.y, self.start.theta]) {
             *d = f(v);
         }
         put_world(&self.world, &mut w[WORLD_AT..]);
+        self.reference.encode(&mut w[REFERENCE_AT..]);
         w
     }
 }
@@ -249,7 +413,9 @@ impl Config {
                 reverse: flag(keys[slot::<LyapunovParams<f32>>("reverse")], "lyapunov reverse is not 0 or 1")?,
                 ..read_lyapunov(keys)
             }),
-            NOT_IN_TRACE => return Err(FormatError("the tracking laws are not in the trace format yet")),
+            4 => LawParams::Kanayama(read_kanayama(keys)),
+            5 => LawParams::Backstepping(read_backstepping(keys)),
+            6 => LawParams::PurePursuit(read_pure_pursuit(keys)),
             _ => return Err(FormatError("unknown law kind")),
         };
         let d = &w[DRIVE_AT..ROBOT_AT];
@@ -273,7 +439,7 @@ impl Config {
             dt: r(w[TIMING_AT + 1]),
             steps_per_tick: w[TIMING_AT + 2],
             start: pose(START_AT),
-            goal: pose(GOAL_AT),
+            reference: ReferenceConfig::decode(&w[REFERENCE_AT..])?,
         })
     }
 }
@@ -310,8 +476,9 @@ pub struct Record {
     /// The measurement the controller got: t (s), x, y (m), theta (rad), wheel angles
     /// right, left (rad), wheel speeds right, left (rad/s).
     pub measurement: [f32; 8],
-    /// The goal pose (m, m, rad).
-    pub goal: [f32; 3],
+    /// The reference state at the tick: pose x, y (m), theta (rad), twist v (m/s), omega
+    /// (rad/s), acceleration v' (m/s^2), omega' (rad/s^2).
+    pub reference: [f32; 7],
     /// The drive command, right and left (N m or V).
     pub command: [f32; 2],
     /// The law's errors: e_s (m), e_theta (rad), dl (m).
@@ -325,7 +492,7 @@ impl Record {
         let values = core::iter::once(self.t)
             .chain(self.state)
             .chain(self.measurement)
-            .chain(self.goal)
+            .chain(self.reference)
             .chain(self.command)
             .chain(self.errors);
         for (d, v) in w.iter_mut().zip(values) {
@@ -341,9 +508,9 @@ impl Record {
             t: v(0),
             state: core::array::from_fn(|i| v(1 + i)),
             measurement: core::array::from_fn(|i| v(8 + i)),
-            goal: core::array::from_fn(|i| v(16 + i)),
-            command: core::array::from_fn(|i| v(19 + i)),
-            errors: core::array::from_fn(|i| v(21 + i)),
+            reference: core::array::from_fn(|i| v(16 + i)),
+            command: core::array::from_fn(|i| v(23 + i)),
+            errors: core::array::from_fn(|i| v(25 + i)),
         }
     }
 
@@ -365,9 +532,13 @@ impl Record {
         "m_phi_l",
         "m_omega_r",
         "m_omega_l",
-        "goal_x",
-        "goal_y",
-        "goal_theta",
+        "x_ref",
+        "y_ref",
+        "theta_ref",
+        "v_ref",
+        "omega_ref",
+        "dv_ref",
+        "domega_ref",
         "command_r",
         "command_l",
         "e_s",
@@ -413,6 +584,7 @@ pub fn words_le<const N: usize>(bytes: &[u8]) -> Option<[u32; N]> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::reference::Reference as _;
 
     #[test]
     fn config_round_trips_for_every_law_and_drive() {
@@ -429,18 +601,12 @@ mod tests {
                     dt: 1e-3,
                     steps_per_tick: 2,
                     start: Pose2::new(0.1, -0.2, 0.3),
-                    goal: Pose2::new(1.0, 1.0, 120f64.to_radians()),
+                    reference: ReferenceConfig::Goal(Pose2::new(1.0, 1.0, 120f64.to_radians())),
                 };
-                if matches!(law, LawParams::Kanayama(_) | LawParams::Backstepping(_) | LawParams::PurePursuit(_)) {
-                    // Not in the format yet: refused by name, never read as another law.
-                    let e = Config::decode(&c.encode()).unwrap_err();
-                    assert!(e.0.contains("tracking laws"), "{}", e.0);
-                    continue;
-                }
                 let d = Config::decode(&c.encode()).unwrap();
                 assert_eq!(d.law.kind(), law.kind());
                 assert_eq!(d.drive.kind(), drive.kind());
-                assert_eq!(d.goal.theta, 120f64.to_radians() as f32);
+                assert_eq!(d.reference, ReferenceConfig::Goal(Pose2::new(1.0, 1.0, 120f64.to_radians() as f32)));
                 // Infinite for the torque drive, the motor's no-load speed for a DC motor.
                 assert_eq!(d.wheels.wheel_speed_max, c.wheels.wheel_speed_max as f32);
                 assert_eq!(d.wheels.wheel_speed_max.is_finite(), matches!(drive, DriveParams::DcMotor(_)));
@@ -458,7 +624,7 @@ mod tests {
                     dt: d.dt,
                     steps_per_tick: d.steps_per_tick,
                     start: d.start,
-                    goal: d.goal,
+                    reference: d.reference,
                 };
                 assert_eq!(Config::decode(&again.encode()).unwrap(), d);
             }
@@ -490,10 +656,69 @@ mod tests {
                 dt: next(0.0),
                 steps_per_tick: 3,
                 start: Pose2::new(next(0.0), next(0.0), next(0.0)),
-                goal: Pose2::new(next(0.0), next(0.0), next(0.0)),
+                reference: ReferenceConfig::Goal(Pose2::new(next(0.0), next(0.0), next(0.0))),
             };
             assert_eq!(Config::decode(&c.encode()).unwrap(), c);
         }
+    }
+
+    /// Every kind of reference and every tracking law survives the words with its own
+    /// values, and the reference rebuilt from them is the one that was written: the same
+    /// state at every time (a waypoints reference's spline and profile rebuilt from its
+    /// points).
+    #[test]
+    fn every_reference_and_tracking_law_survives_the_words() {
+        let mut n = 0.0_f32;
+        let mut next = |_: f32| {
+            n += 0.25;
+            n
+        };
+        let laws = [
+            LawParams::Kanayama(KanayamaParams::default().map(&mut next)),
+            LawParams::Backstepping(BacksteppingParams::default().map(&mut next)),
+            LawParams::PurePursuit(PurePursuitParams::default().map(&mut next)),
+        ];
+        let points = [[0.0, 0.0], [1.0, 0.5], [2.0, -0.25], [3.5, 1.0]];
+        let references: [AnyReference<f32>; 5] = [
+            AnyReference::Goal(FixedGoal::new(Pose2::new(1.0, -2.0, 0.5)).unwrap()),
+            AnyReference::Circle(Circle::new(0.5, -0.5, 1.5, -0.3, -1.25).unwrap()),
+            AnyReference::FigureEight(FigureEight::new(0.25, 0.5, 2.0, 1.0, 30.0).unwrap()),
+            AnyReference::Line(Line::new(Pose2::new(-1.0, 2.0, 0.75), 0.4).unwrap()),
+            AnyReference::Waypoints(Waypoints::new(&points, 0.3, 0.5).unwrap()),
+        ];
+        let mut last = None;
+        for (law, reference) in laws.into_iter().zip(references.iter().cycle()).chain(
+            // Every reference with a stabilization law too.
+            references.iter().map(|r| (LawParams::default(), r)),
+        ) {
+            let c: Config = ConfigOf {
+                law,
+                drive: DriveParams::default(),
+                robot: RobotParams::paper(),
+                model: RobotParams::paper(),
+                world: WorldParams::default(),
+                wheels: WheelStageParams::default(),
+                control_dt: 1e-3,
+                dt: 1e-3,
+                steps_per_tick: 1,
+                start: Pose2::new(0.0, 0.0, 0.0),
+                reference: ReferenceConfig::of(reference),
+            };
+            let d = Config::decode(&c.encode()).unwrap();
+            assert_eq!(d, c, "{} on {}", law.kind(), reference.kind());
+            last = Some(c);
+            let rebuilt = d.reference.build().unwrap();
+            assert_eq!(rebuilt.kind(), reference.kind());
+            for k in 0..200 {
+                let t = k as f32 * 0.137;
+                assert_eq!(rebuilt.state_at(t), reference.state_at(t), "{} at t = {t}", reference.kind());
+            }
+        }
+        // A waypoints reference with a point count outside 2..=64 is refused, not read.
+        let mut w = last.unwrap().encode();
+        assert_eq!(w[REFERENCE_AT], 4, "the last config follows the waypoints");
+        w[REFERENCE_AT + 1] = 65;
+        assert!(Config::decode(&w).unwrap_err().0.contains("point count"));
     }
 
     #[test]
@@ -502,7 +727,7 @@ mod tests {
             t: 0.5,
             state: [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0],
             measurement: [0.5, 1.0, 2.0, 3.0, 6.0, 7.0, -1.0, -2.0],
-            goal: [1.0, 1.0, 2.0],
+            reference: [1.0, 1.0, 2.0, 0.3, 0.1, 0.0, -0.5],
             command: [0.25, -0.25],
             errors: [0.1, 0.2, f32::NAN],
         };

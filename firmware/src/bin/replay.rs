@@ -1,15 +1,19 @@
 //! Replays a control trace (`wmr-cli trace FILE.toml -o run.bin`) on the Cortex-M4F under
-//! QEMU and checks every tick bit for bit in f32: the controller, fed the recorded
-//! measurement and goal, must give the recorded command and errors; the plant, driven
-//! from the start pose by the commands, must reach every recorded state.
+//! QEMU and checks every tick bit for bit in f32: the reference, rebuilt here from the
+//! trace's config, must give the recorded reference state (a goal at rest, or a moving
+//! reference: its pose, twist and acceleration); the controller, fed the recorded
+//! measurement and that reference (with its path, for a path-following law), must give
+//! the recorded command and errors; the plant, driven from the start pose by the
+//! commands, must reach every recorded state.
 //!
 //! `qemu-system-arm ... -semihosting-config enable=on,target=native,arg=replay,arg=run.bin
 //! -kernel replay`; prints one `replay` line, exits 0 when every tick matched.
 #![no_std]
 #![no_main]
 
-use wmr_core::{Controller, Measurement, Plant, Pose2, ReferenceState, WheelStage, Wheels};
+use wmr_core::reference::Reference as _;
 use wmr_core::trace::{self, CONFIG_WORDS, Config, HEADER_WORDS, RECORD_WORDS, Record};
+use wmr_core::{Controller, Measurement, Plant, Pose2, WheelStage, Wheels};
 use wmr_firmware::semi::{self, File};
 
 fn fail(what: &str) -> ! {
@@ -18,7 +22,8 @@ fn fail(what: &str) -> ! {
 }
 
 fn words<const N: usize>(file: &mut File) -> Option<[u32; N]> {
-    let mut bytes = [0u8; 256];
+    // The longest read is the config.
+    let mut bytes = [0u8; 4 * CONFIG_WORDS];
     let buf = bytes.get_mut(..4 * N)?;
     if !file.read_exact(buf) {
         return None;
@@ -53,11 +58,12 @@ fn main() -> ! {
         let plant = Plant::on(robot, drive, c.world.validate().ok()?, c.start).ok()?;
         let law = c.law.build(model.params(), c.control_dt).ok()?;
         let wheels = WheelStage::new(&c.wheels, model.params(), &drive, c.control_dt).ok()?;
-        Some((plant, Controller::new(law, wheels)))
+        let reference = c.reference.build().ok()?;
+        Some((plant, Controller::new(law, wheels), reference))
     })();
-    let Some((mut plant, mut ctrl)) = built else { fail("the trace's parameters are refused in f32") };
+    let Some((mut plant, mut ctrl, reference)) = built else { fail("the trace's parameters are refused in f32") };
 
-    let (mut controller_ok, mut plant_ok) = (0u32, 0u32);
+    let (mut reference_ok, mut controller_ok, mut plant_ok) = (0u32, 0u32, 0u32);
     let mut first_bad: Option<(u32, &str)> = None;
     let mut step: u64 = 0;
     for k in 0..ticks {
@@ -84,8 +90,18 @@ fn main() -> ! {
             wheel_angles: Wheels::new(ar, al),
             wheel_speeds: Wheels::new(wr, wl),
         };
-        let goal = Pose2::new(r.goal[0], r.goal[1], r.goal[2]);
-        let out = ctrl.update(r.t, &m, &ReferenceState::at_rest(goal));
+        // The reference at the tick's time, as the traced loop asked it.
+        let at = reference.state_at(r.t);
+        let mine = [at.pose.x, at.pose.y, at.pose.theta, at.twist.v, at.twist.omega, at.accel.v, at.accel.omega];
+        if bits(mine) == bits(r.reference) {
+            reference_ok += 1;
+        } else if first_bad.is_none() {
+            first_bad = Some((k, "reference state"));
+        }
+        let out = match reference.path() {
+            Some(path) => ctrl.update_on_path(r.t, &m, &at, path),
+            None => ctrl.update(r.t, &m, &at),
+        };
         let got = [out.command.right, out.command.left, out.errors.e_s, out.errors.e_theta, out.errors.dl];
         let want = [r.command[0], r.command[1], r.errors[0], r.errors[1], r.errors[2]];
         if bits(got) == bits(want) {
@@ -98,8 +114,9 @@ fn main() -> ! {
     }
     let (bad_tick, bad_what) = first_bad.map_or((-1i64, "none"), |(k, w)| (i64::from(k), w));
     semi::println(format_args!(
-        "replay law={} ticks={ticks} controller_ok={controller_ok} plant_ok={plant_ok} first_mismatch_tick={bad_tick} first_mismatch={bad_what}",
-        c.law.kind()
+        "replay law={} reference={} ticks={ticks} reference_ok={reference_ok} controller_ok={controller_ok} plant_ok={plant_ok} first_mismatch_tick={bad_tick} first_mismatch={bad_what}",
+        c.law.kind(),
+        reference.kind()
     ));
-    semi::exit(controller_ok == ticks && plant_ok == ticks)
+    semi::exit(reference_ok == ticks && controller_ok == ticks && plant_ok == ticks)
 }
