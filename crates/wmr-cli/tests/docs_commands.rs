@@ -370,6 +370,8 @@ fn every_documented_command_does_what_its_doc_says() {
                 eprintln!("{:>7.2} s  {}  {}", start.elapsed().as_secs_f64(), c.at, c.text);
                 ran += 1;
                 if let Some(f) = check(c, code, &output) {
+                    // Said at once too: a long run stopped part-way still tells what failed.
+                    eprintln!("FAILED  {}  {}", c.at, c.text);
                     failures.push(f);
                 }
                 cwd = end;

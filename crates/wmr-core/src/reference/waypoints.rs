@@ -116,8 +116,8 @@ impl<T: Real> Waypoints<T> {
                 w.u[i] = w.u[i - 1] + h;
             }
         }
-        w.mx = natural_second_derivatives(&w.u[..n], &w.x[..n]);
-        w.my = natural_second_derivatives(&w.u[..n], &w.y[..n]);
+        w.mx = natural_second_derivatives(&w.u, &w.x, n);
+        w.my = natural_second_derivatives(&w.u, &w.y, n);
         w.build_profile();
         Ok(w)
     }
@@ -147,37 +147,41 @@ impl<T: Real> Waypoints<T> {
         (self.speed, self.accel_max)
     }
 
+    /// The last point's index. `n` is within 2..=MAX_POINTS by construction; clamped here
+    /// so the compiler sees every index below in range too (no panic path is linked into
+    /// the firmware: firmware/check disassembles it).
+    fn last(&self) -> usize {
+        self.n.clamp(2, MAX_POINTS) - 1
+    }
+
     fn samples(&self) -> usize {
-        (self.n - 1) * SUBSTEPS + 1
+        self.last() * SUBSTEPS + 1
     }
 
     /// The spline at `u` (clamped into [0, u_end]).
     fn spline(&self, u: T) -> SplinePoint<T> {
-        let last = self.n - 1;
+        let last = self.last();
         let u = u.max(T::zero()).min(self.u[last]);
-        // The span i with u_i <= u <= u_{i+1}.
-        let (mut lo, mut hi) = (0, last);
-        while hi - lo > 1 {
-            let mid = (lo + hi) / 2;
-            if self.u[mid] <= u { lo = mid } else { hi = mid }
-        }
-        let i = lo;
+        // The span i with u_i <= u <= u_{i+1} (the knots increase): the knots inside
+        // that are <= u.
+        let i = self.u[1..last].partition_point(|&k| k <= u).min(last - 1);
         let h = self.u[i + 1] - self.u[i];
         let a = (self.u[i + 1] - u) / h;
         let b = (u - self.u[i]) / h;
         let six = T::lit(6.0);
         let one = T::one();
         let three = T::lit(3.0);
-        let comp = |v: &[T; MAX_POINTS], m: &[T; MAX_POINTS]| {
-            let p = a * v[i] + b * v[i + 1] + ((a * a * a - a) * m[i] + (b * b * b - b) * m[i + 1]) * h * h / six;
-            let d1 = (v[i + 1] - v[i]) / h - (three * a * a - one) / six * h * m[i]
-                + (three * b * b - one) / six * h * m[i + 1];
-            let d2 = a * m[i] + b * m[i + 1];
-            let d3 = (m[i + 1] - m[i]) / h;
+        // One coordinate from its values (v0, v1) and second derivatives (m0, m1) at the
+        // span's knots (read here, where i is known to be in range).
+        let comp = |v0: T, v1: T, m0: T, m1: T| {
+            let p = a * v0 + b * v1 + ((a * a * a - a) * m0 + (b * b * b - b) * m1) * h * h / six;
+            let d1 = (v1 - v0) / h - (three * a * a - one) / six * h * m0 + (three * b * b - one) / six * h * m1;
+            let d2 = a * m0 + b * m1;
+            let d3 = (m1 - m0) / h;
             (p, d1, d2, d3)
         };
-        let (px, x1, x2, x3) = comp(&self.x, &self.mx);
-        let (py, y1, y2, y3) = comp(&self.y, &self.my);
+        let (px, x1, x2, x3) = comp(self.x[i], self.x[i + 1], self.mx[i], self.mx[i + 1]);
+        let (py, y1, y2, y3) = comp(self.y[i], self.y[i + 1], self.my[i], self.my[i + 1]);
         SplinePoint { p: (px, py), d1: (x1, y1), d2: (x2, y2), d3: (x3, y3) }
     }
 
@@ -189,11 +193,11 @@ impl<T: Real> Waypoints<T> {
         let mut v = [T::zero(); MAX_SAMPLES];
         let mut prev = (T::zero(), T::zero());
         for j in 0..n_s {
-            let span = (j / SUBSTEPS).min(self.n - 2);
+            let span = (j / SUBSTEPS).min(self.last() - 1);
             let k = j - span * SUBSTEPS;
             let (u0, u1) = (self.u[span], self.u[span + 1]);
             let u = u0 + (u1 - u0) * T::lit(k as f64 / SUBSTEPS as f64);
-            self.su[j] = if j == n_s - 1 { self.u[self.n - 1] } else { u };
+            self.su[j] = if j == n_s - 1 { self.u[self.last()] } else { u };
             let sp = self.spline(self.su[j]);
             let g = sp.d1.0.hypot_libm(sp.d1.1);
             let kappa = (sp.d1.0 * sp.d2.1 - sp.d1.1 * sp.d2.0).abs() / (g * g * g);
@@ -255,12 +259,8 @@ impl<T: Real> Waypoints<T> {
         if t >= self.st[n_s - 1] {
             return (self.su[n_s - 1], T::zero(), T::zero());
         }
-        let (mut lo, mut hi) = (0, n_s - 1);
-        while hi - lo > 1 {
-            let mid = (lo + hi) / 2;
-            if self.st[mid] <= t { lo = mid } else { hi = mid }
-        }
-        let j = lo;
+        // The sample interval j with t_j <= t < t_{j+1} (the times increase).
+        let j = self.st[1..n_s - 1].partition_point(|&tj| tj <= t).min(n_s - 2);
         let du = self.su[j + 1] - self.su[j];
         let (w0, w1) = (self.sud[j], self.sud[j + 1]);
         let acc = (w1 * w1 - w0 * w0) / (T::lit(2.0) * du);
@@ -273,8 +273,8 @@ impl<T: Real> Waypoints<T> {
 /// M_i of the natural cubic spline through (u_i, v_i): M_0 = M_{n-1} = 0 and, inside,
 /// h_{i-1} M_{i-1} + 2 (h_{i-1} + h_i) M_i + h_i M_{i+1} = 6 ((v_{i+1} - v_i)/h_i - (v_i - v_{i-1})/h_{i-1}),
 /// solved by the Thomas algorithm (the system is diagonally dominant).
-fn natural_second_derivatives<T: Real>(u: &[T], v: &[T]) -> [T; MAX_POINTS] {
-    let n = u.len();
+fn natural_second_derivatives<T: Real>(u: &[T; MAX_POINTS], v: &[T; MAX_POINTS], n: usize) -> [T; MAX_POINTS] {
+    let n = n.min(MAX_POINTS);
     let mut m = [T::zero(); MAX_POINTS];
     if n < 3 {
         return m;
@@ -334,7 +334,7 @@ impl<T: Real> Path<T> for Waypoints<T> {
         Pose2::new(sp.p.0, sp.p.1, sp.d1.1.atan2_libm(sp.d1.0))
     }
     fn end(&self) -> Option<T> {
-        Some(self.u[self.n - 1])
+        Some(self.u[self.last()])
     }
     fn point_on_path(&self, s: T) -> (T, T) {
         self.spline(s).p
@@ -343,17 +343,15 @@ impl<T: Real> Path<T> for Waypoints<T> {
         self.rate
     }
     fn first_search_span(&self) -> T {
-        self.u[self.n - 1]
+        self.u[self.last()]
     }
     fn remaining_length(&self, s: T) -> T {
         // Arc length at the samples, interpolated linearly in u between them.
         let n_s = self.samples();
         let s = s.max(T::zero()).min(self.su[n_s - 1]);
-        let (mut lo, mut hi) = (0, n_s - 1);
-        while hi - lo > 1 {
-            let mid = (lo + hi) / 2;
-            if self.su[mid] <= s { lo = mid } else { hi = mid }
-        }
+        // The sample interval lo with u_lo <= s <= u_hi, hi = lo + 1.
+        let lo = self.su[1..n_s - 1].partition_point(|&uj| uj <= s).min(n_s - 2);
+        let hi = lo + 1;
         let f = (s - self.su[lo]) / (self.su[hi] - self.su[lo]);
         let arc = self.sarc[lo] + f * (self.sarc[hi] - self.sarc[lo]);
         self.sarc[n_s - 1] - arc
