@@ -69,70 +69,34 @@ fn figure_eight() -> Option<FigureEight<f32>> {
     FigureEight::new(0.0, 0.0, 2.0, 1.0, 30.0).ok()
 }
 
-impl FirmwareLaw for PaperLaw<f32> {
-    const KIND: &'static str = "paper";
-    type Reference = FixedGoal<f32>;
-    fn build() -> Option<Self> {
-        PaperLaw::new(PaperParams::paper(), Robot::<f32>::paper().params(), DT).ok()
-    }
-    fn reference() -> Option<Self::Reference> {
-        fig7_goal()
-    }
+/// `impl FirmwareLaw` for each law: its type, `kind`, reference type and constructors.
+macro_rules! firmware_laws {
+    ($( $law:ident = $kind:literal on $reference:ident from $make_reference:ident: $build:expr; )+) => {
+        $(
+            impl FirmwareLaw for $law<f32> {
+                const KIND: &'static str = $kind;
+                type Reference = $reference<f32>;
+                fn build() -> Option<Self> {
+                    $build.ok()
+                }
+                fn reference() -> Option<Self::Reference> {
+                    $make_reference()
+                }
+            }
+        )+
+    };
 }
 
-impl FirmwareLaw for PolarLaw<f32> {
-    const KIND: &'static str = "polar";
-    type Reference = FixedGoal<f32>;
-    fn build() -> Option<Self> {
-        PolarLaw::new(PolarParams::default()).ok()
-    }
-    fn reference() -> Option<Self::Reference> {
-        fig7_goal()
-    }
-}
-
-impl FirmwareLaw for LyapunovLaw<f32> {
-    const KIND: &'static str = "lyapunov";
-    type Reference = FixedGoal<f32>;
-    fn build() -> Option<Self> {
-        LyapunovLaw::new(LyapunovParams::default()).ok()
-    }
-    fn reference() -> Option<Self::Reference> {
-        fig7_goal()
-    }
-}
-
-impl FirmwareLaw for KanayamaLaw<f32> {
-    const KIND: &'static str = "kanayama";
-    type Reference = FigureEight<f32>;
-    fn build() -> Option<Self> {
-        KanayamaLaw::for_lanes(KanayamaParams::default()).ok()
-    }
-    fn reference() -> Option<Self::Reference> {
-        figure_eight()
-    }
-}
-
-impl FirmwareLaw for BacksteppingLaw<f32> {
-    const KIND: &'static str = "backstepping";
-    type Reference = FigureEight<f32>;
-    fn build() -> Option<Self> {
-        BacksteppingLaw::for_lanes(BacksteppingParams::default(), Robot::<f32>::paper().params(), DT).ok()
-    }
-    fn reference() -> Option<Self::Reference> {
-        figure_eight()
-    }
-}
-
-impl FirmwareLaw for PurePursuitLaw<f32> {
-    const KIND: &'static str = "pure_pursuit";
-    type Reference = FigureEight<f32>;
-    fn build() -> Option<Self> {
-        PurePursuitLaw::for_lanes(PurePursuitParams::default(), Robot::<f32>::paper().params()).ok()
-    }
-    fn reference() -> Option<Self::Reference> {
-        figure_eight()
-    }
+firmware_laws! {
+    PaperLaw = "paper" on FixedGoal from fig7_goal:
+        PaperLaw::new(PaperParams::paper(), Robot::<f32>::paper().params(), DT);
+    PolarLaw = "polar" on FixedGoal from fig7_goal: PolarLaw::new(PolarParams::default());
+    LyapunovLaw = "lyapunov" on FixedGoal from fig7_goal: LyapunovLaw::new(LyapunovParams::default());
+    KanayamaLaw = "kanayama" on FigureEight from figure_eight: KanayamaLaw::for_lanes(KanayamaParams::default());
+    BacksteppingLaw = "backstepping" on FigureEight from figure_eight:
+        BacksteppingLaw::for_lanes(BacksteppingParams::default(), Robot::<f32>::paper().params(), DT);
+    PurePursuitLaw = "pure_pursuit" on FigureEight from figure_eight:
+        PurePursuitLaw::for_lanes(PurePursuitParams::default(), Robot::<f32>::paper().params());
 }
 
 /// The final pose and the plant steps taken.
