@@ -251,20 +251,22 @@ fn regression_12_3_plot_of_a_long_run_neither_aborts_nor_holds_every_sample() {
 /// A sibling of defect 3 in `trace`, which kept every control tick: 1e9 ticks aborted
 /// with `memory allocation of ... failed`. `trace` now streams its records (issue 25,
 /// item 9: tests/trace.rs); what is refused before the run is a trace larger than the
-/// free space where it goes: 1e9 ticks of 96 bytes in the binary form.
+/// free space where it goes: 1e9 ticks of 112 bytes in the binary form.
 #[test]
 fn regression_12_3_trace_of_a_long_run_is_refused_not_aborted() {
     let dir = tempfile::tempdir().unwrap();
     let f = write(dir.path(), "long.toml", "[sim]\nt_end = 1e6\n[[run]]\ngoal = { x = 1.0 }\n");
     let df = Command::new("df").args(["--output=avail", "-B1"]).arg(dir.path()).output().expect("df runs");
     let free: u64 = text(&df.stdout).lines().nth(1).and_then(|l| l.trim().parse().ok()).expect("df's free bytes");
-    let bytes = 4 * (6 + 51 + 1_000_000_001u64 * 24);
+    // The binary form's size, from the format's own constants (version 3: 112 bytes a tick).
+    use wmr_core::trace::{CONFIG_WORDS, HEADER_WORDS, RECORD_WORDS};
+    let bytes = 4 * ((HEADER_WORDS + CONFIG_WORDS) as u64 + 1_000_000_001u64 * RECORD_WORDS as u64);
     if free >= bytes {
         skip::missing("small-disk", &format!("{free} bytes free hold the 1e6 s trace ({bytes} bytes): it would run"));
         return;
     }
     let o = run_in(dir.path(), &["trace", f.to_str().unwrap(), "-o", "t.bin"]);
-    assert_bad_input(&o, "sim.t_end: a trace of 1000000001 ticks to t.bin takes at least 96000000328 bytes");
+    assert_bad_input(&o, &format!("sim.t_end: a trace of 1000000001 ticks to t.bin takes at least {bytes} bytes"));
     assert_eq!(entries(dir.path()), ["long.toml"]);
 }
 
