@@ -162,7 +162,7 @@ pub fn run_f32<E>(
             t: tick.t,
             state: lp.state().to_array(),
             measurement: [m.t, m.pose.x, m.pose.y, m.pose.theta, m.wheel_angles.right, m.wheel_angles.left, wr, wl],
-            reference: [r.pose.x, r.pose.y, r.pose.theta, r.twist.v, r.twist.omega, r.accel.v, r.accel.omega],
+            reference: trace::reference_values(&r),
             command: [out.command.right, out.command.left],
             errors: [out.errors.e_s, out.errors.e_theta, out.errors.dl],
         };

@@ -52,8 +52,7 @@ fn check_against_closed_loop(config: &Config, sensor: SensorParams<f32>, run: u6
         assert_eq!(s.map(f32::to_bits), r.state.map(f32::to_bits), "tick {k}: state");
         let c = sim.plant().command();
         assert_eq!([c.right.to_bits(), c.left.to_bits()], r.command.map(f32::to_bits), "tick {k}: command");
-        let at = sim.last_tick().reference;
-        let at = [at.pose.x, at.pose.y, at.pose.theta, at.twist.v, at.twist.omega, at.accel.v, at.accel.omega];
+        let at = trace::reference_values(&sim.last_tick().reference);
         assert_eq!(at.map(f32::to_bits), r.reference.map(f32::to_bits), "tick {k}: reference");
     }
 }

@@ -30,7 +30,7 @@
 use crate::describe::Described;
 use crate::error::ParamError;
 use crate::reference::waypoints::MAX_POINTS;
-use crate::reference::{AnyReference, Circle, FigureEight, FixedGoal, Line, Waypoints};
+use crate::reference::{AnyReference, Circle, FigureEight, FixedGoal, Line, ReferenceState, Waypoints};
 use crate::{
     AntiWindup, BacksteppingParams, DcMotorParams, DriveParams, HoldMode, KanayamaParams, LawParams, LyapunovParams,
     PaperBidirectionalParams, PaperMode, PaperParams, PolarParams, Pose2, PurePursuitParams, Real, RobotParams,
@@ -465,6 +465,12 @@ pub fn read_header(w: &[u32; HEADER_WORDS]) -> Result<u32, FormatError> {
     Ok(w[5])
 }
 
+/// A reference state as a [`Record`] holds it: pose x, y (m), theta (rad), twist v
+/// (m/s), omega (rad/s), acceleration v' (m/s^2), omega' (rad/s^2).
+pub fn reference_values<T: Copy>(r: &ReferenceState<T>) -> [T; 7] {
+    [r.pose.x, r.pose.y, r.pose.theta, r.twist.v, r.twist.omega, r.accel.v, r.accel.omega]
+}
+
 /// One control tick.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Record {
@@ -476,8 +482,7 @@ pub struct Record {
     /// The measurement the controller got: t (s), x, y (m), theta (rad), wheel angles
     /// right, left (rad), wheel speeds right, left (rad/s).
     pub measurement: [f32; 8],
-    /// The reference state at the tick: pose x, y (m), theta (rad), twist v (m/s), omega
-    /// (rad/s), acceleration v' (m/s^2), omega' (rad/s^2).
+    /// The reference state at the tick ([`reference_values`]).
     pub reference: [f32; 7],
     /// The drive command, right and left (N m or V).
     pub command: [f32; 2],

@@ -92,8 +92,7 @@ fn main() -> ! {
         };
         // The reference at the tick's time, as the traced loop asked it.
         let at = reference.state_at(r.t);
-        let mine = [at.pose.x, at.pose.y, at.pose.theta, at.twist.v, at.twist.omega, at.accel.v, at.accel.omega];
-        if bits(mine) == bits(r.reference) {
+        if bits(trace::reference_values(&at)) == bits(r.reference) {
             reference_ok += 1;
         } else if first_bad.is_none() {
             first_bad = Some((k, "reference state"));
