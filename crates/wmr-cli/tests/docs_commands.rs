@@ -22,9 +22,13 @@
 //! records the skip (`skip::missing("long", ...)`), never passes them silently.
 //!
 //! Commands of one document run in order in one copy and share it (a `cd firmware` holds
-//! for the block's next commands; files written by one are there for the next). `wmr-cli`
-//! is this build's binary, first on `PATH`; `target` in the copy is this workspace's
-//! target folder, so a documented `cargo build` reuses what is built.
+//! for the block's next commands; files written by one are there for the next). `target`
+//! in the copy is this workspace's target folder, so a documented `cargo build` reuses what
+//! is built. The `wmr-cli` first on `PATH` is this test's build (a debug one under `cargo
+//! test`) in the normal set; under `WMR_LONG_TESTS=1` it is a release build, made once by
+//! the test (`cargo build --release -p wmr-cli --locked` into that target folder, then
+//! `target/release` first on `PATH`): the long commands' sweeps and maps are timed in
+//! the docs with a release build and take several times as long with a debug one.
 //!
 //! Run: `cargo test -p wmr-cli --test docs_commands` (`-- --nocapture` lists every command
 //! with its time); all, long ones too: `WMR_LONG_TESTS=1 cargo test -p wmr-cli --test
@@ -267,6 +271,28 @@ fn lines_match(expected: &[String], actual: &[&str]) -> bool {
     }
 }
 
+/// The workspace's target folder: a documented `cargo build` and the release `wmr-cli` of
+/// the long run reuse what is built there.
+fn target_dir(root: &Path) -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from)
+}
+
+/// Builds the release `wmr-cli` into the workspace's target folder; returns the folder
+/// that holds it, `target/release`.
+fn release_wmr_cli(root: &Path) -> PathBuf {
+    let target = target_dir(root);
+    let start = Instant::now();
+    let status = Command::new(env!("CARGO"))
+        .args(["build", "--release", "-p", "wmr-cli", "--locked", "--target-dir"])
+        .arg(&target)
+        .current_dir(root)
+        .status()
+        .unwrap_or_else(|e| panic!("cannot run {}: {e}", env!("CARGO")));
+    assert!(status.success(), "cargo build --release -p wmr-cli --locked: {status}");
+    eprintln!("{:>7.2} s  (the release wmr-cli for the long commands)", start.elapsed().as_secs_f64());
+    target.join("release")
+}
+
 /// A fresh copy of the tracked files of `root` (as they are in the working tree) in a
 /// temporary folder, with `target` linked to the workspace's target folder.
 fn fresh_copy(root: &Path) -> tempfile::TempDir {
@@ -280,8 +306,7 @@ fn fresh_copy(root: &Path) -> tempfile::TempDir {
         fs::create_dir_all(to.parent().unwrap()).unwrap();
         fs::copy(&from, &to).unwrap();
     }
-    let target = std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| root.join("target"), PathBuf::from);
-    std::os::unix::fs::symlink(target, dir.path().join("target")).unwrap();
+    std::os::unix::fs::symlink(target_dir(root), dir.path().join("target")).unwrap();
     dir
 }
 
@@ -335,8 +360,14 @@ fn check(c: &DocCommand, code: i32, output: &str) -> Option<String> {
 fn every_documented_command_does_what_its_doc_says() {
     let root = repo();
     let long = std::env::var_os("WMR_LONG_TESTS").is_some_and(|v| v == "1");
-    let bin = tempfile::tempdir().unwrap();
-    std::os::unix::fs::symlink(env!("CARGO_BIN_EXE_wmr-cli"), bin.path().join("wmr-cli")).unwrap();
+    // The folder first on PATH, with the `wmr-cli` the documented commands run (module doc).
+    let debug = tempfile::tempdir().unwrap();
+    let bin = if long {
+        release_wmr_cli(&root)
+    } else {
+        std::os::unix::fs::symlink(env!("CARGO_BIN_EXE_wmr-cli"), debug.path().join("wmr-cli")).unwrap();
+        debug.path().to_path_buf()
+    };
     let only: Option<Vec<String>> =
         std::env::var("WMR_DOCS_ONLY").ok().map(|v| v.split(',').map(|s| s.trim().to_string()).collect());
     let (mut ran, mut skipped, mut failures) = (0, Vec::new(), Vec::new());
@@ -366,7 +397,7 @@ fn every_documented_command_does_what_its_doc_says() {
                 }
                 let start = Instant::now();
                 let _ = fs::remove_file(&state);
-                let (code, output, end) = run(&c.text, &cwd, bin.path(), &state, if c.long { 3600 } else { 300 });
+                let (code, output, end) = run(&c.text, &cwd, &bin, &state, if c.long { 3600 } else { 300 });
                 eprintln!("{:>7.2} s  {}  {}", start.elapsed().as_secs_f64(), c.at, c.text);
                 ran += 1;
                 if let Some(f) = check(c, code, &output) {
