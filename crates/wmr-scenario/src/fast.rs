@@ -228,18 +228,18 @@ fn lanes(
     let mut next_start = starts.iter().enumerate();
     let mut outcomes = vec![None; starts.len()];
     let mut stopped = false;
-    let next = || {
+    let mut next = || {
         if stop() {
             stopped = true;
             return None;
         }
         next_start.next().map(|(i, &p)| (i as u64, p))
     };
-    let finished = |tag: u64, outcome| {
+    let mut finished = |tag: u64, outcome| {
         done();
         outcomes[tag as usize] = Some(outcome);
     };
-    run_batch(kernel, &mut batch, next, finished);
+    run_batch(kernel, &mut batch, &mut next, &mut finished);
     if stopped {
         return Ok(None);
     }
@@ -382,45 +382,73 @@ impl Kernel {
 /// the exact path before that). The one `unsafe` of the crate: calling a function
 /// compiled for AVX2 or AVX-512, after checking for it. The three builds give the same
 /// bits: no FMA contraction, and the same operations in the same order per lane.
+///
+/// Each build is a function of its own module, so that the compiler's code generation
+/// units hold one each and build them in parallel (the three are most of this crate's
+/// build time); `next` and `done` are called once per run, so their dynamic dispatch
+/// costs nothing per step.
 #[allow(unsafe_code)]
 fn run_batch(
     kernel: Kernel,
     batch: &mut Batch,
-    next: impl FnMut() -> Option<(u64, Pose2<f64>)>,
-    done: impl FnMut(u64, Outcome<f64>),
+    next: &mut dyn FnMut() -> Option<(u64, Pose2<f64>)>,
+    done: &mut dyn FnMut(u64, Outcome<f64>),
 ) {
     #[cfg(target_arch = "x86_64")]
     match kernel {
         Kernel::Avx512 if Kernel::best().rank() >= Kernel::Avx512.rank() => {
             // SAFETY: the processor has AVX-512F, checked just above.
-            return unsafe { run_batch_avx512(batch, next, done) };
+            return unsafe { avx512::run_batch(batch, next, done) };
         }
         Kernel::Avx2 if Kernel::best().rank() >= Kernel::Avx2.rank() => {
             // SAFETY: the processor has AVX2, checked just above.
-            return unsafe { run_batch_avx2(batch, next, done) };
+            return unsafe { avx2::run_batch(batch, next, done) };
         }
         _ => {}
     }
     let _ = kernel;
-    batch.run_all(next, done);
+    portable::run_batch(batch, next, done);
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn run_batch_avx2(
-    batch: &mut Batch,
-    next: impl FnMut() -> Option<(u64, Pose2<f64>)>,
-    done: impl FnMut(u64, Outcome<f64>),
-) {
-    batch.run_all(next, done);
+/// The lanes for the baseline instruction set.
+mod portable {
+    use super::{Batch, Outcome, Pose2};
+
+    pub(super) fn run_batch(
+        batch: &mut Batch,
+        next: &mut dyn FnMut() -> Option<(u64, Pose2<f64>)>,
+        done: &mut dyn FnMut(u64, Outcome<f64>),
+    ) {
+        batch.run_all(next, done);
+    }
 }
 
+/// The lanes compiled for AVX2.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn run_batch_avx512(
-    batch: &mut Batch,
-    next: impl FnMut() -> Option<(u64, Pose2<f64>)>,
-    done: impl FnMut(u64, Outcome<f64>),
-) {
-    batch.run_all(next, done);
+mod avx2 {
+    use super::{Batch, Outcome, Pose2};
+
+    #[target_feature(enable = "avx2")]
+    pub(super) fn run_batch(
+        batch: &mut Batch,
+        next: &mut dyn FnMut() -> Option<(u64, Pose2<f64>)>,
+        done: &mut dyn FnMut(u64, Outcome<f64>),
+    ) {
+        batch.run_all(next, done);
+    }
+}
+
+/// The lanes compiled for AVX-512.
+#[cfg(target_arch = "x86_64")]
+mod avx512 {
+    use super::{Batch, Outcome, Pose2};
+
+    #[target_feature(enable = "avx512f")]
+    pub(super) fn run_batch(
+        batch: &mut Batch,
+        next: &mut dyn FnMut() -> Option<(u64, Pose2<f64>)>,
+        done: &mut dyn FnMut(u64, Outcome<f64>),
+    ) {
+        batch.run_all(next, done);
+    }
 }
