@@ -59,6 +59,10 @@ SIGINT_SCRIPT = textwrap.dedent(
     import numpy as np
     import wmr_py
     which, warm = sys.argv[1], sys.argv[2] == "warm"
+    # Python's own handler, also when the parent ignores SIGINT (a background job of a
+    # shell without job control does): the ignore is inherited, and Python then installs
+    # no handler, so the signal would never reach the call under test.
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     calls = {
         "simulate": lambda: wmr_py.simulate((0, 0, 0), (1, 1, 2), t_end=50000.0, log_dt=10.0),
         "run_batch": lambda: wmr_py.run_batch(np.zeros((4, 3)) + [0.5, 0.5, 0.0], (0, 0, 0), t_end=50000.0),
