@@ -16,7 +16,7 @@ use wmr_scenario::{
 
 use crate::atomic::{Output, write_text};
 use crate::errors::{bad_input, is_broken_pipe, note, say_raw};
-use crate::exec::announce_sweep;
+use crate::exec::{announce_sweep, law_step_cost};
 
 /// Output bytes per sweep CSV row below which no row is written (a row holds a law
 /// name, ten numbers and a status): the free-space check refuses only what surely
@@ -91,6 +91,9 @@ pub fn sweep(
         &what,
         fast,
         scenario.sim().stop_when_settled(),
+        // Every law runs the same number of runs.
+        spec.laws.iter().map(|(_, setup)| law_step_cost(setup.controller.law.kind())).sum::<f64>()
+            / spec.laws.len().max(1) as f64,
     );
     if let Some(kernel) = kernel {
         // Which vector unit the lanes run on: a figure measured here is not another CPU's.
