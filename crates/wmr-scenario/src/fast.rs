@@ -410,45 +410,40 @@ fn run_batch(
     portable::run_batch(batch, next, done);
 }
 
-/// The lanes for the baseline instruction set.
-mod portable {
-    use super::{Batch, Outcome, Pose2};
+/// One build of the lanes ([`run_batch`]'s), in a module of its own.
+macro_rules! lane_kernel {
+    ($(#[$module_attr:meta])* mod $module:ident; $(#[$fn_attr:meta])*) => {
+        $(#[$module_attr])*
+        mod $module {
+            use super::{Batch, Outcome, Pose2};
 
-    pub(super) fn run_batch(
-        batch: &mut Batch,
-        next: &mut dyn FnMut() -> Option<(u64, Pose2<f64>)>,
-        done: &mut dyn FnMut(u64, Outcome<f64>),
-    ) {
-        batch.run_all(next, done);
-    }
+            $(#[$fn_attr])*
+            pub(super) fn run_batch(
+                batch: &mut Batch,
+                next: &mut dyn FnMut() -> Option<(u64, Pose2<f64>)>,
+                done: &mut dyn FnMut(u64, Outcome<f64>),
+            ) {
+                batch.run_all(next, done);
+            }
+        }
+    };
 }
 
-/// The lanes compiled for AVX2.
-#[cfg(target_arch = "x86_64")]
-mod avx2 {
-    use super::{Batch, Outcome, Pose2};
+lane_kernel! {
+    /// The lanes for the baseline instruction set.
+    mod portable;
+}
 
+lane_kernel! {
+    /// The lanes compiled for AVX2.
+    #[cfg(target_arch = "x86_64")]
+    mod avx2;
     #[target_feature(enable = "avx2")]
-    pub(super) fn run_batch(
-        batch: &mut Batch,
-        next: &mut dyn FnMut() -> Option<(u64, Pose2<f64>)>,
-        done: &mut dyn FnMut(u64, Outcome<f64>),
-    ) {
-        batch.run_all(next, done);
-    }
 }
 
-/// The lanes compiled for AVX-512.
-#[cfg(target_arch = "x86_64")]
-mod avx512 {
-    use super::{Batch, Outcome, Pose2};
-
+lane_kernel! {
+    /// The lanes compiled for AVX-512.
+    #[cfg(target_arch = "x86_64")]
+    mod avx512;
     #[target_feature(enable = "avx512f")]
-    pub(super) fn run_batch(
-        batch: &mut Batch,
-        next: &mut dyn FnMut() -> Option<(u64, Pose2<f64>)>,
-        done: &mut dyn FnMut(u64, Outcome<f64>),
-    ) {
-        batch.run_all(next, done);
-    }
 }
