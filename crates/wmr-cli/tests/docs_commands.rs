@@ -305,6 +305,11 @@ fn fresh_copy(root: &Path) -> tempfile::TempDir {
         }
         fs::create_dir_all(to.parent().unwrap()).unwrap();
         fs::copy(&from, &to).unwrap();
+        // The original's modification time: cargo judges the shared target folder's
+        // artifacts by the sources' times, and a copy dated now made every documented
+        // `cargo build` or `cargo run` rebuild the workspace (3 to 7 minutes each).
+        let modified = fs::metadata(&from).and_then(|m| m.modified()).unwrap();
+        fs::File::options().write(true).open(&to).and_then(|f| f.set_modified(modified)).unwrap();
     }
     std::os::unix::fs::symlink(target_dir(root), dir.path().join("target")).unwrap();
     dir
