@@ -21,8 +21,10 @@
 //! e.g. qemu-system-arm). Those run under `WMR_LONG_TESTS=1` only; without it the test
 //! records the skip (`skip::missing("long", ...)`), never passes them silently.
 //!
-//! Commands of one document run in order in one copy and share it (a `cd firmware` holds
-//! for the block's next commands; files written by one are there for the next). `target`
+//! Commands of one document run in order in one copy and share it (a `cd firmware` or a
+//! venv's `. .venv/bin/activate` holds for the block's next commands, as in one terminal;
+//! files written by one are there for the next). The copy is a git repository of the
+//! tracked files (not committed), as a clone is. `target`
 //! in the copy is this workspace's target folder, so a documented `cargo build` reuses what
 //! is built. The `wmr-cli` first on `PATH` is this test's build (a debug one under `cargo
 //! test`) in the normal set; under `WMR_LONG_TESTS=1` it is a release build, made once by
@@ -40,7 +42,7 @@ mod skip;
 
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Stdio};
 use std::time::Instant;
 
 /// What a documented command must do.
@@ -312,13 +314,29 @@ fn fresh_copy(root: &Path) -> tempfile::TempDir {
         fs::File::options().write(true).open(&to).and_then(|f| f.set_modified(modified)).unwrap();
     }
     std::os::unix::fs::symlink(target_dir(root), dir.path().join("target")).unwrap();
+    // A git repository of those files, as a clone is: documented tests that list the
+    // tracked files (`git ls-files`) see the same list (not committed: nothing needs it).
+    for args in [&["init", "-q"][..], &["add", "-A"]] {
+        let st = Command::new("git").args(args).current_dir(dir.path()).stdout(Stdio::null()).status().unwrap();
+        assert!(st.success(), "git {args:?} in the fresh copy: {st}");
+    }
     dir
 }
 
 /// Runs `cmd` with bash in `cwd`, `bin` first on PATH; returns (exit code, stdout then
 /// stderr, the folder the command ended in).
+///
+/// Each line runs in a bash of its own, but what a block's earlier lines left behind
+/// lasts as it would in one terminal: the folder (`cd`) and the exported variables (a
+/// venv's `. .venv/bin/activate`), kept in `state`'s two files; [`forget`] ends them
+/// when the block changes.
 fn run(cmd: &str, cwd: &Path, bin: &Path, state: &Path, timeout_s: u32) -> (i32, String, PathBuf) {
-    let script = format!("set -o pipefail\n{cmd}\nrc=$?\npwd > '{}'\nexit $rc", state.display());
+    let (pwd, env) = (state.with_extension("pwd"), state.with_extension("env"));
+    let script = format!(
+        "[ -f '{env}' ] && . '{env}'\nset -o pipefail\n{cmd}\nrc=$?\npwd > '{pwd}'\nexport -p > '{env}'\nexit $rc",
+        env = env.display(),
+        pwd = pwd.display()
+    );
     let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
     let out = Command::new("timeout")
         .args([format!("{timeout_s}"), "bash".into(), "-c".into(), script])
@@ -332,8 +350,14 @@ fn run(cmd: &str, cwd: &Path, bin: &Path, state: &Path, timeout_s: u32) -> (i32,
         .output()
         .expect("spawn bash");
     let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
-    let end = fs::read_to_string(state).map_or_else(|_| cwd.to_path_buf(), |s| PathBuf::from(s.trim()));
+    let end = fs::read_to_string(&pwd).map_or_else(|_| cwd.to_path_buf(), |s| PathBuf::from(s.trim()));
+    let _ = fs::remove_file(&pwd);
     (out.status.code().unwrap_or(-1), text, end)
+}
+
+/// Ends what a block's lines carried over to the next ([`run`]): at a new block.
+fn forget(state: &Path) {
+    let _ = fs::remove_file(state.with_extension("env"));
 }
 
 /// The failure of `c`, or None when it did what its doc says.
@@ -391,17 +415,19 @@ fn every_documented_command_does_what_its_doc_says() {
             continue;
         }
         let copy = fresh_copy(&root);
-        let state = copy.path().join(".docs-test-pwd");
-        // `cd` lasts for the rest of its block: the folder is reset when the block changes.
+        // Outside the copy: a documented `git status` or `ls` must not see it.
+        let state_dir = tempfile::tempdir().unwrap();
+        let state = state_dir.path().join("carried");
+        // `cd` and exports last for the rest of their block ([`run`]).
         let mut cwd = copy.path().to_path_buf();
         let mut block = usize::MAX;
         for c in &cmds {
             if !c.long || long {
                 if c.block != block {
                     (block, cwd) = (c.block, copy.path().to_path_buf());
+                    forget(&state);
                 }
                 let start = Instant::now();
-                let _ = fs::remove_file(&state);
                 let (code, output, end) = run(&c.text, &cwd, &bin, &state, if c.long { 3600 } else { 300 });
                 eprintln!("{:>7.2} s  {}  {}", start.elapsed().as_secs_f64(), c.at, c.text);
                 ran += 1;
@@ -448,4 +474,21 @@ fn output_patterns_match_what_they_say() {
     assert!(!lines_match(&e(&["a"]), &["a", "b"]));
     assert_eq!(strip_comment("wmr-cli run f.toml -o x.csv   # CSV: run,t"), "wmr-cli run f.toml -o x.csv   ");
     assert_eq!(strip_comment("echo '# not a comment'"), "echo '# not a comment'");
+}
+
+/// A block's lines share what one terminal would: the folder and exported variables;
+/// a new block starts afresh.
+#[test]
+fn a_blocks_lines_share_folder_and_exports() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::create_dir(dir.path().join("sub")).unwrap();
+    let state = dir.path().join("carried");
+    let bin = dir.path();
+    let (code, _, end) = run("cd sub && export WMR_DOCS_PROBE=venv", dir.path(), bin, &state, 10);
+    assert_eq!((code, end.file_name().unwrap().to_str().unwrap()), (0, "sub"));
+    let (_, out, _) = run("echo \"[$WMR_DOCS_PROBE]\"", &end, bin, &state, 10);
+    assert_eq!(out.trim(), "[venv]");
+    forget(&state);
+    let (_, out, _) = run("echo \"[$WMR_DOCS_PROBE]\"", &end, bin, &state, 10);
+    assert_eq!(out.trim(), "[]");
 }
