@@ -14,7 +14,9 @@
 //! slowest run.
 //!
 //! Not bit-identical to [`crate::ClosedLoop`]: the lanes' sin, cos and atan2 differ from
-//! `libm` in the last bits, and a closed loop carries such differences along. The clock,
+//! `libm` in the last bits, the plant's RK4 carries the heading's cos and sin as states
+//! ([`Plant::advance_carrying_heading`]: no sine per stage), and a closed loop carries
+//! such differences along. The clock,
 //! the control ticks, the metrics and the three outcomes are the same code.
 
 use crate::arrival::ArrivalWatch;
@@ -27,6 +29,7 @@ use crate::lane::{Lane, LaneMask, Lanes, Mask};
 use crate::math::{Pose2, Twist2, Wheels};
 use crate::outcome::{Metrics, Outcome, Termination};
 use crate::plant::{DIVERGENCE_BOX_M, Plant, all_finite};
+use crate::real::Real;
 use crate::reference::{FixedGoal, Reference, ReferenceState};
 use crate::sensor::Measurement;
 use crate::settle::SettleWatch;
@@ -49,6 +52,9 @@ pub struct LaneBatch<const N: usize, L, R = FixedGoal<f64>> {
     /// `control_every`, for every lane at once.
     global_step: u64,
     state: State<Lanes<N>>,
+    /// (cos, sin) of each lane's heading, carried through the plant's steps
+    /// ([`Plant::advance_carrying_heading`]).
+    heading: (Lanes<N>, Lanes<N>),
     command: Wheels<Lanes<N>>,
     held_torque: Wheels<Lanes<N>>,
     /// Each lane's metrics and settle rule, as [`crate::ClosedLoop::try_run`] keeps them.
@@ -99,6 +105,7 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
             n_steps,
             global_step: 0,
             state: State::from_array([zero; 7]),
+            heading: (Lanes::splat(1.0), zero),
             command: Wheels::new(zero, zero),
             held_torque: Wheels::new(zero, zero),
             metrics: Metrics::default(),
@@ -173,11 +180,11 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
             if busy {
                 // One RK4 step of every lane; a lane whose step is not finite or leaves
                 // the box keeps its last good state and ends.
-                let stepped = self.plant.advance(
+                let (stepped, heading) = self.plant.advance_carrying_heading(
                     &self.state,
+                    self.heading,
                     self.command,
                     self.held_torque,
-                    Lanes::splat(0.0),
                     Lanes::splat(dt),
                 );
                 let finite = all_finite(&stepped);
@@ -188,6 +195,8 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
                     c.assign_where(ok, new);
                 }
                 self.state = State::from_array(state);
+                self.heading.0.assign_where(ok, heading.0);
+                self.heading.1.assign_where(ok, heading.1);
                 self.steps = self.steps + Lanes::select(ok & self.active, one, zero);
                 let failed = self.active & !ok;
                 if failed.any() {
@@ -223,7 +232,7 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
                 more = false;
                 break;
             };
-            set_lane(&mut self.state, i, &State::at_rest(start));
+            self.set_lane(i, &State::at_rest(start));
             self.tags[i] = tag;
             self.steps.0[i] = 0.0;
             *fresh = true;
@@ -283,7 +292,14 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
         metrics.observe(t, &s, s.wheel_speeds(self.plant.robot().params()), goal);
         done(self.tags[i], metrics.finish(t, &s, goal, termination));
         // A benign state until the lane takes its next run.
-        set_lane(&mut self.state, i, &State::at_rest(goal));
+        self.set_lane(i, &State::at_rest(goal));
+    }
+
+    /// Sets lane `i`'s state to `s`, with its heading's (cos, sin).
+    fn set_lane(&mut self, i: usize, s: &State<f64>) {
+        set_lane(&mut self.state, i, s);
+        let (sin, cos) = s.theta.sin_cos_libm();
+        (self.heading.0.0[i], self.heading.1.0[i]) = (cos, sin);
     }
 }
 

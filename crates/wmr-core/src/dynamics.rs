@@ -172,6 +172,19 @@ impl<T: Real> Model<T> {
         s: &State<L>,
         tau_wheel: Wheels<L>,
     ) -> State<L> {
+        self.derivative_at_heading::<L, COULOMB, SLOPE>(s, tau_wheel, s.theta.sin_cos())
+    }
+
+    /// [`Model::derivative_lanes`] with (sin, cos) of the heading `s.theta` given: the
+    /// lanes carry them through their RK4 step rather than computing them at each stage
+    /// ([`crate::plant`]'s `advance_carrying_heading`).
+    #[inline(always)]
+    pub(crate) fn derivative_at_heading<L: Lane<Scalar = T>, const COULOMB: bool, const SLOPE: bool>(
+        &self,
+        s: &State<L>,
+        tau_wheel: Wheels<L>,
+        (sin, cos): (L, L),
+    ) -> State<L> {
         let r = L::splat(self.r);
         let big_r = L::splat(self.big_r);
         let md = L::splat(self.md);
@@ -179,7 +192,6 @@ impl<T: Real> Model<T> {
         let w_l = (s.v - big_r * s.omega) / r;
         let net_r = tau_wheel.right - self.friction_torque_with::<L, COULOMB>(w_r);
         let net_l = tau_wheel.left - self.friction_torque_with::<L, COULOMB>(w_l);
-        let (sin, cos) = s.theta.sin_cos();
         let mut forward = (net_r + net_l) / r + md * s.omega * s.omega;
         let mut moment = L::splat(self.big_r_over_r) * (net_r - net_l) - md * s.v * s.omega;
         if SLOPE {

@@ -11,7 +11,8 @@
 //! lanes step the rolling plant only; `wmr-cli sweep --fast` says so) and the runs of a
 //! sweep over references (the lanes follow a fixed goal; [`SweepSpec::fast_refusal`] says so).
 //!
-//! Not bit-identical to [`SweepSpec::run`]: the lanes' sin and cos are not `libm`'s.
+//! Not bit-identical to [`SweepSpec::run`]: the lanes' sin and cos are not `libm`'s, and
+//! their RK4 carries the heading's cos and sin ([`wmr_core::batch`]).
 //! `crates/wmr-scenario/tests/fast.rs` bounds the difference on `examples/compare.toml`.
 
 use std::ops::ControlFlow;
