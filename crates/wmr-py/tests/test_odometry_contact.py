@@ -62,6 +62,8 @@ def test_odometry_and_contact_columns_equal_the_cli_csv(name: str, tmp_path: pat
     with pytest.raises(AttributeError, match="only a run"):
         getattr(res, other[0])
     # CSV order in the tables (which always have the measured pose; the CSV only with a [sensor]).
+    pytest.importorskip("pandas")  # optional: what follows needs it
+    pytest.importorskip("xarray")  # optional: what follows needs it
     df = res.to_pandas()
     assert [c for c in df.columns if c in header] == header
     assert list(df.columns)[-len(group):] == list(group)

@@ -151,6 +151,8 @@ def test_tracking_summary_replays_the_rule() -> None:
 def test_to_pandas_and_to_xarray_carry_the_reference_and_summary() -> None:
     ref = wmr_py.Reference("line", start={"x": 0.0, "y": 0.0, "theta_deg": 10.0}, speed=0.25)
     r = wmr_py.simulate((0.0, 0.05, 0.0), reference=ref, controller={"kind": "backstepping"}, t_end=3.0)
+    pytest.importorskip("pandas")  # optional: what follows needs it
+    pytest.importorskip("xarray")  # optional: what follows needs it
     df = r.to_pandas()
     for name in wmr_py.REFERENCE_COLUMNS:
         np.testing.assert_array_equal(df[name].to_numpy(), r[name])
@@ -167,6 +169,7 @@ def test_run_batch_with_a_reference_is_simulate_run_by_run() -> None:
     ctrl = {"kind": "pure_pursuit"}
     b = wmr_py.run_batch(starts, reference=ref, controller=ctrl, t_end=10.0)
     fast = wmr_py.run_batch(starts, reference=ref, controller=ctrl, t_end=10.0, fast=True)
+    pytest.importorskip("pandas")  # optional: what follows needs it
     df = b.to_pandas()
     for k in wmr_py.TRACKING_FIELDS:
         assert k in df.columns
@@ -312,6 +315,8 @@ def test_sweep_over_references_is_the_clis(tmp_path: pathlib.Path) -> None:
             assert res[name][i] == float(row[f"{name}_m"]), (i, name)
         ttt = row["time_to_tolerance_s"]
         assert (np.isnan(res.time_to_tolerance[i]) and ttt in ("", "NaN")) or res.time_to_tolerance[i] == float(ttt)
+    pytest.importorskip("pandas")  # optional: what follows needs it
+    pytest.importorskip("xarray")  # optional: what follows needs it
     df = res.to_pandas()
     assert list(df["reference"][:3]) == ["circle"] * 3
     ds = res.to_xarray()
