@@ -54,6 +54,8 @@ pub(crate) struct Model<T> {
     big_r: T,
     /// R / r.
     big_r_over_r: T,
+    /// 1 / r, 1/m: the lanes multiply where one run divides ([`Lane::div_by`]).
+    inv_r: T,
     /// 1 / M_r11, 1/kg.
     inv_m11: T,
     /// 1 / M_r22, 1/(kg m^2).
@@ -90,6 +92,7 @@ impl<T: Real> Model<T> {
             r: p.wheel_radius,
             big_r: p.half_track,
             big_r_over_r: p.half_track / p.wheel_radius,
+            inv_r: T::one() / p.wheel_radius,
             inv_m11,
             inv_m22,
             md: robot.mass_offset(),
@@ -185,14 +188,13 @@ impl<T: Real> Model<T> {
         tau_wheel: Wheels<L>,
         (sin, cos): (L, L),
     ) -> State<L> {
-        let r = L::splat(self.r);
         let big_r = L::splat(self.big_r);
         let md = L::splat(self.md);
-        let w_r = (s.v + big_r * s.omega) / r;
-        let w_l = (s.v - big_r * s.omega) / r;
+        let w_r = (s.v + big_r * s.omega).div_by(self.r, self.inv_r);
+        let w_l = (s.v - big_r * s.omega).div_by(self.r, self.inv_r);
         let net_r = tau_wheel.right - self.friction_torque_with::<L, COULOMB>(w_r);
         let net_l = tau_wheel.left - self.friction_torque_with::<L, COULOMB>(w_l);
-        let mut forward = (net_r + net_l) / r + md * s.omega * s.omega;
+        let mut forward = (net_r + net_l).div_by(self.r, self.inv_r) + md * s.omega * s.omega;
         let mut moment = L::splat(self.big_r_over_r) * (net_r - net_l) - md * s.v * s.omega;
         if SLOPE {
             let (f_x, f_y) = (L::splat(self.downhill.0), L::splat(self.downhill.1));

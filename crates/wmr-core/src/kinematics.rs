@@ -18,8 +18,10 @@ pub fn wheel_speeds<T: Real>(p: &RobotParams<T>, twist: Twist2<T>) -> Wheels<T> 
 /// ([`crate::lane`]).
 #[inline(always)]
 pub fn wheel_speeds_lanes<L: Lane>(p: &RobotParams<L::Scalar>, v: L, omega: L) -> Wheels<L> {
-    let (r, big_r) = (L::splat(p.wheel_radius), L::splat(p.half_track));
-    Wheels::new((v + big_r * omega) / r, (v - big_r * omega) / r)
+    let (r, big_r) = (p.wheel_radius, L::splat(p.half_track));
+    // 1/r is a scalar division, which the compiler takes out of a loop of lane steps.
+    let inv_r = <L::Scalar as num_traits::One>::one() / r;
+    Wheels::new((v + big_r * omega).div_by(r, inv_r), (v - big_r * omega).div_by(r, inv_r))
 }
 
 /// Body twist of C from wheel speeds (rad/s), relation (1):

@@ -101,6 +101,10 @@ pub trait Lane:
     fn sqrt(self) -> Self;
     /// Largest whole number <= self.
     fn floor(self) -> Self;
+    /// self / d, where `inv_d` = 1 / d: one run divides (its bits are the exact path's);
+    /// lanes multiply by the reciprocal (within 1 ulp of the quotient), since a vector
+    /// division costs several products' time and sits on the plant's critical path.
+    fn div_by(self, d: Self::Scalar, inv_d: Self::Scalar) -> Self;
     /// (sin, cos) of an angle in rad.
     fn sin_cos(self) -> (Self, Self);
     /// cos of an angle in rad.
@@ -158,6 +162,10 @@ impl<T: Real> Lane for T {
     #[inline(always)]
     fn floor(self) -> Self {
         num_traits::Float::floor(self)
+    }
+    #[inline(always)]
+    fn div_by(self, d: T, _inv_d: T) -> Self {
+        self / d
     }
     #[inline(always)]
     fn sin_cos(self) -> (Self, Self) {
@@ -380,33 +388,44 @@ fn cos_poly(z: f64) -> f64 {
     1.0 - 0.5 * z + z * z * q
 }
 
-/// atan on [0, 1] (Cephes `atan.c`: above 0.66, pi/4 + atan((a - 1)/(a + 1))).
+/// atan(lo / hi) for 0 <= lo <= hi, with one division (fdlibm's `atan`, whose range
+/// reduction divides again after the caller's lo / hi): below 7/16 the ratio itself;
+/// below 11/16 atan(1/2) + atan((2 lo - hi) / (2 hi + lo)); above, pi/4 + atan((lo - hi)
+/// / (lo + hi)); then fdlibm's polynomial in t^2, split in two for parallel products.
+/// lo = hi = 0 gives 0. Whole-vector steps, each a loop the compiler vectorizes (a
+/// per-lane function with branches did not).
 #[inline(always)]
-fn atan_unit(a: f64) -> f64 {
-    const P: [f64; 5] = [
-        -8.750_608_600_031_904_122_785e-1,
-        -1.615_753_718_733_365_076_637e1,
-        -7.500_855_792_314_704_667_340e1,
-        -1.228_866_684_490_136_173_410e2,
-        -6.485_021_904_942_025_371_773e1,
+fn atan_ratio<const N: usize>(lo: Lanes<N>, hi: Lanes<N>) -> Lanes<N> {
+    const AT: [f64; 11] = [
+        3.333_333_333_333_293_180_27e-1,
+        -1.999_999_999_987_648_324_76e-1,
+        1.428_571_427_250_346_637_11e-1,
+        -1.111_111_040_546_235_578_80e-1,
+        9.090_887_133_436_506_561_96e-2,
+        -7.691_876_205_044_829_994_95e-2,
+        6.661_073_137_387_531_206_69e-2,
+        -5.833_570_133_790_573_486_45e-2,
+        4.976_877_994_615_932_360_17e-2,
+        -3.653_157_274_421_691_552_70e-2,
+        1.628_582_011_536_578_236_23e-2,
     ];
-    const Q: [f64; 5] = [
-        2.485_846_490_142_306_297_962e1,
-        1.650_270_098_316_988_542_046e2,
-        4.328_810_604_912_902_668_951e2,
-        4.853_903_996_359_136_964_868e2,
-        1.945_506_571_482_613_964_425e2,
-    ];
-    /// The part of pi/4 that pi/4 in `f64` misses.
-    const PIO4_TAIL: f64 = 3.061_616_997_868_382_943_065e-17;
-    let big = a > 0.66;
-    let x = if big { (a - 1.0) / (a + 1.0) } else { a };
-    let base = if big { core::f64::consts::FRAC_PI_4 } else { 0.0 };
-    let tail = if big { PIO4_TAIL } else { 0.0 };
-    let z = x * x;
-    let p = (((P[0] * z + P[1]) * z + P[2]) * z + P[3]) * z + P[4];
-    let q = ((((z + Q[0]) * z + Q[1]) * z + Q[2]) * z + Q[3]) * z + Q[4];
-    base + (x + (x * z * p / q + tail))
+    /// atan(1/2) and atan(1) in two parts each (high, low).
+    const HALF: (f64, f64) = (4.636_476_090_008_060_935_15e-1, 2.269_877_745_296_168_709_24e-17);
+    const ONE: (f64, f64) = (core::f64::consts::FRAC_PI_4, 3.061_616_997_868_383_017_93e-17);
+    let l = |x: f64| Lanes::<N>::splat(x);
+    let zero = hi.eq(l(0.0));
+    let small = lo.lt(l(0.4375) * hi) | zero;
+    let middle = lo.lt(l(0.6875) * hi);
+    let pick = |a: f64, b: f64, c: f64| Lanes::select(small, l(a), Lanes::select(middle, l(b), l(c)));
+    let num = Lanes::select(small, lo, Lanes::select(middle, l(2.0) * lo - hi, lo - hi));
+    let den = Lanes::select(small, hi, Lanes::select(middle, l(2.0) * hi + lo, lo + hi));
+    let t = Lanes::select(zero, l(0.0), num / den);
+    let (base, tail) = (pick(0.0, HALF.0, ONE.0), pick(0.0, HALF.1, ONE.1));
+    let z = t * t;
+    let w = z * z;
+    let s1 = z * (l(AT[0]) + w * (l(AT[2]) + w * (l(AT[4]) + w * (l(AT[6]) + w * (l(AT[8]) + w * l(AT[10]))))));
+    let s2 = w * (l(AT[1]) + w * (l(AT[3]) + w * (l(AT[5]) + w * (l(AT[7]) + w * l(AT[9])))));
+    base - ((t * (s1 + s2) - tail) - t)
 }
 
 /// e^x for |x| <= 708 (clamped beyond): x = n ln 2 + r, |r| <= ln2 / 2, a degree-13
@@ -524,6 +543,10 @@ impl<const N: usize> Lane for Lanes<N> {
         })
     }
     #[inline(always)]
+    fn div_by(self, _d: f64, inv_d: f64) -> Self {
+        self * Lanes::splat(inv_d)
+    }
+    #[inline(always)]
     fn sin_cos(self) -> (Self, Self) {
         // Quadrant j = round(x 2/pi) (ROUNDER), r = x - j pi/2 in [-pi/4, pi/4] (PIO2_*),
         // the two polynomials, then the quadrant's swap and signs, all without a branch;
@@ -557,8 +580,7 @@ impl<const N: usize> Lane for Lanes<N> {
         // atan of min/max of |y|, |x| (in [0, 1]), then the octant, as whole-vector steps.
         let (ay, ax) = (self.abs(), x.abs());
         let (hi, lo) = (ay.max(ax), ay.min(ax));
-        let a = lo.zip(hi, |l, h| if h == 0.0 { 0.0 } else { l / h });
-        let t = a.map(atan_unit);
+        let t = atan_ratio(lo, hi);
         let t = Lanes::select(ax.lt(ay), Lanes::splat(core::f64::consts::FRAC_PI_2) - t, t);
         let t = x.zip(t, |x, t| if x.is_sign_negative() { core::f64::consts::PI - t } else { t });
         self.zip(t, |y, t| if y.is_sign_negative() { -t } else { t })

@@ -329,15 +329,19 @@ struct CarriedHeadingRhs<'a, T, L> {
 impl<T: Real, L: Lane<Scalar = T>> Rhs<L, CARRIED_LEN> for CarriedHeadingRhs<'_, T, L> {
     #[inline(always)]
     fn eval(&mut self, _t: L, y: &[L; CARRIED_LEN]) -> [L; CARRIED_LEN] {
-        let s = State::from_array(core::array::from_fn(|i| y[i]));
-        let (cos, sin) = (y[STATE_LEN], y[STATE_LEN + 1]);
-        let d = self.plant.derivative_under(&s, self.command, self.held_torque, (sin, cos)).to_array();
-        core::array::from_fn(|i| match i {
-            STATE_LEN => -(s.omega * sin),
-            i if i > STATE_LEN => s.omega * cos,
-            i => d[i],
-        })
+        // Written out, not `array::from_fn`: its closure is left as a call per element
+        // in the AVX-512 build.
+        let (s, (cos, sin)) = split_carried(y);
+        let d = self.plant.derivative_under(&s, self.command, self.held_torque, (sin, cos));
+        [d.x, d.y, d.theta, d.v, d.omega, d.phi_r, d.phi_l, -(s.omega * sin), s.omega * cos]
     }
+}
+
+/// The state and the (cos, sin) of a carried-heading vector ([`CARRIED_LEN`]).
+#[inline(always)]
+fn split_carried<L: Copy>(y: &[L; CARRIED_LEN]) -> (State<L>, (L, L)) {
+    let [x, y, theta, v, omega, phi_r, phi_l, cos, sin] = *y;
+    (State { x, y, theta, v, omega, phi_r, phi_l }, (cos, sin))
 }
 
 impl<T: Real> Plant<T> {
@@ -383,14 +387,9 @@ impl<T: Real> Plant<T> {
         dt: L,
     ) -> (State<L>, (L, L)) {
         let mut f = CarriedHeadingRhs { plant: self, command, held_torque };
-        let s = state.to_array();
-        let y: [L; CARRIED_LEN] = core::array::from_fn(|i| match i {
-            STATE_LEN => heading.0,
-            i if i > STATE_LEN => heading.1,
-            i => s[i],
-        });
-        let next = rk4_step_of(&mut f, L::default(), &y, dt);
-        (State::from_array(core::array::from_fn(|i| next[i])), (next[STATE_LEN], next[STATE_LEN + 1]))
+        let State { x, y, theta, v, omega, phi_r, phi_l } = *state;
+        let y = [x, y, theta, v, omega, phi_r, phi_l, heading.0, heading.1];
+        split_carried(&rk4_step_of(&mut f, L::default(), &y, dt))
     }
 }
 

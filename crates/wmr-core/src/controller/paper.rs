@@ -288,8 +288,10 @@ pub(crate) struct Hold<T> {
 /// absolute wheel angle references. Only the errors differ between the two laws.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct OuterLoops<T: Lane> {
-    /// r, m and R, m (the controller's model), for the inverse of (20).
+    /// r, m and R, m (the controller's model), for the inverse of (20); 1/r, 1/m, for
+    /// the lanes ([`Lane::div_by`]).
     wheel_radius: T::Scalar,
+    inv_wheel_radius: T::Scalar,
     half_track: T::Scalar,
     /// Control period, s: the PI integrators' step.
     control_dt: T::Scalar,
@@ -324,6 +326,7 @@ impl<T: Lane> OuterLoops<T> {
         let no = T::Mask::splat(false);
         Ok(Self {
             wheel_radius: model.wheel_radius,
+            inv_wheel_radius: <T::Scalar as num_traits::One>::one() / model.wheel_radius,
             half_track: model.half_track,
             control_dt,
             int_e_theta: T::default(),
@@ -391,10 +394,10 @@ impl<T: Lane> OuterLoops<T> {
         let u_s = T::splat(g.kp_s) * e_s + T::splat(g.ki_s) * self.int_e_s;
         let u_theta = T::splat(g.kp_theta) * e_theta + T::splat(g.ki_theta) * self.int_e_theta;
         let turn = T::splat(self.half_track) * u_theta;
-        let r = T::splat(self.wheel_radius);
+        let (r, inv_r) = (self.wheel_radius, self.inv_wheel_radius);
         let refs = Wheels::new(
-            T::select(freeze, self.last_refs.right, (u_s + turn) / r),
-            T::select(freeze, self.last_refs.left, (u_s - turn) / r),
+            T::select(freeze, self.last_refs.right, (u_s + turn).div_by(r, inv_r)),
+            T::select(freeze, self.last_refs.left, (u_s - turn).div_by(r, inv_r)),
         );
         self.last_refs = refs;
         self.has_refs = T::Mask::splat(true);

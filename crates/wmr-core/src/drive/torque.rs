@@ -24,7 +24,12 @@ impl<T: Real> Default for TorqueDriveParams<T> {
 impl<T: Real> TorqueDriveParams<T> {
     pub(crate) fn validate(self, gear_ratio: T) -> Result<TorqueDrive<T>, ParamError> {
         check::positive_or_inf("motor_torque_max", self.motor_torque_max)?;
-        Ok(TorqueDrive { params: self, gear_ratio, wheel_torque_max: self.motor_torque_max / gear_ratio })
+        Ok(TorqueDrive {
+            params: self,
+            gear_ratio,
+            inv_gear_ratio: T::one() / gear_ratio,
+            wheel_torque_max: self.motor_torque_max / gear_ratio,
+        })
     }
 }
 
@@ -36,6 +41,8 @@ impl<T: Real> TorqueDriveParams<T> {
 pub struct TorqueDrive<T> {
     params: TorqueDriveParams<T>,
     gear_ratio: T,
+    /// 1 / k_t, for the lanes ([`Lane::div_by`]).
+    inv_gear_ratio: T,
     wheel_torque_max: T,
 }
 
@@ -63,6 +70,6 @@ impl<T: Real> TorqueDrive<T> {
         let k_t = L::splat(self.gear_ratio);
         let max = L::splat(self.params.motor_torque_max);
         let motor = super::clamp_keep_nan(demand * k_t, max);
-        motor / k_t
+        motor.div_by(self.gear_ratio, self.inv_gear_ratio)
     }
 }
