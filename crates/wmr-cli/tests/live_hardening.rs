@@ -192,7 +192,7 @@ fn regression_25_2_a_client_that_never_reads_does_not_hold_the_server() {
     let (mut reader, _) = connect(live.port, "foxglove.sdk.v1");
     subscribe_all(&mut reader);
     let got = read_to_end(&mut reader);
-    let (status, log) = live.await_exit(Duration::from_secs(30));
+    let (status, log) = live.await_exit(DEADLINE);
     assert!(status.success(), "{status:?} {log:?}");
     assert!(got > 0);
     assert_eq!(entries(dir.path()), ["out.mcap", "s.toml"]);
@@ -224,7 +224,7 @@ fn regression_25_2_ctrl_c_mid_stream_with_stuck_clients_exits_130_and_leaves_not
         }
     }
     live.signal("-INT");
-    let (status, log) = live.await_exit(Duration::from_secs(5));
+    let (status, log) = live.await_exit(DEADLINE);
     assert_eq!(status.code(), Some(130), "{log:?}");
     assert_eq!(entries(dir.path()), ["s.toml"], "no output, no temporary file");
     drop(lazy);
@@ -247,7 +247,7 @@ fn regression_25_4_ctrl_c_between_two_far_apart_samples() {
         }
     }
     live.signal("-INT");
-    let (status, log) = live.await_exit(Duration::from_secs(5));
+    let (status, log) = live.await_exit(DEADLINE);
     assert_eq!(status.code(), Some(130), "{log:?}");
 }
 
@@ -259,7 +259,7 @@ fn regression_25_13_sigterm_and_sighup_exit_143_and_129_in_live_view() {
         let dir = tempfile::tempdir().unwrap();
         let mut live = Live::start(dir.path(), SMALL, &["-o", "out.mcap"], &[]);
         live.signal(sig);
-        let (status, log) = live.await_exit(Duration::from_secs(5));
+        let (status, log) = live.await_exit(DEADLINE);
         assert_eq!(status.code(), Some(code), "{sig}: {status:?} {log:?}");
         assert!(log.iter().any(|l| l.contains("interrupted, no output written")), "{log:?}");
         assert_eq!(entries(dir.path()), ["s.toml"]);
@@ -275,7 +275,7 @@ fn a_second_signal_ends_at_once_and_leaves_no_temporary_file() {
     // Two signals in a row: the first asks the session to stop, the second ends it.
     live.signal("-INT");
     live.signal("-INT");
-    let (status, log) = live.await_exit(Duration::from_secs(5));
+    let (status, log) = live.await_exit(DEADLINE);
     assert!(status.code() == Some(130) || status.signal() == Some(2), "{status:?} {log:?}");
     assert_eq!(entries(dir.path()), ["s.toml"]);
 }
