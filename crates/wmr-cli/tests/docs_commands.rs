@@ -360,6 +360,16 @@ fn forget(state: &Path) {
     let _ = fs::remove_file(state.with_extension("env"));
 }
 
+/// Writes what a failed command printed to `target/docs-commands/<doc>-<line>.log`
+/// under the workspace's target folder; returns the path.
+fn keep_output(root: &Path, at: &str, output: &str) -> PathBuf {
+    let dir = target_dir(root).join("docs-commands");
+    fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("{}.log", at.replace(['/', ':'], "-")));
+    fs::write(&path, output).unwrap();
+    path
+}
+
 /// The failure of `c`, or None when it did what its doc says.
 fn check(c: &DocCommand, code: i32, output: &str) -> Option<String> {
     let lines: Vec<&str> = output.lines().collect();
@@ -433,8 +443,11 @@ fn every_documented_command_does_what_its_doc_says() {
                 ran += 1;
                 if let Some(f) = check(c, code, &output) {
                     // Said at once too: a long run stopped part-way still tells what failed.
-                    eprintln!("FAILED  {}  {}", c.at, c.text);
-                    failures.push(f);
+                    // The whole output is kept (the message shows its last 40 lines, and a
+                    // documented `./scripts/test` says what failed far above them).
+                    let log = keep_output(&root, &c.at, &output);
+                    eprintln!("FAILED  {}  {}  (all it printed: {})", c.at, c.text, log.display());
+                    failures.push(format!("{f}\n(all it printed: {})", log.display()));
                 }
                 cwd = end;
             } else {
