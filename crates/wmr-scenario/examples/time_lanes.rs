@@ -3,7 +3,9 @@
 //! One thread; no settling, so every run is t_end / dt steps. `exact` or `fast` alone
 //! (under `valgrind --tool=callgrind`: instructions per run-step, whatever the load).
 //! Every mode prints `kernel=` (the vector unit the lanes run on, `WMR_FAST_KERNEL`
-//! picks a narrower one); `time_lanes laws` prints the law names, one a line.
+//! picks a narrower one); `time_lanes laws` prints the names of the laws the lanes run
+//! (point stabilization: tracking laws follow a reference and take the exact path), one
+//! a line.
 
 use std::time::Instant;
 
@@ -16,7 +18,7 @@ fn main() {
     let t_end: f64 = args.get(3).and_then(|a| a.parse().ok()).unwrap_or(60.0);
     let which = args.get(4).map_or("both", String::as_str);
     if law == "laws" {
-        for kind in wmr_scenario::law_kinds() {
+        for kind in wmr_scenario::stabilization_law_kinds() {
             println!("{kind}");
         }
         return;
