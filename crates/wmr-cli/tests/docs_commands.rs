@@ -35,8 +35,9 @@
 //! Run: `cargo test -p wmr-cli --test docs_commands` (`-- --nocapture` lists every command
 //! with its time); all, long ones too: `WMR_LONG_TESTS=1 cargo test -p wmr-cli --test
 //! docs_commands -- --nocapture`. `WMR_DOCS_ONLY=examples/paper,firmware` runs the documents
-//! whose path starts with one of the given prefixes only (to finish a long run in parts);
-//! the others are counted as skipped, never passed.
+//! whose path starts with one of the given prefixes only (to finish a long run in parts),
+//! `WMR_DOCS_ONLY=README.md:233` the block that holds that line; the others are counted as
+//! skipped, never passed.
 
 mod skip;
 
@@ -414,13 +415,26 @@ fn every_documented_command_does_what_its_doc_says() {
     for doc in documents(&root) {
         let name = doc.to_string_lossy().into_owned();
         if let Some(only) = &only
-            && !only.iter().any(|o| !o.is_empty() && name.starts_with(o.as_str()))
+            && !only.iter().any(|o| !o.is_empty() && name.starts_with(o.split(':').next().unwrap_or_default()))
         {
             not_selected.push(name);
             continue;
         }
         let text = fs::read_to_string(root.join(&doc)).unwrap();
-        let cmds = commands(&name, &text, &root);
+        let mut cmds = commands(&name, &text, &root);
+        // `doc:line` entries select the blocks holding those lines (whole: a block's lines
+        // share their folder and variables).
+        let lines: Vec<&String> = only
+            .iter()
+            .flatten()
+            .filter(|o| o.contains(':') && name == o.split(':').next().unwrap_or_default())
+            .collect();
+        if !lines.is_empty() {
+            let blocks: Vec<usize> = cmds.iter().filter(|c| lines.contains(&&c.at)).map(|c| c.block).collect();
+            let (keep, drop): (Vec<_>, Vec<_>) = cmds.into_iter().partition(|c| blocks.contains(&c.block));
+            not_selected.extend(drop.iter().map(|c| c.at.clone()));
+            cmds = keep;
+        }
         if cmds.is_empty() {
             continue;
         }
@@ -459,7 +473,11 @@ fn every_documented_command_does_what_its_doc_says() {
     if !not_selected.is_empty() {
         skip::missing(
             "WMR_DOCS_ONLY",
-            &format!("{} document(s) not selected by WMR_DOCS_ONLY: {}", not_selected.len(), not_selected.join(", ")),
+            &format!(
+                "{} document(s) or command(s) not selected by WMR_DOCS_ONLY: {}",
+                not_selected.len(),
+                not_selected.join(", ")
+            ),
         );
     }
     if !skipped.is_empty() {
