@@ -15,7 +15,7 @@
 //!
 //! Not bit-identical to [`crate::ClosedLoop`]: the lanes' sin, cos and atan2 differ from
 //! `libm` in the last bits, the plant's RK4 carries the heading's cos and sin as states
-//! ([`Plant::advance_carrying_heading`]: no sine per stage), and a closed loop carries
+//! (`Plant::advance_carrying_heading`: no sine per stage), and a closed loop carries
 //! such differences along. The clock,
 //! the control ticks, the metrics and the three outcomes are the same code.
 
