@@ -9,9 +9,8 @@ use wmr_core::controller::Law;
 use wmr_core::reference::{FigureEight, Reference};
 use wmr_core::sensor::Sensor as _;
 use wmr_core::{
-    BacksteppingLaw, BacksteppingParams, ControlOutput, Controller, DriveParams, FixedGoal, KanayamaLaw,
-    KanayamaParams, LyapunovLaw, LyapunovParams, Measurement, PaperLaw, PaperParams, PerfectSensor, Plant, PolarLaw,
-    PolarParams, Pose2, PurePursuitLaw, PurePursuitParams, Robot, Termination, WheelStage, WheelStageParams, Wheels,
+    ControlOutput, Controller, DriveParams, FixedGoal, LawSpec as _, Measurement, PerfectSensor, Plant, Pose2, Robot,
+    Termination, WheelStage, WheelStageParams, Wheels,
 };
 
 /// Plant steps: 60 s at 1 ms.
@@ -69,35 +68,31 @@ fn figure_eight() -> Option<FigureEight<f32>> {
     FigureEight::new(0.0, 0.0, 2.0, 1.0, 30.0).ok()
 }
 
-/// `impl FirmwareLaw` for each law: its type, `kind`, reference type and constructors.
+/// `impl FirmwareLaw` for each law of the registry (`wmr_core::for_each_law!`): a law
+/// that follows a goal runs Fig. 7, one that follows a trajectory or a path the
+/// figure-eight; each with its default keys for the paper's robot at [`DT`].
 macro_rules! firmware_laws {
-    ($( $law:ident = $kind:literal on $reference:ident from $make_reference:ident: $build:expr; )+) => {
+    (@reference Goal) => { FixedGoal<f32> };
+    (@reference $other:ident) => { FigureEight<f32> };
+    (@make Goal) => { fig7_goal() };
+    (@make $other:ident) => { figure_eight() };
+    ($krate:tt; $( $(#[doc = $doc:literal])* $variant:ident($params:ident, $law:ident) = $kind:ident, code $code:literal, follows $follows:ident; )+) => {
         $(
-            impl FirmwareLaw for $law<f32> {
-                const KIND: &'static str = $kind;
-                type Reference = $reference<f32>;
+            impl FirmwareLaw for $krate::$law<f32> {
+                const KIND: &'static str = stringify!($kind);
+                type Reference = firmware_laws!(@reference $follows);
                 fn build() -> Option<Self> {
-                    $build.ok()
+                    $krate::$params::<f32>::default().build(Robot::<f32>::paper().params(), DT).ok()
                 }
                 fn reference() -> Option<Self::Reference> {
-                    $make_reference()
+                    firmware_laws!(@make $follows)
                 }
             }
         )+
     };
 }
 
-firmware_laws! {
-    PaperLaw = "paper" on FixedGoal from fig7_goal:
-        PaperLaw::new(PaperParams::paper(), Robot::<f32>::paper().params(), DT);
-    PolarLaw = "polar" on FixedGoal from fig7_goal: PolarLaw::new(PolarParams::default());
-    LyapunovLaw = "lyapunov" on FixedGoal from fig7_goal: LyapunovLaw::new(LyapunovParams::default());
-    KanayamaLaw = "kanayama" on FigureEight from figure_eight: KanayamaLaw::for_lanes(KanayamaParams::default());
-    BacksteppingLaw = "backstepping" on FigureEight from figure_eight:
-        BacksteppingLaw::for_lanes(BacksteppingParams::default(), Robot::<f32>::paper().params(), DT);
-    PurePursuitLaw = "pure_pursuit" on FigureEight from figure_eight:
-        PurePursuitLaw::for_lanes(PurePursuitParams::default(), Robot::<f32>::paper().params());
-}
+wmr_core::for_each_law!(firmware_laws);
 
 /// The final pose and the plant steps taken.
 pub struct Ran {

@@ -91,21 +91,11 @@ pub fn announce_work(steps: u128, what: &str) {
 }
 
 /// [`announce_work`] for a sweep, stepped `fast` or not, whose steps cost `step_cost`
-/// times a stabilization law's on average ([`law_step_cost`]); where runs stop once
+/// times a stabilization law's on average (`LawParams::update_cost`); where runs stop once
 /// settled (`sim.stop_when_settled`), the steps and the time are upper bounds.
 pub fn announce_sweep(steps: u128, what: &str, fast: bool, stops_early: bool, step_cost: f64) {
     let rate = if fast { FAST_SWEEP_STEPS_PER_CORE_SECOND } else { SWEEP_STEPS_PER_CORE_SECOND };
     announce(steps, what, rate / step_cost, stops_early);
-}
-
-/// A plant step under the law `kind` against one under a stabilization law, in CPU time,
-/// for the announcement only. Pure pursuit searches the reference's path at every control
-/// tick: `examples/tracking/compare-tracking.toml` (a third of its runs pure pursuit)
-/// took 81 s where 11 s were announced (2026-12-06, 2-core AMD EPYC, idle), its runs
-/// about 20 times the others' per step; the tracking laws' other steps cost about a
-/// stabilization law's.
-pub fn law_step_cost(kind: &str) -> f64 {
-    if kind == "pure_pursuit" { 20.0 } else { 1.0 }
 }
 
 fn announce(steps: u128, what: &str, steps_per_core_second: f64, at_most: bool) {

@@ -16,7 +16,7 @@ use wmr_scenario::{
 
 use crate::atomic::{Output, write_text};
 use crate::errors::{bad_input, is_broken_pipe, note, say_raw};
-use crate::exec::{announce_sweep, law_step_cost};
+use crate::exec::announce_sweep;
 
 /// Output bytes per sweep CSV row below which no row is written (a row holds a law
 /// name, ten numbers and a status): the free-space check refuses only what surely
@@ -92,7 +92,7 @@ pub fn sweep(
         fast,
         scenario.sim().stop_when_settled(),
         // Every law runs the same number of runs.
-        spec.laws.iter().map(|(_, setup)| law_step_cost(setup.controller.law.kind())).sum::<f64>()
+        spec.laws.iter().map(|(_, setup)| setup.controller.law.update_cost()).sum::<f64>()
             / spec.laws.len().max(1) as f64,
     );
     if let Some(kernel) = kernel {

@@ -172,22 +172,19 @@ fn stubs_list_every_robot_and_controller_key_with_its_default() {
             }
         }
     };
-    for (class, table, kind) in STUB_CLASSES {
-        check(class, class_keys(&keys, table, kind).iter().collect());
+    for (class, table, kind) in stub_classes() {
+        check(&class, class_keys(&keys, table, kind).iter().collect());
     }
 }
 
-/// The stub classes whose `__new__` keywords are the keys of a schema table (and kind).
-const STUB_CLASSES: [(&str, &str, Option<&str>); 8] = [
-    ("Robot", "robot", None),
-    ("PaperController", "controller", Some("paper")),
-    ("PaperBidirectionalController", "controller", Some("paper_bidirectional")),
-    ("PolarController", "controller", Some("polar")),
-    ("LyapunovController", "controller", Some("lyapunov")),
-    ("KanayamaController", "controller", Some("kanayama")),
-    ("BacksteppingController", "controller", Some("backstepping")),
-    ("PurePursuitController", "controller", Some("pure_pursuit")),
-];
+/// The stub classes whose `__new__` keywords are the keys of a schema table (and kind):
+/// `Robot`, and one class per law of the registry (`wmr_core::for_each_law!`).
+fn stub_classes() -> Vec<(String, &'static str, Option<&'static str>)> {
+    let laws = wmr_core::LawParams::<f64>::defaults();
+    let mut out = vec![("Robot".to_owned(), "robot", None)];
+    out.extend(laws.iter().map(|l| (format!("{}Controller", l.name()), "controller", Some(l.kind()))));
+    out
+}
 
 const GEN_BEGIN: &str =
     "# keys from wmr_scenario::schema(), generated: WMR_BLESS=1 cargo test -p wmr-cli --test keys_documented\n";
@@ -239,7 +236,7 @@ fn keyword_block(keys: &[SchemaKey], indent: &str) -> String {
 fn generated_stub(stub: &str) -> String {
     let keys = schema();
     let mut out = stub.to_owned();
-    for (class, table, kind) in STUB_CLASSES {
+    for (class, table, kind) in stub_classes() {
         let start = out.find(&format!("class {class}:")).unwrap_or_else(|| panic!("no class {class}"));
         let a = start + out[start..].find(GEN_BEGIN).unwrap_or_else(|| panic!("{class}: no {GEN_BEGIN:?}"));
         let indent_start = out[..a].rfind('\n').map_or(0, |i| i + 1);

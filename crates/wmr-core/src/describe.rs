@@ -33,6 +33,45 @@ pub trait Described {
     const FIELDS: &'static [ParamField];
 }
 
+/// A fixed-type parameter field (a flag or a mode) as one 32-bit word: how the trace
+/// ([`crate::trace`]) and the C API carry it. A `T` field is an f32 bit pattern instead.
+pub trait Word: Copy {
+    /// The field's word: `0`/`1` for a flag, the `#[repr(u32)]` discriminant for a mode.
+    fn to_word(self) -> u32;
+    /// The field of a word; `None` for a word that is no value of the field.
+    fn from_word(w: u32) -> Option<Self>;
+}
+
+impl Word for bool {
+    fn to_word(self) -> u32 {
+        u32::from(self)
+    }
+    fn from_word(w: u32) -> Option<Self> {
+        match w {
+            0 => Some(false),
+            1 => Some(true),
+            _ => None,
+        }
+    }
+}
+
+/// [`Word`] for a `#[repr(u32)]` enum without data: its discriminants are its words.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! word_enum {
+    ($ty:ty { $($variant:ident),+ $(,)? }) => {
+        impl $crate::describe::Word for $ty {
+            fn to_word(self) -> u32 {
+                self as u32
+            }
+            fn from_word(w: u32) -> Option<Self> {
+                $( if w == <$ty>::$variant as u32 { return Some(<$ty>::$variant); } )+
+                None
+            }
+        }
+    };
+}
+
 /// The first line of a `///` doc without its leading space (what `#[doc = ..]` holds).
 #[doc(hidden)]
 pub const fn doc_line(doc: &'static str) -> &'static str {
@@ -66,13 +105,63 @@ pub const fn doc_line(doc: &'static str) -> &'static str {
 /// through a function, the others copied) and `cast` (to another [`Real`](crate::Real),
 /// through f64: exact when widening, rounded to nearest when narrowing, as `as` does).
 /// A field's type is one token: `T` is mapped, anything else (`bool`, `u32`, an enum)
-/// is copied.
+/// is copied. Opened with `words;`, it also generates `to_words` and `from_words`: every
+/// field in one 32-bit word (the trace's and the firmware's form of a law's keys), each
+/// non-`T` field through its [`Word`].
 #[macro_export]
 macro_rules! params {
     (@map T, $v:expr, $f:ident) => { $f($v) };
     (@map $other:tt, $v:expr, $f:ident) => { $v };
+    (@put T, $v:expr, $real:ident) => { $real($v) };
+    (@put $other:tt, $v:expr, $real:ident) => { <$other as $crate::describe::Word>::to_word($v) };
+    (@get T, $w:expr, $field:ident, $real:ident) => { $real($w) };
+    (@get $other:tt, $w:expr, $field:ident, $real:ident) => {
+        match <$other as $crate::describe::Word>::from_word($w) {
+            Some(v) => v,
+            None => return Err(stringify!($field)),
+        }
+    };
     (@unit "") => { "none" };
     (@unit $unit:literal) => { $unit };
+    (@words $name:ident { $($field:ident : $fty:tt),+ }) => {
+        impl<T> $name<T> {
+            /// Writes every field into one word each, in declaration order: a `T` field
+            /// through `real` (e.g. its f32 bit pattern), the others as their
+            /// [`Word`](crate::describe::Word). `out` holds at least `FIELDS.len()` words.
+            pub fn to_words(&self, out: &mut [u32], mut real: impl FnMut(T) -> u32)
+            where
+                T: Copy,
+            {
+                let mut slots = out.iter_mut();
+                $( if let Some(w) = slots.next() { *w = $crate::params!(@put $fty, self.$field, real); } )+
+            }
+
+            /// Reads the fields from their words ([`Self::to_words`]), a `T` field through
+            /// `real`. Err: the name of a flag or mode whose word is no value of it.
+            pub fn from_words(w: &[u32], mut real: impl FnMut(u32) -> T) -> Result<Self, &'static str> {
+                let mut words = w.iter().copied();
+                Ok($name { $( $field: $crate::params!(@get $fty, words.next().unwrap_or(u32::MAX), $field, real), )+ })
+            }
+
+        }
+    };
+    (words; $($rest:tt)*) => {
+        $crate::params!($($rest)*);
+        $crate::params!(@words_of $($rest)*);
+    };
+    (
+        @words_of
+        $(#[$smeta:meta])*
+        $svis:vis struct $name:ident<T> {
+            $(
+                #[doc = $doc:literal]
+                $(#[$fmeta:meta])*
+                $fvis:vis $field:ident : $fty:tt [unit = $unit:literal, rule = $rule:literal]
+            ),+ $(,)?
+        }
+    ) => {
+        $crate::params!(@words $name { $($field : $fty),+ });
+    };
     (
         $(#[$smeta:meta])*
         $svis:vis struct $name:ident<T> {

@@ -75,11 +75,16 @@ pub mod world;
 pub use clock::StepClock;
 pub use closed_loop::{ClosedLoop, Diverged, Tick};
 pub use controller::{
-    AntiWindup, AnyLaw, BacksteppingLaw, BacksteppingParams, ControlErrors, ControlOutput, Controller,
-    ControllerParams, HoldMode, KanayamaLaw, KanayamaParams, Law, LawParams, LyapunovLaw, LyapunovParams,
-    PaperBidirectionalLaw, PaperBidirectionalParams, PaperLaw, PaperMode, PaperParams, PolarLaw, PolarParams,
-    PurePursuitLaw, PurePursuitParams, ServoGains, WheelDemand, WheelStage, WheelStageParams,
+    AntiWindup, AnyLaw, ControlErrors, ControlOutput, Controller, ControllerParams, Follows, HoldMode, Law, LawParams,
+    LawSpec, PaperMode, ServoGains, WheelDemand, WheelStage, WheelStageParams,
 };
+/// Each law's keys and law at the root (`wmr_core::KanayamaParams`), from the registry.
+macro_rules! root_law_exports {
+    ($krate:tt; $( $(#[doc = $doc:literal])* $variant:ident($params:ident, $law:ident) = $kind:ident, code $code:literal, follows $follows:ident; )+) => {
+        pub use controller::{$($params, $law),+};
+    };
+}
+for_each_law!(root_law_exports);
 pub use drive::{DcMotorParams, Drive, DriveParams, TorqueDriveParams};
 pub use error::{ParamError, Reason};
 pub use math::{Pose2, Twist2, Wheels, wrap_angle};

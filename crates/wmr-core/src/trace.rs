@@ -32,9 +32,7 @@ use crate::error::ParamError;
 use crate::reference::waypoints::MAX_POINTS;
 use crate::reference::{AnyReference, Circle, FigureEight, FixedGoal, Line, ReferenceState, Waypoints};
 use crate::{
-    AntiWindup, BacksteppingParams, DcMotorParams, DriveParams, HoldMode, KanayamaParams, LawParams, LyapunovParams,
-    PaperBidirectionalParams, PaperMode, PaperParams, PolarParams, Pose2, PurePursuitParams, Real, RobotParams,
-    TorqueDriveParams, WheelStageParams, WorldParams,
+    DcMotorParams, DriveParams, LawParams, Pose2, Real, RobotParams, TorqueDriveParams, WheelStageParams, WorldParams,
 };
 
 /// The first 8 bytes of a trace file.
@@ -64,23 +62,10 @@ fn r(w: u32) -> f32 {
     f32::from_bits(w)
 }
 
-fn flag(w: u32, what: &'static str) -> Result<bool, FormatError> {
-    match w {
-        0 => Ok(false),
-        1 => Ok(true),
-        _ => Err(FormatError(what)),
-    }
-}
-
 /// The word of each `T` field of `P` among its words, one per declared field in
-/// declaration order ([`crate::params!`]): the others (flags, modes) are laid by hand.
+/// declaration order ([`crate::params!`]); the others are copied from a template.
 fn real_slots<P: Described>() -> impl Iterator<Item = usize> {
     P::FIELDS.iter().enumerate().filter(|(_, field)| field.ty == "T").map(|(i, _)| i)
-}
-
-/// The word of `P`'s field `name` among its words (as [`real_slots`]): a flag or mode.
-fn slot<P: Described>(name: &str) -> usize {
-    P::FIELDS.iter().position(|field| field.name == name).unwrap_or(usize::MAX)
 }
 
 /// For a parameter struct: its number of words (one per declared field), a writer of its
@@ -113,28 +98,13 @@ real_words!(WHEELS, put_wheels, read_wheels, WheelStageParams, WheelStageParams:
 real_words!(WORLD, put_world, read_world, WorldParams, WorldParams::default());
 real_words!(TORQUE, put_torque, read_torque, TorqueDriveParams, TorqueDriveParams::default());
 real_words!(DC_MOTOR, put_dc_motor, read_dc_motor, DcMotorParams, DcMotorParams::default());
-real_words!(PAPER, put_paper, read_paper, PaperParams, PaperParams::paper());
-real_words!(
-    PAPER_BIDIRECTIONAL,
-    put_paper_bidirectional,
-    read_paper_bidirectional,
-    PaperBidirectionalParams,
-    Default::default()
-);
-real_words!(POLAR, put_polar, read_polar, PolarParams, PolarParams::default());
-real_words!(LYAPUNOV, put_lyapunov, read_lyapunov, LyapunovParams, LyapunovParams::default());
-real_words!(KANAYAMA, put_kanayama, read_kanayama, KanayamaParams, KanayamaParams::default());
-real_words!(BACKSTEPPING, put_backstepping, read_backstepping, BacksteppingParams, BacksteppingParams::default());
-real_words!(PURE_PURSUIT, put_pure_pursuit, read_pure_pursuit, PurePursuitParams, PurePursuitParams::default());
-const _: () = assert!(
-    PAPER < LAW
-        && PAPER_BIDIRECTIONAL < LAW
-        && POLAR < LAW
-        && LYAPUNOV < LAW
-        && KANAYAMA < LAW
-        && BACKSTEPPING < LAW
-        && PURE_PURSUIT < LAW
-);
+/// Every law's keys fit the law's words after its kind word, from the registry.
+macro_rules! law_keys_fit {
+    ($krate:tt; $( $(#[doc = $doc:literal])* $variant:ident($params:ident, $law:ident) = $kind:ident, code $code:literal, follows $follows:ident; )+) => {
+        const _: () = { $( assert!(<$krate::$params<f32> as Described>::FIELDS.len() < LAW); )+ };
+    };
+}
+crate::for_each_law!(law_keys_fit);
 /// Words of the law: its kind, then at most 9 keys (one word per declared key).
 const LAW: usize = 10;
 /// Where each part of the config starts (word index).
@@ -320,45 +290,7 @@ impl<T: Real> ConfigOf<T> {
         let mut w = [0u32; CONFIG_WORDS];
         // The kind word, then one word per declared key ([`real_slots`]).
         let (kind, keys) = w[0..LAW].split_at_mut(1);
-        kind[0] = match self.law {
-            LawParams::Paper(p) => {
-                put_paper(&p, keys);
-                keys[slot::<PaperParams<f32>>("mode")] = match p.mode {
-                    PaperMode::Pose => 0,
-                    PaperMode::Position => 1,
-                };
-                keys[slot::<PaperParams<f32>>("hold")] = hold_word(p.hold);
-                keys[slot::<PaperParams<f32>>("anti_windup")] = p.anti_windup as u32;
-                0
-            }
-            LawParams::Polar(p) => {
-                put_polar(&p, keys);
-                keys[slot::<PolarParams<f32>>("reverse")] = u32::from(p.reverse);
-                1
-            }
-            LawParams::Lyapunov(p) => {
-                put_lyapunov(&p, keys);
-                keys[slot::<LyapunovParams<f32>>("reverse")] = u32::from(p.reverse);
-                2
-            }
-            LawParams::PaperBidirectional(p) => {
-                put_paper_bidirectional(&p, keys);
-                keys[slot::<PaperBidirectionalParams<f32>>("hold")] = hold_word(p.hold);
-                3
-            }
-            LawParams::Kanayama(p) => {
-                put_kanayama(&p, keys);
-                4
-            }
-            LawParams::Backstepping(p) => {
-                put_backstepping(&p, keys);
-                5
-            }
-            LawParams::PurePursuit(p) => {
-                put_pure_pursuit(&p, keys);
-                6
-            }
-        };
+        kind[0] = self.law.to_words(keys, f);
         let d = &mut w[DRIVE_AT..ROBOT_AT];
         match self.drive {
             DriveParams::Torque(p) => put_torque(&p, &mut d[1..]),
@@ -386,38 +318,9 @@ impl Config {
     /// Reads the config words.
     pub fn decode(w: &[u32; CONFIG_WORDS]) -> Result<Self, FormatError> {
         let keys = &w[1..LAW];
-        let law = match w[0] {
-            0 => LawParams::Paper(PaperParams {
-                mode: match keys[slot::<PaperParams<f32>>("mode")] {
-                    0 => PaperMode::Pose,
-                    1 => PaperMode::Position,
-                    _ => return Err(FormatError("paper mode is not 0 or 1")),
-                },
-                hold: hold_of(keys[slot::<PaperParams<f32>>("hold")])?,
-                anti_windup: match keys[slot::<PaperParams<f32>>("anti_windup")] {
-                    0 => AntiWindup::Off,
-                    1 => AntiWindup::Conditional,
-                    _ => return Err(FormatError("paper anti_windup is not 0 or 1")),
-                },
-                ..read_paper(keys)
-            }),
-            3 => LawParams::PaperBidirectional(PaperBidirectionalParams {
-                hold: hold_of(keys[slot::<PaperBidirectionalParams<f32>>("hold")])?,
-                ..read_paper_bidirectional(keys)
-            }),
-            1 => LawParams::Polar(PolarParams {
-                reverse: flag(keys[slot::<PolarParams<f32>>("reverse")], "polar reverse is not 0 or 1")?,
-                ..read_polar(keys)
-            }),
-            2 => LawParams::Lyapunov(LyapunovParams {
-                reverse: flag(keys[slot::<LyapunovParams<f32>>("reverse")], "lyapunov reverse is not 0 or 1")?,
-                ..read_lyapunov(keys)
-            }),
-            4 => LawParams::Kanayama(read_kanayama(keys)),
-            5 => LawParams::Backstepping(read_backstepping(keys)),
-            6 => LawParams::PurePursuit(read_pure_pursuit(keys)),
-            _ => return Err(FormatError("unknown law kind")),
-        };
+        let law = LawParams::from_words(w[0], keys, r).map_err(|what| {
+            FormatError(if what == "kind" { "unknown law kind" } else { "a law's flag or mode word is no value of it" })
+        })?;
         let d = &w[DRIVE_AT..ROBOT_AT];
         let drive = match d[0] {
             0 => DriveParams::Torque(read_torque(&d[1..])),
@@ -557,25 +460,6 @@ impl Record {
     }
 }
 
-/// The word of a paper-law hold mode.
-fn hold_word(h: HoldMode) -> u32 {
-    match h {
-        HoldMode::ZeroErrors => 0,
-        HoldMode::Freeze => 1,
-        HoldMode::Auto => 2,
-    }
-}
-
-/// The hold mode of a word.
-fn hold_of(w: u32) -> Result<HoldMode, FormatError> {
-    match w {
-        0 => Ok(HoldMode::ZeroErrors),
-        1 => Ok(HoldMode::Freeze),
-        2 => Ok(HoldMode::Auto),
-        _ => Err(FormatError("paper hold is not 0, 1 or 2")),
-    }
-}
-
 /// Words of `bytes` (little-endian); `bytes.len()` must be a multiple of 4.
 pub fn words_le<const N: usize>(bytes: &[u8]) -> Option<[u32; N]> {
     if bytes.len() != 4 * N {
@@ -590,6 +474,7 @@ pub fn words_le<const N: usize>(bytes: &[u8]) -> Option<[u32; N]> {
 mod tests {
     use super::*;
     use crate::reference::Reference as _;
+    use crate::{BacksteppingParams, KanayamaParams, PurePursuitParams};
 
     #[test]
     fn config_round_trips_for_every_law_and_drive() {

@@ -11,7 +11,7 @@
 #include <stddef.h>
 
 // Version of this C API: changes whenever a struct, a storage size or a signature does.
-#define WMR_ABI_VERSION 3
+#define WMR_ABI_VERSION 4
 
 // Alignment, bytes, of every storage struct (they are arrays of `uint64_t`).
 #define WMR_STORAGE_ALIGN 8
@@ -78,48 +78,6 @@
 // Words of a sensor, `wmr_sensor_f64` (perfect or pose sensor).
 #define WMR_SENSOR_F64_WORDS 112
 
-// Words of the paper's law with its wheel stage, `wmr_paper_controller_f32`.
-#define WMR_PAPER_CONTROLLER_F32_WORDS 40
-
-// Words of the paper's law with its wheel stage, `wmr_paper_controller_f64`.
-#define WMR_PAPER_CONTROLLER_F64_WORDS 72
-
-// Words of the bidirectional paper law with its wheel stage, `wmr_paper_bidirectional_controller_f32`.
-#define WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F32_WORDS 40
-
-// Words of the bidirectional paper law with its wheel stage, `wmr_paper_bidirectional_controller_f64`.
-#define WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F64_WORDS 72
-
-// Words of the polar law with its wheel stage, `wmr_polar_controller_f32`.
-#define WMR_POLAR_CONTROLLER_F32_WORDS 32
-
-// Words of the polar law with its wheel stage, `wmr_polar_controller_f64`.
-#define WMR_POLAR_CONTROLLER_F64_WORDS 64
-
-// Words of the Lyapunov law with its wheel stage, `wmr_lyapunov_controller_f32`.
-#define WMR_LYAPUNOV_CONTROLLER_F32_WORDS 32
-
-// Words of the Lyapunov law with its wheel stage, `wmr_lyapunov_controller_f64`.
-#define WMR_LYAPUNOV_CONTROLLER_F64_WORDS 64
-
-// Words of Kanayama's law with its wheel stage, `wmr_kanayama_controller_f32`.
-#define WMR_KANAYAMA_CONTROLLER_F32_WORDS 32
-
-// Words of Kanayama's law with its wheel stage, `wmr_kanayama_controller_f64`.
-#define WMR_KANAYAMA_CONTROLLER_F64_WORDS 56
-
-// Words of the back-stepping law with its wheel stage, `wmr_backstepping_controller_f32`.
-#define WMR_BACKSTEPPING_CONTROLLER_F32_WORDS 40
-
-// Words of the back-stepping law with its wheel stage, `wmr_backstepping_controller_f64`.
-#define WMR_BACKSTEPPING_CONTROLLER_F64_WORDS 72
-
-// Words of the pure pursuit law with its wheel stage, `wmr_pure_pursuit_controller_f32`.
-#define WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS 40
-
-// Words of the pure pursuit law with its wheel stage, `wmr_pure_pursuit_controller_f64`.
-#define WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS 72
-
 // Points a `wmr_reference_*` of waypoints holds at most (the core's `MAX_POINTS`).
 #define WMR_REFERENCE_MAX_POINTS 64
 
@@ -130,6 +88,48 @@
 // Words of a reference, `wmr_reference_f64` (circle, figure-eight, line or waypoints:
 // 64 waypoints and their speed profile take 18.8 kB).
 #define WMR_REFERENCE_F64_WORDS 2432
+
+// Words (8 bytes each) of `wmr_paper_controller_f32`: the law `paper` with its wheel stage.
+#define WMR_PAPER_CONTROLLER_F32_WORDS 40
+
+// Words (8 bytes each) of `wmr_paper_controller_f64`: the law `paper` with its wheel stage.
+#define WMR_PAPER_CONTROLLER_F64_WORDS 72
+
+// Words (8 bytes each) of `wmr_paper_bidirectional_controller_f32`: the law `paper_bidirectional` with its wheel stage.
+#define WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F32_WORDS 40
+
+// Words (8 bytes each) of `wmr_paper_bidirectional_controller_f64`: the law `paper_bidirectional` with its wheel stage.
+#define WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F64_WORDS 72
+
+// Words (8 bytes each) of `wmr_polar_controller_f32`: the law `polar` with its wheel stage.
+#define WMR_POLAR_CONTROLLER_F32_WORDS 32
+
+// Words (8 bytes each) of `wmr_polar_controller_f64`: the law `polar` with its wheel stage.
+#define WMR_POLAR_CONTROLLER_F64_WORDS 64
+
+// Words (8 bytes each) of `wmr_lyapunov_controller_f32`: the law `lyapunov` with its wheel stage.
+#define WMR_LYAPUNOV_CONTROLLER_F32_WORDS 32
+
+// Words (8 bytes each) of `wmr_lyapunov_controller_f64`: the law `lyapunov` with its wheel stage.
+#define WMR_LYAPUNOV_CONTROLLER_F64_WORDS 64
+
+// Words (8 bytes each) of `wmr_kanayama_controller_f32`: the law `kanayama` with its wheel stage.
+#define WMR_KANAYAMA_CONTROLLER_F32_WORDS 32
+
+// Words (8 bytes each) of `wmr_kanayama_controller_f64`: the law `kanayama` with its wheel stage.
+#define WMR_KANAYAMA_CONTROLLER_F64_WORDS 56
+
+// Words (8 bytes each) of `wmr_backstepping_controller_f32`: the law `backstepping` with its wheel stage.
+#define WMR_BACKSTEPPING_CONTROLLER_F32_WORDS 40
+
+// Words (8 bytes each) of `wmr_backstepping_controller_f64`: the law `backstepping` with its wheel stage.
+#define WMR_BACKSTEPPING_CONTROLLER_F64_WORDS 72
+
+// Words (8 bytes each) of `wmr_pure_pursuit_controller_f32`: the law `pure_pursuit` with its wheel stage.
+#define WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS 32
+
+// Words (8 bytes each) of `wmr_pure_pursuit_controller_f64`: the law `pure_pursuit` with its wheel stage.
+#define WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS 64
 
 // What a call did. `WMR_OK` is 0; every other value is an error.
 enum wmr_status
@@ -298,35 +298,37 @@ typedef struct {
   uint32_t hold;
 } wmr_paper_bidirectional_params_f32;
 
-// Astolfi's polar-coordinates law: v = k_rho rho, omega = k_alpha alpha + k_beta beta.
+// Astolfi's polar law: v = k_rho rho, omega = k_alpha alpha + k_beta beta. (`kind = "polar"`): `wmr_core::PolarParams`.
+// The core's keys with each flag as a 0/1 `uint32_t`.
 typedef struct {
-  // k_rho, 1/s (> 0).
+  // k_rho: forward speed per metre of distance. Unit: 1/s; valid: > 0.
   float k_rho;
-  // k_alpha, 1/s (> k_rho, and k_alpha + 5/3 k_beta - 2/pi k_rho > 0).
+  // k_alpha: yaw rate per rad of alpha. Unit: 1/s; valid: > k_rho, and k_alpha + 5/3 k_beta - 2/pi k_rho > 0.
   float k_alpha;
-  // k_beta, 1/s (< 0).
+  // k_beta: yaw rate per rad of beta. Unit: 1/s; valid: < 0.
   float k_beta;
-  // 1: drive backwards when the goal is behind; 0: always forward.
+  // Drive backwards when the goal is behind (false: always forward). valid: 1 or 0.
   uint32_t reverse;
-  // Overshoot of |alpha| past pi/2, rad, before a later direction switch.
+  // Overshoot of |alpha| past pi/2 before a later direction switch. Unit: rad; valid: in [0, pi/2).
   float reverse_hysteresis;
-  // Within this distance of the goal, m, the law stops.
+  // Within this distance of the goal the law stops; it resumes beyond twice that. Unit: m; valid: >= 0.
   float goal_radius;
 } wmr_polar_params_f32;
 
-// Aicardi et al.'s Lyapunov law in polar coordinates.
+// Aicardi et al.'s Lyapunov law in polar coordinates. (`kind = "lyapunov"`): `wmr_core::LyapunovParams`.
+// The core's keys with each flag as a 0/1 `uint32_t`.
 typedef struct {
-  // gamma, 1/s (> 0).
+  // gamma: forward speed per metre of distance, times cos(alpha). Unit: 1/s; valid: > 0.
   float gamma;
-  // k, 1/s (> 0).
+  // k: yaw rate per rad of alpha. Unit: 1/s; valid: > 0.
   float k;
-  // h, dimensionless (> 0).
+  // h: weight of theta_A against alpha in V. valid: > 0.
   float h;
-  // 1: drive backwards when the goal is behind; 0: always start forward.
+  // Drive backwards when the goal is behind (false: always start forward). valid: 1 or 0.
   uint32_t reverse;
-  // Overshoot of |alpha| past pi/2, rad, before a later direction switch.
+  // Overshoot of |alpha| past pi/2 before a later direction switch. Unit: rad; valid: in [0, pi/2).
   float reverse_hysteresis;
-  // Within this distance of the goal, m, the law stops.
+  // Within this distance of the goal the law stops. Unit: m; valid: >= 0.
   float goal_radius;
 } wmr_lyapunov_params_f32;
 
@@ -498,7 +500,7 @@ typedef struct {
   wmr_accel_f32 accel;
 } wmr_reference_state_f32;
 
-// The paper's law with its wheel stage (f32).
+// The law `paper` with its wheel stage (f32): The paper's law: two PI loops on a moving false target feeding the wheel angle servos.
 typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_PAPER_CONTROLLER_F32_WORDS];
@@ -518,37 +520,37 @@ typedef struct {
   float dl;
 } wmr_control_output_f32;
 
-// The paper's law repaired (`paper_bidirectional`) with its wheel stage (f32).
+// The law `paper_bidirectional` with its wheel stage (f32): The paper's law repaired: a position error that never feeds back positively, the heading settling first.
 typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F32_WORDS];
 } wmr_paper_bidirectional_controller_f32;
 
-// The polar law with its wheel stage (f32).
+// The law `polar` with its wheel stage (f32): Astolfi's polar law: v = k_rho rho, omega = k_alpha alpha + k_beta beta.
 typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_POLAR_CONTROLLER_F32_WORDS];
 } wmr_polar_controller_f32;
 
-// The Lyapunov law with its wheel stage (f32).
+// The law `lyapunov` with its wheel stage (f32): Aicardi et al.'s Lyapunov law in polar coordinates.
 typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_LYAPUNOV_CONTROLLER_F32_WORDS];
 } wmr_lyapunov_controller_f32;
 
-// Kanayama's law with its wheel stage (f32).
+// The law `kanayama` with its wheel stage (f32): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)).
 typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_KANAYAMA_CONTROLLER_F32_WORDS];
 } wmr_kanayama_controller_f32;
 
-// The back-stepping law with its wheel stage (f32).
+// The law `backstepping` with its wheel stage (f32): Kanayama's twist back-stepped into the dynamics: wheel torques from the controller's model.
 typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_BACKSTEPPING_CONTROLLER_F32_WORDS];
 } wmr_backstepping_controller_f32;
 
-// The pure pursuit law with its wheel stage (f32).
+// The law `pure_pursuit` with its wheel stage (f32): Regulated pure pursuit (nav2's names): path following on the reference's path, its timing ignored.
 typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS];
@@ -660,35 +662,37 @@ typedef struct {
   uint32_t hold;
 } wmr_paper_bidirectional_params_f64;
 
-// Astolfi's polar-coordinates law: v = k_rho rho, omega = k_alpha alpha + k_beta beta.
+// Astolfi's polar law: v = k_rho rho, omega = k_alpha alpha + k_beta beta. (`kind = "polar"`): `wmr_core::PolarParams`.
+// The core's keys with each flag as a 0/1 `uint32_t`.
 typedef struct {
-  // k_rho, 1/s (> 0).
+  // k_rho: forward speed per metre of distance. Unit: 1/s; valid: > 0.
   double k_rho;
-  // k_alpha, 1/s (> k_rho, and k_alpha + 5/3 k_beta - 2/pi k_rho > 0).
+  // k_alpha: yaw rate per rad of alpha. Unit: 1/s; valid: > k_rho, and k_alpha + 5/3 k_beta - 2/pi k_rho > 0.
   double k_alpha;
-  // k_beta, 1/s (< 0).
+  // k_beta: yaw rate per rad of beta. Unit: 1/s; valid: < 0.
   double k_beta;
-  // 1: drive backwards when the goal is behind; 0: always forward.
+  // Drive backwards when the goal is behind (false: always forward). valid: 1 or 0.
   uint32_t reverse;
-  // Overshoot of |alpha| past pi/2, rad, before a later direction switch.
+  // Overshoot of |alpha| past pi/2 before a later direction switch. Unit: rad; valid: in [0, pi/2).
   double reverse_hysteresis;
-  // Within this distance of the goal, m, the law stops.
+  // Within this distance of the goal the law stops; it resumes beyond twice that. Unit: m; valid: >= 0.
   double goal_radius;
 } wmr_polar_params_f64;
 
-// Aicardi et al.'s Lyapunov law in polar coordinates.
+// Aicardi et al.'s Lyapunov law in polar coordinates. (`kind = "lyapunov"`): `wmr_core::LyapunovParams`.
+// The core's keys with each flag as a 0/1 `uint32_t`.
 typedef struct {
-  // gamma, 1/s (> 0).
+  // gamma: forward speed per metre of distance, times cos(alpha). Unit: 1/s; valid: > 0.
   double gamma;
-  // k, 1/s (> 0).
+  // k: yaw rate per rad of alpha. Unit: 1/s; valid: > 0.
   double k;
-  // h, dimensionless (> 0).
+  // h: weight of theta_A against alpha in V. valid: > 0.
   double h;
-  // 1: drive backwards when the goal is behind; 0: always start forward.
+  // Drive backwards when the goal is behind (false: always start forward). valid: 1 or 0.
   uint32_t reverse;
-  // Overshoot of |alpha| past pi/2, rad, before a later direction switch.
+  // Overshoot of |alpha| past pi/2 before a later direction switch. Unit: rad; valid: in [0, pi/2).
   double reverse_hysteresis;
-  // Within this distance of the goal, m, the law stops.
+  // Within this distance of the goal the law stops. Unit: m; valid: >= 0.
   double goal_radius;
 } wmr_lyapunov_params_f64;
 
@@ -858,7 +862,7 @@ typedef struct {
   wmr_accel_f64 accel;
 } wmr_reference_state_f64;
 
-// The paper's law with its wheel stage (f64).
+// The law `paper` with its wheel stage (f64): The paper's law: two PI loops on a moving false target feeding the wheel angle servos.
 typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_PAPER_CONTROLLER_F64_WORDS];
@@ -878,37 +882,37 @@ typedef struct {
   double dl;
 } wmr_control_output_f64;
 
-// The paper's law repaired (`paper_bidirectional`) with its wheel stage (f64).
+// The law `paper_bidirectional` with its wheel stage (f64): The paper's law repaired: a position error that never feeds back positively, the heading settling first.
 typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F64_WORDS];
 } wmr_paper_bidirectional_controller_f64;
 
-// The polar law with its wheel stage (f64).
+// The law `polar` with its wheel stage (f64): Astolfi's polar law: v = k_rho rho, omega = k_alpha alpha + k_beta beta.
 typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_POLAR_CONTROLLER_F64_WORDS];
 } wmr_polar_controller_f64;
 
-// The Lyapunov law with its wheel stage (f64).
+// The law `lyapunov` with its wheel stage (f64): Aicardi et al.'s Lyapunov law in polar coordinates.
 typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_LYAPUNOV_CONTROLLER_F64_WORDS];
 } wmr_lyapunov_controller_f64;
 
-// Kanayama's law with its wheel stage (f64).
+// The law `kanayama` with its wheel stage (f64): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)).
 typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_KANAYAMA_CONTROLLER_F64_WORDS];
 } wmr_kanayama_controller_f64;
 
-// The back-stepping law with its wheel stage (f64).
+// The law `backstepping` with its wheel stage (f64): Kanayama's twist back-stepped into the dynamics: wheel torques from the controller's model.
 typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_BACKSTEPPING_CONTROLLER_F64_WORDS];
 } wmr_backstepping_controller_f64;
 
-// The pure pursuit law with its wheel stage (f64).
+// The law `pure_pursuit` with its wheel stage (f64): Regulated pure pursuit (nav2's names): path following on the reference's path, its timing ignored.
 typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS];
@@ -951,26 +955,32 @@ wmr_status wmr_wheel_stage_params_f32_default(const wmr_drive_params_f32 *drive,
                                               const wmr_robot_f32 *model,
                                               wmr_wheel_stage_params_f32 *out);
 
-// Fills `out` with the paper's gains (section 4) and the default radii and hold.
+// Fills `out` with the default keys of `[controller] kind = "paper"`
+// (docs/scenario.md).
 wmr_status wmr_paper_params_f32_default(wmr_paper_params_f32 *out);
 
-// Fills `out` with the bidirectional paper law's defaults (Kp_theta 0, Ki_theta 1,
-// Kp_s 0, Ki_s 0.25, goal_radius 1 mm, hold_radius 5 mm, `WMR_HOLD_FREEZE`).
+// Fills `out` with the default keys of `[controller] kind = "paper_bidirectional"`
+// (docs/scenario.md).
 wmr_status wmr_paper_bidirectional_params_f32_default(wmr_paper_bidirectional_params_f32 *out);
 
-// Fills `out` with the polar law's defaults (k_rho 0.5, k_alpha 3, k_beta -1.2).
+// Fills `out` with the default keys of `[controller] kind = "polar"`
+// (docs/scenario.md).
 wmr_status wmr_polar_params_f32_default(wmr_polar_params_f32 *out);
 
-// Fills `out` with the Lyapunov law's defaults (gamma 0.5, k 3, h 9).
+// Fills `out` with the default keys of `[controller] kind = "lyapunov"`
+// (docs/scenario.md).
 wmr_status wmr_lyapunov_params_f32_default(wmr_lyapunov_params_f32 *out);
 
-// Fills `out` with Kanayama et al.'s gains (kx 10 1/s, ky 64 1/m^2, ktheta 16 1/m).
+// Fills `out` with the default keys of `[controller] kind = "kanayama"`
+// (docs/scenario.md).
 wmr_status wmr_kanayama_params_f32_default(wmr_kanayama_params_f32 *out);
 
-// Fills `out` with Kanayama's gains and k4 20 1/s.
+// Fills `out` with the default keys of `[controller] kind = "backstepping"`
+// (docs/scenario.md).
 wmr_status wmr_backstepping_params_f32_default(wmr_backstepping_params_f32 *out);
 
-// Fills `out` with nav2's defaults with speed 0.3 m/s and a 1 cm goal tolerance.
+// Fills `out` with the default keys of `[controller] kind = "pure_pursuit"`
+// (docs/scenario.md).
 wmr_status wmr_pure_pursuit_params_f32_default(wmr_pure_pursuit_params_f32 *out);
 
 // A plant at rest at `start` (m, m, rad; finite, |x| and |y| <= 1000 m), encoders at
@@ -1068,8 +1078,9 @@ wmr_status wmr_reference_f32_state_at(const wmr_reference_f32 *reference,
                                       float t,
                                       wmr_reference_state_f32 *out);
 
-// The paper's law with its wheel stage, for the controller's robot model (r and R),
-// the drive it commands and the control period `control_dt` (s).
+// The paper's law: two PI loops on a moving false target feeding the wheel angle
+// servos. with its wheel stage, for the controller's robot model (r and R), the drive
+// it commands and the control period `control_dt` (s).
 wmr_status wmr_paper_controller_f32_init(wmr_paper_controller_f32 *out,
                                          const wmr_paper_params_f32 *params,
                                          const wmr_wheel_stage_params_f32 *wheels,
@@ -1112,12 +1123,11 @@ wmr_status wmr_paper_controller_f32_update_on(wmr_paper_controller_f32 *ctrl,
                                               wmr_control_output_f32 *out,
                                               wmr_error *err);
 
-// Clears the integrators and memories, as at t = 0.
+// Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_paper_controller_f32_reset(wmr_paper_controller_f32 *ctrl);
 
-// The paper's law repaired (`paper_bidirectional`: a position error that never feeds
-// back positively, gains for which the heading settles before the position) with its
-// wheel stage (see `wmr_paper_controller_f32_init`).
+// The paper's law repaired: a position error that never feeds back positively, the
+// heading settling first. with its wheel stage (see `wmr_paper_controller_f32_init`).
 wmr_status wmr_paper_bidirectional_controller_f32_init(wmr_paper_bidirectional_controller_f32 *out,
                                                        const wmr_paper_bidirectional_params_f32 *params,
                                                        const wmr_wheel_stage_params_f32 *wheels,
@@ -1151,10 +1161,11 @@ wmr_status wmr_paper_bidirectional_controller_f32_update_on(wmr_paper_bidirectio
                                                             wmr_control_output_f32 *out,
                                                             wmr_error *err);
 
-// Clears the integrators and memories, as at t = 0.
+// Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_paper_bidirectional_controller_f32_reset(wmr_paper_bidirectional_controller_f32 *ctrl);
 
-// Astolfi's polar law with its wheel stage (see `wmr_paper_controller_f32_init`).
+// Astolfi's polar law: v = k_rho rho, omega = k_alpha alpha + k_beta beta. with its
+// wheel stage (see `wmr_paper_controller_f32_init`).
 wmr_status wmr_polar_controller_f32_init(wmr_polar_controller_f32 *out,
                                          const wmr_polar_params_f32 *params,
                                          const wmr_wheel_stage_params_f32 *wheels,
@@ -1188,10 +1199,10 @@ wmr_status wmr_polar_controller_f32_update_on(wmr_polar_controller_f32 *ctrl,
                                               wmr_control_output_f32 *out,
                                               wmr_error *err);
 
-// Clears the direction choice, the servos and the references, as at t = 0.
+// Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_polar_controller_f32_reset(wmr_polar_controller_f32 *ctrl);
 
-// Aicardi et al.'s Lyapunov law with its wheel stage (see
+// Aicardi et al.'s Lyapunov law in polar coordinates. with its wheel stage (see
 // `wmr_paper_controller_f32_init`).
 wmr_status wmr_lyapunov_controller_f32_init(wmr_lyapunov_controller_f32 *out,
                                             const wmr_lyapunov_params_f32 *params,
@@ -1226,11 +1237,11 @@ wmr_status wmr_lyapunov_controller_f32_update_on(wmr_lyapunov_controller_f32 *ct
                                                  wmr_control_output_f32 *out,
                                                  wmr_error *err);
 
-// Clears the direction choice, the servos and the references, as at t = 0.
+// Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_lyapunov_controller_f32_reset(wmr_lyapunov_controller_f32 *ctrl);
 
-// Kanayama et al.'s trajectory tracking law (v = v_ref cos(theta_e) + kx x_e, omega =
-// omega_ref + v_ref (ky y_e + ktheta sin(theta_e))) with its wheel stage (see
+// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega =
+// omega_ref + v_ref (ky y_e + ktheta sin(theta_e)). with its wheel stage (see
 // `wmr_paper_controller_f32_init`).
 wmr_status wmr_kanayama_controller_f32_init(wmr_kanayama_controller_f32 *out,
                                             const wmr_kanayama_params_f32 *params,
@@ -1265,12 +1276,11 @@ wmr_status wmr_kanayama_controller_f32_update_on(wmr_kanayama_controller_f32 *ct
                                                  wmr_control_output_f32 *out,
                                                  wmr_error *err);
 
-// Clears the servos and the references, as at t = 0.
+// Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_kanayama_controller_f32_reset(wmr_kanayama_controller_f32 *ctrl);
 
-// Kanayama's twist back-stepped into the dynamics (wheel torques from the controller's
-// model driving the body twist to Kanayama's at rate k4) with its wheel stage (see
-// `wmr_paper_controller_f32_init`).
+// Kanayama's twist back-stepped into the dynamics: wheel torques from the controller's
+// model. with its wheel stage (see `wmr_paper_controller_f32_init`).
 wmr_status wmr_backstepping_controller_f32_init(wmr_backstepping_controller_f32 *out,
                                                 const wmr_backstepping_params_f32 *params,
                                                 const wmr_wheel_stage_params_f32 *wheels,
@@ -1304,12 +1314,11 @@ wmr_status wmr_backstepping_controller_f32_update_on(wmr_backstepping_controller
                                                      wmr_control_output_f32 *out,
                                                      wmr_error *err);
 
-// Clears the last twist and the servos, as at t = 0.
+// Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_backstepping_controller_f32_reset(wmr_backstepping_controller_f32 *ctrl);
 
-// Regulated pure pursuit (path following; it steers by the path of a
-// `wmr_reference_*`, so use `_update_on`: given only a reference state it stops) with
-// its wheel stage (see `wmr_paper_controller_f32_init`).
+// Regulated pure pursuit (nav2's names): path following on the reference's path, its
+// timing ignored. with its wheel stage (see `wmr_paper_controller_f32_init`).
 wmr_status wmr_pure_pursuit_controller_f32_init(wmr_pure_pursuit_controller_f32 *out,
                                                 const wmr_pure_pursuit_params_f32 *params,
                                                 const wmr_wheel_stage_params_f32 *wheels,
@@ -1343,7 +1352,7 @@ wmr_status wmr_pure_pursuit_controller_f32_update_on(wmr_pure_pursuit_controller
                                                      wmr_control_output_f32 *out,
                                                      wmr_error *err);
 
-// Clears the path cursor and the servos, as at t = 0.
+// Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_pure_pursuit_controller_f32_reset(wmr_pure_pursuit_controller_f32 *ctrl);
 
 // Fills `out` with the paper's robot: m = 5 kg, r = 0.1 m, R = 0.2 m, d = 0.25 m,
@@ -1371,26 +1380,32 @@ wmr_status wmr_wheel_stage_params_f64_default(const wmr_drive_params_f64 *drive,
                                               const wmr_robot_f64 *model,
                                               wmr_wheel_stage_params_f64 *out);
 
-// Fills `out` with the paper's gains (section 4) and the default radii and hold.
+// Fills `out` with the default keys of `[controller] kind = "paper"`
+// (docs/scenario.md).
 wmr_status wmr_paper_params_f64_default(wmr_paper_params_f64 *out);
 
-// Fills `out` with the bidirectional paper law's defaults (Kp_theta 0, Ki_theta 1,
-// Kp_s 0, Ki_s 0.25, goal_radius 1 mm, hold_radius 5 mm, `WMR_HOLD_FREEZE`).
+// Fills `out` with the default keys of `[controller] kind = "paper_bidirectional"`
+// (docs/scenario.md).
 wmr_status wmr_paper_bidirectional_params_f64_default(wmr_paper_bidirectional_params_f64 *out);
 
-// Fills `out` with the polar law's defaults (k_rho 0.5, k_alpha 3, k_beta -1.2).
+// Fills `out` with the default keys of `[controller] kind = "polar"`
+// (docs/scenario.md).
 wmr_status wmr_polar_params_f64_default(wmr_polar_params_f64 *out);
 
-// Fills `out` with the Lyapunov law's defaults (gamma 0.5, k 3, h 9).
+// Fills `out` with the default keys of `[controller] kind = "lyapunov"`
+// (docs/scenario.md).
 wmr_status wmr_lyapunov_params_f64_default(wmr_lyapunov_params_f64 *out);
 
-// Fills `out` with Kanayama et al.'s gains (kx 10 1/s, ky 64 1/m^2, ktheta 16 1/m).
+// Fills `out` with the default keys of `[controller] kind = "kanayama"`
+// (docs/scenario.md).
 wmr_status wmr_kanayama_params_f64_default(wmr_kanayama_params_f64 *out);
 
-// Fills `out` with Kanayama's gains and k4 20 1/s.
+// Fills `out` with the default keys of `[controller] kind = "backstepping"`
+// (docs/scenario.md).
 wmr_status wmr_backstepping_params_f64_default(wmr_backstepping_params_f64 *out);
 
-// Fills `out` with nav2's defaults with speed 0.3 m/s and a 1 cm goal tolerance.
+// Fills `out` with the default keys of `[controller] kind = "pure_pursuit"`
+// (docs/scenario.md).
 wmr_status wmr_pure_pursuit_params_f64_default(wmr_pure_pursuit_params_f64 *out);
 
 // A plant at rest at `start` (m, m, rad; finite, |x| and |y| <= 1000 m), encoders at
@@ -1488,8 +1503,9 @@ wmr_status wmr_reference_f64_state_at(const wmr_reference_f64 *reference,
                                       double t,
                                       wmr_reference_state_f64 *out);
 
-// The paper's law with its wheel stage, for the controller's robot model (r and R),
-// the drive it commands and the control period `control_dt` (s).
+// The paper's law: two PI loops on a moving false target feeding the wheel angle
+// servos. with its wheel stage, for the controller's robot model (r and R), the drive
+// it commands and the control period `control_dt` (s).
 wmr_status wmr_paper_controller_f64_init(wmr_paper_controller_f64 *out,
                                          const wmr_paper_params_f64 *params,
                                          const wmr_wheel_stage_params_f64 *wheels,
@@ -1532,12 +1548,11 @@ wmr_status wmr_paper_controller_f64_update_on(wmr_paper_controller_f64 *ctrl,
                                               wmr_control_output_f64 *out,
                                               wmr_error *err);
 
-// Clears the integrators and memories, as at t = 0.
+// Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_paper_controller_f64_reset(wmr_paper_controller_f64 *ctrl);
 
-// The paper's law repaired (`paper_bidirectional`: a position error that never feeds
-// back positively, gains for which the heading settles before the position) with its
-// wheel stage (see `wmr_paper_controller_f64_init`).
+// The paper's law repaired: a position error that never feeds back positively, the
+// heading settling first. with its wheel stage (see `wmr_paper_controller_f64_init`).
 wmr_status wmr_paper_bidirectional_controller_f64_init(wmr_paper_bidirectional_controller_f64 *out,
                                                        const wmr_paper_bidirectional_params_f64 *params,
                                                        const wmr_wheel_stage_params_f64 *wheels,
@@ -1571,10 +1586,11 @@ wmr_status wmr_paper_bidirectional_controller_f64_update_on(wmr_paper_bidirectio
                                                             wmr_control_output_f64 *out,
                                                             wmr_error *err);
 
-// Clears the integrators and memories, as at t = 0.
+// Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_paper_bidirectional_controller_f64_reset(wmr_paper_bidirectional_controller_f64 *ctrl);
 
-// Astolfi's polar law with its wheel stage (see `wmr_paper_controller_f64_init`).
+// Astolfi's polar law: v = k_rho rho, omega = k_alpha alpha + k_beta beta. with its
+// wheel stage (see `wmr_paper_controller_f64_init`).
 wmr_status wmr_polar_controller_f64_init(wmr_polar_controller_f64 *out,
                                          const wmr_polar_params_f64 *params,
                                          const wmr_wheel_stage_params_f64 *wheels,
@@ -1608,10 +1624,10 @@ wmr_status wmr_polar_controller_f64_update_on(wmr_polar_controller_f64 *ctrl,
                                               wmr_control_output_f64 *out,
                                               wmr_error *err);
 
-// Clears the direction choice, the servos and the references, as at t = 0.
+// Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_polar_controller_f64_reset(wmr_polar_controller_f64 *ctrl);
 
-// Aicardi et al.'s Lyapunov law with its wheel stage (see
+// Aicardi et al.'s Lyapunov law in polar coordinates. with its wheel stage (see
 // `wmr_paper_controller_f64_init`).
 wmr_status wmr_lyapunov_controller_f64_init(wmr_lyapunov_controller_f64 *out,
                                             const wmr_lyapunov_params_f64 *params,
@@ -1646,11 +1662,11 @@ wmr_status wmr_lyapunov_controller_f64_update_on(wmr_lyapunov_controller_f64 *ct
                                                  wmr_control_output_f64 *out,
                                                  wmr_error *err);
 
-// Clears the direction choice, the servos and the references, as at t = 0.
+// Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_lyapunov_controller_f64_reset(wmr_lyapunov_controller_f64 *ctrl);
 
-// Kanayama et al.'s trajectory tracking law (v = v_ref cos(theta_e) + kx x_e, omega =
-// omega_ref + v_ref (ky y_e + ktheta sin(theta_e))) with its wheel stage (see
+// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega =
+// omega_ref + v_ref (ky y_e + ktheta sin(theta_e)). with its wheel stage (see
 // `wmr_paper_controller_f64_init`).
 wmr_status wmr_kanayama_controller_f64_init(wmr_kanayama_controller_f64 *out,
                                             const wmr_kanayama_params_f64 *params,
@@ -1685,12 +1701,11 @@ wmr_status wmr_kanayama_controller_f64_update_on(wmr_kanayama_controller_f64 *ct
                                                  wmr_control_output_f64 *out,
                                                  wmr_error *err);
 
-// Clears the servos and the references, as at t = 0.
+// Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_kanayama_controller_f64_reset(wmr_kanayama_controller_f64 *ctrl);
 
-// Kanayama's twist back-stepped into the dynamics (wheel torques from the controller's
-// model driving the body twist to Kanayama's at rate k4) with its wheel stage (see
-// `wmr_paper_controller_f64_init`).
+// Kanayama's twist back-stepped into the dynamics: wheel torques from the controller's
+// model. with its wheel stage (see `wmr_paper_controller_f64_init`).
 wmr_status wmr_backstepping_controller_f64_init(wmr_backstepping_controller_f64 *out,
                                                 const wmr_backstepping_params_f64 *params,
                                                 const wmr_wheel_stage_params_f64 *wheels,
@@ -1724,12 +1739,11 @@ wmr_status wmr_backstepping_controller_f64_update_on(wmr_backstepping_controller
                                                      wmr_control_output_f64 *out,
                                                      wmr_error *err);
 
-// Clears the last twist and the servos, as at t = 0.
+// Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_backstepping_controller_f64_reset(wmr_backstepping_controller_f64 *ctrl);
 
-// Regulated pure pursuit (path following; it steers by the path of a
-// `wmr_reference_*`, so use `_update_on`: given only a reference state it stops) with
-// its wheel stage (see `wmr_paper_controller_f64_init`).
+// Regulated pure pursuit (nav2's names): path following on the reference's path, its
+// timing ignored. with its wheel stage (see `wmr_paper_controller_f64_init`).
 wmr_status wmr_pure_pursuit_controller_f64_init(wmr_pure_pursuit_controller_f64 *out,
                                                 const wmr_pure_pursuit_params_f64 *params,
                                                 const wmr_wheel_stage_params_f64 *wheels,
@@ -1763,7 +1777,7 @@ wmr_status wmr_pure_pursuit_controller_f64_update_on(wmr_pure_pursuit_controller
                                                      wmr_control_output_f64 *out,
                                                      wmr_error *err);
 
-// Clears the path cursor and the servos, as at t = 0.
+// Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_pure_pursuit_controller_f64_reset(wmr_pure_pursuit_controller_f64 *ctrl);
 
 #ifdef __cplusplus

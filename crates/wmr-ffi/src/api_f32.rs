@@ -50,7 +50,8 @@ pub unsafe extern "C" fn wmr_wheel_stage_params_f32_default(
     imp::wheel_stage_params_default(drive, model, out)
 }
 
-/// Fills `out` with the paper's gains (section 4) and the default radii and hold.
+/// Fills `out` with the default keys of `[controller] kind = "paper"`
+/// (docs/scenario.md).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_paper_params_f32_default(
     out: *mut wmr_paper_params<f32>,
@@ -58,8 +59,8 @@ pub unsafe extern "C" fn wmr_paper_params_f32_default(
     imp::law_params_default::<f32, Paper>(out)
 }
 
-/// Fills `out` with the bidirectional paper law's defaults (Kp_theta 0, Ki_theta 1,
-/// Kp_s 0, Ki_s 0.25, goal_radius 1 mm, hold_radius 5 mm, `WMR_HOLD_FREEZE`).
+/// Fills `out` with the default keys of `[controller] kind = "paper_bidirectional"`
+/// (docs/scenario.md).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_paper_bidirectional_params_f32_default(
     out: *mut wmr_paper_bidirectional_params<f32>,
@@ -67,7 +68,8 @@ pub unsafe extern "C" fn wmr_paper_bidirectional_params_f32_default(
     imp::law_params_default::<f32, PaperBidirectional>(out)
 }
 
-/// Fills `out` with the polar law's defaults (k_rho 0.5, k_alpha 3, k_beta -1.2).
+/// Fills `out` with the default keys of `[controller] kind = "polar"`
+/// (docs/scenario.md).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_polar_params_f32_default(
     out: *mut wmr_polar_params<f32>,
@@ -75,7 +77,8 @@ pub unsafe extern "C" fn wmr_polar_params_f32_default(
     imp::law_params_default::<f32, Polar>(out)
 }
 
-/// Fills `out` with the Lyapunov law's defaults (gamma 0.5, k 3, h 9).
+/// Fills `out` with the default keys of `[controller] kind = "lyapunov"`
+/// (docs/scenario.md).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_lyapunov_params_f32_default(
     out: *mut wmr_lyapunov_params<f32>,
@@ -83,7 +86,8 @@ pub unsafe extern "C" fn wmr_lyapunov_params_f32_default(
     imp::law_params_default::<f32, Lyapunov>(out)
 }
 
-/// Fills `out` with Kanayama et al.'s gains (kx 10 1/s, ky 64 1/m^2, ktheta 16 1/m).
+/// Fills `out` with the default keys of `[controller] kind = "kanayama"`
+/// (docs/scenario.md).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_kanayama_params_f32_default(
     out: *mut wmr_kanayama_params<f32>,
@@ -91,7 +95,8 @@ pub unsafe extern "C" fn wmr_kanayama_params_f32_default(
     imp::law_params_default::<f32, Kanayama>(out)
 }
 
-/// Fills `out` with Kanayama's gains and k4 20 1/s.
+/// Fills `out` with the default keys of `[controller] kind = "backstepping"`
+/// (docs/scenario.md).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_backstepping_params_f32_default(
     out: *mut wmr_backstepping_params<f32>,
@@ -99,7 +104,8 @@ pub unsafe extern "C" fn wmr_backstepping_params_f32_default(
     imp::law_params_default::<f32, Backstepping>(out)
 }
 
-/// Fills `out` with nav2's defaults with speed 0.3 m/s and a 1 cm goal tolerance.
+/// Fills `out` with the default keys of `[controller] kind = "pure_pursuit"`
+/// (docs/scenario.md).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_pure_pursuit_params_f32_default(
     out: *mut wmr_pure_pursuit_params<f32>,
@@ -256,8 +262,9 @@ pub unsafe extern "C" fn wmr_reference_f32_state_at(
     imp::reference_state_at::<f32>(reference, t, out)
 }
 
-/// The paper's law with its wheel stage, for the controller's robot model (r and R),
-/// the drive it commands and the control period `control_dt` (s).
+/// The paper's law: two PI loops on a moving false target feeding the wheel angle
+/// servos. with its wheel stage, for the controller's robot model (r and R), the drive
+/// it commands and the control period `control_dt` (s).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_paper_controller_f32_init(
     out: *mut wmr_paper_controller_f32,
@@ -320,7 +327,7 @@ pub unsafe extern "C" fn wmr_paper_controller_f32_update_on(
     imp::controller_update_on::<f32, Paper>(ctrl, t, measurement, reference, out, err)
 }
 
-/// Clears the integrators and memories, as at t = 0.
+/// Clears the law's memories and the wheel servos, as at t = 0.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_paper_controller_f32_reset(
     ctrl: *mut wmr_paper_controller_f32,
@@ -328,9 +335,8 @@ pub unsafe extern "C" fn wmr_paper_controller_f32_reset(
     imp::controller_reset::<f32, Paper>(ctrl)
 }
 
-/// The paper's law repaired (`paper_bidirectional`: a position error that never feeds
-/// back positively, gains for which the heading settles before the position) with its
-/// wheel stage (see `wmr_paper_controller_f32_init`).
+/// The paper's law repaired: a position error that never feeds back positively, the
+/// heading settling first. with its wheel stage (see `wmr_paper_controller_f32_init`).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f32_init(
     out: *mut wmr_paper_bidirectional_controller_f32,
@@ -384,7 +390,7 @@ pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f32_update_on(
     imp::controller_update_on::<f32, PaperBidirectional>(ctrl, t, measurement, reference, out, err)
 }
 
-/// Clears the integrators and memories, as at t = 0.
+/// Clears the law's memories and the wheel servos, as at t = 0.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f32_reset(
     ctrl: *mut wmr_paper_bidirectional_controller_f32,
@@ -392,7 +398,8 @@ pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f32_reset(
     imp::controller_reset::<f32, PaperBidirectional>(ctrl)
 }
 
-/// Astolfi's polar law with its wheel stage (see `wmr_paper_controller_f32_init`).
+/// Astolfi's polar law: v = k_rho rho, omega = k_alpha alpha + k_beta beta. with its
+/// wheel stage (see `wmr_paper_controller_f32_init`).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_polar_controller_f32_init(
     out: *mut wmr_polar_controller_f32,
@@ -446,7 +453,7 @@ pub unsafe extern "C" fn wmr_polar_controller_f32_update_on(
     imp::controller_update_on::<f32, Polar>(ctrl, t, measurement, reference, out, err)
 }
 
-/// Clears the direction choice, the servos and the references, as at t = 0.
+/// Clears the law's memories and the wheel servos, as at t = 0.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_polar_controller_f32_reset(
     ctrl: *mut wmr_polar_controller_f32,
@@ -454,7 +461,7 @@ pub unsafe extern "C" fn wmr_polar_controller_f32_reset(
     imp::controller_reset::<f32, Polar>(ctrl)
 }
 
-/// Aicardi et al.'s Lyapunov law with its wheel stage (see
+/// Aicardi et al.'s Lyapunov law in polar coordinates. with its wheel stage (see
 /// `wmr_paper_controller_f32_init`).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_lyapunov_controller_f32_init(
@@ -509,7 +516,7 @@ pub unsafe extern "C" fn wmr_lyapunov_controller_f32_update_on(
     imp::controller_update_on::<f32, Lyapunov>(ctrl, t, measurement, reference, out, err)
 }
 
-/// Clears the direction choice, the servos and the references, as at t = 0.
+/// Clears the law's memories and the wheel servos, as at t = 0.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_lyapunov_controller_f32_reset(
     ctrl: *mut wmr_lyapunov_controller_f32,
@@ -517,8 +524,8 @@ pub unsafe extern "C" fn wmr_lyapunov_controller_f32_reset(
     imp::controller_reset::<f32, Lyapunov>(ctrl)
 }
 
-/// Kanayama et al.'s trajectory tracking law (v = v_ref cos(theta_e) + kx x_e, omega =
-/// omega_ref + v_ref (ky y_e + ktheta sin(theta_e))) with its wheel stage (see
+/// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega =
+/// omega_ref + v_ref (ky y_e + ktheta sin(theta_e)). with its wheel stage (see
 /// `wmr_paper_controller_f32_init`).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_kanayama_controller_f32_init(
@@ -573,7 +580,7 @@ pub unsafe extern "C" fn wmr_kanayama_controller_f32_update_on(
     imp::controller_update_on::<f32, Kanayama>(ctrl, t, measurement, reference, out, err)
 }
 
-/// Clears the servos and the references, as at t = 0.
+/// Clears the law's memories and the wheel servos, as at t = 0.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_kanayama_controller_f32_reset(
     ctrl: *mut wmr_kanayama_controller_f32,
@@ -581,9 +588,8 @@ pub unsafe extern "C" fn wmr_kanayama_controller_f32_reset(
     imp::controller_reset::<f32, Kanayama>(ctrl)
 }
 
-/// Kanayama's twist back-stepped into the dynamics (wheel torques from the controller's
-/// model driving the body twist to Kanayama's at rate k4) with its wheel stage (see
-/// `wmr_paper_controller_f32_init`).
+/// Kanayama's twist back-stepped into the dynamics: wheel torques from the controller's
+/// model. with its wheel stage (see `wmr_paper_controller_f32_init`).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_backstepping_controller_f32_init(
     out: *mut wmr_backstepping_controller_f32,
@@ -637,7 +643,7 @@ pub unsafe extern "C" fn wmr_backstepping_controller_f32_update_on(
     imp::controller_update_on::<f32, Backstepping>(ctrl, t, measurement, reference, out, err)
 }
 
-/// Clears the last twist and the servos, as at t = 0.
+/// Clears the law's memories and the wheel servos, as at t = 0.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_backstepping_controller_f32_reset(
     ctrl: *mut wmr_backstepping_controller_f32,
@@ -645,9 +651,8 @@ pub unsafe extern "C" fn wmr_backstepping_controller_f32_reset(
     imp::controller_reset::<f32, Backstepping>(ctrl)
 }
 
-/// Regulated pure pursuit (path following; it steers by the path of a
-/// `wmr_reference_*`, so use `_update_on`: given only a reference state it stops) with
-/// its wheel stage (see `wmr_paper_controller_f32_init`).
+/// Regulated pure pursuit (nav2's names): path following on the reference's path, its
+/// timing ignored. with its wheel stage (see `wmr_paper_controller_f32_init`).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_pure_pursuit_controller_f32_init(
     out: *mut wmr_pure_pursuit_controller_f32,
@@ -701,7 +706,7 @@ pub unsafe extern "C" fn wmr_pure_pursuit_controller_f32_update_on(
     imp::controller_update_on::<f32, PurePursuit>(ctrl, t, measurement, reference, out, err)
 }
 
-/// Clears the path cursor and the servos, as at t = 0.
+/// Clears the law's memories and the wheel servos, as at t = 0.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_pure_pursuit_controller_f32_reset(
     ctrl: *mut wmr_pure_pursuit_controller_f32,

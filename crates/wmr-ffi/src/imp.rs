@@ -9,12 +9,9 @@ use core::mem::{align_of, size_of};
 use wmr_core::controller::Law;
 use wmr_core::reference::{Circle, FigureEight, Line, Waypoints};
 use wmr_core::{
-    AntiWindup, AnyReference, BacksteppingLaw, BacksteppingParams, Controller, DcMotorParams, Drive, DriveParams,
-    HoldMode, KanayamaLaw, KanayamaParams, LyapunovLaw, LyapunovParams, Measurement, PaperBidirectionalLaw,
-    PaperBidirectionalParams, PaperLaw, PaperMode, PaperParams, ParamError, PerfectSensor, Plant, PolarLaw,
-    PolarParams, Pose2, PoseSensor, PurePursuitLaw, PurePursuitParams, Real, Reason, Reference, ReferenceState, Robot,
-    RobotParams, Sensor, SensorParams, State, Termination, TorqueDriveParams, Twist2, WheelStage, WheelStageParams,
-    Wheels,
+    AntiWindup, AnyReference, Controller, DcMotorParams, Drive, DriveParams, HoldMode, Measurement, PaperMode,
+    ParamError, PerfectSensor, Plant, Pose2, PoseSensor, Real, Reason, Reference, ReferenceState, Robot, RobotParams,
+    Sensor, SensorParams, State, Termination, TorqueDriveParams, Twist2, WheelStage, WheelStageParams, Wheels,
 };
 
 use crate::*;
@@ -223,7 +220,7 @@ struct Slot<V> {
 }
 
 macro_rules! storage_of {
-    ($($s:ty => $v:ty, $tag:literal $(, check $check:path)?;)+) => {$(
+    ($($s:ty => $v:ty, $tag:expr $(, check $check:path)?;)+) => {$(
         impl Storage for $s {
             type Value = $v;
             const TAG: u64 = $tag;
@@ -427,7 +424,7 @@ fn flag(field: &'static str, v: u32) -> Result<bool, Fail> {
 
 /// A core enum a C struct holds as a `uint32_t` (`#[repr(u32)]` in the core): the codes
 /// C may write there.
-trait CEnum: Copy + 'static {
+pub(crate) trait CEnum: Copy + 'static {
     /// Every variant.
     const ALL: &'static [Self];
     /// Why another code is refused.
@@ -461,7 +458,7 @@ impl CEnum for AntiWindup {
 }
 
 /// Refuses a `uint32_t` that is not a code of `E`.
-fn enum_code<E: CEnum>(field: &'static str, code: u32) -> Result<(), Fail> {
+pub(crate) fn enum_code<E: CEnum>(field: &'static str, code: u32) -> Result<(), Fail> {
     if E::ALL.iter().any(|e| e.code() == code) {
         Ok(())
     } else {
@@ -491,14 +488,14 @@ macro_rules! c_params {
     ($(alias $core:ident { $($enum_field:ident: $enum:ty),* $(,)? };)*
      $(mirror $c:ident = $mcore:ident { $($float:ident),* ; flags $($flag:ident),* $(,)? };)*) => {
         $(
-            impl<T: Real> CParams for $core<T> {
+            impl<T: wmr_core::Real> $crate::imp::CParams for wmr_core::$core<T> {
                 type Core = Self;
-                unsafe fn read_core(p: *const Self) -> Result<Self, Fail> {
+                unsafe fn read_core(p: *const Self) -> Result<Self, $crate::imp::Fail> {
                     $(
                         // SAFETY: `p` is valid for reads (contract) and the field is a
                         // `#[repr(u32)]` enum, so 4 readable bytes; read as a plain u32.
                         let code = unsafe { core::ptr::addr_of!((*p).$enum_field).cast::<u32>().read() };
-                        enum_code::<$enum>(stringify!($enum_field), code)?;
+                        $crate::imp::enum_code::<$enum>(stringify!($enum_field), code)?;
                     )*
                     // SAFETY: every enum field holds a valid discriminant (checked above)
                     // and the other fields are floats, valid for any bits.
@@ -510,14 +507,14 @@ macro_rules! c_params {
             }
         )*
         $(
-            impl<T: Real> CParams for $c<T> {
-                type Core = $mcore<T>;
-                unsafe fn read_core(p: *const Self) -> Result<$mcore<T>, Fail> {
+            impl<T: wmr_core::Real> $crate::imp::CParams for $c<T> {
+                type Core = wmr_core::$mcore<T>;
+                unsafe fn read_core(p: *const Self) -> Result<wmr_core::$mcore<T>, $crate::imp::Fail> {
                     // SAFETY: valid for reads (contract); plain numbers, any bits valid.
                     let c = unsafe { p.read() };
-                    Ok($mcore { $($float: c.$float,)* $($flag: flag(stringify!($flag), c.$flag)?,)* })
+                    Ok(wmr_core::$mcore { $($float: c.$float,)* $($flag: $crate::imp::flag(stringify!($flag), c.$flag)?,)* })
                 }
-                fn from_core(core: $mcore<T>) -> Self {
+                fn from_core(core: wmr_core::$mcore<T>) -> Self {
                     $c { $($float: core.$float,)* $($flag: u32::from(core.$flag),)* }
                 }
             }
@@ -525,15 +522,8 @@ macro_rules! c_params {
     };
 }
 
-c_params! {
-    alias PaperParams { mode: PaperMode, hold: HoldMode, anti_windup: AntiWindup };
-    alias PaperBidirectionalParams { hold: HoldMode };
-    alias KanayamaParams {};
-    alias BacksteppingParams {};
-    alias PurePursuitParams {};
-    mirror wmr_polar_params = PolarParams { k_rho, k_alpha, k_beta, reverse_hysteresis, goal_radius; flags reverse };
-    mirror wmr_lyapunov_params = LyapunovParams { gamma, k, h, reverse_hysteresis, goal_radius; flags reverse };
-}
+// Every law's C parameter struct (the list is generated: `laws.rs`).
+crate::laws::for_each_c_params!(c_params);
 
 /// A law of the C API: its C parameter struct and how it becomes the core's law.
 pub trait CLaw<T: Prec> {
@@ -549,26 +539,32 @@ pub trait CLaw<T: Prec> {
     fn build(p: <Self::Params as CParams>::Core, model: &RobotParams<T>, control_dt: T) -> Result<Self::Law, Fail>;
 }
 
-/// Defines, from one list of the laws: a marker type per law with its [`CLaw`], the
-/// storage of each law per precision ([`Storage`], [`Prec`]), and [`Prec`] itself. The
-/// C entry points of a law are `law_params_default`, `controller_init`,
+/// Defines, from the registry (`wmr_core::for_each_law!`): a marker type per law with its
+/// [`CLaw`], the storage of each law per precision ([`Storage`], [`Prec`]), and [`Prec`]
+/// itself. The C entry points of a law are `law_params_default`, `controller_init`,
 /// `controller_update`, `controller_update_reference` and `controller_reset` with its
-/// marker (`api_f32.rs`).
+/// marker (`api_f32.rs`); its C declarations are in `laws.rs` (`cargo xtask gen`). A
+/// storage tag is `0x574d52__00000f32` (f32) or `..0f64`, `__` = 5 + the law's code.
 macro_rules! c_laws {
-    ($( $(#[$doc:meta])* $marker:ident($params:ident, $law:ident) storage($s32:ident = $tag32:literal, $s64:ident = $tag64:literal), new($p:ident, $model:ident, $dt:ident) => $new:expr,
-        c($c_name:literal, about = $about:literal, defaults = $defaults:literal, reset = $reset:literal); )+) => {
-        $( $(#[$doc])* pub struct $marker; )+
+    ($krate:tt; $( $(#[doc = $doc:literal])* $marker:ident($params:ident, $law:ident) = $kind:ident, code $code:literal, follows $follows:ident; )+) => { paste::paste! {
+        $( $(#[doc = $doc])* pub struct $marker; )+
 
-        /// The laws of the C API, in the list's order, as `tests/header.rs` writes their
+        /// The laws of the C API, in the registry's order, as `tests/header.rs` writes their
         /// entry points into `api_f32.rs` and `api_f64.rs`.
         pub const C_LAWS: &[CLawEntry] = &[
-            $( CLawEntry { c_name: $c_name, marker: stringify!($marker), about: $about, defaults: $defaults, reset: $reset }, )+
+            $( CLawEntry {
+                c_name: stringify!($kind),
+                marker: stringify!($marker),
+                about: [$($doc),*][0].trim_ascii(),
+                defaults: concat!("the default keys of `[controller] kind = \"", stringify!($kind), "\"` (docs/scenario.md)"),
+                reset: "Clears the law's memories and the wheel servos, as at t = 0.",
+            }, )+
         ];
 
         storage_of! {
             $(
-                $s32 => Controller<f32, $law<f32>>, $tag32;
-                $s64 => Controller<f64, $law<f64>>, $tag64;
+                [<wmr_ $kind _controller_f32>] => Controller<f32, $krate::$law<f32>>, 0x574d_5205_0000_0f32 + (($code as u64) << 32);
+                [<wmr_ $kind _controller_f64>] => Controller<f64, $krate::$law<f64>>, 0x574d_5205_0000_0f64 + (($code as u64) << 32);
             )+
         }
 
@@ -587,7 +583,7 @@ macro_rules! c_laws {
             type Reference: Storage<Value = AnyReference<Self>>;
             $(
                 /// The controller storage of this law.
-                type $marker: Storage<Value = Controller<Self, $law<Self>>>;
+                type $marker: Storage<Value = Controller<Self, $krate::$law<Self>>>;
             )+
         }
 
@@ -597,7 +593,7 @@ macro_rules! c_laws {
             type Plant = wmr_plant_f32;
             type Sensor = wmr_sensor_f32;
             type Reference = wmr_reference_f32;
-            $( type $marker = $s32; )+
+            $( type $marker = [<wmr_ $kind _controller_f32>]; )+
         }
 
         impl Prec for f64 {
@@ -606,26 +602,25 @@ macro_rules! c_laws {
             type Plant = wmr_plant_f64;
             type Sensor = wmr_sensor_f64;
             type Reference = wmr_reference_f64;
-            $( type $marker = $s64; )+
+            $( type $marker = [<wmr_ $kind _controller_f64>]; )+
         }
 
         $(
             impl<T: Prec> CLaw<T> for $marker {
-                type Params = $params<T>;
-                type Law = $law<T>;
+                type Params = [<wmr_ $kind _params>]<T>;
+                type Law = $krate::$law<T>;
                 type Storage = <T as Prec>::$marker;
 
                 fn defaults() -> Self::Params {
                     CParams::from_core(Default::default())
                 }
 
-                fn build($p: <Self::Params as CParams>::Core, $model: &RobotParams<T>, $dt: T) -> Result<Self::Law, Fail> {
-                    let _ = ($model, $dt);
-                    Ok($new?)
+                fn build(p: <Self::Params as CParams>::Core, model: &RobotParams<T>, dt: T) -> Result<Self::Law, Fail> {
+                    Ok(wmr_core::LawSpec::build::<T>(&p, model, dt)?)
                 }
             }
         )+
-    };
+    } };
 }
 
 /// A law of [`C_LAWS`]: what its C entry points are named and say.
@@ -643,32 +638,8 @@ pub struct CLawEntry {
     pub reset: &'static str,
 }
 
-// The one list of the C API's laws. A law here gets its storage types and its `CLaw`;
-// `WMR_BLESS=1 cargo test -p wmr-ffi --test header` then writes its entry points into
-// api_f32.rs and api_f64.rs and the header (the first law's update docs are the full ones).
-c_laws! {
-    /// The paper's law.
-    Paper(wmr_paper_params, PaperLaw) storage(wmr_paper_controller_f32 = 0x574d_5205_0000_0f32, wmr_paper_controller_f64 = 0x574d_5205_0000_0f64), new(p, model, dt) => PaperLaw::new(p, model, dt),
-        c("paper", about = "The paper's law", defaults = "the paper's gains (section 4) and the default radii and hold", reset = "Clears the integrators and memories, as at t = 0.");
-    /// The paper's law repaired (`paper_bidirectional`).
-    PaperBidirectional(wmr_paper_bidirectional_params, PaperBidirectionalLaw) storage(wmr_paper_bidirectional_controller_f32 = 0x574d_5208_0000_0f32, wmr_paper_bidirectional_controller_f64 = 0x574d_5208_0000_0f64), new(p, model, dt) => PaperBidirectionalLaw::new(p, model, dt),
-        c("paper_bidirectional", about = "The paper's law repaired (`paper_bidirectional`: a position error that never feeds back positively, gains for which the heading settles before the position)", defaults = "the bidirectional paper law's defaults (Kp_theta 0, Ki_theta 1, Kp_s 0, Ki_s 0.25, goal_radius 1 mm, hold_radius 5 mm, `WMR_HOLD_FREEZE`)", reset = "Clears the integrators and memories, as at t = 0.");
-    /// Astolfi's polar law.
-    Polar(wmr_polar_params, PolarLaw) storage(wmr_polar_controller_f32 = 0x574d_5206_0000_0f32, wmr_polar_controller_f64 = 0x574d_5206_0000_0f64), new(p, model, dt) => PolarLaw::new(p),
-        c("polar", about = "Astolfi's polar law", defaults = "the polar law's defaults (k_rho 0.5, k_alpha 3, k_beta -1.2)", reset = "Clears the direction choice, the servos and the references, as at t = 0.");
-    /// Aicardi et al.'s Lyapunov law.
-    Lyapunov(wmr_lyapunov_params, LyapunovLaw) storage(wmr_lyapunov_controller_f32 = 0x574d_5207_0000_0f32, wmr_lyapunov_controller_f64 = 0x574d_5207_0000_0f64), new(p, model, dt) => LyapunovLaw::new(p),
-        c("lyapunov", about = "Aicardi et al.'s Lyapunov law", defaults = "the Lyapunov law's defaults (gamma 0.5, k 3, h 9)", reset = "Clears the direction choice, the servos and the references, as at t = 0.");
-    /// Kanayama et al.'s tracking law.
-    Kanayama(wmr_kanayama_params, KanayamaLaw) storage(wmr_kanayama_controller_f32 = 0x574d_5209_0000_0f32, wmr_kanayama_controller_f64 = 0x574d_5209_0000_0f64), new(p, model, dt) => KanayamaLaw::for_lanes(p),
-        c("kanayama", about = "Kanayama et al.'s trajectory tracking law (v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)))", defaults = "Kanayama et al.'s gains (kx 10 1/s, ky 64 1/m^2, ktheta 16 1/m)", reset = "Clears the servos and the references, as at t = 0.");
-    /// Kanayama back-stepped into the dynamics.
-    Backstepping(wmr_backstepping_params, BacksteppingLaw) storage(wmr_backstepping_controller_f32 = 0x574d_520a_0000_0f32, wmr_backstepping_controller_f64 = 0x574d_520a_0000_0f64), new(p, model, dt) => BacksteppingLaw::for_lanes(p, model, dt),
-        c("backstepping", about = "Kanayama's twist back-stepped into the dynamics (wheel torques from the controller's model driving the body twist to Kanayama's at rate k4)", defaults = "Kanayama's gains and k4 20 1/s", reset = "Clears the last twist and the servos, as at t = 0.");
-    /// Regulated pure pursuit.
-    PurePursuit(wmr_pure_pursuit_params, PurePursuitLaw) storage(wmr_pure_pursuit_controller_f32 = 0x574d_520b_0000_0f32, wmr_pure_pursuit_controller_f64 = 0x574d_520b_0000_0f64), new(p, model, dt) => PurePursuitLaw::for_lanes(p, model),
-        c("pure_pursuit", about = "Regulated pure pursuit (path following; it steers by the path of a `wmr_reference_*`, so use `_update_on`: given only a reference state it stops)", defaults = "nav2's defaults with speed 0.3 m/s and a 1 cm goal tolerance", reset = "Clears the path cursor and the servos, as at t = 0.");
-}
+// The C API's laws: the registry's.
+wmr_core::for_each_law!(c_laws);
 
 // ---------------------------------------------------------------------------------------
 // The entry points, generic; `api_f32.rs` and `api_f64.rs` export them.

@@ -61,6 +61,7 @@ mod api_f32;
 #[rustfmt::skip]
 mod api_f64;
 mod imp;
+mod laws;
 
 pub use api_f32::*;
 pub use api_f64::*;
@@ -69,11 +70,12 @@ pub use api_f64::*;
 /// cbindgen:ignore
 #[doc(hidden)]
 pub use imp::{C_LAWS, CLawEntry};
+pub use laws::*;
 
 use core::ffi::c_char;
 
 /// Version of this C API: changes whenever a struct, a storage size or a signature does.
-pub const WMR_ABI_VERSION: u32 = 3;
+pub const WMR_ABI_VERSION: u32 = 4;
 
 /// Alignment, bytes, of every storage struct (they are arrays of `uint64_t`).
 pub const WMR_STORAGE_ALIGN: usize = 8;
@@ -272,25 +274,6 @@ pub type wmr_sensor_params<T> = wmr_core::SensorParams<T>;
 /// The wheel stage: `wmr_core::WheelStageParams`.
 /// cbindgen:ignore
 pub type wmr_wheel_stage_params<T> = wmr_core::WheelStageParams<T>;
-/// The paper's law (`[controller] kind = "paper"`): `wmr_core::PaperParams`. Its enum
-/// fields are `uint32_t` in C (`WMR_PAPER_MODE_*`, `WMR_HOLD_*`); a value that is not one
-/// of the constants is refused by `*_init` before the struct is read as the core's type.
-/// cbindgen:ignore
-pub type wmr_paper_params<T> = wmr_core::PaperParams<T>;
-/// The paper's law repaired (`kind = "paper_bidirectional"`):
-/// `wmr_core::PaperBidirectionalParams`, `hold` a `WMR_HOLD_*` constant.
-/// cbindgen:ignore
-pub type wmr_paper_bidirectional_params<T> = wmr_core::PaperBidirectionalParams<T>;
-/// Kanayama et al.'s tracking law (`kind = "kanayama"`): `wmr_core::KanayamaParams`.
-/// cbindgen:ignore
-pub type wmr_kanayama_params<T> = wmr_core::KanayamaParams<T>;
-/// Kanayama back-stepped into the dynamics (`kind = "backstepping"`):
-/// `wmr_core::BacksteppingParams`.
-/// cbindgen:ignore
-pub type wmr_backstepping_params<T> = wmr_core::BacksteppingParams<T>;
-/// Regulated pure pursuit (`kind = "pure_pursuit"`): `wmr_core::PurePursuitParams`.
-/// cbindgen:ignore
-pub type wmr_pure_pursuit_params<T> = wmr_core::PurePursuitParams<T>;
 
 // The C constants are the core enums' discriminants (`#[repr(u32)]`).
 const _: () = {
@@ -325,42 +308,6 @@ pub struct wmr_drive_params<T> {
 // Rust `bool` (1 byte) and a `uint32_t` here, so an alias would change the C layout.
 // tests/header.rs checks that their fields are the core's, in the core's order.
 
-/// Astolfi's polar-coordinates law: v = k_rho rho, omega = k_alpha alpha + k_beta beta.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct wmr_polar_params<T> {
-    /// k_rho, 1/s (> 0).
-    pub k_rho: T,
-    /// k_alpha, 1/s (> k_rho, and k_alpha + 5/3 k_beta - 2/pi k_rho > 0).
-    pub k_alpha: T,
-    /// k_beta, 1/s (< 0).
-    pub k_beta: T,
-    /// 1: drive backwards when the goal is behind; 0: always forward.
-    pub reverse: u32,
-    /// Overshoot of |alpha| past pi/2, rad, before a later direction switch.
-    pub reverse_hysteresis: T,
-    /// Within this distance of the goal, m, the law stops.
-    pub goal_radius: T,
-}
-
-/// Aicardi et al.'s Lyapunov law in polar coordinates.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct wmr_lyapunov_params<T> {
-    /// gamma, 1/s (> 0).
-    pub gamma: T,
-    /// k, 1/s (> 0).
-    pub k: T,
-    /// h, dimensionless (> 0).
-    pub h: T,
-    /// 1: drive backwards when the goal is behind; 0: always start forward.
-    pub reverse: u32,
-    /// Overshoot of |alpha| past pi/2, rad, before a later direction switch.
-    pub reverse_hysteresis: T,
-    /// Within this distance of the goal, m, the law stops.
-    pub goal_radius: T,
-}
-
 // Storage: cbindgen reads literal sizes, so each type is written out; `imp` checks at
 // compile time that the Rust object it holds fits (size and alignment).
 /// Words (8 bytes each) of a validated robot, `wmr_robot_f32`.
@@ -379,34 +326,6 @@ pub const WMR_PLANT_F64_WORDS: usize = 96;
 pub const WMR_SENSOR_F32_WORDS: usize = 96;
 /// Words of a sensor, `wmr_sensor_f64` (perfect or pose sensor).
 pub const WMR_SENSOR_F64_WORDS: usize = 112;
-/// Words of the paper's law with its wheel stage, `wmr_paper_controller_f32`.
-pub const WMR_PAPER_CONTROLLER_F32_WORDS: usize = 40;
-/// Words of the paper's law with its wheel stage, `wmr_paper_controller_f64`.
-pub const WMR_PAPER_CONTROLLER_F64_WORDS: usize = 72;
-/// Words of the bidirectional paper law with its wheel stage, `wmr_paper_bidirectional_controller_f32`.
-pub const WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F32_WORDS: usize = 40;
-/// Words of the bidirectional paper law with its wheel stage, `wmr_paper_bidirectional_controller_f64`.
-pub const WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F64_WORDS: usize = 72;
-/// Words of the polar law with its wheel stage, `wmr_polar_controller_f32`.
-pub const WMR_POLAR_CONTROLLER_F32_WORDS: usize = 32;
-/// Words of the polar law with its wheel stage, `wmr_polar_controller_f64`.
-pub const WMR_POLAR_CONTROLLER_F64_WORDS: usize = 64;
-/// Words of the Lyapunov law with its wheel stage, `wmr_lyapunov_controller_f32`.
-pub const WMR_LYAPUNOV_CONTROLLER_F32_WORDS: usize = 32;
-/// Words of the Lyapunov law with its wheel stage, `wmr_lyapunov_controller_f64`.
-pub const WMR_LYAPUNOV_CONTROLLER_F64_WORDS: usize = 64;
-/// Words of Kanayama's law with its wheel stage, `wmr_kanayama_controller_f32`.
-pub const WMR_KANAYAMA_CONTROLLER_F32_WORDS: usize = 32;
-/// Words of Kanayama's law with its wheel stage, `wmr_kanayama_controller_f64`.
-pub const WMR_KANAYAMA_CONTROLLER_F64_WORDS: usize = 56;
-/// Words of the back-stepping law with its wheel stage, `wmr_backstepping_controller_f32`.
-pub const WMR_BACKSTEPPING_CONTROLLER_F32_WORDS: usize = 40;
-/// Words of the back-stepping law with its wheel stage, `wmr_backstepping_controller_f64`.
-pub const WMR_BACKSTEPPING_CONTROLLER_F64_WORDS: usize = 72;
-/// Words of the pure pursuit law with its wheel stage, `wmr_pure_pursuit_controller_f32`.
-pub const WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS: usize = 40;
-/// Words of the pure pursuit law with its wheel stage, `wmr_pure_pursuit_controller_f64`.
-pub const WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS: usize = 72;
 /// Points a `wmr_reference_*` of waypoints holds at most (the core's `MAX_POINTS`).
 pub const WMR_REFERENCE_MAX_POINTS: usize = 64;
 /// Words of a reference, `wmr_reference_f32` (circle, figure-eight, line or waypoints:
@@ -463,91 +382,6 @@ pub struct wmr_sensor_f32 {
 pub struct wmr_sensor_f64 {
     /// Opaque: only the library reads or writes it.
     pub opaque: [u64; WMR_SENSOR_F64_WORDS],
-}
-/// The paper's law with its wheel stage (f32).
-#[repr(C)]
-pub struct wmr_paper_controller_f32 {
-    /// Opaque: only the library reads or writes it.
-    pub opaque: [u64; WMR_PAPER_CONTROLLER_F32_WORDS],
-}
-/// The paper's law with its wheel stage (f64).
-#[repr(C)]
-pub struct wmr_paper_controller_f64 {
-    /// Opaque: only the library reads or writes it.
-    pub opaque: [u64; WMR_PAPER_CONTROLLER_F64_WORDS],
-}
-/// The paper's law repaired (`paper_bidirectional`) with its wheel stage (f32).
-#[repr(C)]
-pub struct wmr_paper_bidirectional_controller_f32 {
-    /// Opaque: only the library reads or writes it.
-    pub opaque: [u64; WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F32_WORDS],
-}
-/// The paper's law repaired (`paper_bidirectional`) with its wheel stage (f64).
-#[repr(C)]
-pub struct wmr_paper_bidirectional_controller_f64 {
-    /// Opaque: only the library reads or writes it.
-    pub opaque: [u64; WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F64_WORDS],
-}
-/// The polar law with its wheel stage (f32).
-#[repr(C)]
-pub struct wmr_polar_controller_f32 {
-    /// Opaque: only the library reads or writes it.
-    pub opaque: [u64; WMR_POLAR_CONTROLLER_F32_WORDS],
-}
-/// The polar law with its wheel stage (f64).
-#[repr(C)]
-pub struct wmr_polar_controller_f64 {
-    /// Opaque: only the library reads or writes it.
-    pub opaque: [u64; WMR_POLAR_CONTROLLER_F64_WORDS],
-}
-/// The Lyapunov law with its wheel stage (f32).
-#[repr(C)]
-pub struct wmr_lyapunov_controller_f32 {
-    /// Opaque: only the library reads or writes it.
-    pub opaque: [u64; WMR_LYAPUNOV_CONTROLLER_F32_WORDS],
-}
-/// The Lyapunov law with its wheel stage (f64).
-#[repr(C)]
-pub struct wmr_lyapunov_controller_f64 {
-    /// Opaque: only the library reads or writes it.
-    pub opaque: [u64; WMR_LYAPUNOV_CONTROLLER_F64_WORDS],
-}
-
-/// Kanayama's law with its wheel stage (f32).
-#[repr(C)]
-pub struct wmr_kanayama_controller_f32 {
-    /// Opaque: only the library reads or writes it.
-    pub opaque: [u64; WMR_KANAYAMA_CONTROLLER_F32_WORDS],
-}
-/// Kanayama's law with its wheel stage (f64).
-#[repr(C)]
-pub struct wmr_kanayama_controller_f64 {
-    /// Opaque: only the library reads or writes it.
-    pub opaque: [u64; WMR_KANAYAMA_CONTROLLER_F64_WORDS],
-}
-/// The back-stepping law with its wheel stage (f32).
-#[repr(C)]
-pub struct wmr_backstepping_controller_f32 {
-    /// Opaque: only the library reads or writes it.
-    pub opaque: [u64; WMR_BACKSTEPPING_CONTROLLER_F32_WORDS],
-}
-/// The back-stepping law with its wheel stage (f64).
-#[repr(C)]
-pub struct wmr_backstepping_controller_f64 {
-    /// Opaque: only the library reads or writes it.
-    pub opaque: [u64; WMR_BACKSTEPPING_CONTROLLER_F64_WORDS],
-}
-/// The pure pursuit law with its wheel stage (f32).
-#[repr(C)]
-pub struct wmr_pure_pursuit_controller_f32 {
-    /// Opaque: only the library reads or writes it.
-    pub opaque: [u64; WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS],
-}
-/// The pure pursuit law with its wheel stage (f64).
-#[repr(C)]
-pub struct wmr_pure_pursuit_controller_f64 {
-    /// Opaque: only the library reads or writes it.
-    pub opaque: [u64; WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS],
 }
 /// A moving reference (f32): a circle, a figure-eight, a line or a spline through
 /// waypoints (the core's `wmr_core::AnyReference`), with its state at any time and its

@@ -304,11 +304,12 @@ impl Lanes {
 }
 
 /// One Python class per law: the constructor fixes `kind` and what the law follows (its
-/// first argument, `goal` or `reference`); the rest is [`Lanes`].
+/// first argument, `goal` or `reference`); the rest is [`Lanes`]. The class is named
+/// after the Rust struct (`PaperController`).
 macro_rules! law_class {
-    ($(#[$doc:meta])* $rust:ident, $name:literal, $kind:literal, $arg:ident => $follows:ident) => {
+    ($(#[$doc:meta])* $rust:ident, $kind:expr, $arg:ident => $follows:ident) => {
         $(#[$doc])*
-        #[pyclass(name = $name, module = "wmr_py")]
+        #[pyclass(module = "wmr_py")]
         pub struct $rust {
             inner: Lanes,
         }
@@ -414,7 +415,7 @@ macro_rules! law_class {
             }
 
             fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
-                self.inner.reduce(py, $name)
+                self.inner.reduce(py, stringify!($rust))
             }
 
             fn __repr__(&self) -> String {
@@ -423,127 +424,67 @@ macro_rules! law_class {
                     Some(r) => format!("reference={:?}", r.built().kind()),
                     None => format!("goal=({}, {}, {})", g.x, g.y, g.theta),
                 };
-                format!("{}({follows}, n={}, ticks={})", $name, self.inner.lanes.len(), self.inner.ticks)
+                format!("{}({follows}, n={}, ticks={})", stringify!($rust), self.inner.lanes.len(), self.inner.ticks)
             }
         }
     };
 }
 
-law_class!(
-    /// The paper's point-stabilization controller (docs/model.md) with its two wheel servos.
-    ///
-    /// PaperController(goal, robot=None, drive=None, **gains)
-    ///
-    /// goal: the goal pose of C, (x_m, y_m, theta_rad) or a dict with x, y and theta (rad)
-    /// or theta_deg (degrees). robot: a Robot or a dict of `[robot]` keys (default: the
-    /// paper's). drive: a dict of `[drive]` keys (default: the torque drive); it sets the
-    /// servo's defaults and anti-windup bound. gains: the scenario's `[controller]` keys of
-    /// kind "paper": the law's mode ("pose" or "position"), kp_theta (rad/rad, 2), ki_theta
-    /// (1/s, 0.1), kp_s (m/m, 1), ki_s (1/s, 0.25), goal_radius (m, 0.001), hold_radius (m,
-    /// 0.005; 0 = off), hold ("auto", "zero_errors" or "freeze"), anti_windup ("off" or "conditional"); the wheel stage's servo_kp
-    /// (N m/rad, 14), servo_kd (N m s/rad, 1.4), servo_ki (N m/(rad s), 0), wheel_speed_max
-    /// (rad/s, inf); control_dt (s, 0.001). Parsed and checked by the scenario code: a bad or
-    /// unknown key raises ScenarioError naming it (``controller.kp_s``).
-    ///
-    /// Call update() once every control_dt seconds and hold its output in between; it
-    /// takes one robot (1-D arguments) or a batch of N ((N, 3), (N, 2), (N, 2) arrays).
-    PyPaperController,
-    "PaperController",
-    "paper",
-    goal => Goal
-);
+/// One class per law of the registry (`wmr_core::for_each_law!`): its doc is the
+/// registry line's, then how to call it, by what the law follows.
+macro_rules! law_classes {
+    (@doc Goal) => {
+        "\n\n(goal, robot=None, drive=None, **gains)\n\n\
+goal: the goal pose of C, (x_m, y_m, theta_rad) or a dict with x, y and theta (rad) or \
+theta_deg (degrees). robot: a Robot or a dict of `[robot]` keys (default: the paper's). \
+drive: a dict of `[drive]` keys (default: the torque drive); it sets the servo's defaults \
+and anti-windup bound. gains: the scenario's `[controller]` keys of this kind (listed with \
+their defaults in the stubs and `wmr-cli help keys controller`), parsed and checked by the \
+scenario code: a bad or unknown key raises ScenarioError naming it (``controller.kp_s``).\n\n\
+Call update() once every control_dt seconds and hold its output in between; it takes one \
+robot (1-D arguments) or a batch of N ((N, 3), (N, 2), (N, 2) arrays)."
+    };
+    (@doc $other:ident) => {
+        "\n\n(reference, robot=None, drive=None, **gains)\n\n\
+reference: the Reference it follows (or a dict of `[reference]` keys); at each update \
+without `reference=` the law follows its state at the tick's time (tick k at k control_dt, \
+the scenario loop's clock). robot, drive, gains: as for PaperController."
+    };
+    (@class Goal, $(#[$m:meta])* $rust:ident, $kind:expr) => {
+        law_class!($(#[$m])* $rust, $kind, goal => Goal);
+    };
+    (@class $other:ident, $(#[$m:meta])* $rust:ident, $kind:expr) => {
+        law_class!($(#[$m])* $rust, $kind, reference => Reference);
+    };
+    ($krate:tt; $( $(#[doc = $doc:literal])* $variant:ident($params:ident, $law:ident) = $kind:ident, code $code:literal, follows $follows:ident; )+) => { paste::paste! {
+        $(
+            law_classes!(
+                @class $follows,
+                $(#[doc = $doc])*
+                #[doc = concat!("\n\nkind \"", stringify!($kind), "\" with its wheel stage.", law_classes!(@doc $follows))]
+                [<$variant Controller>],
+                stringify!($kind)
+            );
+        )+
 
-law_class!(
-    /// The paper's law repaired (docs/model.md): kind "paper_bidirectional", with its
-    /// wheel servos. Same arguments and methods as PaperController; gains are the
-    /// `[controller]` keys of that kind: kp_theta (rad/rad, 0), ki_theta (1/s, 1), kp_s
-    /// (m/m, 0), ki_s (1/s, 0.25), goal_radius (m, 0.001), hold_radius (m, 0.005), hold
-    /// ("freeze"), and the wheel stage's keys and control_dt.
-    PyPaperBidirectionalController,
-    "PaperBidirectionalController",
-    "paper_bidirectional",
-    goal => Goal
-);
+        /// Adds every law's class to the module.
+        pub fn add_law_classes(m: &Bound<'_, pyo3::types::PyModule>) -> PyResult<()> {
+            use pyo3::types::PyModuleMethods as _;
+            $( m.add_class::<[<$variant Controller>]>()?; )+
+            Ok(())
+        }
 
-law_class!(
-    /// Astolfi's polar law (kind "polar") with the wheel servos: v = k_rho rho,
-    /// omega = k_alpha alpha + k_beta beta. Same arguments and methods as PaperController;
-    /// gains: k_rho (1/s, 0.5), k_alpha (1/s, 3), k_beta (1/s, -1.2), reverse (True),
-    /// reverse_hysteresis (rad, pi/6), goal_radius (m, 0.001), and the wheel stage's keys
-    /// and control_dt.
-    PyPolarController,
-    "PolarController",
-    "polar",
-    goal => Goal
-);
-
-law_class!(
-    /// Aicardi et al.'s Lyapunov law (kind "lyapunov") with the wheel servos. Same
-    /// arguments and methods as PaperController; gains: gamma (1/s, 0.5), k (1/s, 3),
-    /// h (9), reverse (True), reverse_hysteresis (rad, pi/6), goal_radius (m, 0.001), and
-    /// the wheel stage's keys and control_dt.
-    PyLyapunovController,
-    "LyapunovController",
-    "lyapunov",
-    goal => Goal
-);
-
-law_class!(
-    /// Kanayama et al.'s trajectory tracking law (kind "kanayama", docs/model.md) with the
-    /// wheel servos: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e +
-    /// ktheta sin(theta_e)).
-    ///
-    /// KanayamaController(reference, robot=None, drive=None, **gains)
-    ///
-    /// reference: the Reference it tracks (or a dict of `[reference]` keys); at each
-    /// update without `reference=` the law follows its state at the tick's time (tick k
-    /// at k control_dt, the scenario loop's clock). robot, drive: as for PaperController.
-    /// gains: kx (1/s, 10), ky (1/m^2, 64), ktheta (1/m, 16), and the wheel stage's keys
-    /// and control_dt.
-    PyKanayamaController,
-    "KanayamaController",
-    "kanayama",
-    reference => Reference
-);
-
-law_class!(
-    /// Kanayama's twist back-stepped into the dynamics (kind "backstepping", in the
-    /// manner of Fierro and Lewis 1997): wheel torques from the controller's model that
-    /// drive the measured body twist to Kanayama's at rate k4. Same arguments and
-    /// methods as KanayamaController; gains: kx (1/s, 10), ky (1/m^2, 64), ktheta (1/m,
-    /// 16), k4 (1/s, 20), and the wheel stage's keys and control_dt.
-    PyBacksteppingController,
-    "BacksteppingController",
-    "backstepping",
-    reference => Reference
-);
-
-law_class!(
-    /// Regulated pure pursuit (kind "pure_pursuit", path following in nav2's manner):
-    /// steers onto the arc through the point one lookahead ahead on the Reference's path
-    /// (its timing ignored). Same arguments and methods as KanayamaController; gains:
-    /// speed (m/s, 0.3), lookahead_time (s, 1.5), min_lookahead_dist (m, 0.3),
-    /// max_lookahead_dist (m, 0.9), regulated_linear_scaling_min_radius (m, 0.9),
-    /// regulated_linear_scaling_min_speed (m/s, 0.25), approach_velocity_scaling_dist
-    /// (m, 0.6), min_approach_linear_velocity (m/s, 0.05), xy_goal_tolerance (m, 0.01),
-    /// and the wheel stage's keys and control_dt.
-    PyPurePursuitController,
-    "PurePursuitController",
-    "pure_pursuit",
-    reference => Reference
-);
-
-/// Rebuilds a controller of class `class` from its resolved scenario (pickle's restore).
-#[pyfunction(name = "_controller_from_toml")]
-pub fn controller_from_toml(py: Python<'_>, class_name: &str, text: &str) -> PyResult<Py<PyAny>> {
-    Ok(match class_name {
-        "PaperController" => Py::new(py, PyPaperController::from_toml(text)?)?.into_any(),
-        "PaperBidirectionalController" => Py::new(py, PyPaperBidirectionalController::from_toml(text)?)?.into_any(),
-        "PolarController" => Py::new(py, PyPolarController::from_toml(text)?)?.into_any(),
-        "LyapunovController" => Py::new(py, PyLyapunovController::from_toml(text)?)?.into_any(),
-        "KanayamaController" => Py::new(py, PyKanayamaController::from_toml(text)?)?.into_any(),
-        "BacksteppingController" => Py::new(py, PyBacksteppingController::from_toml(text)?)?.into_any(),
-        "PurePursuitController" => Py::new(py, PyPurePursuitController::from_toml(text)?)?.into_any(),
-        other => return Err(parameter_error("class", format_args!("no controller class {other:?}"))),
-    })
+        /// Rebuilds a controller of class `class` from its resolved scenario (pickle's restore).
+        #[pyfunction(name = "_controller_from_toml")]
+        pub fn controller_from_toml(py: Python<'_>, class_name: &str, text: &str) -> PyResult<Py<PyAny>> {
+            $(
+                if class_name == stringify!([<$variant Controller>]) {
+                    return Ok(Py::new(py, [<$variant Controller>]::from_toml(text)?)?.into_any());
+                }
+            )+
+            Err(parameter_error("class", format_args!("no controller class {class_name:?}")))
+        }
+    } };
 }
+
+wmr_core::for_each_law!(law_classes);

@@ -20,12 +20,12 @@ pub fn law_kinds() -> Vec<&'static str> {
 /// The point-stabilization laws' `kind` names: a `[sweep]` without `controllers` and
 /// without a `[reference]` compares these.
 pub fn stabilization_law_kinds() -> Vec<&'static str> {
-    LawParams::<f64>::defaults().iter().filter(|l| !crate::reference::is_tracking_law(l)).map(LawParams::kind).collect()
+    LawParams::<f64>::defaults().iter().filter(|l| !l.follows().needs_reference()).map(LawParams::kind).collect()
 }
 
 /// The tracking and path-following laws' `kind` names (they need a `[reference]`).
 pub fn tracking_law_kinds() -> Vec<&'static str> {
-    LawParams::<f64>::defaults().iter().filter(|l| crate::reference::is_tracking_law(l)).map(LawParams::kind).collect()
+    LawParams::<f64>::defaults().iter().filter(|l| l.follows().needs_reference()).map(LawParams::kind).collect()
 }
 
 /// The keys of law `kind` (without `kind`), the wheel stage's keys and `control_dt`:

@@ -296,16 +296,6 @@ fn read_points_file(table: &Table, dir: Option<&Path>) -> Result<Vec<[f64; 2]>, 
     Ok(points)
 }
 
-/// True for the laws that follow a moving reference (tracking, path following).
-pub fn is_tracking_law(law: &LawParams<f64>) -> bool {
-    matches!(law, LawParams::Kanayama(_) | LawParams::Backstepping(_) | LawParams::PurePursuit(_))
-}
-
-/// True for path following (judged by the distance to the path).
-pub fn is_path_following(law: &LawParams<f64>) -> bool {
-    matches!(law, LawParams::PurePursuit(_))
-}
-
 /// Refuses a stabilization law with a moving reference and a tracking law without one;
 /// the error names `<controller>.kind`.
 pub fn check_law(
@@ -314,7 +304,7 @@ pub fn check_law(
     controller: &str,
 ) -> Result<(), ScenarioError> {
     let k = format!("{controller}.kind");
-    match (is_tracking_law(law), reference) {
+    match (law.follows().needs_reference(), reference) {
         (true, None) => Err(ScenarioError::new(
             k,
             format!(

@@ -1,17 +1,8 @@
 //! Every law behind one enum, chosen by name at run time (`[controller] kind = ...`):
-//! dispatched by `match`, no `dyn`, no alloc.
-//!
-//! The list of laws is written once, in the `laws!` invocation at the bottom: a new law
-//! is its own file plus one line there.
+//! dispatched by `match`, no `dyn`, no alloc. Expanded from the registry
+//! ([`super::registry`]): this file names no law.
 
-use super::backstepping::{BacksteppingLaw, BacksteppingParams};
-use super::kanayama::{KanayamaLaw, KanayamaParams};
-use super::law::{Law, LawOutput};
-use super::lyapunov::{LyapunovLaw, LyapunovParams};
-use super::paper::{PaperLaw, PaperParams};
-use super::paper_bidirectional::{PaperBidirectionalLaw, PaperBidirectionalParams};
-use super::polar::{PolarLaw, PolarParams};
-use super::pure_pursuit::{PurePursuitLaw, PurePursuitParams};
+use super::law::{Follows, Law, LawOutput, LawSpec};
 use crate::describe::{Described, ParamField};
 use crate::error::ParamError;
 use crate::lane::Lane;
@@ -20,9 +11,9 @@ use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
 
 /// Defines [`LawParams`] (a law's keys, tagged by `kind`) and [`AnyLaw`] (the running
-/// law) with one variant per law, and every `match` over them.
+/// law) with one variant per line of [`crate::for_each_law!`], and every `match` over them.
 macro_rules! laws {
-    ($( $(#[$doc:meta])* $variant:ident($params:ident, $law:ident) = $name:literal, new($p:ident, $model:ident, $dt:ident) => $new:expr; )+) => {
+    ($krate:tt; $( $(#[doc = $doc:literal])* $variant:ident($params:ident, $law:ident) = $kind:ident, code $code:literal, follows $follows:ident; )+) => {
         /// The keys of one law, tagged by its `kind` name (serialized with a `kind` key;
         /// read with `LawParams::deserialize_variant` (feature `serde`), since serde's tagged-enum reader
         /// needs an allocator).
@@ -31,24 +22,65 @@ macro_rules! laws {
         #[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "snake_case"))]
         #[non_exhaustive]
         pub enum LawParams<T> {
-            $( $(#[$doc])* $variant($params<T>), )+
+            $( $(#[doc = $doc])* #[doc = concat!("\n\n`kind = \"", stringify!($kind), "\"`: [`", stringify!($law), "`](crate::", stringify!($law), ").")] $variant($krate::$params<T>), )+
         }
 
         impl<T: Real> LawParams<T> {
             /// Every law with its default keys, in documentation order.
-            pub fn defaults() -> [Self; [$($name),+].len()] {
-                [$( LawParams::$variant($params::default()), )+]
+            pub fn defaults() -> [Self; [$(stringify!($kind)),+].len()] {
+                [$( LawParams::$variant($krate::$params::default()), )+]
             }
 
             /// The law's `kind` name.
             pub fn kind(&self) -> &'static str {
-                match self { $( LawParams::$variant(_) => $name, )+ }
+                match self { $( LawParams::$variant(_) => stringify!($kind), )+ }
+            }
+
+            /// The law's name in Rust enums and, with `Controller` appended, its Python
+            /// class (`PaperBidirectional`).
+            pub fn name(&self) -> &'static str {
+                match self { $( LawParams::$variant(_) => stringify!($variant), )+ }
+            }
+
+            /// What the law is, in one line (the first line of its registry doc).
+            pub fn about(&self) -> &'static str {
+                match self { $( LawParams::$variant(_) => [$($doc),*][0].trim_ascii(), )+ }
+            }
+
+            /// What the law follows: a goal, a trajectory or a path.
+            pub fn follows(&self) -> Follows {
+                match self { $( LawParams::$variant(_) => Follows::$follows, )+ }
+            }
+
+            /// The law's code in a trace file and the C storage tags (never reused).
+            pub fn code(&self) -> u32 {
+                match self { $( LawParams::$variant(_) => $code, )+ }
+            }
+
+            /// CPU time of a plant step under the law against one under the paper's law
+            /// ([`LawSpec::UPDATE_COST`]): for announced durations only.
+            pub fn update_cost(&self) -> f64 {
+                match self { $( LawParams::$variant(_) => <$krate::$params<T> as LawSpec<T>>::UPDATE_COST, )+ }
             }
 
             /// The declared keys of the law ([`crate::describe`]): what `--help`, the
             /// docs tables and the C header are made from.
             pub fn fields(&self) -> &'static [ParamField] {
-                match self { $( LawParams::$variant(_) => <$params<T> as Described>::FIELDS, )+ }
+                match self { $( LawParams::$variant(_) => <$krate::$params<T> as Described>::FIELDS, )+ }
+            }
+
+            /// Writes the law's keys into one word each ([`crate::describe::Word`], a `T`
+            /// key through `real`); returns the law's code.
+            pub fn to_words(&self, out: &mut [u32], real: impl FnMut(T) -> u32) -> u32 {
+                match self { $( LawParams::$variant(p) => { p.to_words(out, real); $code } )+ }
+            }
+
+            /// The law of `code` read from its words ([`LawParams::to_words`]). Err: what is wrong.
+            pub fn from_words(code: u32, w: &[u32], real: impl FnMut(u32) -> T) -> Result<Self, &'static str> {
+                match code {
+                    $( $code => Ok(LawParams::$variant($krate::$params::from_words(w, real)?)), )+
+                    _ => Err("kind"),
+                }
             }
 
             /// Reads the keys of the same law as `self` (without `kind`) from `d`.
@@ -58,7 +90,7 @@ macro_rules! laws {
                 T: serde::Deserialize<'de>,
             {
                 use serde::Deserialize as _;
-                Ok(match self { $( LawParams::$variant(_) => LawParams::$variant($params::deserialize(d)?), )+ })
+                Ok(match self { $( LawParams::$variant(_) => LawParams::$variant($krate::$params::deserialize(d)?), )+ })
             }
 
             /// Validates the keys and builds the law for the controller's robot model and
@@ -69,7 +101,7 @@ macro_rules! laws {
 
             /// [`LawParams::build`] for several runs side by side ([`crate::lane`]).
             pub fn build_lanes<L: Lane<Scalar = T>>(&self, model: &RobotParams<T>, control_dt: T) -> Result<AnyLaw<L>, ParamError> {
-                Ok(match *self { $( LawParams::$variant($p) => { let ($model, $dt) = (model, control_dt); let _ = ($model, $dt); AnyLaw::$variant($new?) } )+ })
+                Ok(match self { $( LawParams::$variant(p) => AnyLaw::$variant(p.build::<L>(model, control_dt)?), )+ })
             }
         }
 
@@ -77,13 +109,13 @@ macro_rules! laws {
         #[derive(Clone, Copy, Debug, PartialEq)]
         #[non_exhaustive]
         pub enum AnyLaw<T: Lane> {
-            $( $(#[$doc])* $variant($law<T>), )+
+            $( $(#[doc = $doc])* $variant($krate::$law<T>), )+
         }
 
         impl<T: Lane> AnyLaw<T> {
             /// The law's `kind` name.
             pub fn kind(&self) -> &'static str {
-                match self { $( AnyLaw::$variant(_) => $name, )+ }
+                match self { $( AnyLaw::$variant(_) => stringify!($kind), )+ }
             }
         }
 
@@ -120,26 +152,11 @@ macro_rules! laws {
     };
 }
 
-laws! {
-    /// The paper's law (`"paper"`), [`PaperLaw`].
-    Paper(PaperParams, PaperLaw) = "paper", new(p, model, dt) => PaperLaw::for_lanes(p, model, dt);
-    /// The paper's law repaired (`"paper_bidirectional"`), [`PaperBidirectionalLaw`].
-    PaperBidirectional(PaperBidirectionalParams, PaperBidirectionalLaw) = "paper_bidirectional", new(p, model, dt) => PaperBidirectionalLaw::for_lanes(p, model, dt);
-    /// Astolfi's polar law (`"polar"`), [`PolarLaw`].
-    Polar(PolarParams, PolarLaw) = "polar", new(p, model, dt) => PolarLaw::for_lanes(p);
-    /// Aicardi et al.'s Lyapunov law (`"lyapunov"`), [`LyapunovLaw`].
-    Lyapunov(LyapunovParams, LyapunovLaw) = "lyapunov", new(p, model, dt) => LyapunovLaw::for_lanes(p);
-    /// Kanayama et al.'s trajectory tracking (`"kanayama"`), [`KanayamaLaw`].
-    Kanayama(KanayamaParams, KanayamaLaw) = "kanayama", new(p, model, dt) => KanayamaLaw::for_lanes(p);
-    /// Kanayama back-stepped into the dynamics (`"backstepping"`), [`BacksteppingLaw`].
-    Backstepping(BacksteppingParams, BacksteppingLaw) = "backstepping", new(p, model, dt) => BacksteppingLaw::for_lanes(p, model, dt);
-    /// Regulated pure pursuit, path following (`"pure_pursuit"`), [`PurePursuitLaw`].
-    PurePursuit(PurePursuitParams, PurePursuitLaw) = "pure_pursuit", new(p, model, dt) => PurePursuitLaw::for_lanes(p, model);
-}
+crate::for_each_law!(laws);
 
 impl<T: Real> Default for LawParams<T> {
     /// The paper's law with its default keys.
     fn default() -> Self {
-        LawParams::Paper(PaperParams::paper())
+        LawParams::Paper(crate::PaperParams::paper())
     }
 }

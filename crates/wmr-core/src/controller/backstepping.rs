@@ -38,9 +38,11 @@ use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
 
 crate::params! {
+    words;
     /// `[controller] kind = "backstepping"` parameters.
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    #[repr(C)]
     pub struct BacksteppingParams<T> {
         /// kx: Kanayama's forward speed per metre of along-track error.
         pub kx: T [unit = "1/s", rule = "> 0"],
@@ -59,6 +61,18 @@ impl<T: Real> Default for BacksteppingParams<T> {
     fn default() -> Self {
         let k = KanayamaParams::default();
         Self { kx: k.kx, ky: k.ky, ktheta: k.ktheta, k4: T::lit(20.0) }
+    }
+}
+
+impl<T: Real> super::law::LawSpec<T> for BacksteppingParams<T> {
+    type Law<L: Lane<Scalar = T>> = BacksteppingLaw<L>;
+
+    fn build<L: Lane<Scalar = T>>(
+        &self,
+        model: &RobotParams<T>,
+        control_dt: T,
+    ) -> Result<BacksteppingLaw<L>, ParamError> {
+        BacksteppingLaw::for_lanes(*self, model, control_dt)
     }
 }
 

@@ -24,17 +24,19 @@
 //! distance from C to C_ref, all from the measurement.
 
 use super::law::{ControlErrors, Law, LawOutput, WheelDemand};
-use crate::Real;
 use crate::error::{ParamError, check};
 use crate::lane::Lane;
 use crate::math::{Twist2, wrap_angle};
 use crate::reference::ReferenceState;
 use crate::sensor::Measurement;
+use crate::{Real, RobotParams};
 
 crate::params! {
+    words;
     /// `[controller] kind = "kanayama"` parameters.
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    #[repr(C)]
     pub struct KanayamaParams<T> {
         /// kx: forward speed per metre of along-track error.
         pub kx: T [unit = "1/s", rule = "> 0"],
@@ -50,6 +52,18 @@ impl<T: Real> Default for KanayamaParams<T> {
     /// (critically damped, ky = ktheta^2 / 4).
     fn default() -> Self {
         Self { kx: T::lit(10.0), ky: T::lit(64.0), ktheta: T::lit(16.0) }
+    }
+}
+
+impl<T: Real> super::law::LawSpec<T> for KanayamaParams<T> {
+    type Law<L: Lane<Scalar = T>> = KanayamaLaw<L>;
+
+    fn build<L: Lane<Scalar = T>>(
+        &self,
+        _model: &RobotParams<T>,
+        _control_dt: T,
+    ) -> Result<KanayamaLaw<L>, ParamError> {
+        KanayamaLaw::for_lanes(*self)
     }
 }
 

@@ -1,11 +1,51 @@
 //! The contract of an outer law: from (time, measurement, reference state) to a demand
-//! on the wheels and the errors it logs. A new law is one file implementing [`Law`] plus one
-//! arm in [`super::any`].
+//! on the wheels and the errors it logs. A new law is one file implementing [`Law`] and
+//! [`LawSpec`] plus one line in [`super::registry`] (CONTRIBUTING.md).
 
+use crate::describe::Described;
+use crate::error::ParamError;
 use crate::lane::{Lane, Mask};
 use crate::math::{Twist2, Wheels};
 use crate::reference::{Path, ReferenceState};
 use crate::sensor::Measurement;
+use crate::{Real, RobotParams};
+
+/// What a law follows: the registry's `follows` word ([`super::registry`]). It decides
+/// what a scenario must give the law (a goal, or a `[reference]`), how a run is judged
+/// (settling at the goal, tracking error, distance to the path) and how a law is called
+/// (a path-following law receives the reference's path, [`Law::update_on_path`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Follows {
+    /// A goal pose at rest: point stabilization.
+    Goal,
+    /// A moving reference (pose, twist and acceleration at each time): tracking.
+    Trajectory,
+    /// The geometric path of a reference, its timing ignored: path following.
+    Path,
+}
+
+impl Follows {
+    /// True for a law that needs a moving reference (a trajectory or its path).
+    pub fn needs_reference(self) -> bool {
+        self != Follows::Goal
+    }
+}
+
+/// What a law's keys declare about the law beside its code, read by every expansion of
+/// the registry ([`super::registry`]): how to build it, and what one update costs.
+/// Implemented by the law's parameter struct (declared with `params! { words; ... }`).
+pub trait LawSpec<T: Real>: Described + Copy + Default + PartialEq {
+    /// The law, running `L` (one run, or several side by side: [`crate::lane`]).
+    type Law<L: Lane<Scalar = T>>: Law<L> + Copy;
+
+    /// CPU time of a plant step under this law against one under the paper's law: the
+    /// sweep's announced duration only (measured, the law file says where).
+    const UPDATE_COST: f64 = 1.0;
+
+    /// Validates the keys (errors name the key) and builds the law for the controller's
+    /// robot model and control period (s).
+    fn build<L: Lane<Scalar = T>>(&self, model: &RobotParams<T>, control_dt: T) -> Result<Self::Law<L>, ParamError>;
+}
 
 /// What a law asks of the wheel stage.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -50,15 +50,17 @@
 //! signed distance to the goal along the heading.
 
 use super::polar_frame::{Direction, PolarCoordinateLaw, PolarCoords, PolarGains, Steering};
-use crate::Real;
 use crate::error::{ParamError, check};
 use crate::lane::Lane;
 use crate::math::{Pose2, Twist2};
+use crate::{Real, RobotParams};
 
 crate::params! {
+    words;
     /// `[controller] kind = "lyapunov"` parameters.
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    #[repr(C)]
     pub struct LyapunovParams<T> {
         /// gamma: forward speed per metre of distance, times cos(alpha).
         pub gamma: T [unit = "1/s", rule = "> 0"],
@@ -87,6 +89,18 @@ impl<T: Real> Default for LyapunovParams<T> {
             reverse_hysteresis: T::lit(core::f64::consts::FRAC_PI_6),
             goal_radius: T::lit(1e-3),
         }
+    }
+}
+
+impl<T: Real> super::law::LawSpec<T> for LyapunovParams<T> {
+    type Law<L: Lane<Scalar = T>> = LyapunovLaw<L>;
+
+    fn build<L: Lane<Scalar = T>>(
+        &self,
+        _model: &RobotParams<T>,
+        _control_dt: T,
+    ) -> Result<LyapunovLaw<L>, ParamError> {
+        LyapunovLaw::for_lanes(*self)
     }
 }
 

@@ -5,7 +5,8 @@
 //! - [`paper`], [`paper_bidirectional`], [`polar`], [`lyapunov`]: the laws; [`polar_frame`]
 //!   the polar laws' shared geometry.
 //! - [`kanayama`], [`backstepping`]: trajectory tracking; [`pure_pursuit`]: path following.
-//! - [`any`]: every law behind one enum, chosen by name at run time.
+//! - [`registry`]: the one list of laws; [`any`]: every law behind one enum, chosen by
+//!   name at run time, expanded from it.
 //! - [`wheel_stage`]: the wheel servos and the curvature-keeping wheel speed limit.
 //! - [`composed`]: [`Controller`] = law + wheel stage + control period.
 
@@ -20,21 +21,25 @@ pub mod paper_bidirectional;
 pub mod polar;
 pub mod polar_frame;
 pub mod pure_pursuit;
+pub mod registry;
 pub mod saturation;
 pub mod servo;
 pub mod wheel_stage;
 
 pub use any::{AnyLaw, LawParams};
-pub use backstepping::{BacksteppingLaw, BacksteppingParams};
 pub use composed::{ControlOutput, Controller, ControllerParams};
-pub use kanayama::{KanayamaLaw, KanayamaParams};
-pub use law::{ControlErrors, Law, LawOutput, WheelDemand};
-pub use lyapunov::{LyapunovLaw, LyapunovParams};
-pub use paper::{AntiWindup, HoldMode, PaperLaw, PaperMode, PaperParams};
-pub use paper_bidirectional::{PaperBidirectionalLaw, PaperBidirectionalParams};
-pub use polar::{PolarLaw, PolarParams};
+pub use law::{ControlErrors, Follows, Law, LawOutput, LawSpec, WheelDemand};
+pub use paper::{AntiWindup, HoldMode, PaperMode};
 pub use polar_frame::{Direction, DirectionSelector, PolarCoordinateLaw, PolarCoords, PolarGains, Steering};
-pub use pure_pursuit::{PurePursuitLaw, PurePursuitParams};
 pub use saturation::{WheelRateLimiter, limit_wheel_speeds, wheel_speed_scale};
 pub use servo::{ServoGains, WheelServo};
 pub use wheel_stage::{WheelStage, WheelStageParams};
+
+/// Each law's keys and law from its file (`pub use kanayama::{KanayamaParams, KanayamaLaw}`),
+/// from the registry: a law's module is named by its `kind`.
+macro_rules! law_exports {
+    ($krate:tt; $( $(#[doc = $doc:literal])* $variant:ident($params:ident, $law:ident) = $kind:ident, code $code:literal, follows $follows:ident; )+) => {
+        $( pub use $kind::{$params, $law}; )+
+    };
+}
+crate::for_each_law!(law_exports);

@@ -58,6 +58,9 @@ pub enum HoldMode {
     Freeze = 1,
 }
 
+crate::word_enum!(PaperMode { Pose, Position });
+crate::word_enum!(HoldMode { ZeroErrors, Freeze, Auto });
+
 impl HoldMode {
     /// The hold the law applies in `mode`: [`HoldMode::Auto`] resolved, the others as given.
     pub fn resolve(self, mode: PaperMode) -> HoldMode {
@@ -84,7 +87,10 @@ pub enum AntiWindup {
     Conditional = 1,
 }
 
+crate::word_enum!(AntiWindup { Off, Conditional });
+
 crate::params! {
+    words;
     /// `[controller] kind = "paper"`: the law's own keys.
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -146,6 +152,14 @@ impl<T: Real> PaperParams<T> {
 impl<T: Real> Default for PaperParams<T> {
     fn default() -> Self {
         Self::paper()
+    }
+}
+
+impl<T: Real> super::law::LawSpec<T> for PaperParams<T> {
+    type Law<L: Lane<Scalar = T>> = PaperLaw<L>;
+
+    fn build<L: Lane<Scalar = T>>(&self, model: &RobotParams<T>, control_dt: T) -> Result<PaperLaw<L>, ParamError> {
+        PaperLaw::for_lanes(*self, model, control_dt)
     }
 }
 

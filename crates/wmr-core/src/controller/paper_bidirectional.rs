@@ -70,6 +70,7 @@ use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
 
 crate::params! {
+    words;
     /// `[controller] kind = "paper_bidirectional"`: the law's own keys.
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -105,6 +106,18 @@ impl<T: Real> Default for PaperBidirectionalParams<T> {
             hold_radius: T::lit(5e-3),
             hold: HoldMode::Freeze,
         }
+    }
+}
+
+impl<T: Real> super::law::LawSpec<T> for PaperBidirectionalParams<T> {
+    type Law<L: Lane<Scalar = T>> = PaperBidirectionalLaw<L>;
+
+    fn build<L: Lane<Scalar = T>>(
+        &self,
+        model: &RobotParams<T>,
+        control_dt: T,
+    ) -> Result<PaperBidirectionalLaw<L>, ParamError> {
+        PaperBidirectionalLaw::for_lanes(*self, model, control_dt)
     }
 }
 

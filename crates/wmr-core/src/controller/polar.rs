@@ -63,15 +63,17 @@
 //! (y_d - y) sin(theta), the signed distance to the goal along the heading.
 
 use super::polar_frame::{PolarCoordinateLaw, PolarCoords, PolarGains, Steering};
-use crate::Real;
 use crate::error::{ParamError, check};
 use crate::lane::Lane;
 use crate::math::Twist2;
+use crate::{Real, RobotParams};
 
 crate::params! {
+    words;
     /// `[controller] kind = "polar"` parameters.
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    #[repr(C)]
     pub struct PolarParams<T> {
         /// k_rho: forward speed per metre of distance.
         pub k_rho: T [unit = "1/s", rule = "> 0"],
@@ -100,6 +102,14 @@ impl<T: Real> Default for PolarParams<T> {
             reverse_hysteresis: T::lit(core::f64::consts::FRAC_PI_6),
             goal_radius: T::lit(1e-3),
         }
+    }
+}
+
+impl<T: Real> super::law::LawSpec<T> for PolarParams<T> {
+    type Law<L: Lane<Scalar = T>> = PolarLaw<L>;
+
+    fn build<L: Lane<Scalar = T>>(&self, _model: &RobotParams<T>, _control_dt: T) -> Result<PolarLaw<L>, ParamError> {
+        PolarLaw::for_lanes(*self)
     }
 }
 

@@ -4,7 +4,7 @@
 
 use std::ops::{ControlFlow, Range};
 
-use wmr_core::Outcome;
+use wmr_core::{Follows, Outcome};
 
 use super::outcome::SweepOutcome;
 use super::spec::{SweepSpec, with_settings};
@@ -12,7 +12,6 @@ use crate::assemble::{self, Origin};
 use crate::error::ScenarioError;
 use crate::executor::map_ordered;
 use crate::output::OdometryDrift;
-use crate::reference::is_path_following;
 use crate::setup::Setup;
 use crate::sim::SimSpec;
 use crate::tracking_run;
@@ -99,7 +98,7 @@ impl SweepSpec {
             Some(tr) => {
                 let reference = tr.references[i.reference].1.built;
                 let mut lp = assemble::closed_loop_to(setup, k as u64, start, reference, sim, origin)?;
-                let path_following = is_path_following(&setup.controller.law);
+                let path_following = setup.controller.law.follows() == Follows::Path;
                 // Only the outcome counts: the samples go nowhere (every plant step is watched).
                 let run =
                     tracking_run::run(&mut lp, sim, tr.tolerance, path_following, |_| ControlFlow::Continue(()), poll);
