@@ -23,7 +23,6 @@ use anyhow::Result;
 use clap::{Parser, Subcommand, ValueEnum};
 
 use crate::errors::{bad_input, note};
-use crate::exec::load;
 
 /// Simulate and control two-wheeled differential-drive robots from scenario files.
 #[derive(Parser, Debug)]
@@ -156,6 +155,19 @@ fn format_of(out: &Path, format: Option<Format>) -> Result<Format> {
     }
 }
 
+/// Loads a scenario file ([`exec::load`], which remembers it as an input) and remembers
+/// every other file it read (its robot preset, its reference CSVs) as an input too, so
+/// that no output of the command (`-o`, `--layout`, `--plots`) replaces one of them.
+fn load(file: &Path) -> Result<wmr_scenario::Scenario> {
+    let scenario = exec::load(file)?;
+    for input in scenario.inputs() {
+        let described =
+            format!("{} ({} in {})", wmr_scenario::shown(&input.path), input.key, wmr_scenario::shown(file));
+        atomic::register_input_as(&input.path, described);
+    }
+    Ok(scenario)
+}
+
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Check { file } => exec::check_command(&file),
@@ -199,13 +211,15 @@ fn run(cli: Cli) -> Result<()> {
             }
             let output = output.ok_or_else(|| bad_input("-o OUT is required without --live"))?;
             let format = format_of(&output, format)?;
-            if let Some(l) = &layout {
-                if format != Format::Mcap {
-                    foxglove_cmd::usage_error("--layout describes the MCAP topics: write OUT as .mcap");
-                }
-                foxglove_cmd::check_layout_path(l, Some(&output))?;
+            if layout.is_some() && format != Format::Mcap {
+                foxglove_cmd::usage_error("--layout describes the MCAP topics: write OUT as .mcap");
             }
             let scenario = load(&file)?;
+            // After the load, which names the inputs LAYOUT must not replace either (it is
+            // written after OUT: refused now, before OUT is).
+            if let Some(l) = &layout {
+                foxglove_cmd::check_layout_path(l, Some(&output))?;
+            }
             exec::run_command(&scenario, &file, &output, format, layout.as_deref())
         }
     }

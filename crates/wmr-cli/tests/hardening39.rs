@@ -30,6 +30,17 @@ fn write(dir: &Path, name: &str, body: &str) -> PathBuf {
     p
 }
 
+fn repo(p: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(p)
+}
+
+fn entries(dir: &Path) -> Vec<String> {
+    let mut v: Vec<_> =
+        fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    v.sort();
+    v
+}
+
 /// Exit 2, one line on stderr starting `wmr-cli: error:` and holding each of `words`,
 /// no panic.
 fn assert_one_line_error(o: &Output, what: &str, words: &[&str]) {
@@ -43,8 +54,82 @@ fn assert_one_line_error(o: &Output, what: &str, words: &[&str]) {
     assert!(!err.contains("panicked"), "{what}: {err}");
 }
 
+/// A reference CSV (`[reference] kind = "file"`).
+const REF_CSV: &str = "t,x,y\n0,0,0\n1,0.3,0\n2,0.6,0.1\n3,0.9,0.3\n";
+
+/// A short tracking run along `ref.csv`.
+const TRACK: &str = "[reference]\nkind = \"file\"\npath = \"ref.csv\"\n[controller]\nkind = \"kanayama\"\n\
+                     [sim]\nt_end = 1.0\n[[run]]\nstart = { x = 0.0, y = 0.0, theta_deg = 0.0 }\n";
+
+/// A short sweep along `ref.csv`.
+const SWEEP_TRACK: &str = "[sim]\nt_end = 0.5\n[sweep]\ncontrollers = [{ kind = \"kanayama\" }]\n\
+                           references = [{ kind = \"circle\" }, { kind = \"file\", path = \"ref.csv\" }]\n\
+                           random = { n = 2, radius = 0.1 }\n";
+
 /// A short run of the robot of preset `robots/mine.toml` (`paper` for the built-in one).
 const PRESET: &str = "[robot]\nfrom = \"robots/mine.toml\"\n[sim]\nt_end = 1.0\n[[run]]\ngoal = { x = 1.0, y = 1.0, theta_deg = 90.0 }\n";
+
+/// Issue 39 item 3: `-o` and `--layout` replaced the files a scenario names (a reference
+/// CSV, a robot preset), also through a link; only the scenario file itself was protected.
+#[test]
+fn regression_39_3_outputs_never_replace_a_file_the_scenario_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(d, "trk.toml", TRACK);
+    write(d, "sw.toml", SWEEP_TRACK);
+    write(d, "pre.toml", PRESET);
+    let csv = write(d, "ref.csv", REF_CSV);
+    fs::create_dir(d.join("robots")).unwrap();
+    let preset_text = fs::read_to_string(repo("robots/paper.toml")).unwrap();
+    let preset = write(d, "robots/mine.toml", &preset_text);
+    std::os::unix::fs::symlink("ref.csv", d.join("link.csv")).unwrap();
+    fs::hard_link(&csv, d.join("hard.csv")).unwrap();
+    fs::hard_link(&preset, d.join("hard.toml")).unwrap();
+    let before = entries(d);
+    let reference = ["ref.csv", "reference.path", "trk.toml"];
+    for (args, words) in [
+        (vec!["run", "trk.toml", "-o", "ref.csv"], &reference[..]),
+        (vec!["run", "trk.toml", "-o", "link.csv"], &reference),
+        (vec!["run", "trk.toml", "-o", "hard.csv"], &reference),
+        (vec!["run", "trk.toml", "-o", "./ref.csv", "--format", "mcap"], &reference),
+        (vec!["run", "trk.toml", "-o", "out.mcap", "--layout", "ref.csv"], &reference),
+        (vec!["run", "trk.toml", "-o", "out.mcap", "--layout", "link.csv"], &reference),
+        (vec!["trace", "trk.toml", "-o", "ref.csv", "--format", "csv"], &reference),
+        (vec!["layout", "trk.toml", "-o", "ref.csv"], &reference),
+        (vec!["sweep", "sw.toml", "-o", "ref.csv"], &["ref.csv", "sweep.references[1].path", "sw.toml"]),
+        (vec!["run", "pre.toml", "-o", "robots/mine.toml", "--format", "csv"], &["robots/mine.toml", "robot.from"]),
+        (vec!["run", "pre.toml", "-o", "hard.toml", "--format", "csv"], &["robots/mine.toml", "robot.from"]),
+        (vec!["run", "pre.toml", "-o", "out.mcap", "--layout", "robots/mine.toml"], &["robot.from"]),
+        (vec!["layout", "pre.toml", "-o", "robots/mine.toml"], &["robot.from"]),
+    ] {
+        let what = args.join(" ");
+        let o = run_in(d, &args);
+        assert_one_line_error(&o, &what, &["is the input file"]);
+        assert_one_line_error(&o, &what, words);
+        assert_eq!(fs::read_to_string(&csv).unwrap(), REF_CSV, "{what}: ref.csv changed");
+        assert_eq!(fs::read_to_string(&preset).unwrap(), preset_text, "{what}: the preset changed");
+        assert_eq!(entries(d), before, "{what}: files left or removed");
+    }
+    assert!(fs::symlink_metadata(d.join("link.csv")).unwrap().file_type().is_symlink());
+    // Live view: LAYOUT is refused before the server starts (it used to be replaced, then
+    // the server waited for a viewer).
+    let mut child = bin()
+        .current_dir(d)
+        .args(["run", "trk.toml", "--live", "127.0.0.1:0", "--layout", "ref.csv"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let (status, err) = wait::exit_within(&mut child, Duration::from_secs(60), "run --live --layout ref.csv");
+    assert_eq!(status.code(), Some(2), "{err}");
+    assert!(err.contains("is the input file ref.csv (reference.path in trk.toml)"), "{err}");
+    assert_eq!(fs::read_to_string(&csv).unwrap(), REF_CSV);
+    assert_eq!(entries(d), before);
+    // What the scenario did not read stays writable: a built-in preset names no file.
+    write(d, "builtin.toml", &PRESET.replace("robots/mine.toml", "paper"));
+    let o = run_in(d, &["run", "builtin.toml", "-o", "out.csv"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+}
 
 /// Issue 39 item 14: `read_text` checked the path's metadata, then opened the path again:
 /// a file swapped for a FIFO in between blocked `check` for ever. Now the path is opened

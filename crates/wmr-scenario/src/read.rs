@@ -3,9 +3,10 @@
 //! that never ends: a regular file of at most [`MAX_FILE_BYTES`], UTF-8 text, named by
 //! its stem.
 
+use std::cell::RefCell;
 use std::fs::File;
 use std::io::{self, Read as _};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::error::{ScenarioError, shown};
 
@@ -36,6 +37,7 @@ pub fn read_text(path: &Path) -> Result<String, ScenarioError> {
     let file = open_nonblocking(path).map_err(io_err)?;
     let meta = file.metadata().map_err(io_err)?;
     check_regular(&meta, &name)?;
+    record(path);
     let too_big = |len: u64| {
         ScenarioError::new(
             "",
@@ -87,4 +89,35 @@ fn open_nonblocking(path: &Path) -> io::Result<File> {
 #[cfg(not(unix))]
 fn open_nonblocking(path: &Path) -> io::Result<File> {
     File::open(path)
+}
+
+thread_local! {
+    /// The files [`read_text`] read on this thread while [`recording`] runs.
+    static RECORDED: RefCell<Option<Vec<PathBuf>>> = const { RefCell::new(None) };
+}
+
+fn record(path: &Path) {
+    RECORDED.with(|r| {
+        if let Some(list) = r.borrow_mut().as_mut() {
+            list.push(path.to_path_buf());
+        }
+    });
+}
+
+/// Runs `f` and returns, beside its result, the files [`read_text`] read during it on this
+/// thread (as the paths it was given, in order, repeats included). Calls nest: the outer
+/// one sees the files of the inner one too.
+pub(crate) fn recording<T>(f: impl FnOnce() -> T) -> (T, Vec<PathBuf>) {
+    let outer = RECORDED.with(|r| r.borrow_mut().replace(Vec::new()));
+    let result = f();
+    let read = RECORDED.with(|r| {
+        let mut r = r.borrow_mut();
+        let read = r.take().unwrap_or_default();
+        *r = outer.map(|mut o| {
+            o.extend(read.iter().cloned());
+            o
+        });
+        read
+    });
+    (result, read)
 }
