@@ -134,7 +134,7 @@ enum Format {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = Cli::try_parse().unwrap_or_else(|e| errors::clap_exit(&e));
     // In `run --live` the first signal stops the session (which cleans up and exits).
     let live = matches!(cli.command, Command::Run { live: Some(_), .. });
     let handlers = atomic::install_signal_handlers(live.then_some(&live::STOP_SIGNAL));

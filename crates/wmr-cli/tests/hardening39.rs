@@ -131,6 +131,43 @@ fn regression_39_3_outputs_never_replace_a_file_the_scenario_read() {
     assert!(o.status.success(), "{}", text(&o.stderr));
 }
 
+/// Issue 39 item 12: clap's errors were 4 to 7 lines without the `wmr-cli: error:`
+/// prefix; now one line with it, exit 2. Help and the version print as before, exit 0.
+#[test]
+fn regression_39_12_command_line_errors_are_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(d, "s.toml", PRESET.replace("robots/mine.toml", "paper").as_str());
+    for (args, word) in [
+        (vec!["run"], "FILE"),
+        (vec!["run", "s.toml"], "--output"),
+        (vec!["run", "s.toml", "-o", "x.csv", "--bogus"], "--bogus"),
+        (vec!["frobnicate", "s.toml"], "frobnicate"),
+        (vec!["trace", "s.toml", "-o", "x.bin", "--run", "first"], "--run"),
+        (vec!["run", "s.toml", "--live", "not-an-address"], "--live"),
+        (vec!["run", "s.toml", "-o", "x.csv", "--format", "json"], "json"),
+        (vec!["run", "s.toml", "-o", "x.csv", "--speed", "2"], "--speed"),
+        (vec!["run", "s.toml", "-o", "x.csv", "--layout", "x.json"], "--layout"),
+        (vec!["run", "s.toml", "--live", "127.0.0.1:0", "-o", "x.csv"], "--live"),
+        (vec!["check", "s.toml", "extra"], "extra"),
+        (vec!["check", "s.toml", "--\u{1b}[31mred"], "red"),
+    ] {
+        let what = args.join(" ");
+        let o = run_in(d, &args);
+        assert_one_line_error(&o, &what, &[word]);
+        assert!(o.stdout.is_empty(), "{what}: {}", text(&o.stdout));
+        assert_eq!(entries(d), ["s.toml"], "{what}");
+    }
+    for args in [vec!["--help"], vec!["run", "--help"], vec!["help", "sweep"], vec!["-h"], vec!["--version"]] {
+        let o = run_in(d, &args);
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {}", text(&o.stderr));
+        assert!(o.stderr.is_empty(), "{args:?}: {}", text(&o.stderr));
+        let out = text(&o.stdout);
+        assert!(out.starts_with("wmr-cli") || out.contains("Usage: wmr-cli"), "{args:?}: {out}");
+        assert!(args[0] == "--version" || out.lines().count() > 5, "{args:?}: {out}");
+    }
+}
+
 /// Issue 39 item 14: `read_text` checked the path's metadata, then opened the path again:
 /// a file swapped for a FIFO in between blocked `check` for ever. Now the path is opened
 /// once, without blocking, and the opened handle is checked: each `check` of a path that
