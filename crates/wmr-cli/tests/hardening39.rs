@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::Duration;
 
+mod skip;
 mod wait;
 
 fn bin() -> Command {
@@ -234,4 +235,64 @@ fn regression_39_14_a_file_swapped_for_a_fifo_never_blocks_a_read() {
         let o = run_in(&d, &["check", name]);
         assert_one_line_error(&o, name, &["cannot read"]);
     }
+}
+
+/// `wmr-cli ARGS` in `dir` under a 1.5 GB address-space cap, awaited for at most 120 s:
+/// its exit status and stderr. `None` when prlimit is missing (the skip is recorded).
+fn capped(dir: &Path, args: &[&str]) -> Option<(std::process::ExitStatus, String)> {
+    if Command::new("prlimit").arg("--version").output().is_err() {
+        skip::missing("prlimit", "prlimit (util-linux) is missing: the memory cap cannot be set");
+        return None;
+    }
+    let program = std::env::var_os("WMR_CLI_UNDER_TEST").unwrap_or_else(|| env!("CARGO_BIN_EXE_wmr-cli").into());
+    let mut child = Command::new("prlimit")
+        .arg("--as=1500000000")
+        .arg(program)
+        .args(args)
+        .current_dir(dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    Some(wait::exit_within(&mut child, Duration::from_secs(120), &args.join(" ")))
+}
+
+/// Issue 39 items 1 and 4: the MCAP (and `--live`) drawing of a tracking run's reference
+/// cut it into dashes of half a half-track along the whole path, all held at once, and
+/// `layout` read the reference at every log time: a robot 1e-9 m wide, a line at 1e5 m/s,
+/// a figure-eight 1e300 m wide and a run of 1e6 s aborted under a memory cap (SIGABRT),
+/// leaving their temporary files. Both now read a bounded number of points.
+#[test]
+fn regression_39_1_4_reference_drawings_and_layouts_are_bounded() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let track = |reference: &str, extra: &str, start: &str| {
+        format!("{extra}[reference]\n{reference}\n[controller]\nkind = \"kanayama\"\n[[run]]\nstart = {{ {start} }}\n")
+    };
+    let on_circle = "x = 0.0, y = -1.0, theta_deg = 0.0";
+    let cases = [
+        ("thin.toml", track("kind = \"circle\"", "[robot]\nhalf_track = 1e-9\n", on_circle)),
+        ("fast.toml", track("kind = \"line\"\nspeed = 1e5", "", "x = 0.0, y = 0.0, theta_deg = 0.0")),
+        ("wide.toml", track("kind = \"figure_eight\"\nwidth = 1e300", "", "x = 0.0, y = 0.0, theta_deg = 45.0")),
+    ];
+    for (name, body) in &cases {
+        write(d, name, body);
+        let out = name.replace(".toml", ".mcap");
+        let Some((status, err)) = capped(d, &["run", name, "-o", &out]) else { return };
+        assert_eq!(status.code(), Some(0), "run {name}: {status:?}: {err}");
+        assert!(fs::metadata(d.join(&out)).unwrap().len() < 50 << 20, "{out}: too large");
+        let Some((status, err)) = capped(d, &["layout", name, "-o", &name.replace(".toml", ".json")]) else { return };
+        assert_eq!(status.code(), Some(0), "layout {name}: {status:?}: {err}");
+    }
+    write(d, "long.toml", &track("kind = \"circle\"", "[sim]\nt_end = 1e6\n", on_circle));
+    let Some((status, err)) = capped(d, &["layout", "long.toml", "-o", "long.json"]) else { return };
+    assert_eq!(status.code(), Some(0), "layout long.toml: {status:?}: {err}");
+    let layout: serde_json::Value = serde_json::from_slice(&fs::read(d.join("long.json")).unwrap()).unwrap();
+    assert!(layout["configById"]["3D!wmr-plane"].is_object(), "{layout}");
+    let mut want: Vec<String> = ["fast", "long", "thin", "wide"]
+        .iter()
+        .flat_map(|n| [format!("{n}.json"), format!("{n}.mcap"), format!("{n}.toml")])
+        .collect();
+    want.retain(|f| f != "long.mcap");
+    assert_eq!(entries(d), want, "no temporary file left");
 }
