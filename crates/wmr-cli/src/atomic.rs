@@ -6,8 +6,9 @@
 //!   A symbolic link OUT is followed: the file it points to is replaced, the link stays.
 //! - OUT that is a character device (`/dev/null`, a terminal), a FIFO, or `-` (stdout):
 //!   streamed to as it is produced; nothing is renamed or created.
-//! - Refused as bad input (exit 2): OUT that is one of the command's input files (also
-//!   through a link), a directory, a block device or a socket, or whose directory does
+//! - Refused as bad input (exit 2): OUT that is one of the command's input files (the
+//!   scenario and every file it read: its robot preset, its reference CSVs; also through
+//!   a link), a directory, a block device or a socket, or whose directory does
 //!   not exist (wmr-cli creates files, never the directories above them).
 //! - SIGINT, SIGTERM and SIGHUP: every temporary file in flight is removed, then the
 //!   process ends as the signal would have ended it (a shell shows 130, 143, 129). In live
@@ -31,18 +32,26 @@ use crate::errors::{bad_input, note};
 /// The temporary files in flight, removed by the signal handler.
 static IN_FLIGHT: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
-/// The command's input files, as (device, inode, path): OUT must not be one of them.
-static INPUTS: Mutex<Vec<(u64, u64, PathBuf)>> = Mutex::new(Vec::new());
+/// The command's input files, as (device, inode, how messages name it): OUT must not be
+/// one of them. The inode is the file's, links followed: a symbolic or hard link to an
+/// input is that input.
+static INPUTS: Mutex<Vec<(u64, u64, String)>> = Mutex::new(Vec::new());
 
 /// Remembers `path` as an input: no output of this command may replace it.
 pub fn register_input(path: &Path) {
+    register_input_as(path, shown(path));
+}
+
+/// [`register_input`], named in messages as `described` (e.g. `ref.csv (reference.path
+/// of trk.toml)`).
+pub fn register_input_as(path: &Path, described: String) {
     if let Ok(m) = std::fs::metadata(path) {
-        INPUTS.lock().unwrap_or_else(|p| p.into_inner()).push((m.dev(), m.ino(), path.to_path_buf()));
+        INPUTS.lock().unwrap_or_else(|p| p.into_inner()).push((m.dev(), m.ino(), described));
     }
 }
 
-/// The input file `meta` belongs to, if any.
-fn input_of(meta: &std::fs::Metadata) -> Option<PathBuf> {
+/// The input file `meta` belongs to, if any, as messages name it.
+fn input_of(meta: &std::fs::Metadata) -> Option<String> {
     let inputs = INPUTS.lock().unwrap_or_else(|p| p.into_inner());
     inputs.iter().find(|(dev, ino, _)| *dev == meta.dev() && *ino == meta.ino()).map(|(_, _, p)| p.clone())
 }
@@ -111,8 +120,7 @@ pub fn target_of(out: &Path) -> Result<Target> {
         Ok(meta) => {
             if let Some(input) = input_of(&meta) {
                 return Err(bad_input(format!(
-                    "{name} is the input file {}: refusing to overwrite it; choose another output",
-                    shown(&input)
+                    "{name} is the input file {input}: refusing to overwrite it; choose another output"
                 )));
             }
             let ft = meta.file_type();

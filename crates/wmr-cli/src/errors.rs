@@ -103,3 +103,51 @@ pub fn say(line: &str) -> anyhow::Result<()> {
 pub fn note(line: &str) {
     let _ = writeln!(io::stderr().lock(), "{}", escape_controls(line));
 }
+
+/// Ends the process for a command-line error of clap: help and `--version` print as clap
+/// prints them (exit 0; help for a missing subcommand as clap does, exit 2); an error is
+/// one line `wmr-cli: error: ...` on stderr (its tips in parentheses, the usage after a
+/// semicolon), exit 2.
+pub fn clap_exit(e: &clap::Error) -> ! {
+    use clap::error::ErrorKind;
+    if matches!(
+        e.kind(),
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        e.exit()
+    }
+    note(&format!("wmr-cli: error: {}", one_line(&e.render().to_string())));
+    std::process::exit(i32::from(EXIT_BAD_INPUT))
+}
+
+/// Clap's rendered error (`error: ...`, items, tips, `Usage: ...`, `For more
+/// information, try '--help'.`) as one line.
+fn one_line(rendered: &str) -> String {
+    let mut message = String::new();
+    let (mut items, mut tips, mut usage) = (Vec::new(), Vec::new(), None);
+    for line in rendered.lines().map(str::trim).filter(|l| !l.is_empty()) {
+        if let Some(rest) = line.strip_prefix("error:") {
+            message = rest.trim().to_owned();
+        } else if let Some(tip) = line.strip_prefix("tip:") {
+            tips.push(tip.trim().to_owned());
+        } else if let Some(u) = line.strip_prefix("Usage:") {
+            usage = Some(u.trim().to_owned());
+        } else if line.starts_with("For more information") {
+        } else if usage.is_some() {
+            // A usage of several lines (subcommands): the first one says enough.
+        } else {
+            items.push(line.to_owned());
+        }
+    }
+    let mut s = message;
+    if !items.is_empty() {
+        s = format!("{} {}", s, items.join(", "));
+    }
+    if !tips.is_empty() {
+        s = format!("{s} ({})", tips.join("; "));
+    }
+    if let Some(u) = usage {
+        s = format!("{s}; usage: {u} (--help for more)");
+    }
+    s
+}

@@ -7,12 +7,11 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context as _, Result};
-use clap::CommandFactory as _;
 use wmr_scenario::{Scenario, shown};
 
 use crate::atomic::{AtomicOut, Target, target_of};
 use crate::errors::{bad_input, note, say};
-use crate::{Cli, Format, format_of, layout, live};
+use crate::{Format, format_of, layout, live};
 
 /// `--live ADDR`: `IP:PORT` (port 0: any free port) of one host: a multicast or broadcast
 /// address is refused (a server cannot accept connections there).
@@ -47,9 +46,11 @@ pub fn parse_speed(s: &str) -> Result<f64, String> {
     }
 }
 
-/// Exits with clap's usage error (exit code 2) for flags that do not go together.
+/// Exits with a usage error (one line `wmr-cli: error: MSG`, exit code 2) for flags that
+/// do not go together.
 pub fn usage_error(msg: &str) -> ! {
-    Cli::command().error(clap::error::ErrorKind::ArgumentConflict, msg).exit()
+    note(&format!("wmr-cli: error: {msg}"));
+    std::process::exit(i32::from(crate::errors::EXIT_BAD_INPUT))
 }
 
 /// Refuses, before any work, a LAYOUT path that cannot take the layout file (the rules of

@@ -19,7 +19,7 @@
 use serde_json::{Value, json};
 use wmr_scenario::{Columns, Scenario};
 
-use crate::foxglove_topics::{Kind, WORLD_FRAME, base_link, reference_frame, run_hex, run_rgb, topic};
+use crate::foxglove_topics::{Kind, WORLD_FRAME, base_link, log_positions, reference_frame, run_hex, run_rgb, topic};
 
 /// Id (type!name) of the 3D panel.
 pub const PANEL_3D: &str = "3D!wmr-plane";
@@ -105,25 +105,18 @@ pub fn layout(scenario: &Scenario) -> Value {
     let columns = Columns::of(scenario);
     let tracking = columns.reference.is_some();
 
-    // Frame every start and goal (and a reference's path, at the log times) with a margin
-    // of a robot length and 15 %.
+    // Frame every start and goal (and a reference's path, at the log times, thinned to a
+    // bounded count as the drawing is) with a margin of a robot length and 15 %.
     let sim = scenario.sim();
-    let reference_path: Vec<wmr_core::Pose2<f64>> = columns
-        .reference
-        .map(|r| {
-            (0..sim.n_samples())
-                .map(|k| wmr_core::Reference::state_at(&r, (k as f64 * sim.log_dt()).min(sim.t_end())).pose)
-                .collect()
-        })
-        .unwrap_or_default();
+    let reference_path: Vec<(f64, f64)> = columns.reference.map(|r| log_positions(&r, sim)).unwrap_or_default();
     let body = (2.0 * robot.com_offset.abs()).max(2.0 * robot.wheel_radius) + 2.0 * robot.wheel_radius;
     let reach = body.max(2.0 * robot.half_track);
     let (mut x0, mut y0, mut x1, mut y1) = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
-    for p in runs.iter().flat_map(|r| [r.start, r.goal]).chain(reference_path) {
-        x0 = x0.min(p.x);
-        y0 = y0.min(p.y);
-        x1 = x1.max(p.x);
-        y1 = y1.max(p.y);
+    for (x, y) in runs.iter().flat_map(|r| [(r.start.x, r.start.y), (r.goal.x, r.goal.y)]).chain(reference_path) {
+        x0 = x0.min(x);
+        y0 = y0.min(y);
+        x1 = x1.max(x);
+        y1 = y1.max(y);
     }
     if !x0.is_finite() {
         (x0, y0, x1, y1) = (0.0, 0.0, 0.0, 0.0);

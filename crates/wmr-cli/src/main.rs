@@ -23,7 +23,6 @@ use anyhow::Result;
 use clap::{Parser, Subcommand, ValueEnum};
 
 use crate::errors::{bad_input, note};
-use crate::exec::load;
 
 /// Simulate and control two-wheeled differential-drive robots from scenario files.
 #[derive(Parser, Debug)]
@@ -135,7 +134,7 @@ enum Format {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = Cli::try_parse().unwrap_or_else(|e| errors::clap_exit(&e));
     // In `run --live` the first signal stops the session (which cleans up and exits).
     let live = matches!(cli.command, Command::Run { live: Some(_), .. });
     let handlers = atomic::install_signal_handlers(live.then_some(&live::STOP_SIGNAL));
@@ -154,6 +153,19 @@ fn format_of(out: &Path, format: Option<Format>) -> Result<Format> {
             wmr_scenario::shown(out)
         ))),
     }
+}
+
+/// Loads a scenario file ([`exec::load`], which remembers it as an input) and remembers
+/// every other file it read (its robot preset, its reference CSVs) as an input too, so
+/// that no output of the command (`-o`, `--layout`, `--plots`) replaces one of them.
+fn load(file: &Path) -> Result<wmr_scenario::Scenario> {
+    let scenario = exec::load(file)?;
+    for input in scenario.inputs() {
+        let described =
+            format!("{} ({} in {})", wmr_scenario::shown(&input.path), input.key, wmr_scenario::shown(file));
+        atomic::register_input_as(&input.path, described);
+    }
+    Ok(scenario)
 }
 
 fn run(cli: Cli) -> Result<()> {
@@ -199,13 +211,15 @@ fn run(cli: Cli) -> Result<()> {
             }
             let output = output.ok_or_else(|| bad_input("-o OUT is required without --live"))?;
             let format = format_of(&output, format)?;
-            if let Some(l) = &layout {
-                if format != Format::Mcap {
-                    foxglove_cmd::usage_error("--layout describes the MCAP topics: write OUT as .mcap");
-                }
-                foxglove_cmd::check_layout_path(l, Some(&output))?;
+            if layout.is_some() && format != Format::Mcap {
+                foxglove_cmd::usage_error("--layout describes the MCAP topics: write OUT as .mcap");
             }
             let scenario = load(&file)?;
+            // After the load, which names the inputs LAYOUT must not replace either (it is
+            // written after OUT: refused now, before OUT is).
+            if let Some(l) = &layout {
+                foxglove_cmd::check_layout_path(l, Some(&output))?;
+            }
             exec::run_command(&scenario, &file, &output, format, layout.as_deref())
         }
     }

@@ -3,9 +3,10 @@
 //! stored validated and read through accessors. The fast path of its runs is in
 //! `fast.rs`, which builds on this one.
 
+use std::collections::HashSet;
 use std::fmt::Write as _;
 use std::ops::ControlFlow;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use toml::Value;
 use wmr_core::{ControllerParams, Drive, OdometryParams, Pose2, Robot, RobotParams, Sample, SensorParams, WorldParams};
@@ -25,7 +26,8 @@ use crate::{bounds, budget, controller, locate, read};
 
 /// A complete, validated scenario: every default filled in, every key checked once.
 /// Two scenarios are equal when they run the same: where a value came from (a preset,
-/// the file: [`Scenario::origins`]) is not compared.
+/// the file: [`Scenario::origins`]) and which files it read ([`Scenario::inputs`]) are not
+/// compared.
 #[derive(Clone, Debug)]
 pub struct Scenario {
     name: String,
@@ -36,11 +38,32 @@ pub struct Scenario {
     tracking: Option<Tracking>,
     /// Where the given `[robot]` and `[drive]` values came from (the file, a preset).
     origins: Origins,
+    /// The files read besides the scenario's own text (presets, reference CSVs).
+    inputs: Vec<InputFile>,
+}
+
+/// A file a scenario read besides its own text: a robot preset or a reference CSV.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct InputFile {
+    /// The path as it was opened: the name written in the scenario joined to the
+    /// scenario's folder (relative to the working directory when that folder is).
+    pub path: PathBuf,
+    /// The key that names it: `robot.from`, `reference.path`, `sweep.references[2].path`.
+    pub key: String,
+}
+
+/// Adds the files of `read` not listed yet to `inputs`, named by `key`.
+fn add_inputs(inputs: &mut Vec<InputFile>, seen: &mut HashSet<PathBuf>, read: Vec<PathBuf>, key: &str) {
+    for path in read {
+        if seen.insert(path.clone()) {
+            inputs.push(InputFile { path, key: key.to_owned() });
+        }
+    }
 }
 
 impl PartialEq for Scenario {
     fn eq(&self, other: &Self) -> bool {
-        let Self { name, setup, sim, runs, sweep, tracking, origins: _ } = self;
+        let Self { name, setup, sim, runs, sweep, tracking, origins: _, inputs: _ } = self;
         (name, setup, sim, runs, sweep, tracking)
             == (&other.name, &other.setup, &other.sim, &other.runs, &other.sweep, &other.tracking)
     }
@@ -67,8 +90,13 @@ impl ScenarioFile {
     /// [`ScenarioFile::resolve`] for a file in folder `dir` (where a `[reference]` of kind
     /// `file` finds its CSV).
     pub fn resolve_in(mut self, default_name: &str, dir: Option<&Path>) -> Result<Scenario, ScenarioError> {
+        let (mut inputs, mut seen) = (Vec::new(), HashSet::new());
         let reference = match self.reference.take() {
-            Some(t) => Some(crate::reference::resolve(&t, dir)?),
+            Some(t) => {
+                let (r, read) = read::recording(|| crate::reference::resolve(&t, dir));
+                add_inputs(&mut inputs, &mut seen, read, "reference.path");
+                Some(r?)
+            }
             None => None,
         };
         let tolerance = self.sim.as_ref().and_then(|s| s.tracking_tolerance);
@@ -91,7 +119,9 @@ impl ScenarioFile {
                 list.iter()
                     .enumerate()
                     .map(|(i, t)| {
-                        crate::reference::resolve(t, dir).map_err(|e| ScenarioError {
+                        let (r, read) = read::recording(|| crate::reference::resolve(t, dir));
+                        add_inputs(&mut inputs, &mut seen, read, &format!("sweep.references[{i}].path"));
+                        r.map_err(|e| ScenarioError {
                             key: e.key.replacen("reference", &format!("sweep.references[{i}]"), 1),
                             ..e
                         })
@@ -151,6 +181,7 @@ impl ScenarioFile {
             "controller",
         )?;
         scenario.check_runs()?;
+        scenario.inputs = inputs;
         Ok(scenario)
     }
 
@@ -210,7 +241,8 @@ impl ScenarioFile {
             runs.push(run);
         }
         let name = self.name.unwrap_or_else(|| default_name.to_owned());
-        let scenario = Scenario { name, setup, sim, runs, sweep, tracking: None, origins: Origins::default() };
+        let scenario =
+            Scenario { name, setup, sim, runs, sweep, tracking: None, origins: Origins::default(), inputs: Vec::new() };
         scenario.check_runs()?;
         Ok(scenario)
     }
@@ -244,10 +276,19 @@ impl Scenario {
             let inner = e.into_inner();
             locate::deser_error(&path, inner.message(), inner.span(), text)
         })?;
-        preset::expand(&mut file.robot, &mut file.drive, dir)
+        let (origins, presets) = read::recording(|| preset::expand(&mut file.robot, &mut file.drive, dir));
+        origins
             .and_then(|origins| {
                 let mut s = file.resolve_in(default_name, Some(dir))?;
                 s.origins = origins;
+                // The preset first, as it was read first.
+                let mut inputs = Vec::new();
+                add_inputs(&mut inputs, &mut HashSet::new(), presets, "robot.from");
+                let own: Vec<InputFile> = std::mem::take(&mut s.inputs);
+                let new = |f: &InputFile| !inputs.iter().any(|p: &InputFile| p.path == f.path);
+                let own: Vec<InputFile> = own.into_iter().filter(new).collect();
+                inputs.extend(own);
+                s.inputs = inputs;
                 Ok(s)
             })
             .and_then(|s| s.check_limits().map(|()| s))
@@ -303,6 +344,14 @@ impl Scenario {
     /// Where the given `[robot]` and `[drive]` values came from.
     pub fn origins(&self) -> &Origins {
         &self.origins
+    }
+
+    /// The files the scenario read besides its own text, each once and with the key that
+    /// names it: the robot preset of `[robot] from` (not a built-in one), the CSV of each
+    /// `[reference]` and `[sweep] references` entry of kind `file`. A command must not
+    /// write over any of them.
+    pub fn inputs(&self) -> &[InputFile] {
+        &self.inputs
     }
 
     /// The validated robot (`[robot]`).

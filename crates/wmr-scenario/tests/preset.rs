@@ -147,3 +147,28 @@ frmo = \"paper\"");
         assert!(e.message.contains(key), "{key} not listed: {}", e.message);
     }
 }
+
+/// Issue 39 item 3: a scenario says which files it read besides its own text (a preset, the
+/// CSV of each file reference, each once), with the key that names each, so that a command
+/// can refuse to write over them; a built-in preset is no file.
+#[test]
+fn a_scenario_lists_the_files_it_read_with_the_key_naming_each() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::create_dir(d.join("robots")).unwrap();
+    std::fs::copy(robots().join("paper.toml"), d.join("robots/mine.toml")).unwrap();
+    std::fs::write(d.join("ref.csv"), "t,x,y\n0,0,0\n1,0.3,0\n2,0.6,0.1\n").unwrap();
+    let text = "[robot]\nfrom = \"robots/mine.toml\"\n[reference]\nkind = \"file\"\npath = \"ref.csv\"\n\
+                [controller]\nkind = \"kanayama\"\n[sim]\nt_end = 1.0\n[sweep]\n\
+                references = [{ kind = \"file\", path = \"ref.csv\" }, { kind = \"circle\" }]\n\
+                random = { n = 1, radius = 0.1 }\n[[run]]\nstart = {}\n";
+    let file = d.join("s.toml");
+    std::fs::write(&file, text).unwrap();
+    let s = Scenario::from_path(&file).unwrap();
+    let listed: Vec<(PathBuf, &str)> = s.inputs().iter().map(|f| (f.path.clone(), f.key.as_str())).collect();
+    assert_eq!(listed, [(d.join("robots/mine.toml"), "robot.from"), (d.join("ref.csv"), "reference.path")]);
+    let built_in = Scenario::from_toml_str_in(&text.replace("robots/mine.toml", "paper"), "s", Path::new(d)).unwrap();
+    assert_eq!(built_in.inputs().len(), 1, "{:?}", built_in.inputs());
+    let none = Scenario::from_toml_str(RUN, "s").unwrap();
+    assert!(none.inputs().is_empty());
+}
