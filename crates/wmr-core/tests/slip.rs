@@ -254,3 +254,146 @@ fn issue24_refusals_name_the_key() {
     let no_spin = RobotParams { wheel_inertia: 0.0, ..RobotParams::paper() }.validate().unwrap();
     assert_eq!(slip_params::<f64>(0.8).validate(&no_spin, &flat).unwrap_err().field, "wheel_inertia");
 }
+
+/// Fig. 7's goal, (0, 0, 0) -> (1, 1, 120 deg), for `law` with the torque drive's wheel
+/// stage and `wheel_speed_max` = `w_max` (rad/s, inf: off), on wheels that slip on `mu`,
+/// for `t_s` seconds at dt = 1 ms, seen through `sensor`; returns the outcome and the
+/// largest |omega_w| of the plant's own wheel speeds over every plant step, rad/s.
+fn fig7_slipping<S: wmr_core::Sensor<f64>>(
+    law: wmr_core::LawParams<f64>,
+    mu: f64,
+    w_max: f64,
+    sensor: S,
+    t_s: f64,
+) -> (wmr_core::Outcome<f64>, f64) {
+    let robot = Robot::<f64>::paper();
+    let drive = DriveParams::default().validate(&robot).unwrap();
+    let mut params = wmr_core::ControllerParams::with_law(law);
+    params.wheels.wheel_speed_max = w_max;
+    let controller = params.build(robot.params(), &drive).unwrap();
+    let traction = slip_params::<f64>(mu).validate(&robot, &World::flat()).unwrap();
+    let plant = Plant::new(robot, drive, Pose2::default()).unwrap().with_traction(traction);
+    let goal = Pose2::new(1.0, 1.0, 120f64.to_radians());
+    let mut sim = ClosedLoop::with_sensor(plant, sensor, controller, FixedGoal::new(goal).unwrap(), 1e-3).unwrap();
+    let mut peak: f64 = 0.0;
+    for _ in 0..(t_s * 1e3).round() as u64 {
+        sim.step().unwrap();
+        let w = sim.plant().wheel_speeds();
+        peak = peak.max(w.right.abs()).max(w.left.abs());
+    }
+    let out = sim.run(0, u32::MAX, |_| {});
+    (out, peak)
+}
+
+/// Issue 38 item 1: the perfect sensor reports each wheel's own rotation rate, so the
+/// servos damp the wheels, not the ground under them. On ice (mu = 0.1) each wheel
+/// transmits at most r mu N, about 0.07 N m, of the drive's 2 N m; a servo told the
+/// body's speed (v +- R omega) / r, which hardly moves, does not damp a wheel that spins,
+/// and the twist laws' wheels ran away to 4,500-12,400 rad/s in 30 s (a rim at over
+/// 450 m/s; the independent check saw 3,856 rad/s). Damped on their own speed by the
+/// servo's Kd = 1.4 N m s/rad, a spin beyond the reference costs 1.4 N m per rad/s: the
+/// wheels stay within a few hundred rad/s for every law.
+#[test]
+fn issue38_full_torque_on_ice_does_not_run_the_wheels_away() {
+    for law in wmr_core::LawParams::<f64>::defaults() {
+        if law.kind() == "pure_pursuit" {
+            continue; // follows a path, not a goal: it does not move here
+        }
+        let (out, peak) = fig7_slipping(law, 0.1, f64::INFINITY, wmr_core::PerfectSensor, 30.0);
+        eprintln!("{}: mu 0.1, 30 s: peak own wheel speed {peak:.1} rad/s, final dl {:.3} m", law.kind(), out.final_dl);
+        assert!(peak < 400.0, "{}: the wheels ran away: {peak} rad/s", law.kind());
+    }
+}
+
+/// Issue 38 item 1: `wheel_speed_max` holds on the wheels' own speeds when they slip,
+/// within the 2 % docs/scenario.md states, for every law on ice and on asphalt, with
+/// the perfect sensor (judged at every plant step). With 4096-count encoders the guard
+/// sees the speed as the difference of two readings over a tick, each rounded to a
+/// count: known to one quantum, 2 pi / 4096 / 1 ms = 1.53 rad/s, which bounds the peak
+/// at the limit plus that (10.56 measured; 11.75 before, with the body's speeds and the
+/// rolling gain). The guard's gain is a slipping
+/// wheel's: its own inertia I_m, not the rolling robot's J_w (16 times more on the
+/// paper's robot), which overshot the limit in a few ticks once the wheel let go.
+#[test]
+fn issue38_wheel_speed_max_holds_on_slipping_wheels() {
+    const QUANTUM_SPEED: f64 = core::f64::consts::TAU / 4096.0 / 1e-3;
+    let mut worst: f64 = 0.0;
+    for law in wmr_core::LawParams::<f64>::defaults() {
+        if law.kind() == "pure_pursuit" {
+            continue;
+        }
+        for mu in [0.1, 0.8] {
+            let (_, peak) = fig7_slipping(law, mu, 10.0, wmr_core::PerfectSensor, 20.0);
+            // 4096-count encoders: speeds from count differences, half a tick late.
+            let sensor = wmr_core::SensorParams { encoder_counts: 4096, ..wmr_core::SensorParams::default() };
+            let encoders = wmr_core::PoseSensor::<f64>::new(sensor, 1e-3, 0).unwrap();
+            let (_, peak_counted) = fig7_slipping(law, mu, 10.0, encoders, 20.0);
+            eprintln!(
+                "{}: mu {mu}, limit 10 rad/s: peak own wheel speed {peak:.3} rad/s (perfect), {peak_counted:.3} (encoders)",
+                law.kind()
+            );
+            for (p, bound) in [(peak, 10.2), (peak_counted, 10.0 + QUANTUM_SPEED)] {
+                worst = worst.max(p / 10.0);
+                assert!(p <= bound, "{} on mu {mu}: peak {p} rad/s for a limit of 10", law.kind());
+            }
+        }
+    }
+    assert!(worst > 0.95, "the limit is reached: {worst}");
+}
+
+/// Issue 38 item 1: every sensor of the crate measures the wheels' own state, in f64 and
+/// f32: the perfect sensor, the pose sensor with ideal encoders and the odometry sensor
+/// hand the controller the plant's own wheel speeds when the wheels slip, bit for bit; on
+/// rolling wheels, `measure_wheels` with the plant's wheel speeds is `measure`, bit for bit.
+fn sensors_measure_the_wheels_own_speeds<T: Real>() {
+    use wmr_core::{OdometryParams, OdometrySensor, PoseSensor, PoseSource, Sensor, SensorParams, Wheels};
+    let robot = Robot::<T>::paper();
+    let p = robot.params();
+    let drive = DriveParams::default().validate(&robot).unwrap();
+    let traction = slip_params::<T>(0.1).validate(&robot, &World::flat()).unwrap();
+    let rolling = Plant::new(robot, drive, Pose2::default()).unwrap();
+    let slipping = rolling.with_traction(traction);
+    let odometry = OdometryParams { pose: PoseSource::Odometry, ..OdometryParams::default() };
+    for (mut plant, slips) in [(rolling, false), (slipping, true)] {
+        plant.apply(Wheels::new(T::lit(2.0), T::lit(1.0)));
+        let mut sensors = (
+            wmr_core::PerfectSensor,
+            PoseSensor::<T>::new(SensorParams::default(), T::lit(1e-3), 0).unwrap(),
+            OdometrySensor::<T>::new(SensorParams::default(), odometry, p, T::lit(1e-3), 0).unwrap(),
+        );
+        for k in 0..500 {
+            plant.step(T::lit(k as f64 * 1e-3), T::lit(1e-3)).unwrap();
+            let (t, s, w) = (T::lit(k as f64 * 1e-3), *plant.state(), plant.wheel_speeds());
+            let m = [
+                sensors.0.measure_wheels(t, &s, w, p),
+                sensors.1.measure_wheels(t, &s, w, p),
+                sensors.2.measure_wheels(t, &s, w, p),
+            ];
+            for m in m {
+                assert_eq!(m.wheel_speeds, w);
+                assert_eq!(m.wheel_angles, s.wheel_angles());
+            }
+            if !slips {
+                assert_eq!(m[0], wmr_core::PerfectSensor.measure(t, &s, p));
+            }
+        }
+        let body = plant.state().wheel_speeds(p);
+        let gap = (plant.wheel_speeds().right - body.right).abs().to_f64_lossless();
+        // Rolling, the plant's wheel speeds are the body's; slipping, they are not.
+        if slips {
+            assert!(gap > 1.0, "the wheels slip: own {:?}, body's {body:?}", plant.wheel_speeds());
+        } else {
+            assert_eq!(plant.wheel_speeds(), body);
+        }
+    }
+}
+
+#[test]
+fn issue38_sensors_measure_the_wheels_own_speeds_f64() {
+    sensors_measure_the_wheels_own_speeds::<f64>();
+}
+
+#[test]
+fn issue38_sensors_measure_the_wheels_own_speeds_f32() {
+    sensors_measure_the_wheels_own_speeds::<f32>();
+}
