@@ -34,9 +34,10 @@ fn issue24_traction_keys_are_refused_by_name() {
 }
 
 /// The step is checked against the slip's stiffness (Plant::stiffness): the paper's robot
-/// on asphalt integrates up to dt = 1.37 ms with the default slip_speed 0.2 m/s, up to
-/// 0.68 ms with 0.1 m/s: at dt = 1 ms that is refused, naming slip_speed and saying what
-/// would do; the advice, taken, is accepted.
+/// on asphalt integrates up to dt = 1.53 ms with the default slip_speed 0.2 m/s, up to
+/// 0.70 ms with 0.1 m/s: at dt = 1 ms that is refused, naming slip_speed and saying what
+/// would do; the advice, taken, is accepted. A contact too stiff for any slip_speed
+/// (stiction_length 1e-6 m) is advised a longer stiction_length, which, taken, is accepted.
 #[test]
 fn issue24_a_step_too_large_for_the_slip_is_refused() {
     assert!(scenario("traction = \"slip\"", "dt = 1e-3").is_ok());
@@ -47,6 +48,11 @@ fn issue24_a_step_too_large_for_the_slip_is_refused() {
         m.split("raise robot.slip_speed to ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
     assert!((0.1..0.2).contains(&advised), "{m}");
     assert!(scenario(&format!("traction = \"slip\"\nslip_speed = {advised}"), "dt = 1e-3").is_ok(), "{m}");
+    let m = refused("traction = \"slip\"\nstiction_length = 1e-6", "dt = 1e-3", "robot.slip_speed");
+    let advised: f64 =
+        m.split("raise robot.stiction_length to ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+    assert!(advised > 1e-6, "{m}");
+    assert!(scenario(&format!("traction = \"slip\"\nstiction_length = {advised}"), "dt = 1e-3").is_ok(), "{m}");
 }
 
 /// A slip run logs its contact; the slip velocity is the wheel's rim speed minus the
