@@ -85,7 +85,8 @@ impl<T: Real, L: Law<T>, R: Reference<T>> ClosedLoop<T, L, PerfectSensor, R> {
 impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
     /// A loop with plant step `dt` (s); the controller's `control_dt` must be a whole
     /// multiple of it (errors name `dt` and `control_dt`). Runs the first control tick
-    /// at t = 0.
+    /// at t = 0. The controller's wheel stage is told whether the plant's wheels slip
+    /// ([`Controller::with_slipping_wheels`]).
     pub fn with_sensor(
         plant: Plant<T>,
         sensor: S,
@@ -94,6 +95,8 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
         dt: T,
     ) -> Result<Self, ParamError> {
         let control_every = control_every(&plant, controller.control_dt(), dt)?;
+        // The speed guard of wheels that slip acts on their own inertia (WheelStage).
+        let controller = controller.with_slipping_wheels(plant.slips());
         let mut lp = Self {
             plant,
             sensor,
@@ -185,7 +188,10 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
 
     fn control_tick(&mut self) {
         let t = self.time();
-        let measurement = self.sensor.measure(t, self.plant.state(), self.plant.robot().params());
+        // Each wheel's own speed: the body's (v +- R omega) / r for wheels that roll
+        // (the same expression, bit for bit), their own state for wheels that slip.
+        let wheel_speeds = self.plant.wheel_speeds();
+        let measurement = self.sensor.measure_wheels(t, self.plant.state(), wheel_speeds, self.plant.robot().params());
         let reference = self.reference.state_at(t);
         let output = match self.reference.path() {
             Some(path) => self.controller.update_on_path(t, &measurement, &reference, path),

@@ -109,11 +109,12 @@ impl<T: Real> Plant<T> {
     }
 
     /// Puts the plant in state `s` (hardware-in-the-loop, tests): the held command stays;
-    /// a slip plant's wheels are set rolling (no slip, no lateral velocity).
+    /// a slip plant's wheels are set rolling (no slip, no lateral velocity, contacts
+    /// relaxed).
     pub fn set_state(&mut self, s: State<T>) {
         self.state = s;
         if self.slips() {
-            self.extra = SlipExtra { v_lat: T::zero(), wheel_speeds: s.wheel_speeds(self.robot.params()) };
+            self.extra = SlipExtra { wheel_speeds: s.wheel_speeds(self.robot.params()), ..SlipExtra::default() };
         }
     }
 
@@ -271,8 +272,11 @@ impl<T: Real> Plant<T> {
     #[inline(never)]
     fn step_slip(&mut self, slip: &crate::traction::Slip<T>, t: T, dt: T) -> Result<(), Termination> {
         let (next, extra) = slip.step(&self.state, &self.extra, &self.drive, self.command, t, dt);
-        let extra_finite =
-            extra.v_lat.is_finite() && extra.wheel_speeds.right.is_finite() && extra.wheel_speeds.left.is_finite();
+        let e = [extra.deflection_x.right, extra.deflection_x.left, extra.deflection_y.right, extra.deflection_y.left];
+        let extra_finite = extra.v_lat.is_finite()
+            && extra.wheel_speeds.right.is_finite()
+            && extra.wheel_speeds.left.is_finite()
+            && e.iter().all(|c| c.is_finite());
         if !next.is_finite() || !extra_finite {
             return Err(Termination::NonFinite);
         }

@@ -4,13 +4,19 @@
 //!
 //! The slip plant drops the two constraints of (15) and gains three speeds: each wheel's
 //! own speed omega_r, omega_l (rad/s) and the lateral velocity v_y of C (m/s, body frame,
-//! positive to the left). With u = v the forward speed of C, omega the yaw rate, G a
-//! distance d ahead of C, I_G = platform_inertia, I_m = wheel_inertia, and the contact of
-//! the right (sigma = +1) and left (sigma = -1) wheel at (0, -sigma R) in the body frame:
+//! positive to the left); and the contact's elastic deflection e = (e_x, e_y) at each
+//! wheel (m, body frame), which holds a force without slip. With u = v the forward speed
+//! of C, omega the yaw rate, G a distance d ahead of C, I_G = platform_inertia,
+//! I_m = wheel_inertia, and the contact of the right (sigma = +1) and left (sigma = -1)
+//! wheel at (0, -sigma R) in the body frame:
 //!
 //! ```text
 //! slip velocity of the contact, body frame:  s_x = u + sigma R omega - r omega_w,  s_y = v_y
-//! force of the ground on the robot:          F = -mu N tanh(|s| / v_eps) s / |s|
+//! the contact (a spring-damper anchor capped by Coulomb's friction circle):
+//!     q  = e / L + s / v_eps                                  (L = stiction_length, v_eps = slip_speed)
+//!     F  = -mu N q             while |q| <= 1                 (sticks: holds any force below mu N)
+//!     F  = -mu N q / |q|       beyond                         (slides at exactly mu N)
+//!     e' = s - v_eps (|q| - 1)+ q / |q|                       (the anchor slides with the contact)
 //! wheel:    I_m omega_w'  = tau - tau_f(omega_w) - r F_x
 //! forward:  m (u'   - omega v_y - omega^2 d) = F_xr + F_xl (+ gravity along the body x)
 //! lateral:  m (v_y' + omega u   + omega' d)  = F_yr + F_yl (+ gravity along the body y)
@@ -30,14 +36,25 @@
 //! f_x N with f_x given by the slip alone. The caster never lifts and the wheels never
 //! lift while mu h <= |d| and 0 <= d / c < 1 ([`TractionParams::validate`]).
 //!
-//! With an infinitely steep curve (v_eps -> 0 or mu -> infinity) the slip velocities
-//! vanish and the equations reduce to (15) (docs/model.md derives it); the slip plant's
-//! state on top of [`State`] is a [`SlipExtra`].
+//! The contact law is the elasto-plastic ("spring-damper anchor") friction of
+//! multibody and game engines, a Kelvin-Voigt element (stiffness mu N / L, damping
+//! mu N / v_eps) in series with a Coulomb slider: below mu N it holds the force with the
+//! spring alone and zero slip (a robot parked on a slope stays parked); once the force
+//! would exceed mu N the slider slides and the force is mu N exactly, against the slip.
+//! The anchor's slide w = v_eps (|q| - 1)+ q / |q| is what dissipates: the power lost is
+//! mu N (|e'|^2 / v_eps + |w|) >= 0, the rest of the contact's power being the spring's
+//! energy 1/2 mu N |e|^2 / L ([`Contact::slip_power`], [`Contact::elastic_energy`]).
+//! (Before issue 38 the law was F = -mu N tanh(|s| / v_eps) s / |s|, which needs a
+//! permanent slip v_eps atanh(|F| / mu N) to hold any force: parked robots crept.)
+//!
+//! With mu -> infinity the slip velocities vanish and the equations reduce to (15)
+//! (docs/model.md derives it); the slip plant's state on top of [`State`] is a
+//! [`SlipExtra`].
 
 use crate::drive::Drive;
 use crate::dynamics::Model;
 use crate::error::{ParamError, check};
-use crate::integrator::{RK4_REAL_STABILITY_LIMIT, Rhs, rk4_step_of};
+use crate::integrator::{RK4_HALF_DISK_RADIUS, RK4_REAL_STABILITY_LIMIT, Rhs, rk4_step_of};
 use crate::math::Wheels;
 use crate::state::State;
 use crate::world::{STANDARD_GRAVITY, World};
@@ -70,14 +87,17 @@ crate::params! {
         pub caster_offset: T [unit = "m", rule = "finite, 0 <= com_offset / caster_offset < 1"],
         /// h, height of the centre of mass G above the ground.
         pub com_height: T [unit = "m", rule = ">= 0"],
-        /// v_eps, slip speed of the regularised Coulomb law: F = mu N tanh(slip / v_eps).
+        /// v_eps, the contact's damping: below mu N, F = mu N (deflection / stiction_length + slip / v_eps).
         pub slip_speed: T [unit = "m/s", rule = "> 0, and dt * stiffness < 2.785"],
+        /// L, the contact's deflection at which the tyre holds mu N without slipping (its stiffness is mu N / L).
+        pub stiction_length: T [unit = "m", rule = "> 0, finite, and dt * stiffness < 2.785"],
     }
 }
 
 impl<T: Real> Default for TractionParams<T> {
     /// Rolling; for slip: mu = 0.8, the caster 0.35 m ahead of C, G 0.1 m high,
-    /// v_eps = 0.2 m/s (the paper's robot then integrates stably up to dt = 1.37 ms).
+    /// v_eps = 0.2 m/s, L = 1 mm (the paper's robot then integrates stably up to
+    /// dt = 1.53 ms).
     fn default() -> Self {
         Self {
             traction: TractionKind::Rolling,
@@ -85,15 +105,20 @@ impl<T: Real> Default for TractionParams<T> {
             caster_offset: T::lit(0.35),
             com_height: T::lit(0.1),
             slip_speed: T::lit(0.2),
+            stiction_length: T::lit(DEFAULT_STICTION_LENGTH_M),
         }
     }
 }
 
+/// Default `stiction_length`, m: a rubber tyre's contact deflects about a millimetre
+/// before it lets go.
+pub const DEFAULT_STICTION_LENGTH_M: f64 = 1e-3;
+
 impl<T: Real> TractionParams<T> {
     /// Checks the keys against the robot and builds the traction model on `world`'s
     /// ground. Errors name
-    /// `friction_coefficient`, `caster_offset`, `com_height`, `slip_speed` (`"rolling"`
-    /// only refuses NaN and infinity there), and, since the
+    /// `friction_coefficient`, `caster_offset`, `com_height`, `slip_speed`,
+    /// `stiction_length` (`"rolling"` only refuses NaN and infinity there), and, since the
     /// slip plant integrates each wheel and the yaw on their own, `wheel_inertia` and
     /// `platform_inertia` (both must be > 0).
     pub fn validate(self, robot: &Robot<T>, world: &World<T>) -> Result<Traction<T>, ParamError> {
@@ -103,12 +128,15 @@ impl<T: Real> TractionParams<T> {
             check::finite("caster_offset", self.caster_offset)?;
             check::finite("com_height", self.com_height)?;
             check::finite("slip_speed", self.slip_speed)?;
+            check::finite("stiction_length", self.stiction_length)?;
             return Ok(Traction::Rolling);
         }
         let mu = check::positive("friction_coefficient", self.friction_coefficient)?;
         let c = check::finite("caster_offset", self.caster_offset)?;
         let h = check::non_negative("com_height", self.com_height)?;
         check::positive("slip_speed", self.slip_speed)?;
+        check::positive("stiction_length", self.stiction_length)?;
+        check::finite("stiction_length", self.stiction_length)?;
         let p = robot.params();
         check::positive("wheel_inertia", p.wheel_inertia)?;
         check::positive("platform_inertia", p.platform_inertia)?;
@@ -149,6 +177,11 @@ pub struct SlipExtra<T> {
     pub v_lat: T,
     /// Each wheel's own speed, rad/s.
     pub wheel_speeds: Wheels<T>,
+    /// Longitudinal deflection e_x of each wheel's contact, body frame, m: how far the
+    /// contact has moved forward over the ground since it last slid.
+    pub deflection_x: Wheels<T>,
+    /// Lateral deflection e_y of each wheel's contact, body frame (left +), m.
+    pub deflection_y: Wheels<T>,
 }
 
 /// The contact of each wheel with the ground at one instant (zero for a rolling plant).
@@ -165,15 +198,34 @@ pub struct Contact<T> {
     pub force_y: Wheels<T>,
     /// Normal load on each wheel, N.
     pub normal: Wheels<T>,
+    /// Power each wheel's contact dissipates, W: mu N (|e'|^2 / v_eps + |w|), never
+    /// negative (module docs).
+    pub dissipation: Wheels<T>,
+    /// Energy each wheel's contact holds in its deflection, J: 1/2 mu N |e|^2 / L.
+    pub elastic: Wheels<T>,
 }
 
 impl<T: Real> Contact<T> {
-    /// Power lost in slip, W: minus the power of the contact forces on the contact
-    /// points' velocities relative to the ground (never negative for a dissipative law).
+    /// Power lost in slip, W, over both wheels: what the contacts dissipate (never
+    /// negative). The power the contact forces take from the robot, minus F . s, is this
+    /// plus the rate of change of [`Contact::elastic_energy`] at a constant load (module
+    /// docs).
     pub fn slip_power(&self) -> T {
+        self.dissipation.right + self.dissipation.left
+    }
+
+    /// Power the contact forces take from the robot, W: minus their power on the contact
+    /// points' velocities relative to the ground, -F . s, over both wheels. Negative
+    /// while the deflected contacts give back the energy they hold.
+    pub fn contact_power(&self) -> T {
         // The contact slides at (-slip, v_lat) relative to the ground; F opposes it.
         self.force_x.right * self.slip.right + self.force_x.left * self.slip.left
             - (self.force_y.right + self.force_y.left) * self.v_lat
+    }
+
+    /// Energy held in the contacts' deflection, J, over both wheels.
+    pub fn elastic_energy(&self) -> T {
+        self.elastic.right + self.elastic.left
     }
 }
 
@@ -192,6 +244,9 @@ pub struct Slip<T> {
     inv_i_g: T,
     /// 1 / I_m, 1/(kg m^2).
     inv_i_m: T,
+    /// 1 / L, 1/m, and 1 / v_eps, s/m.
+    inv_stiction_length: T,
+    inv_slip_speed: T,
     /// W (c - d) / 2: each wheel's load times (c - h f_mean), N m.
     load_numerator: T,
     /// Gravity along the ground in world x and y, N.
@@ -201,8 +256,16 @@ pub struct Slip<T> {
 }
 
 /// The slip plant's state as one array for RK4: [`State`]'s seven, then v_lat,
-/// omega_r, omega_l.
-pub(crate) const SLIP_STATE_LEN: usize = 10;
+/// omega_r, omega_l, e_x right and left, e_y right and left.
+pub(crate) const SLIP_STATE_LEN: usize = 14;
+
+/// One wheel's contact, per newton of load: the force (f_x, f_y) = F / N of the ground
+/// on the robot, the deflection's rate e' (m/s) and the anchor's slide speed |w| (m/s).
+struct PerNewton<T> {
+    f: (T, T),
+    deflection_rate: (T, T),
+    slide: T,
+}
 
 impl<T: Real> Slip<T> {
     fn new(params: TractionParams<T>, robot: &Robot<T>, world: &World<T>) -> Self {
@@ -221,6 +284,8 @@ impl<T: Real> Slip<T> {
             inv_mass: p.mass.recip(),
             inv_i_g: p.platform_inertia.recip(),
             inv_i_m: p.wheel_inertia.recip(),
+            inv_stiction_length: params.stiction_length.recip(),
+            inv_slip_speed: params.slip_speed.recip(),
             load_numerator: weight * (params.caster_offset - p.com_offset) / two,
             downhill: world.downhill_force(p.mass),
             weight,
@@ -245,47 +310,90 @@ impl<T: Real> Slip<T> {
         self.weight * (c - self.d).abs() / (T::lit(2.0) * (c.abs() - p.friction_coefficient * p.com_height))
     }
 
-    /// The contact forces at body speeds (u, omega, v_lat) and wheel speeds `w` (rad/s).
-    #[inline]
-    pub fn contact(&self, u: T, omega: T, v_lat: T, w: Wheels<T>) -> Contact<T> {
+    /// One wheel's contact with slip velocity `s` (m/s) and deflection `e` (m), body
+    /// frame (module docs).
+    #[inline(always)]
+    fn per_newton(&self, s: (T, T), e: (T, T)) -> PerNewton<T> {
+        let mu = self.params.friction_coefficient;
+        let q = (
+            e.0 * self.inv_stiction_length + s.0 * self.inv_slip_speed,
+            e.1 * self.inv_stiction_length + s.1 * self.inv_slip_speed,
+        );
+        let size = q.0.hypot_libm(q.1);
+        if size <= T::one() {
+            // Sticks: the spring and the damper carry the force, the anchor stays.
+            return PerNewton { f: (-mu * q.0, -mu * q.1), deflection_rate: s, slide: T::zero() };
+        }
+        // Slides: the force is mu N against q, the anchor follows at v_eps (|q| - 1).
+        let unit = (q.0 / size, q.1 / size);
+        let slide = self.params.slip_speed * (size - T::one());
+        PerNewton {
+            f: (-mu * unit.0, -mu * unit.1),
+            deflection_rate: (s.0 - slide * unit.0, s.1 - slide * unit.1),
+            slide,
+        }
+    }
+
+    /// The contact at body speeds (u, omega, v_lat), wheel speeds `w` (rad/s) and contact
+    /// deflections `e_x`, `e_y` (m), with each wheel's deflection rate (m/s, x and y).
+    #[inline(always)]
+    fn contact_and_rates(
+        &self,
+        u: T,
+        omega: T,
+        v_lat: T,
+        w: Wheels<T>,
+        e_x: Wheels<T>,
+        e_y: Wheels<T>,
+    ) -> (Contact<T>, [T; 4]) {
         let p = &self.params;
-        let (mu, eps) = (p.friction_coefficient, p.slip_speed);
         // Velocity of each contact point relative to the ground, body frame.
         let sx_r = u + self.big_r * omega - self.r * w.right;
         let sx_l = u - self.big_r * omega - self.r * w.left;
-        // f = -mu tanh(|s| / eps) s / |s|: the force per newton of load; at |s| = 0 the
-        // ratio tanh(|s| / eps) / |s| is its limit 1 / eps.
-        let per_newton = |sx: T| {
-            let speed = sx.hypot_libm(v_lat);
-            let gain = if speed > T::zero() { (speed / eps).tanh_libm() / speed } else { eps.recip() };
-            (-mu * gain * sx, -mu * gain * v_lat)
-        };
-        let (fx_r, fy_r) = per_newton(sx_r);
-        let (fx_l, fy_l) = per_newton(sx_l);
+        let right = self.per_newton((sx_r, v_lat), (e_x.right, e_y.right));
+        let left = self.per_newton((sx_l, v_lat), (e_x.left, e_y.left));
         let half = T::lit(0.5);
-        let n = self.load_numerator / (p.caster_offset - p.com_height * half * (fx_r + fx_l));
-        Contact {
+        let n = self.load_numerator / (p.caster_offset - p.com_height * half * (right.f.0 + left.f.0));
+        let mu_n = p.friction_coefficient * n;
+        let dissipation = |c: &PerNewton<T>| {
+            let (dx, dy) = c.deflection_rate;
+            mu_n * ((dx * dx + dy * dy) * self.inv_slip_speed + c.slide)
+        };
+        let elastic = |ex: T, ey: T| half * mu_n * (ex * ex + ey * ey) * self.inv_stiction_length;
+        let contact = Contact {
             slip: Wheels::new(-sx_r, -sx_l),
             v_lat,
-            force_x: Wheels::new(fx_r * n, fx_l * n),
-            force_y: Wheels::new(fy_r * n, fy_l * n),
+            force_x: Wheels::new(right.f.0 * n, left.f.0 * n),
+            force_y: Wheels::new(right.f.1 * n, left.f.1 * n),
             normal: Wheels::new(n, n),
-        }
+            dissipation: Wheels::new(dissipation(&right), dissipation(&left)),
+            elastic: Wheels::new(elastic(e_x.right, e_y.right), elastic(e_x.left, e_y.left)),
+        };
+        let rates = [right.deflection_rate.0, left.deflection_rate.0, right.deflection_rate.1, left.deflection_rate.1];
+        (contact, rates)
+    }
+
+    /// The contact at body speeds (u, omega, v_lat) (m/s, rad/s, m/s), wheel speeds `w`
+    /// (rad/s) and contact deflections `e_x`, `e_y` (m, body frame).
+    #[inline]
+    pub fn contact(&self, u: T, omega: T, v_lat: T, w: Wheels<T>, e_x: Wheels<T>, e_y: Wheels<T>) -> Contact<T> {
+        self.contact_and_rates(u, omega, v_lat, w, e_x, e_y).0
     }
 
     /// The contact of state (`s`, `extra`).
     pub fn contact_of(&self, s: &State<T>, extra: &SlipExtra<T>) -> Contact<T> {
-        self.contact(s.v, s.omega, extra.v_lat, extra.wheel_speeds)
+        self.contact(s.v, s.omega, extra.v_lat, extra.wheel_speeds, extra.deflection_x, extra.deflection_y)
     }
 
     /// The time derivative of the slip state under wheel torques from `torque(omega_w)`
     /// (N m, the drive at each wheel's own speed).
     #[inline]
     fn derivative(&self, y: &[T; SLIP_STATE_LEN], torque: impl Fn(Wheels<T>) -> Wheels<T>) -> [T; SLIP_STATE_LEN] {
-        let [_, _, theta, u, omega, _, _, v_lat, w_r, w_l] = *y;
+        let [_, _, theta, u, omega, _, _, v_lat, w_r, w_l, ex_r, ex_l, ey_r, ey_l] = *y;
         let w = Wheels::new(w_r, w_l);
         let tau = torque(w);
-        let c = self.contact(u, omega, v_lat, w);
+        let (c, [dex_r, dex_l, dey_r, dey_l]) =
+            self.contact_and_rates(u, omega, v_lat, w, Wheels::new(ex_r, ex_l), Wheels::new(ey_r, ey_l));
         let (sin, cos) = theta.sin_cos_libm();
         let mut f_x = c.force_x.right + c.force_x.left;
         let mut f_y = c.force_y.right + c.force_y.left;
@@ -311,6 +419,10 @@ impl<T: Real> Slip<T> {
             v_lat_dot,
             wheel_dot(tau.right, w_r, c.force_x.right),
             wheel_dot(tau.left, w_l, c.force_x.left),
+            dex_r,
+            dex_l,
+            dey_r,
+            dey_l,
         ]
     }
 
@@ -336,10 +448,21 @@ impl<T: Real> Slip<T> {
             extra.v_lat,
             extra.wheel_speeds.right,
             extra.wheel_speeds.left,
+            extra.deflection_x.right,
+            extra.deflection_x.left,
+            extra.deflection_y.right,
+            extra.deflection_y.left,
         ];
         let mut f = SlipRhs { slip: self, drive, command };
-        let [x, y, theta, v, omega, phi_r, phi_l, v_lat, w_r, w_l] = rk4_step_of(&mut f, t, &y, dt);
-        (State { x, y, theta, v, omega, phi_r, phi_l }, SlipExtra { v_lat, wheel_speeds: Wheels::new(w_r, w_l) })
+        let [x, y, theta, v, omega, phi_r, phi_l, v_lat, w_r, w_l, ex_r, ex_l, ey_r, ey_l] =
+            rk4_step_of(&mut f, t, &y, dt);
+        let extra = SlipExtra {
+            v_lat,
+            wheel_speeds: Wheels::new(w_r, w_l),
+            deflection_x: Wheels::new(ex_r, ex_l),
+            deflection_y: Wheels::new(ey_r, ey_l),
+        };
+        (State { x, y, theta, v, omega, phi_r, phi_l }, extra)
     }
 
     /// Kinetic energy, J: 1/2 m |v_G|^2 + 1/2 I_G omega^2 + 1/2 I_m (omega_r^2 + omega_l^2),
@@ -353,21 +476,29 @@ impl<T: Real> Slip<T> {
             + half * self.inv_i_m.recip() * (w.right * w.right + w.left * w.left)
     }
 
-    /// The stiffness of the slip (1/s): an upper bound of the fastest decay rate of the
-    /// slip velocities, over every state. Linearized, the contact forces are
-    /// F = -K s with each gain at most k = mu N_max / v_eps (tanh' <= 1, tanh(x)/x <= 1),
-    /// times 1 + mu h / (|c| - mu h) for the load that the force itself moves; the slip
+    /// The stiffness of the slip (1/s): a bound of the fastest rate of the contacts'
+    /// motion, over every state, such that RK4 at step dt is stable while
+    /// dt * stiffness < [`RK4_REAL_STABILITY_LIMIT`]. While a contact sticks its force is
+    /// linear, F = -(C s + K e), with damping at most c = mu N_max / v_eps and stiffness
+    /// at most k = mu N_max / L (N_max the largest wheel load), both times
+    /// 1 + mu h / (|c| - mu h) for the load that the force itself moves; the slip
     /// velocities answer the forces through the contacts' mobility matrix A (the inverse
-    /// mass matrix seen at the contacts), so the rates are the eigenvalues of A K, at most
-    /// k lambda_max(A). By the robot's left-right symmetry A splits into a common mode,
-    /// 2/m + r^2/I_m, and a 2 x 2 block [[2R^2/I_G + r^2/I_m, -2Rd/I_G], [-2Rd/I_G,
-    /// 2(1/m + d^2/I_G)]] (differential slip and lateral slip, coupled by the yaw). The
-    /// wheel's friction and the drive's damping b (N m s/rad) add b / I_m.
+    /// mass matrix seen at the contacts). C and K being multiples of one matrix, each
+    /// eigenvalue lambda of A is a mode mu^2 + c lambda mu + k lambda = 0: real roots,
+    /// the fastest (beta + sqrt(beta^2 - 4 omega^2)) / 2 with beta = c lambda,
+    /// omega^2 = k lambda, where RK4 holds to 2.785; complex ones, of modulus omega, where
+    /// it holds inside the half-disk of radius [`RK4_HALF_DISK_RADIUS`], so they count as
+    /// omega 2.785 / 2.6156. By the robot's left-right symmetry A splits into a common
+    /// mode, 2/m + r^2/I_m, and a 2 x 2 block [[2R^2/I_G + r^2/I_m, -2Rd/I_G],
+    /// [-2Rd/I_G, 2(1/m + d^2/I_G)]] (differential slip and lateral slip, coupled by the
+    /// yaw). The wheel's friction and the drive's damping b (N m s/rad) add b / I_m to
+    /// beta. A sliding contact's anchor relaxes at v_eps / L.
     pub fn stiffness(&self, wheel_damping: T) -> T {
         let p = &self.params;
         let (mu, h, c) = (p.friction_coefficient, p.com_height, p.caster_offset.abs());
         let two = T::lit(2.0);
-        let k = mu * self.max_wheel_load() / p.slip_speed * (T::one() + mu * h / (c - mu * h));
+        let load = mu * self.max_wheel_load() * (T::one() + mu * h / (c - mu * h));
+        let (damping, spring) = (load * self.inv_slip_speed, load * self.inv_stiction_length);
         let r2_over_i_m = self.r * self.r * self.inv_i_m;
         let common = two * self.inv_mass + r2_over_i_m;
         let a = two * self.big_r * self.big_r * self.inv_i_g + r2_over_i_m;
@@ -375,7 +506,17 @@ impl<T: Real> Slip<T> {
         let cc = two * (self.inv_mass + self.d * self.d * self.inv_i_g);
         let half_diff = (a - cc) / two;
         let lateral = (a + cc) / two + (half_diff * half_diff + b * b).sqrt();
-        k * common.max(lateral) + wheel_damping * self.inv_i_m
+        let mode = |lambda: T| {
+            let beta = damping * lambda + wheel_damping * self.inv_i_m;
+            let omega2 = spring * lambda;
+            let disc = beta * beta - T::lit(4.0) * omega2;
+            if disc >= T::zero() {
+                (beta + disc.sqrt()) / two
+            } else {
+                omega2.sqrt() * T::lit(RK4_REAL_STABILITY_LIMIT / RK4_HALF_DISK_RADIUS)
+            }
+        };
+        mode(common).max(mode(lateral)).max(p.slip_speed * self.inv_stiction_length)
     }
 
     /// The largest plant step (s) RK4 integrates stably: limit / stiffness.

@@ -218,27 +218,38 @@ impl Setup {
         if dt < max_dt {
             return Ok(());
         }
-        if let Traction::Slip(slip) = &self.traction {
-            // stiffness = k * lambda_A + b / I_m with k proportional to 1 / slip_speed
-            // (Slip::stiffness): the slip_speed that brings it to 90 % of the limit.
+        if let Traction::Slip(_) = &self.traction {
+            // The slip's stiffness (Slip::stiffness) falls as slip_speed (the contacts'
+            // damping) or stiction_length (their spring) grows, though not in proportion:
+            // the first value of either, raised by steps of 1 %, that brings it to 90 % of
+            // the limit at this dt, if one within a factor of 1000 does.
             let tp = &self.traction_params;
-            let b = plant.stiffness() - slip.stiffness(0.0);
-            let target = 0.9 * wmr_core::integrator::RK4_REAL_STABILITY_LIMIT / dt - b;
-            let advice = if target > 0.0 {
-                format!(
-                    "raise robot.slip_speed to {:.3e} m/s or more, or lower sim.dt below {max_dt:.3e} s",
-                    tp.slip_speed * slip.stiffness(0.0) / target
-                )
+            let fits = |candidate: TractionParams<f64>| {
+                candidate.validate(&self.robot, &self.world).is_ok_and(|t| {
+                    Plant::on(self.robot, self.drive, self.world, Pose2::default())
+                        .map(|p| dt * p.with_traction(t).stiffness())
+                        .is_ok_and(|x| x <= 0.9 * wmr_core::integrator::RK4_REAL_STABILITY_LIMIT)
+                })
+            };
+            let raised = |value: f64, with: &dyn Fn(f64) -> TractionParams<f64>| {
+                (1..=700).map(|k| value * 1.01f64.powi(k)).find(|&v| fits(with(v)))
+            };
+            let advice = if let Some(v) = raised(tp.slip_speed, &|v| TractionParams { slip_speed: v, ..*tp }) {
+                format!("raise robot.slip_speed to {v:.3e} m/s or more, or lower sim.dt below {max_dt:.3e} s")
+            } else if let Some(l) = raised(tp.stiction_length, &|l| TractionParams { stiction_length: l, ..*tp }) {
+                format!("raise robot.stiction_length to {l:.3e} m or more, or lower sim.dt below {max_dt:.3e} s")
             } else {
                 format!("lower sim.dt below {max_dt:.3e} s")
             };
             return Err(ScenarioError::new(
                 "robot.slip_speed",
                 format!(
-                    "with friction_coefficient = {}, slip_speed = {} m/s and sim.dt = {dt} s the slip is too stiff for \
-                     RK4 (dt * stiffness = {:.3} must be < 2.785, stiffness = {:.4e} 1/s): {advice}",
+                    "with friction_coefficient = {}, slip_speed = {} m/s, stiction_length = {} m and sim.dt = {dt} s \
+                     the slip is too stiff for RK4 (dt * stiffness = {:.3} must be < 2.785, stiffness = {:.4e} 1/s): \
+                     {advice}",
                     tp.friction_coefficient,
                     tp.slip_speed,
+                    tp.stiction_length,
                     dt * plant.stiffness(),
                     plant.stiffness()
                 ),

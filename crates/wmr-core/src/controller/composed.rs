@@ -122,6 +122,13 @@ impl<T: Lane, L: Law<T>> Controller<T, L> {
         ControlOutput { command: self.wheels.command(out.demand, m), errors: out.errors }
     }
 
+    /// The controller for a plant whose wheels slip (`on`) or roll: its wheel stage's
+    /// speed guard then acts on a wheel's own inertia ([`WheelStage::with_slipping_wheels`]).
+    pub fn with_slipping_wheels(mut self, on: bool) -> Self {
+        self.wheels = self.wheels.with_slipping_wheels(on);
+        self
+    }
+
     /// Clears every integrator and memory, as at t = 0.
     pub fn reset(&mut self) {
         self.reset_lanes(T::Mask::splat(true));

@@ -49,6 +49,15 @@
 //! of `wheel_speed_max` for every law (tested on every plant step), as long as the drive
 //! can hold the wheel (not on a slope steeper than its torque allows). With an infinite
 //! limit the guard is off and every command passes through bit for bit.
+//!
+//! A wheel that slips has let go of the robot: it answers a torque with its own inertia
+//! I_m (`wheel_inertia`, 0.002 kg m^2 on the paper's robot, against J_w = 0.033), and a
+//! gain sized for J_w, J_w / I_m = 16 times too strong, turns the clamp into an
+//! oscillation about the limit (w_(k+1) - w_max = (1 - K_g dt / I_m) (w_k - w_max) per
+//! tick, a factor of -7). On a plant whose wheels slip ([`WheelStage::with_slipping_wheels`],
+//! set by [`crate::ClosedLoop`]) the guard uses J = I_m: a slipping wheel reaches the
+//! limit in two periods as a rolling one does, and a gripping one, heavier, is brought
+//! there more slowly, from below.
 
 use super::law::WheelDemand;
 use super::saturation::{WheelRateLimiter, check_wheel_speed_max, limit_wheel_speeds_masked};
@@ -141,8 +150,11 @@ pub struct WheelStage<T: Lane> {
     last_refs: Wheels<T>,
     /// The drive, whose commands the speed guard bounds.
     drive: Drive<T::Scalar>,
-    /// K_g of the speed guard, N m s/rad (zero when the limit is off).
+    /// K_g of the speed guard, N m s/rad (zero when the limit is off): one of the two below.
     guard_gain: T::Scalar,
+    /// K_g for wheels that roll, J_w / (2 control_dt), and for wheels that slip,
+    /// I_m / (2 control_dt) (module docs), N m s/rad.
+    guard_gains: (T::Scalar, T::Scalar),
     /// Anti-windup of the servos' integrators (conditional integration, module docs).
     anti_windup: bool,
     /// Where the stage saturated at the last tick, per wheel (module docs).
@@ -175,15 +187,20 @@ impl<T: Lane> WheelStage<T> {
         let wheel_speed_max = check_wheel_speed_max(params.wheel_speed_max)?;
         let limit = drive.command_limit();
         let servo = WheelServo::for_lanes(params.servo(), limit)?;
-        let guard_gain = if Float::is_finite(wheel_speed_max) {
+        let guard_gains = if Float::is_finite(wheel_speed_max) {
             let (m11, m22) = model.validate()?.reduced_inertia();
             let r = model.wheel_radius;
             let big_r = model.half_track;
             let wheel_inertia = r * r / (Float::recip(m11) + big_r * big_r / m22);
-            wheel_inertia / (<T::Scalar as Real>::lit(2.0) * control_dt)
+            let two_dt = <T::Scalar as Real>::lit(2.0) * control_dt;
+            // A model without wheel inertia keeps the rolling gain when the wheels slip.
+            let own =
+                if model.wheel_inertia > <T::Scalar as Zero>::zero() { model.wheel_inertia } else { wheel_inertia };
+            (wheel_inertia / two_dt, own / two_dt)
         } else {
-            <T::Scalar as Zero>::zero()
+            (<T::Scalar as Zero>::zero(), <T::Scalar as Zero>::zero())
         };
+        let guard_gain = guard_gains.0;
         Ok(Self {
             right: servo,
             left: servo,
@@ -197,6 +214,7 @@ impl<T: Lane> WheelStage<T> {
             last_refs: Wheels::default(),
             drive: *drive,
             guard_gain,
+            guard_gains,
             anti_windup: true,
             saturated_right: T::Mask::splat(false),
             saturated_left: T::Mask::splat(false),
@@ -207,6 +225,15 @@ impl<T: Lane> WheelStage<T> {
     /// [`super::Controller::new`] sets it from the law, [`super::Law::anti_windup`]).
     pub fn with_anti_windup(mut self, on: bool) -> Self {
         self.anti_windup = on;
+        self
+    }
+
+    /// The stage for wheels that slip (`on`) or roll: the speed guard's gain K_g is then
+    /// I_m / (2 control_dt) with I_m the model's `wheel_inertia` (the inertia of a wheel
+    /// that has let go of the ground), or J_w / (2 control_dt) (module docs).
+    /// [`crate::ClosedLoop`] sets it from its plant's traction.
+    pub fn with_slipping_wheels(mut self, on: bool) -> Self {
+        self.guard_gain = if on { self.guard_gains.1 } else { self.guard_gains.0 };
         self
     }
 

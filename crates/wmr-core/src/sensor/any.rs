@@ -3,7 +3,7 @@
 use super::odometry::{OdometryParams, OdometrySensor, PoseSource};
 use super::{Measurement, PoseSensor, Sensor, SensorParams};
 use crate::error::{ParamError, check};
-use crate::math::Pose2;
+use crate::math::{Pose2, Wheels};
 use crate::state::State;
 use crate::{Real, RobotParams};
 
@@ -55,6 +55,20 @@ impl<T: Real> Sensor<T> for AnySensor<T> {
         match self {
             AnySensor::Absolute(s) => s.measure(t, state, robot),
             AnySensor::Odometry(s) => s.measure(t, state, robot),
+        }
+    }
+
+    #[inline]
+    fn measure_wheels(
+        &mut self,
+        t: T,
+        state: &State<T>,
+        wheel_speeds: Wheels<T>,
+        robot: &RobotParams<T>,
+    ) -> Measurement<T> {
+        match self {
+            AnySensor::Absolute(s) => s.measure_wheels(t, state, wheel_speeds, robot),
+            AnySensor::Odometry(s) => s.measure_wheels(t, state, wheel_speeds, robot),
         }
     }
 

@@ -33,15 +33,34 @@ pub struct Measurement<T> {
     pub pose: Pose2<T>,
     /// Wheel angles from the encoders, rad (zero at start).
     pub wheel_angles: Wheels<T>,
-    /// Wheel speeds, rad/s.
+    /// Wheel speeds, rad/s: each wheel's own rotation rate, as an encoder sees it (for
+    /// wheels that slip it differs from (v +- R omega) / r, the body's).
     pub wheel_speeds: Wheels<T>,
 }
 
 /// Turns the true state into what the controller sees.
 pub trait Sensor<T: Real> {
     /// The measurement handed to the controller at time `t` (s), given the plant's true
-    /// `state` and the true robot (for the wheel speeds).
+    /// `state` and the true robot, for wheels that roll: each wheel turns at
+    /// (v +- R omega) / r ([`State::wheel_speeds`]).
     fn measure(&mut self, t: T, state: &State<T>, robot: &RobotParams<T>) -> Measurement<T>;
+
+    /// [`Sensor::measure`] of a plant whose wheels turn at `wheel_speeds` (rad/s, each
+    /// wheel's own rotation rate, [`crate::Plant::wheel_speeds`]): what the closed loop
+    /// calls. Wheels that slip turn at their own speed, not at the body's
+    /// (v +- R omega) / r, and an encoder measures the wheel (issue 38). The sensors of
+    /// this crate measure `wheel_speeds`; a sensor that does not override this method
+    /// measures as [`Sensor::measure`] does, the body's speeds.
+    fn measure_wheels(
+        &mut self,
+        t: T,
+        state: &State<T>,
+        wheel_speeds: Wheels<T>,
+        robot: &RobotParams<T>,
+    ) -> Measurement<T> {
+        let _ = wheel_speeds;
+        self.measure(t, state, robot)
+    }
 
     /// Forgets any memory (buffers, filters), as at t = 0.
     fn reset(&mut self) {}
@@ -67,11 +86,17 @@ pub struct PerfectSensor;
 impl<T: Real> Sensor<T> for PerfectSensor {
     #[inline(always)]
     fn measure(&mut self, t: T, state: &State<T>, robot: &RobotParams<T>) -> Measurement<T> {
-        Measurement {
-            t,
-            pose: state.pose(),
-            wheel_angles: state.wheel_angles(),
-            wheel_speeds: state.wheel_speeds(robot),
-        }
+        self.measure_wheels(t, state, state.wheel_speeds(robot), robot)
+    }
+
+    #[inline(always)]
+    fn measure_wheels(
+        &mut self,
+        t: T,
+        state: &State<T>,
+        wheel_speeds: Wheels<T>,
+        _: &RobotParams<T>,
+    ) -> Measurement<T> {
+        Measurement { t, pose: state.pose(), wheel_angles: state.wheel_angles(), wheel_speeds }
     }
 }

@@ -25,7 +25,7 @@ use super::dead_reckoning::DeadReckoning;
 use super::ekf::{Mat3, PoseEkf, diag};
 use super::{Measurement, PoseSensor, Sensor, SensorParams};
 use crate::error::{ParamError, check};
-use crate::math::Pose2;
+use crate::math::{Pose2, Wheels};
 use crate::state::State;
 use crate::{Real, RobotParams};
 
@@ -177,7 +177,17 @@ impl<T: Real, const N: usize> OdometrySensor<T, N> {
 
 impl<T: Real, const N: usize> Sensor<T> for OdometrySensor<T, N> {
     fn measure(&mut self, t: T, state: &State<T>, robot: &RobotParams<T>) -> Measurement<T> {
-        let (wheel_angles, wheel_speeds, fix) = self.inner.encoders_and_fix(state, robot, self.fixes);
+        self.measure_wheels(t, state, state.wheel_speeds(robot), robot)
+    }
+
+    fn measure_wheels(
+        &mut self,
+        t: T,
+        state: &State<T>,
+        wheel_speeds: Wheels<T>,
+        _: &RobotParams<T>,
+    ) -> Measurement<T> {
+        let (wheel_angles, wheel_speeds, fix) = self.inner.encoders_and_fix(state, wheel_speeds, self.fixes);
         let track = match &mut self.track {
             None => {
                 let floor = T::lit(FIX_SIGMA_FLOOR);

@@ -248,7 +248,7 @@ impl<T: Real, const N: usize> PoseSensor<T, N> {
     pub(crate) fn encoders_and_fix(
         &mut self,
         state: &State<T>,
-        robot: &RobotParams<T>,
+        wheel_speeds: Wheels<T>,
         fixes: bool,
     ) -> (Wheels<T>, Wheels<T>, Option<Fix<T>>) {
         let fix = if fixes {
@@ -257,15 +257,16 @@ impl<T: Real, const N: usize> PoseSensor<T, N> {
         } else {
             None
         };
-        let (angles, speeds) = self.encoders(state, robot);
+        let (angles, speeds) = self.encoders(state, wheel_speeds);
         self.tick += 1;
         (angles, speeds, fix)
     }
 
-    /// Encoder angles (rad) and speeds (rad/s) at this tick.
-    fn encoders(&mut self, state: &State<T>, robot: &RobotParams<T>) -> (Wheels<T>, Wheels<T>) {
+    /// Encoder angles (rad) and speeds (rad/s) at this tick, of wheels turning at
+    /// `wheel_speeds` (rad/s, each wheel's own).
+    fn encoders(&mut self, state: &State<T>, wheel_speeds: Wheels<T>) -> (Wheels<T>, Wheels<T>) {
         if self.params.encoder_counts == 0 {
-            return (state.wheel_angles(), state.wheel_speeds(robot));
+            return (state.wheel_angles(), wheel_speeds);
         }
         let q = self.quantum;
         let angles = state.wheel_angles().map(|phi| (phi / q).round() * q);
@@ -298,11 +299,22 @@ fn ticks_in<T: Real>(field: &'static str, period: f64, dt: f64) -> Result<u64, P
 impl<T: Real, const N: usize> Sensor<T> for PoseSensor<T, N> {
     #[inline]
     fn measure(&mut self, t: T, state: &State<T>, robot: &RobotParams<T>) -> Measurement<T> {
+        self.measure_wheels(t, state, state.wheel_speeds(robot), robot)
+    }
+
+    #[inline]
+    fn measure_wheels(
+        &mut self,
+        t: T,
+        state: &State<T>,
+        wheel_speeds: Wheels<T>,
+        robot: &RobotParams<T>,
+    ) -> Measurement<T> {
         if self.perfect {
-            return super::PerfectSensor.measure(t, state, robot);
+            return super::PerfectSensor.measure_wheels(t, state, wheel_speeds, robot);
         }
         let (pose, taken, _) = self.pose_at_tick(state.pose());
-        let (wheel_angles, wheel_speeds) = self.encoders(state, robot);
+        let (wheel_angles, wheel_speeds) = self.encoders(state, wheel_speeds);
         self.tick += 1;
         Measurement { t: taken, pose, wheel_angles, wheel_speeds }
     }
