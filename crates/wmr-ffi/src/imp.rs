@@ -269,10 +269,12 @@ pub enum AnySensor<T> {
 }
 
 impl<T: Real> AnySensor<T> {
-    fn measure(&mut self, t: T, state: &State<T>, robot: &RobotParams<T>) -> Measurement<T> {
+    /// The measurement of the plant's state with its wheels' own speeds (under slip they
+    /// differ from the body's).
+    fn measure(&mut self, t: T, state: &State<T>, wheel_speeds: Wheels<T>, robot: &RobotParams<T>) -> Measurement<T> {
         match self {
-            AnySensor::Perfect(s, _) => s.measure(t, state, robot),
-            AnySensor::Pose(s) => s.measure(t, state, robot),
+            AnySensor::Perfect(s, _) => s.measure_wheels(t, state, wheel_speeds, robot),
+            AnySensor::Pose(s) => s.measure_wheels(t, state, wheel_speeds, robot),
         }
     }
 
@@ -799,7 +801,7 @@ pub fn sensor_measure<T: Prec>(
         }
         // Refused outputs leave the sensor as it was (its ring, noise stream and tick).
         let before = *sensor;
-        let m = sensor.measure(t, plant.state(), plant.robot().params());
+        let m = sensor.measure(t, plant.state(), plant.wheel_speeds(), plant.robot().params());
         let m = wmr_measurement {
             t: m.t,
             pose: c_pose(m.pose),
