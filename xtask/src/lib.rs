@@ -6,6 +6,7 @@
 
 pub mod ffi_laws;
 pub mod firmware_costs;
+pub mod python_laws;
 pub mod registry;
 
 use std::path::{Path, PathBuf};
@@ -26,7 +27,7 @@ pub fn repo_root() -> PathBuf {
 
 /// Every generated file, in a fixed order.
 pub fn generated() -> Vec<Generated> {
-    let mut out = vec![ffi_laws::generate()];
+    let mut out = vec![ffi_laws::generate(), python_laws::generate()];
     out.extend(firmware_costs::generate());
     out
 }

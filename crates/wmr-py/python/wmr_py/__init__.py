@@ -12,10 +12,11 @@ SI units and radians everywhere; keys ending in ``_deg`` take degrees.
 - ``run_batch(starts, goal, ...)``: many starts in parallel, the GIL released (also
   with ``reference=``).
 - ``sweep(scenario)``: every law from every start of a ``[sweep]``.
-- ``Robot``, ``PaperController``, ``PaperBidirectionalController``, ``PolarController``,
-  ``LyapunovController`` (towards a goal), ``KanayamaController``,
-  ``BacksteppingController``, ``PurePursuitController`` (along a ``Reference``):
-  building blocks for loops closed in Python, one robot or a batch of N as (N, k) arrays.
+- ``Robot`` and one controller class per law (``LAW_CLASSES``: ``PaperController``,
+  ``PaperBidirectionalController``, ``PolarController``, ``LyapunovController`` towards a
+  goal; ``KanayamaController``, ``BacksteppingController``, ``PurePursuitController``
+  along a ``Reference``): building blocks for loops closed in Python, one robot or a
+  batch of N as (N, k) arrays.
 - ``ParameterError`` / ``ScenarioError`` (both ``ValueError``): bad input, ``err.key`` names it.
 
 Results pickle (processes, joblib, Dask, caches) and become data: ``RunResult.to_pandas()``,
@@ -40,20 +41,14 @@ from typing import Any, Optional, Sequence, Union
 import numpy as np
 
 from ._native import (
-    BacksteppingController,
-    KanayamaController,
-    LyapunovController,
-    PaperBidirectionalController,
-    PaperController,
     ParameterError,
-    PolarController,
-    PurePursuitController,
     Reference,
     Robot,
     RunResult,
     ScenarioError,
 )
-from . import _native, _results
+from ._laws import *  # noqa: F401,F403 (one class per law of the registry: LAW_CLASSES)
+from . import _laws, _native, _results
 from ._results import BatchResult, SweepResult
 
 __version__: str = _native.__version__
@@ -91,24 +86,17 @@ TRACKING_FIELDS: tuple = _native.TRACKING_FIELDS
 
 __all__ = [
     "ARRIVAL_RADIUS_M",
-    "BacksteppingController",
     "BatchResult",
     "COLUMNS",
     "COLUMN_UNITS",
     "CONTACT_COLUMNS",
     "CONTACT_UNITS",
     "CSV_COLUMNS",
-    "KanayamaController",
-    "LyapunovController",
     "MEASURED_COLUMNS",
     "ODOMETRY_COLUMNS",
     "ODOMETRY_UNITS",
     "OUTCOME_FIELDS",
-    "PaperBidirectionalController",
-    "PaperController",
     "ParameterError",
-    "PolarController",
-    "PurePursuitController",
     "REFERENCE_COLUMNS",
     "REFERENCE_UNITS",
     "Reference",
@@ -121,6 +109,7 @@ __all__ = [
     "run_scenario",
     "simulate",
     "sweep",
+    *_laws.__all__,
 ]
 
 
