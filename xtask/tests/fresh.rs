@@ -15,7 +15,7 @@ fn storage_words_hold_every_law() {
         for (i, bytes) in law.slot_bytes.into_iter().enumerate() {
             let words = xtask::ffi_laws::storage_words(bytes);
             assert!(
-                words * 8 >= bytes && words % 8 == 0,
+                words * 8 >= bytes && words.is_multiple_of(8),
                 "{} precision {i}: {words} words for {bytes} bytes",
                 law.kind
             );
