@@ -258,7 +258,7 @@ typedef struct {
   float wheel_speed_max;
 } wmr_wheel_stage_params_f32;
 
-// The paper's law (`[controller] kind = "paper"`): PI loops on (e_s, e_theta) towards a moving false target.
+// The paper's law: two PI loops on a moving false target feeding the wheel angle servos (`[controller] kind = "paper"`).
 typedef struct {
   // Pose mode (reach x, y, theta: theta_R = 2 alpha - theta_d) or position mode (heading free: theta_R = alpha) (`WMR_PAPER_MODE_POSE` or `WMR_PAPER_MODE_POSITION`).
   uint32_t mode;
@@ -280,7 +280,7 @@ typedef struct {
   uint32_t anti_windup;
 } wmr_paper_params_f32;
 
-// The paper's law repaired (`[controller] kind = "paper_bidirectional"`).
+// The paper's law repaired: a position error that never feeds back positively, the heading settling first (`[controller] kind = "paper_bidirectional"`).
 typedef struct {
   // Kp_theta, rad of heading command per rad of error (0: no step when e_theta jumps), rad/rad (>= 0).
   float kp_theta;
@@ -332,7 +332,7 @@ typedef struct {
   float goal_radius;
 } wmr_lyapunov_params_f32;
 
-// Kanayama et al.'s tracking law (`[controller] kind = "kanayama"`).
+// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)) (`[controller] kind = "kanayama"`).
 typedef struct {
   // kx: forward speed per metre of along-track error, 1/s (> 0).
   float kx;
@@ -342,7 +342,7 @@ typedef struct {
   float ktheta;
 } wmr_kanayama_params_f32;
 
-// Kanayama back-stepped into the dynamics (`[controller] kind = "backstepping"`).
+// Kanayama's twist back-stepped into the dynamics: wheel torques from the controller's model (`[controller] kind = "backstepping"`).
 typedef struct {
   // kx: Kanayama's forward speed per metre of along-track error, 1/s (> 0).
   float kx;
@@ -354,7 +354,7 @@ typedef struct {
   float k4;
 } wmr_backstepping_params_f32;
 
-// Regulated pure pursuit (`[controller] kind = "pure_pursuit"`), nav2's names.
+// Regulated pure pursuit (nav2's names): path following on the reference's path, its timing ignored (`[controller] kind = "pure_pursuit"`).
 typedef struct {
   // speed: the forward speed on a straight path (nav2's desired_linear_vel), m/s (> 0).
   float speed;
@@ -622,7 +622,7 @@ typedef struct {
   double wheel_speed_max;
 } wmr_wheel_stage_params_f64;
 
-// The paper's law (`[controller] kind = "paper"`): PI loops on (e_s, e_theta) towards a moving false target.
+// The paper's law: two PI loops on a moving false target feeding the wheel angle servos (`[controller] kind = "paper"`).
 typedef struct {
   // Pose mode (reach x, y, theta: theta_R = 2 alpha - theta_d) or position mode (heading free: theta_R = alpha) (`WMR_PAPER_MODE_POSE` or `WMR_PAPER_MODE_POSITION`).
   uint32_t mode;
@@ -644,7 +644,7 @@ typedef struct {
   uint32_t anti_windup;
 } wmr_paper_params_f64;
 
-// The paper's law repaired (`[controller] kind = "paper_bidirectional"`).
+// The paper's law repaired: a position error that never feeds back positively, the heading settling first (`[controller] kind = "paper_bidirectional"`).
 typedef struct {
   // Kp_theta, rad of heading command per rad of error (0: no step when e_theta jumps), rad/rad (>= 0).
   double kp_theta;
@@ -696,7 +696,7 @@ typedef struct {
   double goal_radius;
 } wmr_lyapunov_params_f64;
 
-// Kanayama et al.'s tracking law (`[controller] kind = "kanayama"`).
+// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)) (`[controller] kind = "kanayama"`).
 typedef struct {
   // kx: forward speed per metre of along-track error, 1/s (> 0).
   double kx;
@@ -706,7 +706,7 @@ typedef struct {
   double ktheta;
 } wmr_kanayama_params_f64;
 
-// Kanayama back-stepped into the dynamics (`[controller] kind = "backstepping"`).
+// Kanayama's twist back-stepped into the dynamics: wheel torques from the controller's model (`[controller] kind = "backstepping"`).
 typedef struct {
   // kx: Kanayama's forward speed per metre of along-track error, 1/s (> 0).
   double kx;
@@ -718,7 +718,7 @@ typedef struct {
   double k4;
 } wmr_backstepping_params_f64;
 
-// Regulated pure pursuit (`[controller] kind = "pure_pursuit"`), nav2's names.
+// Regulated pure pursuit (nav2's names): path following on the reference's path, its timing ignored (`[controller] kind = "pure_pursuit"`).
 typedef struct {
   // speed: the forward speed on a straight path (nav2's desired_linear_vel), m/s (> 0).
   double speed;

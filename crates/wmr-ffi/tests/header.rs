@@ -418,54 +418,42 @@ fn api_files_are_generated_from_the_law_list() {
 
 /// The core parameter structs the C API takes as they are (`pub type` aliases in
 /// `src/lib.rs`): C name, doc, fields.
-fn shared_structs() -> [(&'static str, &'static str, &'static [ParamField]); 9] {
-    [
+/// The C structs that are the core's `#[repr(C)]` parameter structs: the robot, world,
+/// sensor and wheel stage, and each law's keys (from the registry) unless a flag makes
+/// them a mirror struct (`laws.rs`, `cargo xtask gen`).
+fn shared_structs() -> Vec<(String, String, &'static [ParamField])> {
+    let mut out = vec![
         (
-            "wmr_robot_params",
-            "Physical robot parameters, SI units (the `[robot]` keys of a scenario).",
+            "wmr_robot_params".to_owned(),
+            "Physical robot parameters, SI units (the `[robot]` keys of a scenario).".to_owned(),
             RobotParams::<f64>::FIELDS,
         ),
         (
-            "wmr_world_params",
-            "The ground (the `[world]` keys): a plane tilted by `slope_deg`, descending towards `slope_direction_deg`.",
+            "wmr_world_params".to_owned(),
+            "The ground (the `[world]` keys): a plane tilted by `slope_deg`, descending towards `slope_direction_deg`.".to_owned(),
             WorldParams::<f64>::FIELDS,
         ),
         (
-            "wmr_sensor_params",
-            "The pose sensor (the `[sensor]` keys); every default: the perfect sensor, bit for bit. Here latency * rate_hz must be below `WMR_SENSOR_SAMPLES_IN_FLIGHT` - 1.",
+            "wmr_sensor_params".to_owned(),
+            "The pose sensor (the `[sensor]` keys); every default: the perfect sensor, bit for bit. Here latency * rate_hz must be below `WMR_SENSOR_SAMPLES_IN_FLIGHT` - 1.".to_owned(),
             SensorParams::<f64>::FIELDS,
         ),
         (
-            "wmr_wheel_stage_params",
-            "The wheel stage: two wheel position servos and the curvature-keeping speed limit.",
+            "wmr_wheel_stage_params".to_owned(),
+            "The wheel stage: two wheel position servos and the curvature-keeping speed limit.".to_owned(),
             WheelStageParams::<f64>::FIELDS,
         ),
-        (
-            "wmr_paper_params",
-            "The paper's law (`[controller] kind = \"paper\"`): PI loops on (e_s, e_theta) towards a moving false target.",
-            PaperParams::<f64>::FIELDS,
-        ),
-        (
-            "wmr_paper_bidirectional_params",
-            "The paper's law repaired (`[controller] kind = \"paper_bidirectional\"`).",
-            PaperBidirectionalParams::<f64>::FIELDS,
-        ),
-        (
-            "wmr_kanayama_params",
-            "Kanayama et al.'s tracking law (`[controller] kind = \"kanayama\"`).",
-            KanayamaParams::<f64>::FIELDS,
-        ),
-        (
-            "wmr_backstepping_params",
-            "Kanayama back-stepped into the dynamics (`[controller] kind = \"backstepping\"`).",
-            BacksteppingParams::<f64>::FIELDS,
-        ),
-        (
-            "wmr_pure_pursuit_params",
-            "Regulated pure pursuit (`[controller] kind = \"pure_pursuit\"`), nav2's names.",
-            PurePursuitParams::<f64>::FIELDS,
-        ),
-    ]
+    ];
+    for law in wmr_core::LawParams::<f64>::defaults() {
+        if law.fields().iter().all(|f| f.ty != "bool") {
+            out.push((
+                format!("wmr_{}_params", law.kind()),
+                format!("{} (`[controller] kind = \"{}\"`).", law.about().trim_end_matches('.'), law.kind()),
+                law.fields(),
+            ));
+        }
+    }
+    out
 }
 
 /// The C type and the C constants of a core field type that is not `T`: the core's
