@@ -27,7 +27,7 @@ pub fn repo_root() -> PathBuf {
 
 /// Every generated file, in a fixed order.
 pub fn generated() -> Vec<Generated> {
-    let mut out = vec![ffi_laws::generate(), python_laws::generate()];
+    let mut out = vec![ffi_laws::generate(), python_laws::laws_module(), python_laws::init_module()];
     out.extend(firmware_costs::generate());
     out
 }
