@@ -1,6 +1,6 @@
 //! CONTRIBUTING.md, performed: in a scratch copy of the repository, a law is added
 //! exactly as it says (a copy of Kanayama's law under a new name: its file, the `mod`
-//! line, the registry line and the stub class), `cargo xtask gen` is run, and the CLI
+//! line, the registry line, the stub class and its docs section), `cargo xtask gen` is run, and the CLI
 //! (`check`, `run`, `trace`, `--help`), the C header, the Python classes and the
 //! firmware's law programs must all know it. A long check (a build of the workspace in
 //! the copy): `WMR_LONG_TESTS=1` runs it.
@@ -91,6 +91,22 @@ fn a_law_added_as_contributing_says_is_known_everywhere() {
     let mut stub = stub;
     stub.insert_str(b, &class);
     write(&stub_path, &stub);
+
+    // 5. The docs text the tests ask for: the law's section of docs/scenario.md (its keys
+    // table between markers, filled by `cargo xtask gen`).
+    let docs_path = scratch.join("docs/scenario.md");
+    let docs = read(&docs_path);
+    let a = docs.find("### `kind = \"kanayama\"`").expect("Kanayama's section");
+    let b = a + 1 + docs[a + 1..].find("\n### ").expect("the next section") + 1;
+    let section = docs[a..b]
+        .replace(
+            "### `kind = \"kanayama\"`: Kanayama et al.'s",
+            "### `kind = \"kanayama_copy\"`: a copy of Kanayama et al.'s",
+        )
+        .replace("keys:controller.kanayama ", "keys:controller.kanayama_copy ");
+    let mut docs = docs;
+    docs.insert_str(b, &section);
+    write(&docs_path, &docs);
 
     // Then `cargo xtask gen`, in a target folder kept between runs (a warm cache).
     let target = root().join("target/contributing-scratch");
