@@ -238,3 +238,16 @@ def test_settled_sweep_parts_are_the_local_sweep() -> None:
     assert np.min(local["t_final"]) < 30.0
     parted = wmr_py.sweep(text, executor=ReverseExecutor(), chunk_size=3)
     assert all(same(parted[k], local[k]) for k in local)
+
+
+def test_regression_39_11_a_foreign_row_names_its_run() -> None:
+    """A part whose rows are not the runs asked for is refused naming the row and the run
+    (the message printed a literal ``{k}``)."""
+    text, n = wmr_py._native._sweep_plan(VARY_SWEEP)
+    rows = wmr_py._results.sweep_task(text, 0, n)
+    rows[2] = rows[3]  # row 2 now holds run 3's outcome
+    with pytest.raises(wmr_py.ParameterError) as e:
+        wmr_py._native._sweep_gather(text, rows)
+    assert e.value.key == "rows[2]"
+    assert "is not the outcome of run 2" in str(e.value), str(e.value)
+    assert "{k}" not in str(e.value)

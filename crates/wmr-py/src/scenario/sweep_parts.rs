@@ -191,7 +191,9 @@ pub fn sweep_gather<'py>(py: Python<'py>, text: &str, rows: &Bound<'py, PyAny>) 
                 && o.reference < spec.n_references()
                 && o.tracking.is_some() == spec.tracking.is_some()
         });
-        outcomes.push(o.ok_or_else(|| parameter_error(&format!("rows[{k}]"), "is not the outcome of run {k}"))?);
+        outcomes.push(
+            o.ok_or_else(|| parameter_error(&format!("rows[{k}]"), format_args!("is not the outcome of run {k}")))?,
+        );
     }
     sweep_dict(py, &sc, spec, &outcomes)
 }
