@@ -24,8 +24,17 @@ const TABLES: [(&str, &str); 6] = [
     ),
     ("sensor", "what the controller sees; no table = perfect and instant"),
     ("world", "x and y lie in the ground plane"),
-    ("reference", "a moving reference for kanayama, backstepping, pure_pursuit; no table = each run's goal, at rest"),
+    // The note names the laws that need a reference, from the registry: `reference_note`.
+    ("reference", ""),
 ];
+
+/// The `[reference]` table's note: the laws that follow one, from the registry.
+fn reference_note() -> String {
+    format!(
+        "a moving reference for {}; no table = each run's goal, at rest",
+        wmr_scenario::tracking_law_kinds().join(", ")
+    )
+}
 
 const HEAD: &str = r#"SCENARIO FILE (TOML; every key optional except [[run]]; unknown keys are errors)
 
@@ -158,7 +167,8 @@ fn push_key(out: &mut String, indent: &str, k: &SchemaKey) {
 fn push_tables(out: &mut String, keys: &[SchemaKey]) {
     for (table, note) in TABLES {
         out.push('\n');
-        push_line(out, &format!("[{table}]"), note);
+        let note = if table == "reference" { reference_note() } else { note.to_owned() };
+        push_line(out, &format!("[{table}]"), &note);
         let mut kind = None;
         let mut every_kind = false;
         for k in keys.iter().filter(|k| k.table == table) {

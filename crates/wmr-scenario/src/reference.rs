@@ -296,6 +296,15 @@ fn read_points_file(table: &Table, dir: Option<&Path>) -> Result<Vec<[f64; 2]>, 
     Ok(points)
 }
 
+/// `a, b or c`.
+fn one_of(names: &[&str]) -> String {
+    match names {
+        [] => String::new(),
+        [one] => (*one).to_owned(),
+        [init @ .., last] => format!("{} or {last}", init.join(", ")),
+    }
+}
+
 /// Refuses a stabilization law with a moving reference and a tracking law without one;
 /// the error names `<controller>.kind`.
 pub fn check_law(
@@ -315,9 +324,10 @@ pub fn check_law(
         (false, Some(r)) => Err(ScenarioError::new(
             k,
             format!(
-                "{:?} is a point-stabilization law and the [reference] ({}) moves: use kanayama, backstepping or pure_pursuit",
+                "{:?} is a point-stabilization law and the [reference] ({}) moves: use {}",
                 law.kind(),
-                r.built.kind()
+                r.built.kind(),
+                one_of(&crate::controller::tracking_law_kinds())
             ),
         )),
         _ => Ok(()),
