@@ -63,13 +63,15 @@ use crate::{Real, Robot};
 /// Which traction model the plant uses (`[robot] traction`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize), serde(rename_all = "snake_case"))]
+// repr(u32): the C API holds it as a `uint32_t` code (wmr-ffi, `WMR_TRACTION_*`).
+#[repr(u32)]
 #[non_exhaustive]
 pub enum TractionKind {
     /// The paper's pure rolling: no slip, any torque becomes acceleration (the default).
     #[default]
-    Rolling,
+    Rolling = 0,
     /// Wheels that slip: forces limited by mu times the normal loads ([`crate::traction`]).
-    Slip,
+    Slip = 1,
 }
 
 crate::params! {
@@ -78,6 +80,8 @@ crate::params! {
     /// Only `traction = "slip"` reads the others; with `"rolling"` they are ignored.
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    // repr(C): the C API hands this very struct across (wmr-ffi, include/wmr.h).
+    #[repr(C)]
     pub struct TractionParams<T> {
         /// Traction model: "rolling" (the paper's, no slip) or "slip" (forces within mu N).
         pub traction: TractionKind [unit = "", rule = "\"rolling\" or \"slip\""],

@@ -11,7 +11,7 @@
 #include <stddef.h>
 
 // Version of this C API: changes whenever a struct, a storage size or a signature does.
-#define WMR_ABI_VERSION 4
+#define WMR_ABI_VERSION 5
 
 // Alignment, bytes, of every storage struct (they are arrays of `uint64_t`).
 #define WMR_STORAGE_ALIGN 8
@@ -28,8 +28,22 @@
 // `wmr_drive_params_*.kind`: voltage-driven permanent-magnet DC motor.
 #define WMR_DRIVE_DC_MOTOR 1
 
-// Pose samples the C API's sensor holds in flight (the core's ring buffer length).
+// Pose samples the C API's sensor holds in flight (the core's ring buffer length); the
+// odometry sensor holds as many absolute fixes.
 #define WMR_SENSOR_SAMPLES_IN_FLIGHT 16
+
+// `wmr_odometry_params_*.pose`: the pose comes from the absolute pose sensor.
+#define WMR_POSE_ABSOLUTE 0
+
+// `wmr_odometry_params_*.pose`: the pose is dead-reckoned from the encoders, fused by
+// the EKF with absolute fixes at `fix_rate_hz` (if > 0).
+#define WMR_POSE_ODOMETRY 1
+
+// `wmr_traction_params_*.traction`: the paper's rolling wheels (no slip).
+#define WMR_TRACTION_ROLLING 0
+
+// `wmr_traction_params_*.traction`: wheels that slip, forces within mu times the loads.
+#define WMR_TRACTION_SLIP 1
 
 // `wmr_paper_params_*.mode`: reach (x, y, theta) (the paper's orientating control).
 #define WMR_PAPER_MODE_POSE 0
@@ -72,11 +86,11 @@
 // Words of a plant, `wmr_plant_f64`.
 #define WMR_PLANT_F64_WORDS 96
 
-// Words of a sensor, `wmr_sensor_f32` (perfect or pose sensor).
-#define WMR_SENSOR_F32_WORDS 96
+// Words of a sensor, `wmr_sensor_f32` (perfect, pose or odometry sensor).
+#define WMR_SENSOR_F32_WORDS 144
 
-// Words of a sensor, `wmr_sensor_f64` (perfect or pose sensor).
-#define WMR_SENSOR_F64_WORDS 112
+// Words of a sensor, `wmr_sensor_f64` (perfect, pose or odometry sensor).
+#define WMR_SENSOR_F64_WORDS 208
 
 // Points a `wmr_reference_*` of waypoints holds at most (the core's `MAX_POINTS`).
 #define WMR_REFERENCE_MAX_POINTS 64
@@ -400,6 +414,22 @@ typedef struct {
   float theta;
 } wmr_pose_f32;
 
+// The traction model (the `[robot]` keys `traction` to `stiction_length`): rolling or slip.
+typedef struct {
+  // Traction model: "rolling" (the paper's, no slip) or "slip" (forces within mu N) (`WMR_TRACTION_ROLLING` or `WMR_TRACTION_SLIP`).
+  uint32_t traction;
+  // mu, friction coefficient between tyre and ground (0.8 asphalt, 0.3 wet tiles, 0.1 ice) (> 0, and friction_coefficient * com_height <= abs(com_offset)).
+  float friction_coefficient;
+  // c, distance from C forward to the caster's contact (negative: caster behind C), m (finite, 0 <= com_offset / caster_offset < 1).
+  float caster_offset;
+  // h, height of the centre of mass G above the ground, m (>= 0).
+  float com_height;
+  // v_eps, the contact's damping: below mu N, F = mu N (deflection / stiction_length + slip / v_eps), m/s (> 0, and dt * stiffness < 2.785).
+  float slip_speed;
+  // L, the contact's deflection at which the tyre holds mu N without slipping (its stiffness is mu N / L), m (> 0, finite, and dt * stiffness < 2.785).
+  float stiction_length;
+} wmr_traction_params_f32;
+
 // One value per driven wheel (angles, speeds, torques, commands).
 typedef struct {
   // Right wheel.
@@ -451,6 +481,24 @@ typedef struct {
   // Seed of the noise: the noise of a run is a function of (seed, run index) (whole number).
   uint64_t seed;
 } wmr_sensor_params_f32;
+
+// The odometry sensor's pose source (the `[sensor]` keys `pose`, `fix_rate_hz`, `odometry_noise`).
+typedef struct {
+  // Where the controller's pose comes from: the pose sensor, or the encoders' odometry (`WMR_POSE_ABSOLUTE` or `WMR_POSE_ODOMETRY`).
+  uint32_t pose;
+  // Absolute fixes per second fused with the odometry (0, the default: none), Hz (>= 0; 1 / fix_rate_hz a whole multiple of control_dt; > 0 only with pose = "odometry").
+  float fix_rate_hz;
+  // The EKF's slip and radius term: a wheel's travel error grows as this times sqrt(distance), m^(1/2) (>= 0, at most 1).
+  float odometry_noise;
+} wmr_odometry_params_f32;
+
+// What the odometry sensor knows beyond its measurement (whose pose is the EKF's mean).
+typedef struct {
+  // The pose dead-reckoned from the encoders alone (world frame; m, m, rad).
+  wmr_pose_f32 dead_reckoning;
+  // The EKF's covariance of (x, y, theta), row-major: m^2, m rad, rad^2.
+  float covariance[9];
+} wmr_odometry_estimate_f32;
 
 // What a controller sees at one control tick.
 typedef struct {
@@ -764,6 +812,22 @@ typedef struct {
   double theta;
 } wmr_pose_f64;
 
+// The traction model (the `[robot]` keys `traction` to `stiction_length`): rolling or slip.
+typedef struct {
+  // Traction model: "rolling" (the paper's, no slip) or "slip" (forces within mu N) (`WMR_TRACTION_ROLLING` or `WMR_TRACTION_SLIP`).
+  uint32_t traction;
+  // mu, friction coefficient between tyre and ground (0.8 asphalt, 0.3 wet tiles, 0.1 ice) (> 0, and friction_coefficient * com_height <= abs(com_offset)).
+  double friction_coefficient;
+  // c, distance from C forward to the caster's contact (negative: caster behind C), m (finite, 0 <= com_offset / caster_offset < 1).
+  double caster_offset;
+  // h, height of the centre of mass G above the ground, m (>= 0).
+  double com_height;
+  // v_eps, the contact's damping: below mu N, F = mu N (deflection / stiction_length + slip / v_eps), m/s (> 0, and dt * stiffness < 2.785).
+  double slip_speed;
+  // L, the contact's deflection at which the tyre holds mu N without slipping (its stiffness is mu N / L), m (> 0, finite, and dt * stiffness < 2.785).
+  double stiction_length;
+} wmr_traction_params_f64;
+
 // One value per driven wheel (angles, speeds, torques, commands).
 typedef struct {
   // Right wheel.
@@ -815,6 +879,24 @@ typedef struct {
   // Seed of the noise: the noise of a run is a function of (seed, run index) (whole number).
   uint64_t seed;
 } wmr_sensor_params_f64;
+
+// The odometry sensor's pose source (the `[sensor]` keys `pose`, `fix_rate_hz`, `odometry_noise`).
+typedef struct {
+  // Where the controller's pose comes from: the pose sensor, or the encoders' odometry (`WMR_POSE_ABSOLUTE` or `WMR_POSE_ODOMETRY`).
+  uint32_t pose;
+  // Absolute fixes per second fused with the odometry (0, the default: none), Hz (>= 0; 1 / fix_rate_hz a whole multiple of control_dt; > 0 only with pose = "odometry").
+  double fix_rate_hz;
+  // The EKF's slip and radius term: a wheel's travel error grows as this times sqrt(distance), m^(1/2) (>= 0, at most 1).
+  double odometry_noise;
+} wmr_odometry_params_f64;
+
+// What the odometry sensor knows beyond its measurement (whose pose is the EKF's mean).
+typedef struct {
+  // The pose dead-reckoned from the encoders alone (world frame; m, m, rad).
+  wmr_pose_f64 dead_reckoning;
+  // The EKF's covariance of (x, y, theta), row-major: m^2, m rad, rad^2.
+  double covariance[9];
+} wmr_odometry_estimate_f64;
 
 // What a controller sees at one control tick.
 typedef struct {
@@ -992,6 +1074,23 @@ wmr_status wmr_plant_f32_init(wmr_plant_f32 *out,
                               wmr_pose_f32 start,
                               wmr_error *err);
 
+// Fills `out` with the slip plant's defaults with `traction = WMR_TRACTION_SLIP` (mu =
+// 0.8, caster 0.35 m ahead of C, G 0.1 m high, slip_speed 0.2 m/s, stiction_length
+// 1 mm).
+wmr_status wmr_traction_params_f32_default(wmr_traction_params_f32 *out);
+
+// As `wmr_plant_f32_init`, with the traction model `traction` (NULL or
+// `WMR_TRACTION_ROLLING`: the paper's rolling wheels; `WMR_TRACTION_SLIP`: wheels that
+// slip when the forces exceed mu times the normal loads). The slip plant's RK4 limit on
+// `dt` is tighter (`wmr_plant_f32_step` says so).
+wmr_status wmr_plant_f32_init_traction(wmr_plant_f32 *out,
+                                       const wmr_robot_f32 *robot,
+                                       const wmr_drive_f32 *drive,
+                                       const wmr_world_params_f32 *world,
+                                       const wmr_traction_params_f32 *traction,
+                                       wmr_pose_f32 start,
+                                       wmr_error *err);
+
 // Holds `command` (per wheel: N m for the torque drive, V for the DC motor) until the
 // next call: the zero-order hold of a digital controller. A non-finite command is
 // refused (`WMR_NOT_FINITE`) and the held one kept.
@@ -1010,6 +1109,10 @@ wmr_status wmr_plant_f32_step(wmr_plant_f32 *plant,
 wmr_status wmr_plant_f32_state(const wmr_plant_f32 *plant,
                                wmr_state_f32 *out);
 
+// Each wheel's own speed, rad/s: under slip it differs from the body's (v +- R omega) / r.
+wmr_status wmr_plant_f32_wheel_speeds(const wmr_plant_f32 *plant,
+                                      wmr_wheels_f32 *out);
+
 // The paper's sensor: the true pose and wheel state at the instant of the tick.
 wmr_status wmr_sensor_f32_init_perfect(wmr_sensor_f32 *out);
 
@@ -1023,6 +1126,29 @@ wmr_status wmr_sensor_f32_init_pose(wmr_sensor_f32 *out,
                                     float control_dt,
                                     uint64_t run,
                                     wmr_error *err);
+
+// Fills `out` with the odometry defaults with `pose = WMR_POSE_ODOMETRY`: no absolute
+// fixes (`fix_rate_hz` 0), `odometry_noise` 0.01 m^(1/2).
+wmr_status wmr_odometry_params_f32_default(wmr_odometry_params_f32 *out);
+
+// The odometry sensor for control period `control_dt` (s): the pose dead-reckoned from
+// the encoders (`params.encoder_counts`) with the controller's `model` (its r and R),
+// fused by the EKF with absolute fixes at `odometry.fix_rate_hz` (`params`' noise and
+// latency; `params.rate_hz` must stay infinite); `run` selects the fixes' noise stream
+// (with `params.seed`). Here latency * fix_rate_hz must be below
+// `WMR_SENSOR_SAMPLES_IN_FLIGHT` - 1.
+wmr_status wmr_sensor_f32_init_odometry(wmr_sensor_f32 *out,
+                                        const wmr_sensor_params_f32 *params,
+                                        const wmr_odometry_params_f32 *odometry,
+                                        const wmr_robot_f32 *model,
+                                        float control_dt,
+                                        uint64_t run,
+                                        wmr_error *err);
+
+// The odometry sensor's dead-reckoned pose and EKF covariance at its last tick;
+// `WMR_OUT_OF_RANGE` for another sensor or before the first measurement.
+wmr_status wmr_sensor_f32_odometry(const wmr_sensor_f32 *sensor,
+                                   wmr_odometry_estimate_f32 *out);
 
 // What the sensor reports at time `t` (s, finite) of the plant's state. A measurement
 // that comes out non-finite is refused (`WMR_NOT_FINITE`), the sensor unchanged.
@@ -1126,6 +1252,13 @@ wmr_status wmr_paper_controller_f32_update_on(wmr_paper_controller_f32 *ctrl,
 // Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_paper_controller_f32_reset(wmr_paper_controller_f32 *ctrl);
 
+// Fits the controller's wheel speed guard to the wheels of `plant`: on a plant whose
+// wheels slip (`wmr_plant_f32_init_traction`) the guard acts on a wheel's own inertia
+// I_m, as a scenario run sets it. Call it once after both inits; a controller that
+// never sees it assumes rolling wheels.
+wmr_status wmr_paper_controller_f32_for_plant(wmr_paper_controller_f32 *ctrl,
+                                              const wmr_plant_f32 *plant);
+
 // The paper's law repaired: a position error that never feeds back positively, the
 // heading settling first. with its wheel stage (see `wmr_paper_controller_f32_init`).
 wmr_status wmr_paper_bidirectional_controller_f32_init(wmr_paper_bidirectional_controller_f32 *out,
@@ -1163,6 +1296,10 @@ wmr_status wmr_paper_bidirectional_controller_f32_update_on(wmr_paper_bidirectio
 
 // Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_paper_bidirectional_controller_f32_reset(wmr_paper_bidirectional_controller_f32 *ctrl);
+
+// (see `wmr_paper_controller_f32_for_plant`)
+wmr_status wmr_paper_bidirectional_controller_f32_for_plant(wmr_paper_bidirectional_controller_f32 *ctrl,
+                                                            const wmr_plant_f32 *plant);
 
 // Astolfi's polar law: v = k_rho rho, omega = k_alpha alpha + k_beta beta. with its
 // wheel stage (see `wmr_paper_controller_f32_init`).
@@ -1202,6 +1339,10 @@ wmr_status wmr_polar_controller_f32_update_on(wmr_polar_controller_f32 *ctrl,
 // Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_polar_controller_f32_reset(wmr_polar_controller_f32 *ctrl);
 
+// (see `wmr_paper_controller_f32_for_plant`)
+wmr_status wmr_polar_controller_f32_for_plant(wmr_polar_controller_f32 *ctrl,
+                                              const wmr_plant_f32 *plant);
+
 // Aicardi et al.'s Lyapunov law in polar coordinates. with its wheel stage (see
 // `wmr_paper_controller_f32_init`).
 wmr_status wmr_lyapunov_controller_f32_init(wmr_lyapunov_controller_f32 *out,
@@ -1239,6 +1380,10 @@ wmr_status wmr_lyapunov_controller_f32_update_on(wmr_lyapunov_controller_f32 *ct
 
 // Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_lyapunov_controller_f32_reset(wmr_lyapunov_controller_f32 *ctrl);
+
+// (see `wmr_paper_controller_f32_for_plant`)
+wmr_status wmr_lyapunov_controller_f32_for_plant(wmr_lyapunov_controller_f32 *ctrl,
+                                                 const wmr_plant_f32 *plant);
 
 // Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega =
 // omega_ref + v_ref (ky y_e + ktheta sin(theta_e)). with its wheel stage (see
@@ -1279,6 +1424,10 @@ wmr_status wmr_kanayama_controller_f32_update_on(wmr_kanayama_controller_f32 *ct
 // Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_kanayama_controller_f32_reset(wmr_kanayama_controller_f32 *ctrl);
 
+// (see `wmr_paper_controller_f32_for_plant`)
+wmr_status wmr_kanayama_controller_f32_for_plant(wmr_kanayama_controller_f32 *ctrl,
+                                                 const wmr_plant_f32 *plant);
+
 // Kanayama's twist back-stepped into the dynamics: wheel torques from the controller's
 // model. with its wheel stage (see `wmr_paper_controller_f32_init`).
 wmr_status wmr_backstepping_controller_f32_init(wmr_backstepping_controller_f32 *out,
@@ -1317,6 +1466,10 @@ wmr_status wmr_backstepping_controller_f32_update_on(wmr_backstepping_controller
 // Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_backstepping_controller_f32_reset(wmr_backstepping_controller_f32 *ctrl);
 
+// (see `wmr_paper_controller_f32_for_plant`)
+wmr_status wmr_backstepping_controller_f32_for_plant(wmr_backstepping_controller_f32 *ctrl,
+                                                     const wmr_plant_f32 *plant);
+
 // Regulated pure pursuit (nav2's names): path following on the reference's path, its
 // timing ignored. with its wheel stage (see `wmr_paper_controller_f32_init`).
 wmr_status wmr_pure_pursuit_controller_f32_init(wmr_pure_pursuit_controller_f32 *out,
@@ -1354,6 +1507,10 @@ wmr_status wmr_pure_pursuit_controller_f32_update_on(wmr_pure_pursuit_controller
 
 // Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_pure_pursuit_controller_f32_reset(wmr_pure_pursuit_controller_f32 *ctrl);
+
+// (see `wmr_paper_controller_f32_for_plant`)
+wmr_status wmr_pure_pursuit_controller_f32_for_plant(wmr_pure_pursuit_controller_f32 *ctrl,
+                                                     const wmr_plant_f32 *plant);
 
 // Fills `out` with the paper's robot: m = 5 kg, r = 0.1 m, R = 0.2 m, d = 0.25 m,
 // I_m = 0.002 kg m^2, I_p = 0.005 kg m^2, k_t = 0.1, no friction.
@@ -1417,6 +1574,23 @@ wmr_status wmr_plant_f64_init(wmr_plant_f64 *out,
                               wmr_pose_f64 start,
                               wmr_error *err);
 
+// Fills `out` with the slip plant's defaults with `traction = WMR_TRACTION_SLIP` (mu =
+// 0.8, caster 0.35 m ahead of C, G 0.1 m high, slip_speed 0.2 m/s, stiction_length
+// 1 mm).
+wmr_status wmr_traction_params_f64_default(wmr_traction_params_f64 *out);
+
+// As `wmr_plant_f64_init`, with the traction model `traction` (NULL or
+// `WMR_TRACTION_ROLLING`: the paper's rolling wheels; `WMR_TRACTION_SLIP`: wheels that
+// slip when the forces exceed mu times the normal loads). The slip plant's RK4 limit on
+// `dt` is tighter (`wmr_plant_f64_step` says so).
+wmr_status wmr_plant_f64_init_traction(wmr_plant_f64 *out,
+                                       const wmr_robot_f64 *robot,
+                                       const wmr_drive_f64 *drive,
+                                       const wmr_world_params_f64 *world,
+                                       const wmr_traction_params_f64 *traction,
+                                       wmr_pose_f64 start,
+                                       wmr_error *err);
+
 // Holds `command` (per wheel: N m for the torque drive, V for the DC motor) until the
 // next call: the zero-order hold of a digital controller. A non-finite command is
 // refused (`WMR_NOT_FINITE`) and the held one kept.
@@ -1435,6 +1609,10 @@ wmr_status wmr_plant_f64_step(wmr_plant_f64 *plant,
 wmr_status wmr_plant_f64_state(const wmr_plant_f64 *plant,
                                wmr_state_f64 *out);
 
+// Each wheel's own speed, rad/s: under slip it differs from the body's (v +- R omega) / r.
+wmr_status wmr_plant_f64_wheel_speeds(const wmr_plant_f64 *plant,
+                                      wmr_wheels_f64 *out);
+
 // The paper's sensor: the true pose and wheel state at the instant of the tick.
 wmr_status wmr_sensor_f64_init_perfect(wmr_sensor_f64 *out);
 
@@ -1448,6 +1626,29 @@ wmr_status wmr_sensor_f64_init_pose(wmr_sensor_f64 *out,
                                     double control_dt,
                                     uint64_t run,
                                     wmr_error *err);
+
+// Fills `out` with the odometry defaults with `pose = WMR_POSE_ODOMETRY`: no absolute
+// fixes (`fix_rate_hz` 0), `odometry_noise` 0.01 m^(1/2).
+wmr_status wmr_odometry_params_f64_default(wmr_odometry_params_f64 *out);
+
+// The odometry sensor for control period `control_dt` (s): the pose dead-reckoned from
+// the encoders (`params.encoder_counts`) with the controller's `model` (its r and R),
+// fused by the EKF with absolute fixes at `odometry.fix_rate_hz` (`params`' noise and
+// latency; `params.rate_hz` must stay infinite); `run` selects the fixes' noise stream
+// (with `params.seed`). Here latency * fix_rate_hz must be below
+// `WMR_SENSOR_SAMPLES_IN_FLIGHT` - 1.
+wmr_status wmr_sensor_f64_init_odometry(wmr_sensor_f64 *out,
+                                        const wmr_sensor_params_f64 *params,
+                                        const wmr_odometry_params_f64 *odometry,
+                                        const wmr_robot_f64 *model,
+                                        double control_dt,
+                                        uint64_t run,
+                                        wmr_error *err);
+
+// The odometry sensor's dead-reckoned pose and EKF covariance at its last tick;
+// `WMR_OUT_OF_RANGE` for another sensor or before the first measurement.
+wmr_status wmr_sensor_f64_odometry(const wmr_sensor_f64 *sensor,
+                                   wmr_odometry_estimate_f64 *out);
 
 // What the sensor reports at time `t` (s, finite) of the plant's state. A measurement
 // that comes out non-finite is refused (`WMR_NOT_FINITE`), the sensor unchanged.
@@ -1551,6 +1752,13 @@ wmr_status wmr_paper_controller_f64_update_on(wmr_paper_controller_f64 *ctrl,
 // Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_paper_controller_f64_reset(wmr_paper_controller_f64 *ctrl);
 
+// Fits the controller's wheel speed guard to the wheels of `plant`: on a plant whose
+// wheels slip (`wmr_plant_f64_init_traction`) the guard acts on a wheel's own inertia
+// I_m, as a scenario run sets it. Call it once after both inits; a controller that
+// never sees it assumes rolling wheels.
+wmr_status wmr_paper_controller_f64_for_plant(wmr_paper_controller_f64 *ctrl,
+                                              const wmr_plant_f64 *plant);
+
 // The paper's law repaired: a position error that never feeds back positively, the
 // heading settling first. with its wheel stage (see `wmr_paper_controller_f64_init`).
 wmr_status wmr_paper_bidirectional_controller_f64_init(wmr_paper_bidirectional_controller_f64 *out,
@@ -1588,6 +1796,10 @@ wmr_status wmr_paper_bidirectional_controller_f64_update_on(wmr_paper_bidirectio
 
 // Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_paper_bidirectional_controller_f64_reset(wmr_paper_bidirectional_controller_f64 *ctrl);
+
+// (see `wmr_paper_controller_f64_for_plant`)
+wmr_status wmr_paper_bidirectional_controller_f64_for_plant(wmr_paper_bidirectional_controller_f64 *ctrl,
+                                                            const wmr_plant_f64 *plant);
 
 // Astolfi's polar law: v = k_rho rho, omega = k_alpha alpha + k_beta beta. with its
 // wheel stage (see `wmr_paper_controller_f64_init`).
@@ -1627,6 +1839,10 @@ wmr_status wmr_polar_controller_f64_update_on(wmr_polar_controller_f64 *ctrl,
 // Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_polar_controller_f64_reset(wmr_polar_controller_f64 *ctrl);
 
+// (see `wmr_paper_controller_f64_for_plant`)
+wmr_status wmr_polar_controller_f64_for_plant(wmr_polar_controller_f64 *ctrl,
+                                              const wmr_plant_f64 *plant);
+
 // Aicardi et al.'s Lyapunov law in polar coordinates. with its wheel stage (see
 // `wmr_paper_controller_f64_init`).
 wmr_status wmr_lyapunov_controller_f64_init(wmr_lyapunov_controller_f64 *out,
@@ -1664,6 +1880,10 @@ wmr_status wmr_lyapunov_controller_f64_update_on(wmr_lyapunov_controller_f64 *ct
 
 // Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_lyapunov_controller_f64_reset(wmr_lyapunov_controller_f64 *ctrl);
+
+// (see `wmr_paper_controller_f64_for_plant`)
+wmr_status wmr_lyapunov_controller_f64_for_plant(wmr_lyapunov_controller_f64 *ctrl,
+                                                 const wmr_plant_f64 *plant);
 
 // Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega =
 // omega_ref + v_ref (ky y_e + ktheta sin(theta_e)). with its wheel stage (see
@@ -1704,6 +1924,10 @@ wmr_status wmr_kanayama_controller_f64_update_on(wmr_kanayama_controller_f64 *ct
 // Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_kanayama_controller_f64_reset(wmr_kanayama_controller_f64 *ctrl);
 
+// (see `wmr_paper_controller_f64_for_plant`)
+wmr_status wmr_kanayama_controller_f64_for_plant(wmr_kanayama_controller_f64 *ctrl,
+                                                 const wmr_plant_f64 *plant);
+
 // Kanayama's twist back-stepped into the dynamics: wheel torques from the controller's
 // model. with its wheel stage (see `wmr_paper_controller_f64_init`).
 wmr_status wmr_backstepping_controller_f64_init(wmr_backstepping_controller_f64 *out,
@@ -1742,6 +1966,10 @@ wmr_status wmr_backstepping_controller_f64_update_on(wmr_backstepping_controller
 // Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_backstepping_controller_f64_reset(wmr_backstepping_controller_f64 *ctrl);
 
+// (see `wmr_paper_controller_f64_for_plant`)
+wmr_status wmr_backstepping_controller_f64_for_plant(wmr_backstepping_controller_f64 *ctrl,
+                                                     const wmr_plant_f64 *plant);
+
 // Regulated pure pursuit (nav2's names): path following on the reference's path, its
 // timing ignored. with its wheel stage (see `wmr_paper_controller_f64_init`).
 wmr_status wmr_pure_pursuit_controller_f64_init(wmr_pure_pursuit_controller_f64 *out,
@@ -1779,6 +2007,10 @@ wmr_status wmr_pure_pursuit_controller_f64_update_on(wmr_pure_pursuit_controller
 
 // Clears the law's memories and the wheel servos, as at t = 0.
 wmr_status wmr_pure_pursuit_controller_f64_reset(wmr_pure_pursuit_controller_f64 *ctrl);
+
+// (see `wmr_paper_controller_f64_for_plant`)
+wmr_status wmr_pure_pursuit_controller_f64_for_plant(wmr_pure_pursuit_controller_f64 *ctrl,
+                                                     const wmr_plant_f64 *plant);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -127,6 +127,31 @@ pub unsafe extern "C" fn wmr_plant_f64_init(
     imp::plant_init(out, robot, drive, world, start, err)
 }
 
+/// Fills `out` with the slip plant's defaults with `traction = WMR_TRACTION_SLIP` (mu =
+/// 0.8, caster 0.35 m ahead of C, G 0.1 m high, slip_speed 0.2 m/s, stiction_length
+/// 1 mm).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_traction_params_f64_default(out: *mut wmr_traction_params<f64>) -> wmr_status {
+    imp::traction_params_default(out)
+}
+
+/// As `wmr_plant_f64_init`, with the traction model `traction` (NULL or
+/// `WMR_TRACTION_ROLLING`: the paper's rolling wheels; `WMR_TRACTION_SLIP`: wheels that
+/// slip when the forces exceed mu times the normal loads). The slip plant's RK4 limit on
+/// `dt` is tighter (`wmr_plant_f64_step` says so).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_plant_f64_init_traction(
+    out: *mut wmr_plant_f64,
+    robot: *const wmr_robot_f64,
+    drive: *const wmr_drive_f64,
+    world: *const wmr_world_params<f64>,
+    traction: *const wmr_traction_params<f64>,
+    start: wmr_pose<f64>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::plant_init_traction(out, robot, drive, world, traction, start, err)
+}
+
 /// Holds `command` (per wheel: N m for the torque drive, V for the DC motor) until the
 /// next call: the zero-order hold of a digital controller. A non-finite command is
 /// refused (`WMR_NOT_FINITE`) and the held one kept.
@@ -148,6 +173,12 @@ pub unsafe extern "C" fn wmr_plant_f64_step(plant: *mut wmr_plant_f64, t: f64, d
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_plant_f64_state(plant: *const wmr_plant_f64, out: *mut wmr_state<f64>) -> wmr_status {
     imp::plant_state(plant, out)
+}
+
+/// Each wheel's own speed, rad/s: under slip it differs from the body's (v +- R omega) / r.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_plant_f64_wheel_speeds(plant: *const wmr_plant_f64, out: *mut wmr_wheels<f64>) -> wmr_status {
+    imp::plant_wheel_speeds(plant, out)
 }
 
 /// The paper's sensor: the true pose and wheel state at the instant of the tick.
@@ -173,6 +204,39 @@ pub unsafe extern "C" fn wmr_sensor_f64_init_pose(
     err: *mut wmr_error,
 ) -> wmr_status {
     imp::sensor_init_pose::<f64>(out, params, control_dt, run, err)
+}
+
+/// Fills `out` with the odometry defaults with `pose = WMR_POSE_ODOMETRY`: no absolute
+/// fixes (`fix_rate_hz` 0), `odometry_noise` 0.01 m^(1/2).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_odometry_params_f64_default(out: *mut wmr_odometry_params<f64>) -> wmr_status {
+    imp::odometry_params_default(out)
+}
+
+/// The odometry sensor for control period `control_dt` (s): the pose dead-reckoned from
+/// the encoders (`params.encoder_counts`) with the controller's `model` (its r and R),
+/// fused by the EKF with absolute fixes at `odometry.fix_rate_hz` (`params`' noise and
+/// latency; `params.rate_hz` must stay infinite); `run` selects the fixes' noise stream
+/// (with `params.seed`). Here latency * fix_rate_hz must be below
+/// `WMR_SENSOR_SAMPLES_IN_FLIGHT` - 1.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_sensor_f64_init_odometry(
+    out: *mut wmr_sensor_f64,
+    params: *const wmr_sensor_params<f64>,
+    odometry: *const wmr_odometry_params<f64>,
+    model: *const wmr_robot_f64,
+    control_dt: f64,
+    run: u64,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::sensor_init_odometry::<f64>(out, params, odometry, model, control_dt, run, err)
+}
+
+/// The odometry sensor's dead-reckoned pose and EKF covariance at its last tick;
+/// `WMR_OUT_OF_RANGE` for another sensor or before the first measurement.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_sensor_f64_odometry(sensor: *const wmr_sensor_f64, out: *mut wmr_odometry_estimate<f64>) -> wmr_status {
+    imp::sensor_odometry::<f64>(sensor, out)
 }
 
 /// What the sensor reports at time `t` (s, finite) of the plant's state. A measurement
@@ -335,6 +399,18 @@ pub unsafe extern "C" fn wmr_paper_controller_f64_reset(
     imp::controller_reset::<f64, Paper>(ctrl)
 }
 
+/// Fits the controller's wheel speed guard to the wheels of `plant`: on a plant whose
+/// wheels slip (`wmr_plant_f64_init_traction`) the guard acts on a wheel's own inertia
+/// I_m, as a scenario run sets it. Call it once after both inits; a controller that
+/// never sees it assumes rolling wheels.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_controller_f64_for_plant(
+    ctrl: *mut wmr_paper_controller_f64,
+    plant: *const wmr_plant_f64,
+) -> wmr_status {
+    imp::controller_for_plant::<f64, Paper>(ctrl, plant)
+}
+
 /// The paper's law repaired: a position error that never feeds back positively, the
 /// heading settling first. with its wheel stage (see `wmr_paper_controller_f64_init`).
 #[unsafe(no_mangle)]
@@ -396,6 +472,15 @@ pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f64_reset(
     ctrl: *mut wmr_paper_bidirectional_controller_f64,
 ) -> wmr_status {
     imp::controller_reset::<f64, PaperBidirectional>(ctrl)
+}
+
+/// (see `wmr_paper_controller_f64_for_plant`)
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f64_for_plant(
+    ctrl: *mut wmr_paper_bidirectional_controller_f64,
+    plant: *const wmr_plant_f64,
+) -> wmr_status {
+    imp::controller_for_plant::<f64, PaperBidirectional>(ctrl, plant)
 }
 
 /// Astolfi's polar law: v = k_rho rho, omega = k_alpha alpha + k_beta beta. with its
@@ -461,6 +546,15 @@ pub unsafe extern "C" fn wmr_polar_controller_f64_reset(
     imp::controller_reset::<f64, Polar>(ctrl)
 }
 
+/// (see `wmr_paper_controller_f64_for_plant`)
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_polar_controller_f64_for_plant(
+    ctrl: *mut wmr_polar_controller_f64,
+    plant: *const wmr_plant_f64,
+) -> wmr_status {
+    imp::controller_for_plant::<f64, Polar>(ctrl, plant)
+}
+
 /// Aicardi et al.'s Lyapunov law in polar coordinates. with its wheel stage (see
 /// `wmr_paper_controller_f64_init`).
 #[unsafe(no_mangle)]
@@ -522,6 +616,15 @@ pub unsafe extern "C" fn wmr_lyapunov_controller_f64_reset(
     ctrl: *mut wmr_lyapunov_controller_f64,
 ) -> wmr_status {
     imp::controller_reset::<f64, Lyapunov>(ctrl)
+}
+
+/// (see `wmr_paper_controller_f64_for_plant`)
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_lyapunov_controller_f64_for_plant(
+    ctrl: *mut wmr_lyapunov_controller_f64,
+    plant: *const wmr_plant_f64,
+) -> wmr_status {
+    imp::controller_for_plant::<f64, Lyapunov>(ctrl, plant)
 }
 
 /// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega =
@@ -588,6 +691,15 @@ pub unsafe extern "C" fn wmr_kanayama_controller_f64_reset(
     imp::controller_reset::<f64, Kanayama>(ctrl)
 }
 
+/// (see `wmr_paper_controller_f64_for_plant`)
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_kanayama_controller_f64_for_plant(
+    ctrl: *mut wmr_kanayama_controller_f64,
+    plant: *const wmr_plant_f64,
+) -> wmr_status {
+    imp::controller_for_plant::<f64, Kanayama>(ctrl, plant)
+}
+
 /// Kanayama's twist back-stepped into the dynamics: wheel torques from the controller's
 /// model. with its wheel stage (see `wmr_paper_controller_f64_init`).
 #[unsafe(no_mangle)]
@@ -651,6 +763,15 @@ pub unsafe extern "C" fn wmr_backstepping_controller_f64_reset(
     imp::controller_reset::<f64, Backstepping>(ctrl)
 }
 
+/// (see `wmr_paper_controller_f64_for_plant`)
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_backstepping_controller_f64_for_plant(
+    ctrl: *mut wmr_backstepping_controller_f64,
+    plant: *const wmr_plant_f64,
+) -> wmr_status {
+    imp::controller_for_plant::<f64, Backstepping>(ctrl, plant)
+}
+
 /// Regulated pure pursuit (nav2's names): path following on the reference's path, its
 /// timing ignored. with its wheel stage (see `wmr_paper_controller_f64_init`).
 #[unsafe(no_mangle)]
@@ -712,4 +833,13 @@ pub unsafe extern "C" fn wmr_pure_pursuit_controller_f64_reset(
     ctrl: *mut wmr_pure_pursuit_controller_f64,
 ) -> wmr_status {
     imp::controller_reset::<f64, PurePursuit>(ctrl)
+}
+
+/// (see `wmr_paper_controller_f64_for_plant`)
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_pure_pursuit_controller_f64_for_plant(
+    ctrl: *mut wmr_pure_pursuit_controller_f64,
+    plant: *const wmr_plant_f64,
+) -> wmr_status {
+    imp::controller_for_plant::<f64, PurePursuit>(ctrl, plant)
 }

@@ -9,9 +9,10 @@ use core::mem::{align_of, size_of};
 use wmr_core::controller::Law;
 use wmr_core::reference::{Circle, FigureEight, Line, Waypoints};
 use wmr_core::{
-    AntiWindup, AnyReference, Controller, DcMotorParams, Drive, DriveParams, HoldMode, Measurement, PaperMode,
-    ParamError, PerfectSensor, Plant, Pose2, PoseSensor, Real, Reason, Reference, ReferenceState, Robot, RobotParams,
-    Sensor, SensorParams, State, Termination, TorqueDriveParams, Twist2, WheelStage, WheelStageParams, Wheels,
+    AntiWindup, AnyReference, Controller, DcMotorParams, Drive, DriveParams, HoldMode, Measurement, OdometryParams,
+    OdometrySensor, PaperMode, ParamError, PerfectSensor, Plant, Pose2, PoseSensor, PoseSource, Real, Reason,
+    Reference, ReferenceState, Robot, RobotParams, Sensor, SensorParams, State, Termination, TorqueDriveParams,
+    TractionKind, TractionParams, Twist2, WheelStage, WheelStageParams, Wheels,
 };
 
 use crate::*;
@@ -266,6 +267,8 @@ pub enum AnySensor<T> {
     Perfect(PerfectSensor, PhantomData<T>),
     /// Rate, latency, noise and encoder counts.
     Pose(PoseSensor<T, WMR_SENSOR_SAMPLES_IN_FLIGHT>),
+    /// Dead reckoning from the encoders, fused by the EKF with absolute fixes.
+    Odometry(OdometrySensor<T, WMR_SENSOR_SAMPLES_IN_FLIGHT>),
 }
 
 impl<T: Real> AnySensor<T> {
@@ -275,6 +278,7 @@ impl<T: Real> AnySensor<T> {
         match self {
             AnySensor::Perfect(s, _) => s.measure_wheels(t, state, wheel_speeds, robot),
             AnySensor::Pose(s) => s.measure_wheels(t, state, wheel_speeds, robot),
+            AnySensor::Odometry(s) => s.measure_wheels(t, state, wheel_speeds, robot),
         }
     }
 
@@ -282,6 +286,7 @@ impl<T: Real> AnySensor<T> {
         match self {
             AnySensor::Perfect(s, _) => Sensor::<T>::reset(s),
             AnySensor::Pose(s) => s.reset(),
+            AnySensor::Odometry(s) => s.reset(),
         }
     }
 }
@@ -451,6 +456,22 @@ impl CEnum for HoldMode {
     }
 }
 
+impl CEnum for PoseSource {
+    const ALL: &'static [Self] = &[PoseSource::Absolute, PoseSource::Odometry];
+    const REASON: &'static str = "must be WMR_POSE_ABSOLUTE (0) or WMR_POSE_ODOMETRY (1)";
+    fn code(self) -> u32 {
+        self as u32
+    }
+}
+
+impl CEnum for TractionKind {
+    const ALL: &'static [Self] = &[TractionKind::Rolling, TractionKind::Slip];
+    const REASON: &'static str = "must be WMR_TRACTION_ROLLING (0) or WMR_TRACTION_SLIP (1)";
+    fn code(self) -> u32 {
+        self as u32
+    }
+}
+
 impl CEnum for AntiWindup {
     const ALL: &'static [Self] = &[AntiWindup::Off, AntiWindup::Conditional];
     const REASON: &'static str = "must be WMR_ANTI_WINDUP_OFF (0) or WMR_ANTI_WINDUP_CONDITIONAL (1)";
@@ -526,6 +547,12 @@ macro_rules! c_params {
 
 // Every law's C parameter struct (the list is generated: `laws.rs`).
 crate::laws::for_each_c_params!(c_params);
+
+// The odometry sensor's and the slip plant's C structs: the core's own.
+c_params! {
+    alias OdometryParams { pose: PoseSource };
+    alias TractionParams { traction: TractionKind };
+}
 
 /// A law of the C API: its C parameter struct and how it becomes the core's law.
 pub trait CLaw<T: Prec> {
@@ -698,12 +725,44 @@ pub fn plant_init<T: Prec>(
     start: wmr_pose<T>,
     err: *mut wmr_error,
 ) -> wmr_status {
+    plant_init_traction(out, robot, drive, world, core::ptr::null(), start, err)
+}
+
+/// Both plants' init: the rolling plant, or the slip plant of `traction` (NULL: rolling).
+pub fn plant_init_traction<T: Prec>(
+    out: *mut T::Plant,
+    robot: *const T::Robot,
+    drive: *const T::Drive,
+    world: *const wmr_world_params<T>,
+    traction: *const wmr_traction_params<T>,
+    start: wmr_pose<T>,
+    err: *mut wmr_error,
+) -> wmr_status {
     guard(err, || {
-        // NULL: flat ground.
+        // NULL: flat ground; rolling wheels.
         let world = read_or_null(world, "world")?.copied().unwrap_or_default().validate()?;
-        let plant = Plant::on(*get(robot, "robot")?, *get(drive, "drive")?, world, pose(start))?;
+        let robot = *get(robot, "robot")?;
+        let plant = Plant::on(robot, *get(drive, "drive")?, world, pose(start))?;
+        let traction = match traction.is_null() {
+            true => TractionParams::default(),
+            false if !traction.is_aligned() => return Err(Fail::misaligned("traction")),
+            // SAFETY: not NULL, aligned (checked), valid for reads (caller contract).
+            false => unsafe { TractionParams::read_core(traction) }?,
+        };
+        let traction = traction.validate(&robot, &world)?;
         in_box(["start.x", "start.y"], start.x, start.y)?;
-        put(out, "out", plant)
+        put(out, "out", plant.with_traction(traction))
+    })
+}
+
+pub fn traction_params_default<T: Prec>(out: *mut wmr_traction_params<T>) -> wmr_status {
+    guard(core::ptr::null_mut(), || write(out, "out", TractionParams::<T>::default()))
+}
+
+pub fn plant_wheel_speeds<T: Prec>(plant: *const T::Plant, out: *mut wmr_wheels<T>) -> wmr_status {
+    guard(core::ptr::null_mut(), || {
+        let speeds = get(plant, "plant")?.wheel_speeds();
+        write(out, "out", c_wheels(speeds))
     })
 }
 
@@ -783,6 +842,57 @@ pub fn sensor_init_pose<T: Prec>(
             fail
         })?;
         put(out, "out", AnySensor::Pose(sensor))
+    })
+}
+
+pub fn odometry_params_default<T: Prec>(out: *mut wmr_odometry_params<T>) -> wmr_status {
+    guard(core::ptr::null_mut(), || {
+        write(out, "out", OdometryParams { pose: PoseSource::Odometry, ..OdometryParams::<T>::default() })
+    })
+}
+
+pub fn sensor_init_odometry<T: Prec>(
+    out: *mut T::Sensor,
+    params: *const wmr_sensor_params<T>,
+    odometry: *const wmr_odometry_params<T>,
+    model: *const T::Robot,
+    control_dt: T,
+    run: u64,
+    err: *mut wmr_error,
+) -> wmr_status {
+    guard(err, || {
+        let params = *read(params, "params")?;
+        if odometry.is_null() {
+            return Err(Fail::null("odometry"));
+        }
+        if !odometry.is_aligned() {
+            return Err(Fail::misaligned("odometry"));
+        }
+        // SAFETY: not NULL, aligned (checked), valid for reads (caller contract).
+        let odometry = unsafe { OdometryParams::read_core(odometry) }?;
+        let model = get(model, "model")?.params();
+        let sensor = OdometrySensor::new(params, odometry, model, control_dt, run).map_err(|e| {
+            let mut fail = Fail::from(e);
+            if e.field == "latency" && matches!(e.reason, Reason::OutOfRange(_)) {
+                // The core's text counts its own default buffer; this one holds fewer.
+                fail.reason = "latency * fix_rate_hz must be below WMR_SENSOR_SAMPLES_IN_FLIGHT - 1 (15)";
+            }
+            fail
+        })?;
+        put(out, "out", AnySensor::Odometry(sensor))
+    })
+}
+
+pub fn sensor_odometry<T: Prec>(sensor: *const T::Sensor, out: *mut wmr_odometry_estimate<T>) -> wmr_status {
+    guard(core::ptr::null_mut(), || {
+        let AnySensor::Odometry(sensor) = get(sensor, "sensor")? else {
+            return Err(Fail::out_of_range("sensor", "is not an odometry sensor (wmr_sensor_*_init_odometry)", 0.0));
+        };
+        let (Some(pose), Some(cov)) = (sensor.dead_reckoning(), sensor.covariance()) else {
+            return Err(Fail::out_of_range("sensor", "has not measured yet: no estimate before the first tick", 0.0));
+        };
+        let c = [cov[0][0], cov[0][1], cov[0][2], cov[1][0], cov[1][1], cov[1][2], cov[2][0], cov[2][1], cov[2][2]];
+        write(out, "out", wmr_odometry_estimate { dead_reckoning: c_pose(pose), covariance: c })
     })
 }
 
@@ -1083,6 +1193,15 @@ pub fn controller_update_on<T: Prec, L: CLaw<T>>(
 pub fn controller_reset<T: Prec, L: CLaw<T>>(ctrl: *mut L::Storage) -> wmr_status {
     guard(core::ptr::null_mut(), || {
         get_mut(ctrl, "ctrl")?.reset();
+        Ok(())
+    })
+}
+
+pub fn controller_for_plant<T: Prec, L: CLaw<T>>(ctrl: *mut L::Storage, plant: *const T::Plant) -> wmr_status {
+    guard(core::ptr::null_mut(), || {
+        let slips = get(plant, "plant")?.slips();
+        let ctrl = get_mut(ctrl, "ctrl")?;
+        *ctrl = (*ctrl).with_slipping_wheels(slips);
         Ok(())
     })
 }

@@ -33,16 +33,23 @@
 //! in is checked (finite, in range) and every number passed out is finite: a call
 //! whose output would not be is refused (`WMR_NOT_FINITE`) and changes nothing.
 //!
-//! Laws: every law of the core (`paper`, `paper_bidirectional`, `polar`, `lyapunov`) has
-//! a parameter struct with defaults and `*_controller_*_init`, `_update`,
+//! Laws: every law of the core's registry (`wmr_core::for_each_law!`) has a parameter
+//! struct with defaults and `*_controller_*_init`, `_update`,
 //! `_update_reference` and `_reset`. `_update_reference` follows a
 //! [`wmr_reference_state`] (pose, twist, acceleration of the reference point);
 //! `_update(..., goal, ...)` is the reference at rest at `goal`.
 //!
 //! Sensors: `wmr_sensor_*` is one storage type for every sensor model, created by a
 //! per-model init function (`_init_perfect`: the paper's assumption; `_init_pose`: the
-//! core's [`wmr_core::PoseSensor`] with rate, latency, noise and encoder counts) and used
-//! through the same `measure`/`reset`; another model is one more init function.
+//! core's [`wmr_core::PoseSensor`] with rate, latency, noise and encoder counts;
+//! `_init_odometry`: the core's [`wmr_core::OdometrySensor`], the pose dead-reckoned from
+//! the encoders and fused by the EKF with absolute fixes) and used through the same
+//! `measure`/`reset`; another model is one more init function.
+//!
+//! Plants: `wmr_plant_*_init` rolls (the paper's model); `_init_traction` takes a
+//! [`wmr_traction_params`], with which the wheels slip when the forces exceed mu times
+//! the normal loads. `wmr_plant_*_wheel_speeds` gives each wheel's own speed (under slip
+//! it differs from the body's), which is what the sensors measure.
 #![no_std]
 // The C boundary dereferences raw pointers from C; every such place is in `imp`.
 #![allow(unsafe_code)]
@@ -75,7 +82,7 @@ pub use laws::*;
 use core::ffi::c_char;
 
 /// Version of this C API: changes whenever a struct, a storage size or a signature does.
-pub const WMR_ABI_VERSION: u32 = 4;
+pub const WMR_ABI_VERSION: u32 = 5;
 
 /// Alignment, bytes, of every storage struct (they are arrays of `uint64_t`).
 pub const WMR_STORAGE_ALIGN: usize = 8;
@@ -91,8 +98,20 @@ pub const WMR_DRIVE_TORQUE: u32 = 0;
 /// `wmr_drive_params_*.kind`: voltage-driven permanent-magnet DC motor.
 pub const WMR_DRIVE_DC_MOTOR: u32 = 1;
 
-/// Pose samples the C API's sensor holds in flight (the core's ring buffer length).
+/// Pose samples the C API's sensor holds in flight (the core's ring buffer length); the
+/// odometry sensor holds as many absolute fixes.
 pub const WMR_SENSOR_SAMPLES_IN_FLIGHT: usize = 16;
+
+/// `wmr_odometry_params_*.pose`: the pose comes from the absolute pose sensor.
+pub const WMR_POSE_ABSOLUTE: u32 = 0;
+/// `wmr_odometry_params_*.pose`: the pose is dead-reckoned from the encoders, fused by
+/// the EKF with absolute fixes at `fix_rate_hz` (if > 0).
+pub const WMR_POSE_ODOMETRY: u32 = 1;
+
+/// `wmr_traction_params_*.traction`: the paper's rolling wheels (no slip).
+pub const WMR_TRACTION_ROLLING: u32 = 0;
+/// `wmr_traction_params_*.traction`: wheels that slip, forces within mu times the loads.
+pub const WMR_TRACTION_SLIP: u32 = 1;
 
 /// `wmr_paper_params_*.mode`: reach (x, y, theta) (the paper's orientating control).
 pub const WMR_PAPER_MODE_POSE: u32 = 0;
@@ -242,6 +261,16 @@ pub struct wmr_measurement<T> {
     pub wheel_speeds: wmr_wheels<T>,
 }
 
+/// What the odometry sensor knows beyond its measurement (whose pose is the EKF's mean).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_odometry_estimate<T> {
+    /// The pose dead-reckoned from the encoders alone (world frame; m, m, rad).
+    pub dead_reckoning: wmr_pose<T>,
+    /// The EKF's covariance of (x, y, theta), row-major: m^2, m rad, rad^2.
+    pub covariance: [T; 9],
+}
+
 /// One control update: the drive commands to hold until the next tick and the law's
 /// logged errors.
 #[repr(C)]
@@ -274,6 +303,14 @@ pub type wmr_sensor_params<T> = wmr_core::SensorParams<T>;
 /// The wheel stage: `wmr_core::WheelStageParams`.
 /// cbindgen:ignore
 pub type wmr_wheel_stage_params<T> = wmr_core::WheelStageParams<T>;
+/// The odometry sensor's pose source (the `[sensor]` keys `pose`, `fix_rate_hz`,
+/// `odometry_noise`): `wmr_core::OdometryParams`.
+/// cbindgen:ignore
+pub type wmr_odometry_params<T> = wmr_core::OdometryParams<T>;
+/// The slip plant (the `[robot]` keys `traction`, ..., `stiction_length`):
+/// `wmr_core::TractionParams`.
+/// cbindgen:ignore
+pub type wmr_traction_params<T> = wmr_core::TractionParams<T>;
 
 // The C constants are the core enums' discriminants (`#[repr(u32)]`).
 const _: () = {
@@ -282,6 +319,10 @@ const _: () = {
     assert!(wmr_core::HoldMode::ZeroErrors as u32 == WMR_HOLD_ZERO_ERRORS);
     assert!(wmr_core::HoldMode::Freeze as u32 == WMR_HOLD_FREEZE);
     assert!(wmr_core::HoldMode::Auto as u32 == WMR_HOLD_AUTO);
+    assert!(wmr_core::PoseSource::Absolute as u32 == WMR_POSE_ABSOLUTE);
+    assert!(wmr_core::PoseSource::Odometry as u32 == WMR_POSE_ODOMETRY);
+    assert!(wmr_core::TractionKind::Rolling as u32 == WMR_TRACTION_ROLLING);
+    assert!(wmr_core::TractionKind::Slip as u32 == WMR_TRACTION_SLIP);
 };
 
 /// Drive parameters (the `[drive]` keys). `kind` selects which fields are read.
@@ -322,10 +363,10 @@ pub const WMR_DRIVE_F64_WORDS: usize = 12;
 pub const WMR_PLANT_F32_WORDS: usize = 48;
 /// Words of a plant, `wmr_plant_f64`.
 pub const WMR_PLANT_F64_WORDS: usize = 96;
-/// Words of a sensor, `wmr_sensor_f32` (perfect or pose sensor).
-pub const WMR_SENSOR_F32_WORDS: usize = 96;
-/// Words of a sensor, `wmr_sensor_f64` (perfect or pose sensor).
-pub const WMR_SENSOR_F64_WORDS: usize = 112;
+/// Words of a sensor, `wmr_sensor_f32` (perfect, pose or odometry sensor).
+pub const WMR_SENSOR_F32_WORDS: usize = 144;
+/// Words of a sensor, `wmr_sensor_f64` (perfect, pose or odometry sensor).
+pub const WMR_SENSOR_F64_WORDS: usize = 208;
 /// Points a `wmr_reference_*` of waypoints holds at most (the core's `MAX_POINTS`).
 pub const WMR_REFERENCE_MAX_POINTS: usize = 64;
 /// Words of a reference, `wmr_reference_f32` (circle, figure-eight, line or waypoints:

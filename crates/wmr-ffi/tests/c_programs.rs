@@ -162,3 +162,71 @@ fn reference_at_rest_is_the_goal_in_c() {
     assert!(out.ends_with("ok\n"), "{out}");
     assert!(!out.contains("FAIL"), "{out}");
 }
+
+/// The last sample of `wmr-cli run examples/c/odometry_slip.toml`: true pose and the
+/// odometry pose, through the scenario runner the CLI uses.
+fn cli_odometry_slip_final() -> ([f64; 3], [f64; 3]) {
+    let path = repo_dir().join("examples/c/odometry_slip.toml");
+    let scenario = wmr_scenario::Scenario::from_path(path).expect("odometry_slip.toml");
+    let mut last = None;
+    scenario.run(0, |s| last = Some(*s)).expect("the run");
+    let s = last.expect("samples");
+    let odo = s.odometry.expect("an odometry pose");
+    ([s.state.x, s.state.y, s.state.theta], [odo.x, odo.y, odo.theta])
+}
+
+/// The same run in f32 through the Rust core's own closed loop: DC motors, slip plant on
+/// the slope, odometry with EKF fixes, the repaired paper law.
+fn rust_f32_odometry_slip_final() -> ([f32; 3], [f32; 3]) {
+    use wmr_core::{
+        AnySensor, LawParams, OdometryParams, PaperBidirectionalParams, PoseSource, SensorParams, TractionKind,
+        TractionParams, WorldParams,
+    };
+    let robot = Robot::<f32>::paper();
+    let dt = 1e-3;
+    let drive_params = DriveParams::DcMotor(wmr_core::DcMotorParams::default());
+    let drive = drive_params.validate(&robot).unwrap();
+    let world = WorldParams { slope_deg: 2.0, slope_direction_deg: 30.0 }.validate().unwrap();
+    let traction = TractionParams { traction: TractionKind::Slip, friction_coefficient: 0.3, ..Default::default() }
+        .validate(&robot, &world)
+        .unwrap();
+    let plant = Plant::on(robot, drive, world, Pose2::default()).unwrap().with_traction(traction);
+    let sensor_params = SensorParams {
+        encoder_counts: 1024,
+        position_noise: 0.01,
+        heading_noise_deg: 0.5,
+        latency: 0.1,
+        seed: 24,
+        ..Default::default()
+    };
+    let odometry = OdometryParams { pose: PoseSource::Odometry, fix_rate_hz: 1.0, ..Default::default() };
+    let sensor = AnySensor::new(sensor_params, odometry, robot.params(), dt, 0).unwrap();
+    let goal = FixedGoal::new(Pose2::new(1.0, 1.0, 120f64.to_radians() as f32)).unwrap();
+    let law = LawParams::PaperBidirectional(PaperBidirectionalParams::default()).build(robot.params(), dt).unwrap();
+    let wheels =
+        WheelStage::new(&WheelStageParams::for_drive(&drive_params, robot.params()), robot.params(), &drive, dt)
+            .unwrap();
+    let mut sim = ClosedLoop::with_sensor(plant, sensor, Controller::new(law, wheels), goal, dt).unwrap();
+    for _ in 0..45_000 {
+        sim.step().unwrap();
+    }
+    let p = sim.state().pose();
+    let odo = sim.sample().odometry.expect("an odometry pose");
+    ([p.x, p.y, p.theta], [odo.x, odo.y, odo.theta])
+}
+
+#[test]
+fn odometry_slip_c_example_matches_the_cli_in_double_and_the_core_in_float() {
+    let out = build_and_run("odometry_slip", &[repo_dir().join("examples/c/odometry_slip.c")]);
+    let (pose, odo) = cli_odometry_slip_final();
+    for (key, v) in ["x", "y", "theta"].iter().zip(pose).chain(["odom_x", "odom_y", "odom_theta"].iter().zip(odo)) {
+        assert_eq!(field(&out, "c-f64", &format!("{key}_bits")), format!("{:016x}", v.to_bits()), "{key}: {out}");
+    }
+    let (pose, odo) = rust_f32_odometry_slip_final();
+    for (key, v) in ["x", "y", "theta"].iter().zip(pose).chain(["odom_x", "odom_y", "odom_theta"].iter().zip(odo)) {
+        assert_eq!(field(&out, "c-f32", &format!("{key}_bits")), format!("{:08x}", v.to_bits()), "{key}: {out}");
+    }
+    // The EKF's x variance is a variance: positive, and the fixes keep it below (10 cm)^2.
+    let var_x = f64::from_bits(u64::from_str_radix(field(&out, "c-f64", "var_x_bits"), 16).unwrap());
+    assert!(var_x > 0.0 && var_x < 0.01, "{var_x}: {out}");
+}

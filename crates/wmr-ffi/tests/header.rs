@@ -6,8 +6,8 @@ use std::path::{Path, PathBuf};
 
 use wmr_core::describe::{Described, ParamField};
 use wmr_core::{
-    BacksteppingParams, KanayamaParams, LyapunovParams, PaperBidirectionalParams, PaperParams, PolarParams,
-    PurePursuitParams, RobotParams, SensorParams, WheelStageParams, WorldParams,
+    BacksteppingParams, KanayamaParams, LyapunovParams, OdometryParams, PaperBidirectionalParams, PaperParams,
+    PolarParams, PurePursuitParams, RobotParams, SensorParams, TractionParams, WheelStageParams, WorldParams,
 };
 
 fn crate_dir() -> PathBuf {
@@ -101,6 +101,31 @@ pub unsafe extern "C" fn wmr_plant_f32_init(
     imp::plant_init(out, robot, drive, world, start, err)
 }
 
+/// Fills `out` with the slip plant's defaults with `traction = WMR_TRACTION_SLIP` (mu =
+/// 0.8, caster 0.35 m ahead of C, G 0.1 m high, slip_speed 0.2 m/s, stiction_length
+/// 1 mm).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_traction_params_f32_default(out: *mut wmr_traction_params<f32>) -> wmr_status {
+    imp::traction_params_default(out)
+}
+
+/// As `wmr_plant_f32_init`, with the traction model `traction` (NULL or
+/// `WMR_TRACTION_ROLLING`: the paper's rolling wheels; `WMR_TRACTION_SLIP`: wheels that
+/// slip when the forces exceed mu times the normal loads). The slip plant's RK4 limit on
+/// `dt` is tighter (`wmr_plant_f32_step` says so).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_plant_f32_init_traction(
+    out: *mut wmr_plant_f32,
+    robot: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    world: *const wmr_world_params<f32>,
+    traction: *const wmr_traction_params<f32>,
+    start: wmr_pose<f32>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::plant_init_traction(out, robot, drive, world, traction, start, err)
+}
+
 /// Holds `command` (per wheel: N m for the torque drive, V for the DC motor) until the
 /// next call: the zero-order hold of a digital controller. A non-finite command is
 /// refused (`WMR_NOT_FINITE`) and the held one kept.
@@ -122,6 +147,12 @@ pub unsafe extern "C" fn wmr_plant_f32_step(plant: *mut wmr_plant_f32, t: f32, d
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_plant_f32_state(plant: *const wmr_plant_f32, out: *mut wmr_state<f32>) -> wmr_status {
     imp::plant_state(plant, out)
+}
+
+/// Each wheel's own speed, rad/s: under slip it differs from the body's (v +- R omega) / r.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_plant_f32_wheel_speeds(plant: *const wmr_plant_f32, out: *mut wmr_wheels<f32>) -> wmr_status {
+    imp::plant_wheel_speeds(plant, out)
 }
 
 /// The paper's sensor: the true pose and wheel state at the instant of the tick.
@@ -147,6 +178,39 @@ pub unsafe extern "C" fn wmr_sensor_f32_init_pose(
     err: *mut wmr_error,
 ) -> wmr_status {
     imp::sensor_init_pose::<f32>(out, params, control_dt, run, err)
+}
+
+/// Fills `out` with the odometry defaults with `pose = WMR_POSE_ODOMETRY`: no absolute
+/// fixes (`fix_rate_hz` 0), `odometry_noise` 0.01 m^(1/2).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_odometry_params_f32_default(out: *mut wmr_odometry_params<f32>) -> wmr_status {
+    imp::odometry_params_default(out)
+}
+
+/// The odometry sensor for control period `control_dt` (s): the pose dead-reckoned from
+/// the encoders (`params.encoder_counts`) with the controller's `model` (its r and R),
+/// fused by the EKF with absolute fixes at `odometry.fix_rate_hz` (`params`' noise and
+/// latency; `params.rate_hz` must stay infinite); `run` selects the fixes' noise stream
+/// (with `params.seed`). Here latency * fix_rate_hz must be below
+/// `WMR_SENSOR_SAMPLES_IN_FLIGHT` - 1.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_sensor_f32_init_odometry(
+    out: *mut wmr_sensor_f32,
+    params: *const wmr_sensor_params<f32>,
+    odometry: *const wmr_odometry_params<f32>,
+    model: *const wmr_robot_f32,
+    control_dt: f32,
+    run: u64,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::sensor_init_odometry::<f32>(out, params, odometry, model, control_dt, run, err)
+}
+
+/// The odometry sensor's dead-reckoned pose and EKF covariance at its last tick;
+/// `WMR_OUT_OF_RANGE` for another sensor or before the first measurement.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_sensor_f32_odometry(sensor: *const wmr_sensor_f32, out: *mut wmr_odometry_estimate<f32>) -> wmr_status {
+    imp::sensor_odometry::<f32>(sensor, out)
 }
 
 /// What the sensor reports at time `t` (s, finite) of the plant's state. A measurement
@@ -389,8 +453,23 @@ fn api_f32() -> String {
         out.push_str(&entry_point(
             l.reset,
             &format!("wmr_{c}_controller_f32_reset"),
-            &[ctrl],
+            std::slice::from_ref(&ctrl),
             &format!("imp::controller_reset::<f32, {m}>(ctrl)"),
+        ));
+        out.push('\n');
+        out.push_str(&entry_point(
+            &if i == 0 {
+                "Fits the controller's wheel speed guard to the wheels of `plant`: on a plant whose \
+                 wheels slip (`wmr_plant_f32_init_traction`) the guard acts on a wheel's own inertia \
+                 I_m, as a scenario run sets it. Call it once after both inits; a controller that \
+                 never sees it assumes rolling wheels."
+                    .to_owned()
+            } else {
+                see("for_plant")
+            },
+            &format!("wmr_{c}_controller_f32_for_plant"),
+            &[ctrl, "plant: *const wmr_plant_f32".into()],
+            &format!("imp::controller_for_plant::<f32, {m}>(ctrl, plant)"),
         ));
     }
     out
@@ -443,6 +522,16 @@ fn shared_structs() -> Vec<(String, String, &'static [ParamField])> {
             "The wheel stage: two wheel position servos and the curvature-keeping speed limit.".to_owned(),
             WheelStageParams::<f64>::FIELDS,
         ),
+        (
+            "wmr_odometry_params".to_owned(),
+            "The odometry sensor's pose source (the `[sensor]` keys `pose`, `fix_rate_hz`, `odometry_noise`).".to_owned(),
+            OdometryParams::<f64>::FIELDS,
+        ),
+        (
+            "wmr_traction_params".to_owned(),
+            "The traction model (the `[robot]` keys `traction` to `stiction_length`): rolling or slip.".to_owned(),
+            TractionParams::<f64>::FIELDS,
+        ),
     ];
     for law in wmr_core::LawParams::<f64>::defaults() {
         if law.fields().iter().all(|f| f.ty != "bool") {
@@ -463,6 +552,8 @@ fn c_type(ty: &'static str) -> (&'static str, &'static str) {
         "PaperMode" => ("u32", "`WMR_PAPER_MODE_POSE` or `WMR_PAPER_MODE_POSITION`"),
         "HoldMode" => ("u32", "`WMR_HOLD_AUTO`, `WMR_HOLD_ZERO_ERRORS` or `WMR_HOLD_FREEZE`"),
         "AntiWindup" => ("u32", "`WMR_ANTI_WINDUP_OFF` or `WMR_ANTI_WINDUP_CONDITIONAL`"),
+        "PoseSource" => ("u32", "`WMR_POSE_ABSOLUTE` or `WMR_POSE_ODOMETRY`"),
+        "TractionKind" => ("u32", "`WMR_TRACTION_ROLLING` or `WMR_TRACTION_SLIP`"),
         other => (other, ""),
     }
 }
@@ -498,6 +589,12 @@ fn shared_structs_have_the_core_layout() {
     assert_eq!(std::mem::size_of::<wmr_ffi::wmr_wheel_stage_params<f32>>(), floats(WheelStageParams::<f64>::FIELDS));
     assert_eq!(std::mem::size_of::<wmr_ffi::wmr_sensor_params<f32>>(), 4 * 4 + 4 + 4 + 8);
     assert_eq!(std::mem::offset_of!(wmr_ffi::wmr_sensor_params<f64>, seed), 4 * 8 + 8);
+    // The odometry and traction structs: a u32 code, then floats.
+    assert_eq!(std::mem::size_of::<wmr_ffi::wmr_odometry_params<f32>>(), 3 * 4);
+    assert_eq!(std::mem::offset_of!(wmr_ffi::wmr_odometry_params<f64>, fix_rate_hz), 8);
+    assert_eq!(std::mem::size_of::<wmr_ffi::wmr_odometry_params<f64>>(), 3 * 8);
+    assert_eq!(std::mem::size_of::<wmr_ffi::wmr_traction_params<f32>>(), TractionParams::<f64>::FIELDS.len() * 4);
+    assert_eq!(std::mem::offset_of!(wmr_ffi::wmr_traction_params<f64>, friction_coefficient), 8);
     // The law structs: u32 codes and floats, in declaration order.
     let paper = PaperParams::<f64>::FIELDS;
     let offsets = [

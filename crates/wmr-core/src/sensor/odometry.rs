@@ -46,6 +46,8 @@ crate::params! {
     /// `[sensor]` keys of the pose source: absolute or odometry with optional fixes.
     #[derive(Clone, Copy, Debug, PartialEq)]
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    // repr(C): the C API hands this very struct across (wmr-ffi, include/wmr.h).
+    #[repr(C)]
     pub struct OdometryParams<T> {
         /// Where the controller's pose comes from: the pose sensor, or the encoders' odometry.
         pub pose: PoseSource [unit = "", rule = "\"absolute\" or \"odometry\""],
@@ -214,16 +216,24 @@ impl<T: Real, const N: usize> Sensor<T> for OdometrySensor<T, N> {
         let odometry_now = track.odometry.pose();
         if self.fixes {
             let tps = self.inner.ticks_per_sample();
+            // tps >= 1 and head < N by construction; written so the compiler sees no
+            // division by zero or index out of bounds (no panic path on a Cortex-M,
+            // firmware/check), with the same values.
             if self.tick.is_multiple_of(tps) && self.len < N {
                 let slot = (self.head + self.len) % N;
-                self.ring[slot] = Taken { index: self.tick / tps, odometry: odometry_now };
+                self.ring[slot] =
+                    Taken { index: self.tick.checked_div(tps).unwrap_or(self.tick), odometry: odometry_now };
                 self.len += 1;
             }
             if let Some((j, z)) = fix {
                 // The odometry when fix j was taken; older entries were never delivered.
                 let mut then = None;
-                while self.len > 0 && self.ring[self.head].index <= j {
-                    then = Some(self.ring[self.head].odometry);
+                while self.len > 0 {
+                    let oldest = self.ring[self.head % N];
+                    if oldest.index > j {
+                        break;
+                    }
+                    then = Some(oldest.odometry);
                     self.head = (self.head + 1) % N;
                     self.len -= 1;
                 }
