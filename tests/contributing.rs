@@ -1,6 +1,6 @@
 //! CONTRIBUTING.md, performed: in a scratch copy of the repository, a law is added
 //! exactly as it says (a copy of Kanayama's law under a new name: its file, the `mod`
-//! line, the registry line, the stub class and its docs section), `cargo xtask gen` is run, and the CLI
+//! line, the registry line and its docs section), `cargo xtask gen` is run, and the CLI
 //! (`check`, `run`, `trace`, `--help`), the C header, the Python classes and the
 //! firmware's law programs must all know it. A long check (a build of the workspace in
 //! the copy): `WMR_LONG_TESTS=1` runs it.
@@ -82,17 +82,7 @@ fn a_law_added_as_contributing_says_is_known_everywhere() {
          KanayamaCopy(KanayamaCopyParams, KanayamaCopyLaw) = kanayama_copy, code 7, follows Trajectory;\n",
     );
     write(&reg_path, &reg);
-    // 4. The stub class: a copy of a law's that follows the same thing.
-    let stub_path = scratch.join("crates/wmr-py/python/wmr_py/_native.pyi");
-    let stub = read(&stub_path);
-    let a = stub.find("@final\nclass KanayamaController:").expect("the Kanayama stub class");
-    let b = a + 1 + stub[a + 1..].find("\n@final\n").expect("the next class") + 1;
-    let class = stub[a..b].replace("class KanayamaController:", "class KanayamaCopyController:");
-    let mut stub = stub;
-    stub.insert_str(b, &class);
-    write(&stub_path, &stub);
-
-    // 5. The docs text the tests ask for: the law's section of docs/scenario.md (its keys
+    // 4. The docs text the tests ask for: the law's section of docs/scenario.md (its keys
     // table between markers, filled by `cargo xtask gen`).
     let docs_path = scratch.join("docs/scenario.md");
     let docs = read(&docs_path);
@@ -153,8 +143,8 @@ fn a_law_added_as_contributing_says_is_known_everywhere() {
         assert!(header.contains(name), "wmr.h lacks {name}");
     }
     assert!(read(&scratch.join("crates/wmr-py/python/wmr_py/_laws.py")).contains("\"KanayamaCopyController\""));
-    let stub = read(&stub_path);
-    let class = &stub[stub.find("class KanayamaCopyController:").unwrap()..];
+    let stub = read(&scratch.join("crates/wmr-py/python/wmr_py/_native.pyi"));
+    let class = &stub[stub.find("class KanayamaCopyController:").expect("the generated stub class")..];
     assert!(class[..class.find("# end of generated keys").unwrap()].contains("kx: float = 10.0"), "stub keywords");
     assert!(scratch.join("firmware/src/bin/cost-kanayama-copy.rs").is_file(), "the firmware's cost program");
     let _ = std::fs::remove_dir_all(&scratch);

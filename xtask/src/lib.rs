@@ -1,4 +1,5 @@
-//! The files wmr generates from its registries (`wmr_core::for_each_law!`), written by
+//! The files wmr generates from its registries (`wmr_core::for_each_law!`, and the
+//! scenario schema for the Python stubs' keywords), written by
 //! `cargo xtask gen` and checked by `cargo xtask check` and this crate's test. Each
 //! generator is a function from the registry to a file's text: no generator depends on
 //! the crate whose file it writes, so a new law can be generated before that crate
@@ -7,6 +8,7 @@
 pub mod ffi_laws;
 pub mod firmware_costs;
 pub mod python_laws;
+pub mod python_stubs;
 pub mod registry;
 
 use std::path::{Path, PathBuf};
@@ -27,7 +29,8 @@ pub fn repo_root() -> PathBuf {
 
 /// Every generated file, in a fixed order.
 pub fn generated() -> Vec<Generated> {
-    let mut out = vec![ffi_laws::generate(), python_laws::laws_module(), python_laws::init_module()];
+    let mut out =
+        vec![ffi_laws::generate(), python_laws::laws_module(), python_laws::init_module(), python_stubs::native_stub()];
     out.extend(firmware_costs::generate());
     out
 }

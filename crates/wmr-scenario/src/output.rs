@@ -6,7 +6,6 @@ use std::error::Error;
 use wmr_core::tracking::TrackingOutcome;
 use wmr_core::{AnyReference, Outcome, Reference, ReferenceState, Sample, Status};
 
-use crate::Scenario;
 use crate::run::RunSpec;
 
 /// The CSV header, in order: `run`, then [`SAMPLE_COLUMNS`] (built from it, not copied).
@@ -231,7 +230,7 @@ impl ColumnGroup {
 }
 
 /// The columns every run of a scenario carries after `run`, decided once from the
-/// scenario: the CSV writes them, `wmr.Sample` has one field per column and Python one
+/// scenario (`Columns::of`, beside the scenario, which this module does not know): the CSV writes them, `wmr.Sample` has one field per column and Python one
 /// array, all in this order ([`ColumnGroup::ALL`]) with the same f64. The default is
 /// the sample columns alone.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -247,17 +246,6 @@ pub struct Columns {
 }
 
 impl Columns {
-    /// The columns of `scenario`'s runs.
-    pub fn of(scenario: &Scenario) -> Self {
-        let setup = scenario.setup();
-        Self {
-            measured: setup.has_sensor,
-            odometry: setup.odometry(),
-            contact: setup.slips(),
-            reference: scenario.tracking().map(|t| t.reference.built),
-        }
-    }
-
     /// Whether the runs carry `group`.
     pub fn has(&self, group: ColumnGroup) -> bool {
         match group {

@@ -15,7 +15,7 @@ use crate::assemble::{self, Origin, RunLoop};
 use crate::error::ScenarioError;
 use crate::file::{RunFile, ScenarioFile, SimFile};
 use crate::keys::{fields_of, fields_read_by, join, to_table, toml_f64, write_keys, write_keys_noted};
-use crate::output::{OdometryDrift, RunResult};
+use crate::output::{Columns, OdometryDrift, RunResult};
 use crate::preset::{self, Origins};
 use crate::reference::ReferenceSpec;
 use crate::run::{RunSpec, short};
@@ -576,5 +576,19 @@ impl Scenario {
             sweep.write_toml(&mut o);
         }
         o
+    }
+}
+
+impl Columns {
+    /// The columns of `scenario`'s runs. Here, not in `output`: the output layer knows
+    /// the columns, not the scenario they are chosen from.
+    pub fn of(scenario: &Scenario) -> Self {
+        let setup = scenario.setup();
+        Self {
+            measured: setup.has_sensor,
+            odometry: setup.odometry(),
+            contact: setup.slips(),
+            reference: scenario.tracking().map(|t| t.reference.built),
+        }
     }
 }
