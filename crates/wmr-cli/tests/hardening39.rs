@@ -296,3 +296,49 @@ fn regression_39_1_4_reference_drawings_and_layouts_are_bounded() {
     want.retain(|f| f != "long.mcap");
     assert_eq!(entries(d), want, "no temporary file left");
 }
+
+/// A short Kanayama tracking run of the `[reference]` lines `reference`.
+fn tracking(reference: &str) -> String {
+    format!(
+        "[reference]\n{reference}\n[controller]\nkind = \"kanayama\"\n[sim]\nt_end = 1.0\n\
+         [[run]]\nstart = {{ x = 0.0, y = 0.0, theta_deg = 0.0 }}\n"
+    )
+}
+
+/// Issue 39 item 5: references whose keys are each valid but whose state is not finite
+/// (a figure-eight's omega_ref = 0/0) or that leave the 1 km box passed `check` and put
+/// NaN in every output; they are refused at the key that sets them (f32 in `trace`).
+#[test]
+fn regression_39_5_references_are_checked_for_what_they_produce() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cases = [
+        ("kind = \"figure_eight\"\nperiod = 1e300", "reference.period", "line 3"),
+        ("kind = \"figure_eight\"\nperiod = 1e-300", "reference.period", "line 3"),
+        ("kind = \"figure_eight\"\nwidth = 1e-300\nheight = 1e-300", "reference.width", "line 3"),
+        ("kind = \"figure_eight\"\nwidth = 2.1e3", "reference.width", "1050 m"),
+        ("kind = \"waypoints\"\npoints = [[0.0, 0.0], [5000.0, 0.0]]", "reference.points[1]", "(5000, 0) m"),
+        ("kind = \"line\"\nspeed = 1e300", "reference.speed", "1000 m"),
+        ("kind = \"circle\"\nradius = 1e300", "reference.radius", "1e300 m"),
+    ];
+    for (reference, key, word) in cases {
+        write(d, "r.toml", &tracking(reference));
+        for cmd in [&["check", "r.toml"][..], &["run", "r.toml", "-o", "r.csv"], &["trace", "r.toml", "-o", "r.bin"]] {
+            let o = run_in(d, cmd);
+            assert_one_line_error(&o, &format!("{cmd:?} {reference}"), &[key, word]);
+        }
+        assert!(!d.join("r.csv").exists() && !d.join("r.bin").exists(), "{reference}");
+    }
+    // A sweep's own references, by their index.
+    let sweep = "[sim]\nt_end = 0.5\n[sweep]\ncontrollers = [{ kind = \"kanayama\" }]\n\
+                 references = [{ kind = \"circle\" }, { kind = \"figure_eight\", period = 1e300 }]\n\
+                 random = { n = 2, radius = 0.1 }\n";
+    write(d, "s.toml", sweep);
+    assert_one_line_error(&run_in(d, &["check", "s.toml"]), "sweep", &["sweep.references[1].period", "line 5"]);
+    // Valid in f64, not in f32: the trace refuses it by the key, and nothing is written.
+    write(d, "r.toml", &tracking("kind = \"figure_eight\"\nperiod = 1e25"));
+    assert!(run_in(d, &["check", "r.toml"]).status.success());
+    let o = run_in(d, &["trace", "r.toml", "-o", "r.bin"]);
+    assert_one_line_error(&o, "trace f32", &["reference.period", "f32", "1e25"]);
+    assert!(!d.join("r.bin").exists());
+}

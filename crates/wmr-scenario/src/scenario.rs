@@ -175,6 +175,7 @@ impl ScenarioFile {
             }
             scenario.tracking = Some(Tracking { reference, tolerance });
         }
+        scenario.check_references()?;
         crate::reference::check_law(
             &scenario.setup.controller.law,
             scenario.tracking.as_ref().map(|t| &t.reference),
@@ -324,6 +325,23 @@ impl Scenario {
     /// Runs of `[[run]]` and of `[sweep]` together.
     fn all_runs(&self) -> usize {
         self.runs.len() + self.sweep.as_ref().map_or(0, SweepSpec::len)
+    }
+
+    /// What each reference produces over a run (inside the box, finite), by the key
+    /// that sets it.
+    fn check_references(&self) -> Result<(), ScenarioError> {
+        let t_end = self.sim.t_end();
+        let is_file = |r: &ReferenceSpec| r.table.get("kind").and_then(Value::as_str) == Some("file");
+        if let Some(t) = &self.tracking {
+            bounds::check_reference("reference", &t.reference.built, is_file(&t.reference), t_end)?;
+        }
+        let sweep = self.sweep.as_ref().and_then(|s| s.tracking.as_ref());
+        // A sweep without its own `references` follows the [reference] checked above.
+        let inherited = |t: &&SweepTracking| matches!((&self.tracking, t.references.as_slice()), (Some(own), [(_, r)]) if *r == own.reference);
+        for (i, (_, r)) in sweep.filter(|t| !inherited(t)).into_iter().flat_map(|t| t.references.iter()).enumerate() {
+            bounds::check_reference(&format!("sweep.references[{i}]"), &r.built, is_file(r), t_end)?;
+        }
+        Ok(())
     }
 
     /// Builds every run's loop once: the core's own checks are the truth.
