@@ -342,3 +342,22 @@ fn regression_39_5_references_are_checked_for_what_they_produce() {
     assert_one_line_error(&o, "trace f32", &["reference.period", "f32", "1e25"]);
     assert!(!d.join("r.bin").exists());
 }
+
+/// Issue 39 item 9 (references): a reference outside the 1 km box was refused as
+/// `run[0].goal.x` at the `[[run]]` line, waypoints at +-1.7e308 as "run[0].goal.x: must be
+/// a finite number (got NaN)"; both are named where the value is written.
+#[test]
+fn regression_39_9_a_reference_outside_the_box_is_named_at_its_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cases = [
+        ("kind = \"circle\"\ncenter = { x = 5000.0 }", "line 3: reference.center.x", "5000 m"),
+        ("kind = \"waypoints\"\npoints = [[-1.7e308, 0.0], [1.7e308, 0.0]]", "line 3: reference.points[0]", "-1.7e308"),
+    ];
+    for (reference, key, word) in cases {
+        write(d, "r.toml", &tracking(reference));
+        let o = run_in(d, &["check", "r.toml"]);
+        assert_one_line_error(&o, reference, &[key, word]);
+        assert!(!text(&o.stderr).contains("goal"), "{}", text(&o.stderr));
+    }
+}
