@@ -272,8 +272,20 @@ fn regression_39_1_4_reference_drawings_and_layouts_are_bounded() {
     let on_circle = "x = 0.0, y = -1.0, theta_deg = 0.0";
     let cases = [
         ("thin.toml", track("kind = \"circle\"", "[robot]\nhalf_track = 1e-9\n", on_circle)),
-        ("fast.toml", track("kind = \"line\"\nspeed = 1e5", "", "x = 0.0, y = 0.0, theta_deg = 0.0")),
-        ("wide.toml", track("kind = \"figure_eight\"\nwidth = 1e300", "", "x = 0.0, y = 0.0, theta_deg = 45.0")),
+        // The attack's line at 1e5 m/s and figure 1e300 m wide leave the 1 km box and are
+        // refused since item 5 (regression_39_5): the largest drawings inside it instead.
+        (
+            "fast.toml",
+            track("kind = \"line\"\nspeed = 9e4", "[sim]\nt_end = 0.01\n", "x = 0.0, y = 0.0, theta_deg = 0.0"),
+        ),
+        (
+            "wide.toml",
+            track(
+                "kind = \"figure_eight\"\nwidth = 1998.0\nheight = 1998.0\nperiod = 0.01",
+                "[robot]\nhalf_track = 1e-9\n",
+                "x = 0.0, y = 0.0, theta_deg = 45.0",
+            ),
+        ),
     ];
     for (name, body) in &cases {
         write(d, name, body);
@@ -360,4 +372,33 @@ fn regression_39_9_a_reference_outside_the_box_is_named_at_its_key() {
         assert_one_line_error(&o, reference, &[key, word]);
         assert!(!text(&o.stderr).contains("goal"), "{}", text(&o.stderr));
     }
+}
+
+/// Issue 39 item 10 and issue 40 (reporting): a tracking summary printed metres with six
+/// decimals and "below 0.01 m after never", the sweep's table a `t_10 mm s` column; now
+/// millimetres to the micrometre, "within 10 mm after 1.225 s" or "never within 10 mm",
+/// and "s to 10 mm".
+#[test]
+fn regression_39_10_tracking_summaries_read_in_millimetres() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let two = "[reference]\nkind = \"circle\"\n[controller]\nkind = \"kanayama\"\n[sim]\nt_end = 3.0\n\
+               [[run]]\nstart = { x = 0.3, y = -1.0, theta_deg = 90.0 }\n\
+               [[run]]\nstart = { x = -1.5, y = 1.5, theta_deg = 0.0 }\n";
+    write(d, "t.toml", two);
+    let o = run_in(d, &["run", "t.toml", "-o", "t.csv"]);
+    let out = text(&o.stdout);
+    assert!(o.status.success(), "{out}{}", text(&o.stderr));
+    let lines: Vec<&str> = out.lines().collect();
+    let words = ["RMS ", " mm, max ", " mm, final ", " mm, within 10 mm after 1.225 s, converged"];
+    assert!(words.iter().all(|w| lines[0].contains(w)), "{out}");
+    assert!(lines[1].contains("never within 10 mm"), "{out}");
+    assert!(!out.contains(" m,") && !out.contains("0.01 m"), "{out}");
+    let sweep = "[sim]\nt_end = 1.0\n[sweep]\ncontrollers = [{ kind = \"kanayama\" }]\n\
+                 references = [{ kind = \"circle\" }]\nrandom = { n = 2, radius = 0.1 }\n";
+    write(d, "s.toml", sweep);
+    let o = run_in(d, &["sweep", "s.toml", "-o", "s.csv"]);
+    let out = text(&o.stdout);
+    assert!(o.status.success(), "{out}{}", text(&o.stderr));
+    assert!(out.contains("s to 10 mm") && !out.contains("t_10"), "{out}");
 }

@@ -10,7 +10,7 @@ use toml::{Table, Value};
 use wmr_core::reference::{Circle, FigureEight, Line, Waypoints};
 use wmr_core::{AnyReference, LawParams, Pose2};
 
-use crate::error::ScenarioError;
+use crate::error::{ScenarioError, fixed};
 
 /// One key of `[reference]`: the kinds that read it, unit, default and what it is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -338,14 +338,16 @@ pub fn check_law(
 pub fn describe(r: &ReferenceSpec) -> String {
     let p = r.built.start_pose();
     let extra = match &r.built {
-        AnyReference::Waypoints(w) => format!(", {} points, at rest again at t = {:.3} s", w.len(), w.duration()),
+        AnyReference::Waypoints(w) => {
+            format!(", {} points, at rest again at t = {} s", w.len(), fixed(w.duration(), 3))
+        }
         _ => String::new(),
     };
     format!(
-        "reference: {} starting at ({:.4}, {:.4}, {:.2} deg){extra}",
+        "reference: {} starting at ({}, {}, {} deg){extra}",
         r.table.get("kind").and_then(Value::as_str).unwrap_or(r.built.kind()),
-        p.x,
-        p.y,
-        p.theta.to_degrees()
+        fixed(p.x, 4),
+        fixed(p.y, 4),
+        fixed(p.theta.to_degrees(), 2)
     )
 }
