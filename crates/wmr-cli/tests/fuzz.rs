@@ -37,7 +37,7 @@ fn repo() -> PathBuf {
 /// The seed texts: every example scenario and the bad-input corpus, and small ones.
 fn seeds() -> Vec<String> {
     let mut files = Vec::new();
-    for dir in ["examples", "examples/paper", "crates/wmr-cli/tests/bad"] {
+    for dir in ["examples", "examples/paper", "examples/tracking", "crates/wmr-cli/tests/bad"] {
         for e in std::fs::read_dir(repo().join(dir)).unwrap().flatten() {
             if e.path().extension().is_some_and(|x| x == "toml") {
                 files.push(e.path());
@@ -68,10 +68,47 @@ fn seeds() -> Vec<String> {
          grid = { x_min = -1.0, x_max = 1.0, nx = 2, y_min = -1.0, y_max = 1.0, ny = 2, theta_deg = [0.0, 90.0] }\n"
             .into(),
     );
+    // Issue 39: the surfaces the tracking references brought: a reference of each kind, a
+    // reference CSV and a robot preset named inside the scenario (written beside it, and
+    // mutated too: see [`NAMED`]), a sweep over references.
+    for reference in [
+        "kind = \"circle\"\nradius = 0.5\nspeed = 0.3",
+        "kind = \"figure_eight\"\nwidth = 2.0\nheight = 1.0\nperiod = 30.0",
+        "kind = \"line\"\nspeed = 0.3\nstart = { x = 0.0, y = 0.0, theta_deg = 0.0 }",
+        "kind = \"waypoints\"\npoints = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]",
+        "kind = \"file\"\npath = \"ref.csv\"",
+    ] {
+        texts.push(format!(
+            "[sim]\nt_end = 0.05\n[reference]\n{reference}\n[controller]\nkind = \"kanayama\"\n\
+             [[run]]\nstart = {{ x = 0.0, y = -0.5, theta_deg = 0.0 }}\n"
+        ));
+    }
+    texts.push(
+        "[robot]\nfrom = \"robots/mine.toml\"\n[sim]\nt_end = 0.05\n[[run]]\ngoal = { x = 1.0, y = 1.0 }\n".into(),
+    );
+    texts.push(
+        "[sim]\nt_end = 0.05\n[sweep]\ncontrollers = [{ kind = \"kanayama\" }]\n\
+         references = [{ kind = \"circle\" }, { kind = \"file\", path = \"ref.csv\" }, { kind = \"figure_eight\" }]\n\
+         random = { n = 2, radius = 0.1 }\n"
+            .into(),
+    );
     texts
 }
 
-const VALUES: [&str; 22] = [
+/// The files the seed scenarios name (`reference.path`, `robot.from`), relative to the
+/// scenario, and their text: written beside each case, mutated in some cases.
+const NAMED: [(&str, &str); 2] = [
+    ("ref.csv", "t,x,y\n0,0,0\n1,0.3,0\n2,0.6,0.1\n3,0.9,0.3\n"),
+    (
+        "robots/mine.toml",
+        "[robot]\nmass = 4.0\nhalf_track = 0.15\n[drive]\nkind = \"torque\"\nmotor_torque_max = 0.2\n",
+    ),
+];
+
+const VALUES: [&str; 25] = [
+    "1e300",
+    "1e-300",
+    "1e25",
     "0",
     "-1",
     "1e308",
@@ -169,9 +206,9 @@ fn mutate(text: &str, rng: &mut Rng) -> Vec<u8> {
 }
 
 /// Plant steps the CLI would run for this text, if it is a valid scenario.
-fn work(text: &[u8]) -> Option<u128> {
+fn work(text: &[u8], dir: &Path) -> Option<u128> {
     let text = std::str::from_utf8(text).ok()?;
-    let sc = Scenario::from_toml_str(text, "fuzz").ok()?;
+    let sc = Scenario::from_toml_str_in(text, "fuzz", dir).ok()?;
     Some(wmr_scenario::total_steps(&sc))
 }
 
@@ -255,7 +292,16 @@ fn mutated_scenarios_exit_0_or_2_with_one_line_naming_the_key() {
                         let t0 = Instant::now();
                         let file = dir.path().join("case.toml");
                         std::fs::write(&file, &text).unwrap();
-                        let lib_ok = work(&text);
+                        // The named files, one of them mutated in a case of four.
+                        let mutated = (rng.below(4) == 0).then(|| rng.below(NAMED.len()));
+                        for (k, (name, body)) in NAMED.iter().enumerate() {
+                            let path = dir.path().join(name);
+                            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+                            let body =
+                                if mutated == Some(k) { mutate(body, &mut rng) } else { body.as_bytes().to_vec() };
+                            std::fs::write(path, body).unwrap();
+                        }
+                        let lib_ok = work(&text, dir.path());
                         let mut fail = |what: String| found.push(format!("case {i} (seed {seed}): {what}"));
                         match call(dir.path(), &["check", "case.toml"]) {
                             Ok(o) => {
