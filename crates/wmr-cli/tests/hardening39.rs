@@ -240,13 +240,18 @@ fn regression_39_14_a_file_swapped_for_a_fifo_never_blocks_a_read() {
 /// `wmr-cli ARGS` in `dir` under a 1.5 GB address-space cap, awaited for at most 120 s:
 /// its exit status and stderr. `None` when prlimit is missing (the skip is recorded).
 fn capped(dir: &Path, args: &[&str]) -> Option<(std::process::ExitStatus, String)> {
+    capped_at(dir, args, 1_500_000_000)
+}
+
+/// [`capped`] under a cap of `bytes` of address space.
+fn capped_at(dir: &Path, args: &[&str], bytes: u64) -> Option<(std::process::ExitStatus, String)> {
     if Command::new("prlimit").arg("--version").output().is_err() {
         skip::missing("prlimit", "prlimit (util-linux) is missing: the memory cap cannot be set");
         return None;
     }
     let program = std::env::var_os("WMR_CLI_UNDER_TEST").unwrap_or_else(|| env!("CARGO_BIN_EXE_wmr-cli").into());
     let mut child = Command::new("prlimit")
-        .arg("--as=1500000000")
+        .arg(format!("--as={bytes}"))
         .arg(program)
         .args(args)
         .current_dir(dir)
@@ -401,4 +406,43 @@ fn regression_39_10_tracking_summaries_read_in_millimetres() {
     let out = text(&o.stdout);
     assert!(o.status.success(), "{out}{}", text(&o.stderr));
     assert!(out.contains("s to 10 mm") && !out.contains("t_10"), "{out}");
+}
+
+/// Issue 39 item 2: a sweep's `references` were all built (each as large as a reference of
+/// 64 waypoints) and named in quadratic time before the run limit was checked: 20,000
+/// circles took 28 s and 770 MB to `check`, 200,000 aborted under 4 GB. Now they are
+/// counted first: under a 500 MB cap each list ends at once, refused by
+/// `sweep.references` (exit 2), and a sweep at the limit still runs.
+#[test]
+fn regression_39_2_sweep_references_are_counted_before_they_are_built() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let sweep = |n: usize, starts: u32| {
+        format!(
+            "[sim]\nt_end = 0.01\n[sweep]\ncontrollers = [{{ kind = \"kanayama\" }}]\nreferences = [{}]\n\
+             random = {{ n = {starts}, radius = 0.1 }}\n",
+            vec!["{ kind = \"circle\" }"; n].join(", ")
+        )
+    };
+    for (n, starts, word) in [
+        (20_000, 1, "20000 references, more than the limit of 1000"),
+        (200_000, 1, "200000 references, more than the limit of 1000"),
+        (1_000, 1001, "1000 references x 1001 starts x 1 laws x 1 trials is more than 1000000 runs"),
+    ] {
+        write(d, "many.toml", &sweep(n, starts));
+        let Some((status, err)) = capped_at(d, &["check", "many.toml"], 500_000_000) else { return };
+        assert_eq!(status.code(), Some(2), "{n} references: {status:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.starts_with("wmr-cli: error: many.toml: line 5: sweep.references: "), "{err}");
+        assert!(err.contains(word), "{err}");
+    }
+    // At the limit: 1,000 references (two kinds, named circle ... circle#500) are checked
+    // and swept under the same cap.
+    let at_limit = sweep(1_000, 1).replacen("{ kind = \"circle\" }", "{ kind = \"figure_eight\" }", 500);
+    write(d, "limit.toml", &at_limit);
+    let Some((status, err)) = capped_at(d, &["sweep", "limit.toml", "-o", "limit.csv"], 500_000_000) else { return };
+    assert_eq!(status.code(), Some(0), "{status:?}: {err}");
+    let csv = fs::read_to_string(d.join("limit.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1_001, "a row per run");
+    assert!(csv.contains("circle#500") && csv.contains("figure_eight#500") && !csv.contains("circle#501"));
 }
