@@ -141,6 +141,14 @@ pub fn run_live(
     if s.refused > 0 {
         clients += &format!(", {} refused (at most {} at once)", s.refused, live::MAX_CLIENTS);
     }
+    if s.expired > 0 {
+        clients += &format!(
+            ", {} sent away (a handshake over {} s, no subscription within {} s, or a slot given to a new connection)",
+            s.expired,
+            live::HANDSHAKE_DEADLINE.as_secs(),
+            live::IDLE_LIMIT.as_secs()
+        );
+    }
     if s.dropped > 0 {
         clients += &format!(
             ", {} queued message(s) dropped, oldest first, for clients reading slower than the stream",

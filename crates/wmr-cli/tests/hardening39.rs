@@ -446,3 +446,175 @@ fn regression_39_2_sweep_references_are_counted_before_they_are_built() {
     assert_eq!(csv.lines().count(), 1_001, "a row per run");
     assert!(csv.contains("circle#500") && csv.contains("figure_eight#500") && !csv.contains("circle#501"));
 }
+
+/// A `run s.toml --live 127.0.0.1:0` of `bin()` in `dir`, killed when dropped.
+struct LiveServer {
+    child: std::process::Child,
+    port: u16,
+    stderr: std::sync::mpsc::Receiver<String>,
+}
+
+impl Drop for LiveServer {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Longest any live test here awaits anything.
+const LIVE_DEADLINE: Duration = Duration::from_secs(60);
+
+impl LiveServer {
+    /// Starts the server on `scenario` and awaits its `live on` line.
+    fn start(dir: &Path, scenario: &str, args: &[&str]) -> Self {
+        use std::io::BufRead as _;
+        write(dir, "s.toml", scenario);
+        let mut child = bin()
+            .current_dir(dir)
+            .args(["run", "s.toml", "--live", "127.0.0.1:0"])
+            .args(args)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let (tx, stderr) = std::sync::mpsc::channel();
+        let pipe = child.stderr.take().unwrap();
+        std::thread::spawn(move || {
+            for line in std::io::BufReader::new(pipe).lines().map_while(Result::ok) {
+                let _ = tx.send(line);
+            }
+        });
+        let mut live = LiveServer { child, port: 0, stderr };
+        let line = live.await_line("live on ws://127.0.0.1:");
+        let rest = line.split("live on ws://127.0.0.1:").nth(1).unwrap();
+        live.port = rest.split(|c: char| !c.is_ascii_digit()).next().unwrap().parse().unwrap();
+        live
+    }
+
+    fn await_line(&mut self, what: &str) -> String {
+        let t0 = std::time::Instant::now();
+        let mut seen = Vec::new();
+        loop {
+            match self.stderr.recv_timeout(LIVE_DEADLINE.saturating_sub(t0.elapsed())) {
+                Ok(line) if line.contains(what) => return line,
+                Ok(line) => seen.push(line),
+                Err(_) => panic!("no stderr line with {what:?} within {LIVE_DEADLINE:?}: {seen:?}"),
+            }
+        }
+    }
+
+    fn tcp(&self) -> std::net::TcpStream {
+        let s = std::net::TcpStream::connect(("127.0.0.1", self.port)).unwrap();
+        s.set_read_timeout(Some(LIVE_DEADLINE)).unwrap();
+        s.set_write_timeout(Some(LIVE_DEADLINE)).unwrap();
+        s
+    }
+
+    /// A WebSocket handshake offering `protocols`: the socket and the subprotocol chosen,
+    /// or the HTTP status of the refusal.
+    fn handshake(&self, protocols: &str) -> Result<(tungstenite::WebSocket<std::net::TcpStream>, String), u16> {
+        use tungstenite::client::IntoClientRequest as _;
+        let mut req = format!("ws://127.0.0.1:{}", self.port).into_client_request().unwrap();
+        req.headers_mut().insert("sec-websocket-protocol", protocols.parse().unwrap());
+        match tungstenite::client(req, self.tcp()) {
+            Ok((ws, resp)) => {
+                let chosen = resp.headers().get("sec-websocket-protocol").unwrap().to_str().unwrap().to_owned();
+                Ok((ws, chosen))
+            }
+            Err(tungstenite::HandshakeError::Failure(tungstenite::Error::Http(r))) => Err(r.status().as_u16()),
+            Err(e) => panic!("handshake: {e}"),
+        }
+    }
+
+    /// Ctrl-C, awaited: exit 130.
+    fn interrupt(mut self) {
+        assert!(Command::new("kill").args(["-INT", &self.child.id().to_string()]).status().unwrap().success());
+        let (status, _) = wait::exit_within(&mut self.child, LIVE_DEADLINE, "Ctrl-C");
+        assert_eq!(status.code(), Some(130));
+    }
+}
+
+/// Reads until the server closes the connection (EOF, a reset, or a WebSocket close);
+/// fails past [`LIVE_DEADLINE`] (the socket's read timeout).
+fn await_closed_by_server(s: &mut std::net::TcpStream, what: &str) {
+    use std::io::Read as _;
+    let mut buf = [0u8; 4096];
+    loop {
+        match s.read(&mut buf) {
+            Ok(0) => return,
+            // A close frame (0x88), or the reply to a request: read on to the EOF.
+            Ok(_) => {}
+            Err(e) if matches!(e.kind(), std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut) => {
+                panic!("{what}: the server kept the connection {LIVE_DEADLINE:?}")
+            }
+            Err(_) => return,
+        }
+    }
+}
+
+/// Issue 39 item 6: the handshake's 5 s timeout applied per read, so 16 sockets sending
+/// a byte every second held every slot for as long as they liked (a viewer got HTTP 503),
+/// and 16 clients that never subscribe did the same (the session never started); a client
+/// offering 17 subprotocols with ours last got HTTP 400. Now the whole handshake has a
+/// deadline, a client that never subscribes has an idle limit, a new connection at the
+/// limit takes the slot of the oldest such client, and every offer is looked at.
+#[test]
+fn regression_39_6_slow_and_idle_clients_never_lock_a_viewer_out() {
+    use std::io::Write as _;
+    use tungstenite::Message;
+    let dir = tempfile::tempdir().unwrap();
+    let live = LiveServer::start(dir.path(), "[sim]\nt_end = 600.0\nlog_dt = 0.1\n[[run]]\ngoal = { x = 1.0 }\n", &[]);
+    // 17 subprotocols, ours last.
+    let offer: Vec<String> = (0..16).map(|i| format!("x{i}")).chain(["foxglove.sdk.v1".to_owned()]).collect();
+    let (ws, chosen) = live.handshake(&offer.join(", ")).expect("17 offers, ours last: served");
+    assert_eq!(chosen, "foxglove.sdk.v1");
+    drop(ws);
+    // 16 sockets trickling a request, a byte a second (each read well within 5 s).
+    let mut slow: Vec<std::net::TcpStream> = (0..16).map(|_| live.tcp()).collect();
+    for s in &mut slow {
+        s.write_all(b"GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ").unwrap();
+    }
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let trickle = {
+        let (stop, socks) = (stop.clone(), slow.iter().map(|s| s.try_clone().unwrap()).collect::<Vec<_>>());
+        std::thread::spawn(move || {
+            while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+                for mut s in &socks {
+                    let _ = s.write_all(b"a");
+                }
+                std::thread::sleep(Duration::from_secs(1));
+            }
+        })
+    };
+    for (i, s) in slow.iter_mut().enumerate() {
+        await_closed_by_server(s, &format!("trickling socket {i}"));
+    }
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    trickle.join().unwrap();
+    // 16 clients that finish the handshake and never subscribe.
+    let mut idle: Vec<_> =
+        (0..16).map(|i| live.handshake("foxglove.sdk.v1").unwrap_or_else(|c| panic!("idle {i}: {c}")).0).collect();
+    // A viewer gets a slot (a 503 is retried: the slot frees within the idle limit), and
+    // its subscription starts the session.
+    let t0 = std::time::Instant::now();
+    let mut viewer = loop {
+        match live.handshake("foxglove.websocket.v1") {
+            Ok((ws, _)) => break ws,
+            // Retried at a modest pace: the event awaited is a reply that serves it.
+            Err(503) if t0.elapsed() < LIVE_DEADLINE => std::thread::sleep(Duration::from_millis(50)),
+            Err(code) => panic!("the viewer got HTTP {code} for {:?}", t0.elapsed()),
+        }
+    };
+    viewer.send(Message::text(r#"{"op":"subscribe","subscriptions":[{"id":1,"channelId":0}]}"#)).unwrap();
+    let mut data = 0;
+    while data < 3 {
+        if let Message::Binary(b) = viewer.read().expect("the stream") {
+            data += usize::from(b[0] == 1);
+        }
+    }
+    // Every idle client is sent away (a close frame, then the end of the connection).
+    for (i, ws) in idle.iter_mut().enumerate() {
+        await_closed_by_server(ws.get_mut(), &format!("idle client {i}"));
+    }
+    live.interrupt();
+}
