@@ -618,3 +618,133 @@ fn regression_39_6_slow_and_idle_clients_never_lock_a_viewer_out() {
     }
     live.interrupt();
 }
+
+/// A tmpfs of `size` mounted on a fresh folder (tests/disk_full.rs), unmounted when
+/// dropped; `None` after recording a skip where mounting is not allowed.
+struct Tmpfs {
+    dir: tempfile::TempDir,
+}
+
+impl Tmpfs {
+    fn mount(size: &str) -> Option<Self> {
+        let dir = tempfile::tempdir().unwrap();
+        let o = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", &format!("size={size}"), "tmpfs"])
+            .arg(dir.path())
+            .output();
+        match o {
+            Ok(o) if o.status.success() => Some(Self { dir }),
+            Ok(o) => {
+                skip::missing("tmpfs", &format!("cannot mount a tmpfs (needs root): {}", text(&o.stderr).trim()));
+                None
+            }
+            Err(e) => {
+                skip::missing("tmpfs", &format!("cannot run mount: {e}"));
+                None
+            }
+        }
+    }
+
+    fn path(&self) -> &Path {
+        self.dir.path()
+    }
+}
+
+impl Drop for Tmpfs {
+    fn drop(&mut self) {
+        let _ = Command::new("umount").arg(self.dir.path()).status();
+    }
+}
+
+/// Issue 39 item 13 (live): `run --live --layout lay.json` stopped by Ctrl-C before any
+/// client left lay.json behind, and had replaced an existing one. The layout is still
+/// written before the server waits (to be imported meanwhile), and undone on Ctrl-C: the
+/// new file removed, or the old one put back.
+#[test]
+fn regression_39_13_live_layout_is_undone_by_ctrl_c() {
+    let scenario = "[sim]\nt_end = 60.0\n[[run]]\ngoal = { x = 1.0 }\n";
+    for old in [None, Some("my own layout\n")] {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        if let Some(old) = old {
+            write(d, "lay.json", old);
+        }
+        let live = LiveServer::start(d, scenario, &["--layout", "lay.json"]);
+        let written = fs::read_to_string(d.join("lay.json")).unwrap();
+        assert!(written.contains("wmr-plane"), "the layout is there to import while the server waits: {written}");
+        live.interrupt();
+        match old {
+            None => assert_eq!(entries(d), ["s.toml"], "no layout left"),
+            Some(old) => {
+                assert_eq!(entries(d), ["lay.json", "s.toml"]);
+                assert_eq!(fs::read_to_string(d.join("lay.json")).unwrap(), old, "the old layout put back");
+            }
+        }
+    }
+}
+
+/// Issue 39 item 13 (plot): `plot -o DIR` left an empty DIR after a signal (the folder
+/// is made before the runs) and after a full disk. A folder plot made is removed again;
+/// one that existed stays.
+#[test]
+fn regression_39_13_plot_leaves_no_new_folder_after_a_signal_or_a_full_disk() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // Long enough to be caught simulating: four runs of 2,000 s.
+    let long = "[sim]\nt_end = 2000.0\n[[run]]\ngoal = { x = 1.0 }\n[[run]]\ngoal = { x = -1.0 }\n\
+                [[run]]\ngoal = { y = 1.0 }\n[[run]]\ngoal = { y = -1.0 }\n";
+    write(d, "long.toml", long);
+    let mut child = bin()
+        .current_dir(d)
+        .args(["plot", "long.toml", "-o", "figs"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The event: the folder exists (made before the runs).
+    let t0 = std::time::Instant::now();
+    while !d.join("figs").exists() {
+        assert!(child.try_wait().unwrap().is_none(), "plot ended before it could be interrupted");
+        assert!(t0.elapsed() < LIVE_DEADLINE, "no folder figs after {LIVE_DEADLINE:?}");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    assert!(Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap().success());
+    let (status, err) = wait::exit_within(&mut child, LIVE_DEADLINE, "plot after SIGINT");
+    assert!(!status.success(), "{err}");
+    assert_eq!(entries(d), ["long.toml"], "no folder left: {err}");
+    // A full disk: the SVGs do not fit in 8 kB.
+    let Some(full) = Tmpfs::mount("8k") else { return };
+    write(d, "short.toml", "[sim]\nt_end = 5.0\n[[run]]\ngoal = { x = 1.0 }\n");
+    let figs = full.path().join("figs");
+    let o = run_in(d, &["plot", "short.toml", "-o", figs.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert!(text(&o.stderr).contains("No space left on device"), "{}", text(&o.stderr));
+    assert!(entries(full.path()).is_empty(), "{:?}", entries(full.path()));
+    // An existing folder stays, with what it held.
+    fs::create_dir(&figs).unwrap();
+    write(&figs, "mine.txt", "x");
+    let o = run_in(d, &["plot", "short.toml", "-o", figs.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o.stderr));
+    assert_eq!(entries(&figs), ["mine.txt"]);
+}
+
+/// Issue 39 item 13 (sweep): `sweep -o s.csv --plots DIR` whose figures failed on a full
+/// disk exited 1 after s.csv had been renamed into place. Now the CSV is renamed last:
+/// s.csv keeps its old contents, and the new DIR is gone.
+#[test]
+fn regression_39_13_a_failed_sweep_leaves_its_csv_as_it_was() {
+    let Some(full) = Tmpfs::mount("8k") else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(d, "s.toml", "[sim]\nt_end = 1.0\n[sweep]\nrandom = { n = 20, radius = 1.0 }\n");
+    write(d, "s.csv", "old\n");
+    let plots = full.path().join("plots");
+    let o = run_in(d, &["sweep", "s.toml", "-o", "s.csv", "--plots", plots.to_str().unwrap()]);
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("No space left on device"), "{err}");
+    let csv = fs::read_to_string(d.join("s.csv")).unwrap();
+    assert!(csv == "old\n", "s.csv replaced by a failed sweep ({} bytes)", csv.len());
+    assert_eq!(entries(d), ["s.csv", "s.toml"], "no temporary file left");
+    assert!(entries(full.path()).is_empty(), "{:?}", entries(full.path()));
+}
