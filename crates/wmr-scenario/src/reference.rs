@@ -288,7 +288,7 @@ fn read_points_file(table: &Table, dir: Option<&Path>, files: &mut PointFiles) -
 /// The points of the CSV at `full`, refused at the first point past what a reference
 /// holds (a long file is not parsed to its end).
 fn parse_points_file(full: &Path) -> Result<Vec<[f64; 2]>, ScenarioError> {
-    let text = crate::read::read_text(&full).map_err(|e| ScenarioError::new(key("path"), e.message))?;
+    let text = crate::read::read_text(full).map_err(|e| ScenarioError::new(key("path"), e.message))?;
     let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
     match lines.next() {
         Some((_, h)) if h.split(',').map(str::trim).eq(["t", "x", "y"]) => {}
