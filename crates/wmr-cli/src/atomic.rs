@@ -32,6 +32,20 @@ use crate::errors::{bad_input, note};
 /// The temporary files in flight, removed by the signal handler.
 static IN_FLIGHT: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
+/// Folders this command created for its outputs: the signal handler removes each one it
+/// leaves empty (`plot -o DIR`, `sweep --plots DIR`).
+static NEW_DIRS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Remembers `dir` as a folder this command created ([`NEW_DIRS`]).
+pub fn register_new_dir(dir: &Path) {
+    NEW_DIRS.lock().unwrap_or_else(|p| p.into_inner()).push(dir.to_path_buf());
+}
+
+/// Forgets `dir` ([`register_new_dir`]): the command is done with it.
+pub fn forget_new_dir(dir: &Path) {
+    NEW_DIRS.lock().unwrap_or_else(|p| p.into_inner()).retain(|d| d != dir);
+}
+
 /// The command's input files, as (device, inode, how messages name it): OUT must not be
 /// one of them. The inode is the file's, links followed: a symbolic or hard link to an
 /// input is that input.
@@ -78,6 +92,10 @@ pub fn install_signal_handlers(stop_first: Option<&'static AtomicI32>) -> Result
                 let guard = IN_FLIGHT.lock().unwrap_or_else(|p| p.into_inner());
                 for path in guard.iter() {
                     let _ = std::fs::remove_file(path);
+                }
+                // Then the folders created for the outputs, when nothing is left in them.
+                for dir in NEW_DIRS.lock().unwrap_or_else(|p| p.into_inner()).iter() {
+                    let _ = std::fs::remove_dir(dir);
                 }
                 let name = match sig {
                     SIGINT => "SIGINT",

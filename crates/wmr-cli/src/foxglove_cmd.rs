@@ -78,6 +78,60 @@ pub fn write_layout(scenario: &Scenario, path: &Path) -> Result<()> {
     out.persist()
 }
 
+/// The layout of a live session, written before the server waits for a viewer and undone
+/// when the session does not end well (a signal, a failure): the file it replaced is put
+/// back (kept meanwhile as a hard link, or a copy, beside it), or the new one removed.
+struct LiveLayout {
+    /// The regular file written (links resolved); `None` for a stream (`/dev/null`, a FIFO).
+    file: Option<PathBuf>,
+    /// The file it replaced, kept beside it.
+    kept: Option<PathBuf>,
+}
+
+impl LiveLayout {
+    fn write(scenario: &Scenario, path: &Path) -> Result<Self> {
+        let file = match target_of(path)? {
+            Target::File(f) => Some(f),
+            _ => None,
+        };
+        let mut kept = None;
+        if let Some(f) = file.as_ref().filter(|f| f.is_file()) {
+            let name = f.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+            let k = crate::atomic::parent_dir(f).join(format!(".{name}.{}.kept", std::process::id()));
+            std::fs::hard_link(f, &k)
+                .or_else(|_| std::fs::copy(f, &k).map(|_| ()))
+                .with_context(|| format!("cannot keep {} while the session runs", shown(f)))?;
+            kept = Some(k);
+        }
+        let layout = Self { file, kept };
+        if let Err(e) = write_layout(scenario, path) {
+            layout.undo();
+            return Err(e);
+        }
+        Ok(layout)
+    }
+
+    /// Puts the replaced file back, or removes the new one.
+    fn undo(self) {
+        match (&self.file, &self.kept) {
+            (Some(f), Some(k)) => {
+                let _ = std::fs::rename(k, f);
+            }
+            (Some(f), None) => {
+                let _ = std::fs::remove_file(f);
+            }
+            _ => {}
+        }
+    }
+
+    /// The session ended well: the new layout stays.
+    fn keep(self) {
+        if let Some(k) = &self.kept {
+            let _ = std::fs::remove_file(k);
+        }
+    }
+}
+
 /// `run FILE --live ADDR [-o OUT.mcap] [--layout LAYOUT] [--speed X]`.
 pub fn run_live(
     scenario: &Scenario,
@@ -101,11 +155,15 @@ pub fn run_live(
     let url = server.url().to_owned();
     let out = output.as_deref().map(AtomicOut::create).transpose()?;
     let file = out.as_ref().map(AtomicOut::file).transpose()?;
-    if let Some(l) = &layout {
+    let live_layout = match &layout {
         // Before serving, so it can be imported while the server waits for Foxglove.
-        write_layout(scenario, l)?;
-        note(&format!("wmr-cli: wrote {}", shown(l)));
-    }
+        Some(l) => {
+            let written = LiveLayout::write(scenario, l)?;
+            note(&format!("wmr-cli: wrote {}", shown(l)));
+            Some(written)
+        }
+        None => None,
+    };
     if !addr.ip().is_loopback() {
         note(&format!(
             "wmr-cli: note: {addr} is not a loopback address: other machines can connect (at most {} clients at once)",
@@ -120,14 +178,21 @@ pub fn run_live(
     let report = match server.run(scenario, speed, file, start_after) {
         Ok(r) => r,
         Err(e) => {
+            // No output left: the MCAP file's temporary is removed, the layout undone.
+            drop(out);
+            if let Some(l) = live_layout {
+                l.undo();
+            }
             if let Some(i) = e.downcast_ref::<live::Interrupted>() {
-                drop(out);
                 note("wmr-cli: interrupted, no output written");
                 std::process::exit(128 + i.signal);
             }
             return Err(e);
         }
     };
+    if let Some(l) = live_layout {
+        l.keep();
+    }
     if let (Some(out), Some(o)) = (out, &output) {
         out.persist()?;
         note(&format!("wmr-cli: wrote {}", shown(o)));
@@ -140,6 +205,14 @@ pub fn run_live(
     let mut clients = format!("{} client connection(s)", s.connections);
     if s.refused > 0 {
         clients += &format!(", {} refused (at most {} at once)", s.refused, live::MAX_CLIENTS);
+    }
+    if s.expired > 0 {
+        clients += &format!(
+            ", {} sent away (a handshake over {} s, no subscription within {} s, or a slot given to a new connection)",
+            s.expired,
+            live::HANDSHAKE_DEADLINE.as_secs(),
+            live::IDLE_LIMIT.as_secs()
+        );
     }
     if s.dropped > 0 {
         clients += &format!(

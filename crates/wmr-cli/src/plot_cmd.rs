@@ -2,7 +2,7 @@
 //! speeds, Fig. 8; errors, Fig. 9). Each run keeps at most [`MAX_PLOT_SAMPLES`] samples,
 //! evenly spaced, so memory and file sizes stay small whatever `t_end / log_dt` is.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use wmr_core::{Pose2, Reference, Sample};
@@ -20,12 +20,42 @@ pub const MAX_PLOT_SAMPLES: u64 = 4000;
 /// Extensions of files, not folders: `plot -o x.svg` is a mistake, not a folder name.
 const FILE_EXTENSIONS: [&str; 6] = ["svg", "csv", "mcap", "png", "pdf", "toml"];
 
+/// A folder ready for a command's SVGs; one the command created is removed again when the
+/// command fails ([`Prepared::abandon`]) or a signal ends it (left empty), so no empty or
+/// half-filled new folder stays behind.
+#[must_use]
+pub struct Prepared {
+    /// The folder, when this command created it.
+    created: Option<PathBuf>,
+}
+
+impl Prepared {
+    /// The command failed: a folder it created is removed with the files it wrote there
+    /// (`written`, names inside it); an existing folder keeps what it held.
+    pub fn abandon(self, written: &[String]) {
+        if let Some(d) = &self.created {
+            for name in written {
+                let _ = std::fs::remove_file(d.join(name));
+            }
+            let _ = std::fs::remove_dir(d);
+            crate::atomic::forget_new_dir(d);
+        }
+    }
+
+    /// The command succeeded: the folder stays.
+    pub fn done(self) {
+        if let Some(d) = &self.created {
+            crate::atomic::forget_new_dir(d);
+        }
+    }
+}
+
 /// Makes sure `dir` is a folder to write into: an existing directory, or a new one
 /// created in an existing parent (wmr-cli creates the last level only, as for files).
-pub fn prepare_dir(dir: &Path) -> Result<()> {
+pub fn prepare_dir(dir: &Path) -> Result<Prepared> {
     let name = shown(dir);
     match std::fs::metadata(dir) {
-        Ok(m) if m.is_dir() => return Ok(()),
+        Ok(m) if m.is_dir() => return Ok(Prepared { created: None }),
         Ok(_) => return Err(bad_input(format!("{name} exists and is not a directory; give a folder for the SVGs"))),
         Err(e) => {
             if let Some(bad) = crate::atomic::bad_path(&name, &e) {
@@ -49,10 +79,14 @@ pub fn prepare_dir(dir: &Path) -> Result<()> {
             shown(&parent)
         )));
     }
+    // Registered first: a signal right after the folder exists removes it.
+    crate::atomic::register_new_dir(dir);
     std::fs::create_dir(dir).map_err(|e| {
+        crate::atomic::forget_new_dir(dir);
         crate::atomic::bad_path(&name, &e)
             .unwrap_or_else(|| anyhow::Error::new(e).context(format!("cannot create {name}")))
-    })
+    })?;
+    Ok(Prepared { created: Some(dir.to_path_buf()) })
 }
 
 /// The samples of one run, thinned to at most [`MAX_PLOT_SAMPLES`]: every `stride`-th
@@ -101,7 +135,22 @@ pub fn plot(scenario: &Scenario, file: &Path, dir: &Path) -> Result<Vec<String>>
             shown(file)
         )));
     }
-    prepare_dir(dir)?;
+    let prepared = prepare_dir(dir)?;
+    let mut written = Vec::new();
+    match plot_runs(scenario, dir, &mut written) {
+        Ok(()) => {
+            prepared.done();
+            Ok(written)
+        }
+        Err(e) => {
+            prepared.abandon(&written);
+            Err(e)
+        }
+    }
+}
+
+/// The figures of [`plot`] into `dir`, each name pushed to `written` once written.
+fn plot_runs(scenario: &Scenario, dir: &Path, written: &mut Vec<String>) -> Result<()> {
     let n_samples = scenario.sim().n_samples();
     announce_work(u128::from(scenario.sim().n_steps()) * scenario.runs().len() as u128, "plot");
     let samples: Vec<Vec<Sample<f64>>> = executor::map_ordered(scenario.runs().len(), |i| {
@@ -123,7 +172,6 @@ pub fn plot(scenario: &Scenario, file: &Path, dir: &Path) -> Result<Vec<String>>
         .zip(&refs)
         .map(|((r, s), reference)| Trace { label: &r.label, goal: r.goal, samples: s, reference })
         .collect();
-    let mut written = Vec::new();
     let mut put = |name: String, svg: String| -> Result<()> {
         write_text(&dir.join(&name), &svg)?;
         written.push(name);
@@ -134,7 +182,7 @@ pub fn plot(scenario: &Scenario, file: &Path, dir: &Path) -> Result<Vec<String>>
         put(format!("run{i}-wheel-speeds.svg"), wheel_speeds_svg(&format!("{}: wheel speeds", t.label), t)?)?;
         put(format!("run{i}-errors.svg"), errors_svg(&format!("{}: errors", t.label), t)?)?;
     }
-    Ok(written)
+    Ok(())
 }
 
 /// Most starts of a `[sweep]` that `plot` draws, one figure each.
@@ -143,7 +191,27 @@ pub const MAX_COMPARED_STARTS: usize = 12;
 /// For a `[sweep]` (no `[[run]]`): `compare-start<k>.svg` per start, the path of every law
 /// from that start (the sweep's first variant and trial), one colour per law.
 fn plot_sweep(scenario: &Scenario, spec: &wmr_scenario::SweepSpec, dir: &Path) -> Result<Vec<String>> {
-    prepare_dir(dir)?;
+    let prepared = prepare_dir(dir)?;
+    let mut written = Vec::new();
+    match plot_sweep_into(scenario, spec, dir, &mut written) {
+        Ok(()) => {
+            prepared.done();
+            Ok(written)
+        }
+        Err(e) => {
+            prepared.abandon(&written);
+            Err(e)
+        }
+    }
+}
+
+/// The figures of [`plot_sweep`] into `dir`, each name pushed to `written` once written.
+fn plot_sweep_into(
+    scenario: &Scenario,
+    spec: &wmr_scenario::SweepSpec,
+    dir: &Path,
+    written: &mut Vec<String>,
+) -> Result<()> {
     let sim = scenario.sim();
     let (n_laws, n_starts) = (spec.laws.len(), spec.starts.len());
     announce_work(u128::from(sim.n_steps()) * (n_laws * n_starts) as u128, "plot");
@@ -153,7 +221,6 @@ fn plot_sweep(scenario: &Scenario, spec: &wmr_scenario::SweepSpec, dir: &Path) -
     })
     .into_iter()
     .collect::<Result<_, _>>()?;
-    let mut written = Vec::new();
     for (k, start) in spec.starts.iter().enumerate() {
         let traces: Vec<Trace<'_>> = spec
             .laws
@@ -177,7 +244,7 @@ fn plot_sweep(scenario: &Scenario, spec: &wmr_scenario::SweepSpec, dir: &Path) -
         write_text(&dir.join(&name), &paths_svg(&title, &traces)?)?;
         written.push(name);
     }
-    Ok(written)
+    Ok(())
 }
 
 /// A number to at most three decimals, for titles.

@@ -71,9 +71,7 @@ pub fn sweep(
             )));
         }
     }
-    if let Some(dir) = plots {
-        crate::plot_cmd::prepare_dir(dir)?;
-    }
+    let prepared = plots.map(crate::plot_cmd::prepare_dir).transpose()?;
     let what = match &spec.tracking {
         None => format!("{} laws x {} starts", spec.laws.len(), spec.starts.len()),
         Some(tr) => {
@@ -118,11 +116,24 @@ pub fn sweep(
 
     let to_stdout = output.is_stdout();
     let shown_out = output.shown().to_owned();
-    write_csv(spec, &outcomes, output)?;
+    // The CSV is written, then the figures, and only then renamed into place: a sweep
+    // whose figures fail (a full disk) leaves OUT as it was, and no new folder.
+    let output = write_csv(spec, &outcomes, output)?;
     let curves = share_curves(spec, &outcomes);
-    if let Some(dir) = plots {
-        write_regions(spec, &outcomes, dir)?;
-        write_share_curves(&curves, dir)?;
+    if let (Some(dir), Some(prepared)) = (plots, prepared) {
+        let mut written = Vec::new();
+        let figures = write_regions(spec, &outcomes, dir, &mut written)
+            .and_then(|()| write_share_curves(&curves, dir, &mut written))
+            .and_then(|()| output.finish());
+        match figures {
+            Ok(()) => prepared.done(),
+            Err(e) => {
+                prepared.abandon(&written);
+                return Err(e);
+            }
+        }
+    } else {
+        output.finish()?;
     }
     let summary = match &spec.tracking {
         None => summary_table(&summarize(spec, &outcomes)),
@@ -150,7 +161,9 @@ pub fn sweep(
     Ok(())
 }
 
-fn write_csv(spec: &SweepSpec, outcomes: &[SweepOutcome], out: Output) -> Result<()> {
+/// Writes the outcome CSV to `out` and returns it, to be finished (renamed into place)
+/// by the caller once everything else is written.
+fn write_csv(spec: &SweepSpec, outcomes: &[SweepOutcome], out: Output) -> Result<Output> {
     let name = out.shown().to_owned();
     let to_stdout = out.is_stdout();
     let written = (|| -> Result<()> {
@@ -175,7 +188,7 @@ fn write_csv(spec: &SweepSpec, outcomes: &[SweepOutcome], out: Output) -> Result
     match written {
         Err(e) if to_stdout && is_broken_pipe(&e) => Err(anyhow::Error::new(crate::errors::StdoutClosed)),
         Err(e) => Err(e.context(format!("cannot write {name}"))),
-        Ok(()) => out.finish(),
+        Ok(()) => Ok(out),
     }
 }
 
@@ -187,14 +200,15 @@ fn cell(o: &SweepOutcome) -> SweepCell {
 /// One `region-<law>.svg` per law (per law and reference, `region-<law>-<reference>.svg`,
 /// in a sweep over references: each start drawn at its offset from the reference's pose
 /// at t = 0, the origin of the map).
-fn write_regions(spec: &SweepSpec, outcomes: &[SweepOutcome], dir: &Path) -> Result<()> {
+fn write_regions(spec: &SweepSpec, outcomes: &[SweepOutcome], dir: &Path, written: &mut Vec<String>) -> Result<()> {
     for (i, (name, _)) in spec.laws.iter().enumerate() {
         let Some(tr) = &spec.tracking else {
             let cells: Vec<SweepCell> = outcomes.iter().filter(|o| o.law == i).map(cell).collect();
             let title = format!("{name}: how the run from each start ended");
             let svg = region_svg(&title, &cells, spec.goal)?;
-            let file = dir.join(format!("region-{}.svg", safe_file_stem(&name.replace('#', "-"))));
-            write_text(&file, &svg).with_context(|| format!("cannot write the region map of {name}"))?;
+            let file = format!("region-{}.svg", safe_file_stem(&name.replace('#', "-")));
+            write_text(&dir.join(&file), &svg).with_context(|| format!("cannot write the region map of {name}"))?;
+            written.push(file);
             continue;
         };
         for (r, (reference, _)) in tr.references.iter().enumerate() {
@@ -211,6 +225,7 @@ fn write_regions(spec: &SweepSpec, outcomes: &[SweepOutcome], dir: &Path) -> Res
             let stem = safe_file_stem(&format!("{name}-{reference}").replace('#', "-"));
             write_text(&dir.join(format!("region-{stem}.svg")), &svg)
                 .with_context(|| format!("cannot write the region map of {name} on {reference}"))?;
+            written.push(format!("region-{stem}.svg"));
         }
     }
     Ok(())
@@ -233,7 +248,7 @@ fn unit_of(key: &str) -> Option<&'static str> {
 }
 
 /// One `share-<key>.svg` per varied key: each law's converged share against the key.
-fn write_share_curves(curves: &[ShareCurve], dir: &Path) -> Result<()> {
+fn write_share_curves(curves: &[ShareCurve], dir: &Path, written: &mut Vec<String>) -> Result<()> {
     let mut keys: Vec<&str> = curves.iter().map(|c| c.key.as_str()).collect();
     keys.dedup();
     for key in keys {
@@ -246,7 +261,9 @@ fn write_share_curves(curves: &[ShareCurve], dir: &Path) -> Result<()> {
         // friction coefficient, a gear ratio, a seed).
         let axis = format!("{key} ({})", unit_of(key).unwrap_or("dimensionless"));
         let svg = share_svg(&format!("Converged share against {key}"), &axis, &series)?;
-        write_text(&dir.join(format!("share-{}.svg", safe_file_stem(&key.replace('.', "-")))), &svg)?;
+        let file = format!("share-{}.svg", safe_file_stem(&key.replace('.', "-")));
+        write_text(&dir.join(&file), &svg)?;
+        written.push(file);
     }
     Ok(())
 }

@@ -78,7 +78,15 @@ pub struct Traced {
 /// A core error met while building the loop in f32 (a value valid in f64 may not be):
 /// bad input (exit 2).
 fn f32_error(e: ParamError) -> anyhow::Error {
-    bad_input(format!("the scenario does not hold in f32: {e}"))
+    bad_input(format!("the scenario does not hold in f32: {}: {} (got {})", e.field, e.reason, num_f32(e.value)))
+}
+
+/// An f32 value (widened in a core error) as the shortest text that reads back to it as
+/// an f32 (`1e25`, not `9.999999562023526e24`), in exponent form when very large or small.
+fn num_f32(v: f64) -> String {
+    let v = v as f32;
+    let a = v.abs();
+    if v == 0.0 || !v.is_finite() || (1e-5..1e16).contains(&a) { format!("{v}") } else { format!("{v:e}") }
 }
 
 /// The run's configuration as the trace records it (f64, rounded when encoded).
@@ -239,6 +247,18 @@ pub fn trace(scenario: &Scenario, run: usize, output: &Path, format: Option<Trac
     }
     let config_words = config_of(scenario, run)?.encode();
     let config = Config::decode(&config_words).map_err(|e| anyhow!("trace config: {}", e.0))?;
+    // A reference valid in f64 may not be in f32 (a figure-eight's period of 1e25 s
+    // squares to 0): named by its scenario key, before OUT is created.
+    if scenario.tracking().is_some() {
+        config.reference.build().map_err(|e| {
+            bad_input(format!(
+                "reference.{}: does not hold in f32, the trace's number type: {} (got {})",
+                e.field,
+                e.reason,
+                num_f32(e.value)
+            ))
+        })?;
+    }
     let sensor = scenario.setup().sensor.cast::<f32>();
     let (run, n_steps) = (run as u64, scenario.sim().n_steps());
     // OUT first, then the loop in f32 (one tick, nothing written): both before the run.

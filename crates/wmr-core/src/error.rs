@@ -50,7 +50,14 @@ pub struct ParamError {
 
 impl fmt::Display for ParamError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}: {} (got {})", self.field, self.reason, self.value)
+        write!(f, "{}: {} (got ", self.field, self.reason)?;
+        // Bounded width: exponent form when very large or small (`1e300`, not 301 digits).
+        let a = self.value.abs();
+        if self.value == 0.0 || !self.value.is_finite() || (1e-5..1e16).contains(&a) {
+            write!(f, "{})", self.value)
+        } else {
+            write!(f, "{:e})", self.value)
+        }
     }
 }
 

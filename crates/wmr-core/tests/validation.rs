@@ -125,3 +125,13 @@ fn controller_and_loop_fields_are_checked() {
     let bad_start = Pose2::new(0.0, 0.0, f64::INFINITY);
     assert_eq!(Plant::new(robot, drive, bad_start).unwrap_err().field, "start.theta");
 }
+
+/// Issue 39 item 10: a core error printed its value with `{}`: 1e300 as 301 digits (in
+/// Python's and C's messages too). Now in exponent form beyond 1e16 and below 1e-5.
+#[test]
+fn regression_39_10_param_errors_print_a_bounded_number() {
+    let e = RobotParams::<f64> { mass: -1e300, ..RobotParams::paper() }.validate().unwrap_err();
+    assert_eq!(e.to_string(), "mass: must be > 0 (got -1e300)");
+    let e = RobotParams::<f64> { mass: -0.5, ..RobotParams::paper() }.validate().unwrap_err();
+    assert_eq!(e.to_string(), "mass: must be > 0 (got -0.5)");
+}

@@ -487,3 +487,36 @@ fn bad_references_are_refused_by_field() {
         assert_eq!(field(&e), "ky");
     }
 }
+
+/// Issue 39 item 5: a figure-eight whose keys are each valid but whose state is not finite
+/// (omega_ref = 0/0 from a squared speed that underflows, or inf from one that overflows)
+/// is refused at init by the key to blame, in f64 and f32 as on the scenario path; before,
+/// init returned WMR_OK and every state_at failed.
+#[test]
+fn regression_39_5_a_figure_eight_whose_state_is_not_finite_is_refused_at_init() {
+    let mut e = new_err();
+    let c = wmr_pose { x: 0.0, y: 0.0, theta: 0.0 };
+    let cases: [(f64, f64, f64, &str); 4] = [
+        (2.0, 1.0, 1e300, "period"),
+        (2.0, 1.0, 1e-300, "period"),
+        (1e-300, 1e-300, 30.0, "width"),
+        (1e-300, 1e-301, 30.0, "height"),
+    ];
+    // SAFETY: valid pointers.
+    unsafe {
+        for (w, h, p, key) in cases {
+            let mut r = MaybeUninit::<wmr_reference_f64>::uninit();
+            let status = wmr_reference_f64_init_figure_eight(r.as_mut_ptr(), c, w, h, p, &mut e);
+            assert_eq!(status, wmr_status::WMR_OUT_OF_RANGE, "{w} {h} {p}");
+            assert_eq!(field(&e), key, "{w} {h} {p}");
+        }
+        // Fine in f64, not in f32: (2 pi / 1e25)^2 underflows f32.
+        let mut r = MaybeUninit::<wmr_reference_f64>::uninit();
+        assert_eq!(wmr_reference_f64_init_figure_eight(r.as_mut_ptr(), c, 2.0, 1.0, 1e25, &mut e), wmr_status::WMR_OK);
+        let c32 = wmr_pose { x: 0.0f32, y: 0.0, theta: 0.0 };
+        let mut r = MaybeUninit::<wmr_reference_f32>::uninit();
+        let status = wmr_reference_f32_init_figure_eight(r.as_mut_ptr(), c32, 2.0, 1.0, 1e25, &mut e);
+        assert_eq!(status, wmr_status::WMR_OUT_OF_RANGE);
+        assert_eq!(field(&e), "period");
+    }
+}

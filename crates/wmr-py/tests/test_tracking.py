@@ -338,3 +338,18 @@ def test_sweep_over_references_is_the_clis(tmp_path: pathlib.Path) -> None:
     assert again.table == res.table
     for name in ("reference", "converged", "diverged", "rms_error", "max_error", "time_to_tolerance", "final_error"):
         np.testing.assert_array_equal(np.asarray(again[name]), np.asarray(res[name]), err_msg=name)
+
+
+@pytest.mark.parametrize(
+    "keys, key",
+    [
+        ({"period": 1e300}, "reference.period"),
+        ({"period": 1e-300}, "reference.period"),
+        ({"width": 1e-300, "height": 1e-300}, "reference.width"),
+    ],
+)
+def test_regression_39_5_a_figure_eight_whose_state_is_not_finite_is_refused(keys, key) -> None:
+    """Issue 39 item 5: valid keys whose state is 0/0 gave NaN arrays; refused by the key."""
+    with pytest.raises(wmr_py.ParameterError, match=key.replace(".", r"\.")) as e:
+        wmr_py.Reference("figure_eight", **keys)
+    assert e.value.key == key

@@ -1,6 +1,7 @@
 //! How much work one scenario may ask for, checked before any work starts, so that a
 //! file gets one clear error instead of a process that runs for days: at most
 //! [`MAX_TOTAL_STEPS`] plant steps over all runs, [`MAX_SWEEP_RUNS`] runs per sweep
+//! over at most [`MAX_SWEEP_REFERENCES`] references
 //! (and [`crate::MAX_STEPS`] per run, checked with `[sim]`).
 
 use crate::error::ScenarioError;
@@ -13,6 +14,10 @@ pub const MAX_TOTAL_STEPS: u64 = 100_000_000_000;
 
 /// Most (law, start) runs one sweep may hold.
 pub const MAX_SWEEP_RUNS: usize = 1_000_000;
+
+/// Most references one sweep may follow (`[sweep] references`), counted before any is
+/// built: each takes about 19 KB (a reference's fixed-capacity storage), 19 MB for all.
+pub const MAX_SWEEP_REFERENCES: usize = 1_000;
 
 /// Plant steps of `runs` runs of `sim` each.
 pub(crate) fn steps(sim: &SimSpec, runs: usize) -> u128 {

@@ -86,6 +86,27 @@ pub fn num(v: f64) -> String {
     if v == 0.0 || !v.is_finite() || (1e-5..1e16).contains(&a) { format!("{v}") } else { format!("{v:e}") }
 }
 
+/// A value for a summary with `decimals` fixed decimals and a bounded width: fixed form
+/// below 1e6 in magnitude, exponent form above (`1.234e300`, not 301 digits), NaN and the
+/// infinities in words (`not a number`, `infinite`, `-infinite`).
+pub fn fixed(v: f64, decimals: usize) -> String {
+    if v.is_nan() {
+        "not a number".to_owned()
+    } else if v.is_infinite() {
+        if v > 0.0 { "infinite" } else { "-infinite" }.to_owned()
+    } else if v.abs() < 1e6 {
+        format!("{v:.decimals$}")
+    } else {
+        format!("{v:.3e}")
+    }
+}
+
+/// A length in millimetres for a summary, from metres: three decimals, to the micrometre (`3.215 mm`), bounded
+/// as [`fixed`] is (`1.000e303 mm`); a non-finite one in words alone (`not a number`).
+pub fn millimetres(v_m: f64) -> String {
+    if v_m.is_finite() { format!("{} mm", fixed(1000.0 * v_m, 3)) } else { fixed(v_m, 0) }
+}
+
 /// True for characters that must not reach a terminal raw: C0 and C1 controls (ESC,
 /// NUL, CR, LF, ...), DEL, and the Unicode bidirectional and invisible format
 /// characters (U+200B-U+200F, U+202A-U+202E, U+2060-U+2069, U+FEFF) that can make a
@@ -135,6 +156,13 @@ mod tests {
         assert_eq!(num(-1.7e308), "-1.7e308");
         assert_eq!(num(0.001), "0.001");
         assert_eq!(num(f64::INFINITY), "inf");
+        // Issue 39 item 10: summaries bounded, non-finite values in words.
+        assert_eq!(fixed(1.23456, 3), "1.235");
+        assert_eq!(fixed(5e300, 6), "5.000e300");
+        assert_eq!(fixed(f64::NAN, 6), "not a number");
+        assert_eq!(fixed(f64::NEG_INFINITY, 6), "-infinite");
+        assert_eq!(millimetres(0.000492), "0.492 mm");
+        assert_eq!(millimetres(f64::INFINITY), "infinite");
         let e = ScenarioError::new("run[0].la\x1bbel", "bad\nvalue").at_line(Some(3));
         assert_eq!(e.to_string(), "line 3: run[0].la\\x1bbel: bad\\nvalue");
         assert_eq!(e.key_first(), "run[0].la\\x1bbel: bad\\nvalue (line 3)");

@@ -60,7 +60,7 @@ pub mod vary;
 mod warnings;
 
 pub use assemble::RunLoop;
-pub use budget::{MAX_SWEEP_RUNS, MAX_TOTAL_STEPS};
+pub use budget::{MAX_SWEEP_REFERENCES, MAX_SWEEP_RUNS, MAX_TOTAL_STEPS};
 pub use controller::{controller_keys, law_kinds, stabilization_law_kinds, tracking_law_kinds};
 pub use error::{ScenarioError, escape_controls, is_unsafe_char, shown};
 pub use file::{GridFile, PoseFile, RandomFile, RunFile, ScenarioFile, SimFile, SweepFile};

@@ -6,6 +6,7 @@ use std::error::Error;
 use wmr_core::tracking::TrackingOutcome;
 use wmr_core::{AnyReference, Outcome, Reference, ReferenceState, Sample, Status};
 
+use crate::error::{fixed, millimetres, num};
 use crate::run::RunSpec;
 
 /// The CSV header, in order: `run`, then [`SAMPLE_COLUMNS`] (built from it, not copied).
@@ -143,10 +144,13 @@ impl OdometryDrift {
     /// `odometry drift 0.0123 m (1.02 % of 1.206 m travelled)`.
     pub fn describe(&self) -> String {
         match self.percent() {
-            Some(p) => {
-                format!("odometry drift {:.4} m ({p:.2} % of {:.3} m travelled)", self.drift_m, self.distance_m)
-            }
-            None => format!("odometry drift {:.4} m (no distance travelled)", self.drift_m),
+            Some(p) => format!(
+                "odometry drift {} m ({} % of {} m travelled)",
+                fixed(self.drift_m, 4),
+                fixed(p, 2),
+                fixed(self.distance_m, 3)
+            ),
+            None => format!("odometry drift {} m (no distance travelled)", fixed(self.drift_m, 4)),
         }
     }
 }
@@ -380,36 +384,35 @@ impl RunResult {
     fn plain_summary_line(&self) -> String {
         let o = &self.outcome;
         if let Some(tr) = &self.tracking {
+            // The tolerance as written, in mm (0.01 m: `10 mm`), rounded to the nanometre.
+            let tol = format!("{} mm", num((tr.tolerance * 1e9).round() / 1e6));
             let settle = match tr.time_to_tolerance {
-                Some(t) => format!("{t:.3} s"),
-                None => "never".to_owned(),
+                Some(t) => format!("within {tol} after {} s", fixed(t, 3)),
+                None => format!("never within {tol}"),
             };
-            let stop = if self.diverged() { format!(" at t = {:.3} s", o.t_final) } else { String::new() };
+            let stop = if self.diverged() { format!(" at t = {} s", fixed(o.t_final, 3)) } else { String::new() };
             return format!(
-                "run {} [{}]: tracking error over the last half RMS {:.6} m, max {:.6} m, final {:.6} m, \
-                 below {} m after {}, {}{}",
+                "run {} [{}]: tracking error over the last half RMS {}, max {}, final {}, {settle}, {}{}",
                 self.index,
                 self.label,
-                tr.rms_last_half,
-                tr.max_last_half,
-                tr.final_error,
-                tr.tolerance,
-                settle,
+                millimetres(tr.rms_last_half),
+                millimetres(tr.max_last_half),
+                millimetres(tr.final_error),
                 self.status().name(),
                 stop
             );
         }
         let arrival = match o.time_to_arrival {
-            Some(t) => format!("{t:.3} s"),
+            Some(t) => format!("{} s", fixed(t, 3)),
             None => "never".to_owned(),
         };
-        let stop = if self.diverged() { format!(" at t = {:.3} s", o.t_final) } else { String::new() };
+        let stop = if self.diverged() { format!(" at t = {} s", fixed(o.t_final, 3)) } else { String::new() };
         format!(
-            "run {} [{}]: final dl {:.6} m, final heading error {:.3} deg, time to dl < 1 cm {}, {}{}",
+            "run {} [{}]: final dl {} m, final heading error {} deg, time to dl < 1 cm {}, {}{}",
             self.index,
             self.label,
-            o.final_dl,
-            o.final_heading_error.to_degrees(),
+            fixed(o.final_dl, 6),
+            fixed(o.final_heading_error.to_degrees(), 3),
             arrival,
             self.status().name(),
             stop

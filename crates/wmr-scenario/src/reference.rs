@@ -4,13 +4,15 @@
 //!
 //! No `[reference]` table: each run's goal, at rest (point stabilization, as before).
 
-use std::path::Path;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
 
 use toml::{Table, Value};
+use wmr_core::reference::waypoints::MAX_POINTS;
 use wmr_core::reference::{Circle, FigureEight, Line, Waypoints};
 use wmr_core::{AnyReference, LawParams, Pose2};
 
-use crate::error::ScenarioError;
+use crate::error::{ScenarioError, fixed};
 
 /// One key of `[reference]`: the kinds that read it, unit, default and what it is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -158,9 +160,24 @@ fn core_error(e: &wmr_core::ParamError) -> ScenarioError {
     ScenarioError::from_param(e, &key(e.field))
 }
 
+/// The points of the `file` references read so far, by the path opened (or why it was
+/// refused): a sweep naming one CSV in many references reads it once.
+#[derive(Default)]
+pub(crate) struct PointFiles(HashMap<PathBuf, Result<Vec<[f64; 2]>, ScenarioError>>);
+
 /// Reads `[reference]`; `dir` is the scenario file's folder (where a `file` reference's
 /// `path` is looked up; the working directory when `None`).
 pub fn resolve(table: &Table, dir: Option<&Path>) -> Result<ReferenceSpec, ScenarioError> {
+    resolve_sharing(table, dir, &mut PointFiles::default())
+}
+
+/// [`resolve`], a `file` reference's points taken from `files` when its CSV was read
+/// before (and added to it otherwise).
+pub(crate) fn resolve_sharing(
+    table: &Table,
+    dir: Option<&Path>,
+    files: &mut PointFiles,
+) -> Result<ReferenceSpec, ScenarioError> {
     let kind = match table.get("kind") {
         Some(Value::String(s)) => s.as_str(),
         Some(v) => return Err(ScenarioError::new(key("kind"), format!("must be a string (got {})", v.type_str()))),
@@ -210,7 +227,7 @@ pub fn resolve(table: &Table, dir: Option<&Path>) -> Result<ReferenceSpec, Scena
             AnyReference::Line(l)
         }
         _ => {
-            let points = if kind == "file" { read_points_file(table, dir)? } else { points_of(table)? };
+            let points = if kind == "file" { read_points_file(table, dir, files)? } else { points_of(table)? };
             let w = Waypoints::new(&points, number(table, "speed", 0.3)?, number(table, "accel_max", 0.5)?).map_err(
                 |e| {
                     if e.field == "points" && kind == "file" {
@@ -254,7 +271,7 @@ fn points_of(table: &Table) -> Result<Vec<[f64; 2]>, ScenarioError> {
 
 /// The points of a `file` reference: CSV `t,x,y` with a header, t strictly increasing
 /// (the timing is re-planned by the speed profile; t gives the order).
-fn read_points_file(table: &Table, dir: Option<&Path>) -> Result<Vec<[f64; 2]>, ScenarioError> {
+fn read_points_file(table: &Table, dir: Option<&Path>, files: &mut PointFiles) -> Result<Vec<[f64; 2]>, ScenarioError> {
     let Some(Value::String(rel)) = table.get("path") else {
         return Err(ScenarioError::new(
             key("path"),
@@ -265,7 +282,13 @@ fn read_points_file(table: &Table, dir: Option<&Path>) -> Result<Vec<[f64; 2]>, 
         Some(d) => d.join(rel),
         None => Path::new(rel).to_path_buf(),
     };
-    let text = crate::read::read_text(&full).map_err(|e| ScenarioError::new(key("path"), e.message))?;
+    files.0.entry(full.clone()).or_insert_with(|| parse_points_file(&full)).clone()
+}
+
+/// The points of the CSV at `full`, refused at the first point past what a reference
+/// holds (a long file is not parsed to its end).
+fn parse_points_file(full: &Path) -> Result<Vec<[f64; 2]>, ScenarioError> {
+    let text = crate::read::read_text(full).map_err(|e| ScenarioError::new(key("path"), e.message))?;
     let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
     match lines.next() {
         Some((_, h)) if h.split(',').map(str::trim).eq(["t", "x", "y"]) => {}
@@ -292,6 +315,12 @@ fn read_points_file(table: &Table, dir: Option<&Path>) -> Result<Vec<[f64; 2]>, 
         }
         last_t = vals[0];
         points.push([vals[1], vals[2]]);
+        if points.len() > MAX_POINTS {
+            return Err(ScenarioError::new(
+                key("path"),
+                format!("{}: more than {MAX_POINTS} points (a reference holds at most {MAX_POINTS})", at()),
+            ));
+        }
     }
     Ok(points)
 }
@@ -338,14 +367,16 @@ pub fn check_law(
 pub fn describe(r: &ReferenceSpec) -> String {
     let p = r.built.start_pose();
     let extra = match &r.built {
-        AnyReference::Waypoints(w) => format!(", {} points, at rest again at t = {:.3} s", w.len(), w.duration()),
+        AnyReference::Waypoints(w) => {
+            format!(", {} points, at rest again at t = {} s", w.len(), fixed(w.duration(), 3))
+        }
         _ => String::new(),
     };
     format!(
-        "reference: {} starting at ({:.4}, {:.4}, {:.2} deg){extra}",
+        "reference: {} starting at ({}, {}, {} deg){extra}",
         r.table.get("kind").and_then(Value::as_str).unwrap_or(r.built.kind()),
-        p.x,
-        p.y,
-        p.theta.to_degrees()
+        fixed(p.x, 4),
+        fixed(p.y, 4),
+        fixed(p.theta.to_degrees(), 2)
     )
 }

@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 
 use wmr_core::Status;
 
+use crate::error::fixed;
 use crate::sweep::{SweepOutcome, SweepSpec};
 use crate::vary::Spread;
 
@@ -132,10 +133,36 @@ fn table(curves: &[ShareCurve], title: &str, scale: f64, decimals: usize) -> Str
             out.push('\n');
         }
         let _ = write!(out, "{:<width$}", c.law);
-        for (_, s, _) in &c.points {
-            let _ = write!(out, " {:>8.decimals$}%", scale * s);
+        for (_, s, n) in &c.points {
+            // No run at that value, or none that travelled (a drift in % of nothing).
+            let cell = match (n, (scale * s).is_finite()) {
+                (0, _) => "-".to_owned(),
+                (_, false) => "n/a".to_owned(),
+                _ => format!("{}%", fixed(scale * s, decimals)),
+            };
+            let _ = write!(out, " {cell:>9}");
         }
         out.push('\n');
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 39 item 10: a drift mean over runs that did not travel printed `NaN%`; a
+    /// value no run had, `NaN%` too. Now `n/a` and `-`; finite cells as before.
+    #[test]
+    fn non_finite_cells_are_said_in_words() {
+        let curve = ShareCurve {
+            key: "sensor.fix_rate_hz".to_owned(),
+            law: "polar".to_owned(),
+            points: vec![(0.0, f64::NAN, 2), (1.0, 1.2345, 2), (2.0, f64::NAN, 0)],
+        };
+        let text = drift_table(&[curve]);
+        let row = text.lines().find(|l| l.starts_with("polar")).unwrap();
+        assert_eq!(row, "polar              n/a     1.23%         -", "{text}");
+        assert!(!text.contains("NaN"), "{text}");
+    }
 }

@@ -8,7 +8,7 @@ use std::io;
 use std::net::{SocketAddr, TcpStream};
 use std::sync::atomic::Ordering;
 use std::sync::{Condvar, Mutex, MutexGuard};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use tungstenite::protocol::WebSocketConfig;
 use tungstenite::{Error as WsError, Message, WebSocket};
@@ -17,7 +17,8 @@ use super::handshake::negotiate;
 use super::protocol::{self, Level, Request};
 use super::server::Shared;
 
-/// Longest a connection may take to send its HTTP upgrade request and read the reply.
+/// Longest one read or write of the handshake may block (the whole handshake is bounded
+/// by [`super::server::Limits::handshake`], enforced by the server's accept thread).
 const HANDSHAKE_TIMEOUT: Duration = Duration::from_secs(5);
 
 /// Longest the client thread waits before looking at its socket again (for requests, or
@@ -61,6 +62,13 @@ struct State {
     busy: bool,
     /// The WebSocket is open (handshake done, not closed).
     open: bool,
+    /// The handshake is over (done or failed).
+    handshaken: bool,
+    /// The client has subscribed to some channel (once is enough).
+    subscribed: bool,
+    /// The server asked this client to go (past a deadline, or its slot given to a new
+    /// connection): it no longer counts against the client limit.
+    leaving: bool,
 }
 
 /// A connected client.
@@ -73,12 +81,62 @@ pub struct Client {
     wake: Condvar,
     /// Bound of the queue, bytes.
     queue_bytes: usize,
+    /// When the connection was accepted.
+    connected: Instant,
+}
+
+/// Where a client stands, for the server's deadlines.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Standing {
+    /// Still in the WebSocket handshake.
+    Handshaking,
+    /// Open, never subscribed to anything.
+    Idle,
+    /// Subscribed at least once (a viewer): never sent away.
+    Viewer,
+    /// Asked to go, or gone.
+    Leaving,
 }
 
 impl Client {
     /// A client on `socket` (a clone of the stream its thread serves).
     pub fn new(peer: SocketAddr, socket: TcpStream, queue_bytes: usize) -> Self {
-        Self { peer, socket, state: Mutex::default(), wake: Condvar::new(), queue_bytes }
+        Self { peer, socket, state: Mutex::default(), wake: Condvar::new(), queue_bytes, connected: Instant::now() }
+    }
+
+    /// Time since the connection was accepted.
+    pub fn age(&self) -> Duration {
+        self.connected.elapsed()
+    }
+
+    /// Where the client stands.
+    pub fn standing(&self) -> Standing {
+        let s = self.lock();
+        if s.leaving {
+            Standing::Leaving
+        } else if !s.handshaken {
+            Standing::Handshaking
+        } else if s.subscribed {
+            Standing::Viewer
+        } else if s.open {
+            Standing::Idle
+        } else {
+            Standing::Leaving
+        }
+    }
+
+    /// Sends the client away: a handshake still going is cut (its socket shut down), an
+    /// open client is closed with a close frame by its thread. It stops counting against
+    /// the client limit at once.
+    pub fn send_away(&self) {
+        let mut s = self.lock();
+        s.leaving = true;
+        let handshaking = !s.handshaken;
+        drop(s);
+        if handshaking {
+            self.shutdown();
+        }
+        self.wake.notify_all();
     }
 
     fn lock(&self) -> MutexGuard<'_, State> {
@@ -172,7 +230,9 @@ pub fn serve(client: &Client, stream: TcpStream, shared: &Shared) {
         .max_message_size(Some(MAX_REQUEST_BYTES))
         .max_frame_size(Some(MAX_REQUEST_BYTES))
         .max_write_buffer_size(shared.limits.queue_bytes.max(1 << 20) * 2);
-    let mut ws = match tungstenite::accept_hdr_with_config(stream, negotiate, Some(config)) {
+    let handshake = tungstenite::accept_hdr_with_config(stream, negotiate, Some(config));
+    client.lock().handshaken = true;
+    let mut ws = match handshake {
         Ok(ws) => ws,
         Err(e) => {
             shared.failed_handshakes.fetch_add(1, Ordering::Relaxed);
@@ -190,7 +250,7 @@ pub fn serve(client: &Client, stream: TcpStream, shared: &Shared) {
             return;
         }
     };
-    if ws.get_ref().set_nonblocking(true).is_err() || shared.stopping() {
+    if ws.get_ref().set_nonblocking(true).is_err() || shared.stopping() || client.lock().leaving {
         return;
     }
     client.lock().open = true;
@@ -207,7 +267,7 @@ pub fn serve(client: &Client, stream: TcpStream, shared: &Shared) {
 /// server's stop; never blocks on the socket.
 fn run(client: &Client, ws: &mut WebSocket<TcpStream>, shared: &Shared) -> Result<(), WsError> {
     loop {
-        if shared.stopping() {
+        if shared.stopping() || client.lock().leaving {
             return Ok(());
         }
         // Write what is queued, as far as the socket takes it.
@@ -285,6 +345,7 @@ fn answer(client: &Client, shared: &Shared, text: &str) {
                     continue;
                 }
                 s.subscriptions.insert(channel, sub);
+                s.subscribed = true;
                 drop(s);
                 shared.subscriptions.fetch_add(1, Ordering::SeqCst);
             }

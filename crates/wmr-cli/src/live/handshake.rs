@@ -7,17 +7,21 @@ use tungstenite::http::{HeaderValue, StatusCode};
 use super::protocol::SUBPROTOCOLS;
 
 /// The subprotocols a request offers (every `sec-websocket-protocol` header, split at
-/// commas, trimmed), at most 16 and each cut to 64 characters (they go into a reply).
+/// commas, trimmed), each cut to 64 characters. All of them are looked at (the request
+/// itself is bounded by the handshake's limits: a client offering 17 with ours last was
+/// refused); a refusal quotes the first [`QUOTED`].
 fn offered(req: &Request) -> Vec<String> {
     req.headers()
         .get_all("sec-websocket-protocol")
         .iter()
         .flat_map(|h| String::from_utf8_lossy(h.as_bytes()).split(',').map(|s| s.trim().to_owned()).collect::<Vec<_>>())
         .filter(|s| !s.is_empty())
-        .take(16)
         .map(|s| s.chars().filter(|c| !c.is_control()).take(64).collect())
         .collect()
 }
+
+/// Offers a refusal quotes at most (the rest are counted).
+const QUOTED: usize = 16;
 
 /// The subprotocol to answer with: the first of [`SUBPROTOCOLS`] the client offered.
 pub fn choose(offered: &[String]) -> Option<&'static str> {
@@ -51,6 +55,8 @@ pub fn negotiate(req: &Request, mut res: Response) -> Result<Response, ErrorResp
         None => {
             let got = if offered.is_empty() {
                 "no subprotocol (no sec-websocket-protocol header)".to_owned()
+            } else if offered.len() > QUOTED {
+                format!("the subprotocol(s) {} and {} more", offered[..QUOTED].join(", "), offered.len() - QUOTED)
             } else {
                 format!("the subprotocol(s) {}", offered.join(", "))
             };
@@ -81,5 +87,15 @@ mod tests {
         // Exact names only: the schema-table protocol v1.1 is not this one.
         assert_eq!(choose(&offers(&["foxglove.sdk.v1.1"])), None);
         assert_eq!(choose(&offers(&[])), None);
+    }
+
+    /// Issue 39 item 6: the 17th offer was never looked at.
+    #[test]
+    fn every_offer_is_looked_at() {
+        let mut req = Request::new(());
+        let list: Vec<String> = (0..16).map(|i| format!("x{i}")).chain(["foxglove.sdk.v1".to_owned()]).collect();
+        req.headers_mut().insert("sec-websocket-protocol", list.join(", ").parse().unwrap());
+        let res = negotiate(&req, Response::new(())).expect("accepted");
+        assert_eq!(res.headers()["sec-websocket-protocol"], "foxglove.sdk.v1");
     }
 }

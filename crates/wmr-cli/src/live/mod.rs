@@ -11,6 +11,6 @@ mod server;
 mod session;
 mod stop;
 
-pub use server::MAX_CLIENTS;
+pub use server::{HANDSHAKE_DEADLINE, IDLE_LIMIT, MAX_CLIENTS};
 pub use session::{DEFAULT_ADDR, MAX_SPEED, MIN_SPEED, serve, start_after};
 pub use stop::{Interrupted, STOP_SIGNAL};

@@ -13,7 +13,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context as _, Result};
 
-use super::client::{self, Client};
+use super::client::{self, Client, Standing};
 use super::protocol::{self, ChannelInfo};
 
 /// Clients connected at once at most (further connections get HTTP 503).
@@ -21,6 +21,18 @@ pub const MAX_CLIENTS: usize = 16;
 
 /// Bytes queued per client at most; over it the oldest messages are dropped (and counted).
 pub const CLIENT_QUEUE_BYTES: usize = 4 << 20;
+
+/// Longest a connection may take, from its accept, to complete the WebSocket handshake
+/// (the whole request and the reply, however slowly it trickles in).
+pub const HANDSHAKE_DEADLINE: Duration = Duration::from_secs(5);
+
+/// Longest a client may stay connected without ever subscribing to a channel (a viewer
+/// subscribes as soon as it reads the channels).
+pub const IDLE_LIMIT: Duration = Duration::from_secs(10);
+
+/// At the client limit, a new connection takes the slot of the oldest client that has
+/// not subscribed (or not finished its handshake) and has been connected this long.
+pub const SLOT_GRACE: Duration = Duration::from_secs(1);
 
 /// Longest the accept thread sleeps between two looks at the listener.
 const ACCEPT_POLL: Duration = Duration::from_millis(10);
@@ -39,11 +51,20 @@ pub struct Limits {
     pub max_clients: usize,
     /// Queue bound per client, bytes.
     pub queue_bytes: usize,
+    /// Deadline of the whole handshake, from the accept.
+    pub handshake: Duration,
+    /// Longest a client may stay without ever subscribing.
+    pub idle: Duration,
 }
 
 impl Default for Limits {
     fn default() -> Self {
-        Self { max_clients: MAX_CLIENTS, queue_bytes: CLIENT_QUEUE_BYTES }
+        Self {
+            max_clients: MAX_CLIENTS,
+            queue_bytes: CLIENT_QUEUE_BYTES,
+            handshake: HANDSHAKE_DEADLINE,
+            idle: IDLE_LIMIT,
+        }
     }
 }
 
@@ -69,6 +90,9 @@ pub struct Shared {
     connections: AtomicU64,
     /// Messages dropped by clients already gone.
     dropped_gone: AtomicU64,
+    /// Clients sent away: past the handshake deadline or the idle limit, or for a new
+    /// connection at the client limit.
+    expired: AtomicU64,
 }
 
 impl Shared {
@@ -96,6 +120,8 @@ pub struct Stats {
     pub refused: u64,
     /// Messages dropped for clients that read slower than the stream.
     pub dropped: u64,
+    /// Clients sent away (handshake deadline, idle limit, slot given to a new connection).
+    pub expired: u64,
 }
 
 /// A running server.
@@ -124,6 +150,7 @@ impl Server {
             failed_handshakes: AtomicU64::new(0),
             connections: AtomicU64::new(0),
             dropped_gone: AtomicU64::new(0),
+            expired: AtomicU64::new(0),
         });
         let accept = {
             let shared = shared.clone();
@@ -196,6 +223,7 @@ impl Server {
             connections: shared.connections.load(Ordering::SeqCst),
             refused: shared.refused.load(Ordering::SeqCst),
             dropped,
+            expired: shared.expired.load(Ordering::SeqCst),
         }
     }
 }
@@ -208,14 +236,56 @@ impl Drop for Server {
     }
 }
 
+/// Sends away the clients past their deadline: a handshake longer than
+/// [`Limits::handshake`], an open client that never subscribed within [`Limits::idle`].
+fn enforce_deadlines(shared: &Shared) {
+    for c in shared.clients().iter() {
+        let late = match c.standing() {
+            Standing::Handshaking => c.age() > shared.limits.handshake,
+            Standing::Idle => c.age() > shared.limits.idle,
+            Standing::Viewer | Standing::Leaving => false,
+        };
+        if late {
+            shared.expired.fetch_add(1, Ordering::SeqCst);
+            c.send_away();
+        }
+    }
+}
+
+/// Whether a new connection gets a slot: under the limit, or by sending away the oldest
+/// client that has not subscribed (idle or still in its handshake) and is older than
+/// [`SLOT_GRACE`]. Viewers keep theirs.
+fn make_room(shared: &Shared) -> bool {
+    let clients = shared.clients();
+    let standing: Vec<Standing> = clients.iter().map(|c| c.standing()).collect();
+    let present = standing.iter().filter(|s| **s != Standing::Leaving).count();
+    if present < shared.limits.max_clients {
+        return true;
+    }
+    let oldest = clients
+        .iter()
+        .zip(&standing)
+        .filter(|(c, s)| matches!(s, Standing::Handshaking | Standing::Idle) && c.age() >= SLOT_GRACE)
+        .max_by_key(|(c, _)| c.age());
+    match oldest {
+        Some((c, _)) => {
+            shared.expired.fetch_add(1, Ordering::SeqCst);
+            c.send_away();
+            true
+        }
+        None => false,
+    }
+}
+
 fn accept_loop(listener: &TcpListener, shared: &Arc<Shared>) {
     while !shared.stopping() {
+        enforce_deadlines(shared);
         match listener.accept() {
             Ok((stream, peer)) => {
                 if stream.set_nonblocking(false).is_err() {
                     continue;
                 }
-                if shared.clients().len() >= shared.limits.max_clients {
+                if !make_room(shared) {
                     shared.refused.fetch_add(1, Ordering::SeqCst);
                     refuse(stream, shared.limits.max_clients);
                     continue;

@@ -55,6 +55,9 @@ impl<T: Real> FigureEight<T> {
         let mut f = Self { center_x, center_y, width, height, period, rate: (T::one(), T::one()) };
         // The speed's bounds over one period, sampled; the minimum taken 10 % lower so
         // the path searches never underestimate the span a distance needs.
+        // The same samples check what the figure produces: omega_ref divides by v^2 and
+        // its rate by v^4, which underflow or overflow for valid-looking keys (a period of
+        // 1e300 s gives 0/0). The figure is periodic, so a period's samples cover any run.
         let (mut lo, mut hi) = (T::infinity(), T::zero());
         for k in 0..1024 {
             let t = period * T::lit(f64::from(k) / 1024.0);
@@ -62,9 +65,37 @@ impl<T: Real> FigureEight<T> {
             let v = d.d1.0.hypot_libm(d.d1.1);
             lo = lo.min(v);
             hi = hi.max(v);
+            let s = f.state_at(t);
+            let values = [s.pose.x, s.pose.y, s.pose.theta, s.twist.v, s.twist.omega, s.accel.v, s.accel.omega];
+            if values.iter().any(|x| !x.is_finite()) {
+                return Err(f.non_finite_error(hi));
+            }
         }
         f.rate = (lo * T::lit(0.9), hi * T::lit(1.01));
         Ok(f)
+    }
+
+    /// The key to blame for a figure whose state is not finite, found by what the state
+    /// computes: the angular rate a = 2 pi / period to the third power (the jerk) and
+    /// squared (omega_ref's denominator), else the speed v ~ extent a, squared and
+    /// squared again: too large (`hi`, the fastest speed seen, overflows) blames the larger
+    /// extent, too small the smaller one.
+    fn non_finite_error(&self, hi: T) -> ParamError {
+        const WHY: &str = "gives a figure whose turn rate or acceleration is not a finite number (the \
+                           speed, about width / period, is too small or too large to square twice): \
+                           bring width, height and period nearer 1";
+        let a = T::TAU() / self.period;
+        let a2 = a * a;
+        if !(a2 * a).is_finite() || a2 < T::min_positive_value() {
+            return check::out_of_range("period", WHY, self.period);
+        }
+        let too_large = !(hi * hi * hi * hi).is_finite();
+        let width_blamed = if too_large { self.width >= self.height } else { self.width <= self.height };
+        if width_blamed {
+            check::out_of_range("width", WHY, self.width)
+        } else {
+            check::out_of_range("height", WHY, self.height)
+        }
     }
 
     #[inline(always)]

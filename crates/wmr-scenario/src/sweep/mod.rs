@@ -37,6 +37,7 @@ mod write;
 
 pub use outcome::SweepOutcome;
 pub use row::{SWEEP_COLUMNS, TRACKING_SWEEP_COLUMNS, csv_num, sweep_row, tracking_sweep_row};
+pub(crate) use spec::check_reference_count;
 pub use spec::{SweepSpec, SweepTracking};
 pub use starts::StartsSource;
 pub use summary::{LawSummary, Spread, summarize, summary_table};

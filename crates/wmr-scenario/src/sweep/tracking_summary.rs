@@ -3,6 +3,7 @@
 //! over the last 10 % of t_end) and median and worst of the tracking figures over the
 //! runs that did not diverge, as values and as a table.
 
+use crate::error::{fixed, num};
 use wmr_core::Status;
 
 use super::outcome::SweepOutcome;
@@ -71,12 +72,13 @@ pub fn tracking_summary_table(rows: &[TrackingSummary], tolerance_m: f64) -> Str
         if s.median.is_nan() {
             "-".to_owned()
         } else {
-            format!("{:.p$} / {:.p$}", scale * s.median, scale * s.worst, p = prec)
+            format!("{} / {}", fixed(scale * s.median, prec), fixed(scale * s.worst, prec))
         }
     };
     let w = rows.iter().map(|r| r.law.len()).max().unwrap_or(0).max(3);
     let wr = rows.iter().map(|r| r.reference.len()).max().unwrap_or(0).max(9);
-    let tol = format!("t_{} mm s", 1000.0 * tolerance_m);
+    // The time to the tolerance, in s; the tolerance as written, in mm (0.01 m: `10 mm`).
+    let tol = format!("s to {} mm", num((tolerance_m * 1e9).round() / 1e6));
     let mut out = format!(
         "{:<w$} {:<wr$} {:>6} {:>10} {:>9} {:>10} {:>19} {:>19} {:>15}\n",
         "law", "reference", "runs", "converged", "diverged", "unsettled", "RMS mm (med/max)", "max mm (med/max)", tol
