@@ -4,7 +4,8 @@
 //! coordinates and the orientating angle" and wheel encoders: [`PerfectSensor`] gives
 //! exactly that, the true pose and wheel state at the instant of the control tick.
 //! [`PoseSensor`] is the real one: a pose sampled at its own rate, late, noisy, and
-//! quantized wheel encoders ([`pose_sensor`]); [`gaussian`] draws its noise.
+//! quantized wheel encoders ([`pose_sensor`]), a chain of the [`stage`]s a real sensor
+//! has (sampling, noise, latency, encoders); [`gaussian`] draws its noise.
 //! [`OdometrySensor`] hands the controller the pose dead-reckoned from the encoders
 //! ([`dead_reckoning`]) and fused with optional absolute fixes by the pose EKF ([`ekf`]),
 //! as `[sensor] pose = "odometry"` asks ([`odometry`]); [`AnySensor`] is either ([`any`]).
@@ -15,6 +16,7 @@ pub mod ekf;
 pub mod gaussian;
 pub mod odometry;
 pub mod pose_sensor;
+pub mod stage;
 
 pub use any::AnySensor;
 pub use odometry::{OdometryParams, OdometrySensor, PoseSource};

@@ -23,6 +23,7 @@
 
 use super::dead_reckoning::DeadReckoning;
 use super::ekf::{Mat3, PoseEkf, diag};
+use super::stage::DelayLine;
 use super::{Measurement, PoseSensor, Sensor, SensorParams};
 use crate::error::{ParamError, check};
 use crate::math::{Pose2, Wheels};
@@ -73,13 +74,6 @@ pub const DEFAULT_ODOMETRY_NOISE: f64 = 0.01;
 /// assumes, and of its start pose: a noiseless fix keeps the covariance positive definite.
 pub const FIX_SIGMA_FLOOR: f64 = 1e-3;
 
-/// One fix in flight: its sample index and the odometry pose when it was taken.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct Taken<T> {
-    index: u64,
-    odometry: Pose2<T>,
-}
-
 /// Dead reckoning and the EKF, from the first tick on.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Track<T> {
@@ -102,9 +96,8 @@ pub struct OdometrySensor<T, const N: usize = 256> {
     noise_per_m: T,
     fix_noise: Mat3<T>,
     track: Option<Track<T>>,
-    ring: [Taken<T>; N],
-    head: usize,
-    len: usize,
+    /// The odometry pose at the instant each fix in flight was taken.
+    taken: DelayLine<Pose2<T>, N>,
     tick: u64,
 }
 
@@ -154,9 +147,7 @@ impl<T: Real, const N: usize> OdometrySensor<T, N> {
             noise_per_m: odometry.odometry_noise * odometry.odometry_noise,
             fix_noise: diag(sigma_p * sigma_p, sigma_p * sigma_p, sigma_th * sigma_th),
             track: None,
-            ring: [Taken::default(); N],
-            head: 0,
-            len: 0,
+            taken: DelayLine::default(),
             tick: 0,
         })
     }
@@ -215,28 +206,12 @@ impl<T: Real, const N: usize> Sensor<T> for OdometrySensor<T, N> {
         };
         let odometry_now = track.odometry.pose();
         if self.fixes {
-            let tps = self.inner.ticks_per_sample();
-            // tps >= 1 and head < N by construction; written so the compiler sees no
-            // division by zero or index out of bounds (no panic path on a Cortex-M,
-            // firmware/check), with the same values.
-            if self.tick.is_multiple_of(tps) && self.len < N {
-                let slot = (self.head + self.len) % N;
-                self.ring[slot] =
-                    Taken { index: self.tick.checked_div(tps).unwrap_or(self.tick), odometry: odometry_now };
-                self.len += 1;
+            if let Some(j) = self.inner.sampling().sample_at(self.tick) {
+                self.taken.push(j, odometry_now);
             }
             if let Some((j, z)) = fix {
                 // The odometry when fix j was taken; older entries were never delivered.
-                let mut then = None;
-                while self.len > 0 {
-                    let oldest = self.ring[self.head % N];
-                    if oldest.index > j {
-                        break;
-                    }
-                    then = Some(oldest.odometry);
-                    self.head = (self.head + 1) % N;
-                    self.len -= 1;
-                }
+                let then = self.taken.deliver(|i| i <= j).map(|(_, pose)| pose);
                 let then = then.unwrap_or(odometry_now);
                 let z_now = z.compose(&odometry_now.relative_to(&then));
                 let z_now = Pose2::new(z_now.x, z_now.y, z.theta + (odometry_now.theta - then.theta));
@@ -250,8 +225,7 @@ impl<T: Real, const N: usize> Sensor<T> for OdometrySensor<T, N> {
     fn reset(&mut self) {
         self.inner.reset();
         self.track = None;
-        self.head = 0;
-        self.len = 0;
+        self.taken.clear();
         self.tick = 0;
     }
 
