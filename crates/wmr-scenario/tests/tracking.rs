@@ -166,3 +166,39 @@ fn a_file_reference_reads_its_csv_relative_to_the_scenario_file() {
     assert!(e.message.contains("line 3"), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A figure-eight given by its peak speed (issue 40): the period is pi sqrt(w^2 + 4 h^2) /
+/// speed, so the largest speed over a period, by finite differences of the positions (not
+/// the reference's own twist), is the one asked for; period and speed together, or a
+/// speed <= 0, are refused naming `reference.speed`.
+#[test]
+fn a_figure_eight_by_speed_peaks_at_that_speed() {
+    let text = "[reference]\nkind = \"figure_eight\"\nwidth = 3.0\nheight = 1.2\nspeed = 0.4\n\
+                [controller]\nkind = \"kanayama\"\n[[run]]\n";
+    let sc = Scenario::from_toml_str(text, "by-speed").unwrap();
+    let reference = sc.tracking().unwrap().reference.built;
+    let period = PI * 3.0f64.hypot(2.4) / 0.4;
+    let at = |t: f64| wmr_core::Reference::state_at(&reference, t).pose;
+    // One period later, the same pose; half a period later, the centre again.
+    let (p0, p1) = (at(0.0), at(period));
+    assert!((p0.x - p1.x).abs() < 1e-9 && (p0.y - p1.y).abs() < 1e-9, "{p0:?} {p1:?}");
+    let h = 1e-4;
+    let peak = (0..4000)
+        .map(|k| {
+            let t = period * f64::from(k) / 4000.0;
+            let (a, b) = (at(t - h), at(t + h));
+            (b.x - a.x).hypot(b.y - a.y) / (2.0 * h)
+        })
+        .fold(0.0f64, f64::max);
+    assert!((peak - 0.4).abs() < 1e-6, "peak speed {peak}");
+    // `check` keeps the speed as given and writes no default period beside it.
+    let dump = sc.to_toml();
+    assert!(dump.contains("speed = 0.4") && !dump.contains("period ="), "{dump}");
+    Scenario::from_toml_str(&dump, "again").expect("check's output reads back");
+
+    let e = err_of(&text.replace("speed = 0.4", "speed = 0.4\nperiod = 30.0"));
+    assert_eq!(e.key, "reference.speed", "{e}");
+    assert!(e.message.contains("not both"), "{e}");
+    let e = err_of(&text.replace("speed = 0.4", "speed = -0.4"));
+    assert_eq!(e.key, "reference.speed", "{e}");
+}
