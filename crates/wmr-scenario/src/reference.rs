@@ -258,6 +258,32 @@ pub fn figure_eight_period(width: f64, height: f64, speed: f64) -> f64 {
     std::f64::consts::PI * width.hypot(2.0 * height) / speed
 }
 
+/// The table of `r` with every key its kind reads filled in (the given value, else the
+/// default), and the keys in documentation order: what `wmr-cli check` prints. A
+/// figure-eight keeps the one of `period` and `speed` it was given (`period` by default).
+pub fn filled(r: &ReferenceSpec) -> (Table, Vec<&'static str>) {
+    let kind = r.table.get("kind").and_then(Value::as_str).unwrap_or_default();
+    let mut table = r.table.clone();
+    let mut order = vec!["kind"];
+    for k in REFERENCE_KEYS.iter().filter(|k| k.name != "kind" && k.kinds.split(", ").any(|c| c == kind)) {
+        order.push(k.name);
+        let other_given = |name: &str| r.table.contains_key(name);
+        let skip = table.contains_key(k.name)
+            || k.default.is_empty()
+            || (kind == "figure_eight" && (k.name == "speed" || (k.name == "period" && other_given("speed"))));
+        if skip {
+            continue;
+        }
+        // The default as TOML text (`1.0`, `{ x = 0.0, y = 0.0 }`), read as a value.
+        if let Ok(mut t) = format!("v = {}", k.default).parse::<Table>()
+            && let Some(v) = t.remove("v")
+        {
+            table.insert(k.name.to_owned(), v);
+        }
+    }
+    (table, order)
+}
+
 /// `points = [[x, y], ...]`.
 fn points_of(table: &Table) -> Result<Vec<[f64; 2]>, ScenarioError> {
     let Some(v) = table.get("points") else {

@@ -202,3 +202,37 @@ fn a_figure_eight_by_speed_peaks_at_that_speed() {
     let e = err_of(&text.replace("speed = 0.4", "speed = -0.4"));
     assert_eq!(e.key, "reference.speed", "{e}");
 }
+
+/// `check` fills in and marks every default, not only `[robot]`'s (issue 40): a
+/// figure-eight's default `center`, `width`, `height` and `period`, and the defaults of
+/// `[controller]` and `[world]`, each line saying `# default` or `# scenario`.
+#[test]
+fn check_fills_in_and_marks_the_defaults_of_every_table() {
+    let text = "[reference]\nkind = \"figure_eight\"\nwidth = 3.0\n[controller]\nkind = \"kanayama\"\n\
+                [world]\nslope_deg = 1.0\n[[run]]\n";
+    let sc = Scenario::from_toml_str(text, "defaults").unwrap();
+    let dump = sc.to_toml();
+    let line = |key: &str| {
+        let section_start = dump.find("[reference]").unwrap();
+        dump[section_start..]
+            .lines()
+            .find(|l| l.starts_with(&format!("{key} =")))
+            .unwrap_or_else(|| panic!("{key}: {dump}"))
+    };
+    for key in ["center", "height", "period"] {
+        assert!(line(key).ends_with("# default"), "{}", line(key));
+    }
+    assert!(line("center").starts_with("center = { x = 0.0, y = 0.0 }"), "{}", line("center"));
+    assert!(line("width").ends_with("# scenario"), "{}", line("width"));
+    let in_table = |table: &str, key: &str| {
+        let at = dump.find(&format!("\n[{table}]\n")).unwrap();
+        dump[at..].lines().find(|l| l.starts_with(&format!("{key} ="))).unwrap_or_default().to_owned()
+    };
+    assert!(in_table("world", "slope_deg").ends_with("# scenario"), "{dump}");
+    assert!(in_table("controller", "kx").ends_with("# default"), "{dump}");
+    assert!(in_table("controller", "kind").ends_with("# scenario"), "{dump}");
+    // Read back, the same robot, laws and reference (its table now lists every key).
+    let again = Scenario::from_toml_str(&dump, "again").unwrap();
+    assert_eq!(again.setup(), sc.setup());
+    assert_eq!(again.tracking().unwrap().reference.built, sc.tracking().unwrap().reference.built);
+}
