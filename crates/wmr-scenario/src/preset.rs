@@ -31,6 +31,9 @@ pub struct Origins {
     /// The keys the file gives in the other tables (`[controller]`, `[sensor]`, `[world]`,
     /// `[reference]`), as `table.key`.
     pub given: Vec<String>,
+    /// Why `[controller] kind` is what it is where the file does not give it and the
+    /// default is not `paper`: a `[reference]` is followed by a law that follows it.
+    pub law_note: Option<String>,
 }
 
 impl Origins {
@@ -41,6 +44,12 @@ impl Origins {
             "robot" => &self.robot,
             "drive" => &self.drive,
             _ => {
+                if table == "controller"
+                    && key == "kind"
+                    && let Some(n) = &self.law_note
+                {
+                    return n;
+                }
                 let given =
                     self.given.iter().any(|g| g.strip_prefix(table).and_then(|r| r.strip_prefix('.')) == Some(key));
                 return if given { "scenario" } else { "default" };

@@ -157,7 +157,9 @@ impl ScenarioFile {
             }
         }
         self.run = runs;
+        let law_note = if reference.is_some() { self.default_law_for_reference() } else { None };
         let mut scenario = self.resolve_with(default_name, sweep_tracking)?;
+        scenario.origins.law_note = law_note;
         if let Some(reference) = reference {
             let start = reference.built.start_pose();
             for i in starts_only {
@@ -183,6 +185,21 @@ impl ScenarioFile {
         scenario.check_runs()?;
         scenario.inputs = inputs;
         Ok(scenario)
+    }
+
+    /// A `[reference]` is followed by a law that follows it: where `[controller]` names no
+    /// `kind` (and holds only keys that law reads), the first tracking law of the registry
+    /// is written in; `paper`, the default without a reference, holds a point and would be
+    /// refused. Returns the note `check` prints beside the kind.
+    fn default_law_for_reference(&mut self) -> Option<String> {
+        let kind = *crate::controller::tracking_law_kinds().first()?;
+        let table = self.controller.get_or_insert_with(toml::Table::new);
+        let accepted = crate::controller::controller_keys(kind);
+        if table.contains_key("kind") || !table.keys().all(|k| accepted.contains(k)) {
+            return None;
+        }
+        table.insert("kind".to_owned(), toml::Value::String(kind.to_owned()));
+        Some("default with a [reference]: a law that follows it".to_owned())
     }
 
     /// Fills the defaults and checks everything by building the core types once.
@@ -290,7 +307,7 @@ impl Scenario {
         origins
             .and_then(|origins| {
                 let mut s = file.resolve_in(default_name, Some(dir))?;
-                s.origins = Origins { given, ..origins };
+                s.origins = Origins { given, law_note: s.origins.law_note.take(), ..origins };
                 // The preset first, as it was read first.
                 let mut inputs = Vec::new();
                 add_inputs(&mut inputs, &mut HashSet::new(), presets, "robot.from");

@@ -203,6 +203,27 @@ fn a_figure_eight_by_speed_peaks_at_that_speed() {
     assert_eq!(e.key, "reference.speed", "{e}");
 }
 
+/// A `[reference]` without a `[controller]` (or one without `kind`) is followed by a law
+/// that follows it, not refused for `paper`, a law the user never wrote (issue 40); `check`
+/// says where the kind came from. A `[controller]` with a stabilization law's keys keeps
+/// the old refusal, naming `controller.kind`.
+#[test]
+fn a_reference_without_a_controller_is_followed_by_a_tracking_law() {
+    let text = "[reference]\nkind = \"circle\"\n[[run]]\n";
+    let sc = Scenario::from_toml_str(text, "no-controller").expect("a [reference] alone is a scenario");
+    let kind = sc.setup().controller.law.kind();
+    assert_eq!(kind, wmr_scenario::tracking_law_kinds()[0]);
+    let dump = sc.to_toml();
+    let line =
+        dump.lines().find(|l| l.starts_with("kind = \"") && l.contains(kind)).unwrap_or_else(|| panic!("{dump}"));
+    assert!(line.contains("# default with a [reference]"), "{line}");
+    // With kind's own keys and no kind: the same default.
+    let sc = Scenario::from_toml_str(&text.replace("[[run]]", "[controller]\nkx = 2.0\n[[run]]"), "x").unwrap();
+    assert_eq!(sc.setup().controller.law.kind(), kind);
+    let e = err_of(&text.replace("[[run]]", "[controller]\nkp_s = 2.0\n[[run]]"));
+    assert!(e.key.starts_with("controller"), "{e}");
+}
+
 /// `check` fills in and marks every default, not only `[robot]`'s (issue 40): a
 /// figure-eight's default `center`, `width`, `height` and `period`, and the defaults of
 /// `[controller]` and `[world]`, each line saying `# default` or `# scenario`.
