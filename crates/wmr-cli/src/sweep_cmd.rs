@@ -52,7 +52,7 @@ pub fn sweep(
 ) -> Result<()> {
     let Some(spec) = &scenario.sweep() else {
         return Err(bad_input(format!(
-            "{}: sweep: the file has no [sweep] table (see `wmr-cli --help` for its keys; [[run]]s run with \
+            "{}: sweep: the file has no [sweep] table (see `wmr-cli help keys sweep` for its keys; [[run]]s run with \
              `wmr-cli run`)",
             shown(file)
         )));
