@@ -34,16 +34,16 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Run every [[run]] of a scenario and write OUT (MCAP or CSV), then print one
-    /// summary line per run.
+    /// Run every [[run]] of a scenario and print one summary line per run; with -o OUT,
+    /// also write OUT (MCAP or CSV).
     #[command(after_help = keys::keys_hint())]
     Run {
         /// The scenario file (TOML).
         file: PathBuf,
-        /// Output file: MCAP when it ends in .mcap, CSV when it ends in .csv (optional with
-        /// --live); `-` is stdout (with --format). Replaced atomically when complete; a
-        /// device or FIFO is written to directly. Its directory must exist.
-        #[arg(short, long, value_name = "OUT", required_unless_present = "live")]
+        /// Output file: MCAP when it ends in .mcap, CSV when it ends in .csv; without it, only
+        /// the summary is printed. `-` is stdout (with --format). Replaced atomically when
+        /// complete; a device or FIFO is written to directly. Its directory must exist.
+        #[arg(short, long, value_name = "OUT")]
         output: Option<PathBuf>,
         /// Output format; overrides the extension of OUT.
         #[arg(long, value_enum)]
@@ -235,7 +235,13 @@ fn run(cli: Cli) -> Result<()> {
                 exec::require_runs(&scenario, &file)?;
                 return foxglove_cmd::run_live(&scenario, output, format, layout, addr, speed.unwrap_or(1.0));
             }
-            let output = output.ok_or_else(|| bad_input("-o OUT is required without --live"))?;
+            let Some(output) = output else {
+                if layout.is_some() || format.is_some() {
+                    foxglove_cmd::usage_error("--layout and --format describe OUT: give -o OUT");
+                }
+                let scenario = load(&file)?;
+                return exec::run_summary(&scenario, &file);
+            };
             let format = format_of(&output, format)?;
             if layout.is_some() && format != Format::Mcap {
                 foxglove_cmd::usage_error("--layout describes the MCAP topics: write OUT as .mcap");

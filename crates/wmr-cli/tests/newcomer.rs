@@ -55,3 +55,28 @@ fn help_keys_prints_the_schema_or_one_table() {
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(err.contains("robt") && err.contains("robot, drive"), "{err}");
 }
+
+fn repo(rel: &str) -> String {
+    std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..").join(rel).to_str().unwrap().to_owned()
+}
+
+/// `run FILE` without `-o`: the summary lines a run with `-o` prints, and a note saying
+/// how to write a file; no file written.
+#[test]
+fn run_without_output_prints_the_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let fig7 = repo("examples/paper/fig7.toml");
+    let out = dir.path().join("fig7.csv");
+    let with = cli(&["run", &fig7, "-o", out.to_str().unwrap()]);
+    assert!(with.status.success(), "{}", text(&with.stderr));
+    let without =
+        Command::new(env!("CARGO_BIN_EXE_wmr-cli")).args(["run", &fig7]).current_dir(dir.path()).output().unwrap();
+    assert!(without.status.success(), "{}", text(&without.stderr));
+    assert_eq!(text(&without.stdout), text(&with.stdout));
+    assert!(text(&without.stdout).contains("converged"), "{}", text(&without.stdout));
+    assert!(text(&without.stderr).contains("-o OUT.csv"), "{}", text(&without.stderr));
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1, "only the -o run's file");
+    // --format and --layout describe a file: without -o, a usage error.
+    let o = cli(&["run", &fig7, "--format", "csv"]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+}
