@@ -80,3 +80,23 @@ fn run_without_output_prints_the_summary() {
     let o = cli(&["run", &fig7, "--format", "csv"]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
 }
+
+/// A sweep over references says the product with them: 1 law x 2 references x 1
+/// variants x 1 trials x 2 starts = 4 runs (it said "1 laws x 1 variants x ...").
+#[test]
+fn a_sweep_over_references_counts_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("refs.toml");
+    std::fs::write(
+        &file,
+        "[sim]\nt_end = 1.0\n[sweep]\ncontrollers = [{ kind = \"kanayama\" }]\n\
+         references = [{ kind = \"circle\" }, { kind = \"figure_eight\" }]\n\
+         random = { n = 2, seed = 1, radius = 0.2, max_heading_deg = 10.0 }\n",
+    )
+    .unwrap();
+    let out = dir.path().join("refs.csv");
+    let o = cli(&["sweep", file.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let err = text(&o.stderr);
+    assert!(err.contains("4 runs (1 laws x 2 references x 1 variants x 1 trials x 2 starts"), "{err}");
+}
