@@ -100,3 +100,49 @@ fn a_sweep_over_references_counts_them() {
     let err = text(&o.stderr);
     assert!(err.contains("4 runs (1 laws x 2 references x 1 variants x 1 trials x 2 starts"), "{err}");
 }
+
+mod skip;
+
+/// The long reason of a skip (docs_commands lists the documented commands it did not
+/// run: about 4,000 characters on one line) is wrapped: one `SKIP` line, then indented
+/// lines, none wider than 100 columns, every word kept in order. Recorded by this test
+/// binary run again as a child with its own WMR_SKIP_LOG.
+#[test]
+fn a_long_skip_reason_is_wrapped() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("skipped.txt");
+    let o = Command::new(std::env::current_exe().unwrap())
+        .args(["--ignored", "--exact", "records_a_long_skip", "--test-threads=1"])
+        .env("WMR_SKIP_LOG", &log)
+        .env("WMR_SKIP_SELFTEST", "1")
+        .env_remove("WMR_REQUIRE")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}{}", text(&o.stdout), text(&o.stderr));
+    let report = std::fs::read_to_string(&log).unwrap();
+    assert_eq!(report.lines().filter(|l| l.starts_with("SKIP ")).count(), 1, "{report}");
+    assert!(report.lines().count() > 10, "{report}");
+    for line in report.lines() {
+        assert!(line.len() <= 100, "a line of {} characters: {line}", line.len());
+        assert!(line.starts_with("SKIP ") || line.starts_with("    "), "{line:?}");
+    }
+    let words: Vec<&str> = report.split_whitespace().collect();
+    assert_eq!(words[..2], ["SKIP", "newcomer::records_a_long_skip:"]);
+    assert_eq!(words[2..].join(" "), long_reason());
+}
+
+fn long_reason() -> String {
+    let commands: Vec<String> = (0..60)
+        .map(|i| format!("README.md:{} `wmr-cli sweep examples/compare.toml -o compare.csv`", 100 + i))
+        .collect();
+    format!("60 documented command(s) marked long not run (WMR_LONG_TESTS=1 runs them): {}", commands.join("; "))
+}
+
+/// The skip [`a_long_skip_reason_is_wrapped`] reads back; nothing outside it.
+#[test]
+#[ignore = "run by a_long_skip_reason_is_wrapped, with its own WMR_SKIP_LOG"]
+fn records_a_long_skip() {
+    if std::env::var_os("WMR_SKIP_SELFTEST").is_some() {
+        skip::missing("selftest", &long_reason());
+    }
+}
