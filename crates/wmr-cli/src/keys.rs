@@ -28,11 +28,15 @@ const TABLES: [(&str, &str); 6] = [
     ("reference", ""),
 ];
 
-/// The `[reference]` table's note: the laws that follow one, from the registry.
+/// The `[reference]` table's note: the laws that follow one, from the registry, and the
+/// one a scenario gets when its `[controller]` names no `kind`.
 fn reference_note() -> String {
+    let kinds = wmr_scenario::tracking_law_kinds();
     format!(
-        "a moving reference for {}; no table = each run's goal, at rest",
-        wmr_scenario::tracking_law_kinds().join(", ")
+        "a moving reference for {}; no table = each run's goal, at rest; with one, [controller] kind defaults \
+         to {}",
+        kinds.join(", "),
+        kinds.first().copied().unwrap_or("?")
     )
 }
 

@@ -49,6 +49,10 @@ fn help_keys_prints_the_schema_or_one_table() {
     }
     let sweep = text(&cli(&["help", "keys", "sweep"]).stdout);
     assert!(sweep.starts_with("[sweep]") && sweep.contains("references = ") && !sweep.contains("[sim]"), "{sweep}");
+    // The [reference] note names the law a scenario with a reference gets by default.
+    let reference = text(&cli(&["help", "keys", "reference"]).stdout).split_whitespace().collect::<Vec<_>>().join(" ");
+    let default = wmr_scenario::tracking_law_kinds()[0];
+    assert!(reference.contains(&format!("[controller] kind defaults to {default}")), "{reference}");
     let bad = cli(&["help", "keys", "robt"]);
     assert_eq!(bad.status.code(), Some(2));
     let err = text(&bad.stderr);
