@@ -1,5 +1,5 @@
 //! The key tables of `docs/scenario.md` are generated, between `<!-- keys:ID begin -->`
-//! and `<!-- keys:ID end -->`, from the same descriptions as `--help`
+//! and `<!-- keys:ID end -->`, from the same descriptions as `wmr-cli help keys`
 //! (`wmr_scenario::schema`, which reads the core's `params!` declarations); the test
 //! fails when the file is stale. Regenerate with
 //! `WMR_BLESS=1 cargo test -p wmr-cli --test docs_tables`.
