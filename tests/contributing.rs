@@ -1,7 +1,7 @@
 //! CONTRIBUTING.md, performed: in a scratch copy of the repository, a law is added
 //! exactly as it says (a copy of Kanayama's law under a new name: its file, the `mod`
 //! line, the registry line and its docs section), `cargo xtask gen` is run, and the CLI
-//! (`check`, `run`, `trace`, `--help`), the C header, the Python classes and the
+//! (`check`, `run`, `trace`, `help keys`), the C header, the Python classes and the
 //! firmware's law programs must all know it. A long check (a build of the workspace in
 //! the copy): `WMR_LONG_TESTS=1` runs it.
 
@@ -111,8 +111,8 @@ fn a_law_added_as_contributing_says_is_known_everywhere() {
     let cli = target.join("debug/wmr-cli");
 
     // The CLI: the help, check, run (the same bits as Kanayama's: the same law), trace.
-    let help = run(Command::new(&cli).arg("--help"));
-    assert!(String::from_utf8_lossy(&help.stdout).contains("kanayama_copy"), "--help lacks the new law");
+    let help = run(Command::new(&cli).args(["help", "keys"]));
+    assert!(String::from_utf8_lossy(&help.stdout).contains("kanayama_copy"), "help keys lacks the new law");
     let circle = read(&root().join("examples/tracking/circle.toml"));
     assert!(circle.contains("kind = \"kanayama\""), "examples/tracking/circle.toml runs Kanayama's law");
     let copy = circle.replace("kind = \"kanayama\"", "kind = \"kanayama_copy\"");

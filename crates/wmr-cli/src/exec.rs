@@ -224,6 +224,34 @@ pub fn run_command(
     Ok(())
 }
 
+/// The sink of `run` without `-o`: the samples are dropped, the summaries stay.
+struct SummaryOnly;
+
+impl Sink for SummaryOnly {
+    fn sample(&mut self, _index: usize, _sample: &Sample<f64>) -> Result<(), SinkError> {
+        Ok(())
+    }
+
+    fn finish(&mut self) -> Result<(), SinkError> {
+        Ok(())
+    }
+}
+
+/// `wmr-cli run FILE` without `-o`: every run simulated and its summary line printed; no
+/// file is written, and a note says how to write one.
+pub fn run_summary(scenario: &Scenario, file: &Path) -> Result<()> {
+    require_runs(scenario, file)?;
+    let n_runs = scenario.runs().len();
+    announce_work(u128::from(scenario.sim().n_steps()) * n_runs as u128, &format!("{n_runs} run(s)"));
+    let show_bar = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let (results, _) = execute(scenario, &mut SummaryOnly, show_bar)?;
+    for r in &results {
+        say(&r.summary_line())?;
+    }
+    note("wmr-cli: no file written; -o OUT.mcap (for Foxglove) or -o OUT.csv writes the runs' samples");
+    Ok(())
+}
+
 fn progress(scenario: &Scenario, show: bool) -> ProgressBar {
     let total = scenario.sim().n_steps().saturating_mul(scenario.runs().len() as u64);
     if !show || total < LONG_WORK_STEPS {

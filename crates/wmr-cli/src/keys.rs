@@ -1,4 +1,4 @@
-//! The long help: every scenario key with its unit, default and rule, the tables of the
+//! `wmr-cli help keys [TABLE]`: every scenario key with its unit, default and rule, the tables of the
 //! core's parameters generated from their declarations (through [`wmr_scenario::schema()`]),
 //! the MCAP topics from [`crate::foxglove_topics::Kind`]; docs/scenario.md has more.
 
@@ -28,11 +28,15 @@ const TABLES: [(&str, &str); 6] = [
     ("reference", ""),
 ];
 
-/// The `[reference]` table's note: the laws that follow one, from the registry.
+/// The `[reference]` table's note: the laws that follow one, from the registry, and the
+/// one a scenario gets when its `[controller]` names no `kind`.
 fn reference_note() -> String {
+    let kinds = wmr_scenario::tracking_law_kinds();
     format!(
-        "a moving reference for {}; no table = each run's goal, at rest",
-        wmr_scenario::tracking_law_kinds().join(", ")
+        "a moving reference for {}; no table = each run's goal, at rest; with one, [controller] kind defaults \
+         to {}",
+        kinds.join(", "),
+        kinds.first().copied().unwrap_or("?")
     )
 }
 
@@ -42,20 +46,22 @@ name = "fig7"                  scenario name (default: the file's stem)
 "#;
 
 /// The tables the core does not declare (`wmr-scenario`'s own file types).
-const SIM_RUN_SWEEP: &str = r#"[sim]
+const SIM: &str = r#"[sim]
   t_end = 60.0                 s per run; a whole multiple of dt; <= 1e6 s and <= 1e9 steps
   dt = 1e-3                    s, RK4 step (default: controller.control_dt)
   log_dt = 0.01                s, output sample period; a whole multiple of dt
   stop_when_settled = false    stop a run once settled: law holding, at rest within 1 cm
   early_arrival = false        with stop_when_settled: stop after 0.1 s of dying motion, not 1 s
   tracking_tolerance = 0.01    m; a tracking run converges when its error stays below this over the last 10 % of t_end
+"#;
 
-[[run]]                        one or more
+const RUN: &str = r#"[[run]]                        one or more
   label = "..."                text for the summary (default: built from start and goal)
   start = { x = 0.0, y = 0.0, theta_deg = 0.0 }   m, m, and theta (rad) or theta_deg, not both; default 0
   goal = { x = 1.0, y = 1.0, theta_deg = 120.0 }  required (refused with a [reference]); missing x, y, theta are 0
+"#;
 
-[sweep]                        wmr-cli sweep: every law from every start ([[run]] optional)
+const SWEEP: &str = r#"[sweep]                        wmr-cli sweep: every law from every start ([[run]] optional)
   goal = { x = 0.0, y = 0.0, theta_deg = 0.0 }    goal pose of C (default origin, 0)
   controllers = [{ kind = "paper" }, { kind = "paper_bidirectional" }, { kind = "polar" }, { kind = "lyapunov" }]
                                laws to compare, each with its [controller] keys (default: these)
@@ -72,7 +78,6 @@ const SIM_RUN_SWEEP: &str = r#"[sim]
   trials = 1                   runs per (law, start, value), each with its own noise and draws
   seed = 0                     seed of the per-run draws
                                exactly one of grid (m, deg) and random (m; heading uniform)
-
 "#;
 
 const OUTPUTS_HEAD: &str = r#"OUTPUTS
@@ -163,35 +168,34 @@ fn push_key(out: &mut String, indent: &str, k: &SchemaKey) {
     push_line(out, &head, &describe(k));
 }
 
-/// The generated part: the core's tables from the schema.
-fn push_tables(out: &mut String, keys: &[SchemaKey]) {
-    for (table, note) in TABLES {
-        out.push('\n');
-        let note = if table == "reference" { reference_note() } else { note.to_owned() };
-        push_line(out, &format!("[{table}]"), &note);
-        let mut kind = None;
-        let mut every_kind = false;
-        for k in keys.iter().filter(|k| k.table == table) {
-            if k.key == "model" {
-                out.push('\n');
-                push_line(out, "[controller.model]", k.doc);
-                continue;
-            }
-            if k.kind != kind {
-                kind = k.kind;
-                if let Some(name) = kind {
-                    let _ = writeln!(out, "  kind = \"{name}\":");
-                }
-            }
-            let tagged = keys.iter().any(|o| o.table == table && o.kind.is_some());
-            if tagged && kind.is_none() && k.key != "kind" && !every_kind {
-                let _ = writeln!(out, "  every kind (the wheel stage):");
-                every_kind = true;
-            }
-            let indent = if kind.is_some() || every_kind { "    " } else { "  " };
-            push_key(out, indent, k);
+/// One core table generated from the schema (`[robot]`, `[controller]`, ...), with its note.
+fn table_section(table: &str, note: &str, keys: &[SchemaKey]) -> String {
+    let mut out = String::new();
+    let note = if table == "reference" { reference_note() } else { note.to_owned() };
+    push_line(&mut out, &format!("[{table}]"), &note);
+    let mut kind = None;
+    let mut every_kind = false;
+    for k in keys.iter().filter(|k| k.table == table) {
+        if k.key == "model" {
+            out.push('\n');
+            push_line(&mut out, "[controller.model]", k.doc);
+            continue;
         }
+        if k.kind != kind {
+            kind = k.kind;
+            if let Some(name) = kind {
+                let _ = writeln!(out, "  kind = \"{name}\":");
+            }
+        }
+        let tagged = keys.iter().any(|o| o.table == table && o.kind.is_some());
+        if tagged && kind.is_none() && k.key != "kind" && !every_kind {
+            let _ = writeln!(out, "  every kind (the wheel stage):");
+            every_kind = true;
+        }
+        let indent = if kind.is_some() || every_kind { "    " } else { "  " };
+        push_key(&mut out, indent, k);
     }
+    out
 }
 
 /// The MCAP topics, one line each, from [`Kind::ALL`] and the schemas the file carries.
@@ -204,14 +208,47 @@ fn push_topics(out: &mut String) {
     }
 }
 
-/// Shown by `wmr-cli --help`, `wmr-cli run --help` and `wmr-cli check --help`.
-pub fn keys_help() -> String {
-    let mut out = String::from(HEAD);
-    push_tables(&mut out, &schema());
-    out.push('\n');
-    out.push_str(SIM_RUN_SWEEP);
-    out.push_str(OUTPUTS_HEAD);
-    push_topics(&mut out);
-    out.push_str(OUTPUTS_TAIL);
+/// The sections of `wmr-cli help keys`, in order: the file's top level (`name`), each table
+/// (`robot`, ..., `sweep`) and the outputs; `wmr-cli help keys TABLE` prints one.
+pub fn sections() -> Vec<(&'static str, String)> {
+    let keys = schema();
+    let mut out = vec![("name", HEAD.to_owned())];
+    out.extend(TABLES.iter().map(|(table, note)| (*table, table_section(table, note, &keys))));
+    out.extend([("sim", SIM.to_owned()), ("run", RUN.to_owned()), ("sweep", SWEEP.to_owned())]);
+    let mut outputs = String::from(OUTPUTS_HEAD);
+    push_topics(&mut outputs);
+    outputs.push_str(OUTPUTS_TAIL);
+    out.push(("outputs", outputs));
     out
+}
+
+/// What `--help` says after the options: where the scenario file's keys are, and the
+/// names `help keys` takes (from [`sections`]).
+pub fn keys_hint() -> String {
+    let names: Vec<&str> = sections().iter().map(|(n, _)| *n).collect();
+    format!(
+        "The scenario file's keys, with units and defaults: wmr-cli help keys [TABLE] (TABLE: {}); \
+         docs/scenario.md has more.",
+        names.join(", ")
+    )
+}
+
+/// `wmr-cli help keys`: every section, a blank line between two.
+pub fn keys_help() -> String {
+    sections().into_iter().map(|(_, text)| text).collect::<Vec<_>>().join("\n")
+}
+
+/// `wmr-cli help keys [TABLE]`: every section, or the one named (`robot`, `[robot]`,
+/// `run`, `[[run]]`); an unknown name is an error listing the names.
+pub fn keys_help_of(table: Option<&str>) -> Result<String, String> {
+    let Some(asked) = table else { return Ok(keys_help()) };
+    let name = asked.trim_start_matches('[').trim_end_matches(']');
+    let all = sections();
+    match all.iter().find(|(n, _)| *n == name) {
+        Some((_, text)) => Ok(text.clone()),
+        None => {
+            let names: Vec<&str> = all.iter().map(|(n, _)| *n).collect();
+            Err(format!("help keys: no section {asked:?} (expected one of {})", names.join(", ")))
+        }
+    }
 }

@@ -26,7 +26,7 @@ use crate::errors::{bad_input, note};
 
 /// Simulate and control two-wheeled differential-drive robots from scenario files.
 #[derive(Parser, Debug)]
-#[command(name = "wmr-cli", version, about, after_long_help = keys::keys_help())]
+#[command(name = "wmr-cli", version, about, disable_help_subcommand = true, after_help = keys::keys_hint())]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -34,16 +34,16 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Run every [[run]] of a scenario and write OUT (MCAP or CSV), then print one
-    /// summary line per run.
-    #[command(after_long_help = keys::keys_help())]
+    /// Run every [[run]] of a scenario and print one summary line per run; with -o OUT,
+    /// also write OUT (MCAP or CSV).
+    #[command(after_help = keys::keys_hint())]
     Run {
         /// The scenario file (TOML).
         file: PathBuf,
-        /// Output file: MCAP when it ends in .mcap, CSV when it ends in .csv (optional with
-        /// --live); `-` is stdout (with --format). Replaced atomically when complete; a
-        /// device or FIFO is written to directly. Its directory must exist.
-        #[arg(short, long, value_name = "OUT", required_unless_present = "live")]
+        /// Output file: MCAP when it ends in .mcap, CSV when it ends in .csv; without it, only
+        /// the summary is printed. `-` is stdout (with --format). Replaced atomically when
+        /// complete; a device or FIFO is written to directly. Its directory must exist.
+        #[arg(short, long, value_name = "OUT")]
         output: Option<PathBuf>,
         /// Output format; overrides the extension of OUT.
         #[arg(long, value_enum)]
@@ -72,7 +72,7 @@ enum Command {
     },
     /// Run the sweep table of a scenario: every law from every start, in parallel; write one CSV
     /// row per (law, start) and print a comparison table (median / worst per law).
-    #[command(after_long_help = keys::keys_help())]
+    #[command(after_help = keys::keys_hint())]
     Sweep {
         /// The scenario file (TOML) with a sweep table.
         file: PathBuf,
@@ -100,7 +100,7 @@ enum Command {
         output: PathBuf,
     },
     /// Validate a scenario and print it with every default filled in (TOML).
-    #[command(after_long_help = keys::keys_help())]
+    #[command(after_help = keys::keys_hint())]
     Check {
         /// The scenario file (TOML).
         file: PathBuf,
@@ -121,6 +121,14 @@ enum Command {
         /// (stdout) and devices such as /dev/null, which are written to as ticks come.
         #[arg(long, value_enum)]
         format: Option<trace_cmd::TraceFormat>,
+    },
+    /// Print this help, a subcommand's (`help run`), or the scenario file's keys with their
+    /// units, defaults and rules (`help keys`, or one table: `help keys robot`).
+    Help {
+        /// A subcommand, or `keys`.
+        topic: Option<String>,
+        /// With `keys`: one table or section (robot, [robot], run, sweep, outputs, ...).
+        table: Option<String>,
     },
 }
 
@@ -168,9 +176,27 @@ fn load(file: &Path) -> Result<wmr_scenario::Scenario> {
     Ok(scenario)
 }
 
+/// `wmr-cli help [SUBCOMMAND]` as clap's `--help` prints it; `wmr-cli help keys [TABLE]`:
+/// the scenario file's keys ([`keys::keys_help_of`]).
+fn help(topic: Option<&str>, table: Option<&str>) -> Result<()> {
+    match topic {
+        Some("keys") => errors::say_raw(&keys::keys_help_of(table).map_err(bad_input)?),
+        _ if table.is_some() => Err(bad_input("help: only `help keys` takes a second word (a table)")),
+        // Clap prints the help (or its error for an unknown subcommand) as for `SUB --help`.
+        _ => {
+            let args = ["wmr-cli"].into_iter().chain(topic).chain(["--help"]);
+            match Cli::try_parse_from(args) {
+                Err(e) => errors::clap_exit(&e),
+                Ok(_) => Err(bad_input("help: nothing to show")),
+            }
+        }
+    }
+}
+
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Check { file } => exec::check_command(&file),
+        Command::Help { topic, table } => help(topic.as_deref(), table.as_deref()),
         Command::Trace { file, output, run, format } => {
             let scenario = load(&file)?;
             let t = trace_cmd::trace(&scenario, run, &output, format)?;
@@ -209,7 +235,13 @@ fn run(cli: Cli) -> Result<()> {
                 exec::require_runs(&scenario, &file)?;
                 return foxglove_cmd::run_live(&scenario, output, format, layout, addr, speed.unwrap_or(1.0));
             }
-            let output = output.ok_or_else(|| bad_input("-o OUT is required without --live"))?;
+            let Some(output) = output else {
+                if layout.is_some() || format.is_some() {
+                    foxglove_cmd::usage_error("--layout and --format describe OUT: give -o OUT");
+                }
+                let scenario = load(&file)?;
+                return exec::run_summary(&scenario, &file);
+            };
             let format = format_of(&output, format)?;
             if layout.is_some() && format != Format::Mcap {
                 foxglove_cmd::usage_error("--layout describes the MCAP topics: write OUT as .mcap");

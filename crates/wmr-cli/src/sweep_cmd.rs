@@ -52,7 +52,7 @@ pub fn sweep(
 ) -> Result<()> {
     let Some(spec) = &scenario.sweep() else {
         return Err(bad_input(format!(
-            "{}: sweep: the file has no [sweep] table (see `wmr-cli --help` for its keys; [[run]]s run with \
+            "{}: sweep: the file has no [sweep] table (see `wmr-cli help keys sweep` for its keys; [[run]]s run with \
              `wmr-cli run`)",
             shown(file)
         )));
@@ -148,9 +148,12 @@ pub fn sweep(
     } else {
         say_raw(&table)?;
     }
+    // The factors multiply to the number of runs: the references too, in a sweep over them.
+    let references =
+        spec.tracking.as_ref().map(|tr| format!(" x {} references", tr.references.len())).unwrap_or_default();
     note(&format!(
-        "wmr-cli: {} runs ({} laws x {} variants x {} trials x {} starts, {} s each) in {wall:.2} s; outcomes in \
-         {shown_out}",
+        "wmr-cli: {} runs ({} laws{references} x {} variants x {} trials x {} starts, {} s each) in {wall:.2} s; \
+         outcomes in {shown_out}",
         spec.len(),
         spec.laws.len(),
         spec.variants.len(),

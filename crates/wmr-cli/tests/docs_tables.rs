@@ -1,5 +1,5 @@
 //! The key tables of `docs/scenario.md` are generated, between `<!-- keys:ID begin -->`
-//! and `<!-- keys:ID end -->`, from the same descriptions as `--help`
+//! and `<!-- keys:ID end -->`, from the same descriptions as `wmr-cli help keys`
 //! (`wmr_scenario::schema`, which reads the core's `params!` declarations); the test
 //! fails when the file is stale. Regenerate with
 //! `WMR_BLESS=1 cargo test -p wmr-cli --test docs_tables`.
@@ -122,9 +122,9 @@ fn docs_key_tables_are_generated_from_the_schema() {
     assert!(fresh == doc, "docs/scenario.md's key tables are stale; regenerate with `{BLESS}`");
 }
 
-/// The `[robot]` lines of `wmr-cli --help`: (key, the rest of the line and its continuations).
+/// The `[robot]` lines of `wmr-cli help keys`: (key, the rest of the line and its continuations).
 fn help_robot_lines() -> Vec<(String, String)> {
-    let out = Command::new(env!("CARGO_BIN_EXE_wmr-cli")).arg("--help").output().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_wmr-cli")).args(["help", "keys"]).output().unwrap();
     let help = String::from_utf8(out.stdout).unwrap();
     let section = &help[help.find("\n[robot]").unwrap()..help.find("\n[drive]").unwrap()];
     let mut lines: Vec<(String, String)> = Vec::new();

@@ -141,7 +141,8 @@ fn regression_39_12_command_line_errors_are_one_line() {
     write(d, "s.toml", PRESET.replace("robots/mine.toml", "paper").as_str());
     for (args, word) in [
         (vec!["run"], "FILE"),
-        (vec!["run", "s.toml"], "--output"),
+        // `run s.toml` prints the summary (issue 40); --format without -o is an error.
+        (vec!["run", "s.toml", "--format", "csv"], "-o OUT"),
         (vec!["run", "s.toml", "-o", "x.csv", "--bogus"], "--bogus"),
         (vec!["frobnicate", "s.toml"], "frobnicate"),
         (vec!["trace", "s.toml", "-o", "x.bin", "--run", "first"], "--run"),

@@ -1,4 +1,4 @@
-//! `wmr-cli --help` names exactly the MCAP topics a file has, with their schemas
+//! `wmr-cli help keys` names exactly the MCAP topics a file has, with their schemas
 //! (issue 22: the hand-written help had drifted to `/runN/pose`, `/runN/goal`,
 //! `/runN/robot`, none of which exist).
 
@@ -53,7 +53,7 @@ fn help_names_exactly_the_topics_of_an_mcap_with_every_topic() {
     let in_file = file_topics(&std::fs::read(&mcap).unwrap());
     assert!(in_file.len() >= 9, "{in_file:?}");
 
-    for args in [&["--help"][..], &["run", "--help"]] {
+    for args in [&["help", "keys"][..], &["help", "keys", "outputs"]] {
         let o = Command::new(env!("CARGO_BIN_EXE_wmr-cli")).args(args).output().unwrap();
         assert!(o.status.success());
         let in_help = help_topics(&String::from_utf8(o.stdout).unwrap());

@@ -1,7 +1,7 @@
 //! Every key the parser accepts (listed by `wmr_scenario::schema`, from the types that
-//! read them) is documented in `wmr-cli --help`, in `docs/scenario.md` and, for the
+//! read them) is documented in `wmr-cli help keys`, in `docs/scenario.md` and, for the
 //! Python building blocks, in the stubs (written by `cargo xtask gen` and checked by
-//! xtask's tests), each in its own section; where `--help` shows a default, it is the
+//! xtask's tests), each in its own section; where `help keys` shows a default, it is the
 //! real one.
 
 use std::path::PathBuf;
@@ -84,7 +84,7 @@ fn help_section<'a>(help: &'a str, k: &SchemaKey) -> &'a str {
 
 #[test]
 fn help_documents_every_key_with_its_default() {
-    let out = Command::new(env!("CARGO_BIN_EXE_wmr-cli")).arg("--help").output().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_wmr-cli")).args(["help", "keys"]).output().unwrap();
     assert!(out.status.success());
     let help = String::from_utf8(out.stdout).unwrap();
     let keys = schema();

@@ -211,8 +211,9 @@ impl Entry {
 pub(crate) enum Key {
     /// A line in a colour and dash.
     Line(&'static str, Option<&'static str>),
-    /// A line with a dot (curves with markers).
-    LineDot(&'static str),
+    /// A line with a dot (curves with markers): colour, dash, and the radius of a hollow
+    /// ring drawn instead of the dot (0: the dot; `share::dot`).
+    LineDot(&'static str, Option<&'static str>, f64),
     /// A filled triangle (a start with its heading).
     Triangle(&'static str),
     /// A filled dot (a start).
@@ -249,9 +250,9 @@ pub(crate) fn legend(svg: &mut Svg, x: f64, y: f64, entries: &[Entry]) {
                 svg.circle((k0 + 3.0, yc), 2.6, "#ffffff", Some(Stroke::solid(c, 1.1)));
                 svg.arrow((k0 + 3.0, yc), (k1 + 2.0, yc), HEADING_HEAD, Stroke::solid(c, 1.1));
             }
-            Key::LineDot(c) => {
-                svg.line((k0, yc), (k1, yc), Stroke::solid(c, 1.4));
-                svg.circle((0.5 * (k0 + k1), yc), 2.2, c, None);
+            Key::LineDot(c, d, ring) => {
+                svg.line((k0, yc), (k1, yc), Stroke { dash: *d, ..Stroke::solid(c, 1.4) });
+                crate::share::dot(svg, (0.5 * (k0 + k1), yc), c, *ring);
             }
             Key::Triangle(c) => {
                 let cx = 0.5 * (k0 + k1);

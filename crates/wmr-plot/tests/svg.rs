@@ -245,3 +245,39 @@ fn a_tracking_run_has_its_reference_dashed_and_no_goal() {
     let svg = paths_svg("goal", &[Trace { reference: &[], ..trace }]).unwrap();
     assert!(svg.contains("goal and its heading"));
 }
+
+/// Two laws with the same shares (kanayama and backstepping in share-sensor-latency.svg)
+/// both show: the curve on top is dashed and its markers are rings around the dots below,
+/// so the first colour stays visible (issue 40).
+#[test]
+fn coinciding_share_curves_both_show() {
+    let same = vec![(0.0, 1.0), (0.05, 1.0), (0.1, 0.5)];
+    let series = [("kanayama", same.clone()), ("backstepping", same), ("pure_pursuit", vec![(0.0, 0.2), (0.1, 0.1)])];
+    let svg = share_svg("latency", "sensor.latency (s)", &series).unwrap();
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let lines = curves(&doc, 1);
+    assert_eq!(lines.len(), 3);
+    let (first, second) = (&lines[0], &lines[1]);
+    assert_eq!(first.attribute("points"), second.attribute("points"));
+    assert_ne!(first.attribute("stroke"), second.attribute("stroke"));
+    assert!(first.attribute("stroke-dasharray").is_none(), "the first curve is solid");
+    assert!(second.attribute("stroke-dasharray").is_some(), "the curve on top is dashed: {svg}");
+    assert!(lines[2].attribute("stroke-dasharray").is_none(), "a curve of its own stays solid");
+    // At each point both markers show: the first a filled dot, the second a ring around it.
+    let at = |stroke: &str| -> Vec<(String, String, String)> {
+        doc.descendants()
+            .filter(|n| n.has_tag_name("circle"))
+            .filter(|n| n.attribute("fill") == Some(stroke) || n.attribute("stroke") == Some(stroke))
+            .map(|n| {
+                let a = |k| n.attribute(k).unwrap_or_default().to_owned();
+                (a("cx"), a("cy"), a("r"))
+            })
+            .collect()
+    };
+    let dots = at(first.attribute("stroke").unwrap());
+    let rings = at(second.attribute("stroke").unwrap());
+    for (cx, cy, r) in &dots[..3] {
+        let ring = rings.iter().find(|(x, y, _)| x == cx && y == cy).expect("a ring on every dot");
+        assert!(ring.2.parse::<f64>().unwrap() > r.parse::<f64>().unwrap() + 1.0, "{ring:?} hides the dot of r {r}");
+    }
+}

@@ -9,7 +9,8 @@ use wmr_core::{ControllerParams, DriveParams, LawParams, RobotParams, WheelStage
 
 use crate::error::ScenarioError;
 use crate::keys::{
-    fields_of, fields_read_by, join, kind_of, overlay, overlay_table, read_with, to_table, unknown_key, write_keys,
+    fields_of, fields_read_by, join, kind_of, overlay, overlay_table, read_with, to_table, unknown_key,
+    write_keys_noted,
 };
 
 /// The `kind` names of every law, in documentation order.
@@ -90,14 +91,14 @@ pub fn resolve(
 
 /// The `[controller]` table's lines, every key written: `kind`, the law's keys, the
 /// wheel stage's keys, `control_dt`.
-pub fn write(params: &ControllerParams<f64>, out: &mut String) {
+pub fn write(params: &ControllerParams<f64>, out: &mut String, note: impl Fn(&str) -> Option<String>) {
     let mut t = Table::new();
     t.insert("kind".to_owned(), Value::String(params.law.kind().to_owned()));
-    write_keys(out, &t, &[]);
+    write_keys_noted(out, &t, &[], &note);
     let law_order = fields_read_by(|probe| params.law.deserialize_variant(probe).map(|_| ()));
-    write_keys(out, &law_table(&params.law), law_order);
-    write_keys(out, &to_table(&params.wheels), fields_of::<WheelStageParams<f64>>());
+    write_keys_noted(out, &law_table(&params.law), law_order, &note);
+    write_keys_noted(out, &to_table(&params.wheels), fields_of::<WheelStageParams<f64>>(), &note);
     t.clear();
     t.insert("control_dt".to_owned(), Value::Float(params.control_dt));
-    write_keys(out, &t, &[]);
+    write_keys_noted(out, &t, &[], &note);
 }

@@ -28,12 +28,33 @@ pub struct Origins {
     pub robot: Vec<(String, String)>,
     /// `[drive]` keys.
     pub drive: Vec<(String, String)>,
+    /// The keys the file gives in the other tables (`[controller]`, `[sensor]`, `[world]`,
+    /// `[reference]`), as `table.key`.
+    pub given: Vec<String>,
+    /// Why `[controller] kind` is what it is where the file does not give it and the
+    /// default is not `paper`: a `[reference]` is followed by a law that follows it.
+    pub law_note: Option<String>,
 }
 
 impl Origins {
-    /// The origin of `key` of `table` (`robot` or `drive`): `default` when not given.
+    /// The origin of `key` of `table`: for `robot` and `drive`, `scenario`, the preset or
+    /// `default`; for the other tables, `scenario` or `default`.
     pub fn of(&self, table: &str, key: &str) -> &str {
-        let list = if table == "robot" { &self.robot } else { &self.drive };
+        let list = match table {
+            "robot" => &self.robot,
+            "drive" => &self.drive,
+            _ => {
+                if table == "controller"
+                    && key == "kind"
+                    && let Some(n) = &self.law_note
+                {
+                    return n;
+                }
+                let given =
+                    self.given.iter().any(|g| g.strip_prefix(table).and_then(|r| r.strip_prefix('.')) == Some(key));
+                return if given { "scenario" } else { "default" };
+            }
+        };
         list.iter().find(|(k, _)| k == key).map_or("default", |(_, o)| o.as_str())
     }
 }
@@ -64,7 +85,7 @@ pub fn expand(robot: &mut Option<Table>, drive: &mut Option<Table>, dir: &Path) 
     let given = |t: &Option<Table>| -> Vec<(String, String)> {
         t.iter().flat_map(|t| t.keys()).filter(|k| *k != "from").map(|k| (k.clone(), "scenario".to_owned())).collect()
     };
-    let mut origins = Origins { robot: given(robot), drive: given(drive) };
+    let mut origins = Origins { robot: given(robot), drive: given(drive), ..Origins::default() };
     let Some(from) = robot.as_mut().and_then(|t| t.remove("from")) else { return Ok(origins) };
     let Value::String(from) = from else {
         return Err(from_error(format!(

@@ -48,10 +48,10 @@ pub const REFERENCE_KEYS: &[ReferenceKey] = &[
     ReferenceKey { name: "radius", kinds: "circle", unit: "m", default: "1.0", doc: "radius, > 0" },
     ReferenceKey {
         name: "speed",
-        kinds: "circle, line, waypoints, file",
+        kinds: "circle, figure_eight, line, waypoints, file",
         unit: "m/s",
         default: "0.3",
-        doc: "circle: > 0 counter-clockwise, < 0 clockwise; line: along the heading (< 0 backwards); waypoints, file: the peak speed, > 0",
+        doc: "circle: > 0 counter-clockwise, < 0 clockwise; line: along the heading (< 0 backwards); waypoints, file: the peak speed, > 0; figure_eight: the peak speed pi sqrt(width^2 + 4 height^2) / period, > 0, instead of period (no default)",
     },
     ReferenceKey {
         name: "phase_deg",
@@ -62,7 +62,13 @@ pub const REFERENCE_KEYS: &[ReferenceKey] = &[
     },
     ReferenceKey { name: "width", kinds: "figure_eight", unit: "m", default: "2.0", doc: "extent along x, > 0" },
     ReferenceKey { name: "height", kinds: "figure_eight", unit: "m", default: "1.0", doc: "extent along y, > 0" },
-    ReferenceKey { name: "period", kinds: "figure_eight", unit: "s", default: "30.0", doc: "time for one figure, > 0" },
+    ReferenceKey {
+        name: "period",
+        kinds: "figure_eight",
+        unit: "s",
+        default: "30.0",
+        doc: "time for one figure, > 0; or give speed",
+    },
     ReferenceKey {
         name: "start",
         kinds: "line",
@@ -206,14 +212,32 @@ pub(crate) fn resolve_sharing(
         }
         "figure_eight" => {
             let c = point(table, "center", false)?;
-            let f = FigureEight::new(
-                c.x,
-                c.y,
-                number(table, "width", 2.0)?,
-                number(table, "height", 1.0)?,
-                number(table, "period", 30.0)?,
-            );
-            AnyReference::FigureEight(f.map_err(|e| core_error(&e))?)
+            let (width, height) = (number(table, "width", 2.0)?, number(table, "height", 1.0)?);
+            let by_speed = table.contains_key("speed");
+            let period = match (table.contains_key("period"), by_speed) {
+                (true, true) => {
+                    return Err(ScenarioError::new(
+                        key("speed"),
+                        "give period or speed, not both (the peak speed is pi sqrt(width^2 + 4 height^2) / period)",
+                    ));
+                }
+                (false, true) => {
+                    let speed = number(table, "speed", 0.0)?;
+                    if speed <= 0.0 {
+                        return Err(ScenarioError::new(key("speed"), format!("must be > 0 (got {speed})")));
+                    }
+                    figure_eight_period(width, height, speed)
+                }
+                _ => number(table, "period", 30.0)?,
+            };
+            let f = FigureEight::new(c.x, c.y, width, height, period).map_err(|e| {
+                if by_speed && e.field == "period" {
+                    ScenarioError::from_param(&e, &key("speed"))
+                } else {
+                    core_error(&e)
+                }
+            });
+            AnyReference::FigureEight(f?)
         }
         "line" => {
             let start = point(table, "start", true)?;
@@ -241,6 +265,40 @@ pub(crate) fn resolve_sharing(
         }
     };
     Ok(ReferenceSpec { table: table.clone(), built })
+}
+
+/// The period (s) of a figure-eight `width` x `height` (m) whose peak speed is `speed`
+/// (m/s). With a = 2 pi / period, the speed is a sqrt((width/2)^2 cos^2(a t) + height^2
+/// cos^2(2 a t)) (wmr_core::reference::FigureEight), largest at t = 0 where both cosines
+/// are 1: pi sqrt(width^2 + 4 height^2) / period.
+pub fn figure_eight_period(width: f64, height: f64, speed: f64) -> f64 {
+    std::f64::consts::PI * width.hypot(2.0 * height) / speed
+}
+
+/// The table of `r` with every key its kind reads filled in (the given value, else the
+/// default), and the keys in documentation order: what `wmr-cli check` prints. A
+/// figure-eight keeps the one of `period` and `speed` it was given (`period` by default).
+pub fn filled(r: &ReferenceSpec) -> (Table, Vec<&'static str>) {
+    let kind = r.table.get("kind").and_then(Value::as_str).unwrap_or_default();
+    let mut table = r.table.clone();
+    let mut order = vec!["kind"];
+    for k in REFERENCE_KEYS.iter().filter(|k| k.name != "kind" && k.kinds.split(", ").any(|c| c == kind)) {
+        order.push(k.name);
+        let other_given = |name: &str| r.table.contains_key(name);
+        let skip = table.contains_key(k.name)
+            || k.default.is_empty()
+            || (kind == "figure_eight" && (k.name == "speed" || (k.name == "period" && other_given("speed"))));
+        if skip {
+            continue;
+        }
+        // The default as TOML text (`1.0`, `{ x = 0.0, y = 0.0 }`), read as a value.
+        if let Ok(mut t) = format!("v = {}", k.default).parse::<Table>()
+            && let Some(v) = t.remove("v")
+        {
+            table.insert(k.name.to_owned(), v);
+        }
+    }
+    (table, order)
 }
 
 /// `points = [[x, y], ...]`.

@@ -160,7 +160,9 @@ impl ScenarioFile {
             }
         }
         self.run = runs;
+        let law_note = if reference.is_some() { self.default_law_for_reference() } else { None };
         let mut scenario = self.resolve_with(default_name, sweep_tracking)?;
+        scenario.origins.law_note = law_note;
         if let Some(reference) = reference {
             let start = reference.built.start_pose();
             for i in starts_only {
@@ -187,6 +189,21 @@ impl ScenarioFile {
         scenario.check_runs()?;
         scenario.inputs = inputs;
         Ok(scenario)
+    }
+
+    /// A `[reference]` is followed by a law that follows it: where `[controller]` names no
+    /// `kind` (and holds only keys that law reads), the first tracking law of the registry
+    /// is written in; `paper`, the default without a reference, holds a point and would be
+    /// refused. Returns the note `check` prints beside the kind.
+    fn default_law_for_reference(&mut self) -> Option<String> {
+        let kind = *crate::controller::tracking_law_kinds().first()?;
+        let table = self.controller.get_or_insert_with(toml::Table::new);
+        let accepted = crate::controller::controller_keys(kind);
+        if table.contains_key("kind") || !table.keys().all(|k| accepted.contains(k)) {
+            return None;
+        }
+        table.insert("kind".to_owned(), toml::Value::String(kind.to_owned()));
+        Some("default with a [reference]: a law that follows it".to_owned())
     }
 
     /// Fills the defaults and checks everything by building the core types once.
@@ -280,11 +297,21 @@ impl Scenario {
             let inner = e.into_inner();
             locate::deser_error(&path, inner.message(), inner.span(), text)
         })?;
+        // The keys the file gives, for `check`'s notes (`# scenario`, `# default`).
+        let given: Vec<String> = [
+            ("controller", &file.controller),
+            ("sensor", &file.sensor),
+            ("world", &file.world),
+            ("reference", &file.reference),
+        ]
+        .into_iter()
+        .flat_map(|(name, t)| t.iter().flat_map(|t| t.keys()).map(move |k| format!("{name}.{k}")))
+        .collect();
         let (origins, presets) = read::recording(|| preset::expand(&mut file.robot, &mut file.drive, dir));
         origins
             .and_then(|origins| {
                 let mut s = file.resolve_in(default_name, Some(dir))?;
-                s.origins = origins;
+                s.origins = Origins { given, law_note: s.origins.law_note.take(), ..origins };
                 // The preset first, as it was read first.
                 let mut inputs = Vec::new();
                 add_inputs(&mut inputs, &mut HashSet::new(), presets, "robot.from");
@@ -538,23 +565,22 @@ impl Scenario {
         order.extend(fields_read_by(|probe| drive.deserialize_variant(probe).map(|_| ())));
         write_keys_noted(&mut o, &to_table(&drive), &order, noted("drive"));
         let _ = writeln!(o, "\n[controller]");
-        controller::write(&setup.controller, &mut o);
+        controller::write(&setup.controller, &mut o, noted("controller"));
         if setup.model != setup.robot {
             let _ = writeln!(o, "\n[controller.model]");
             write_keys(&mut o, &to_table(setup.model.params()), fields_of::<RobotParams<f64>>());
         }
         if setup.has_sensor {
             let _ = writeln!(o, "\n[sensor]");
-            write_keys(&mut o, &to_table(&setup.sensor), fields_of::<SensorParams<f64>>());
-            write_keys(&mut o, &to_table(&setup.pose), fields_of::<OdometryParams<f64>>());
+            write_keys_noted(&mut o, &to_table(&setup.sensor), fields_of::<SensorParams<f64>>(), noted("sensor"));
+            write_keys_noted(&mut o, &to_table(&setup.pose), fields_of::<OdometryParams<f64>>(), noted("sensor"));
         }
         let _ = writeln!(o, "\n[world]");
-        write_keys(&mut o, &to_table(setup.world.params()), fields_of::<WorldParams<f64>>());
+        write_keys_noted(&mut o, &to_table(setup.world.params()), fields_of::<WorldParams<f64>>(), noted("world"));
         if let Some(tr) = &self.tracking {
             let _ = writeln!(o, "\n[reference]");
-            for (k, v) in &tr.reference.table {
-                let _ = writeln!(o, "{k} = {v}");
-            }
+            let (table, order) = crate::reference::filled(&tr.reference);
+            write_keys_noted(&mut o, &table, &order, noted("reference"));
         }
         let s = &self.sim;
         let _ = writeln!(

@@ -1,5 +1,5 @@
 //! Every key the parser accepts, listed from the types that read them, with the unit,
-//! rule and doc line each type declares (`wmr_core::params!`): what `--help` and the
+//! rule and doc line each type declares (`wmr_core::params!`): what `wmr-cli help keys` and the
 //! `docs/scenario.md` tables are generated from, and the Python stubs checked against.
 
 use std::borrow::Cow;

@@ -166,3 +166,94 @@ fn a_file_reference_reads_its_csv_relative_to_the_scenario_file() {
     assert!(e.message.contains("line 3"), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A figure-eight given by its peak speed (issue 40): the period is pi sqrt(w^2 + 4 h^2) /
+/// speed, so the largest speed over a period, by finite differences of the positions (not
+/// the reference's own twist), is the one asked for; period and speed together, or a
+/// speed <= 0, are refused naming `reference.speed`.
+#[test]
+fn a_figure_eight_by_speed_peaks_at_that_speed() {
+    let text = "[reference]\nkind = \"figure_eight\"\nwidth = 3.0\nheight = 1.2\nspeed = 0.4\n\
+                [controller]\nkind = \"kanayama\"\n[[run]]\n";
+    let sc = Scenario::from_toml_str(text, "by-speed").unwrap();
+    let reference = sc.tracking().unwrap().reference.built;
+    let period = PI * 3.0f64.hypot(2.4) / 0.4;
+    let at = |t: f64| wmr_core::Reference::state_at(&reference, t).pose;
+    // One period later, the same pose; half a period later, the centre again.
+    let (p0, p1) = (at(0.0), at(period));
+    assert!((p0.x - p1.x).abs() < 1e-9 && (p0.y - p1.y).abs() < 1e-9, "{p0:?} {p1:?}");
+    let h = 1e-4;
+    let peak = (0..4000)
+        .map(|k| {
+            let t = period * f64::from(k) / 4000.0;
+            let (a, b) = (at(t - h), at(t + h));
+            (b.x - a.x).hypot(b.y - a.y) / (2.0 * h)
+        })
+        .fold(0.0f64, f64::max);
+    assert!((peak - 0.4).abs() < 1e-6, "peak speed {peak}");
+    // `check` keeps the speed as given and writes no default period beside it.
+    let dump = sc.to_toml();
+    assert!(dump.contains("speed = 0.4") && !dump.contains("period ="), "{dump}");
+    Scenario::from_toml_str(&dump, "again").expect("check's output reads back");
+
+    let e = err_of(&text.replace("speed = 0.4", "speed = 0.4\nperiod = 30.0"));
+    assert_eq!(e.key, "reference.speed", "{e}");
+    assert!(e.message.contains("not both"), "{e}");
+    let e = err_of(&text.replace("speed = 0.4", "speed = -0.4"));
+    assert_eq!(e.key, "reference.speed", "{e}");
+}
+
+/// A `[reference]` without a `[controller]` (or one without `kind`) is followed by a law
+/// that follows it, not refused for `paper`, a law the user never wrote (issue 40); `check`
+/// says where the kind came from. A `[controller]` with a stabilization law's keys keeps
+/// the old refusal, naming `controller.kind`.
+#[test]
+fn a_reference_without_a_controller_is_followed_by_a_tracking_law() {
+    let text = "[reference]\nkind = \"circle\"\n[[run]]\n";
+    let sc = Scenario::from_toml_str(text, "no-controller").expect("a [reference] alone is a scenario");
+    let kind = sc.setup().controller.law.kind();
+    assert_eq!(kind, wmr_scenario::tracking_law_kinds()[0]);
+    let dump = sc.to_toml();
+    let line =
+        dump.lines().find(|l| l.starts_with("kind = \"") && l.contains(kind)).unwrap_or_else(|| panic!("{dump}"));
+    assert!(line.contains("# default with a [reference]"), "{line}");
+    // With kind's own keys and no kind: the same default.
+    let sc = Scenario::from_toml_str(&text.replace("[[run]]", "[controller]\nkx = 2.0\n[[run]]"), "x").unwrap();
+    assert_eq!(sc.setup().controller.law.kind(), kind);
+    let e = err_of(&text.replace("[[run]]", "[controller]\nkp_s = 2.0\n[[run]]"));
+    assert!(e.key.starts_with("controller"), "{e}");
+}
+
+/// `check` fills in and marks every default, not only `[robot]`'s (issue 40): a
+/// figure-eight's default `center`, `width`, `height` and `period`, and the defaults of
+/// `[controller]` and `[world]`, each line saying `# default` or `# scenario`.
+#[test]
+fn check_fills_in_and_marks_the_defaults_of_every_table() {
+    let text = "[reference]\nkind = \"figure_eight\"\nwidth = 3.0\n[controller]\nkind = \"kanayama\"\n\
+                [world]\nslope_deg = 1.0\n[[run]]\n";
+    let sc = Scenario::from_toml_str(text, "defaults").unwrap();
+    let dump = sc.to_toml();
+    let line = |key: &str| {
+        let section_start = dump.find("[reference]").unwrap();
+        dump[section_start..]
+            .lines()
+            .find(|l| l.starts_with(&format!("{key} =")))
+            .unwrap_or_else(|| panic!("{key}: {dump}"))
+    };
+    for key in ["center", "height", "period"] {
+        assert!(line(key).ends_with("# default"), "{}", line(key));
+    }
+    assert!(line("center").starts_with("center = { x = 0.0, y = 0.0 }"), "{}", line("center"));
+    assert!(line("width").ends_with("# scenario"), "{}", line("width"));
+    let in_table = |table: &str, key: &str| {
+        let at = dump.find(&format!("\n[{table}]\n")).unwrap();
+        dump[at..].lines().find(|l| l.starts_with(&format!("{key} ="))).unwrap_or_default().to_owned()
+    };
+    assert!(in_table("world", "slope_deg").ends_with("# scenario"), "{dump}");
+    assert!(in_table("controller", "kx").ends_with("# default"), "{dump}");
+    assert!(in_table("controller", "kind").ends_with("# scenario"), "{dump}");
+    // Read back, the same robot, laws and reference (its table now lists every key).
+    let again = Scenario::from_toml_str(&dump, "again").unwrap();
+    assert_eq!(again.setup(), sc.setup());
+    assert_eq!(again.tracking().unwrap().reference.built, sc.tracking().unwrap().reference.built);
+}

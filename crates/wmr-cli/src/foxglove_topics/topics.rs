@@ -1,5 +1,5 @@
 //! The topics of a run: their names, frames, encoding and schemas, in one list that the
-//! MCAP file, the live server and `wmr-cli --help` all read.
+//! MCAP file, the live server and `wmr-cli help keys` all read.
 //!
 //! Topics, per run `N` (0-based index of the `[[run]]`). Log time = simulation time in ns
 //! from the Unix epoch (t = 0 is 1970-01-01T00:00:00Z), exactly `k * dt` for the `k`-th
@@ -7,7 +7,7 @@
 //!
 //! The topics are [`Kind::ALL`], each `/runN/<`[`Kind::name`]`>` with the schema
 //! [`Kind::schema`] and the messages [`Kind::messages`] says: that list is also what
-//! `wmr-cli --help` prints (a test reads the topics back from an MCAP file).
+//! `wmr-cli help keys` prints (a test reads the topics back from an MCAP file).
 
 use foxglove::messages::{FrameTransform, PoseInFrame, SceneUpdate};
 use foxglove::{Encode, Schema};

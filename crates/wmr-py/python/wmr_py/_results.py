@@ -7,6 +7,7 @@ missing one raises ImportError naming the package (tqdm: a warning, the run goes
 from __future__ import annotations
 
 import importlib
+import importlib.util
 import math
 import sys
 import warnings
@@ -297,6 +298,19 @@ class SweepResult(_Entries):
         return "".join(parts) + ">\n" + str(self.get("table", ""))
 
 
+def _tqdm_class() -> Any:
+    """tqdm.auto's bar where it can draw it: in a Jupyter kernel without ipywidgets,
+    importing tqdm.auto warns "IProgress not found" (and falls back to the text bar), so
+    the text bar is taken directly there."""
+    if importlib.util.find_spec("ipywidgets") is None:
+        from tqdm.std import tqdm  # type: ignore
+
+        return tqdm
+    from tqdm.auto import tqdm  # type: ignore
+
+    return tqdm
+
+
 class Bar:
     """A progress callback for the native runs: ``bar(-total)`` opens a tqdm bar (tqdm.auto:
     a widget in a notebook), ``bar(done)`` moves it. Without tqdm: one warning, no bar."""
@@ -305,7 +319,7 @@ class Bar:
         self.desc, self.unit = desc, unit
         self.bar: Any = None
         try:
-            from tqdm.auto import tqdm  # type: ignore
+            tqdm = _tqdm_class()
         except ImportError:
             warnings.warn("progress=True needs tqdm (pip install tqdm); running without a bar", stacklevel=3)
             self.tqdm = None

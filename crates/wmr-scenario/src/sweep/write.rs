@@ -28,7 +28,7 @@ impl SweepSpec {
         let _ = writeln!(out, "controllers = [");
         for (_, setup) in &self.laws {
             let mut table = String::new();
-            controller_table::write(&setup.controller, &mut table);
+            controller_table::write(&setup.controller, &mut table, |_| None);
             if setup.model != setup.robot {
                 let mut model = String::new();
                 crate::keys::write_keys(&mut model, &crate::keys::to_table(setup.model.params()), &[]);
