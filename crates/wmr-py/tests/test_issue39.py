@@ -8,6 +8,7 @@ another folder, from the shipped text alone."""
 from __future__ import annotations
 
 import os
+import pathlib
 import subprocess
 import sys
 import textwrap
@@ -17,6 +18,7 @@ import numpy as np
 import pytest
 
 import wmr_py
+from conftest import REPO
 
 # --- item 7: MemoryError, not an abort, under the process's own memory limit ----------
 
@@ -137,3 +139,72 @@ def test_regression_39_11_a_sweep_part_that_is_no_rows_names_the_part(value: obj
     assert e.value.key == "executor", e.value
     assert str(e.value).startswith("executor: part 0 (runs 0:2) returned"), str(e.value)
 
+
+# --- item 8: an executor sweep with a preset and a file reference, in another folder ----
+
+SWEEP_WITH_FILES = """\
+[robot]
+from = "robots/mine.toml"
+[sim]
+t_end = 1.0
+[sweep]
+controllers = [{ kind = "kanayama" }, { kind = "pure_pursuit" }]
+references = [{ kind = "file", path = "ref.csv" }, { kind = "circle" }]
+random = { n = 3, seed = 2, radius = 0.1, max_heading_deg = 10.0 }
+"""
+
+
+def _scenario_folder(root: pathlib.Path) -> pathlib.Path:
+    d = root / "scenario"
+    (d / "robots").mkdir(parents=True)
+    (d / "robots" / "mine.toml").write_text("[robot]\nmass = 7.5\nwheel_radius = 0.08\n")
+    (d / "ref.csv").write_text("t,x,y\n0,0.0,0.0\n1,0.5,0.0\n2,1.0,0.25\n3,1.5,0.75\n")
+    (d / "s.toml").write_text(SWEEP_WITH_FILES)
+    return d
+
+
+def _chdir(path: str) -> None:
+    os.chdir(path)
+
+
+def test_regression_39_8_executor_sweep_with_a_preset_and_a_file_runs_in_another_folder(
+    tmp_path: pathlib.Path,
+) -> None:
+    """Issue 39 item 8: the workers (in a folder without the scenario's files) parsed the
+    scenario's raw text: `robot.from` and `reference.path` were not found there."""
+    from concurrent.futures import ProcessPoolExecutor
+    import multiprocessing
+
+    d = _scenario_folder(tmp_path)
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    local = wmr_py.sweep(d / "s.toml")
+    ctx = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(1, mp_context=ctx, initializer=_chdir, initargs=(str(elsewhere),)) as ex:
+        parted = wmr_py.sweep(d / "s.toml", executor=ex, chunk_size=5)
+    for k in ("final_dl", "rms_error", "x0", "converged"):
+        np.testing.assert_array_equal(parted[k], local[k])
+    assert list(parted["reference"]) == list(local["reference"])
+
+
+def test_regression_39_8_resolved_scenario_runs_again_without_its_files(
+    tmp_path: pathlib.Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Issue 39 item 8: `scenario_toml` (and to_xarray().attrs["scenario"]) kept the
+    preset's `from` and the file's relative path; copied elsewhere, it did not run."""
+    d = _scenario_folder(tmp_path)
+    local = wmr_py.sweep(d / "s.toml")
+    text = local.scenario_toml
+    assert "from =" not in text and "points = [[0.0, 0.0], [0.5, 0.0]" in text, text
+    # Only the text, in another folder, the scenario's files gone.
+    import shutil
+
+    shutil.rmtree(d)
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    again = wmr_py.sweep(text)
+    for k in ("final_dl", "rms_error", "x0"):
+        np.testing.assert_array_equal(again[k], local[k])
+    assert list(again["reference"]) == list(local["reference"])
+    assert sorted(local["reference"]) == ["circle"] * 6 + ["file"] * 6
