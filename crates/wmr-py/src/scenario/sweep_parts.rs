@@ -195,5 +195,11 @@ pub fn sweep_gather<'py>(py: Python<'py>, text: &str, rows: &Bound<'py, PyAny>) 
             o.ok_or_else(|| parameter_error(&format!("rows[{k}]"), format_args!("is not the outcome of run {k}")))?,
         );
     }
-    sweep_dict(py, &sc, spec, &outcomes)
+    let d = sweep_dict(py, &sc, spec, &outcomes)?;
+    // The resolved scenario is the text `_sweep_plan` made (with the comments saying
+    // where each robot value came from), not that text parsed and written again.
+    if let Some(meta) = d.get_item("_meta")? {
+        meta.set_item("scenario_toml", text)?;
+    }
+    Ok(d)
 }
