@@ -9,14 +9,17 @@
 //! gains and goal; a call with (N, k) arrays advances every lane by one tick in Rust, so
 //! a loop closed in Python costs a few Python calls per step whatever N is.
 
-use numpy::ndarray::Array2;
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
 use numpy::{IntoPyArray, PyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyFloatingPointError;
 use pyo3::prelude::*;
+use pyo3::sync::MutexExt;
 use pyo3::types::{PyDict, PyTuple};
 use wmr_core::{AnyReference, ControlOutput, Measurement, Pose2, Reference, ReferenceState, StepClock, Wheels};
 use wmr_scenario::BuiltController;
 
+use crate::alloc::{bytes_of, check_alloc, leading_rows, vec_with_capacity, zeros2};
 use crate::convert::{batch_arg, finite_array, pose_table, same_rows, type_name};
 use crate::error::parameter_error;
 use crate::reference::reference_arg;
@@ -33,9 +36,26 @@ enum Follows {
 }
 
 /// The controller of one law and its lanes (one per robot of a batch).
+///
+/// Shared between threads: the lanes are behind a lock, so one controller updated from
+/// several threads raises nothing; each `update` is one tick, in the order the threads
+/// take the lock. Everything that calls into Python (reading the arguments, making the
+/// result) happens outside the lock, so a thread never holds it while another runs
+/// Python code, and a thread that finds it taken waits with the GIL released.
 pub struct Lanes {
     /// The controller at t = 0, as the scenario builds it.
     proto: BuiltController,
+    goal: Pose2<f64>,
+    /// The moving reference of a tracking law (`None`: the goal at rest).
+    reference: Option<PyReference>,
+    /// The one-run scenario the controller was built from, resolved (pickling).
+    scenario_toml: String,
+    /// What the ticks change.
+    state: Mutex<LaneState>,
+}
+
+/// The lanes and what a tick changes.
+struct LaneState {
     /// One controller per robot; one for the single (1-D) calls.
     lanes: Vec<BuiltController>,
     /// The lanes before the tick being computed (a tick that fails leaves them as they were).
@@ -43,16 +63,18 @@ pub struct Lanes {
     last: Vec<ControlOutput<f64>>,
     /// The outputs of the tick being computed.
     next_last: Vec<ControlOutput<f64>>,
-    goal: Pose2<f64>,
-    /// The moving reference of a tracking law (`None`: the goal at rest).
-    reference: Option<PyReference>,
     /// Control ticks since construction or reset: the time of a tick is the loop's clock
     /// ([`StepClock`]) at control_dt.
     ticks: u64,
     /// Whether the last update was batched (then `errors` is an array).
     batched: bool,
-    /// The one-run scenario the controller was built from, resolved (pickling).
-    scenario_toml: String,
+}
+
+/// The references of an update: as given, or the law's own (the moving reference at the
+/// tick's time, known once the lock is held).
+enum Refs {
+    Given(Vec<ReferenceState<f64>>),
+    Moving,
 }
 
 impl Lanes {
@@ -118,15 +140,17 @@ impl Lanes {
         let reference = sc.tracking().map(|t| PyReference::from_spec(t.reference.clone()));
         Ok(Self {
             proto,
-            lanes: vec![proto],
-            next: Vec::new(),
-            last: vec![ControlOutput::default()],
-            next_last: Vec::new(),
             goal,
             reference,
-            ticks: 0,
-            batched: false,
             scenario_toml: sc.to_toml(),
+            state: Mutex::new(LaneState {
+                lanes: vec![proto],
+                next: Vec::new(),
+                last: vec![ControlOutput::default()],
+                next_last: Vec::new(),
+                ticks: 0,
+                batched: false,
+            }),
         })
     }
 
@@ -141,59 +165,94 @@ impl Lanes {
         Ok(lanes)
     }
 
+    /// The lanes, locked: at once when free, else waiting with the GIL released (the
+    /// thread that holds the lock may need the GIL to finish). A lock poisoned by a panic
+    /// is taken as it is: a tick changes the lanes all at once or not at all.
+    fn lock(&self, py: Python<'_>) -> MutexGuard<'_, LaneState> {
+        self.state.lock_py_attached(py).unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// The time of tick `ticks`, s: the loop's own clock at control_dt, the bits a
+    /// scenario run gives the law at this tick.
+    fn tick_time(&self, ticks: u64) -> f64 {
+        StepClock::new(self.proto.control_dt()).time(ticks)
+    }
+
+    /// The references of the next tick: `reference` as given, or when `None` the moving
+    /// reference's state at the tick's time (a tracking law, [`Refs::Moving`]), or the
+    /// goal at rest. Reads Python objects: called before the lock is taken.
+    fn references(&self, reference: Option<&Bound<'_, PyAny>>, n: usize) -> PyResult<Refs> {
+        match (&self.reference, reference.filter(|r| !r.is_none())) {
+            (Some(_), None) => Ok(Refs::Moving),
+            (_, given) => Ok(Refs::Given(reference_arg(given, self.goal, n)?)),
+        }
+    }
+
+    /// Bytes of a batch of `n` robots: the lanes and the tick's copy of them, the
+    /// outputs and the tick's, the result's row.
+    fn batch_bytes(n: usize) -> u128 {
+        let lane = 2 * bytes_of::<BuiltController>(1) + 2 * bytes_of::<ControlOutput<f64>>(1) + bytes_of::<[f64; 3]>(1);
+        lane * n as u128
+    }
+
     /// Makes room for `n` lanes: allowed at t = 0 only (the lanes of a running batch
-    /// hold their integrators).
-    fn lanes_for(&mut self, n: usize, arg: &str) -> PyResult<()> {
-        if self.lanes.len() == n {
+    /// hold their integrators). The memory of a new batch (the lanes, the tick's copy,
+    /// the outputs) is checked first: a batch too large raises `MemoryError` naming `arg`.
+    fn lanes_for(&self, st: &mut LaneState, n: usize, arg: &str) -> PyResult<()> {
+        if st.lanes.len() == n {
             return Ok(());
         }
-        if self.ticks != 0 {
+        if st.ticks != 0 {
             return Err(parameter_error(
                 arg,
                 format_args!(
                     "{n} robots, but the controller runs {} since its first update; call reset() to change the batch",
-                    self.lanes.len()
+                    st.lanes.len()
                 ),
             ));
         }
-        self.lanes = vec![self.proto; n];
-        self.last = vec![ControlOutput::default(); n];
+        check_alloc(Self::batch_bytes(n), arg, || format!("a batch of {n} robots"))?;
+        let mut lanes = vec_with_capacity(n, arg, "the lanes")?;
+        lanes.resize(n, self.proto);
+        let mut last = vec_with_capacity(n, arg, "the outputs")?;
+        last.resize(n, ControlOutput::default());
+        let next = vec_with_capacity(n, arg, "the lanes")?;
+        let next_last = vec_with_capacity(n, arg, "the outputs")?;
+        (st.lanes, st.last, st.next, st.next_last) = (lanes, last, next, next_last);
         Ok(())
     }
 
     /// One tick of every lane, from the measurement of lane i given by `m(i)`. All or
     /// nothing: a tick whose commands or errors are not finite leaves every lane as it was.
-    /// The time of the next tick, s: the loop's own clock at control_dt, the bits a
-    /// scenario run gives the law at this tick.
-    fn tick_time(&self) -> f64 {
-        StepClock::new(self.proto.control_dt()).time(self.ticks)
-    }
-
-    /// The references of the next tick: `reference` as given, or when `None` the moving
-    /// reference's state at the tick's time (a tracking law), or the goal at rest.
-    fn references(&self, reference: Option<&Bound<'_, PyAny>>, n: usize) -> PyResult<Vec<ReferenceState<f64>>> {
-        match (&self.reference, reference.filter(|r| !r.is_none())) {
-            (Some(r), None) => Ok(vec![r.built().state_at(self.tick_time())]),
-            (_, given) => reference_arg(given, self.goal, n),
-        }
-    }
-
     fn tick(
-        &mut self,
+        &self,
+        st: &mut LaneState,
         n: usize,
-        refs: &[ReferenceState<f64>],
+        refs: &Refs,
         m: impl Fn(usize, f64) -> Measurement<f64>,
     ) -> PyResult<()> {
-        let t = self.tick_time();
+        let t = self.tick_time(st.ticks);
         // A path-following law steers by the reference's path, as the scenario loop does
         // (wmr_core::ClosedLoop): every law is given the path when the reference has one.
         let moving: Option<AnyReference<f64>> = self.reference.as_ref().map(PyReference::built);
+        let own;
+        let refs: &[ReferenceState<f64>] = match (refs, &moving) {
+            (Refs::Given(r), _) => r,
+            (Refs::Moving, Some(r)) => {
+                own = [r.state_at(t)];
+                &own
+            }
+            (Refs::Moving, None) => {
+                own = [ReferenceState::at_rest(self.goal)];
+                &own
+            }
+        };
         // The tick is computed into `next` and `next_last` and swapped in when every lane
         // is finite; the buffers are kept, so a tick allocates nothing after the first.
-        self.next.clear();
-        self.next.extend_from_slice(&self.lanes[..n]);
-        self.next_last.clear();
-        for (i, lane) in self.next.iter_mut().enumerate() {
+        st.next.clear();
+        st.next.extend_from_slice(&st.lanes[..n]);
+        st.next_last.clear();
+        for (i, lane) in st.next.iter_mut().enumerate() {
             // One reference for every robot, or one each (`reference_arg` gives 1 or n).
             let (mi, ri) = (m(i, t), &refs[i % refs.len()]);
             let out = match moving.as_ref().and_then(|r| r.path()) {
@@ -207,22 +266,29 @@ impl Lanes {
                     out.command.right, out.command.left
                 )));
             }
-            self.next_last.push(out);
+            st.next_last.push(out);
         }
-        std::mem::swap(&mut self.lanes, &mut self.next);
-        std::mem::swap(&mut self.last, &mut self.next_last);
-        self.ticks += 1;
+        let LaneState { lanes, next, last, next_last, .. } = st;
+        std::mem::swap(lanes, next);
+        std::mem::swap(last, next_last);
+        st.ticks += 1;
         Ok(())
     }
 
     fn update<'py>(
-        &mut self,
+        &self,
         pose: &Bound<'py, PyAny>,
         wheel_angles: &Bound<'py, PyAny>,
         wheel_speeds: &Bound<'py, PyAny>,
         reference: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Py<PyAny>> {
         let py = pose.py();
+        // A new batch's memory, checked before the arguments' values are read.
+        if let Some(n) = leading_rows(pose)
+            && n != self.counts(py).0
+        {
+            check_alloc(Self::batch_bytes(n), "pose", || format!("a batch of {n} robots"))?;
+        }
         if let Some(p) = batch_arg(pose, "pose", ["x", "y", "theta"])? {
             let n = p.shape()[0];
             let a = batch_arg(wheel_angles, "wheel_angles", ["phi_r", "phi_l"])?.ok_or_else(|| {
@@ -234,68 +300,87 @@ impl Lanes {
             same_rows(&a, "wheel_angles", n, "pose")?;
             same_rows(&w, "wheel_speeds", n, "pose")?;
             let refs = self.references(reference, n)?;
-            self.lanes_for(n, "pose")?;
             let (p, a, w) = (p.as_array(), a.as_array(), w.as_array());
-            self.tick(n, &refs, |i, t| Measurement {
-                t,
-                pose: Pose2::new(p[[i, 0]], p[[i, 1]], p[[i, 2]]),
-                wheel_angles: Wheels::new(a[[i, 0]], a[[i, 1]]),
-                wheel_speeds: Wheels::new(w[[i, 0]], w[[i, 1]]),
-            })?;
-            self.batched = true;
-            let mut out = Array2::<f64>::zeros((n, 2));
-            for (mut row, o) in out.rows_mut().into_iter().zip(&self.last) {
-                row[0] = o.command.right;
-                row[1] = o.command.left;
-            }
+            let out = {
+                let mut st = self.lock(py);
+                self.lanes_for(&mut st, n, "pose")?;
+                self.tick(&mut st, n, &refs, |i, t| Measurement {
+                    t,
+                    pose: Pose2::new(p[[i, 0]], p[[i, 1]], p[[i, 2]]),
+                    wheel_angles: Wheels::new(a[[i, 0]], a[[i, 1]]),
+                    wheel_speeds: Wheels::new(w[[i, 0]], w[[i, 1]]),
+                })?;
+                st.batched = true;
+                let mut out = zeros2(n, 2, "pose", "wheel commands")?;
+                for (mut row, o) in out.rows_mut().into_iter().zip(&st.last) {
+                    row[0] = o.command.right;
+                    row[1] = o.command.left;
+                }
+                out
+            };
             return Ok(out.into_pyarray(py).into_any().unbind());
         }
         let [x, y, theta] = finite_array(pose, "pose", ["x", "y", "theta"])?;
         let angles = wheels_arg(wheel_angles, "wheel_angles", ["phi_r", "phi_l"])?;
         let speeds = wheels_arg(wheel_speeds, "wheel_speeds", ["omega_r", "omega_l"])?;
         let refs = self.references(reference, 1)?;
-        self.lanes_for(1, "pose")?;
-        self.tick(1, &refs, |_, t| Measurement {
-            t,
-            pose: Pose2::new(x, y, theta),
-            wheel_angles: angles,
-            wheel_speeds: speeds,
-        })?;
-        self.batched = false;
-        let c = self.last[0].command;
+        let c = {
+            let mut st = self.lock(py);
+            self.lanes_for(&mut st, 1, "pose")?;
+            self.tick(&mut st, 1, &refs, |_, t| Measurement {
+                t,
+                pose: Pose2::new(x, y, theta),
+                wheel_angles: angles,
+                wheel_speeds: speeds,
+            })?;
+            st.batched = false;
+            st.last[0].command
+        };
         Ok((c.right, c.left).into_pyobject(py)?.into_any().unbind())
     }
 
     fn errors(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        if self.batched {
-            let mut out = Array2::<f64>::zeros((self.last.len(), 3));
-            for (mut row, o) in out.rows_mut().into_iter().zip(&self.last) {
+        let out = {
+            let st = self.lock(py);
+            if !st.batched {
+                let e = st.last.first().map(|o| o.errors).unwrap_or_default();
+                drop(st);
+                return Ok((e.e_s, e.e_theta, e.dl).into_pyobject(py)?.into_any().unbind());
+            }
+            let mut out = zeros2(st.last.len(), 3, "errors", "errors")?;
+            for (mut row, o) in out.rows_mut().into_iter().zip(&st.last) {
                 row[0] = o.errors.e_s;
                 row[1] = o.errors.e_theta;
                 row[2] = o.errors.dl;
             }
-            let arr: Bound<'_, PyArray2<f64>> = out.into_pyarray(py);
-            return Ok(arr.into_any().unbind());
-        }
-        let e = self.last.first().map(|o| o.errors).unwrap_or_default();
-        Ok((e.e_s, e.e_theta, e.dl).into_pyobject(py)?.into_any().unbind())
+            out
+        };
+        let arr: Bound<'_, PyArray2<f64>> = out.into_pyarray(py);
+        Ok(arr.into_any().unbind())
     }
 
-    fn reset(&mut self) {
-        self.lanes = vec![self.proto];
-        self.last = vec![ControlOutput::default()];
-        self.ticks = 0;
-        self.batched = false;
+    fn reset(&self, py: Python<'_>) {
+        let mut st = self.lock(py);
+        st.lanes = vec![self.proto];
+        st.last = vec![ControlOutput::default()];
+        st.ticks = 0;
+        st.batched = false;
+    }
+
+    /// Robots in the batch and ticks run: (n, ticks).
+    fn counts(&self, py: Python<'_>) -> (usize, u64) {
+        let st = self.lock(py);
+        (st.lanes.len(), st.ticks)
     }
 
     /// `(wmr_py._restore_controller, (class name, resolved scenario))`; refused once the
     /// controller has run, because its integrators have no portable form yet.
     fn reduce<'py>(&self, py: Python<'py>, class: &str) -> PyResult<Bound<'py, PyTuple>> {
-        if self.ticks != 0 {
+        let (_, ticks) = self.counts(py);
+        if ticks != 0 {
             return Err(pyo3::exceptions::PyTypeError::new_err(format!(
-                "cannot pickle a {class} that has run ({} ticks): its integrator state is not picklable; \
-                 pickle it before the first update() or after reset()",
-                self.ticks
+                "cannot pickle a {class} that has run ({ticks} ticks): its integrator state is not picklable; \
+                 pickle it before the first update() or after reset()"
             )));
         }
         let restore = py.import("wmr_py")?.getattr("_restore_controller")?;
@@ -309,7 +394,7 @@ impl Lanes {
 macro_rules! law_class {
     ($(#[$doc:meta])* $rust:ident, $kind:expr, $arg:ident => $follows:ident) => {
         $(#[$doc])*
-        #[pyclass(module = "wmr_py")]
+        #[pyclass(module = "wmr_py", frozen)]
         pub struct $rust {
             inner: Lanes,
         }
@@ -354,7 +439,7 @@ macro_rules! law_class {
             /// non-finite value raises ParameterError naming it (reference.twist.v).
             #[pyo3(signature = (pose, wheel_angles, wheel_speeds, reference=None))]
             fn update(
-                &mut self,
+                &self,
                 pose: &Bound<'_, PyAny>,
                 wheel_angles: &Bound<'_, PyAny>,
                 wheel_speeds: &Bound<'_, PyAny>,
@@ -371,8 +456,8 @@ macro_rules! law_class {
             }
 
             /// Clears the integrators and memories, as at t = 0 (and the batch size).
-            fn reset(&mut self) {
-                self.inner.reset()
+            fn reset(&self, py: Python<'_>) {
+                self.inner.reset(py)
             }
 
             /// Control period, s: call update() this often.
@@ -404,8 +489,8 @@ macro_rules! law_class {
 
             /// Robots in the batch (1 for single calls).
             #[getter]
-            fn n(&self) -> usize {
-                self.inner.lanes.len()
+            fn n(&self, py: Python<'_>) -> usize {
+                self.inner.counts(py).0
             }
 
             /// The resolved `[controller]` (with `[robot]` and `[drive]`) as TOML.
@@ -418,13 +503,14 @@ macro_rules! law_class {
                 self.inner.reduce(py, stringify!($rust))
             }
 
-            fn __repr__(&self) -> String {
+            fn __repr__(&self, py: Python<'_>) -> String {
                 let g = self.inner.goal;
+                let (n, ticks) = self.inner.counts(py);
                 let follows = match &self.inner.reference {
                     Some(r) => format!("reference={:?}", r.built().kind()),
                     None => format!("goal=({}, {}, {})", g.x, g.y, g.theta),
                 };
-                format!("{}({follows}, n={}, ticks={})", stringify!($rust), self.inner.lanes.len(), self.inner.ticks)
+                format!("{}({follows}, n={n}, ticks={ticks})", stringify!($rust))
             }
         }
     };

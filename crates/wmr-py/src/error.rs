@@ -82,3 +82,9 @@ fn with_attrs(err: PyErr, key: &str, line: Option<usize>) -> PyErr {
 pub fn to_py(e: wmr_scenario::ScenarioError) -> PyErr {
     from_scenario(&e, None)
 }
+
+/// A `MemoryError` about the argument `key` that sizes the allocation: the message is
+/// `"{key}: {message}"` and `err.key` names it, as for a `ParameterError`.
+pub fn memory_error(key: &str, message: impl std::fmt::Display) -> PyErr {
+    with_attrs(pyo3::exceptions::PyMemoryError::new_err(format!("{key}: {message}")), key, None)
+}

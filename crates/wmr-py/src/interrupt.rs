@@ -120,28 +120,24 @@ pub fn load_numpy_api(py: Python<'_>) -> PyResult<()> {
     Ok(())
 }
 
-/// Bytes of memory the caller may still take: what the system calls available, when it
-/// says (Linux); `None` otherwise.
-fn available_bytes() -> Option<u64> {
-    wmr_scenario::available_memory_bytes()
-}
-
-/// Refuses, before anything is allocated, columns of `bytes` that the memory cannot
-/// hold: a `ParameterError` naming `key` (the setting to change), with the value that
-/// would fit when `fit` can say it.
+/// Refuses, before anything is allocated, columns of `bytes` that this process cannot
+/// hold (`wmr_scenario::memory_headroom`: `MemAvailable`, its `RLIMIT_AS` and
+/// `RLIMIT_DATA`, its cgroup's limit): a `ParameterError` naming `key` (the setting to
+/// change), with the value that would fit when `fit` can say it.
 pub fn check_memory(bytes: u128, key: &str, fit: impl FnOnce(f64) -> String) -> PyResult<()> {
-    let Some(avail) = available_bytes() else { return Ok(()) };
-    if bytes <= u128::from(avail) {
+    let Some(h) = wmr_scenario::memory_headroom() else { return Ok(()) };
+    if bytes <= u128::from(h.bytes) {
         return Ok(());
     }
     let gb = |b: f64| b / 1e9;
     Err(parameter_error(
         key,
         format_args!(
-            "the results would take {:.1} GB of memory but only {:.1} GB are available: {}",
+            "the results would take {:.1} GB of memory but only {:.1} GB are available ({}): {}",
             gb(bytes as f64),
-            gb(avail as f64),
-            fit(avail as f64 / bytes as f64)
+            gb(h.bytes as f64),
+            h.limit,
+            fit(h.bytes as f64 / bytes as f64)
         ),
     ))
 }

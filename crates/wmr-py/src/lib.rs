@@ -5,6 +5,7 @@
 //! One `PyX` wrapper per core type, errors converted in [`error`] only, the scenario
 //! parsing and running left to `wmr-scenario`. See the crate's README.md.
 
+pub mod alloc;
 pub mod controller;
 pub mod convert;
 pub mod error;

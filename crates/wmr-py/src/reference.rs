@@ -6,6 +6,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use wmr_core::{Pose2, ReferenceState, Twist2};
 
+use crate::alloc::{bytes_of, check_alloc, vec_with_capacity};
 use crate::convert::{batch_arg, finite_array, real_number};
 use crate::error::parameter_error;
 
@@ -101,7 +102,10 @@ pub fn reference_arg(obj: Option<&Bound<'_, PyAny>>, goal: Pose2<f64>, n: usize)
             ));
         }
         let a = a.as_array();
-        return Ok(a.rows().into_iter().map(|r| from_row(std::array::from_fn(|j| r[j]))).collect());
+        check_alloc(bytes_of::<ReferenceState<f64>>(rows), "reference", || format!("{rows} reference states"))?;
+        let mut out = vec_with_capacity(rows, "reference", "reference states")?;
+        out.extend(a.rows().into_iter().map(|r| from_row(std::array::from_fn(|j| r[j]))));
+        return Ok(out);
     }
     Ok(vec![from_row(finite_array(obj, "reference", REFERENCE_FIELDS)?)])
 }

@@ -9,6 +9,7 @@ use wmr_core::integrator::rk4_step;
 use wmr_core::state::STATE_LEN;
 use wmr_core::{Robot, RobotParams, State, Wheels};
 
+use crate::alloc::{bytes_of, check_alloc, leading_rows, zeros2};
 use crate::convert::{batch_arg, finite_array, finite_scalar, same_rows};
 use crate::error::parameter_error;
 
@@ -127,7 +128,16 @@ fn states_out<'py>(py: Python<'py>, out: Array2<f64>, what: &str) -> PyResult<Py
 /// Batched `state` (N, 7) and `tau` (N, 2) arguments, or `None` for single (1-D) ones.
 type Batch<'py> = (numpy::PyReadonlyArray2<'py, f64>, numpy::PyReadonlyArray2<'py, f64>);
 
-fn state_tau_batch<'py>(state: &Bound<'py, PyAny>, tau: &Bound<'py, PyAny>) -> PyResult<Option<Batch<'py>>> {
+fn state_tau_batch<'py>(
+    state: &Bound<'py, PyAny>,
+    tau: &Bound<'py, PyAny>,
+    what: &str,
+) -> PyResult<Option<Batch<'py>>> {
+    // The (N, 7) result, checked before the arguments' values are read.
+    if let Some(n) = leading_rows(state) {
+        let bytes = bytes_of::<f64>(n).saturating_mul(STATE_LEN as u128);
+        check_alloc(bytes, "state", || format!("the ({n}, {STATE_LEN}) array of {what}"))?;
+    }
     let Some(s) = batch_arg(state, "state", STATE_NAMES)? else { return Ok(None) };
     let t = batch_arg(tau, "tau", ["tau_r", "tau_l"])?
         .ok_or_else(|| parameter_error("tau", "expected shape (N, 2) like state's (N, 7)"))?;
@@ -156,9 +166,9 @@ impl PyRobot {
         state: &Bound<'py, PyAny>,
         tau: &Bound<'py, PyAny>,
     ) -> PyResult<Py<PyAny>> {
-        if let Some((s, t)) = state_tau_batch(state, tau)? {
+        if let Some((s, t)) = state_tau_batch(state, tau, "derivatives")? {
             let (s, t) = (s.as_array(), t.as_array());
-            let mut out = Array2::<f64>::zeros((s.nrows(), STATE_LEN));
+            let mut out = zeros2(s.nrows(), STATE_LEN, "state", "derivatives")?;
             for (i, mut row) in out.rows_mut().into_iter().enumerate() {
                 let d = self.inner.derivative(&state_row(&s, i), Wheels::new(t[[i, 0]], t[[i, 1]])).to_array();
                 row.iter_mut().zip(d).for_each(|(o, v)| *o = v);
@@ -182,7 +192,7 @@ impl PyRobot {
         tau: &Bound<'py, PyAny>,
         dt: &Bound<'py, PyAny>,
     ) -> PyResult<Py<PyAny>> {
-        let batch = state_tau_batch(state, tau)?;
+        let batch = state_tau_batch(state, tau, "states after the step")?;
         let dt = finite_scalar(dt, "dt")?;
         if dt <= 0.0 {
             return Err(parameter_error("dt", format_args!("must be > 0 (got {dt})")));
@@ -198,7 +208,7 @@ impl PyRobot {
         };
         if let Some((s, t)) = batch {
             let (s, t) = (s.as_array(), t.as_array());
-            let mut out = Array2::<f64>::zeros((s.nrows(), STATE_LEN));
+            let mut out = zeros2(s.nrows(), STATE_LEN, "state", "states after the step")?;
             for (i, mut row) in out.rows_mut().into_iter().enumerate() {
                 let next = rk4(&state_row(&s, i), Wheels::new(t[[i, 0]], t[[i, 1]]));
                 row.iter_mut().zip(next).for_each(|(o, v)| *o = v);
@@ -221,7 +231,11 @@ impl PyRobot {
     fn kinetic_energy(&self, py: Python<'_>, state: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
         if let Some(s) = batch_arg(state, "state", STATE_NAMES)? {
             let s = s.as_array();
-            let out: Array1<f64> = (0..s.nrows()).map(|i| self.inner.kinetic_energy(&state_row(&s, i))).collect();
+            let mut out = zeros2(s.nrows(), 1, "state", "kinetic energies")?;
+            for (i, e) in out.iter_mut().enumerate() {
+                *e = self.inner.kinetic_energy(&state_row(&s, i));
+            }
+            let out: Array1<f64> = out.into_shape_with_order(s.nrows()).map_err(|e| parameter_error("state", e))?;
             if let Some(i) = out.iter().position(|v| !v.is_finite()) {
                 finite_out(&[out[i]], &format!("the kinetic energy of robot {i}"))?;
             }
@@ -238,7 +252,7 @@ impl PyRobot {
     fn wheel_speeds(&self, py: Python<'_>, state: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
         if let Some(s) = batch_arg(state, "state", STATE_NAMES)? {
             let s = s.as_array();
-            let mut out = Array2::<f64>::zeros((s.nrows(), 2));
+            let mut out = zeros2(s.nrows(), 2, "state", "wheel speeds")?;
             for (i, mut row) in out.rows_mut().into_iter().enumerate() {
                 let w = state_row(&s, i).wheel_speeds(self.inner.params());
                 finite_out(&[w.right, w.left], &format!("the wheel speeds of robot {i}"))?;

@@ -4,12 +4,13 @@
 //! the one parser, the one set of checks and error names (`reference.radius`).
 
 use numpy::IntoPyArray;
-use numpy::ndarray::{Array2, Ix1};
+use numpy::ndarray::Ix1;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use wmr_core::{AnyReference, Reference, ReferenceState};
 use wmr_scenario::reference::{ReferenceSpec, resolve};
 
+use crate::alloc::zeros2;
 use crate::convert::{finite_scalar, readonly_array, type_name};
 use crate::error::{from_scenario, parameter_error, scenario_error};
 use crate::scenario::to_toml;
@@ -157,7 +158,7 @@ impl PyReference {
         let r = &self.spec.built;
         if let Some(a) = readonly_array::<f64, Ix1>(t_s)? {
             let a = a.as_array();
-            let mut out = Array2::<f64>::zeros((a.len(), 7));
+            let mut out = zeros2(a.len(), 7, "t_s", "reference states")?;
             for (i, (mut row, &t)) in out.rows_mut().into_iter().zip(a.iter()).enumerate() {
                 if !t.is_finite() {
                     return Err(parameter_error(

@@ -78,10 +78,11 @@ pub const REFERENCE_KEYS: &[ReferenceKey] = &[
     },
     ReferenceKey {
         name: "points",
-        kinds: "waypoints",
+        kinds: "waypoints, file",
         unit: "m",
         default: "",
-        doc: "[[x, y], ...], 2 to 64 points, none the same as the one before",
+        doc: "[[x, y], ...], 2 to 64 points, none the same as the one before; file: the points read from path, \
+              which a resolved scenario writes beside it so that it runs without the file (path is then not read)",
     },
     ReferenceKey {
         name: "accel_max",
@@ -111,7 +112,8 @@ fn keys_of(kind: &str) -> Vec<&'static str> {
 /// `[reference]`, checked.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReferenceSpec {
-    /// The table as written (for the resolved-scenario dump).
+    /// The table as written (for the resolved-scenario dump), with a `file` reference's
+    /// points as read (`points`), so that the dump runs without the file.
     pub table: Table,
     /// The reference.
     pub built: AnyReference<f64>,
@@ -203,6 +205,7 @@ pub(crate) fn resolve_sharing(
             format!("unknown key for kind = {kind:?} (expected one of {})", allowed.join(", ")),
         ));
     }
+    let mut stored = table.clone();
     let built = match kind {
         "circle" => {
             let c = point(table, "center", false)?;
@@ -251,10 +254,18 @@ pub(crate) fn resolve_sharing(
             AnyReference::Line(l)
         }
         _ => {
-            let points = if kind == "file" { read_points_file(table, dir, files)? } else { points_of(table)? };
+            // A file reference's points, once read, are kept in its table: the resolved
+            // scenario (`check`, Python's `scenario_toml`, an executor's parts) then holds
+            // them and runs again anywhere, without the file.
+            let from_file = kind == "file" && !table.contains_key("points");
+            let points = if from_file { read_points_file(table, dir, files)? } else { points_of(table)? };
+            if from_file {
+                let list = points.iter().map(|p| Value::Array(vec![Value::Float(p[0]), Value::Float(p[1])]));
+                stored.insert("points".to_owned(), Value::Array(list.collect()));
+            }
             let w = Waypoints::new(&points, number(table, "speed", 0.3)?, number(table, "accel_max", 0.5)?).map_err(
                 |e| {
-                    if e.field == "points" && kind == "file" {
+                    if e.field == "points" && from_file {
                         ScenarioError::from_param(&e, &key("path"))
                     } else {
                         core_error(&e)
@@ -264,7 +275,7 @@ pub(crate) fn resolve_sharing(
             AnyReference::Waypoints(w)
         }
     };
-    Ok(ReferenceSpec { table: table.clone(), built })
+    Ok(ReferenceSpec { table: stored, built })
 }
 
 /// The period (s) of a figure-eight `width` x `height` (m) whose peak speed is `speed`

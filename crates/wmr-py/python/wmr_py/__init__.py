@@ -402,9 +402,10 @@ def sweep(
     progress: show a tqdm bar of the runs (needs tqdm).
     executor: any object with ``submit(fn, *args)`` returning futures with ``.result()``
     (a process pool, a Dask client): the runs go in parts of ``chunk_size`` (default:
-    about 32 parts), each run on one thread in a worker, which parses the scenario's
-    text again (a file need not exist on the workers); the result is the local call's,
-    bit for bit, in order.
+    about 32 parts), each run on one thread in a worker, which parses the resolved
+    scenario's text again: self-contained (a preset's keys and a file reference's points
+    written in), so the workers need none of the scenario's files and may run in any
+    folder; the result is the local call's, bit for bit, in order.
     fast: step the runs in SIMD lanes (``wmr-cli sweep --fast``): several times faster,
     not bit-identical to the exact path; with an executor, the local fast call's result.
     """
@@ -417,6 +418,7 @@ def sweep(
         parts = _results.chunks(n, chunk_size)
         tasks = [(text, a, b, fast) for a, b in parts]
         rows = _results.run_tasks(executor, _results.sweep_task, tasks, bar, [b - a for a, b in parts])
+        _results.check_sweep_parts(rows, parts)
         stacked = np.concatenate(rows) if rows else np.zeros((0, _native._SWEEP_ROW_LEN))
         return SweepResult(_native._sweep_gather(text, stacked))
     finally:

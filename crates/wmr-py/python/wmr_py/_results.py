@@ -444,6 +444,24 @@ def batch_task(base: dict, starts: np.ndarray, goals: Optional[np.ndarray], firs
     return out
 
 
+def check_sweep_parts(rows: Sequence[Any], parts: Sequence[tuple]) -> None:
+    """Each part an executor returned must be the (n, _SWEEP_ROW_LEN) float array of its
+    runs: anything else (None, a foreign object, rows of another shape) raises
+    ParameterError naming the part (``key == "executor"``), as ``gather_batch`` does;
+    which rows they are is checked by ``_sweep_gather``."""
+    for k, (r, (a, b)) in enumerate(zip(rows, parts)):
+        shape = np.shape(r) if isinstance(r, np.ndarray) else None
+        if shape != (b - a, _native._SWEEP_ROW_LEN) or r.dtype.kind != "f":
+            got = type(r).__name__ if shape is None else f"an array of shape {shape} ({r.dtype})"
+            err = _native.ParameterError(
+                f"executor: part {k} (runs {a}:{b}) returned {got}, "
+                f"expected the ({b - a}, {_native._SWEEP_ROW_LEN}) float rows of its runs"
+            )
+            err.key = "executor"
+            err.line = None
+            raise err
+
+
 def gather_batch(outs: Sequence[Any], parts: Sequence[tuple], starts: np.ndarray) -> dict:
     """The whole batch from the parts an executor returned, each checked to be the part
     asked for (its first index and its starts, bit for bit) with every outcome array of

@@ -14,9 +14,13 @@ use wmr_scenario::{RunResult, RunSpec, ScenarioError, executor};
 
 use super::outcomes::{add_tracking_arrays, outcome_dict};
 use super::source::scenario_arg;
+use crate::alloc::{bytes_of, check_alloc, vec_with_capacity};
 use crate::convert::{readonly_array, type_name};
 use crate::error::{parameter_error, to_py};
-use crate::interrupt::{Progress, check_memory, interruptible_with};
+use crate::interrupt::{Progress, interruptible_with};
+
+/// Arrays of the outcome dict, at most (the outcome fields and the tracking ones).
+const OUTCOME_ARRAYS: usize = 24;
 
 /// Runs the scenario `base` (a dict or path, validated like `run_scenario`; its runs give
 /// the goal if `goals` is None) from every start in `starts` in parallel, GIL released.
@@ -56,7 +60,7 @@ pub fn run_batch_native<'py>(
         }
         let arr = a.as_array();
         let names = ["x", "y", "theta"];
-        let mut out = Vec::with_capacity(shape[0]);
+        let mut out = vec_with_capacity(shape[0], arg, "the poses")?;
         for (i, row) in arr.rows().into_iter().enumerate() {
             for (j, v) in row.iter().enumerate() {
                 if !v.is_finite() {
@@ -80,13 +84,19 @@ pub fn run_batch_native<'py>(
         }
         Ok(out)
     };
+    // Every run's start, spec (with its label) and result are held until the arrays are
+    // made: refuse, before any of it is allocated, what this process cannot hold.
+    let per_run = bytes_of::<Pose2<f64>>(2)
+        + bytes_of::<RunSpec>(1)
+        + bytes_of::<Option<RunResult>>(1)
+        + 32
+        + bytes_of::<f64>(OUTCOME_ARRAYS);
+    if let Ok(a) = starts.getattr("shape").and_then(|s| s.extract::<Vec<usize>>())
+        && let Some(&n) = a.first()
+    {
+        check_alloc(per_run * n as u128, "starts", || format!("the runs of {n} starts"))?;
+    }
     let starts = poses(starts, "starts")?;
-    // Every run's result is held until the arrays are made: refuse what memory cannot hold.
-    let per_run = (std::mem::size_of::<RunSpec>() + std::mem::size_of::<Option<RunResult>>() + 32 + 12 * 8) as u128;
-    let n = starts.len();
-    check_memory(per_run * n as u128, "starts", |share| {
-        format!("pass at most {} starts per call ({n} given)", (n as f64 * share).floor())
-    })?;
     let default_goal = sc.runs().first().map(|r| r.goal).unwrap_or_default();
     let goals = match goals {
         Some(g) => {
@@ -101,11 +111,12 @@ pub fn run_batch_native<'py>(
         }
         None => vec![default_goal],
     };
-    let runs = starts
-        .iter()
-        .enumerate()
-        .map(|(i, &start)| RunSpec { label: format!("start {i}"), start, goal: goals[i % goals.len()] })
-        .collect();
+    let mut runs = vec_with_capacity(starts.len(), "starts", "the runs")?;
+    runs.extend(starts.iter().enumerate().map(|(i, &start)| RunSpec {
+        label: format!("start {i}"),
+        start,
+        goal: goals[i % goals.len()],
+    }));
     let sc = sc.with_runs(runs).map_err(to_py)?;
     let done = AtomicUsize::new(0);
     if let Some(p) = progress {

@@ -141,14 +141,6 @@ impl Source {
         Ok((sc, warnings))
     }
 
-    /// The scenario's text: what a worker of an outside executor parses again.
-    pub(super) fn text(&self) -> Result<String, ScenarioError> {
-        match self {
-            Source::Path(p) => wmr_scenario::read_text(p),
-            Source::Text(t) | Source::Dict(t) => Ok(t.clone()),
-        }
-    }
-
     /// The file, for an error about it.
     pub(super) fn path(&self) -> Option<&std::path::Path> {
         match self {

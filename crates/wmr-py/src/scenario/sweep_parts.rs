@@ -13,21 +13,21 @@ use wmr_core::tracking::TrackingOutcome;
 use wmr_core::{Outcome, Pose2, Termination};
 use wmr_scenario::{Scenario, SweepOutcome};
 
-use super::source::{Source, scenario_arg};
+use super::source::scenario_arg;
 use super::sweep_run::{sweep_dict, sweep_of};
 use crate::convert::{readonly_array, type_name};
-use crate::error::{from_scenario, parameter_error, to_py};
+use crate::error::{parameter_error, to_py};
 use crate::interrupt::interruptible;
 
-/// Checks a sweep scenario for an outside executor: `(text, runs)`, the scenario's text
-/// (each worker parses it again, so a file need not be on the workers' machines) and the
-/// number of runs of the sweep.
+/// Checks a sweep scenario for an outside executor: `(text, runs)`, the resolved
+/// scenario's text and the number of runs of the sweep. The text is self-contained: a
+/// preset's keys are written out and a file reference's points inlined
+/// ([`Scenario::to_toml`]), so each worker parses it again in any folder, on any machine,
+/// without the scenario's files; it reads back to the same sweep, bit for bit.
 #[pyfunction(name = "_sweep_plan")]
 pub fn sweep_plan(scenario: &Bound<'_, PyAny>) -> PyResult<(String, usize)> {
-    let source = Source::from_py(scenario)?;
     let sc = scenario_arg(scenario)?;
-    let text = source.text().map_err(|e| from_scenario(&e, source.path()))?;
-    Ok((text, sweep_of(&sc)?.len()))
+    Ok((sc.to_toml(), sweep_of(&sc)?.len()))
 }
 
 /// Values per run in the rows of `_sweep_part` (see `outcome_row`).
@@ -195,5 +195,11 @@ pub fn sweep_gather<'py>(py: Python<'py>, text: &str, rows: &Bound<'py, PyAny>) 
             o.ok_or_else(|| parameter_error(&format!("rows[{k}]"), format_args!("is not the outcome of run {k}")))?,
         );
     }
-    sweep_dict(py, &sc, spec, &outcomes)
+    let d = sweep_dict(py, &sc, spec, &outcomes)?;
+    // The resolved scenario is the text `_sweep_plan` made (with the comments saying
+    // where each robot value came from), not that text parsed and written again.
+    if let Some(meta) = d.get_item("_meta")? {
+        meta.set_item("scenario_toml", text)?;
+    }
+    Ok(d)
 }
