@@ -346,13 +346,13 @@ typedef struct {
   float goal_radius;
 } wmr_lyapunov_params_f32;
 
-// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)) (`[controller] kind = "kanayama"`).
+// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)) (`[controller] kind = "kanayama"`).
 typedef struct {
   // kx: forward speed per metre of along-track error, 1/s (> 0).
   float kx;
   // ky: yaw rate per metre of lateral error, per m/s of v_ref, 1/m^2 (> 0).
   float ky;
-  // ktheta: yaw rate per unit of sin(heading error), per m/s of v_ref, 1/m (> 0).
+  // ktheta: yaw rate per unit of sin(heading error), per m/s of |v_ref|, 1/m (> 0).
   float ktheta;
 } wmr_kanayama_params_f32;
 
@@ -362,7 +362,7 @@ typedef struct {
   float kx;
   // ky: Kanayama's yaw rate per metre of lateral error, per m/s of v_ref, 1/m^2 (> 0).
   float ky;
-  // ktheta: Kanayama's yaw rate per unit of sin(heading error), per m/s of v_ref, 1/m (> 0).
+  // ktheta: Kanayama's yaw rate per unit of sin(heading error), per m/s of |v_ref|, 1/m (> 0).
   float ktheta;
   // k4: rate at which the body twist is driven to Kanayama's, 1/s (> 0).
   float k4;
@@ -586,7 +586,7 @@ typedef struct {
   uint64_t opaque[WMR_LYAPUNOV_CONTROLLER_F32_WORDS];
 } wmr_lyapunov_controller_f32;
 
-// The law `kanayama` with its wheel stage (f32): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)).
+// The law `kanayama` with its wheel stage (f32): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)).
 typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_KANAYAMA_CONTROLLER_F32_WORDS];
@@ -744,13 +744,13 @@ typedef struct {
   double goal_radius;
 } wmr_lyapunov_params_f64;
 
-// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)) (`[controller] kind = "kanayama"`).
+// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)) (`[controller] kind = "kanayama"`).
 typedef struct {
   // kx: forward speed per metre of along-track error, 1/s (> 0).
   double kx;
   // ky: yaw rate per metre of lateral error, per m/s of v_ref, 1/m^2 (> 0).
   double ky;
-  // ktheta: yaw rate per unit of sin(heading error), per m/s of v_ref, 1/m (> 0).
+  // ktheta: yaw rate per unit of sin(heading error), per m/s of |v_ref|, 1/m (> 0).
   double ktheta;
 } wmr_kanayama_params_f64;
 
@@ -760,7 +760,7 @@ typedef struct {
   double kx;
   // ky: Kanayama's yaw rate per metre of lateral error, per m/s of v_ref, 1/m^2 (> 0).
   double ky;
-  // ktheta: Kanayama's yaw rate per unit of sin(heading error), per m/s of v_ref, 1/m (> 0).
+  // ktheta: Kanayama's yaw rate per unit of sin(heading error), per m/s of |v_ref|, 1/m (> 0).
   double ktheta;
   // k4: rate at which the body twist is driven to Kanayama's, 1/s (> 0).
   double k4;
@@ -982,7 +982,7 @@ typedef struct {
   uint64_t opaque[WMR_LYAPUNOV_CONTROLLER_F64_WORDS];
 } wmr_lyapunov_controller_f64;
 
-// The law `kanayama` with its wheel stage (f64): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)).
+// The law `kanayama` with its wheel stage (f64): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)).
 typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_KANAYAMA_CONTROLLER_F64_WORDS];
@@ -1386,8 +1386,8 @@ wmr_status wmr_lyapunov_controller_f32_for_plant(wmr_lyapunov_controller_f32 *ct
                                                  const wmr_plant_f32 *plant);
 
 // Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega =
-// omega_ref + v_ref (ky y_e + ktheta sin(theta_e)). with its wheel stage (see
-// `wmr_paper_controller_f32_init`).
+// omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)). with its wheel stage
+// (see `wmr_paper_controller_f32_init`).
 wmr_status wmr_kanayama_controller_f32_init(wmr_kanayama_controller_f32 *out,
                                             const wmr_kanayama_params_f32 *params,
                                             const wmr_wheel_stage_params_f32 *wheels,
@@ -1886,8 +1886,8 @@ wmr_status wmr_lyapunov_controller_f64_for_plant(wmr_lyapunov_controller_f64 *ct
                                                  const wmr_plant_f64 *plant);
 
 // Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega =
-// omega_ref + v_ref (ky y_e + ktheta sin(theta_e)). with its wheel stage (see
-// `wmr_paper_controller_f64_init`).
+// omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)). with its wheel stage
+// (see `wmr_paper_controller_f64_init`).
 wmr_status wmr_kanayama_controller_f64_init(wmr_kanayama_controller_f64 *out,
                                             const wmr_kanayama_params_f64 *params,
                                             const wmr_wheel_stage_params_f64 *wheels,

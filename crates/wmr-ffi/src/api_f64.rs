@@ -628,8 +628,8 @@ pub unsafe extern "C" fn wmr_lyapunov_controller_f64_for_plant(
 }
 
 /// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega =
-/// omega_ref + v_ref (ky y_e + ktheta sin(theta_e)). with its wheel stage (see
-/// `wmr_paper_controller_f64_init`).
+/// omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)). with its wheel stage
+/// (see `wmr_paper_controller_f64_init`).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_kanayama_controller_f64_init(
     out: *mut wmr_kanayama_controller_f64,

@@ -117,20 +117,20 @@ pub struct wmr_lyapunov_controller_f64 {
     pub opaque: [u64; WMR_LYAPUNOV_CONTROLLER_F64_WORDS],
 }
 
-/// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)). (`kind = "kanayama"`): `wmr_core::KanayamaParams`.
+/// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)). (`kind = "kanayama"`): `wmr_core::KanayamaParams`.
 /// cbindgen:ignore
 pub type wmr_kanayama_params<T> = wmr_core::KanayamaParams<T>;
 /// Words (8 bytes each) of `wmr_kanayama_controller_f32`: the law `kanayama` with its wheel stage.
 pub const WMR_KANAYAMA_CONTROLLER_F32_WORDS: usize = 32;
 /// Words (8 bytes each) of `wmr_kanayama_controller_f64`: the law `kanayama` with its wheel stage.
 pub const WMR_KANAYAMA_CONTROLLER_F64_WORDS: usize = 56;
-/// The law `kanayama` with its wheel stage (f32): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)).
+/// The law `kanayama` with its wheel stage (f32): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)).
 #[repr(C)]
 pub struct wmr_kanayama_controller_f32 {
     /// Opaque: only the library reads or writes it.
     pub opaque: [u64; WMR_KANAYAMA_CONTROLLER_F32_WORDS],
 }
-/// The law `kanayama` with its wheel stage (f64): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)).
+/// The law `kanayama` with its wheel stage (f64): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)).
 #[repr(C)]
 pub struct wmr_kanayama_controller_f64 {
     /// Opaque: only the library reads or writes it.
