@@ -38,7 +38,7 @@ use crate::{
 /// The first 8 bytes of a trace file.
 pub const MAGIC: [u8; 8] = *b"WMRTRACE";
 /// Format version.
-pub const VERSION: u32 = 3;
+pub const VERSION: u32 = 4;
 /// Words of the header before the config: magic (2), version, config words, record words, ticks.
 pub const HEADER_WORDS: usize = 6;
 /// Words of [`Config`].
@@ -105,8 +105,9 @@ macro_rules! law_keys_fit {
     };
 }
 crate::for_each_law!(law_keys_fit);
-/// Words of the law: its kind, then at most 9 keys (one word per declared key).
-const LAW: usize = 10;
+/// Words of the law: its kind, then at most 16 keys (one word per declared key; pure
+/// pursuit has 16).
+const LAW: usize = 17;
 /// Where each part of the config starts (word index).
 const DRIVE_AT: usize = LAW;
 const ROBOT_AT: usize = DRIVE_AT + 1 + TORQUE + DC_MOTOR;

@@ -140,10 +140,10 @@
 #define WMR_BACKSTEPPING_CONTROLLER_F64_WORDS 72
 
 // Words (8 bytes each) of `wmr_pure_pursuit_controller_f32`: the law `pure_pursuit` with its wheel stage.
-#define WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS 32
+#define WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS 40
 
 // Words (8 bytes each) of `wmr_pure_pursuit_controller_f64`: the law `pure_pursuit` with its wheel stage.
-#define WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS 64
+#define WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS 72
 
 // What a call did. `WMR_OK` is 0; every other value is an error.
 enum wmr_status
@@ -368,25 +368,40 @@ typedef struct {
   float k4;
 } wmr_backstepping_params_f32;
 
-// Regulated pure pursuit (nav2's names): path following on the reference's path, its timing ignored (`[controller] kind = "pure_pursuit"`).
+// Regulated pure pursuit (nav2's names): path following on the reference's path, its timing ignored. (`kind = "pure_pursuit"`): `wmr_core::PurePursuitParams`.
+// The core's keys with each flag as a 0/1 `uint32_t`.
 typedef struct {
-  // speed: the forward speed on a straight path (nav2's desired_linear_vel), m/s (> 0).
+  // speed: the forward speed on a straight path (nav2's desired_linear_vel). Unit: m/s; valid: > 0.
   float speed;
-  // The lookahead distance per m/s of speed, s (>= 0).
+  // The fixed lookahead distance (when use_velocity_scaled_lookahead_dist is false). Unit: m; valid: > 0.
+  float lookahead_dist;
+  // The lookahead distance grows with the measured speed: lookahead_time |v| within min/max_lookahead_dist. valid: 1 or 0.
+  uint32_t use_velocity_scaled_lookahead_dist;
+  // The lookahead distance per m/s of speed (with use_velocity_scaled_lookahead_dist). Unit: s; valid: >= 0.
   float lookahead_time;
-  // The shortest lookahead distance, m (> 0).
+  // The shortest velocity-scaled lookahead distance. Unit: m; valid: > 0.
   float min_lookahead_dist;
-  // The longest lookahead distance, m (>= min_lookahead_dist).
+  // The longest velocity-scaled lookahead distance. Unit: m; valid: >= min_lookahead_dist.
   float max_lookahead_dist;
-  // Below this turning radius the speed is scaled down in proportion, m (>= 0).
+  // Below this turning radius the speed is scaled down in proportion. Unit: m; valid: >= 0.
   float regulated_linear_scaling_min_radius;
-  // The curvature scaling never brings the speed below this, m/s (>= 0).
+  // The curvature scaling never brings the speed below this. Unit: m/s; valid: >= 0.
   float regulated_linear_scaling_min_speed;
-  // Within this path length of the end the speed is scaled down in proportion, m (>= 0).
+  // Within this path length of the end the speed is scaled by the straight distance to the end over this. Unit: m; valid: >= 0.
   float approach_velocity_scaling_dist;
-  // The approach scaling never brings the speed below this, m/s (>= 0).
+  // The approach scaling never brings the speed below this. Unit: m/s; valid: >= 0.
   float min_approach_linear_velocity;
-  // Within this distance of the path's end the law stops, m (> 0).
+  // Rotate in place towards the lookahead point when it is more than rotate_to_heading_min_angle off the heading. valid: 1 or 0.
+  uint32_t use_rotate_to_heading;
+  // The bearing of the lookahead point beyond which the robot rotates in place. Unit: rad; valid: >= 0.
+  float rotate_to_heading_min_angle;
+  // The yaw rate of a rotation in place. Unit: rad/s; valid: > 0.
+  float rotate_to_heading_angular_vel;
+  // The yaw acceleration a rotation in place keeps to (and stops with). Unit: rad/s^2; valid: > 0.
+  float max_angular_accel;
+  // Each closest-point search covers this much path forward of the last closest point (the first from the path's beginning). Unit: m; valid: > 0.
+  float max_robot_pose_search_dist;
+  // Within this distance of the path's end the law stops. Unit: m; valid: > 0.
   float xy_goal_tolerance;
 } wmr_pure_pursuit_params_f32;
 
@@ -766,25 +781,40 @@ typedef struct {
   double k4;
 } wmr_backstepping_params_f64;
 
-// Regulated pure pursuit (nav2's names): path following on the reference's path, its timing ignored (`[controller] kind = "pure_pursuit"`).
+// Regulated pure pursuit (nav2's names): path following on the reference's path, its timing ignored. (`kind = "pure_pursuit"`): `wmr_core::PurePursuitParams`.
+// The core's keys with each flag as a 0/1 `uint32_t`.
 typedef struct {
-  // speed: the forward speed on a straight path (nav2's desired_linear_vel), m/s (> 0).
+  // speed: the forward speed on a straight path (nav2's desired_linear_vel). Unit: m/s; valid: > 0.
   double speed;
-  // The lookahead distance per m/s of speed, s (>= 0).
+  // The fixed lookahead distance (when use_velocity_scaled_lookahead_dist is false). Unit: m; valid: > 0.
+  double lookahead_dist;
+  // The lookahead distance grows with the measured speed: lookahead_time |v| within min/max_lookahead_dist. valid: 1 or 0.
+  uint32_t use_velocity_scaled_lookahead_dist;
+  // The lookahead distance per m/s of speed (with use_velocity_scaled_lookahead_dist). Unit: s; valid: >= 0.
   double lookahead_time;
-  // The shortest lookahead distance, m (> 0).
+  // The shortest velocity-scaled lookahead distance. Unit: m; valid: > 0.
   double min_lookahead_dist;
-  // The longest lookahead distance, m (>= min_lookahead_dist).
+  // The longest velocity-scaled lookahead distance. Unit: m; valid: >= min_lookahead_dist.
   double max_lookahead_dist;
-  // Below this turning radius the speed is scaled down in proportion, m (>= 0).
+  // Below this turning radius the speed is scaled down in proportion. Unit: m; valid: >= 0.
   double regulated_linear_scaling_min_radius;
-  // The curvature scaling never brings the speed below this, m/s (>= 0).
+  // The curvature scaling never brings the speed below this. Unit: m/s; valid: >= 0.
   double regulated_linear_scaling_min_speed;
-  // Within this path length of the end the speed is scaled down in proportion, m (>= 0).
+  // Within this path length of the end the speed is scaled by the straight distance to the end over this. Unit: m; valid: >= 0.
   double approach_velocity_scaling_dist;
-  // The approach scaling never brings the speed below this, m/s (>= 0).
+  // The approach scaling never brings the speed below this. Unit: m/s; valid: >= 0.
   double min_approach_linear_velocity;
-  // Within this distance of the path's end the law stops, m (> 0).
+  // Rotate in place towards the lookahead point when it is more than rotate_to_heading_min_angle off the heading. valid: 1 or 0.
+  uint32_t use_rotate_to_heading;
+  // The bearing of the lookahead point beyond which the robot rotates in place. Unit: rad; valid: >= 0.
+  double rotate_to_heading_min_angle;
+  // The yaw rate of a rotation in place. Unit: rad/s; valid: > 0.
+  double rotate_to_heading_angular_vel;
+  // The yaw acceleration a rotation in place keeps to (and stops with). Unit: rad/s^2; valid: > 0.
+  double max_angular_accel;
+  // Each closest-point search covers this much path forward of the last closest point (the first from the path's beginning). Unit: m; valid: > 0.
+  double max_robot_pose_search_dist;
+  // Within this distance of the path's end the law stops. Unit: m; valid: > 0.
   double xy_goal_tolerance;
 } wmr_pure_pursuit_params_f64;
 

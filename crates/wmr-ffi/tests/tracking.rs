@@ -316,7 +316,7 @@ fn pure_pursuit_on_waypoints_is_closed_loop() {
         WheelStage::new(&WheelStageParams::for_drive(&drive_params, robot.params()), robot.params(), &drive, dt)
             .unwrap();
     let plant = Plant::on(robot, drive, WorldParams::default().validate().unwrap(), start).unwrap();
-    let law = PurePursuitLaw::for_lanes(PurePursuitParams::default(), robot.params()).unwrap();
+    let law = PurePursuitLaw::for_lanes(PurePursuitParams::default(), robot.params(), dt).unwrap();
     let core_ref = AnyReference::Waypoints(Waypoints::new(&POINTS, 0.3, 0.5).unwrap());
     let mut sim = ClosedLoop::with_sensor(plant, PerfectSensor, Controller::new(law, wheels), core_ref, dt).unwrap();
     let clock = wmr_core::StepClock::new(dt);

@@ -342,9 +342,6 @@ impl<T: Real> Path<T> for Waypoints<T> {
     fn rate_bounds(&self) -> (T, T) {
         self.rate
     }
-    fn first_search_span(&self) -> T {
-        self.u[self.last()]
-    }
     fn remaining_length(&self, s: T) -> T {
         // Arc length at the samples, interpolated linearly in u between them.
         let n_s = self.samples();
