@@ -65,7 +65,7 @@ fn figure_eight_x_after_4_s<T: Real>() -> f64 {
     let plant = Plant::new(robot, drive, start).unwrap();
     let law = LawParams::PurePursuit(PurePursuitParams::<T>::default());
     let controller = ControllerParams::with_law(law).build(robot.params(), &drive).unwrap();
-    let mut lp = ClosedLoop::new(plant, controller, AnyReference::FigureEight(eight), T::lit(1e-3)).unwrap();
+    let mut lp = ClosedLoop::new(plant, controller, AnyReference::<T>::FigureEight(eight), T::lit(1e-3)).unwrap();
     lp.run(4_000, 1000, |_| {});
     lp.state().x.to_f64_lossless()
 }

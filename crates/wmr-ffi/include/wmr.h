@@ -92,7 +92,9 @@
 // Words of a sensor, `wmr_sensor_f64` (perfect, pose or odometry sensor).
 #define WMR_SENSOR_F64_WORDS 208
 
-// Points a `wmr_reference_*` of waypoints holds at most (the core's `MAX_POINTS`).
+// Points a `wmr_reference_*` of waypoints holds at most in its own storage (the core's
+// `MAX_POINTS`; the firmware's capacity too). A longer path: `_init_waypoints_in`, in
+// storage of `wmr_reference_<f32|f64>_waypoints_words(n)` numbers the caller owns.
 #define WMR_REFERENCE_MAX_POINTS 64
 
 // Words of a reference, `wmr_reference_f32` (circle, figure-eight, line or waypoints:
@@ -1218,14 +1220,32 @@ wmr_status wmr_reference_f32_init_line(wmr_reference_f32 *out,
                                        wmr_error *err);
 
 // A C2 spline through `n` waypoints (`kind = "waypoints"`; `points` is `n` pairs
-// (x, y) in m, 2 to `WMR_REFERENCE_MAX_POINTS`) with a speed profile from rest to rest,
-// at most `speed` (m/s, > 0) and |acceleration| at most `accel_max` (m/s^2, > 0).
+// (x, y) in m, 2 to `WMR_REFERENCE_MAX_POINTS`, the reference's own storage; a longer
+// path: `_init_waypoints_in`) with a speed profile from rest to rest, at most `speed`
+// (m/s, > 0) and |acceleration| at most `accel_max` (m/s^2, > 0).
 wmr_status wmr_reference_f32_init_waypoints(wmr_reference_f32 *out,
                                             const float (*points)[2],
                                             size_t n,
                                             float speed,
                                             float accel_max,
                                             wmr_error *err);
+
+// The numbers (each an `f32`) of storage `_init_waypoints_in` needs for `n` points:
+// 37 n - 28 (0 when that overflows a size_t).
+size_t wmr_reference_f32_waypoints_words(size_t n);
+
+// As `_init_waypoints`, for a path of any length (a recorded one: thousands of points),
+// built in `storage`, `words` numbers the caller owns (at least
+// `wmr_reference_f32_waypoints_words(n)`, not overlapping `points`). The reference reads
+// them while it is in use: keep them alive and unchanged as long as the reference.
+wmr_status wmr_reference_f32_init_waypoints_in(wmr_reference_f32 *out,
+                                               const float (*points)[2],
+                                               size_t n,
+                                               float speed,
+                                               float accel_max,
+                                               float *storage,
+                                               size_t words,
+                                               wmr_error *err);
 
 // The state of the reference point at time `t` (s): pose (m, m, rad), twist (m/s,
 // rad/s) and acceleration (m/s^2, rad/s^2), what `_update_reference` takes: the same
@@ -1718,14 +1738,32 @@ wmr_status wmr_reference_f64_init_line(wmr_reference_f64 *out,
                                        wmr_error *err);
 
 // A C2 spline through `n` waypoints (`kind = "waypoints"`; `points` is `n` pairs
-// (x, y) in m, 2 to `WMR_REFERENCE_MAX_POINTS`) with a speed profile from rest to rest,
-// at most `speed` (m/s, > 0) and |acceleration| at most `accel_max` (m/s^2, > 0).
+// (x, y) in m, 2 to `WMR_REFERENCE_MAX_POINTS`, the reference's own storage; a longer
+// path: `_init_waypoints_in`) with a speed profile from rest to rest, at most `speed`
+// (m/s, > 0) and |acceleration| at most `accel_max` (m/s^2, > 0).
 wmr_status wmr_reference_f64_init_waypoints(wmr_reference_f64 *out,
                                             const double (*points)[2],
                                             size_t n,
                                             double speed,
                                             double accel_max,
                                             wmr_error *err);
+
+// The numbers (each an `f64`) of storage `_init_waypoints_in` needs for `n` points:
+// 37 n - 28 (0 when that overflows a size_t).
+size_t wmr_reference_f64_waypoints_words(size_t n);
+
+// As `_init_waypoints`, for a path of any length (a recorded one: thousands of points),
+// built in `storage`, `words` numbers the caller owns (at least
+// `wmr_reference_f64_waypoints_words(n)`, not overlapping `points`). The reference reads
+// them while it is in use: keep them alive and unchanged as long as the reference.
+wmr_status wmr_reference_f64_init_waypoints_in(wmr_reference_f64 *out,
+                                               const double (*points)[2],
+                                               size_t n,
+                                               double speed,
+                                               double accel_max,
+                                               double *storage,
+                                               size_t words,
+                                               wmr_error *err);
 
 // The state of the reference point at time `t` (s): pose (m, m, rad), twist (m/s,
 // rad/s) and acceleration (m/s^2, rad/s^2), what `_update_reference` takes: the same

@@ -16,6 +16,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use wmr_core::{AnyReference, ControlOutput, Measurement, Pose2, Reference, ReferenceState, StepClock, Wheels};
 use wmr_scenario::BuiltController;
+use wmr_scenario::reference::RunReference;
 
 use crate::convert::{batch_arg, finite_array, pose_table, same_rows, type_name};
 use crate::error::parameter_error;
@@ -187,7 +188,7 @@ impl Lanes {
         let t = self.tick_time();
         // A path-following law steers by the reference's path, as the scenario loop does
         // (wmr_core::ClosedLoop): every law is given the path when the reference has one.
-        let moving: Option<AnyReference<f64>> = self.reference.as_ref().map(PyReference::built);
+        let moving: Option<RunReference> = self.reference.as_ref().map(PyReference::built);
         // The tick is computed into `next` and `next_last` and swapped in when every lane
         // is finite; the buffers are kept, so a tick allocates nothing after the first.
         self.next.clear();

@@ -8,7 +8,7 @@ use numpy::ndarray::{Array2, Ix1};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use wmr_core::{AnyReference, Reference, ReferenceState};
-use wmr_scenario::reference::{ReferenceSpec, resolve};
+use wmr_scenario::reference::{ReferenceSpec, RunReference, resolve};
 
 use crate::convert::{finite_scalar, readonly_array, type_name};
 use crate::error::{from_scenario, parameter_error, scenario_error};
@@ -74,7 +74,7 @@ impl PyReference {
     }
 
     /// The core's reference.
-    pub fn built(&self) -> AnyReference<f64> {
+    pub fn built(&self) -> RunReference {
         self.spec.built
     }
 

@@ -6,6 +6,7 @@
 
 use std::path::Path;
 
+use std::sync::Arc;
 use toml::{Table, Value};
 use wmr_core::reference::{Circle, FigureEight, Line, Waypoints};
 use wmr_core::{AnyReference, LawParams, Pose2};
@@ -73,7 +74,7 @@ pub const REFERENCE_KEYS: &[ReferenceKey] = &[
         kinds: "waypoints",
         unit: "m",
         default: "",
-        doc: "[[x, y], ...], 2 to 64 points, none the same as the one before",
+        doc: "[[x, y], ...], 2 to 1,000,000 points, none the same as the one before",
     },
     ReferenceKey {
         name: "accel_max",
@@ -100,13 +101,23 @@ fn keys_of(kind: &str) -> Vec<&'static str> {
         .collect()
 }
 
+/// A scenario's reference: a waypoints path of any length (up to [`MAX_PATH_POINTS`])
+/// in shared storage, which a sweep's runs and a Python object's copies share.
+pub type RunReference = AnyReference<f64, Arc<[f64]>>;
+
+/// The most points a `waypoints` or `file` path holds (the core's own fixed storage,
+/// and so the firmware and a trace, hold 64; here the storage is allocated): 1,000,000
+/// points take 37 words each, 296 MB. A recorded path is usually far shorter (an hour at
+/// 50 Hz is 180,000 poses).
+pub const MAX_PATH_POINTS: usize = 1_000_000;
+
 /// `[reference]`, checked.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReferenceSpec {
     /// The table as written (for the resolved-scenario dump).
     pub table: Table,
     /// The reference.
-    pub built: AnyReference<f64>,
+    pub built: RunReference,
 }
 
 fn key(k: &str) -> String {
@@ -211,16 +222,23 @@ pub fn resolve(table: &Table, dir: Option<&Path>) -> Result<ReferenceSpec, Scena
         }
         _ => {
             let points = if kind == "file" { read_points_file(table, dir)? } else { points_of(table)? };
-            let w = Waypoints::new(&points, number(table, "speed", 0.3)?, number(table, "accel_max", 0.5)?).map_err(
-                |e| {
-                    if e.field == "points" && kind == "file" {
-                        ScenarioError::from_param(&e, &key("path"))
-                    } else {
-                        core_error(&e)
-                    }
-                },
-            )?;
-            AnyReference::Waypoints(w)
+            let points_key = if kind == "file" { "path" } else { "points" };
+            if points.len() > MAX_PATH_POINTS {
+                return Err(ScenarioError::new(
+                    key(points_key),
+                    format!(
+                        "{} points, more than the limit of {MAX_PATH_POINTS}: thin the path (keep every k-th point; \
+                         the spline through them is smooth)",
+                        points.len()
+                    ),
+                ));
+            }
+            let storage = vec![0.0; Waypoints::<f64, Vec<f64>>::words(points.len())];
+            let w = Waypoints::new_in(&points, number(table, "speed", 0.3)?, number(table, "accel_max", 0.5)?, storage)
+                .map_err(|e| {
+                    if e.field == "points" { ScenarioError::from_param(&e, &key(points_key)) } else { core_error(&e) }
+                })?;
+            AnyReference::Waypoints(w.map_storage(Arc::from))
         }
     };
     Ok(ReferenceSpec { table: table.clone(), built })

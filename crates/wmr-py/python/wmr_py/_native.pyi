@@ -336,7 +336,7 @@ class LyapunovController:
 
 @final
 class KanayamaController:
-    """Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)) (kind "kanayama"), following a Reference."""
+    """Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)) (kind "kanayama"), following a Reference."""
 
     def __new__(
         cls,
