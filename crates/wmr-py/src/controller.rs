@@ -14,7 +14,7 @@ use numpy::{IntoPyArray, PyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::PyFloatingPointError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
-use wmr_core::{AnyReference, ControlOutput, Measurement, Pose2, Reference, ReferenceState, StepClock, Wheels};
+use wmr_core::{ControlOutput, Measurement, Pose2, Reference, ReferenceState, StepClock, Wheels};
 use wmr_scenario::BuiltController;
 use wmr_scenario::reference::RunReference;
 

@@ -7,7 +7,7 @@ use numpy::IntoPyArray;
 use numpy::ndarray::{Array2, Ix1};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
-use wmr_core::{AnyReference, Reference, ReferenceState};
+use wmr_core::{Reference, ReferenceState};
 use wmr_scenario::reference::{ReferenceSpec, RunReference, resolve};
 
 use crate::convert::{finite_scalar, readonly_array, type_name};
@@ -75,7 +75,7 @@ impl PyReference {
 
     /// The core's reference.
     pub fn built(&self) -> RunReference {
-        self.spec.built
+        self.spec.built.clone()
     }
 
     /// `[reference]` keys, as TOML, for a scenario built from Python.

@@ -91,7 +91,7 @@ mod tests {
 
     #[test]
     fn positions_are_the_log_grid_up_to_the_budget_then_thinned_with_the_last() {
-        let circle = AnyReference::Circle(Circle::new(0.0, 0.0, 1.0, 0.3, 0.0).unwrap());
+        let circle = RunReference::Circle(Circle::new(0.0, 0.0, 1.0, 0.3, 0.0).unwrap());
         let short = sim(40.0, 0.01);
         assert_eq!(log_positions(&circle, &short).len() as u64, short.n_samples());
         let long = sim(1e5, 0.01);
@@ -103,7 +103,7 @@ mod tests {
 
     #[test]
     fn dashes_stay_within_the_budget() {
-        let circle = AnyReference::Circle(Circle::new(0.0, 0.0, 1.0, 0.3, 0.0).unwrap());
+        let circle = RunReference::Circle(Circle::new(0.0, 0.0, 1.0, 0.3, 0.0).unwrap());
         let s = sim(40.0, 0.01);
         // 12 m of 8 cm dashes: cut as ever; 1e-9 m dashes: the budget.
         let ordinary = dashes(&circle, &s, 0.08);
