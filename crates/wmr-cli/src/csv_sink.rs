@@ -58,8 +58,11 @@ impl Sink for CsvSink {
         self.field.clear();
         let _ = write!(self.field, "{index}");
         self.writer.write_field(&self.field)?;
-        let columns = self.columns;
-        self.write_values(columns.values(sample))?;
+        // Taken out for the call (its reference is shared storage, not Copy) and put back.
+        let columns = std::mem::take(&mut self.columns);
+        let written = self.write_values(columns.values(sample));
+        self.columns = columns;
+        written?;
         self.writer.write_record(None::<&[u8]>)?;
         Ok(())
     }

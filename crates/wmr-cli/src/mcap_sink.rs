@@ -162,7 +162,7 @@ impl McapSink {
     pub fn new(file: OutWriter, scenario: &Scenario) -> Result<Self, SinkError> {
         let columns = Columns::of(scenario);
         Ok(Self {
-            file: Some(McapFile::new(file, scenario.runs().len(), columns)?),
+            file: Some(McapFile::new(file, scenario.runs().len(), columns.clone())?),
             robot: *scenario.robot().params(),
             sim: *scenario.sim(),
             columns,
@@ -188,7 +188,7 @@ impl Sink for McapSink {
         }
         let channels = file.add_run(index)?;
         self.run = Some(RunState {
-            encoder: RunEncoder::new(index, run, &self.robot, self.columns, &self.sim),
+            encoder: RunEncoder::new(index, run, &self.robot, self.columns.clone(), &self.sim),
             channels,
             last_t: 0.0,
         });

@@ -160,10 +160,10 @@ fn plot_runs(scenario: &Scenario, dir: &Path, written: &mut Vec<String>) -> Resu
     .into_iter()
     .collect::<Result<_, _>>()?;
     // A tracking run's reference pose at each sample's time, as the CSV's x_ref ... columns.
-    let reference = scenario.tracking().map(|t| t.reference.built);
+    let reference = scenario.tracking().map(|t| &t.reference.built);
     let refs: Vec<Vec<Pose2<f64>>> = samples
         .iter()
-        .map(|s| reference.map_or_else(Vec::new, |r| s.iter().map(|x| Reference::state_at(&r, x.t).pose).collect()))
+        .map(|s| reference.map_or_else(Vec::new, |r| s.iter().map(|x| Reference::state_at(r, x.t).pose).collect()))
         .collect();
     let traces: Vec<Trace<'_>> = scenario
         .runs()

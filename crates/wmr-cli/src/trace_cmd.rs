@@ -111,7 +111,11 @@ fn config_of(scenario: &Scenario, run: usize) -> Result<ConfigOf<f64>, ScenarioE
         steps_per_tick,
         start: spec.start,
         reference: match scenario.tracking() {
-            Some(t) => ReferenceConfig::of(&t.reference.built),
+            Some(t) => ReferenceConfig::of(&t.reference.built).map_err(|e| {
+                // A `file` reference's points are its `path`.
+                let file = t.reference.table.get("kind").and_then(|k| k.as_str()) == Some("file");
+                ScenarioError::from_param(&e, if file { "reference.path" } else { "reference.points" })
+            })?,
             None => ReferenceConfig::Goal(spec.goal),
         },
     })

@@ -38,7 +38,7 @@ use crate::{
 /// The first 8 bytes of a trace file.
 pub const MAGIC: [u8; 8] = *b"WMRTRACE";
 /// Format version.
-pub const VERSION: u32 = 3;
+pub const VERSION: u32 = 4;
 /// Words of the header before the config: magic (2), version, config words, record words, ticks.
 pub const HEADER_WORDS: usize = 6;
 /// Words of [`Config`].
@@ -105,8 +105,9 @@ macro_rules! law_keys_fit {
     };
 }
 crate::for_each_law!(law_keys_fit);
-/// Words of the law: its kind, then at most 9 keys (one word per declared key).
-const LAW: usize = 10;
+/// Words of the law: its kind, then at most 16 keys (one word per declared key; pure
+/// pursuit has 16).
+const LAW: usize = 17;
 /// Where each part of the config starts (word index).
 const DRIVE_AT: usize = LAW;
 const ROBOT_AT: usize = DRIVE_AT + 1 + TORQUE + DC_MOTOR;
@@ -149,9 +150,10 @@ pub enum ReferenceConfig<T> {
 }
 
 impl<T: Real> ReferenceConfig<T> {
-    /// What builds `r`.
-    pub fn of(r: &AnyReference<T>) -> Self {
-        match r {
+    /// What builds `r`. Errors name `points` for a waypoints path longer than the
+    /// trace (and the firmware's fixed storage) holds, [`MAX_POINTS`].
+    pub fn of<S: AsRef<[T]>>(r: &AnyReference<T, S>) -> Result<Self, ParamError> {
+        Ok(match r {
             AnyReference::Goal(g) => ReferenceConfig::Goal(g.pose()),
             AnyReference::Circle(c) => ReferenceConfig::Circle(*c),
             AnyReference::FigureEight(f) => {
@@ -159,6 +161,13 @@ impl<T: Real> ReferenceConfig<T> {
             }
             AnyReference::Line(l) => ReferenceConfig::Line(*l),
             AnyReference::Waypoints(w) => {
+                if w.len() > MAX_POINTS {
+                    return Err(crate::error::check::out_of_range(
+                        "points",
+                        "a trace (and the firmware's fixed storage) holds at most 64 points: thin the path to 64",
+                        T::lit(w.len() as f64),
+                    ));
+                }
                 let mut points = [[T::zero(); 2]; MAX_POINTS];
                 for (i, p) in points.iter_mut().enumerate().take(w.len()) {
                     *p = w.point(i);
@@ -166,7 +175,7 @@ impl<T: Real> ReferenceConfig<T> {
                 let (speed, accel_max) = w.limits();
                 ReferenceConfig::Waypoints { n: w.len(), points, speed, accel_max }
             }
-        }
+        })
     }
 
     /// Builds the reference (its constructor checks the values; errors name the key).
@@ -592,7 +601,7 @@ mod tests {
                 dt: 1e-3,
                 steps_per_tick: 1,
                 start: Pose2::new(0.0, 0.0, 0.0),
-                reference: ReferenceConfig::of(reference),
+                reference: ReferenceConfig::of(reference).unwrap(),
             };
             let d = Config::decode(&c.encode()).unwrap();
             assert_eq!(d, c, "{} on {}", law.kind(), reference.kind());

@@ -3,7 +3,8 @@
 //!
 //! The error at each plant step is the true distance from C to C_ref at that time
 //! ([`TrackingError::Trajectory`]) or, for path following, to the reference's path
-//! ([`TrackingError::Path`], the closest point found forward from the last one). Over a
+//! ([`TrackingError::Path`], the closest point found forward from the last one, the first
+//! from the path's beginning, as pure pursuit finds it). Over a
 //! run of length t_end:
 //!
 //! - **converged** when the error stays below the tolerance over the last 10 % of

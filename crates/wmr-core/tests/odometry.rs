@@ -168,7 +168,7 @@ fn circles_with_fixes<T: Real>(fix_rate_hz: f64) -> (f64, f64, bool) {
     let sensor = OdometrySensor::<T>::new(sensor_params, odometry(fix_rate_hz).cast(), &model, dt, 0).unwrap();
     let law = LawParams::Kanayama(KanayamaParams::default());
     let ctrl = ControllerParams::with_law(law).build(&model, &drive).unwrap();
-    let reference = AnyReference::Circle(
+    let reference = AnyReference::<T>::Circle(
         Circle::new(T::zero(), T::zero(), T::one(), T::lit(0.3), T::lit(-0.5 * T::PI().to_f64_lossless())).unwrap(),
     );
     let plant = Plant::new(robot, drive, Pose2::new(T::one(), T::zero(), T::FRAC_PI_2())).unwrap();

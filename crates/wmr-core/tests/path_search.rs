@@ -30,9 +30,6 @@ impl<T: Real> Path<T> for Counting<'_, T> {
     fn rate_bounds(&self) -> (T, T) {
         self.inner.rate_bounds()
     }
-    fn first_search_span(&self) -> T {
-        self.inner.first_search_span()
-    }
     fn remaining_length(&self, s: T) -> T {
         self.inner.remaining_length(s)
     }
@@ -83,8 +80,7 @@ fn incremental_matches_brute_force<T: Real>(tol_m: f64) {
         for (k, (x, y)) in weave(path, 4000, amplitude).into_iter().enumerate() {
             let s_inc = cursor.advance(path, x, y, window, ds);
             // The brute force: the whole window scanned, from the same last point.
-            let span = if k == 0 { path.first_search_span() } else { window / rate_min };
-            let s_brute = closest(path, x, y, brute_from, span, ds);
+            let s_brute = closest(path, x, y, brute_from, window / rate_min, ds);
             brute_from = s_brute;
             let d = |s: T| {
                 let (px, py) = path.point_on_path(s);

@@ -138,7 +138,8 @@ fn kanayama_by_hand(k: (f64, f64, f64), pose: (f64, f64, f64), r: (f64, f64, f64
         the += 2.0 * PI;
     }
     let v = vr * the.cos() + k.0 * xe;
-    let w = wr + vr * (k.1 * ye + k.2 * the.sin());
+    // wmr issue 38: the heading term takes the sign of v_ref, so that it damps in reverse.
+    let w = wr + vr * k.1 * ye + vr.abs() * k.2 * the.sin();
     [v, w, xe, the, (xr - x).hypot(yr - y)]
 }
 
@@ -311,4 +312,122 @@ fn the_closed_loop_logs_kanayamas_errors_from_the_measurement() {
         assert_close("dl", e.dl, want[4], 0.0, 1e-9);
     }
     let _ = Wheels::new(0.0, 0.0);
+}
+
+/// wmr issue 38 item 5: a line driven backwards (speed -0.3 m/s), the robot 2 cm to its
+/// side. The paper's form of Kanayama's law has the lateral loop
+/// s^2 + ktheta v_ref s + ky v_ref^2, a double pole at +2.4 1/s here: 2.20 m off after 20 s
+/// (1.49 m with back-stepping). With the heading term's sign turned both converge.
+fn a_line_driven_backwards_is_tracked<T: Real>(tol: f64) {
+    let line = AnyReference::Line(Line::new(Pose2::new(T::zero(), T::zero(), T::zero()), T::lit(-0.3)).unwrap());
+    let start = Pose2::new(T::zero(), T::lit(0.02), T::zero());
+    for law in [
+        LawParams::Kanayama(KanayamaParams::<T>::default()),
+        LawParams::Backstepping(BacksteppingParams::<T>::default()),
+    ] {
+        let (last, tail) = track(law, line, start, 20.0, false);
+        assert!(tail < tol, "{law:?}: tail max {tail} m, final {last} m");
+    }
+}
+
+#[test]
+fn a_line_driven_backwards_is_tracked_f64() {
+    a_line_driven_backwards_is_tracked::<f64>(1e-4);
+}
+
+#[test]
+fn a_line_driven_backwards_is_tracked_f32() {
+    a_line_driven_backwards_is_tracked::<f32>(1e-3);
+}
+
+/// A reference that changes direction: v_ref(t) = 0.3 cos(2 pi t / 20) m/s along x (forwards
+/// for 5 s, backwards for 10 s, forwards again), omega_ref = 0. Kanayama's law on the
+/// kinematic unicycle (its twist applied exactly, RK4 at 1 ms), from 2 cm to the side and
+/// 5 deg off: the error ends below 1 mm (it grew without bound with the paper's form).
+#[test]
+fn a_reference_that_changes_direction_is_tracked_by_the_kinematic_law() {
+    let mut law = wmr_core::KanayamaLaw::<f64>::for_lanes(KanayamaParams::default()).unwrap();
+    let w = 2.0 * PI / 20.0;
+    let reference = |t: f64| {
+        let x = 0.3 / w * (w * t).sin();
+        ReferenceState {
+            pose: Pose2::new(x, 0.0, 0.0),
+            twist: Twist2 { v: 0.3 * (w * t).cos(), omega: 0.0 },
+            accel: Twist2::default(),
+        }
+    };
+    let mut q = [0.0, 0.02, 5f64.to_radians()];
+    let dt = 1e-3;
+    let mut worst_late = 0.0f64;
+    for k in 0..60_000 {
+        let t = k as f64 * dt;
+        // The law is held over the step (a control period of 1 ms), the unicycle integrated by RK4.
+        let m = Measurement { t, pose: Pose2::new(q[0], q[1], q[2]), ..Default::default() };
+        let wmr_core::WheelDemand::Twist(tw) = law.update(t, &m, &reference(t)).demand else { panic!() };
+        let f = |q: [f64; 3]| [tw.v * q[2].cos(), tw.v * q[2].sin(), tw.omega];
+        let k1 = f(q);
+        let k2 = f([q[0] + dt / 2.0 * k1[0], q[1] + dt / 2.0 * k1[1], q[2] + dt / 2.0 * k1[2]]);
+        let k3 = f([q[0] + dt / 2.0 * k2[0], q[1] + dt / 2.0 * k2[1], q[2] + dt / 2.0 * k2[2]]);
+        let k4 = f([q[0] + dt * k3[0], q[1] + dt * k3[1], q[2] + dt * k3[2]]);
+        for i in 0..3 {
+            q[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+        }
+        if t >= 50.0 {
+            let r = reference(t + dt).pose;
+            worst_late = worst_late.max((r.x - q[0]).hypot(r.y - q[1]));
+        }
+    }
+    assert!(worst_late < 1e-3, "error over the last 10 s: {worst_late} m");
+}
+
+/// The closed-loop poles of Kanayama's law, from a finite-difference Jacobian of the error
+/// dynamics (Kanayama et al. 1990, eq. (3)) with the law's own twist, at constant v_ref:
+/// the characteristic polynomial is (s + kx) (s^2 + ktheta |v_ref| s + ky v_ref^2) for
+/// either sign of v_ref (all roots in the left half-plane).
+#[test]
+fn kanayamas_closed_loop_poles_stay_left_in_reverse() {
+    let (kx, ky, kt) = (10.0, 64.0, 16.0);
+    let mut law = wmr_core::KanayamaLaw::<f64>::for_lanes(KanayamaParams { kx, ky, ktheta: kt }).unwrap();
+    for vr in [0.3, -0.3, -1.1, 0.05] {
+        let wr = 0.0;
+        // Errors (x_e, y_e, theta_e) with the reference at the origin heading +x: the robot
+        // pose that gives them, then the law's twist and the error rates.
+        let mut rates = |e: [f64; 3]| -> [f64; 3] {
+            let th = -e[2];
+            let (s, c) = th.sin_cos();
+            // x_ref - x = c x_e - s y_e, y_ref - y = s x_e + c y_e
+            let (dx, dy) = (c * e[0] - s * e[1], s * e[0] + c * e[1]);
+            let m = Measurement { t: 0.0, pose: Pose2::new(-dx, -dy, th), ..Default::default() };
+            let r = ReferenceState {
+                pose: Pose2::new(0.0, 0.0, 0.0),
+                twist: Twist2 { v: vr, omega: wr },
+                accel: Twist2::default(),
+            };
+            let wmr_core::WheelDemand::Twist(tw) = law.update(0.0, &m, &r).demand else { panic!() };
+            [tw.omega * e[1] - tw.v + vr * e[2].cos(), -tw.omega * e[0] + vr * e[2].sin(), wr - tw.omega]
+        };
+        let h = 1e-6;
+        let mut a = [[0.0; 3]; 3];
+        for j in 0..3 {
+            let mut p = [0.0; 3];
+            let mut n = [0.0; 3];
+            p[j] = h;
+            n[j] = -h;
+            let (fp, fn_) = (rates(p), rates(n));
+            for i in 0..3 {
+                a[i][j] = (fp[i] - fn_[i]) / (2.0 * h);
+            }
+        }
+        // det(sI - A) = s^3 - tr(A) s^2 + (sum of principal 2x2 minors) s - det(A).
+        let tr = a[0][0] + a[1][1] + a[2][2];
+        let m2 = a[0][0] * a[1][1] - a[0][1] * a[1][0] + a[0][0] * a[2][2] - a[0][2] * a[2][0] + a[1][1] * a[2][2]
+            - a[1][2] * a[2][1];
+        let det = a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+            + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+        // (s + kx)(s^2 + b s + c) = s^3 + (kx + b) s^2 + (kx b + c) s + kx c
+        let (b, c) = (kt * vr.abs(), ky * vr * vr);
+        assert_close(&format!("v_ref {vr}: s^2"), -tr, kx + b, 0.0, 1e-6);
+        assert_close(&format!("v_ref {vr}: s^1"), m2, kx * b + c, 0.0, 1e-5);
+        assert_close(&format!("v_ref {vr}: s^0"), -det, kx * c, 0.0, 1e-5);
+    }
 }

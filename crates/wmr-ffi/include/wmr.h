@@ -92,7 +92,9 @@
 // Words of a sensor, `wmr_sensor_f64` (perfect, pose or odometry sensor).
 #define WMR_SENSOR_F64_WORDS 208
 
-// Points a `wmr_reference_*` of waypoints holds at most (the core's `MAX_POINTS`).
+// Points a `wmr_reference_*` of waypoints holds at most in its own storage (the core's
+// `MAX_POINTS`; the firmware's capacity too). A longer path: `_init_waypoints_in`, in
+// storage of `wmr_reference_<f32|f64>_waypoints_words(n)` numbers the caller owns.
 #define WMR_REFERENCE_MAX_POINTS 64
 
 // Words of a reference, `wmr_reference_f32` (circle, figure-eight, line or waypoints:
@@ -140,10 +142,10 @@
 #define WMR_BACKSTEPPING_CONTROLLER_F64_WORDS 72
 
 // Words (8 bytes each) of `wmr_pure_pursuit_controller_f32`: the law `pure_pursuit` with its wheel stage.
-#define WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS 32
+#define WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS 40
 
 // Words (8 bytes each) of `wmr_pure_pursuit_controller_f64`: the law `pure_pursuit` with its wheel stage.
-#define WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS 64
+#define WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS 72
 
 // What a call did. `WMR_OK` is 0; every other value is an error.
 enum wmr_status
@@ -346,13 +348,13 @@ typedef struct {
   float goal_radius;
 } wmr_lyapunov_params_f32;
 
-// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)) (`[controller] kind = "kanayama"`).
+// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)) (`[controller] kind = "kanayama"`).
 typedef struct {
   // kx: forward speed per metre of along-track error, 1/s (> 0).
   float kx;
   // ky: yaw rate per metre of lateral error, per m/s of v_ref, 1/m^2 (> 0).
   float ky;
-  // ktheta: yaw rate per unit of sin(heading error), per m/s of v_ref, 1/m (> 0).
+  // ktheta: yaw rate per unit of sin(heading error), per m/s of |v_ref|, 1/m (> 0).
   float ktheta;
 } wmr_kanayama_params_f32;
 
@@ -362,31 +364,46 @@ typedef struct {
   float kx;
   // ky: Kanayama's yaw rate per metre of lateral error, per m/s of v_ref, 1/m^2 (> 0).
   float ky;
-  // ktheta: Kanayama's yaw rate per unit of sin(heading error), per m/s of v_ref, 1/m (> 0).
+  // ktheta: Kanayama's yaw rate per unit of sin(heading error), per m/s of |v_ref|, 1/m (> 0).
   float ktheta;
   // k4: rate at which the body twist is driven to Kanayama's, 1/s (> 0).
   float k4;
 } wmr_backstepping_params_f32;
 
-// Regulated pure pursuit (nav2's names): path following on the reference's path, its timing ignored (`[controller] kind = "pure_pursuit"`).
+// Regulated pure pursuit (nav2's names): path following on the reference's path, its timing ignored. (`kind = "pure_pursuit"`): `wmr_core::PurePursuitParams`.
+// The core's keys with each flag as a 0/1 `uint32_t`.
 typedef struct {
-  // speed: the forward speed on a straight path (nav2's desired_linear_vel), m/s (> 0).
+  // speed: the forward speed on a straight path (nav2's desired_linear_vel). Unit: m/s; valid: > 0.
   float speed;
-  // The lookahead distance per m/s of speed, s (>= 0).
+  // The fixed lookahead distance (when use_velocity_scaled_lookahead_dist is false). Unit: m; valid: > 0.
+  float lookahead_dist;
+  // The lookahead distance grows with the measured speed: lookahead_time |v| within min/max_lookahead_dist. valid: 1 or 0.
+  uint32_t use_velocity_scaled_lookahead_dist;
+  // The lookahead distance per m/s of speed (with use_velocity_scaled_lookahead_dist). Unit: s; valid: >= 0.
   float lookahead_time;
-  // The shortest lookahead distance, m (> 0).
+  // The shortest velocity-scaled lookahead distance. Unit: m; valid: > 0.
   float min_lookahead_dist;
-  // The longest lookahead distance, m (>= min_lookahead_dist).
+  // The longest velocity-scaled lookahead distance. Unit: m; valid: >= min_lookahead_dist.
   float max_lookahead_dist;
-  // Below this turning radius the speed is scaled down in proportion, m (>= 0).
+  // Below this turning radius the speed is scaled down in proportion. Unit: m; valid: >= 0.
   float regulated_linear_scaling_min_radius;
-  // The curvature scaling never brings the speed below this, m/s (>= 0).
+  // The curvature scaling never brings the speed below this. Unit: m/s; valid: >= 0.
   float regulated_linear_scaling_min_speed;
-  // Within this path length of the end the speed is scaled down in proportion, m (>= 0).
+  // Within this path length of the end the speed is scaled by the straight distance to the end over this. Unit: m; valid: >= 0.
   float approach_velocity_scaling_dist;
-  // The approach scaling never brings the speed below this, m/s (>= 0).
+  // The approach scaling never brings the speed below this. Unit: m/s; valid: >= 0.
   float min_approach_linear_velocity;
-  // Within this distance of the path's end the law stops, m (> 0).
+  // Rotate in place towards the lookahead point when it is more than rotate_to_heading_min_angle off the heading. valid: 1 or 0.
+  uint32_t use_rotate_to_heading;
+  // The bearing of the lookahead point beyond which the robot rotates in place. Unit: rad; valid: >= 0.
+  float rotate_to_heading_min_angle;
+  // The yaw rate of a rotation in place. Unit: rad/s; valid: > 0.
+  float rotate_to_heading_angular_vel;
+  // The yaw acceleration a rotation in place keeps to (and stops with). Unit: rad/s^2; valid: > 0.
+  float max_angular_accel;
+  // Each closest-point search covers this much path forward of the last closest point (the first from the path's beginning). Unit: m; valid: > 0.
+  float max_robot_pose_search_dist;
+  // Within this distance of the path's end the law stops. Unit: m; valid: > 0.
   float xy_goal_tolerance;
 } wmr_pure_pursuit_params_f32;
 
@@ -586,7 +603,7 @@ typedef struct {
   uint64_t opaque[WMR_LYAPUNOV_CONTROLLER_F32_WORDS];
 } wmr_lyapunov_controller_f32;
 
-// The law `kanayama` with its wheel stage (f32): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)).
+// The law `kanayama` with its wheel stage (f32): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)).
 typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_KANAYAMA_CONTROLLER_F32_WORDS];
@@ -744,13 +761,13 @@ typedef struct {
   double goal_radius;
 } wmr_lyapunov_params_f64;
 
-// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)) (`[controller] kind = "kanayama"`).
+// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)) (`[controller] kind = "kanayama"`).
 typedef struct {
   // kx: forward speed per metre of along-track error, 1/s (> 0).
   double kx;
   // ky: yaw rate per metre of lateral error, per m/s of v_ref, 1/m^2 (> 0).
   double ky;
-  // ktheta: yaw rate per unit of sin(heading error), per m/s of v_ref, 1/m (> 0).
+  // ktheta: yaw rate per unit of sin(heading error), per m/s of |v_ref|, 1/m (> 0).
   double ktheta;
 } wmr_kanayama_params_f64;
 
@@ -760,31 +777,46 @@ typedef struct {
   double kx;
   // ky: Kanayama's yaw rate per metre of lateral error, per m/s of v_ref, 1/m^2 (> 0).
   double ky;
-  // ktheta: Kanayama's yaw rate per unit of sin(heading error), per m/s of v_ref, 1/m (> 0).
+  // ktheta: Kanayama's yaw rate per unit of sin(heading error), per m/s of |v_ref|, 1/m (> 0).
   double ktheta;
   // k4: rate at which the body twist is driven to Kanayama's, 1/s (> 0).
   double k4;
 } wmr_backstepping_params_f64;
 
-// Regulated pure pursuit (nav2's names): path following on the reference's path, its timing ignored (`[controller] kind = "pure_pursuit"`).
+// Regulated pure pursuit (nav2's names): path following on the reference's path, its timing ignored. (`kind = "pure_pursuit"`): `wmr_core::PurePursuitParams`.
+// The core's keys with each flag as a 0/1 `uint32_t`.
 typedef struct {
-  // speed: the forward speed on a straight path (nav2's desired_linear_vel), m/s (> 0).
+  // speed: the forward speed on a straight path (nav2's desired_linear_vel). Unit: m/s; valid: > 0.
   double speed;
-  // The lookahead distance per m/s of speed, s (>= 0).
+  // The fixed lookahead distance (when use_velocity_scaled_lookahead_dist is false). Unit: m; valid: > 0.
+  double lookahead_dist;
+  // The lookahead distance grows with the measured speed: lookahead_time |v| within min/max_lookahead_dist. valid: 1 or 0.
+  uint32_t use_velocity_scaled_lookahead_dist;
+  // The lookahead distance per m/s of speed (with use_velocity_scaled_lookahead_dist). Unit: s; valid: >= 0.
   double lookahead_time;
-  // The shortest lookahead distance, m (> 0).
+  // The shortest velocity-scaled lookahead distance. Unit: m; valid: > 0.
   double min_lookahead_dist;
-  // The longest lookahead distance, m (>= min_lookahead_dist).
+  // The longest velocity-scaled lookahead distance. Unit: m; valid: >= min_lookahead_dist.
   double max_lookahead_dist;
-  // Below this turning radius the speed is scaled down in proportion, m (>= 0).
+  // Below this turning radius the speed is scaled down in proportion. Unit: m; valid: >= 0.
   double regulated_linear_scaling_min_radius;
-  // The curvature scaling never brings the speed below this, m/s (>= 0).
+  // The curvature scaling never brings the speed below this. Unit: m/s; valid: >= 0.
   double regulated_linear_scaling_min_speed;
-  // Within this path length of the end the speed is scaled down in proportion, m (>= 0).
+  // Within this path length of the end the speed is scaled by the straight distance to the end over this. Unit: m; valid: >= 0.
   double approach_velocity_scaling_dist;
-  // The approach scaling never brings the speed below this, m/s (>= 0).
+  // The approach scaling never brings the speed below this. Unit: m/s; valid: >= 0.
   double min_approach_linear_velocity;
-  // Within this distance of the path's end the law stops, m (> 0).
+  // Rotate in place towards the lookahead point when it is more than rotate_to_heading_min_angle off the heading. valid: 1 or 0.
+  uint32_t use_rotate_to_heading;
+  // The bearing of the lookahead point beyond which the robot rotates in place. Unit: rad; valid: >= 0.
+  double rotate_to_heading_min_angle;
+  // The yaw rate of a rotation in place. Unit: rad/s; valid: > 0.
+  double rotate_to_heading_angular_vel;
+  // The yaw acceleration a rotation in place keeps to (and stops with). Unit: rad/s^2; valid: > 0.
+  double max_angular_accel;
+  // Each closest-point search covers this much path forward of the last closest point (the first from the path's beginning). Unit: m; valid: > 0.
+  double max_robot_pose_search_dist;
+  // Within this distance of the path's end the law stops. Unit: m; valid: > 0.
   double xy_goal_tolerance;
 } wmr_pure_pursuit_params_f64;
 
@@ -982,7 +1014,7 @@ typedef struct {
   uint64_t opaque[WMR_LYAPUNOV_CONTROLLER_F64_WORDS];
 } wmr_lyapunov_controller_f64;
 
-// The law `kanayama` with its wheel stage (f64): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)).
+// The law `kanayama` with its wheel stage (f64): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)).
 typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_KANAYAMA_CONTROLLER_F64_WORDS];
@@ -1188,14 +1220,32 @@ wmr_status wmr_reference_f32_init_line(wmr_reference_f32 *out,
                                        wmr_error *err);
 
 // A C2 spline through `n` waypoints (`kind = "waypoints"`; `points` is `n` pairs
-// (x, y) in m, 2 to `WMR_REFERENCE_MAX_POINTS`) with a speed profile from rest to rest,
-// at most `speed` (m/s, > 0) and |acceleration| at most `accel_max` (m/s^2, > 0).
+// (x, y) in m, 2 to `WMR_REFERENCE_MAX_POINTS`, the reference's own storage; a longer
+// path: `_init_waypoints_in`) with a speed profile from rest to rest, at most `speed`
+// (m/s, > 0) and |acceleration| at most `accel_max` (m/s^2, > 0).
 wmr_status wmr_reference_f32_init_waypoints(wmr_reference_f32 *out,
                                             const float (*points)[2],
                                             size_t n,
                                             float speed,
                                             float accel_max,
                                             wmr_error *err);
+
+// The numbers (each an `f32`) of storage `_init_waypoints_in` needs for `n` points:
+// 37 n - 28 (0 when that overflows a size_t).
+size_t wmr_reference_f32_waypoints_words(size_t n);
+
+// As `_init_waypoints`, for a path of any length (a recorded one: thousands of points),
+// built in `storage`, `words` numbers the caller owns (at least
+// `wmr_reference_f32_waypoints_words(n)`, not overlapping `points`). The reference reads
+// them while it is in use: keep them alive and unchanged as long as the reference.
+wmr_status wmr_reference_f32_init_waypoints_in(wmr_reference_f32 *out,
+                                               const float (*points)[2],
+                                               size_t n,
+                                               float speed,
+                                               float accel_max,
+                                               float *storage,
+                                               size_t words,
+                                               wmr_error *err);
 
 // The state of the reference point at time `t` (s): pose (m, m, rad), twist (m/s,
 // rad/s) and acceleration (m/s^2, rad/s^2), what `_update_reference` takes: the same
@@ -1386,8 +1436,8 @@ wmr_status wmr_lyapunov_controller_f32_for_plant(wmr_lyapunov_controller_f32 *ct
                                                  const wmr_plant_f32 *plant);
 
 // Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega =
-// omega_ref + v_ref (ky y_e + ktheta sin(theta_e)). with its wheel stage (see
-// `wmr_paper_controller_f32_init`).
+// omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)). with its wheel stage
+// (see `wmr_paper_controller_f32_init`).
 wmr_status wmr_kanayama_controller_f32_init(wmr_kanayama_controller_f32 *out,
                                             const wmr_kanayama_params_f32 *params,
                                             const wmr_wheel_stage_params_f32 *wheels,
@@ -1688,14 +1738,32 @@ wmr_status wmr_reference_f64_init_line(wmr_reference_f64 *out,
                                        wmr_error *err);
 
 // A C2 spline through `n` waypoints (`kind = "waypoints"`; `points` is `n` pairs
-// (x, y) in m, 2 to `WMR_REFERENCE_MAX_POINTS`) with a speed profile from rest to rest,
-// at most `speed` (m/s, > 0) and |acceleration| at most `accel_max` (m/s^2, > 0).
+// (x, y) in m, 2 to `WMR_REFERENCE_MAX_POINTS`, the reference's own storage; a longer
+// path: `_init_waypoints_in`) with a speed profile from rest to rest, at most `speed`
+// (m/s, > 0) and |acceleration| at most `accel_max` (m/s^2, > 0).
 wmr_status wmr_reference_f64_init_waypoints(wmr_reference_f64 *out,
                                             const double (*points)[2],
                                             size_t n,
                                             double speed,
                                             double accel_max,
                                             wmr_error *err);
+
+// The numbers (each an `f64`) of storage `_init_waypoints_in` needs for `n` points:
+// 37 n - 28 (0 when that overflows a size_t).
+size_t wmr_reference_f64_waypoints_words(size_t n);
+
+// As `_init_waypoints`, for a path of any length (a recorded one: thousands of points),
+// built in `storage`, `words` numbers the caller owns (at least
+// `wmr_reference_f64_waypoints_words(n)`, not overlapping `points`). The reference reads
+// them while it is in use: keep them alive and unchanged as long as the reference.
+wmr_status wmr_reference_f64_init_waypoints_in(wmr_reference_f64 *out,
+                                               const double (*points)[2],
+                                               size_t n,
+                                               double speed,
+                                               double accel_max,
+                                               double *storage,
+                                               size_t words,
+                                               wmr_error *err);
 
 // The state of the reference point at time `t` (s): pose (m, m, rad), twist (m/s,
 // rad/s) and acceleration (m/s^2, rad/s^2), what `_update_reference` takes: the same
@@ -1886,8 +1954,8 @@ wmr_status wmr_lyapunov_controller_f64_for_plant(wmr_lyapunov_controller_f64 *ct
                                                  const wmr_plant_f64 *plant);
 
 // Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega =
-// omega_ref + v_ref (ky y_e + ktheta sin(theta_e)). with its wheel stage (see
-// `wmr_paper_controller_f64_init`).
+// omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)). with its wheel stage
+// (see `wmr_paper_controller_f64_init`).
 wmr_status wmr_kanayama_controller_f64_init(wmr_kanayama_controller_f64 *out,
                                             const wmr_kanayama_params_f64 *params,
                                             const wmr_wheel_stage_params_f64 *wheels,

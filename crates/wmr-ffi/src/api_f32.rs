@@ -300,8 +300,9 @@ pub unsafe extern "C" fn wmr_reference_f32_init_line(
 }
 
 /// A C2 spline through `n` waypoints (`kind = "waypoints"`; `points` is `n` pairs
-/// (x, y) in m, 2 to `WMR_REFERENCE_MAX_POINTS`) with a speed profile from rest to rest,
-/// at most `speed` (m/s, > 0) and |acceleration| at most `accel_max` (m/s^2, > 0).
+/// (x, y) in m, 2 to `WMR_REFERENCE_MAX_POINTS`, the reference's own storage; a longer
+/// path: `_init_waypoints_in`) with a speed profile from rest to rest, at most `speed`
+/// (m/s, > 0) and |acceleration| at most `accel_max` (m/s^2, > 0).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_reference_f32_init_waypoints(
     out: *mut wmr_reference_f32,
@@ -312,6 +313,31 @@ pub unsafe extern "C" fn wmr_reference_f32_init_waypoints(
     err: *mut wmr_error,
 ) -> wmr_status {
     imp::reference_init_waypoints::<f32>(out, points, n, speed, accel_max, err)
+}
+
+/// The numbers (each an `f32`) of storage `_init_waypoints_in` needs for `n` points:
+/// 37 n - 28 (0 when that overflows a size_t).
+#[unsafe(no_mangle)]
+pub extern "C" fn wmr_reference_f32_waypoints_words(n: usize) -> usize {
+    imp::waypoints_words(n)
+}
+
+/// As `_init_waypoints`, for a path of any length (a recorded one: thousands of points),
+/// built in `storage`, `words` numbers the caller owns (at least
+/// `wmr_reference_f32_waypoints_words(n)`, not overlapping `points`). The reference reads
+/// them while it is in use: keep them alive and unchanged as long as the reference.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_reference_f32_init_waypoints_in(
+    out: *mut wmr_reference_f32,
+    points: *const [f32; 2],
+    n: usize,
+    speed: f32,
+    accel_max: f32,
+    storage: *mut f32,
+    words: usize,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::reference_init_waypoints_in::<f32>(out, points, n, speed, accel_max, storage, words, err)
 }
 
 /// The state of the reference point at time `t` (s): pose (m, m, rad), twist (m/s,
@@ -628,8 +654,8 @@ pub unsafe extern "C" fn wmr_lyapunov_controller_f32_for_plant(
 }
 
 /// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega =
-/// omega_ref + v_ref (ky y_e + ktheta sin(theta_e)). with its wheel stage (see
-/// `wmr_paper_controller_f32_init`).
+/// omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)). with its wheel stage
+/// (see `wmr_paper_controller_f32_init`).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_kanayama_controller_f32_init(
     out: *mut wmr_kanayama_controller_f32,

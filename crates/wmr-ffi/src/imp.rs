@@ -7,6 +7,7 @@ use core::marker::PhantomData;
 use core::mem::{align_of, size_of};
 
 use wmr_core::controller::Law;
+use wmr_core::reference::waypoints::{FIXED_WORDS, SUBSTEPS};
 use wmr_core::reference::{Circle, FigureEight, Line, Waypoints};
 use wmr_core::{
     AntiWindup, AnyReference, Controller, DcMotorParams, Drive, DriveParams, HoldMode, Measurement, OdometryParams,
@@ -291,6 +292,37 @@ impl<T: Real> AnySensor<T> {
     }
 }
 
+/// The storage of a C reference's waypoints path: its own array of
+/// `WMR_REFERENCE_MAX_POINTS` points (`_init_waypoints`), or numbers the caller owns
+/// (`_init_waypoints_in`), which must outlive the reference and stay unchanged.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RefWords<T> {
+    /// The reference's own fixed storage.
+    Own([T; FIXED_WORDS]),
+    /// `len` numbers at `ptr`, the caller's.
+    Caller {
+        /// Start (not NULL, aligned: checked when built).
+        ptr: *const T,
+        /// Numbers.
+        len: usize,
+    },
+}
+
+impl<T> AsRef<[T]> for RefWords<T> {
+    fn as_ref(&self) -> &[T] {
+        match self {
+            RefWords::Own(a) => a,
+            // SAFETY: `ptr` was a valid, aligned `&mut [T]` of `len` numbers when the
+            // reference was built, and the caller keeps it alive and unchanged while it
+            // uses the reference (the contract of `_init_waypoints_in`).
+            RefWords::Caller { ptr, len } => unsafe { core::slice::from_raw_parts(*ptr, *len) },
+        }
+    }
+}
+
+/// A C reference: any kind, a waypoints path in [`RefWords`].
+pub type CReference<T> = AnyReference<T, RefWords<T>>;
+
 storage_of! {
     wmr_robot_f32 => Robot<f32>, 0x574d_5201_0000_0f32, check check_robot;
     wmr_robot_f64 => Robot<f64>, 0x574d_5201_0000_0f64, check check_robot;
@@ -300,8 +332,8 @@ storage_of! {
     wmr_plant_f64 => Plant<f64>, 0x574d_5203_0000_0f64, check check_plant;
     wmr_sensor_f32 => AnySensor<f32>, 0x574d_5204_0000_0f32;
     wmr_sensor_f64 => AnySensor<f64>, 0x574d_5204_0000_0f64;
-    wmr_reference_f32 => AnyReference<f32>, 0x574d_520c_0000_0f32;
-    wmr_reference_f64 => AnyReference<f64>, 0x574d_520c_0000_0f64;
+    wmr_reference_f32 => CReference<f32>, 0x574d_520c_0000_0f32;
+    wmr_reference_f64 => CReference<f64>, 0x574d_520c_0000_0f64;
 }
 
 /// Fills `out` with `value` and its tag.
@@ -609,7 +641,7 @@ macro_rules! c_laws {
             /// `wmr_sensor_*`.
             type Sensor: Storage<Value = AnySensor<Self>>;
             /// `wmr_reference_*`.
-            type Reference: Storage<Value = AnyReference<Self>>;
+            type Reference: Storage<Value = CReference<Self>>;
             $(
                 /// The controller storage of this law.
                 type $marker: Storage<Value = Controller<Self, $krate::$law<Self>>>;
@@ -1095,7 +1127,7 @@ pub fn reference_init_circle<T: Prec>(
     guard(err, || {
         in_box(["center.x", "center.y"], center.x, center.y)?;
         let c = Circle::new(center.x, center.y, radius, speed, phase)?;
-        put(out, "out", AnyReference::Circle(c))
+        put(out, "out", CReference::Circle(c))
     })
 }
 
@@ -1110,7 +1142,7 @@ pub fn reference_init_figure_eight<T: Prec>(
     guard(err, || {
         in_box(["center.x", "center.y"], center.x, center.y)?;
         let f = FigureEight::new(center.x, center.y, width, height, period)?;
-        put(out, "out", AnyReference::FigureEight(f))
+        put(out, "out", CReference::FigureEight(f))
     })
 }
 
@@ -1122,8 +1154,25 @@ pub fn reference_init_line<T: Prec>(
 ) -> wmr_status {
     guard(err, || {
         in_box(["start.x", "start.y"], start.x, start.y)?;
-        put(out, "out", AnyReference::Line(Line::new(pose(start), speed)?))
+        put(out, "out", CReference::Line(Line::new(pose(start), speed)?))
     })
+}
+
+/// The `n` points at `points`, checked: not NULL, aligned, each inside the box.
+fn waypoints_of<'a, T: Prec>(points: *const [T; 2], n: usize) -> Result<&'a [[T; 2]], Fail> {
+    if points.is_null() {
+        return Err(Fail::null("points"));
+    }
+    if !points.is_aligned() {
+        return Err(Fail::misaligned("points"));
+    }
+    // SAFETY: not NULL, aligned (checked) and valid for reads of `n` pairs (caller
+    // contract), plain numbers.
+    let points = unsafe { core::slice::from_raw_parts(points, n) };
+    for p in points {
+        in_box(["points.x", "points.y"], p[0], p[1])?;
+    }
+    Ok(points)
 }
 
 pub fn reference_init_waypoints<T: Prec>(
@@ -1135,22 +1184,61 @@ pub fn reference_init_waypoints<T: Prec>(
     err: *mut wmr_error,
 ) -> wmr_status {
     guard(err, || {
-        if points.is_null() {
-            return Err(Fail::null("points"));
-        }
-        if !points.is_aligned() {
-            return Err(Fail::misaligned("points"));
-        }
         if n > WMR_REFERENCE_MAX_POINTS {
-            return Err(Fail::out_of_range("n", "must be at most WMR_REFERENCE_MAX_POINTS (64)", n as f64));
+            return Err(Fail::out_of_range(
+                "n",
+                "must be at most WMR_REFERENCE_MAX_POINTS (64) here: more with _init_waypoints_in",
+                n as f64,
+            ));
         }
-        // SAFETY: not NULL, aligned (checked) and valid for reads of `n` pairs (caller
-        // contract); at most 64 pairs (checked), plain numbers.
-        let points = unsafe { core::slice::from_raw_parts(points, n) };
-        for p in points {
-            in_box(["points.x", "points.y"], p[0], p[1])?;
+        let points = waypoints_of(points, n)?;
+        let w = Waypoints::new(points, speed, accel_max)?.map_storage(RefWords::Own);
+        put(out, "out", CReference::Waypoints(w))
+    })
+}
+
+/// Numbers of storage a waypoints path of `n` points takes (0 when that overflows).
+pub fn waypoints_words(n: usize) -> usize {
+    // 5 n + 4 ((n - 1) SUBSTEPS + 1), as Waypoints::words, without overflow.
+    match n.checked_mul(5 + 4 * SUBSTEPS) {
+        Some(w) if n >= 1 => w + 4 - 4 * SUBSTEPS,
+        _ => 0,
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+pub fn reference_init_waypoints_in<T: Prec>(
+    out: *mut T::Reference,
+    points: *const [T; 2],
+    n: usize,
+    speed: T,
+    accel_max: T,
+    storage: *mut T,
+    words: usize,
+    err: *mut wmr_error,
+) -> wmr_status {
+    guard(err, || {
+        let points = waypoints_of(points, n)?;
+        if storage.is_null() {
+            return Err(Fail::null("storage"));
         }
-        put(out, "out", AnyReference::Waypoints(Waypoints::new(points, speed, accel_max)?))
+        if !storage.is_aligned() {
+            return Err(Fail::misaligned("storage"));
+        }
+        let need = waypoints_words(n);
+        if n >= 2 && (need == 0 || words < need) {
+            return Err(Fail::out_of_range(
+                "words",
+                "is less than the path needs: _waypoints_words(n) = 37 n - 28",
+                words as f64,
+            ));
+        }
+        // SAFETY: not NULL, aligned (checked), valid for reads and writes of `words`
+        // numbers and not overlapping `points` (caller contract).
+        let buf = unsafe { core::slice::from_raw_parts_mut(storage, words) };
+        let w = Waypoints::new_in(points, speed, accel_max, buf)?;
+        let w = w.map_storage(|b: &mut [T]| RefWords::Caller { ptr: b.as_ptr(), len: b.len() });
+        put(out, "out", CReference::Waypoints(w))
     })
 }
 

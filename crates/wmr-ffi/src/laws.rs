@@ -117,20 +117,20 @@ pub struct wmr_lyapunov_controller_f64 {
     pub opaque: [u64; WMR_LYAPUNOV_CONTROLLER_F64_WORDS],
 }
 
-/// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)). (`kind = "kanayama"`): `wmr_core::KanayamaParams`.
+/// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)). (`kind = "kanayama"`): `wmr_core::KanayamaParams`.
 /// cbindgen:ignore
 pub type wmr_kanayama_params<T> = wmr_core::KanayamaParams<T>;
 /// Words (8 bytes each) of `wmr_kanayama_controller_f32`: the law `kanayama` with its wheel stage.
 pub const WMR_KANAYAMA_CONTROLLER_F32_WORDS: usize = 32;
 /// Words (8 bytes each) of `wmr_kanayama_controller_f64`: the law `kanayama` with its wheel stage.
 pub const WMR_KANAYAMA_CONTROLLER_F64_WORDS: usize = 56;
-/// The law `kanayama` with its wheel stage (f32): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)).
+/// The law `kanayama` with its wheel stage (f32): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)).
 #[repr(C)]
 pub struct wmr_kanayama_controller_f32 {
     /// Opaque: only the library reads or writes it.
     pub opaque: [u64; WMR_KANAYAMA_CONTROLLER_F32_WORDS],
 }
-/// The law `kanayama` with its wheel stage (f64): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + ktheta sin(theta_e)).
+/// The law `kanayama` with its wheel stage (f64): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)).
 #[repr(C)]
 pub struct wmr_kanayama_controller_f64 {
     /// Opaque: only the library reads or writes it.
@@ -158,12 +158,47 @@ pub struct wmr_backstepping_controller_f64 {
 }
 
 /// Regulated pure pursuit (nav2's names): path following on the reference's path, its timing ignored. (`kind = "pure_pursuit"`): `wmr_core::PurePursuitParams`.
-/// cbindgen:ignore
-pub type wmr_pure_pursuit_params<T> = wmr_core::PurePursuitParams<T>;
+/// The core's keys with each flag as a 0/1 `uint32_t`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_pure_pursuit_params<T> {
+    /// speed: the forward speed on a straight path (nav2's desired_linear_vel). Unit: m/s; valid: > 0.
+    pub speed: T,
+    /// The fixed lookahead distance (when use_velocity_scaled_lookahead_dist is false). Unit: m; valid: > 0.
+    pub lookahead_dist: T,
+    /// The lookahead distance grows with the measured speed: lookahead_time |v| within min/max_lookahead_dist. valid: 1 or 0.
+    pub use_velocity_scaled_lookahead_dist: u32,
+    /// The lookahead distance per m/s of speed (with use_velocity_scaled_lookahead_dist). Unit: s; valid: >= 0.
+    pub lookahead_time: T,
+    /// The shortest velocity-scaled lookahead distance. Unit: m; valid: > 0.
+    pub min_lookahead_dist: T,
+    /// The longest velocity-scaled lookahead distance. Unit: m; valid: >= min_lookahead_dist.
+    pub max_lookahead_dist: T,
+    /// Below this turning radius the speed is scaled down in proportion. Unit: m; valid: >= 0.
+    pub regulated_linear_scaling_min_radius: T,
+    /// The curvature scaling never brings the speed below this. Unit: m/s; valid: >= 0.
+    pub regulated_linear_scaling_min_speed: T,
+    /// Within this path length of the end the speed is scaled by the straight distance to the end over this. Unit: m; valid: >= 0.
+    pub approach_velocity_scaling_dist: T,
+    /// The approach scaling never brings the speed below this. Unit: m/s; valid: >= 0.
+    pub min_approach_linear_velocity: T,
+    /// Rotate in place towards the lookahead point when it is more than rotate_to_heading_min_angle off the heading. valid: 1 or 0.
+    pub use_rotate_to_heading: u32,
+    /// The bearing of the lookahead point beyond which the robot rotates in place. Unit: rad; valid: >= 0.
+    pub rotate_to_heading_min_angle: T,
+    /// The yaw rate of a rotation in place. Unit: rad/s; valid: > 0.
+    pub rotate_to_heading_angular_vel: T,
+    /// The yaw acceleration a rotation in place keeps to (and stops with). Unit: rad/s^2; valid: > 0.
+    pub max_angular_accel: T,
+    /// Each closest-point search covers this much path forward of the last closest point (the first from the path's beginning). Unit: m; valid: > 0.
+    pub max_robot_pose_search_dist: T,
+    /// Within this distance of the path's end the law stops. Unit: m; valid: > 0.
+    pub xy_goal_tolerance: T,
+}
 /// Words (8 bytes each) of `wmr_pure_pursuit_controller_f32`: the law `pure_pursuit` with its wheel stage.
-pub const WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS: usize = 32;
+pub const WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS: usize = 40;
 /// Words (8 bytes each) of `wmr_pure_pursuit_controller_f64`: the law `pure_pursuit` with its wheel stage.
-pub const WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS: usize = 64;
+pub const WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS: usize = 72;
 /// The law `pure_pursuit` with its wheel stage (f32): Regulated pure pursuit (nav2's names): path following on the reference's path, its timing ignored.
 #[repr(C)]
 pub struct wmr_pure_pursuit_controller_f32 {
@@ -187,9 +222,9 @@ macro_rules! for_each_c_params {
         alias PaperBidirectionalParams { hold: wmr_core::HoldMode };
         alias KanayamaParams {  };
         alias BacksteppingParams {  };
-        alias PurePursuitParams {  };
         mirror wmr_polar_params = PolarParams { k_rho, k_alpha, k_beta, reverse_hysteresis, goal_radius; flags reverse };
         mirror wmr_lyapunov_params = LyapunovParams { gamma, k, h, reverse_hysteresis, goal_radius; flags reverse };
+        mirror wmr_pure_pursuit_params = PurePursuitParams { speed, lookahead_dist, lookahead_time, min_lookahead_dist, max_lookahead_dist, regulated_linear_scaling_min_radius, regulated_linear_scaling_min_speed, approach_velocity_scaling_dist, min_approach_linear_velocity, rotate_to_heading_min_angle, rotate_to_heading_angular_vel, max_angular_accel, max_robot_pose_search_dist, xy_goal_tolerance; flags use_velocity_scaled_lookahead_dist, use_rotate_to_heading };
         }
     };
 }

@@ -367,7 +367,9 @@ pub const WMR_PLANT_F64_WORDS: usize = 96;
 pub const WMR_SENSOR_F32_WORDS: usize = 144;
 /// Words of a sensor, `wmr_sensor_f64` (perfect, pose or odometry sensor).
 pub const WMR_SENSOR_F64_WORDS: usize = 208;
-/// Points a `wmr_reference_*` of waypoints holds at most (the core's `MAX_POINTS`).
+/// Points a `wmr_reference_*` of waypoints holds at most in its own storage (the core's
+/// `MAX_POINTS`; the firmware's capacity too). A longer path: `_init_waypoints_in`, in
+/// storage of `wmr_reference_<f32|f64>_waypoints_words(n)` numbers the caller owns.
 pub const WMR_REFERENCE_MAX_POINTS: usize = 64;
 /// Words of a reference, `wmr_reference_f32` (circle, figure-eight, line or waypoints:
 /// 64 waypoints and their speed profile take 9.4 kB).

@@ -155,6 +155,15 @@ fn errors_name_the_field_in_c() {
     assert!(!out.contains("FAIL"), "{out}");
 }
 
+/// Issue 38 item 9: a recorded path of 2,000 points in storage the C caller owns.
+#[test]
+fn regression_38_9_a_recorded_path_of_2000_points_in_c() {
+    let out = build_and_run("long_path", &[crate_dir().join("tests/c/long_path.c")]);
+    assert!(out.contains("pass f64:") && out.contains("pass f32:"), "{out}");
+    assert!(out.ends_with("ok\n"), "{out}");
+    assert!(!out.contains("FAIL"), "{out}");
+}
+
 #[test]
 fn reference_at_rest_is_the_goal_in_c() {
     let out = build_and_run("reference", &[crate_dir().join("tests/c/reference.c")]);

@@ -158,7 +158,7 @@ fn circle_kanayama_c_loop_is_the_scenario_run_bit_for_bit() {
 trait StateAt {
     fn state_at_t(&self, t: f64) -> wmr_core::ReferenceState<f64>;
 }
-impl StateAt for AnyReference<f64> {
+impl<S: AsRef<[f64]>> StateAt for AnyReference<f64, S> {
     fn state_at_t(&self, t: f64) -> wmr_core::ReferenceState<f64> {
         wmr_core::Reference::state_at(self, t)
     }
@@ -316,7 +316,7 @@ fn pure_pursuit_on_waypoints_is_closed_loop() {
         WheelStage::new(&WheelStageParams::for_drive(&drive_params, robot.params()), robot.params(), &drive, dt)
             .unwrap();
     let plant = Plant::on(robot, drive, WorldParams::default().validate().unwrap(), start).unwrap();
-    let law = PurePursuitLaw::for_lanes(PurePursuitParams::default(), robot.params()).unwrap();
+    let law = PurePursuitLaw::for_lanes(PurePursuitParams::default(), robot.params(), dt).unwrap();
     let core_ref = AnyReference::Waypoints(Waypoints::new(&POINTS, 0.3, 0.5).unwrap());
     let mut sim = ClosedLoop::with_sensor(plant, PerfectSensor, Controller::new(law, wheels), core_ref, dt).unwrap();
     let clock = wmr_core::StepClock::new(dt);
@@ -519,4 +519,63 @@ fn regression_39_5_a_figure_eight_whose_state_is_not_finite_is_refused_at_init()
         assert_eq!(status, wmr_status::WMR_OUT_OF_RANGE);
         assert_eq!(field(&e), "period");
     }
+}
+
+/// Issue 38 item 9: a recorded path of 2,000 points in storage the C caller owns gives
+/// the bits of the core's path in a Rust `Vec` (the scenario's storage), and drives the
+/// pure pursuit law through `_update_on` as the core's loop does.
+#[test]
+fn regression_38_9_a_recorded_path_of_2000_points_in_caller_storage() {
+    let points: Vec<[f64; 2]> = (0..2000)
+        .map(|i| {
+            let a = i as f64 * 1.5 * std::f64::consts::PI / 1999.0;
+            [2.0 * a.cos(), 2.0 * a.sin()]
+        })
+        .collect();
+    let null = std::ptr::null_mut();
+    // SAFETY: valid pointers; `storage` outlives the reference.
+    let words = wmr_reference_f64_waypoints_words(points.len());
+    let mut storage = vec![0.0f64; words];
+    let reference = unsafe {
+        let mut r = MaybeUninit::<wmr_reference_f64>::uninit();
+        assert_eq!(
+            wmr_reference_f64_init_waypoints_in(
+                r.as_mut_ptr(),
+                points.as_ptr(),
+                points.len(),
+                0.3,
+                0.5,
+                storage.as_mut_ptr(),
+                words,
+                null
+            ),
+            wmr_status::WMR_OK
+        );
+        r.assume_init()
+    };
+    let core = Waypoints::new_in(&points, 0.3, 0.5, vec![0.0; words]).unwrap();
+    for k in 0..400 {
+        let t = k as f64 * 0.1;
+        let mut r = wmr_reference_state::default();
+        // SAFETY: initialized reference, its storage alive.
+        unsafe { assert_eq!(wmr_reference_f64_state_at(&reference, t, &mut r), wmr_status::WMR_OK) };
+        let c = wmr_core::Reference::state_at(&core, t);
+        assert_eq!(
+            [r.pose.x, r.pose.y, r.pose.theta, r.twist.v, r.twist.omega, r.accel.v, r.accel.omega].map(f64::to_bits),
+            [c.pose.x, c.pose.y, c.pose.theta, c.twist.v, c.twist.omega, c.accel.v, c.accel.omega].map(f64::to_bits),
+            "t = {t}"
+        );
+    }
+    // The reference's own storage holds 64 (the firmware's capacity) and says what to do.
+    let mut e = MaybeUninit::<wmr_error>::uninit();
+    let mut r = MaybeUninit::<wmr_reference_f64>::uninit();
+    // SAFETY: valid pointers.
+    let code = unsafe {
+        wmr_reference_f64_init_waypoints(r.as_mut_ptr(), points.as_ptr(), points.len(), 0.3, 0.5, e.as_mut_ptr())
+    };
+    assert_eq!(code, wmr_status::WMR_OUT_OF_RANGE);
+    // SAFETY: the call wrote the error.
+    let e = unsafe { e.assume_init() };
+    let reason = unsafe { std::ffi::CStr::from_ptr(e.reason.as_ptr()) }.to_string_lossy().into_owned();
+    assert!(reason.contains("64") && reason.contains("_init_waypoints_in"), "{reason}");
 }

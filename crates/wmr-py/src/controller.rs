@@ -16,8 +16,9 @@ use pyo3::exceptions::PyFloatingPointError;
 use pyo3::prelude::*;
 use pyo3::sync::MutexExt;
 use pyo3::types::{PyDict, PyTuple};
-use wmr_core::{AnyReference, ControlOutput, Measurement, Pose2, Reference, ReferenceState, StepClock, Wheels};
+use wmr_core::{ControlOutput, Measurement, Pose2, Reference, ReferenceState, StepClock, Wheels};
 use wmr_scenario::BuiltController;
+use wmr_scenario::reference::RunReference;
 
 use crate::alloc::{bytes_of, check_alloc, leading_rows, vec_with_capacity, zeros2};
 use crate::convert::{batch_arg, finite_array, pose_table, same_rows, type_name};
@@ -234,7 +235,7 @@ impl Lanes {
         let t = self.tick_time(st.ticks);
         // A path-following law steers by the reference's path, as the scenario loop does
         // (wmr_core::ClosedLoop): every law is given the path when the reference has one.
-        let moving: Option<AnyReference<f64>> = self.reference.as_ref().map(PyReference::built);
+        let moving: Option<RunReference> = self.reference.as_ref().map(PyReference::built);
         let own;
         let refs: &[ReferenceState<f64>] = match (refs, &moving) {
             (Refs::Given(r), _) => r,

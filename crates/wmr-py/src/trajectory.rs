@@ -7,8 +7,8 @@ use numpy::IntoPyArray;
 use numpy::ndarray::Ix1;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
-use wmr_core::{AnyReference, Reference, ReferenceState};
-use wmr_scenario::reference::{ReferenceSpec, resolve};
+use wmr_core::{Reference, ReferenceState};
+use wmr_scenario::reference::{ReferenceSpec, RunReference, resolve};
 
 use crate::alloc::zeros2;
 use crate::convert::{finite_scalar, readonly_array, type_name};
@@ -75,8 +75,8 @@ impl PyReference {
     }
 
     /// The core's reference.
-    pub fn built(&self) -> AnyReference<f64> {
-        self.spec.built
+    pub fn built(&self) -> RunReference {
+        self.spec.built.clone()
     }
 
     /// `[reference]` keys, as TOML, for a scenario built from Python.

@@ -353,3 +353,28 @@ def test_regression_39_5_a_figure_eight_whose_state_is_not_finite_is_refused(key
     with pytest.raises(wmr_py.ParameterError, match=key.replace(".", r"\.")) as e:
         wmr_py.Reference("figure_eight", **keys)
     assert e.value.key == key
+
+
+def test_regression_38_9_a_recorded_path_of_2000_points(tmp_path: pathlib.Path) -> None:
+    """Issue 38 item 9: a `file` reference held at most 64 points (the core's fixed
+    storage), so a path recorded from a robot was refused; now any length up to the
+    scenario's limit, and the run is the CLI's, bit for bit."""
+    from test_scenario import build_cli
+
+    a = np.arange(2000) * 1.5 * math.pi / 1999
+    lines = ["t,x,y"] + [f"{i * 0.02:.2f},{2 * math.cos(x):.6f},{2 * math.sin(x):.6f}" for i, x in enumerate(a)]
+    (tmp_path / "rec.csv").write_text("\n".join(lines) + "\n")
+    ref = wmr_py.Reference("file", path=str(tmp_path / "rec.csv"), speed=0.3, accel_max=0.5)
+    s = wmr_py.simulate((2.0, 0.0, math.radians(90.0)), reference=ref, controller={"kind": "pure_pursuit"}, t_end=45.0)
+    assert math.hypot(s["x"][-1], s["y"][-1] + 2.0) < 0.02, (s["x"][-1], s["y"][-1])
+    scenario = tmp_path / "s.toml"
+    scenario.write_text(
+        '[reference]\nkind = "file"\npath = "rec.csv"\nspeed = 0.3\naccel_max = 0.5\n'
+        '[controller]\nkind = "pure_pursuit"\n[sim]\nt_end = 45.0\n'
+        "[[run]]\nstart = { x = 2.0, y = 0.0, theta_deg = 90.0 }\n"
+    )
+    out = tmp_path / "s.csv"
+    subprocess.run([str(build_cli()), "run", str(scenario), "-o", str(out)], check=True, capture_output=True, timeout=600)
+    cli = read_csv(out)
+    for name in ("x", "y", "theta", "x_ref", "y_ref", "v_ref"):
+        np.testing.assert_array_equal(s[name], cli[name], err_msg=name)

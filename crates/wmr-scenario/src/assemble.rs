@@ -1,6 +1,7 @@
 //! One run's closed loop from a validated [`Setup`]: the plant at its start pose, the
 //! run's sensor, a fresh copy of the built controller, a fixed goal and the plant step.
 
+use crate::reference::RunReference;
 use wmr_core::{AnyLaw, AnyReference, AnySensor, ClosedLoop, FixedGoal, ParamError, Pose2};
 
 use crate::error::ScenarioError;
@@ -9,7 +10,7 @@ use crate::setup::Setup;
 use crate::sim::SimSpec;
 
 /// The closed loop of one run.
-pub type RunLoop = ClosedLoop<f64, AnyLaw<f64>, AnySensor<f64>, AnyReference<f64>>;
+pub type RunLoop = ClosedLoop<f64, AnyLaw<f64>, AnySensor<f64>, RunReference>;
 
 /// Where a run's values came from, to name them in errors: the table holding its start
 /// and goal (`run[2]`, `sweep`) and its controller (`controller`, `sweep.controllers[1]`).
@@ -53,7 +54,7 @@ pub fn closed_loop_to(
     setup: &Setup,
     run: u64,
     start: Pose2<f64>,
-    reference: AnyReference<f64>,
+    reference: RunReference,
     sim: &SimSpec,
     origin: Origin<'_>,
 ) -> Result<RunLoop, ScenarioError> {
@@ -66,7 +67,7 @@ fn assemble(
     setup: &Setup,
     run: u64,
     start: Pose2<f64>,
-    reference: impl FnOnce() -> Result<AnyReference<f64>, ParamError>,
+    reference: impl FnOnce() -> Result<RunReference, ParamError>,
     sim: &SimSpec,
     origin: Origin<'_>,
 ) -> Result<RunLoop, ScenarioError> {

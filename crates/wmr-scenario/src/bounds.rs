@@ -7,6 +7,7 @@ use wmr_core::reference::Reference;
 use wmr_core::{AnyReference, Pose2};
 
 use crate::error::{ScenarioError, num};
+use crate::reference::RunReference;
 use crate::run::RunSpec;
 
 /// Checks that a pose of C lies inside the box a run may not leave; `key` is the pose's
@@ -48,12 +49,7 @@ pub(crate) fn check_runs(runs: &[RunSpec]) -> Result<(), ScenarioError> {
 /// inside the box at 1,025 times spread over the run. Errors name the key that sets the
 /// value: `prefix` is `reference` or `sweep.references[2]`; `file` says a `waypoints`
 /// reference came from a `path` CSV.
-pub(crate) fn check_reference(
-    prefix: &str,
-    r: &AnyReference<f64>,
-    file: bool,
-    t_end: f64,
-) -> Result<(), ScenarioError> {
+pub(crate) fn check_reference(prefix: &str, r: &RunReference, file: bool, t_end: f64) -> Result<(), ScenarioError> {
     let key = |k: &str| format!("{prefix}.{k}");
     let outside = |k: String, what: String| {
         Err(ScenarioError::new(

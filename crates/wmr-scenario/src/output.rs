@@ -3,8 +3,9 @@
 
 use std::error::Error;
 
+use crate::reference::RunReference;
 use wmr_core::tracking::TrackingOutcome;
-use wmr_core::{AnyReference, Outcome, Reference, ReferenceState, Sample, Status};
+use wmr_core::{Outcome, Reference, ReferenceState, Sample, Status};
 
 use crate::error::{fixed, millimetres, num};
 use crate::run::RunSpec;
@@ -237,7 +238,7 @@ impl ColumnGroup {
 /// scenario (`Columns::of`, beside the scenario, which this module does not know): the CSV writes them, `wmr.Sample` has one field per column and Python one
 /// array, all in this order ([`ColumnGroup::ALL`]) with the same f64. The default is
 /// the sample columns alone.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Columns {
     /// The measured pose ([`MEASURED_COLUMNS`]).
     pub measured: bool,
@@ -246,7 +247,7 @@ pub struct Columns {
     /// The wheels' contact ([`CONTACT_COLUMNS`]).
     pub contact: bool,
     /// The reference whose state at each sample's t fills [`REFERENCE_COLUMNS`].
-    pub reference: Option<AnyReference<f64>>,
+    pub reference: Option<RunReference>,
 }
 
 impl Columns {
@@ -290,7 +291,7 @@ impl Columns {
             .chain(group(self.measured, measured_values))
             .chain(group(self.odometry, odometry_values))
             .chain(self.contact.then(|| contact_values(s)).into_iter().flatten())
-            .chain(self.reference.map(|r| reference_values(&r.state_at(s.t))).into_iter().flatten())
+            .chain(self.reference.as_ref().map(|r| reference_values(&r.state_at(s.t))).into_iter().flatten())
     }
 }
 

@@ -7,8 +7,8 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+use std::sync::Arc;
 use toml::{Table, Value};
-use wmr_core::reference::waypoints::MAX_POINTS;
 use wmr_core::reference::{Circle, FigureEight, Line, Waypoints};
 use wmr_core::{AnyReference, LawParams, Pose2};
 
@@ -81,7 +81,7 @@ pub const REFERENCE_KEYS: &[ReferenceKey] = &[
         kinds: "waypoints, file",
         unit: "m",
         default: "",
-        doc: "[[x, y], ...], 2 to 64 points, none the same as the one before; file: the points read from path, \
+        doc: "[[x, y], ...], 2 to 1,000,000 points, none the same as the one before; file: the points read from path, \
               which a resolved scenario writes beside it so that it runs without the file (path is then not read)",
     },
     ReferenceKey {
@@ -109,6 +109,16 @@ fn keys_of(kind: &str) -> Vec<&'static str> {
         .collect()
 }
 
+/// A scenario's reference: a waypoints path of any length (up to [`MAX_PATH_POINTS`])
+/// in shared storage, which a sweep's runs and a Python object's copies share.
+pub type RunReference = AnyReference<f64, Arc<[f64]>>;
+
+/// The most points a `waypoints` or `file` path holds (the core's own fixed storage,
+/// and so the firmware and a trace, hold 64; here the storage is allocated): 1,000,000
+/// points take 37 words each, 296 MB. A recorded path is usually far shorter (an hour at
+/// 50 Hz is 180,000 poses).
+pub const MAX_PATH_POINTS: usize = 1_000_000;
+
 /// `[reference]`, checked.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReferenceSpec {
@@ -116,7 +126,7 @@ pub struct ReferenceSpec {
     /// points as read (`points`), so that the dump runs without the file.
     pub table: Table,
     /// The reference.
-    pub built: AnyReference<f64>,
+    pub built: RunReference,
 }
 
 fn key(k: &str) -> String {
@@ -259,20 +269,27 @@ pub(crate) fn resolve_sharing(
             // them and runs again anywhere, without the file.
             let from_file = kind == "file" && !table.contains_key("points");
             let points = if from_file { read_points_file(table, dir, files)? } else { points_of(table)? };
+            let points_key = if from_file { "path" } else { "points" };
+            if points.len() > MAX_PATH_POINTS {
+                return Err(ScenarioError::new(
+                    key(points_key),
+                    format!(
+                        "{} points, more than the limit of {MAX_PATH_POINTS}: thin the path (keep every k-th point; \
+                         the spline through them is smooth)",
+                        points.len()
+                    ),
+                ));
+            }
             if from_file {
                 let list = points.iter().map(|p| Value::Array(vec![Value::Float(p[0]), Value::Float(p[1])]));
                 stored.insert("points".to_owned(), Value::Array(list.collect()));
             }
-            let w = Waypoints::new(&points, number(table, "speed", 0.3)?, number(table, "accel_max", 0.5)?).map_err(
-                |e| {
-                    if e.field == "points" && from_file {
-                        ScenarioError::from_param(&e, &key("path"))
-                    } else {
-                        core_error(&e)
-                    }
-                },
-            )?;
-            AnyReference::Waypoints(w)
+            let storage = vec![0.0; Waypoints::<f64, Vec<f64>>::words(points.len())];
+            let w = Waypoints::new_in(&points, number(table, "speed", 0.3)?, number(table, "accel_max", 0.5)?, storage)
+                .map_err(|e| {
+                    if e.field == "points" { ScenarioError::from_param(&e, &key(points_key)) } else { core_error(&e) }
+                })?;
+            AnyReference::Waypoints(w.map_storage(Arc::from))
         }
     };
     Ok(ReferenceSpec { table: stored, built })
@@ -384,10 +401,14 @@ fn parse_points_file(full: &Path) -> Result<Vec<[f64; 2]>, ScenarioError> {
         }
         last_t = vals[0];
         points.push([vals[1], vals[2]]);
-        if points.len() > MAX_POINTS {
+        if points.len() > MAX_PATH_POINTS {
             return Err(ScenarioError::new(
                 key("path"),
-                format!("{}: more than {MAX_POINTS} points (a reference holds at most {MAX_POINTS})", at()),
+                format!(
+                    "{}: more than {MAX_PATH_POINTS} points, the limit: thin the path (keep every k-th point; the \
+                     spline through them is smooth)",
+                    at()
+                ),
             ));
         }
     }

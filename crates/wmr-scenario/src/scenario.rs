@@ -451,7 +451,9 @@ impl Scenario {
     /// `[reference]` of a tracking scenario.
     fn loop_for(&self, stream: u64, run: &RunSpec, origin: Origin<'_>) -> Result<RunLoop, ScenarioError> {
         match &self.tracking {
-            Some(tr) => assemble::closed_loop_to(&self.setup, stream, run.start, tr.reference.built, &self.sim, origin),
+            Some(tr) => {
+                assemble::closed_loop_to(&self.setup, stream, run.start, tr.reference.built.clone(), &self.sim, origin)
+            }
             None => assemble::closed_loop(&self.setup, stream, run.start, run.goal, &self.sim, origin),
         }
     }
@@ -635,7 +637,7 @@ impl Columns {
             measured: setup.has_sensor,
             odometry: setup.odometry(),
             contact: setup.slips(),
-            reference: scenario.tracking().map(|t| t.reference.built),
+            reference: scenario.tracking().map(|t| t.reference.built.clone()),
         }
     }
 }

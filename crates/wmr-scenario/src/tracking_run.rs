@@ -22,7 +22,7 @@ pub(crate) fn run<B>(
 ) -> ControlFlow<B, (Outcome<f64>, TrackingOutcome<f64>)> {
     let kind = if path_following { TrackingError::Path } else { TrackingError::Trajectory };
     let mut watch = TrackingWatch::new(kind, sim.t_end(), tolerance);
-    let reference = *lp.reference();
+    let reference = lp.reference().clone();
     let every = u64::from(sim.log_every().max(1));
     // The inner run logs every step; the step index of each sample is its place in that
     // stream. A sample is handed on when it is on the log grid, and the last one always

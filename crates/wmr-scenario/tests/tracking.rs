@@ -43,7 +43,7 @@ start = { x = 1.1, y = 0.2, theta_deg = -70.0 }
 #[test]
 fn circle_samples_match_an_independent_implementation() {
     let sc = Scenario::from_toml_str(CIRCLE, "c").unwrap();
-    let reference = sc.tracking().unwrap().reference.built;
+    let reference = sc.tracking().unwrap().reference.built.clone();
     let mut n = 0;
     let result = sc
         .run(0, |s| {
@@ -78,7 +78,7 @@ fn figure_eight_reference_matches_an_independent_implementation() {
         "kind = \"figure_eight\"\ncenter = { x = 0.1, y = 0.2 }\nwidth = 2.0\nheight = 1.2\nperiod = 25.0",
     );
     let sc = Scenario::from_toml_str(&text, "f").unwrap();
-    let reference = sc.tracking().unwrap().reference.built;
+    let reference = sc.tracking().unwrap().reference.built.clone();
     let a = 2.0 * PI / 25.0;
     for k in 0..=2000 {
         let t = f64::from(k) * 0.0125;
@@ -103,7 +103,7 @@ fn the_tracking_outcome_follows_the_rule_replayed_from_the_samples() {
     // log_dt = dt: every step is a sample, so the rule can be replayed from them.
     let text = CIRCLE.replace("t_end = 20.0", "t_end = 6.0\ndt = 0.001\nlog_dt = 0.001\ntracking_tolerance = 0.02");
     let sc = Scenario::from_toml_str(&text, "c").unwrap();
-    let reference = sc.tracking().unwrap().reference.built;
+    let reference = sc.tracking().unwrap().reference.built.clone();
     let mut errs = Vec::new();
     let result = sc
         .run(0, |s| {
@@ -156,7 +156,7 @@ fn a_file_reference_reads_its_csv_relative_to_the_scenario_file() {
     let toml = "[reference]\nkind = \"file\"\npath = \"ref.csv\"\n[controller]\nkind = \"kanayama\"\n[sim]\nt_end = 1.0\n[[run]]\n";
     std::fs::write(dir.join("sub/s.toml"), toml).unwrap();
     let sc = Scenario::from_path(dir.join("sub/s.toml")).unwrap();
-    let r = sc.tracking().unwrap().reference.built;
+    let r = sc.tracking().unwrap().reference.built.clone();
     assert_eq!(r.kind(), "waypoints");
     assert_eq!(r.start_pose().x, 0.0);
     // t not increasing: refused naming reference.path, with the file's line.
@@ -176,7 +176,7 @@ fn a_figure_eight_by_speed_peaks_at_that_speed() {
     let text = "[reference]\nkind = \"figure_eight\"\nwidth = 3.0\nheight = 1.2\nspeed = 0.4\n\
                 [controller]\nkind = \"kanayama\"\n[[run]]\n";
     let sc = Scenario::from_toml_str(text, "by-speed").unwrap();
-    let reference = sc.tracking().unwrap().reference.built;
+    let reference = sc.tracking().unwrap().reference.built.clone();
     let period = PI * 3.0f64.hypot(2.4) / 0.4;
     let at = |t: f64| wmr_core::Reference::state_at(&reference, t).pose;
     // One period later, the same pose; half a period later, the centre again.

@@ -78,7 +78,7 @@ impl RunEncoder {
         };
         // The reference robot's ghost: the same box, fainter, locked to the reference's frame.
         let ghost = CubePrimitive { color: Some(run_color(run, GHOST_ALPHA)), ..body };
-        let reference = columns.reference.map(|reference| SceneUpdate {
+        let reference = columns.reference.as_ref().map(|reference| SceneUpdate {
             deletions: vec![],
             entities: vec![
                 SceneEntity {
@@ -89,7 +89,7 @@ impl RunEncoder {
                         pose: Some(pose(Pose2::new(0.0, 0.0, 0.0))),
                         thickness: PATH_WIDTH_PX,
                         scale_invariant: true,
-                        points: dashes(&reference, sim, DASH_HALF_TRACKS * r.half_track),
+                        points: dashes(reference, sim, DASH_HALF_TRACKS * r.half_track),
                         color: Some(colour),
                         ..Default::default()
                     }],

@@ -9,8 +9,9 @@
 //! longer dashes). An ordinary scenario is within both and drawn as without them.
 
 use foxglove::messages::Point3;
-use wmr_core::{AnyReference, Reference};
+use wmr_core::Reference;
 use wmr_scenario::SimSpec;
+use wmr_scenario::reference::RunReference;
 
 /// Most reference positions read for a drawing or a layout: the log times of a run, evenly
 /// thinned beyond this (1,000 s logged every 10 ms are read whole).
@@ -22,7 +23,7 @@ pub const MAX_DASH_POINTS: usize = 20_000;
 
 /// The reference's positions (x, y) at the log times (those of the CSV's x_ref, y_ref),
 /// evenly thinned to at most [`MAX_REFERENCE_SAMPLES`] (and the last one kept).
-pub fn log_positions(reference: &AnyReference<f64>, sim: &SimSpec) -> Vec<(f64, f64)> {
+pub fn log_positions(reference: &RunReference, sim: &SimSpec) -> Vec<(f64, f64)> {
     let position = |k: u64| {
         let p = reference.state_at((k as f64 * sim.log_dt()).min(sim.t_end())).pose;
         (p.x, p.y)
@@ -42,7 +43,7 @@ pub fn log_positions(reference: &AnyReference<f64>, sim: &SimSpec) -> Vec<(f64, 
 /// [`log_positions`], cut every `dash_m` of arc length (longer dashes when that would give
 /// more than [`MAX_DASH_POINTS`]). Empty for a path shorter than one dash (a standing
 /// reference) and for one whose length is not a finite number.
-pub(super) fn dashes(reference: &AnyReference<f64>, sim: &SimSpec, dash_m: f64) -> Vec<Point3> {
+pub(super) fn dashes(reference: &RunReference, sim: &SimSpec, dash_m: f64) -> Vec<Point3> {
     let positions = log_positions(reference, sim);
     let length: f64 = positions.windows(2).map(|w| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1)).sum();
     if !length.is_finite() {
@@ -90,7 +91,7 @@ mod tests {
 
     #[test]
     fn positions_are_the_log_grid_up_to_the_budget_then_thinned_with_the_last() {
-        let circle = AnyReference::Circle(Circle::new(0.0, 0.0, 1.0, 0.3, 0.0).unwrap());
+        let circle = RunReference::Circle(Circle::new(0.0, 0.0, 1.0, 0.3, 0.0).unwrap());
         let short = sim(40.0, 0.01);
         assert_eq!(log_positions(&circle, &short).len() as u64, short.n_samples());
         let long = sim(1e5, 0.01);
@@ -102,7 +103,7 @@ mod tests {
 
     #[test]
     fn dashes_stay_within_the_budget() {
-        let circle = AnyReference::Circle(Circle::new(0.0, 0.0, 1.0, 0.3, 0.0).unwrap());
+        let circle = RunReference::Circle(Circle::new(0.0, 0.0, 1.0, 0.3, 0.0).unwrap());
         let s = sim(40.0, 0.01);
         // 12 m of 8 cm dashes: cut as ever; 1e-9 m dashes: the budget.
         let ordinary = dashes(&circle, &s, 0.08);

@@ -243,7 +243,7 @@ fn stream(
         }
 
         let mut encoders: Vec<RunEncoder> =
-            runs.iter().enumerate().map(|(i, spec)| RunEncoder::new(i, spec, &robot, columns, sim)).collect();
+            runs.iter().enumerate().map(|(i, spec)| RunEncoder::new(i, spec, &robot, columns.clone(), sim)).collect();
         let mut heads: Vec<Option<Sample<f64>>> = vec![None; n];
         let mut last_t = vec![0.0; n];
         let mut messages = 0u64;

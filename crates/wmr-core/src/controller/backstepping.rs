@@ -48,7 +48,7 @@ crate::params! {
         pub kx: T [unit = "1/s", rule = "> 0"],
         /// ky: Kanayama's yaw rate per metre of lateral error, per m/s of v_ref.
         pub ky: T [unit = "1/m^2", rule = "> 0"],
-        /// ktheta: Kanayama's yaw rate per unit of sin(heading error), per m/s of v_ref.
+        /// ktheta: Kanayama's yaw rate per unit of sin(heading error), per m/s of |v_ref|.
         pub ktheta: T [unit = "1/m", rule = "> 0"],
         /// k4: rate at which the body twist is driven to Kanayama's.
         pub k4: T [unit = "1/s", rule = "> 0"],

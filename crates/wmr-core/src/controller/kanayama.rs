@@ -12,13 +12,33 @@
 //! y_e     = -sin(theta) (x_ref - x) + cos(theta) (y_ref - y)       m
 //! theta_e = wrap(theta_ref - theta)                                rad
 //! v       = v_ref cos(theta_e) + kx x_e                            m/s
-//! omega   = omega_ref + v_ref (ky y_e + ktheta sin(theta_e))       rad/s
+//! omega   = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e))   rad/s
 //! ```
 //!
-//! Linearized about zero error at constant v_ref the lateral loop is
-//! s^2 + ktheta v_ref s + ky v_ref^2: critically damped when ky = ktheta^2 / 4, which
-//! the defaults are (64 = 16^2 / 4); the along-track loop is s + kx. The twist goes to
-//! the wheels through the wheel stage as the polar law's does ([`super::WheelStage`]).
+//! with sgn(v_ref) = -1 for v_ref < 0 and +1 otherwise: the paper's law for v_ref >= 0
+//! (the same numbers to the bit: the factor is exactly 1), and for a reference driven
+//! backwards (a `line` with `speed < 0`) the heading term's sign turned, as follows.
+//! The errors obey (Kanayama et al. 1990, eq. (3))
+//!
+//! ```text
+//! x_e'     =  omega y_e - v + v_ref cos(theta_e)
+//! y_e'     = -omega x_e + v_ref sin(theta_e)
+//! theta_e' =  omega_ref - omega
+//! ```
+//!
+//! Linearized about zero error at constant v_ref, x_e' = -kx x_e (the along-track loop
+//! s + kx) and y_e' = v_ref theta_e, theta_e' = -v_ref ky y_e - |v_ref| ktheta theta_e,
+//! so y_e'' = -ky v_ref^2 y_e - ktheta |v_ref| y_e': the lateral loop
+//! s^2 + ktheta |v_ref| s + ky v_ref^2, poles -|v_ref| (ktheta +- sqrt(ktheta^2 - 4 ky)) / 2,
+//! in the left half-plane whichever way the reference runs; critically damped when
+//! ky = ktheta^2 / 4, which the defaults are (64 = 16^2 / 4): a double pole at
+//! -ktheta |v_ref| / 2 = -2.4 1/s at 0.3 m/s. Without the sign (the paper's form) the
+//! damping term is ktheta v_ref: at v_ref = -0.3 m/s a double pole at +2.4 1/s, and a
+//! 2 cm offset grew to 2.2 m in 20 s. The sign keeps Kanayama's Lyapunov function
+//! V = (x_e^2 + y_e^2) / 2 + (1 - cos theta_e) / ky decreasing along the full nonlinear
+//! errors: V' = -kx x_e^2 - |v_ref| ktheta sin^2(theta_e) / ky <= 0 (the y_e terms
+//! cancel as in the paper). The twist goes to the wheels through the wheel stage as the
+//! polar law's does ([`super::WheelStage`]).
 //!
 //! Logged errors ([`super::ControlErrors`]): e_s = x_e, e_theta = theta_e, dl the
 //! distance from C to C_ref, all from the measurement.
@@ -42,7 +62,7 @@ crate::params! {
         pub kx: T [unit = "1/s", rule = "> 0"],
         /// ky: yaw rate per metre of lateral error, per m/s of v_ref.
         pub ky: T [unit = "1/m^2", rule = "> 0"],
-        /// ktheta: yaw rate per unit of sin(heading error), per m/s of v_ref.
+        /// ktheta: yaw rate per unit of sin(heading error), per m/s of |v_ref|.
         pub ktheta: T [unit = "1/m", rule = "> 0"],
     }
 }
@@ -91,7 +111,10 @@ impl<T: Real> KanayamaParams<T> {
         let theta_e = wrap_angle(r.pose.theta - m.pose.theta);
         let (s_e, c_e) = theta_e.sin_cos();
         let v = r.twist.v * c_e + L::splat(self.kx) * x_e;
-        let omega = r.twist.omega + r.twist.v * (L::splat(self.ky) * y_e + L::splat(self.ktheta) * s_e);
+        // sgn(v_ref) ktheta (module docs): the heading term damps in reverse too.
+        let ktheta = L::splat(self.ktheta);
+        let ktheta = L::select(r.twist.v.lt(L::default()), -ktheta, ktheta);
+        let omega = r.twist.omega + r.twist.v * (L::splat(self.ky) * y_e + ktheta * s_e);
         (Twist2 { v, omega }, ControlErrors { e_s: x_e, e_theta: theta_e, dl: dx.hypot(dy) })
     }
 }

@@ -10,21 +10,22 @@ use super::fixed::FixedGoal;
 use super::line::Line;
 use super::path::Path;
 use super::state::{Reference, ReferenceState};
-use super::waypoints::Waypoints;
+use super::waypoints::{FIXED_WORDS, Waypoints};
 use crate::Real;
 use crate::math::Pose2;
 
 /// Defines [`AnyReference`] with one variant per kind and every `match` over it.
 macro_rules! references {
-    ($( $(#[$doc:meta])* $variant:ident($ty:ident) = $name:literal; )+) => {
-        /// Any reference, dispatched by `match`. Implements [`Reference`].
+    ($( $(#[$doc:meta])* $variant:ident($ty:ty) = $name:literal; )+) => {
+        /// Any reference, dispatched by `match`. Implements [`Reference`]. `S` is the
+        /// storage of a waypoints path ([`Waypoints`]): its own fixed array by default.
         #[derive(Clone, Copy, Debug, PartialEq)]
         #[non_exhaustive]
-        pub enum AnyReference<T> {
-            $( $(#[$doc])* $variant($ty<T>), )+
+        pub enum AnyReference<T, S = [T; FIXED_WORDS]> {
+            $( $(#[$doc])* $variant($ty), )+
         }
 
-        impl<T: Real> AnyReference<T> {
+        impl<T: Real, S: AsRef<[T]>> AnyReference<T, S> {
             /// Every kind's name, in documentation order.
             pub const KINDS: &'static [&'static str] = &[$($name),+];
 
@@ -34,7 +35,7 @@ macro_rules! references {
             }
         }
 
-        impl<T: Real> Reference<T> for AnyReference<T> {
+        impl<T: Real, S: AsRef<[T]>> Reference<T> for AnyReference<T, S> {
             #[inline]
             fn state_at(&self, t: T) -> ReferenceState<T> {
                 match self { $( AnyReference::$variant(r) => r.state_at(t), )+ }
@@ -53,18 +54,18 @@ macro_rules! references {
 
 references! {
     /// A goal at rest (no `[reference]` table): point stabilization.
-    Goal(FixedGoal) = "goal";
+    Goal(FixedGoal<T>) = "goal";
     /// A circle at constant speed, [`Circle`].
-    Circle(Circle) = "circle";
+    Circle(Circle<T>) = "circle";
     /// A figure-eight, [`FigureEight`].
-    FigureEight(FigureEight) = "figure_eight";
+    FigureEight(FigureEight<T>) = "figure_eight";
     /// A straight line, [`Line`].
-    Line(Line) = "line";
+    Line(Line<T>) = "line";
     /// A spline through points with a speed profile (`waypoints` and `file`), [`Waypoints`].
-    Waypoints(Waypoints) = "waypoints";
+    Waypoints(Waypoints<T, S>) = "waypoints";
 }
 
-impl<T: Real> AnyReference<T> {
+impl<T: Real, S: AsRef<[T]>> AnyReference<T, S> {
     /// The pose of C_ref at t = 0: what a sweep's start offsets are added to.
     pub fn start_pose(&self) -> Pose2<T> {
         self.state_at(T::zero()).pose

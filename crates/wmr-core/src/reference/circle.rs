@@ -86,9 +86,6 @@ impl<T: Real> Path<T> for Circle<T> {
     fn rate_bounds(&self) -> (T, T) {
         (T::one(), T::one())
     }
-    fn first_search_span(&self) -> T {
-        T::TAU() * self.radius
-    }
     fn remaining_length(&self, _s: T) -> T {
         T::infinity()
     }

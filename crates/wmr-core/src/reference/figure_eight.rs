@@ -150,9 +150,6 @@ impl<T: Real> Path<T> for FigureEight<T> {
     fn rate_bounds(&self) -> (T, T) {
         self.rate
     }
-    fn first_search_span(&self) -> T {
-        self.period
-    }
     fn remaining_length(&self, _s: T) -> T {
         T::infinity()
     }

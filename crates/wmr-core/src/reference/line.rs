@@ -64,10 +64,6 @@ impl<T: Real> Path<T> for Line<T> {
     fn rate_bounds(&self) -> (T, T) {
         (T::one(), T::one())
     }
-    fn first_search_span(&self) -> T {
-        // A line has one closest point; a few metres cover any start the scenarios draw.
-        T::lit(10.0)
-    }
     fn remaining_length(&self, _s: T) -> T {
         T::infinity()
     }

@@ -26,10 +26,6 @@ pub trait Path<T: Lane> {
     /// (min, max) of |dp/ds| over the path, in m per unit of s; both > 0.
     fn rate_bounds(&self) -> (T::Scalar, T::Scalar);
 
-    /// How far in s the first closest-point search looks (from s = 0): the whole path,
-    /// or one lap of a periodic one.
-    fn first_search_span(&self) -> T::Scalar;
-
     /// The path's length from `s` to its end, m (infinite for an endless path).
     fn remaining_length(&self, s: T) -> T;
 
@@ -199,37 +195,41 @@ pub fn in_body_frame<T: Lane>(pose: &Pose2<T>, p: &Pose2<T>) -> (T, T) {
     (c * dx + s * dy, -s * dx + c * dy)
 }
 
-/// Follows the closest point of a path from tick to tick: the cursor only moves forward,
-/// each search starting at the last closest point ([`closest_forward`] near the path, the
-/// whole window farther from it).
+/// Follows the closest point of a path from tick to tick as nav2 prunes its plan: the
+/// first search starts at the path's beginning, every search covers `window` m of path
+/// forward of the last closest point (nav2's `max_robot_pose_search_dist`), and the cursor
+/// only moves forward ([`closest_forward`] near the path, the whole window farther from it).
+/// A route that ends near its start (a patrol loop) or crosses itself (a figure-eight) is
+/// so taken from its beginning, not joined where it ends or on its other branch.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PathCursor<T: Lane> {
     /// Parameter of the last closest point.
     pub s: T,
-    /// False until the first search (which covers [`Path::first_search_span`]).
+    /// False until the first search (which starts at s = 0).
     pub started: T::Mask,
 }
 
 impl<T: Lane> Default for PathCursor<T> {
-    /// Not started: the first search covers [`Path::first_search_span`].
+    /// Not started: the first search starts at s = 0.
     fn default() -> Self {
         Self { s: T::default(), started: T::Mask::splat(false) }
     }
 }
 
 impl<T: Lane> PathCursor<T> {
-    /// The closest path point to (x, y) (m), searching forward from the last one over
-    /// `window` m of path (the first time over the first search span), in steps of at
-    /// most `ds` m; moves the cursor there and returns the parameter.
+    /// The closest path point to (x, y) (m), searching forward from the last one (the
+    /// first time from s = 0) over `window` m of path, in steps of at most `ds` m; moves
+    /// the cursor there and returns the parameter.
     pub fn advance(&mut self, path: &dyn Path<T>, x: T, y: T, window: T::Scalar, ds: T::Scalar) -> T {
         let (rate_min, _) = path.rate_bounds();
-        let span = if self.started.all() { window / rate_min } else { path.first_search_span() };
+        let span = window / rate_min;
         let from = T::select(self.started, self.s, T::default());
-        // The first search covers the whole path (or lap). After it, near the path the
-        // closest point moves on from the last one: the search stops at its first
-        // minimum. Farther than `2 ds` from the path (a start off it, a corner cut),
-        // where the distance along the window may have several minima, the whole window
-        // is scanned, as the first minimum could be behind the robot.
+        // The first search scans its whole window from the path's beginning (nav2's
+        // closest pose among the plan's poses up to max_robot_pose_search_dist). After
+        // it, near the path the closest point moves on from the last one: the search
+        // stops at its first minimum. Farther than `2 ds` from the path (a start off it,
+        // a corner cut), where the distance along the window may have several minima,
+        // the whole window is scanned, as the first minimum could be behind the robot.
         self.s = if self.started.all() {
             let near = closest_forward(path, x, y, from, span, ds);
             let (px, py) = path.point_on_path(near);

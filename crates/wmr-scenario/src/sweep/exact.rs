@@ -96,7 +96,7 @@ impl SweepSpec {
                 (lp, run.map_continue(|outcome| (outcome, None)))
             }
             Some(tr) => {
-                let reference = tr.references[i.reference].1.built;
+                let reference = tr.references[i.reference].1.built.clone();
                 let mut lp = assemble::closed_loop_to(setup, k as u64, start, reference, sim, origin)?;
                 let path_following = setup.controller.law.follows() == Follows::Path;
                 // Only the outcome counts: the samples go nowhere (every plant step is watched).
@@ -161,7 +161,7 @@ impl SweepSpec {
         let start = self.start_pose(0, start_index);
         let mut lp = match &self.tracking {
             None => assemble::closed_loop(setup, run, start, self.goal, sim, origin)?,
-            Some(tr) => assemble::closed_loop_to(setup, run, start, tr.references[0].1.built, sim, origin)?,
+            Some(tr) => assemble::closed_loop_to(setup, run, start, tr.references[0].1.built.clone(), sim, origin)?,
         };
         Ok(lp.run(sim.n_steps(), sim.log_every(), sink))
     }

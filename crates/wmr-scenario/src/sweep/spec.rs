@@ -283,7 +283,7 @@ fn check_setup(
         Some(tr) => {
             for (_, r) in &tr.references {
                 let start = r.built.start_pose();
-                assemble::closed_loop_to(&setup, 0, start, r.built, sim, origin).map_err(prefix)?;
+                assemble::closed_loop_to(&setup, 0, start, r.built.clone(), sim, origin).map_err(prefix)?;
             }
         }
     }
