@@ -380,6 +380,38 @@ fn regression_39_9_a_reference_outside_the_box_is_named_at_its_key() {
     }
 }
 
+/// Issue 39 item 9 (presets): a bad value inside a preset was reported at the scenario's
+/// line with no word of the preset file; now the scenario's `from` line, the preset and
+/// the preset's own line. A value the scenario writes over the preset stays the
+/// scenario's.
+#[test]
+fn regression_39_9_a_bad_value_in_a_preset_names_the_preset_and_its_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let preset = std::fs::read_to_string(repo("robots/turtlebot3_burger.toml")).unwrap();
+    let line = 1 + preset.lines().position(|l| l.starts_with("wheel_radius")).expect("the preset gives wheel_radius");
+    let bad: String = preset
+        .lines()
+        .map(|l| if l.starts_with("wheel_radius") { "wheel_radius = -0.033".to_owned() } else { l.to_owned() })
+        .collect::<Vec<_>>()
+        .join("\n");
+    std::fs::create_dir_all(d.join("robots")).unwrap();
+    write(d, "robots/mine.toml", &bad);
+    let run = "[[run]]\nstart = { x = 1.0, y = 1.0, theta_deg = 0.0 }\n";
+    write(d, "s.toml", &format!("# my robot\n[robot]\nfrom = \"robots/mine.toml\"\n{run}"));
+    let o = run_in(d, &["check", "s.toml"]);
+    assert_one_line_error(
+        &o,
+        "preset value",
+        &["line 3: robot.wheel_radius", "-0.033", "robots/mine.toml", &format!("line {line}")],
+    );
+    // Written over in the scenario: the scenario's value and line, no word of the preset.
+    write(d, "s.toml", &format!("[robot]\nfrom = \"robots/mine.toml\"\nwheel_radius = -0.5\n{run}"));
+    let o = run_in(d, &["check", "s.toml"]);
+    assert_one_line_error(&o, "scenario value", &["line 3: robot.wheel_radius", "-0.5"]);
+    assert!(!text(&o.stderr).contains("preset"), "{}", text(&o.stderr));
+}
+
 /// Issue 39 item 10 and issue 40 (reporting): a tracking summary printed metres with six
 /// decimals and "below 0.01 m after never", the sweep's table a `t_10 mm s` column; now
 /// millimetres to the micrometre, "within 10 mm after 1.225 s" or "never within 10 mm",

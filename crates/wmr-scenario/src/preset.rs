@@ -34,6 +34,9 @@ pub struct Origins {
     /// Why `[controller] kind` is what it is where the file does not give it and the
     /// default is not `paper`: a `[reference]` is followed by a law that follows it.
     pub law_note: Option<String>,
+    /// The preset as written after `from` and its text, so that an error in one of its
+    /// values can name the preset's line (issue 39 item 9).
+    pub preset: Option<(String, String)>,
 }
 
 impl Origins {
@@ -56,6 +59,23 @@ impl Origins {
             }
         };
         list.iter().find(|(k, _)| k == key).map_or("default", |(_, o)| o.as_str())
+    }
+
+    /// When `e` is about a `[robot]` or `[drive]` key whose value the preset gave: `e`
+    /// saying so, with the preset's line (the caller puts it at the scenario's `from`
+    /// line). `None` for every other error.
+    pub(crate) fn in_preset(&self, e: &ScenarioError) -> Option<ScenarioError> {
+        let (label, text) = self.preset.as_ref()?;
+        let (table, rest) = e.key.split_once('.')?;
+        let name = rest.split(['.', '[']).next().unwrap_or(rest);
+        if !matches!(table, "robot" | "drive") || self.of(table, name) != label.as_str() {
+            return None;
+        }
+        let built_in = if BUILT_IN.iter().any(|(n, _)| n == label) { " (built in)" } else { "" };
+        let line = crate::locate::span_of_key(text, &e.key).map(|s| crate::locate::line_of(text, s.start));
+        let at = line.map_or(String::new(), |l| format!(", line {l}"));
+        let message = format!("{} (the value of the preset {label}{built_in}{at}, brought by robot.from)", e.message);
+        Some(ScenarioError { message, ..e.clone() })
     }
 }
 
@@ -94,6 +114,7 @@ pub fn expand(robot: &mut Option<Table>, drive: &mut Option<Table>, dir: &Path) 
         )));
     };
     let text = preset_text(&from, dir)?;
+    origins.preset = Some((from.clone(), text.clone()));
     let mut preset: Table =
         toml::from_str(&text).map_err(|e| from_error(format!("{from}: bad TOML: {}", e.message().trim())))?;
     for key in preset.keys() {

@@ -308,6 +308,8 @@ impl Scenario {
         .flat_map(|(name, t)| t.iter().flat_map(|t| t.keys()).map(move |k| format!("{name}.{k}")))
         .collect();
         let (origins, presets) = read::recording(|| preset::expand(&mut file.robot, &mut file.drive, dir));
+        // Kept to name a preset's line when one of its values is refused.
+        let preset_origins = origins.as_ref().ok().filter(|o| o.preset.is_some()).cloned();
         origins
             .and_then(|origins| {
                 let mut s = file.resolve_in(default_name, Some(dir))?;
@@ -324,7 +326,13 @@ impl Scenario {
             })
             .and_then(|s| s.check_limits().map(|()| s))
             .map_err(|e| {
-                let line = locate::span_of_key(text, &e.key).map(|s| locate::line_of(text, s.start));
+                // A preset's value: said so, at the scenario's `from` line.
+                let (e, key) = match preset_origins.as_ref().and_then(|o| o.in_preset(&e)) {
+                    Some(located) => (located, Some("robot.from")),
+                    None => (e, None),
+                };
+                let key = key.unwrap_or(&e.key);
+                let line = locate::span_of_key(text, key).map(|s| locate::line_of(text, s.start));
                 e.at_line(line)
             })
     }
