@@ -517,7 +517,7 @@ impl Scenario {
         order.extend(fields_read_by(|probe| drive.deserialize_variant(probe).map(|_| ())));
         write_keys_noted(&mut o, &to_table(&drive), &order, noted("drive"));
         let _ = writeln!(o, "\n[controller]");
-        controller::write(&setup.controller, &mut o);
+        controller::write_noted(&setup.controller, &drive, setup.model.params(), &mut o);
         if setup.model != setup.robot {
             let _ = writeln!(o, "\n[controller.model]");
             write_keys(&mut o, &to_table(setup.model.params()), fields_of::<RobotParams<f64>>());
