@@ -88,7 +88,7 @@ for_each_law!(root_law_exports);
 pub use drive::{DcMotorParams, Drive, DriveParams, TorqueDriveParams};
 pub use error::{ParamError, Reason};
 pub use math::{Pose2, Twist2, Wheels, wrap_angle};
-pub use outcome::{ARRIVAL_RADIUS_M, Outcome, Status, Termination};
+pub use outcome::{ARRIVAL_HEADING_RAD, ARRIVAL_RADIUS_M, Outcome, Status, Termination};
 pub use params::{Robot, RobotParams};
 pub use plant::Plant;
 pub use real::Real;

@@ -529,6 +529,7 @@ fn paper_default_is_unchanged() {
         goal,
         final_dl: (goal.x - last.state.x).hypot_libm(goal.y - last.state.y),
         final_heading_error: wrap_angle(goal.theta - last.state.theta),
+        heading_tolerance: f64::INFINITY,
         time_to_arrival: arrived,
         peak_wheel_speed: peak,
         path_length: path,

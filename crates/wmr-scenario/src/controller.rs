@@ -97,7 +97,12 @@ pub fn write(params: &ControllerParams<f64>, out: &mut String) {
 
 /// [`write`] for `wmr-cli check`: the wheel stage's keys at the value the drive and the
 /// controller's robot `model` derive noted with the rule ([`derived_note`]).
-pub fn write_noted(params: &ControllerParams<f64>, drive: &DriveParams<f64>, model: &RobotParams<f64>, out: &mut String) {
+pub fn write_noted(
+    params: &ControllerParams<f64>,
+    drive: &DriveParams<f64>,
+    model: &RobotParams<f64>,
+    out: &mut String,
+) {
     let derived = to_table(&WheelStageParams::for_drive(drive, model));
     let wheels = to_table(&params.wheels);
     write_with(params, out, |k| (derived.get(k) == wheels.get(k)).then(|| derived_note(k, drive, model)).flatten());
@@ -131,10 +136,12 @@ fn derived_note(key: &str, drive: &DriveParams<f64>, model: &RobotParams<f64>) -
             let via = format!("b = {b:.4} N m/V at the wheel");
             match key {
                 "servo_kp" => Some(format!("derived: 14 N m/rad {scale} / b, {via}")),
-                "servo_kd" => Some(format!(
-                    "derived: max(1.4 N m s/rad x J_w / {j_paper:.4} - {emf:.4} back-EMF, 0) / b, {via}"
-                )),
-                "wheel_speed_max" => Some("derived: the motor's no-load speed at the wheel, voltage_max k_t / k_e".to_owned()),
+                "servo_kd" => {
+                    Some(format!("derived: max(1.4 N m s/rad x J_w / {j_paper:.4} - {emf:.4} back-EMF, 0) / b, {via}"))
+                }
+                "wheel_speed_max" => {
+                    Some("derived: the motor's no-load speed at the wheel, voltage_max k_t / k_e".to_owned())
+                }
                 _ => None,
             }
         }

@@ -350,9 +350,9 @@ impl RunResult {
         self
     }
 
-    /// Converged, diverged or unsettled (decided by the core, from the true state). A
-    /// tracking run converges when its tracking error stays below `sim.tracking_tolerance`
-    /// over the last 10 % of t_end.
+    /// Converged, diverged, unsettled or (a tracking run) cannot_follow, decided by the
+    /// core from the true state. A tracking run converges when its tracking error stays
+    /// below `sim.tracking_tolerance` over the last 10 % of t_end.
     pub fn status(&self) -> Status {
         crate::tracking_run::status(&self.outcome, self.tracking.as_ref())
     }
@@ -396,7 +396,7 @@ impl RunResult {
                 tr.tolerance,
                 settle,
                 self.status().name(),
-                stop
+                if self.status() == Status::CannotFollow { cannot_follow_reason(tr) } else { stop }
             );
         }
         let arrival = match o.time_to_arrival {
@@ -414,5 +414,20 @@ impl RunResult {
             self.status().name(),
             stop
         )
+    }
+}
+
+/// Why a tracking run is `cannot_follow`, for its summary line: the wheel speeds the
+/// reference asks against the limit, or the growth of the error.
+fn cannot_follow_reason(tr: &TrackingOutcome<f64>) -> String {
+    match tr.over_limit_at {
+        Some(t) => format!(
+            " (the reference asks wheel speeds up to {:.1} rad/s, above wheel_speed_max = {:.1} rad/s from t = {t:.3} s)",
+            tr.reference_wheel_speed, tr.wheel_speed_limit
+        ),
+        None => format!(
+            " (the error grew: mean {:.6} m over the first tenth of t_end, {:.6} m over the last)",
+            tr.mean_first_tenth, tr.mean_last_tenth
+        ),
     }
 }
