@@ -63,6 +63,7 @@ mod params;
 pub mod plant;
 mod real;
 pub mod reference;
+pub mod rolling_traction;
 pub mod sample;
 pub mod sensor;
 pub mod settle;

@@ -3,6 +3,7 @@
 
 use std::error::Error;
 
+use wmr_core::rolling_traction::TractionWatch;
 use wmr_core::tracking::TrackingOutcome;
 use wmr_core::{AnyReference, Outcome, Reference, ReferenceState, Sample, Status};
 
@@ -330,12 +331,22 @@ pub struct RunResult {
     pub tracking: Option<TrackingOutcome<f64>>,
     /// For a run on odometry, its drift at the end.
     pub odometry_drift: Option<OdometryDrift>,
+    /// For a rolling run, when its wheels first asked more than mu N of the ground and
+    /// its worst ratio ([`wmr_core::rolling_traction`], at the logged samples); empty
+    /// when they never did, and for a slipping run.
+    pub traction: TractionWatch<f64>,
 }
 
 impl RunResult {
     /// Wraps a core outcome.
     pub fn new(index: usize, label: String, outcome: Outcome<f64>) -> Self {
-        Self { index, label, outcome, tracking: None, odometry_drift: None }
+        Self { index, label, outcome, tracking: None, odometry_drift: None, traction: TractionWatch::default() }
+    }
+
+    /// The same run with what its rolling wheels asked of the ground.
+    pub fn with_traction(mut self, traction: TractionWatch<f64>) -> Self {
+        self.traction = traction;
+        self
     }
 
     /// The same run with its final odometry drift (a run on odometry).
@@ -371,9 +382,17 @@ impl RunResult {
     /// time to dl < 1 cm (s or "never"), status.
     /// A run on odometry adds its drift at the end ([`OdometryDrift::describe`]).
     pub fn summary_line(&self) -> String {
-        match &self.odometry_drift {
+        let line = match &self.odometry_drift {
             Some(d) => format!("{}, {}", self.plain_summary_line(), d.describe()),
             None => self.plain_summary_line(),
+        };
+        match (self.traction.first, self.traction.peak) {
+            (Some((t0, r0)), Some((tp, rp))) => format!(
+                "{line}; traction exceeded: from t = {t0:.3} s the rolling wheels ask {r0:.2} x mu N of the ground \
+                 (worst {rp:.2} x at t = {tp:.3} s), so the rolling result is not physical there \
+                 (robot.traction = \"slip\" simulates it)"
+            ),
+            _ => line,
         }
     }
 
