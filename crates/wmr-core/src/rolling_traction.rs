@@ -102,7 +102,7 @@ pub struct TractionWatch<T> {
 impl<T: Real> TractionWatch<T> {
     /// Adds the ratio `ratio` ([`RollingTraction::ratio`]) at time `t` (s).
     pub fn observe(&mut self, t: T, ratio: T) {
-        if !(ratio > T::one()) {
+        if ratio.is_nan() || ratio <= T::one() {
             return;
         }
         if self.first.is_none() {
