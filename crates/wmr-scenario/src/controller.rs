@@ -135,7 +135,10 @@ fn derived_note(key: &str, drive: &DriveParams<f64>, model: &RobotParams<f64>) -
             let emf = b * m.back_emf_constant / model.gear_ratio;
             let via = format!("b = {b:.4} N m/V at the wheel");
             match key {
-                "servo_kp" => Some(format!("derived: 14 N m/rad {scale} / b, {via}")),
+                "servo_kp" => {
+                    let w_b = wmr_core::ServoGains::<f64>::paper_bandwidth();
+                    Some(format!("derived: max(14 N m/rad {scale}, {emf:.4} back-EMF x {w_b:.2} rad/s) / b, {via}"))
+                }
                 "servo_kd" => {
                     Some(format!("derived: max(1.4 N m s/rad x J_w / {j_paper:.4} - {emf:.4} back-EMF, 0) / b, {via}"))
                 }

@@ -44,7 +44,13 @@ impl<T: Real> ServoGains<T> {
     /// N m s/rad: [`ServoGains::for_wheel_inertia`]) through a motor of `torque_per_volt`
     /// b = k_tau / (R_a k_t) N m/V and back-EMF damping `emf_damping` b k_e / k_t
     /// N m s/rad at the wheel: Kp = Kp_tau / b V/rad and Kd = max(Kd_tau - b k_e / k_t, 0) / b
-    /// V s/rad (the motor's own back-EMF damps the wheel already), Ki = 0. For the
+    /// V s/rad (the motor's own back-EMF damps the wheel already), Ki = 0. Where the
+    /// back-EMF alone damps the wheel more than that (a small robot on a strong gear),
+    /// the servo is overdamped and its slow pole sits near Kp_tau / (b k_e / k_t): the
+    /// stiffness is then raised to at least (b k_e / k_t) w_b, w_b = sqrt(14 / J_w,paper)
+    /// = 20.7 rad/s the paper's servo bandwidth, so the wheel still follows within
+    /// 1 / w_b (the TurtleBot3 Burger's wheels, with 0.22 N m/rad against 0.23 N m s/rad
+    /// of back-EMF, lagged by a second and the Lyapunov law stopped 30 deg off). For the
     /// default motor (Pololu 37D through k_t = 0.1: b = 0.1717 N m/V, 0.098 N m s/rad) on
     /// the paper's robot Kp = 81.5 and Kd = 7.58. Fixed gains for one motor left a
     /// stronger or weaker motor's wheels several times too stiff or too soft (with the
@@ -52,7 +58,14 @@ impl<T: Real> ServoGains<T> {
     /// Lyapunov laws circled the goal).
     pub fn for_dc_motor(torque: Self, torque_per_volt: T, emf_damping: T) -> Self {
         let kd = (torque.kd - emf_damping).max(T::zero()) / torque_per_volt;
-        Self { kp: torque.kp / torque_per_volt, kd, ki: T::zero() }
+        let kp = torque.kp.max(emf_damping * Self::paper_bandwidth());
+        Self { kp: kp / torque_per_volt, kd, ki: T::zero() }
+    }
+
+    /// w_b = sqrt(Kp / J_w) of the paper's robot, rad/s (20.7): the bandwidth the derived
+    /// gains keep on any robot.
+    pub fn paper_bandwidth() -> T {
+        (Self::torque_default().kp / crate::Robot::<T>::paper().driven_wheel_inertia()).sqrt()
     }
 
     pub(crate) fn validate(self) -> Result<Self, ParamError> {
