@@ -87,7 +87,9 @@ const OUTPUTS_HEAD: &str = r#"OUTPUTS
 
 const OUTPUTS_TAIL: &str = r#"  Summary (stdout, one line per run): label, final dl (m), final heading error (deg),
         time from which dl < 1 cm (s or "never"), converged / diverged / unsettled.
-        Converged = not diverged and final dl < 1 cm; unsettled = neither by t_end.
+        Converged = not diverged and final dl < 1 cm (and |heading error| <= 5 deg for
+        lyapunov and paper_bidirectional); unsettled = neither by t_end; a tracking run
+        whose reference asks more than the robot can give: cannot_follow.
   sweep: CSV law,start,x0,y0,theta0_deg,status,time_to_1cm_s,final_dl_m,
         final_heading_error_deg,peak_wheel_speed_rad_s,path_length_m,energy_j; a comparison
         table on stdout; --plots DIR: region-<law>.svg per law; --fast: runs in SIMD

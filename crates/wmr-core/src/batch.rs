@@ -93,6 +93,7 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
         // t_end as the exact loop computes it (ClosedLoop::try_run from step 0).
         let watch = SettleWatch::new(n_steps as f64 * dt, plant.robot().params());
         let zero = Lanes::splat(0.0);
+        let metrics = Metrics::default().judging_heading(controller.reaches_heading());
         Ok(Self {
             plant,
             controller,
@@ -108,7 +109,7 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
             heading: (Lanes::splat(1.0), zero),
             command: Wheels::new(zero, zero),
             held_torque: Wheels::new(zero, zero),
-            metrics: Metrics::default(),
+            metrics,
             watch,
             early_arrival: false,
             arrival: ArrivalWatch::new(n_steps as f64 * dt),

@@ -267,7 +267,7 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
         mut poll: impl FnMut() -> ControlFlow<B>,
     ) -> ControlFlow<B, Outcome<T>> {
         let log_every = u64::from(log_every.max(1));
-        let mut metrics = Metrics::default();
+        let mut metrics = Metrics::default().judging_heading(self.controller.reaches_heading());
         let mut termination = Termination::Completed;
         let mut last_logged = None;
         let mut done = 0;

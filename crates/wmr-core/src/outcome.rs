@@ -9,6 +9,12 @@ use crate::state::State;
 /// Distance to the goal (m) below which a run counts as arrived: 1 cm.
 pub const ARRIVAL_RADIUS_M: f64 = 0.01;
 
+/// Largest |heading error| (rad) at the end of a converged run of a law built to reach
+/// the goal heading ([`crate::controller::Law::reaches_heading`]): 5 deg. The Lyapunov
+/// law and the repaired paper law end within hundredths of a degree when their wheels
+/// hold them; a run that stops within 1 cm but 40 deg off has not done what the law is for.
+pub const ARRIVAL_HEADING_RAD: f64 = 5.0 * core::f64::consts::PI / 180.0;
+
 /// How a run ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
@@ -51,7 +57,8 @@ impl Termination {
     }
 }
 
-/// The verdict on a run, one of three: decided here and nowhere else.
+/// The verdict on a run, one of four (the fourth for tracking runs only): decided here
+/// and in [`crate::tracking`], nowhere else.
 ///
 /// A run that is neither converged nor diverged is [`Status::Unsettled`]: it may still
 /// arrive later, wander for ever, or circle; only a longer run can tell. It is not
@@ -59,25 +66,34 @@ impl Termination {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum Status {
-    /// Not diverged, and the final distance to the goal is below [`ARRIVAL_RADIUS_M`].
-    /// The heading is not part of it: the paper's law leaves several degrees.
+    /// Not diverged, and the final distance to the goal is below [`ARRIVAL_RADIUS_M`]; for a
+    /// law built to reach the goal heading, the final heading error within
+    /// [`ARRIVAL_HEADING_RAD`] too ([`Outcome::heading_tolerance`]). The paper's law,
+    /// which leaves several degrees, is judged on the distance alone.
     Converged,
     /// The state stopped being finite or C left the 1 km box: the run was stopped there.
     Diverged,
-    /// Finite and inside the box at t_end, but not within [`ARRIVAL_RADIUS_M`] of the goal.
+    /// Finite and inside the box at t_end, but not within [`ARRIVAL_RADIUS_M`] of the goal
+    /// (or, for a law built to reach the heading, not within [`ARRIVAL_HEADING_RAD`] of it).
     Unsettled,
+    /// A tracking run only (never a run towards a goal): not within the tolerance at the
+    /// end, and the reference asked more than the robot can give (wheel speeds above the
+    /// limit, or an error that grew: [`crate::tracking::TrackingOutcome::cannot_follow`]).
+    CannotFollow,
 }
 
 impl Status {
     /// Every status, in report order.
-    pub const ALL: [Status; 3] = [Status::Converged, Status::Diverged, Status::Unsettled];
+    pub const ALL: [Status; 4] = [Status::Converged, Status::Diverged, Status::Unsettled, Status::CannotFollow];
 
-    /// `"converged"`, `"diverged"` or `"unsettled"`: the word every output uses.
+    /// `"converged"`, `"diverged"`, `"unsettled"` or `"cannot_follow"`: the word every
+    /// output uses.
     pub fn name(self) -> &'static str {
         match self {
             Status::Converged => "converged",
             Status::Diverged => "diverged",
             Status::Unsettled => "unsettled",
+            Status::CannotFollow => "cannot_follow",
         }
     }
 }
@@ -97,6 +113,9 @@ pub struct Outcome<T> {
     pub final_dl: T,
     /// Final heading error wrap(theta_d - theta), rad.
     pub final_heading_error: T,
+    /// Largest |final_heading_error| of a converged run, rad: [`ARRIVAL_HEADING_RAD`] for
+    /// a law built to reach the goal heading, infinite for the others.
+    pub heading_tolerance: T,
     /// First time from which the true distance to the goal stays below
     /// [`ARRIVAL_RADIUS_M`] to the end, s; `None` if never.
     pub time_to_arrival: Option<T>,
@@ -113,7 +132,7 @@ impl<T: Real> Outcome<T> {
     pub fn status(&self) -> Status {
         if self.termination.diverged() {
             Status::Diverged
-        } else if self.final_dl < T::lit(ARRIVAL_RADIUS_M) {
+        } else if self.final_dl < T::lit(ARRIVAL_RADIUS_M) && self.final_heading_error.abs() <= self.heading_tolerance {
             Status::Converged
         } else {
             Status::Unsettled
@@ -127,6 +146,8 @@ impl<T: Real> Outcome<T> {
 pub struct Metrics<T: Lane> {
     /// ARRIVAL_RADIUS_M^2, m^2: arrival is decided on the squared distance (no root per step).
     arrival_radius_sq: T::Scalar,
+    /// [`Outcome::heading_tolerance`], rad.
+    heading_tolerance: T::Scalar,
     /// Within the arrival radius since `arrived_since` (s), where `arrived`.
     arrived: T::Mask,
     arrived_since: T,
@@ -141,6 +162,7 @@ impl<T: Lane> Default for Metrics<T> {
         let r = <T::Scalar as Real>::lit(ARRIVAL_RADIUS_M);
         Self {
             arrival_radius_sq: r * r,
+            heading_tolerance: <T::Scalar as num_traits::Float>::infinity(),
             arrived: T::Mask::splat(false),
             arrived_since: z,
             peak_wheel_speed: z,
@@ -151,6 +173,14 @@ impl<T: Lane> Default for Metrics<T> {
 }
 
 impl<T: Lane> Metrics<T> {
+    /// The metrics for a law that is (`true`) or is not built to reach the goal heading
+    /// ([`crate::controller::Law::reaches_heading`]): [`Outcome::heading_tolerance`].
+    pub fn judging_heading(mut self, on: bool) -> Self {
+        let r = <T::Scalar as Real>::lit(ARRIVAL_HEADING_RAD);
+        self.heading_tolerance = if on { r } else { <T::Scalar as num_traits::Float>::infinity() };
+        self
+    }
+
     /// Adds the instant `t` (s) at the start of a plant step of length `dt` (s): the true
     /// state, the wheel speeds (rad/s) and torques (N m) held over the step, the goal.
     #[inline(always)]
@@ -196,6 +226,7 @@ impl<const N: usize> Metrics<Lanes<N>> {
     pub fn lane(&self, i: usize) -> Metrics<f64> {
         Metrics {
             arrival_radius_sq: self.arrival_radius_sq,
+            heading_tolerance: self.heading_tolerance,
             arrived: self.arrived.lane(i),
             arrived_since: self.arrived_since.0[i],
             peak_wheel_speed: self.peak_wheel_speed.0[i],
@@ -216,6 +247,7 @@ impl<T: Real> Metrics<T> {
             goal,
             final_dl: (goal.x - pose.x).hypot_libm(goal.y - pose.y),
             final_heading_error: wrap_angle(goal.theta - pose.theta),
+            heading_tolerance: self.heading_tolerance,
             time_to_arrival: self.arrived.then_some(self.arrived_since),
             peak_wheel_speed: self.peak_wheel_speed,
             path_length: self.path_length,
@@ -249,7 +281,24 @@ mod tests {
         // Diverged wins over a final state near the goal: the run was stopped.
         assert_eq!(outcome_at(0.0, Termination::LeftBox).status(), Status::Diverged);
         assert_eq!(outcome_at(0.0, Termination::NonFinite).status(), Status::Diverged);
-        let names: [&str; 3] = Status::ALL.map(Status::name);
-        assert_eq!(names, ["converged", "diverged", "unsettled"]);
+        // A law built to reach the goal heading: 137 deg off at 1 mm is not converged.
+        let judged = |x: f64, heading: f64| {
+            let state = State::at_rest(Pose2::new(x, 0.0, heading));
+            Metrics::<f64>::default().judging_heading(true).finish(
+                60.0,
+                &state,
+                Pose2::default(),
+                Termination::Completed,
+            )
+        };
+        assert_eq!(judged(0.001, 137f64.to_radians()).status(), Status::Unsettled);
+        assert_eq!(judged(0.001, 4.9f64.to_radians()).status(), Status::Converged);
+        assert_eq!(judged(0.001, -5.1f64.to_radians()).status(), Status::Unsettled);
+        // The paper's law is judged on the distance alone.
+        let paper = Metrics::<f64>::default().judging_heading(false);
+        let off = State::at_rest(Pose2::new(0.001, 0.0, 137f64.to_radians()));
+        assert_eq!(paper.finish(60.0, &off, Pose2::default(), Termination::Completed).status(), Status::Converged);
+        let names: [&str; 4] = Status::ALL.map(Status::name);
+        assert_eq!(names, ["converged", "diverged", "unsettled", "cannot_follow"]);
     }
 }

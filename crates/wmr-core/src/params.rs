@@ -116,6 +116,16 @@ impl<T: Real> Robot<T> {
         (self.m11, self.m22)
     }
 
+    /// J_w = r^2 / (1 / M_r11 + R^2 / M_r22), kg m^2: the inertia one wheel sees when it
+    /// alone is driven (the other wheel free), the robot's own inertia at the wheel. The
+    /// wheel servo's default gains scale with it ([`crate::ServoGains::for_wheel_inertia`])
+    /// and the speed guard's gain is J_w / (2 control_dt). 0.0328 kg m^2 on the paper's robot.
+    pub fn driven_wheel_inertia(&self) -> T {
+        let r = self.params.wheel_radius;
+        let big_r = self.params.half_track;
+        r * r / (self.m11.recip() + big_r * big_r / self.m22)
+    }
+
     /// Inverse diagonal of M_r, precomputed: (1/kg, 1/(kg m^2)).
     #[inline(always)]
     pub(crate) fn inv_reduced_inertia(&self) -> (T, T) {

@@ -8,7 +8,10 @@
 //! run of length t_end:
 //!
 //! - **converged** when the error stays below the tolerance over the last 10 % of
-//!   t_end; **diverged** when the run did; **unsettled** otherwise;
+//!   t_end; **diverged** when the run did; **cannot_follow** when it is not converged
+//!   and the reference asked more than the robot can give ([`TrackingOutcome::cannot_follow`]:
+//!   wheel speeds above the wheel stage's `wheel_speed_max`, or an error that grew);
+//!   **unsettled** otherwise;
 //! - RMS and maximum of the error over the last half (t >= t_end / 2);
 //! - the time after which the error stays below the tolerance (`None` if it is above
 //!   at the end).
@@ -46,6 +49,16 @@ pub struct TrackingWatch<T: Real> {
     /// Time of the last step with the error at or above the tolerance.
     last_above: Option<T>,
     last_error: T,
+    /// Sum and count of the error over the first and the last tenth of t_end, m.
+    first_tenth: (T, u64),
+    last_tenth: (T, u64),
+    /// (r, R, wheel_speed_max): wheel radius and half track (m) of the robot, the wheel
+    /// speed limit (rad/s) the reference is held against ([`TrackingWatch::with_wheel_limit`]).
+    wheel_limit: Option<(T, T, T)>,
+    /// Largest wheel speed the reference asks, (|v_ref| + R |omega_ref|) / r, rad/s.
+    reference_wheel_speed: T,
+    /// First time the reference asked more than the limit, s.
+    over_limit_at: Option<T>,
 }
 
 /// The tracking outcome of a run.
@@ -63,12 +76,45 @@ pub struct TrackingOutcome<T> {
     pub final_error: T,
     /// The tolerance it was judged with, m.
     pub tolerance: T,
+    /// Mean error over the first 10 % of t_end, m.
+    pub mean_first_tenth: T,
+    /// Mean error over the last 10 % of t_end, m.
+    pub mean_last_tenth: T,
+    /// Largest wheel speed the reference asks of the robot, (|v_ref| + R |omega_ref|) / r,
+    /// rad/s (NaN when the watch was given no wheel limit).
+    pub reference_wheel_speed: T,
+    /// The wheel speed limit it was held against, rad/s (the wheel stage's
+    /// `wheel_speed_max`, the drive's no-load speed by default; infinite: none).
+    pub wheel_speed_limit: T,
+    /// First time the reference asked wheel speeds above that limit, s (`None`: never).
+    pub over_limit_at: Option<T>,
 }
+
+/// Factor by which the mean error of the last tenth of t_end must exceed that of the
+/// first tenth (and the tolerance) for the error to count as growing: a noisy sensor's
+/// error wanders around a level (its mean over a tenth of the run barely moves); a
+/// reference the robot cannot keep up with leaves it further behind.
+pub const GROWTH_FACTOR: f64 = 2.0;
 
 impl<T: Real> TrackingOutcome<T> {
     /// True when the error stayed below the tolerance over the last 10 % of t_end.
     pub fn within_tolerance(&self) -> bool {
         self.max_last_tenth < self.tolerance
+    }
+
+    /// True when the error grew: its mean over the last tenth of t_end above the
+    /// tolerance and above [`GROWTH_FACTOR`] times its mean over the first tenth.
+    pub fn error_grew(&self) -> bool {
+        let last = self.mean_last_tenth;
+        last >= self.tolerance && last > T::lit(GROWTH_FACTOR) * self.mean_first_tenth
+    }
+
+    /// True for a run that is not within the tolerance at the end because the reference
+    /// asks more than the robot can give: wheel speeds above the limit at some time
+    /// ([`TrackingOutcome::over_limit_at`]), or an error that grew ([`Self::error_grew`]).
+    /// Such a run is reported `cannot_follow`, not `unsettled` (merely slow).
+    pub fn cannot_follow(&self) -> bool {
+        !self.within_tolerance() && (self.over_limit_at.is_some() || self.error_grew())
     }
 }
 
@@ -86,7 +132,21 @@ impl<T: Real> TrackingWatch<T> {
             tail_max: T::zero(),
             last_above: None,
             last_error: T::zero(),
+            first_tenth: (T::zero(), 0),
+            last_tenth: (T::zero(), 0),
+            wheel_limit: None,
+            reference_wheel_speed: T::zero(),
+            over_limit_at: None,
         }
+    }
+
+    /// The watch holding the reference's wheel speeds, (|v_ref| + R |omega_ref|) / r
+    /// (rad/s), against `wheel_speed_max` (rad/s) of a robot with wheel radius
+    /// `wheel_radius` and half track `half_track` (m): a reference above it cannot be
+    /// followed ([`TrackingOutcome::cannot_follow`]). An infinite limit is never passed.
+    pub fn with_wheel_limit(mut self, wheel_radius: T, half_track: T, wheel_speed_max: T) -> Self {
+        self.wheel_limit = Some((wheel_radius, half_track, wheel_speed_max));
+        self
     }
 
     /// The error of the true pose `pose` at time `t` against `reference`, m.
@@ -122,6 +182,20 @@ impl<T: Real> TrackingWatch<T> {
         }
         if t >= self.t_end * T::lit(0.9) {
             self.tail_max = if e > self.tail_max || e.is_nan() { e } else { self.tail_max };
+            self.last_tenth = (self.last_tenth.0 + e, self.last_tenth.1 + 1);
+        }
+        if t < self.t_end * T::lit(0.1) {
+            self.first_tenth = (self.first_tenth.0 + e, self.first_tenth.1 + 1);
+        }
+        if let Some((r, big_r, limit)) = self.wheel_limit {
+            let tw = reference.state_at(t).twist;
+            let w = (tw.v.abs() + big_r * tw.omega.abs()) / r;
+            if w > self.reference_wheel_speed {
+                self.reference_wheel_speed = w;
+            }
+            if w > limit && self.over_limit_at.is_none() {
+                self.over_limit_at = Some(t);
+            }
         }
     }
 
@@ -140,6 +214,54 @@ impl<T: Real> TrackingWatch<T> {
             time_to_tolerance,
             final_error: self.last_error,
             tolerance: self.tolerance,
+            mean_first_tenth: mean(self.first_tenth),
+            mean_last_tenth: mean(self.last_tenth),
+            reference_wheel_speed: if self.wheel_limit.is_some() { self.reference_wheel_speed } else { T::nan() },
+            wheel_speed_limit: self.wheel_limit.map_or(T::infinity(), |(_, _, w)| w),
+            over_limit_at: self.over_limit_at,
         }
+    }
+}
+
+/// Mean of (sum, count); NaN for no samples.
+fn mean<T: Real>((sum, n): (T, u64)) -> T {
+    if n > 0 { sum / T::lit(n as f64) } else { T::nan() }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn outcome(max_last_tenth: f64, first: f64, last: f64, over: Option<f64>) -> TrackingOutcome<f64> {
+        TrackingOutcome {
+            rms_last_half: last,
+            max_last_half: max_last_tenth,
+            max_last_tenth,
+            time_to_tolerance: None,
+            final_error: last,
+            tolerance: 0.01,
+            mean_first_tenth: first,
+            mean_last_tenth: last,
+            reference_wheel_speed: 30.0,
+            wheel_speed_limit: 20.0,
+            over_limit_at: over,
+        }
+    }
+
+    /// Issue 38, item 8: a reference the robot cannot follow is told apart from a run
+    /// that is merely slow or noisy.
+    #[test]
+    fn cannot_follow_needs_a_growing_error_or_a_reference_above_the_limit() {
+        // Within the tolerance: never cannot_follow, even above the limit.
+        assert!(!outcome(0.005, 0.1, 0.004, Some(1.0)).cannot_follow());
+        // Above the limit and not within the tolerance.
+        assert!(outcome(0.5, 0.01, 0.3, Some(1.0)).cannot_follow());
+        // An error that grew: 19 m at the end from 1 cm.
+        assert!(outcome(19.0, 0.01, 18.0, None).error_grew());
+        assert!(outcome(19.0, 0.01, 18.0, None).cannot_follow());
+        // A noisy sensor's error at a level above the tolerance: unsettled, not growing.
+        assert!(!outcome(0.03, 0.012, 0.015, None).cannot_follow());
+        // A slow convergence from a 10 cm offset: decreasing.
+        assert!(!outcome(0.04, 0.1, 0.03, None).cannot_follow());
     }
 }

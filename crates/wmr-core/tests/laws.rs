@@ -529,6 +529,7 @@ fn paper_default_is_unchanged() {
         goal,
         final_dl: (goal.x - last.state.x).hypot_libm(goal.y - last.state.y),
         final_heading_error: wrap_angle(goal.theta - last.state.theta),
+        heading_tolerance: f64::INFINITY,
         time_to_arrival: arrived,
         peak_wheel_speed: peak,
         path_length: path,
@@ -786,4 +787,48 @@ fn paper_anti_windup_holds_the_integrators_while_saturated() {
         let (refs, _) = law.references(pose_now, goal);
         assert!(refs.right > last.right, "{aw:?}");
     }
+}
+
+/// The default servo gains follow the robot's inertia at the wheel (issue 38, item 8):
+/// the paper's robot keeps exactly 14 and 1.4 (f64 and f32, bit for bit); a 120 kg robot
+/// gets the same bandwidth sqrt(Kp / J_w) and damping ratio Kd / (2 sqrt(Kp J_w)), from
+/// J_w worked out here by hand (the old gains gave it the 5 kg robot's 14 N m/rad).
+#[test]
+fn servo_defaults_scale_with_the_inertia_at_the_wheel() {
+    let torque = DriveParams::<f64>::default();
+    let paper = WheelStageParams::<f64>::for_drive(&torque, &RobotParams::paper());
+    assert_eq!((paper.servo_kp.to_bits(), paper.servo_kd.to_bits()), (14.0f64.to_bits(), 1.4f64.to_bits()));
+    let paper32 = WheelStageParams::<f32>::for_drive(&DriveParams::default(), &RobotParams::paper());
+    assert_eq!((paper32.servo_kp.to_bits(), paper32.servo_kd.to_bits()), (14.0f32.to_bits(), 1.4f32.to_bits()));
+    // J_w = r^2 / (1 / M11 + R^2 / M22) by hand.
+    let j_w = |p: &RobotParams<f64>| {
+        let m11 = p.mass + 2.0 * p.wheel_inertia / (p.wheel_radius * p.wheel_radius);
+        let m22 = p.platform_inertia
+            + p.mass * p.com_offset * p.com_offset
+            + 2.0 * p.half_track * p.half_track * p.wheel_inertia / (p.wheel_radius * p.wheel_radius);
+        p.wheel_radius * p.wheel_radius / (1.0 / m11 + p.half_track * p.half_track / m22)
+    };
+    let j_paper = j_w(&RobotParams::paper());
+    assert!((j_paper - 0.03277).abs() < 1e-5, "{j_paper}");
+    let heavy = RobotParams {
+        mass: 120.0,
+        half_track: 0.25,
+        com_offset: 0.05,
+        wheel_inertia: 0.05,
+        platform_inertia: 6.0,
+        gear_ratio: 0.05,
+        ..RobotParams::paper()
+    };
+    let g = WheelStageParams::<f64>::for_drive(&torque, &heavy);
+    let j = j_w(&heavy);
+    assert!(j > 10.0 * j_paper, "{j}");
+    let bandwidth = |kp: f64, j: f64| (kp / j).sqrt();
+    assert!((bandwidth(g.servo_kp, j) - bandwidth(14.0, j_paper)).abs() < 1e-9, "{g:?}");
+    let zeta = |kp: f64, kd: f64, j: f64| kd / (2.0 * (kp * j).sqrt());
+    assert!((zeta(g.servo_kp, g.servo_kd, j) - zeta(14.0, 1.4, j_paper)).abs() < 1e-12, "{g:?}");
+    // Through a DC motor: the same stiffness at the wheel, b Kp = Kp_torque.
+    let m = wmr_core::DcMotorParams::<f64>::default();
+    let dc = WheelStageParams::<f64>::for_drive(&DriveParams::DcMotor(m), &heavy);
+    let b = m.torque_constant / (m.armature_resistance * heavy.gear_ratio);
+    assert!((dc.servo_kp * b - g.servo_kp).abs() < 1e-9, "{dc:?}");
 }

@@ -102,3 +102,53 @@ pub fn write(params: &ControllerParams<f64>, out: &mut String, note: impl Fn(&st
     t.insert("control_dt".to_owned(), Value::Float(params.control_dt));
     write_keys_noted(out, &t, &[], &note);
 }
+
+/// [`write`] for `wmr-cli check`: each key noted by `note` (where its value came from),
+/// except the wheel stage's keys at the value the drive and the controller's robot
+/// `model` derive, noted with the rule ([`derived_note`]).
+pub fn write_noted(
+    params: &ControllerParams<f64>,
+    drive: &DriveParams<f64>,
+    model: &RobotParams<f64>,
+    out: &mut String,
+    note: impl Fn(&str) -> Option<String>,
+) {
+    let derived = to_table(&WheelStageParams::for_drive(drive, model));
+    let wheels = to_table(&params.wheels);
+    write(params, out, |k| {
+        let rule = derived.contains_key(k) && derived.get(k) == wheels.get(k);
+        rule.then(|| derived_note(k, drive, model)).flatten().or_else(|| note(k))
+    });
+}
+
+/// The rule a derived wheel-stage default follows ([`WheelStageParams::for_drive`]), with
+/// its figures, for `wmr-cli check`: the paper's robot's 14 N m/rad and 1.4 N m s/rad
+/// scaled by the robot's inertia at the wheel J_w, through the motor where there is one.
+fn derived_note(key: &str, drive: &DriveParams<f64>, model: &RobotParams<f64>) -> Option<String> {
+    let j = model.validate().ok()?.driven_wheel_inertia();
+    let j_paper = wmr_core::Robot::<f64>::paper().driven_wheel_inertia();
+    let scale = format!("x J_w / {j_paper:.4} kg m^2 (J_w = {j:.4} kg m^2: the robot's inertia at the wheel)");
+    match (drive, key) {
+        (DriveParams::Torque(_), "servo_kp") => Some(format!("derived: 14 N m/rad {scale}")),
+        (DriveParams::Torque(_), "servo_kd") => Some(format!("derived: 1.4 N m s/rad {scale}")),
+        (DriveParams::DcMotor(m), _) => {
+            let b = m.torque_constant / (m.armature_resistance * model.gear_ratio);
+            let emf = b * m.back_emf_constant / model.gear_ratio;
+            let via = format!("b = {b:.4} N m/V at the wheel");
+            match key {
+                "servo_kp" => {
+                    let w_b = wmr_core::ServoGains::<f64>::paper_bandwidth();
+                    Some(format!("derived: max(14 N m/rad {scale}, {emf:.4} back-EMF x {w_b:.2} rad/s) / b, {via}"))
+                }
+                "servo_kd" => {
+                    Some(format!("derived: max(1.4 N m s/rad x J_w / {j_paper:.4} - {emf:.4} back-EMF, 0) / b, {via}"))
+                }
+                "wheel_speed_max" => {
+                    Some("derived: the motor's no-load speed at the wheel, voltage_max k_t / k_e".to_owned())
+                }
+                _ => None,
+            }
+        }
+        _ => None,
+    }
+}

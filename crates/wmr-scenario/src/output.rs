@@ -4,6 +4,7 @@
 use std::error::Error;
 
 use crate::reference::RunReference;
+use wmr_core::rolling_traction::TractionWatch;
 use wmr_core::tracking::TrackingOutcome;
 use wmr_core::{Outcome, Reference, ReferenceState, Sample, Status};
 
@@ -335,12 +336,22 @@ pub struct RunResult {
     pub tracking: Option<TrackingOutcome<f64>>,
     /// For a run on odometry, its drift at the end.
     pub odometry_drift: Option<OdometryDrift>,
+    /// For a rolling run, when its wheels first asked more than mu N of the ground and
+    /// its worst ratio ([`wmr_core::rolling_traction`], at the logged samples); empty
+    /// when they never did, and for a slipping run.
+    pub traction: TractionWatch<f64>,
 }
 
 impl RunResult {
     /// Wraps a core outcome.
     pub fn new(index: usize, label: String, outcome: Outcome<f64>) -> Self {
-        Self { index, label, outcome, tracking: None, odometry_drift: None }
+        Self { index, label, outcome, tracking: None, odometry_drift: None, traction: TractionWatch::default() }
+    }
+
+    /// The same run with what its rolling wheels asked of the ground.
+    pub fn with_traction(mut self, traction: TractionWatch<f64>) -> Self {
+        self.traction = traction;
+        self
     }
 
     /// The same run with its final odometry drift (a run on odometry).
@@ -355,9 +366,9 @@ impl RunResult {
         self
     }
 
-    /// Converged, diverged or unsettled (decided by the core, from the true state). A
-    /// tracking run converges when its tracking error stays below `sim.tracking_tolerance`
-    /// over the last 10 % of t_end.
+    /// Converged, diverged, unsettled or (a tracking run) cannot_follow, decided by the
+    /// core from the true state. A tracking run converges when its tracking error stays
+    /// below `sim.tracking_tolerance` over the last 10 % of t_end.
     pub fn status(&self) -> Status {
         crate::tracking_run::status(&self.outcome, self.tracking.as_ref())
     }
@@ -376,9 +387,17 @@ impl RunResult {
     /// time to dl < 1 cm (s or "never"), status.
     /// A run on odometry adds its drift at the end ([`OdometryDrift::describe`]).
     pub fn summary_line(&self) -> String {
-        match &self.odometry_drift {
+        let line = match &self.odometry_drift {
             Some(d) => format!("{}, {}", self.plain_summary_line(), d.describe()),
             None => self.plain_summary_line(),
+        };
+        match (self.traction.first, self.traction.peak) {
+            (Some((t0, r0)), Some((tp, rp))) => format!(
+                "{line}; traction exceeded: from t = {t0:.3} s the rolling wheels ask {r0:.2} x mu N of the ground \
+                 (worst {rp:.2} x at t = {tp:.3} s), so the rolling result is not physical there \
+                 (robot.traction = \"slip\" simulates it)"
+            ),
+            _ => line,
         }
     }
 
@@ -400,7 +419,7 @@ impl RunResult {
                 millimetres(tr.max_last_half),
                 millimetres(tr.final_error),
                 self.status().name(),
-                stop
+                if self.status() == Status::CannotFollow { cannot_follow_reason(tr) } else { stop }
             );
         }
         let arrival = match o.time_to_arrival {
@@ -418,5 +437,20 @@ impl RunResult {
             self.status().name(),
             stop
         )
+    }
+}
+
+/// Why a tracking run is `cannot_follow`, for its summary line: the wheel speeds the
+/// reference asks against the limit, or the growth of the error.
+fn cannot_follow_reason(tr: &TrackingOutcome<f64>) -> String {
+    match tr.over_limit_at {
+        Some(t) => format!(
+            " (the reference asks wheel speeds up to {:.1} rad/s, above wheel_speed_max = {:.1} rad/s from t = {t:.3} s)",
+            tr.reference_wheel_speed, tr.wheel_speed_limit
+        ),
+        None => format!(
+            " (the error grew: mean {:.6} m over the first tenth of t_end, {:.6} m over the last)",
+            tr.mean_first_tenth, tr.mean_last_tenth
+        ),
     }
 }

@@ -9,9 +9,14 @@ use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 
 use toml::Value;
+use wmr_core::rolling_traction::{RollingTraction, TractionWatch};
 use wmr_core::{ControllerParams, Drive, OdometryParams, Pose2, Robot, RobotParams, Sample, SensorParams, WorldParams};
 
 use crate::assemble::{self, Origin, RunLoop};
+
+/// The `[robot]` keys that describe how a robot holds the ground: given any of them, a
+/// rolling run's summary says when its wheels ask more than mu N ([`RollingTraction`]).
+const TRACTION_KEYS: [&str; 3] = ["friction_coefficient", "caster_offset", "com_height"];
 use crate::error::ScenarioError;
 use crate::file::{RunFile, ScenarioFile, SimFile};
 use crate::keys::{fields_of, fields_read_by, join, to_table, toml_f64, write_keys, write_keys_noted};
@@ -482,6 +487,21 @@ impl Scenario {
         poll: impl FnMut() -> ControlFlow<B>,
     ) -> ControlFlow<B, RunResult> {
         let sim = self.sim();
+        // A rolling run of a robot whose tyre, caster or centre-of-mass height is given
+        // (by the scenario or its preset; wmr's defaults describe no real robot): what its
+        // wheels ask of the ground, at every logged sample.
+        let s = &self.setup;
+        let described = TRACTION_KEYS.iter().any(|k| self.origins.of("robot", k) != "default");
+        let rolling =
+            (described && !lp.plant().slips()).then(|| RollingTraction::new(&s.robot, &s.world, &s.traction_params));
+        let mut traction = TractionWatch::default();
+        let mut sink = sink;
+        let sink = |sample: &Sample<f64>| {
+            if let Some(rt) = &rolling {
+                traction.observe(sample.t, rt.ratio(&sample.state, sample.torque));
+            }
+            sink(sample)
+        };
         let result = match &self.tracking {
             None => {
                 lp.try_run(sim.n_steps(), sim.log_every(), sink, poll).map_continue(|o| RunResult::new(index, label, o))
@@ -494,7 +514,7 @@ impl Scenario {
         };
         result.map_continue(|r| {
             let drift = OdometryDrift::of(lp, &r.outcome);
-            r.with_odometry_drift(drift)
+            r.with_odometry_drift(drift).with_traction(traction)
         })
     }
 
@@ -575,7 +595,7 @@ impl Scenario {
         order.extend(fields_read_by(|probe| drive.deserialize_variant(probe).map(|_| ())));
         write_keys_noted(&mut o, &to_table(&drive), &order, noted("drive"));
         let _ = writeln!(o, "\n[controller]");
-        controller::write(&setup.controller, &mut o, noted("controller"));
+        controller::write_noted(&setup.controller, &drive, setup.model.params(), &mut o, noted("controller"));
         if setup.model != setup.robot {
             let _ = writeln!(o, "\n[controller.model]");
             write_keys(&mut o, &to_table(setup.model.params()), fields_of::<RobotParams<f64>>());

@@ -21,7 +21,10 @@ pub(crate) fn run<B>(
     poll: impl FnMut() -> ControlFlow<B>,
 ) -> ControlFlow<B, (Outcome<f64>, TrackingOutcome<f64>)> {
     let kind = if path_following { TrackingError::Path } else { TrackingError::Trajectory };
-    let mut watch = TrackingWatch::new(kind, sim.t_end(), tolerance);
+    let robot = lp.plant().robot().params();
+    let limit = lp.controller().wheels().wheel_speed_max();
+    let mut watch =
+        TrackingWatch::new(kind, sim.t_end(), tolerance).with_wheel_limit(robot.wheel_radius, robot.half_track, limit);
     let reference = lp.reference().clone();
     let every = u64::from(sim.log_every().max(1));
     // The inner run logs every step; the step index of each sample is its place in that
@@ -53,12 +56,14 @@ pub(crate) fn run<B>(
 
 /// The status of a run: the core's for a run towards a goal; for a tracking run
 /// (`tracking` given) diverged as the core says, else converged when the tracking error
-/// stayed below the tolerance over the last 10 % of t_end, else unsettled. The one rule
-/// for a scenario's runs and a sweep's.
+/// stayed below the tolerance over the last 10 % of t_end, else cannot_follow when the
+/// reference asked more than the robot can give ([`TrackingOutcome::cannot_follow`]),
+/// else unsettled. The one rule for a scenario's runs and a sweep's.
 pub(crate) fn status(outcome: &Outcome<f64>, tracking: Option<&TrackingOutcome<f64>>) -> Status {
     match (tracking, outcome.status()) {
         (_, Status::Diverged) => Status::Diverged,
         (Some(t), _) if t.within_tolerance() => Status::Converged,
+        (Some(t), _) if t.cannot_follow() => Status::CannotFollow,
         (Some(_), _) => Status::Unsettled,
         (None, s) => s,
     }

@@ -172,3 +172,52 @@ fn a_scenario_lists_the_files_it_read_with_the_key_naming_each() {
     let none = Scenario::from_toml_str(RUN, "s").unwrap();
     assert!(none.inputs().is_empty());
 }
+
+/// Issue 38, item 6: the Burger's XL430-W250 gears 258.5:1 (its datasheet; 257.4:1 is the
+/// 2XL430-W250's), with the DYNAMIXEL's published 1.4 N m / 1.3 A at the wheel
+/// unchanged; slip can be switched on for both TurtleBots with one key (a centre of mass
+/// with mu h <= |d|); a rolling run of the Burger says once that its wheels ask more of
+/// the ground than mu N, with the time and the ratio, and a slipping one does not.
+#[test]
+fn turtlebot_presets_are_physical_and_rolling_runs_say_when_traction_is_exceeded() {
+    let burger = Scenario::from_toml_str(&format!("[robot]\nfrom = \"turtlebot3_burger\"\n{RUN}"), "s").unwrap();
+    let gear = burger.robot().params().gear_ratio;
+    assert!((1.0 / gear - 258.5).abs() < 1e-3, "{}", 1.0 / gear);
+    match burger.drive() {
+        Drive::DcMotor(m) => {
+            let p = m.params();
+            // At the wheel: k_tau / k_t = 1.4 N m / 1.3 A, within the file's 4 digits.
+            assert!((p.torque_constant / gear - 1.4 / 1.3).abs() < 2e-4, "{}", p.torque_constant / gear);
+            // No-load speed at the wheel at 11.1 V: 57 rev/min.
+            let no_load = p.voltage_max * gear / p.back_emf_constant;
+            assert!((no_load - 57.0 * std::f64::consts::TAU / 60.0).abs() < 1e-3, "{no_load}");
+        }
+        other => panic!("{other:?}"),
+    }
+    for name in ["turtlebot3_burger", "turtlebot3_waffle"] {
+        // The light robots' stiff tyres need a finer step than the default 1 ms (the
+        // error of the default says so, naming sim.dt).
+        let text =
+            format!("[robot]\nfrom = \"{name}\"\ntraction = \"slip\"\n{}", RUN.replace("[sim]", "[sim]\ndt = 0.0001"));
+        let s = Scenario::from_toml_str(&text, name).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let r = s.run(0, |_| {}).unwrap();
+        assert!(!r.summary_line().contains("traction exceeded"), "{}", r.summary_line());
+    }
+    // The Burger's servos kick at the first control tick (Lyapunov, derived gains): 4.8
+    // times what a tyre holds, said once.
+    let run = "[sim]\nt_end = 1.0\n[[run]]\ngoal = { x = 1.0, y = 1.0, theta_deg = 120.0 }\n";
+    let burger = "[robot]\nfrom = \"turtlebot3_burger\"\n[controller]\nkind = \"lyapunov\"\n";
+    let r = Scenario::from_toml_str(&format!("{burger}{run}"), "tb").unwrap().run(0, |_| {}).unwrap();
+    let line = r.summary_line();
+    assert_eq!(line.matches("; traction exceeded: from t = ").count(), 1, "{line}");
+    // wmr's own robot says nothing unless its tyre, caster or G's height is given: its
+    // defaults describe no real robot (the paper's figures keep their summary lines).
+    let r = Scenario::from_toml_str(&format!("[controller]\nkind = \"lyapunov\"\n{run}"), "p").unwrap();
+    assert!(!r.run(0, |_| {}).unwrap().summary_line().contains("traction"));
+    let given = format!("[robot]\ncaster_offset = 0.35\n[controller]\nkind = \"lyapunov\"\n{run}");
+    let r = Scenario::from_toml_str(&given, "p").unwrap().run(0, |_| {}).unwrap();
+    assert!(r.summary_line().contains("traction exceeded"), "{}", r.summary_line());
+    let (t0, r0) = r.traction.first.expect("traction exceeded");
+    let (_, peak) = r.traction.peak.unwrap();
+    assert!(t0 < 0.1 && r0 > 1.0 && peak >= r0, "{:?}", r.traction);
+}

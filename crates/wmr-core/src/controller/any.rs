@@ -145,6 +145,10 @@ macro_rules! laws {
                 match self { $( AnyLaw::$variant(l) => l.anti_windup(), )+ }
             }
 
+            fn reaches_heading(&self) -> bool {
+                match self { $( AnyLaw::$variant(l) => l.reaches_heading(), )+ }
+            }
+
             fn holding(&self) -> T::Mask {
                 match self { $( AnyLaw::$variant(l) => l.holding(), )+ }
             }

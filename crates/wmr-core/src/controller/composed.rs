@@ -122,6 +122,11 @@ impl<T: Lane, L: Law<T>> Controller<T, L> {
         ControlOutput { command: self.wheels.command(out.demand, m), errors: out.errors }
     }
 
+    /// [`Law::reaches_heading`] of the law: whether its runs are judged on the heading too.
+    pub fn reaches_heading(&self) -> bool {
+        self.law.reaches_heading()
+    }
+
     /// The controller for a plant whose wheels slip (`on`) or roll: its wheel stage's
     /// speed guard then acts on a wheel's own inertia ([`WheelStage::with_slipping_wheels`]).
     pub fn with_slipping_wheels(mut self, on: bool) -> Self {

@@ -138,6 +138,16 @@ pub trait Law<T: Lane> {
         true
     }
 
+    /// True for a stabilization law built to bring the heading to the goal's too (its
+    /// Lyapunov function or its ordering includes it): its runs count as converged only
+    /// within [`crate::outcome::ARRIVAL_HEADING_RAD`] of the goal heading. False (the
+    /// default) for the paper's law, which leaves several degrees by design, for the
+    /// polar law, whose heading lags its distance, and for tracking laws (judged on their
+    /// tracking error).
+    fn reaches_heading(&self) -> bool {
+        false
+    }
+
     /// True when the last update was inside the law's hold: its memories no longer move
     /// and its demand stays the same while the measured pose stays in the hold. A law
     /// without a hold keeps the default, false, and its runs are never stopped early

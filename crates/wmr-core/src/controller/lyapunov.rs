@@ -105,6 +105,8 @@ impl<T: Real> super::law::LawSpec<T> for LyapunovParams<T> {
 }
 
 impl<T: Real> PolarGains<T> for LyapunovParams<T> {
+    const REACHES_HEADING: bool = true;
+
     fn check_gains(&self) -> Result<(), ParamError> {
         check::positive("gamma", self.gamma)?;
         check::positive("k", self.k)?;

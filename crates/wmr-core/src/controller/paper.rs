@@ -168,7 +168,7 @@ impl<T: Real> super::law::LawSpec<T> for PaperParams<T> {
 /// anti-windup `$aw` of the keys `$p`), `params` and the [`Law`] impl, whose update is the law's own
 /// `references` (wheel angle references, [`WheelDemand::Angles`]).
 macro_rules! outer_law {
-    ($(#[$doc:meta])* pub struct $law:ident($params:ident), anti_windup($p:ident) => $aw:expr;) => {
+    ($(#[$doc:meta])* pub struct $law:ident($params:ident), anti_windup($p:ident) => $aw:expr, reaches_heading $rh:expr;) => {
         $(#[$doc])*
         #[derive(Clone, Copy, Debug, PartialEq)]
         pub struct $law<T: Lane> {
@@ -229,6 +229,10 @@ macro_rules! outer_law {
             fn anti_windup(&self) -> bool {
                 self.outer.anti_windup
             }
+
+            fn reaches_heading(&self) -> bool {
+                $rh
+            }
         }
     };
 }
@@ -236,7 +240,7 @@ pub(crate) use outer_law;
 
 outer_law! {
     /// The paper's outer law. Implements [`Law`] with [`WheelDemand::Angles`].
-    pub struct PaperLaw(PaperParams), anti_windup(p) => p.anti_windup == AntiWindup::Conditional;
+    pub struct PaperLaw(PaperParams), anti_windup(p) => p.anti_windup == AntiWindup::Conditional, reaches_heading false;
 }
 
 impl<T: Lane> PaperLaw<T> {

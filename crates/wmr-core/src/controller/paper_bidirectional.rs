@@ -165,7 +165,7 @@ impl<T: Real> PaperBidirectionalParams<T> {
 
 outer_law! {
     /// The repaired paper law. Implements [`Law`] with [`WheelDemand::Angles`].
-    pub struct PaperBidirectionalLaw(PaperBidirectionalParams), anti_windup(_p) => true;
+    pub struct PaperBidirectionalLaw(PaperBidirectionalParams), anti_windup(_p) => true, reaches_heading true;
 }
 
 impl<T: Lane> PaperBidirectionalLaw<T> {

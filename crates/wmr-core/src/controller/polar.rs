@@ -114,6 +114,8 @@ impl<T: Real> super::law::LawSpec<T> for PolarParams<T> {
 }
 
 impl<T: Real> PolarGains<T> for PolarParams<T> {
+    const REACHES_HEADING: bool = false;
+
     fn check_gains(&self) -> Result<(), ParamError> {
         let k_rho = check::positive("k_rho", self.k_rho)?;
         let k_alpha = check::finite("k_alpha", self.k_alpha)?;

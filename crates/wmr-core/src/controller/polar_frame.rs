@@ -246,6 +246,8 @@ pub trait PolarGains<T: Real>: Copy {
     /// The twist (v in m/s, omega in rad/s) for the goal at `c` in the driving direction
     /// whose `sign` is +1 (forward) or -1 (backward), per lane for several runs.
     fn twist<L: Lane<Scalar = T>>(&self, sign: L, c: &PolarCoords<L>) -> Twist2<L>;
+    /// [`Law::reaches_heading`] for the law.
+    const REACHES_HEADING: bool;
 }
 
 /// A law in polar coordinates with gains `G`: stops within `goal_radius` of the goal
@@ -327,6 +329,10 @@ impl<T: Lane, G: PolarGains<T::Scalar>> Law<T> for PolarCoordinateLaw<T, G> {
         let errors = polar_errors(m.pose, r.pose);
         let twist = self.twist_at(m.pose, r.pose, errors.dl);
         LawOutput { demand: WheelDemand::Twist(twist), errors }
+    }
+
+    fn reaches_heading(&self) -> bool {
+        G::REACHES_HEADING
     }
 
     fn reset_lanes(&mut self, lanes: T::Mask) {

@@ -19,25 +19,53 @@ pub struct ServoGains<T> {
 }
 
 impl<T: Real> ServoGains<T> {
-    /// Torque-drive defaults: Kp = 14 N m/rad, Kd = 1.4 N m s/rad, Ki = 0, about
-    /// 20 rad/s of bandwidth on the wheel's share of the robot (M_r11 r^2 / 2 = 0.027 kg m^2).
+    /// The paper's robot's gains (torque drive): Kp = 14 N m/rad, Kd = 1.4 N m s/rad,
+    /// Ki = 0, about 20 rad/s of bandwidth on the wheel's share of the robot
+    /// (M_r11 r^2 / 2 = 0.027 kg m^2).
     pub fn torque_default() -> Self {
         Self { kp: T::lit(14.0), kd: T::lit(1.4), ki: T::zero() }
     }
 
-    /// DC-motor defaults for a motor of `torque_per_volt` b = k_tau / (R_a k_t) N m/V and
-    /// back-EMF damping `emf_damping` b k_e / k_t N m s/rad at the wheel: the torque-drive
-    /// defaults' stiffness and damping at the wheel, Kp = 14 / b V/rad and
-    /// Kd = max(1.4 - b k_e / k_t, 0) / b V s/rad (the motor's own back-EMF damps the wheel
-    /// already), Ki = 0. For the default motor (Pololu 37D through k_t = 0.1: b = 0.1717
-    /// N m/V, 0.098 N m s/rad) Kp = 81.5 and Kd = 7.58. Fixed gains for one motor left a
+    /// Torque-drive gains for a robot whose inertia at the wheel is `wheel_inertia`
+    /// J_w kg m^2 ([`crate::Robot::driven_wheel_inertia`]): the paper's robot's stiffness
+    /// and damping scaled by J_w / J_w,paper, Kp = 14 s N m/rad, Kd = 1.4 s N m s/rad,
+    /// s = J_w / J_w,paper (J_w,paper = 0.0328 kg m^2), Ki = 0. The bandwidth
+    /// sqrt(Kp / J_w) and the damping ratio stay the paper's on any robot; the paper's
+    /// robot gets exactly (bit for bit) [`ServoGains::torque_default`]. Fixed gains gave
+    /// a 120 kg robot the 5 kg robot's stiffness: its wheels could not hold the law's
+    /// references, and the Lyapunov law stopped 137 deg off the goal heading.
+    pub fn for_wheel_inertia(wheel_inertia: T) -> Self {
+        let scale = wheel_inertia / crate::Robot::<T>::paper().driven_wheel_inertia();
+        let paper = Self::torque_default();
+        Self { kp: paper.kp * scale, kd: paper.kd * scale, ki: T::zero() }
+    }
+
+    /// DC-motor gains giving the wheel the stiffness and damping of `torque` (N m/rad,
+    /// N m s/rad: [`ServoGains::for_wheel_inertia`]) through a motor of `torque_per_volt`
+    /// b = k_tau / (R_a k_t) N m/V and back-EMF damping `emf_damping` b k_e / k_t
+    /// N m s/rad at the wheel: Kp = Kp_tau / b V/rad and Kd = max(Kd_tau - b k_e / k_t, 0) / b
+    /// V s/rad (the motor's own back-EMF damps the wheel already), Ki = 0. Where the
+    /// back-EMF alone damps the wheel more than that (a small robot on a strong gear),
+    /// the servo is overdamped and its slow pole sits near Kp_tau / (b k_e / k_t): the
+    /// stiffness is then raised to at least (b k_e / k_t) w_b, w_b = sqrt(14 / J_w,paper)
+    /// = 20.7 rad/s the paper's servo bandwidth, so the wheel still follows within
+    /// 1 / w_b (the TurtleBot3 Burger's wheels, with 0.22 N m/rad against 0.23 N m s/rad
+    /// of back-EMF, lagged by a second and the Lyapunov law stopped 30 deg off). For the
+    /// default motor (Pololu 37D through k_t = 0.1: b = 0.1717 N m/V, 0.098 N m s/rad) on
+    /// the paper's robot Kp = 81.5 and Kd = 7.58. Fixed gains for one motor left a
     /// stronger or weaker motor's wheels several times too stiff or too soft (with the
     /// maxon's 14 and 1.1 the Pololu's wheels were a fifth as stiff: the polar and
     /// Lyapunov laws circled the goal).
-    pub fn for_dc_motor(torque_per_volt: T, emf_damping: T) -> Self {
-        let torque = Self::torque_default();
+    pub fn for_dc_motor(torque: Self, torque_per_volt: T, emf_damping: T) -> Self {
         let kd = (torque.kd - emf_damping).max(T::zero()) / torque_per_volt;
-        Self { kp: torque.kp / torque_per_volt, kd, ki: T::zero() }
+        let kp = torque.kp.max(emf_damping * Self::paper_bandwidth());
+        Self { kp: kp / torque_per_volt, kd, ki: T::zero() }
+    }
+
+    /// w_b = sqrt(Kp / J_w) of the paper's robot, rad/s (20.7): the bandwidth the derived
+    /// gains keep on any robot.
+    pub fn paper_bandwidth() -> T {
+        (Self::torque_default().kp / crate::Robot::<T>::paper().driven_wheel_inertia()).sqrt()
     }
 
     pub(crate) fn validate(self) -> Result<Self, ParamError> {

@@ -92,22 +92,29 @@ crate::params! {
 }
 
 impl<T: Real> WheelStageParams<T> {
-    /// The defaults for a drive on the controller's robot model (its gear ratio k_t):
-    /// with the torque drive the gains of [`ServoGains::torque_default`] and no speed
-    /// limit; with a DC motor the gains of [`ServoGains::for_dc_motor`] for that motor and
-    /// the speed limit at what it can deliver, its no-load speed at the wheel
+    /// The defaults for a drive on the controller's robot model (its inertia at the wheel
+    /// and its gear ratio k_t): with the torque drive the gains of
+    /// [`ServoGains::for_wheel_inertia`] (the paper's robot's stiffness and damping scaled
+    /// by the model's inertia at the wheel) and no speed limit; with a DC motor the same
+    /// stiffness and damping through [`ServoGains::for_dc_motor`] for that motor and the
+    /// speed limit at what it can deliver, its no-load speed at the wheel
     /// u_max k_t / k_e (rad/s; infinite without back-EMF). Faster references than that
-    /// only wind the servos up: the wheels cannot follow them.
+    /// only wind the servos up: the wheels cannot follow them. A model that does not
+    /// validate keeps the paper's gains (the controller refuses it later, naming the key).
     pub fn for_drive(drive: &DriveParams<T>, model: &RobotParams<T>) -> Self {
+        let torque = match model.validate() {
+            Ok(robot) => ServoGains::for_wheel_inertia(robot.driven_wheel_inertia()),
+            Err(_) => ServoGains::torque_default(),
+        };
         let (g, wheel_speed_max) = match drive {
-            DriveParams::Torque(_) => (ServoGains::torque_default(), T::infinity()),
+            DriveParams::Torque(_) => (torque, T::infinity()),
             DriveParams::DcMotor(m) => {
                 let k_t = model.gear_ratio;
                 let torque_per_volt = m.torque_constant / (m.armature_resistance * k_t);
                 let emf_per_wheel_speed = m.back_emf_constant / k_t;
                 let no_load =
                     if emf_per_wheel_speed > T::zero() { m.voltage_max / emf_per_wheel_speed } else { T::infinity() };
-                (ServoGains::for_dc_motor(torque_per_volt, torque_per_volt * emf_per_wheel_speed), no_load)
+                (ServoGains::for_dc_motor(torque, torque_per_volt, torque_per_volt * emf_per_wheel_speed), no_load)
             }
         };
         Self { servo_kp: g.kp, servo_kd: g.kd, servo_ki: g.ki, wheel_speed_max }
@@ -188,10 +195,7 @@ impl<T: Lane> WheelStage<T> {
         let limit = drive.command_limit();
         let servo = WheelServo::for_lanes(params.servo(), limit)?;
         let guard_gains = if Float::is_finite(wheel_speed_max) {
-            let (m11, m22) = model.validate()?.reduced_inertia();
-            let r = model.wheel_radius;
-            let big_r = model.half_track;
-            let wheel_inertia = r * r / (Float::recip(m11) + big_r * big_r / m22);
+            let wheel_inertia = model.validate()?.driven_wheel_inertia();
             let two_dt = <T::Scalar as Real>::lit(2.0) * control_dt;
             // A model without wheel inertia keeps the rolling gain when the wheels slip.
             let own =

@@ -107,7 +107,9 @@ pub struct PyRunResult {
     /// The run's label.
     #[pyo3(get)]
     label: String,
-    /// `"converged"` (final dl < 1 cm, not diverged), `"diverged"` or `"unsettled"` (neither).
+    /// `"converged"` (final dl < 1 cm, not diverged; within 5 deg of the goal heading for a
+    /// law built to reach it), `"diverged"`, `"unsettled"` (neither) or, for a tracking run
+    /// whose reference asks more than the robot can give, `"cannot_follow"`.
     #[pyo3(get)]
     status: &'static str,
     /// True when not diverged and the final dl < 1 cm.

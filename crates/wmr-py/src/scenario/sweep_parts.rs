@@ -31,7 +31,7 @@ pub fn sweep_plan(scenario: &Bound<'_, PyAny>) -> PyResult<(String, usize)> {
 }
 
 /// Values per run in the rows of `_sweep_part` (see `outcome_row`).
-pub const SWEEP_ROW_LEN: usize = 30;
+pub const SWEEP_ROW_LEN: usize = 36;
 const ROW_LEN: usize = SWEEP_ROW_LEN;
 
 /// One sweep outcome as floats (exact: indices below 2^53, f64 values as they are):
@@ -40,7 +40,10 @@ const ROW_LEN: usize = SWEEP_ROW_LEN;
 /// path length, energy; then the reference's index, 1 when the run has a tracking outcome
 /// (0: none, the 6 values after it NaN), and that outcome: RMS and max error over the last
 /// half, max over the last tenth, time to the tolerance (NaN: never), final error,
-/// tolerance.
+/// tolerance; then the outcome's heading tolerance (inf: the law is judged on the
+/// distance alone); last the tracking outcome's mean error over the first and the last
+/// tenth, the reference's peak wheel speed, the wheel speed limit and the time it was
+/// first passed (NaN: never; all NaN without a tracking outcome).
 fn outcome_row(o: &SweepOutcome) -> [f64; ROW_LEN] {
     let u = &o.outcome;
     let termination = f64::from(u.termination.code());
@@ -77,6 +80,12 @@ fn outcome_row(o: &SweepOutcome) -> [f64; ROW_LEN] {
         tr(|t| t.time_to_tolerance.unwrap_or(f64::NAN)),
         tr(|t| t.final_error),
         tr(|t| t.tolerance),
+        u.heading_tolerance,
+        tr(|t| t.mean_first_tenth),
+        tr(|t| t.mean_last_tenth),
+        tr(|t| t.reference_wheel_speed),
+        tr(|t| t.wheel_speed_limit),
+        tr(|t| t.over_limit_at.unwrap_or(f64::NAN)),
     ]
 }
 
@@ -98,6 +107,7 @@ fn row_outcome(r: &[f64]) -> Option<SweepOutcome> {
             goal: Pose2::new(r[13], r[14], r[15]),
             final_dl: r[16],
             final_heading_error: r[17],
+            heading_tolerance: r[30],
             time_to_arrival: (!r[18].is_nan()).then_some(r[18]),
             peak_wheel_speed: r[19],
             path_length: r[20],
@@ -113,6 +123,11 @@ fn row_outcome(r: &[f64]) -> Option<SweepOutcome> {
                 time_to_tolerance: (!r[27].is_nan()).then_some(r[27]),
                 final_error: r[28],
                 tolerance: r[29],
+                mean_first_tenth: r[31],
+                mean_last_tenth: r[32],
+                reference_wheel_speed: r[33],
+                wheel_speed_limit: r[34],
+                over_limit_at: (!r[35].is_nan()).then_some(r[35]),
             }),
             _ => return None,
         },

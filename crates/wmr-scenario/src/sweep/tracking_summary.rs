@@ -1,5 +1,5 @@
 //! The comparison of a sweep over references: per (law, reference), the shares of the
-//! three outcomes (converged: the tracking error stays below `sim.tracking_tolerance`
+//! four outcomes (converged: the tracking error stays below `sim.tracking_tolerance`
 //! over the last 10 % of t_end) and median and worst of the tracking figures over the
 //! runs that did not diverge, as values and as a table.
 
@@ -25,6 +25,9 @@ pub struct TrackingSummary {
     pub diverged: f64,
     /// Share of runs that are unsettled (0..1).
     pub unsettled: f64,
+    /// Share of runs whose reference asked more than the robot can give (0..1):
+    /// [`wmr_core::tracking::TrackingOutcome::cannot_follow`].
+    pub cannot_follow: f64,
     /// RMS of the tracking error over the last half of t_end, m, over the runs that did
     /// not diverge.
     pub rms_error: Spread,
@@ -55,6 +58,7 @@ pub fn tracking_summary(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<Trac
                 converged: share(Status::Converged),
                 diverged: share(Status::Diverged),
                 unsettled: share(Status::Unsettled),
+                cannot_follow: share(Status::CannotFollow),
                 rms_error: spread(alive.iter().map(|t| t.rms_last_half).collect()),
                 max_error: spread(alive.iter().map(|t| t.max_last_half).collect()),
                 time_to_tolerance: spread(converged.iter().map(|t| t.time_to_tolerance.unwrap_or(f64::NAN)).collect()),
@@ -64,7 +68,7 @@ pub fn tracking_summary(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<Trac
     rows
 }
 
-/// The comparison as aligned text, one line per (law, reference): the shares of the three
+/// The comparison as aligned text, one line per (law, reference): the shares of the four
 /// outcomes, then "median / worst" of the RMS and maximum error (mm) and of the time to
 /// the tolerance (s).
 pub fn tracking_summary_table(rows: &[TrackingSummary], tolerance_m: f64) -> String {
@@ -80,18 +84,28 @@ pub fn tracking_summary_table(rows: &[TrackingSummary], tolerance_m: f64) -> Str
     // The time to the tolerance, in s; the tolerance as written, in mm (0.01 m: `10 mm`).
     let tol = format!("s to {} mm", num((tolerance_m * 1e9).round() / 1e6));
     let mut out = format!(
-        "{:<w$} {:<wr$} {:>6} {:>10} {:>9} {:>10} {:>19} {:>19} {:>15}\n",
-        "law", "reference", "runs", "converged", "diverged", "unsettled", "RMS mm (med/max)", "max mm (med/max)", tol
+        "{:<w$} {:<wr$} {:>6} {:>10} {:>9} {:>10} {:>14} {:>19} {:>19} {:>15}\n",
+        "law",
+        "reference",
+        "runs",
+        "converged",
+        "diverged",
+        "unsettled",
+        "cannot_follow",
+        "RMS mm (med/max)",
+        "max mm (med/max)",
+        tol
     );
     for r in rows {
         out.push_str(&format!(
-            "{:<w$} {:<wr$} {:>6} {:>9.1}% {:>8.1}% {:>9.1}% {:>19} {:>19} {:>15}\n",
+            "{:<w$} {:<wr$} {:>6} {:>9.1}% {:>8.1}% {:>9.1}% {:>13.1}% {:>19} {:>19} {:>15}\n",
             r.law,
             r.reference,
             r.n,
             100.0 * r.converged,
             100.0 * r.diverged,
             100.0 * r.unsettled,
+            100.0 * r.cannot_follow,
             fmt(r.rms_error, 1000.0, 2),
             fmt(r.max_error, 1000.0, 2),
             fmt(r.time_to_tolerance, 1.0, 2),
