@@ -127,7 +127,8 @@ enum Command {
     Help {
         /// A subcommand, or `keys`.
         topic: Option<String>,
-        /// With `keys`: one table or section (robot, [robot], run, sweep, outputs, ...).
+        /// With `keys`: one table or section (robot, run, sweep, outputs, ...; a table's name
+        /// with or without its brackets).
         table: Option<String>,
     },
 }
