@@ -135,9 +135,15 @@ pub fn plot(scenario: &Scenario, file: &Path, dir: &Path) -> Result<Vec<String>>
             shown(file)
         )));
     }
+    into_prepared(dir, |written| plot_runs(scenario, dir, written))
+}
+
+/// Runs `draw` into folder `dir` prepared for it ([`prepare_dir`]): the names of the
+/// figures it wrote; when it fails, a folder this call created is removed with them.
+fn into_prepared(dir: &Path, draw: impl FnOnce(&mut Vec<String>) -> Result<()>) -> Result<Vec<String>> {
     let prepared = prepare_dir(dir)?;
     let mut written = Vec::new();
-    match plot_runs(scenario, dir, &mut written) {
+    match draw(&mut written) {
         Ok(()) => {
             prepared.done();
             Ok(written)
@@ -191,18 +197,7 @@ pub const MAX_COMPARED_STARTS: usize = 12;
 /// For a `[sweep]` (no `[[run]]`): `compare-start<k>.svg` per start, the path of every law
 /// from that start (the sweep's first variant and trial), one colour per law.
 fn plot_sweep(scenario: &Scenario, spec: &wmr_scenario::SweepSpec, dir: &Path) -> Result<Vec<String>> {
-    let prepared = prepare_dir(dir)?;
-    let mut written = Vec::new();
-    match plot_sweep_into(scenario, spec, dir, &mut written) {
-        Ok(()) => {
-            prepared.done();
-            Ok(written)
-        }
-        Err(e) => {
-            prepared.abandon(&written);
-            Err(e)
-        }
-    }
+    into_prepared(dir, |written| plot_sweep_into(scenario, spec, dir, written))
 }
 
 /// The figures of [`plot_sweep`] into `dir`, each name pushed to `written` once written.
