@@ -1194,8 +1194,8 @@ wmr_status wmr_sensor_f32_reset(wmr_sensor_f32 *sensor);
 
 // A circle at constant speed (the `[reference] kind = "circle"` keys): centre (m, m;
 // theta unused), radius (m, > 0), speed (m/s, nonzero: > 0 counter-clockwise) and phase
-// (rad, the angle of C_ref - centre at t = 0). Checked like the scenario's keys; `err`
-// (may be NULL) names the field.
+// (rad, the angle of C_ref - centre at t = 0). Checked like the scenario's keys, the
+// whole circle inside the 1 km box; `err` (may be NULL) names the field.
 wmr_status wmr_reference_f32_init_circle(wmr_reference_f32 *out,
                                          wmr_pose_f32 center,
                                          float radius,
@@ -1204,7 +1204,7 @@ wmr_status wmr_reference_f32_init_circle(wmr_reference_f32 *out,
                                          wmr_error *err);
 
 // A figure-eight (`kind = "figure_eight"`): centre (m, m; theta unused), width and
-// height (m, > 0) and period (s, > 0).
+// height (m, > 0) and period (s, > 0), the whole figure inside the 1 km box.
 wmr_status wmr_reference_f32_init_figure_eight(wmr_reference_f32 *out,
                                                wmr_pose_f32 center,
                                                float width,
@@ -1249,7 +1249,9 @@ wmr_status wmr_reference_f32_init_waypoints_in(wmr_reference_f32 *out,
 
 // The state of the reference point at time `t` (s): pose (m, m, rad), twist (m/s,
 // rad/s) and acceleration (m/s^2, rad/s^2), what `_update_reference` takes: the same
-// bits as the scenario's x_ref ... omega_ref columns.
+// bits as the scenario's x_ref ... omega_ref columns. A state that is not finite, or
+// whose pose is outside the 1 km box where C can be (a line at 1e300 m/s), is refused
+// (`WMR_NOT_FINITE`, `WMR_OUT_OF_RANGE`) and `out` left untouched.
 wmr_status wmr_reference_f32_state_at(const wmr_reference_f32 *reference,
                                       float t,
                                       wmr_reference_state_f32 *out);
@@ -1712,8 +1714,8 @@ wmr_status wmr_sensor_f64_reset(wmr_sensor_f64 *sensor);
 
 // A circle at constant speed (the `[reference] kind = "circle"` keys): centre (m, m;
 // theta unused), radius (m, > 0), speed (m/s, nonzero: > 0 counter-clockwise) and phase
-// (rad, the angle of C_ref - centre at t = 0). Checked like the scenario's keys; `err`
-// (may be NULL) names the field.
+// (rad, the angle of C_ref - centre at t = 0). Checked like the scenario's keys, the
+// whole circle inside the 1 km box; `err` (may be NULL) names the field.
 wmr_status wmr_reference_f64_init_circle(wmr_reference_f64 *out,
                                          wmr_pose_f64 center,
                                          double radius,
@@ -1722,7 +1724,7 @@ wmr_status wmr_reference_f64_init_circle(wmr_reference_f64 *out,
                                          wmr_error *err);
 
 // A figure-eight (`kind = "figure_eight"`): centre (m, m; theta unused), width and
-// height (m, > 0) and period (s, > 0).
+// height (m, > 0) and period (s, > 0), the whole figure inside the 1 km box.
 wmr_status wmr_reference_f64_init_figure_eight(wmr_reference_f64 *out,
                                                wmr_pose_f64 center,
                                                double width,
@@ -1767,7 +1769,9 @@ wmr_status wmr_reference_f64_init_waypoints_in(wmr_reference_f64 *out,
 
 // The state of the reference point at time `t` (s): pose (m, m, rad), twist (m/s,
 // rad/s) and acceleration (m/s^2, rad/s^2), what `_update_reference` takes: the same
-// bits as the scenario's x_ref ... omega_ref columns.
+// bits as the scenario's x_ref ... omega_ref columns. A state that is not finite, or
+// whose pose is outside the 1 km box where C can be (a line at 1e300 m/s), is refused
+// (`WMR_NOT_FINITE`, `WMR_OUT_OF_RANGE`) and `out` left untouched.
 wmr_status wmr_reference_f64_state_at(const wmr_reference_f64 *reference,
                                       double t,
                                       wmr_reference_state_f64 *out);

@@ -259,8 +259,8 @@ pub unsafe extern "C" fn wmr_sensor_f64_reset(sensor: *mut wmr_sensor_f64) -> wm
 
 /// A circle at constant speed (the `[reference] kind = "circle"` keys): centre (m, m;
 /// theta unused), radius (m, > 0), speed (m/s, nonzero: > 0 counter-clockwise) and phase
-/// (rad, the angle of C_ref - centre at t = 0). Checked like the scenario's keys; `err`
-/// (may be NULL) names the field.
+/// (rad, the angle of C_ref - centre at t = 0). Checked like the scenario's keys, the
+/// whole circle inside the 1 km box; `err` (may be NULL) names the field.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_reference_f64_init_circle(
     out: *mut wmr_reference_f64,
@@ -274,7 +274,7 @@ pub unsafe extern "C" fn wmr_reference_f64_init_circle(
 }
 
 /// A figure-eight (`kind = "figure_eight"`): centre (m, m; theta unused), width and
-/// height (m, > 0) and period (s, > 0).
+/// height (m, > 0) and period (s, > 0), the whole figure inside the 1 km box.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_reference_f64_init_figure_eight(
     out: *mut wmr_reference_f64,
@@ -342,7 +342,9 @@ pub unsafe extern "C" fn wmr_reference_f64_init_waypoints_in(
 
 /// The state of the reference point at time `t` (s): pose (m, m, rad), twist (m/s,
 /// rad/s) and acceleration (m/s^2, rad/s^2), what `_update_reference` takes: the same
-/// bits as the scenario's x_ref ... omega_ref columns.
+/// bits as the scenario's x_ref ... omega_ref columns. A state that is not finite, or
+/// whose pose is outside the 1 km box where C can be (a line at 1e300 m/s), is refused
+/// (`WMR_NOT_FINITE`, `WMR_OUT_OF_RANGE`) and `out` left untouched.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_reference_f64_state_at(
     reference: *const wmr_reference_f64,

@@ -1127,6 +1127,8 @@ pub fn reference_init_circle<T: Prec>(
     guard(err, || {
         in_box(["center.x", "center.y"], center.x, center.y)?;
         let c = Circle::new(center.x, center.y, radius, speed, phase)?;
+        // The whole circle inside the box, as on the scenario path (issue 39 item 14).
+        reaches_within("radius", center.x.abs().max(center.y.abs()) + radius, radius)?;
         put(out, "out", CReference::Circle(c))
     })
 }
@@ -1142,6 +1144,8 @@ pub fn reference_init_figure_eight<T: Prec>(
     guard(err, || {
         in_box(["center.x", "center.y"], center.x, center.y)?;
         let f = FigureEight::new(center.x, center.y, width, height, period)?;
+        reaches_within("width", center.x.abs() + width / T::lit(2.0), width)?;
+        reaches_within("height", center.y.abs() + height / T::lit(2.0), height)?;
         put(out, "out", CReference::FigureEight(f))
     })
 }
@@ -1156,6 +1160,19 @@ pub fn reference_init_line<T: Prec>(
         in_box(["start.x", "start.y"], start.x, start.y)?;
         put(out, "out", CReference::Line(Line::new(pose(start), speed)?))
     })
+}
+
+/// A figure that reaches `reach` m from the origin along an axis stays inside the box;
+/// else refused at `field` (its value `value`).
+fn reaches_within<T: Real>(field: &'static str, reach: T, value: T) -> Result<(), Fail> {
+    if reach > T::lit(wmr_core::plant::DIVERGENCE_BOX_M) {
+        return Err(Fail::out_of_range(
+            field,
+            "takes the reference outside the plant's 1 km box (|x|, |y| <= 1000 m)",
+            value.to_f64_lossless(),
+        ));
+    }
+    Ok(())
 }
 
 /// The `n` points at `points`, checked: not NULL, aligned, each inside the box.
@@ -1256,6 +1273,9 @@ pub fn reference_state_at<T: Prec>(
             accel: wmr_accel { v: s.accel.v, omega: s.accel.omega },
         };
         finite_output(&reference_fields!("out", value))?;
+        // A reference state where C cannot be (a line at 1e300 m/s) is refused, `out`
+        // untouched (issue 39 item 14).
+        in_box(["out.pose.x", "out.pose.y"], s.pose.x, s.pose.y)?;
         write(out, "out", value)
     })
 }

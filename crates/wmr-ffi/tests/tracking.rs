@@ -579,3 +579,45 @@ fn regression_38_9_a_recorded_path_of_2000_points_in_caller_storage() {
     let reason = unsafe { std::ffi::CStr::from_ptr(e.reason.as_ptr()) }.to_string_lossy().into_owned();
     assert!(reason.contains("64") && reason.contains("_init_waypoints_in"), "{reason}");
 }
+
+/// Issue 39 item 14: a circle of radius 1e300 and a line at 1e300 m/s around a centre
+/// inside the box returned `WMR_OK`, then poses of 1e300 m. The circle and the
+/// figure-eight are refused at init by the key that takes them out of the 1 km box; a
+/// state outside it is refused by `_state_at`, `out` untouched (a line's reach depends
+/// on the time asked).
+#[test]
+fn regression_39_14_references_stay_inside_the_box_in_c() {
+    let mut e = new_err();
+    let c = wmr_pose { x: 0.0, y: 0.0, theta: 0.0 };
+    // SAFETY: valid pointers throughout.
+    unsafe {
+        let mut r = MaybeUninit::<wmr_reference_f64>::uninit();
+        let status = wmr_reference_f64_init_circle(r.as_mut_ptr(), c, 1e300, 0.3, 0.0, &mut e);
+        assert_eq!(status, wmr_status::WMR_OUT_OF_RANGE);
+        assert_eq!(field(&e), "radius");
+        let near = wmr_pose { x: 999.0, y: 0.0, theta: 0.0 };
+        let status = wmr_reference_f64_init_circle(r.as_mut_ptr(), near, 2.0, 0.3, 0.0, &mut e);
+        assert_eq!(status, wmr_status::WMR_OUT_OF_RANGE);
+        assert_eq!(field(&e), "radius");
+        for (w, h, key) in [(1e300, 1.0, "width"), (2.0, 1e300, "height")] {
+            let status = wmr_reference_f64_init_figure_eight(r.as_mut_ptr(), c, w, h, 30.0, &mut e);
+            assert_eq!(status, wmr_status::WMR_OUT_OF_RANGE, "{key}");
+            assert_eq!(field(&e), key);
+        }
+        // Inside the box: accepted, as before.
+        assert_eq!(wmr_reference_f64_init_circle(r.as_mut_ptr(), c, 1.0, 0.3, 0.0, &mut e), wmr_status::WMR_OK);
+        let mut f = MaybeUninit::<wmr_reference_f32>::uninit();
+        let c32 = wmr_pose { x: 0.0f32, y: 0.0, theta: 0.0 };
+        let status = wmr_reference_f32_init_circle(f.as_mut_ptr(), c32, 1e30, 0.3, 0.0, &mut e);
+        assert_eq!(status, wmr_status::WMR_OUT_OF_RANGE);
+        assert_eq!(field(&e), "radius");
+        // A line at 1e300 m/s: its start is in the box, its state at t = 1 s is not.
+        assert_eq!(wmr_reference_f64_init_line(r.as_mut_ptr(), c, 1e300, &mut e), wmr_status::WMR_OK);
+        let r = r.assume_init();
+        let mut s = wmr_reference_state::default();
+        assert_eq!(wmr_reference_f64_state_at(&r, 0.0, &mut s), wmr_status::WMR_OK);
+        let before = s;
+        assert_eq!(wmr_reference_f64_state_at(&r, 1.0, &mut s), wmr_status::WMR_OUT_OF_RANGE);
+        assert_eq!(s.pose.x.to_bits(), before.pose.x.to_bits(), "out untouched");
+    }
+}
