@@ -60,10 +60,10 @@ impl<T: Real> RobotParams<T> {
     /// I_p + m d^2 must be > 0; I_m, I_p, b_v and tau_c must be >= 0.
     pub fn validate(self) -> Result<Robot<T>, ParamError> {
         let m = check::positive("mass", self.mass)?;
-        let r = check::positive("wheel_radius", self.wheel_radius)?;
-        let big_r = check::positive("half_track", self.half_track)?;
+        check::positive("wheel_radius", self.wheel_radius)?;
+        check::positive("half_track", self.half_track)?;
         let d = check::finite("com_offset", self.com_offset)?;
-        let i_m = check::non_negative("wheel_inertia", self.wheel_inertia)?;
+        check::non_negative("wheel_inertia", self.wheel_inertia)?;
         let i_p = check::non_negative("platform_inertia", self.platform_inertia)?;
         check::positive("gear_ratio", self.gear_ratio)?;
         check::non_negative("viscous_friction", self.viscous_friction)?;
@@ -77,11 +77,21 @@ impl<T: Real> RobotParams<T> {
                 i_p,
             ));
         }
+        Ok(self.derived())
+    }
+
+    /// The robot of these values with the inertias of (15) derived, unchecked: what
+    /// [`RobotParams::validate`] returns once its checks pass. No panic path, so the
+    /// paper's robot is built without one on a Cortex-M (firmware/check).
+    fn derived(self) -> Robot<T> {
+        let (m, r, big_r, d) = (self.mass, self.wheel_radius, self.half_track, self.com_offset);
+        let (i_m, i_p) = (self.wheel_inertia, self.platform_inertia);
+        let yaw_inertia_g = i_p + m * d * d;
         let two = T::lit(2.0);
         // Reduced inertia of (15): wheel/rotor inertia reflected to (v, omega).
         let m11 = m + two * i_m / (r * r);
         let m22 = yaw_inertia_g + two * big_r * big_r * i_m / (r * r);
-        Ok(Robot { params: self, m11, m22, inv_m11: m11.recip(), inv_m22: m22.recip(), md: m * d })
+        Robot { params: self, m11, m22, inv_m11: m11.recip(), inv_m22: m22.recip(), md: m * d }
     }
 }
 
@@ -138,12 +148,21 @@ impl<T: Real> Robot<T> {
         self.md
     }
 
-    /// The paper's robot, already validated.
+    /// The paper's robot, already validated (its constants pass
+    /// [`RobotParams::validate`]: a test checks it gives this very robot).
     pub fn paper() -> Self {
-        match RobotParams::paper().validate() {
-            Ok(robot) => robot,
-            // The paper's constants are positive and finite.
-            Err(_) => unreachable!("paper defaults are valid"),
-        }
+        RobotParams::paper().derived()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Robot, RobotParams};
+
+    /// `Robot::paper` skips the checks (no panic path): they pass, and give the same robot.
+    #[test]
+    fn the_papers_robot_is_the_validated_one() {
+        assert_eq!(RobotParams::<f64>::paper().validate(), Ok(Robot::<f64>::paper()));
+        assert_eq!(RobotParams::<f32>::paper().validate(), Ok(Robot::<f32>::paper()));
     }
 }
