@@ -153,6 +153,7 @@ def test_progress_without_tqdm_warns_and_runs(monkeypatch: pytest.MonkeyPatch) -
 
     monkeypatch.setitem(sys.modules, "tqdm", None)
     monkeypatch.setitem(sys.modules, "tqdm.auto", None)
+    monkeypatch.setitem(sys.modules, "tqdm.std", None)
     with pytest.warns(UserWarning, match="tqdm"):
         res = wmr_py.run_batch(starts(3), (0, 0, 0), t_end=1.0, progress=True)
     assert len(res) == 3

@@ -221,8 +221,10 @@ def test_bad_references_are_named() -> None:
         wmr_py.simulate((0, 0, 0), (1, 1, 0), reference=CIRCLE, controller={"kind": "kanayama"})
     assert e.value.key == "run[0].goal"
     with pytest.raises(wmr_py.ScenarioError) as e:
-        wmr_py.simulate((0, 0, 0), reference=CIRCLE)
+        wmr_py.simulate((0, 0, 0), reference=CIRCLE, controller={"kind": "paper"})
     assert e.value.key == "controller.kind"
+    # A reference without a law is followed by the registry's first tracking law (issue 40).
+    assert len(wmr_py.simulate((0, 0, 0), reference=CIRCLE, t_end=0.1)["x"]) > 0
     with pytest.raises(wmr_py.ScenarioError) as e:
         wmr_py.simulate((0, 0, 0), (1, 1, 0), controller={"kind": "kanayama"})
     assert e.value.key == "controller.kind"
@@ -310,7 +312,9 @@ def test_sweep_over_references_is_the_clis(tmp_path: pathlib.Path) -> None:
     status = np.where(res.converged, "converged", np.where(res.diverged, "diverged", "unsettled"))
     for i, row in enumerate(rows):
         assert (res.law[i], res.reference[i], int(res.start[i])) == (row["law"], row["reference"], int(row["start"]))
-        assert status[i] == row["status"], i
+        # The sweep's arrays say converged and diverged; a run the CLI calls cannot_follow
+        # (issue 38) is neither, as unsettled is.
+        assert status[i] == row["status"].replace("cannot_follow", "unsettled"), i
         for name in ("rms_error", "max_error", "final_error"):
             assert res[name][i] == float(row[f"{name}_m"]), (i, name)
         ttt = row["time_to_tolerance_s"]

@@ -105,7 +105,7 @@ pub fn write(params: &ControllerParams<f64>, out: &mut String, note: impl Fn(&st
 
 /// [`write`] for `wmr-cli check`: each key noted by `note` (where its value came from),
 /// except the wheel stage's keys at the value the drive and the controller's robot
-/// `model` derive, noted with the rule ([`derived_note`]).
+/// `model` derive, noted with the rule ([`derived_note`]) and commented out.
 pub fn write_noted(
     params: &ControllerParams<f64>,
     drive: &DriveParams<f64>,
@@ -115,10 +115,19 @@ pub fn write_noted(
 ) {
     let derived = to_table(&WheelStageParams::for_drive(drive, model));
     let wheels = to_table(&params.wheels);
-    write(params, out, |k| {
-        let rule = derived.contains_key(k) && derived.get(k) == wheels.get(k);
-        rule.then(|| derived_note(k, drive, model)).flatten().or_else(|| note(k))
-    });
+    let rule = |k: &str| derived.contains_key(k) && derived.get(k) == wheels.get(k);
+    let mut own = String::new();
+    write(params, &mut own, |k| rule(k).then(|| derived_note(k, drive, model)).flatten().or_else(|| note(k)));
+    // A derived key is written commented out: read back, it is derived again from the run's
+    // drive and model (a sweep that varies controller.model re-derives its gains; a value
+    // written out would hold them fixed).
+    for line in own.lines() {
+        let key = line.split(" = ").next().unwrap_or_default();
+        let commented = rule(key) && derived_note(key, drive, model).is_some();
+        out.push_str(if commented { "# " } else { "" });
+        out.push_str(line);
+        out.push('\n');
+    }
 }
 
 /// The rule a derived wheel-stage default follows ([`WheelStageParams::for_drive`]), with

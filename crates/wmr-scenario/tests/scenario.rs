@@ -231,7 +231,7 @@ random = { n = 6, seed = 38, radius = 1.5 }
         .replace("[sweep]", "[controller]\nkind = \"lyapunov\"\n[[run]]");
     let single = single.replace("random = { n = 6, seed = 38, radius = 1.5 }\n", "");
     let checked = Scenario::from_toml_str(&single, "one").unwrap().to_toml();
-    let kp = checked.lines().find(|l| l.starts_with("servo_kp = ")).unwrap();
+    let kp = checked.lines().find(|l| l.trim_start_matches("# ").starts_with("servo_kp = ")).unwrap();
     assert!(kp.contains("# derived: max(14 N m/rad x J_w / 0.0328 kg m^2 (J_w = 0.5982 kg m^2"), "{kp}");
     assert!(sc.to_toml().lines().filter(|l| l.starts_with("  { kind")).all(|l| !l.contains('#')), "{}", sc.to_toml());
 }

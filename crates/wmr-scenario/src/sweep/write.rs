@@ -27,8 +27,12 @@ impl SweepSpec {
         }
         let _ = writeln!(out, "controllers = [");
         for (_, setup) in &self.laws {
-            let mut table = String::new();
-            controller_table::write(&setup.controller, &mut table, |_| None);
+            // Derived wheel-stage keys left out (written commented, then dropped): each run
+            // derives them again from its own drive and model, as a `vary` on them needs.
+            let mut noted = String::new();
+            let drive = setup.drive.params();
+            controller_table::write_noted(&setup.controller, &drive, setup.model.params(), &mut noted, |_| None);
+            let mut table: String = noted.lines().filter(|l| !l.starts_with('#')).map(|l| format!("{l}\n")).collect();
             if setup.model != setup.robot {
                 let mut model = String::new();
                 crate::keys::write_keys(&mut model, &crate::keys::to_table(setup.model.params()), &[]);
