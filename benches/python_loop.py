@@ -78,7 +78,7 @@ def main() -> int:
     # not). Runs run_batch calls diverged stopped there (they left the 1 km box); the
     # Python loop does not stop, so they are left out.
     kept = ~batch["diverged"]
-    ref = np.column_stack([batch["final_x"], batch["final_y"], batch["final_theta"]])[kept]
+    ref = np.column_stack([batch["final_x_m"], batch["final_y_m"], np.radians(batch["final_theta_deg"])])[kept]
     err = np.max(np.abs(final[kept, :3] - ref), axis=1)
     err[~np.isfinite(err)] = np.inf
     n = int(kept.sum())

@@ -5,6 +5,7 @@
 //! the crate whose file it writes, so a new law can be generated before that crate
 //! compiles again.
 
+pub mod docs_outcomes;
 pub mod ffi_laws;
 pub mod firmware_costs;
 pub mod python_laws;
@@ -29,8 +30,13 @@ pub fn repo_root() -> PathBuf {
 
 /// Every generated file, in a fixed order.
 pub fn generated() -> Vec<Generated> {
-    let mut out =
-        vec![ffi_laws::generate(), python_laws::laws_module(), python_laws::init_module(), python_stubs::native_stub()];
+    let mut out = vec![
+        ffi_laws::generate(),
+        python_laws::laws_module(),
+        python_laws::init_module(),
+        python_stubs::native_stub(),
+        docs_outcomes::generate(),
+    ];
     out.extend(firmware_costs::generate());
     out
 }

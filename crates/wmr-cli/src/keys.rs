@@ -4,8 +4,9 @@
 
 use std::fmt::Write as _;
 
+use wmr_core::OUTCOME_FIELDS;
 use wmr_scenario::keys::{toml_scalar, toml_scalar_rounded};
-use wmr_scenario::{SchemaKey, schema};
+use wmr_scenario::{ColumnGroup, SchemaKey, schema, sweep_columns, tracking_sweep_columns};
 
 use crate::foxglove_topics::{Kind, Schemas};
 
@@ -80,21 +81,16 @@ const SWEEP: &str = r#"[sweep]                        wmr-cli sweep: every law f
                                exactly one of grid (m, deg) and random (m; heading uniform)
 "#;
 
-const OUTPUTS_HEAD: &str = r#"OUTPUTS
-  CSV:  run,t,x,y,theta,v,omega,phi_r,phi_l,omega_r,omega_l,tau_r,tau_l,e_s,e_theta,dl
-        one row per run and sample (t = 0, every log_dt, and the last); SI units, radians.
-"#;
+const OUTPUTS_HEAD: &str = "OUTPUTS\n";
 
-const OUTPUTS_TAIL: &str = r#"  Summary (stdout, one line per run): label, final dl (m), final heading error (deg),
+const OUTPUTS_SUMMARY: &str = r#"  Summary (stdout, one line per run): label, final dl (m), final heading error (deg),
         time from which dl < 1 cm (s or "never"), converged / diverged / unsettled.
         Converged = not diverged and final dl < 1 cm (and |heading error| <= 5 deg for
         lyapunov and paper_bidirectional); unsettled = neither by t_end; a tracking run
         whose reference asks more than the robot can give: cannot_follow.
-  sweep: CSV law,start,x0,y0,theta0_deg,status,time_to_1cm_s,final_dl_m,
-        final_heading_error_deg,peak_wheel_speed_rad_s,path_length_m,energy_j; a comparison
-        table on stdout; --plots DIR: region-<law>.svg per law; --fast: runs in SIMD
-        lanes, not bit-identical (docs/scenario.md, "The fast path").
-  plot:  DIR/paths.svg, DIR/run<i>-wheel-speeds.svg, DIR/run<i>-errors.svg.
+"#;
+
+const OUTPUTS_TAIL: &str = r#"  plot:  DIR/paths.svg, DIR/run<i>-wheel-speeds.svg, DIR/run<i>-errors.svg.
 
 A diverged run (state not finite, or C outside a 1 km box) keeps its rows up to that
 point, is reported as diverged, and the exit code stays 0. Bad input exits with 2 and
@@ -103,6 +99,32 @@ with 1; SIGINT, SIGTERM and SIGHUP leave OUT as it was. OUT may be `-` (stdout),
 or a FIFO (streamed); its directory must exist. Limits: 16 MiB per file, 1e11 plant steps
 per scenario, starts and goals within 1000 m. Full reference: docs/scenario.md
 "#;
+
+/// The run CSV's columns, one line per group ([`ColumnGroup::ALL`]) with the runs that
+/// carry it.
+fn push_run_csv(out: &mut String) {
+    out.push_str("  CSV:  one row per run and sample (t = 0, every log_dt, and the last); SI units, radians:\n");
+    for g in ColumnGroup::ALL {
+        let names =
+            if g == ColumnGroup::Sample { format!("run, {}", g.names().join(", ")) } else { g.names().join(", ") };
+        push_line(out, &format!("        {}", g.name()), &format!("{names} ({})", g.carried_by()));
+    }
+}
+
+/// The sweep CSVs' columns and every outcome field with its unit and meaning, from the
+/// table of outcome fields ([`OUTCOME_FIELDS`]).
+fn push_sweep(out: &mut String) {
+    push_line(out, "  sweep: CSV", &sweep_columns().join(", "));
+    push_line(out, "        over references", &tracking_sweep_columns().join(", "));
+    out.push_str(
+        "        then one column per varied key; a comparison table on stdout; --plots DIR:\n        \
+         region-<law>.svg per law; --fast: runs in SIMD lanes, not bit-identical\n        \
+         (docs/scenario.md, \"The fast path\"). The outcome fields (also Python's):\n",
+    );
+    for f in &OUTCOME_FIELDS {
+        push_line(out, &format!("        {}", f.name), f.doc);
+    }
+}
 
 /// Appends `head` padded to [`TEXT_COLUMN`] and `text` wrapped at [`WIDTH`].
 fn push_line(out: &mut String, head: &str, text: &str) {
@@ -218,7 +240,10 @@ pub fn sections() -> Vec<(&'static str, String)> {
     out.extend(TABLES.iter().map(|(table, note)| (*table, table_section(table, note, &keys))));
     out.extend([("sim", SIM.to_owned()), ("run", RUN.to_owned()), ("sweep", SWEEP.to_owned())]);
     let mut outputs = String::from(OUTPUTS_HEAD);
+    push_run_csv(&mut outputs);
     push_topics(&mut outputs);
+    outputs.push_str(OUTPUTS_SUMMARY);
+    push_sweep(&mut outputs);
     outputs.push_str(OUTPUTS_TAIL);
     out.push(("outputs", outputs));
     out

@@ -10,8 +10,8 @@ use wmr_scenario::robustness::{
     ShareCurve, drift_curves, drift_table, share_curves, share_table, varied_columns, varied_row,
 };
 use wmr_scenario::{
-    SWEEP_COLUMNS, Scenario, SweepOutcome, SweepSpec, TRACKING_SWEEP_COLUMNS, shown, summarize, summary_table,
-    sweep_row, tracking_summary, tracking_summary_table, tracking_sweep_row,
+    Scenario, SweepOutcome, SweepSpec, shown, summarize, summary_table, sweep_columns, sweep_row, tracking_summary,
+    tracking_summary_table, tracking_sweep_columns, tracking_sweep_row,
 };
 
 use crate::atomic::{Output, write_text};
@@ -173,14 +173,14 @@ fn write_csv(spec: &SweepSpec, outcomes: &[SweepOutcome], out: Output) -> Result
         let mut w = csv::Writer::from_writer(std::io::BufWriter::new(out.writer()?));
         // One column per varied key after the outcome columns (none without `vary`).
         if spec.tracking.is_some() {
-            w.write_record(TRACKING_SWEEP_COLUMNS.iter().map(|c| c.to_string()).chain(varied_columns(spec)))?;
+            w.write_record(tracking_sweep_columns().into_iter().map(|c| c.to_string()).chain(varied_columns(spec)))?;
             for o in outcomes {
                 let row = tracking_sweep_row(spec, o)
                     .context("a run of a sweep over references without its tracking outcome")?;
                 w.write_record(row.into_iter().chain(varied_row(spec, o)))?;
             }
         } else {
-            w.write_record(SWEEP_COLUMNS.iter().map(|c| c.to_string()).chain(varied_columns(spec)))?;
+            w.write_record(sweep_columns().into_iter().map(|c| c.to_string()).chain(varied_columns(spec)))?;
             for o in outcomes {
                 w.write_record(sweep_row(spec, o).into_iter().chain(varied_row(spec, o)))?;
             }

@@ -59,6 +59,7 @@ pub mod math;
 #[cfg(feature = "nalgebra")]
 pub mod nalgebra_interop;
 pub mod outcome;
+pub mod outcome_fields;
 mod params;
 pub mod plant;
 mod real;
@@ -90,6 +91,7 @@ pub use drive::{DcMotorParams, Drive, DriveParams, TorqueDriveParams};
 pub use error::{ParamError, Reason};
 pub use math::{Pose2, Twist2, Wheels, wrap_angle};
 pub use outcome::{ARRIVAL_HEADING_RAD, ARRIVAL_RADIUS_M, Outcome, Status, Termination};
+pub use outcome_fields::{FieldGroup, OUTCOME_FIELDS, OutcomeField};
 pub use params::{Robot, RobotParams};
 pub use plant::Plant;
 pub use real::Real;

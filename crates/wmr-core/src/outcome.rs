@@ -123,8 +123,9 @@ pub struct Outcome<T> {
     pub peak_wheel_speed: T,
     /// Path length of C, m: int |v| dt.
     pub path_length: T,
-    /// Mechanical energy the drives put into the wheels, J: int (|tau_r omega_r| + |tau_l omega_l|) dt.
-    pub energy: T,
+    /// Work of both drives on their wheels, J: int (|tau_r omega_r| + |tau_l omega_l|) dt.
+    /// Braking counts as positive work: this is the effort spent, not the energy drawn.
+    pub abs_work: T,
 }
 
 impl<T: Real> Outcome<T> {
@@ -153,7 +154,7 @@ pub struct Metrics<T: Lane> {
     arrived_since: T,
     peak_wheel_speed: T,
     path_length: T,
-    energy: T,
+    abs_work: T,
 }
 
 impl<T: Lane> Default for Metrics<T> {
@@ -167,7 +168,7 @@ impl<T: Lane> Default for Metrics<T> {
             arrived_since: z,
             peak_wheel_speed: z,
             path_length: z,
-            energy: z,
+            abs_work: z,
         }
     }
 }
@@ -196,7 +197,7 @@ impl<T: Lane> Metrics<T> {
         self.observe(t, state, wheel_speeds, goal);
         self.path_length = self.path_length + state.v.abs() * dt;
         let power = (torque.right * wheel_speeds.right).abs() + (torque.left * wheel_speeds.left).abs();
-        self.energy = self.energy + power * dt;
+        self.abs_work = self.abs_work + power * dt;
     }
 
     /// Sees the distance to the goal and the wheel speeds at `t` (also for the final state).
@@ -217,7 +218,7 @@ impl<T: Lane> Metrics<T> {
         self.arrived = self.arrived & !lanes;
         self.peak_wheel_speed = T::select(lanes, fresh.peak_wheel_speed, self.peak_wheel_speed);
         self.path_length = T::select(lanes, fresh.path_length, self.path_length);
-        self.energy = T::select(lanes, fresh.energy, self.energy);
+        self.abs_work = T::select(lanes, fresh.abs_work, self.abs_work);
     }
 }
 
@@ -231,7 +232,7 @@ impl<const N: usize> Metrics<Lanes<N>> {
             arrived_since: self.arrived_since.0[i],
             peak_wheel_speed: self.peak_wheel_speed.0[i],
             path_length: self.path_length.0[i],
-            energy: self.energy.0[i],
+            abs_work: self.abs_work.0[i],
         }
     }
 }
@@ -251,7 +252,7 @@ impl<T: Real> Metrics<T> {
             time_to_arrival: self.arrived.then_some(self.arrived_since),
             peak_wheel_speed: self.peak_wheel_speed,
             path_length: self.path_length,
-            energy: self.energy,
+            abs_work: self.abs_work,
         }
     }
 }

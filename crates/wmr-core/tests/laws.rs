@@ -481,7 +481,7 @@ fn paper_default_is_unchanged() {
     let (mut servo_r, mut servo_l) = (servo, servo);
     let mut plant = Plant::new(robot, drive, start).unwrap();
     let mut lb = Vec::new();
-    let (mut path, mut energy, mut peak, mut arrived) = (0.0_f64, 0.0_f64, 0.0_f64, None);
+    let (mut path, mut abs_work, mut peak, mut arrived) = (0.0_f64, 0.0_f64, 0.0_f64, None);
     for k in 0..=n {
         let t = k as f64 / 1e3; // ClosedLoop::time in f64: k ms exactly rounded (DT = 1 ms)
         let s = *plant.state();
@@ -514,7 +514,7 @@ fn paper_default_is_unchanged() {
             break;
         }
         path += s.v.abs() * DT;
-        energy += ((torque.right * w.right).abs() + (torque.left * w.left).abs()) * DT;
+        abs_work += ((torque.right * w.right).abs() + (torque.left * w.left).abs()) * DT;
         plant.step(t, DT).unwrap();
     }
     assert_eq!(la.len(), lb.len());
@@ -533,7 +533,7 @@ fn paper_default_is_unchanged() {
         time_to_arrival: arrived,
         peak_wheel_speed: peak,
         path_length: path,
-        energy,
+        abs_work,
     };
     assert_eq!(oa, expected);
 

@@ -58,6 +58,7 @@ mod _native {
         m.add("TRACKING_FIELDS", PyTuple::new(m.py(), crate::scenario::tracking_fields().collect::<Vec<_>>())?)?;
         m.add("ARRIVAL_RADIUS_M", wmr_core::ARRIVAL_RADIUS_M)?;
         crate::scenario::add_column_properties(&m.py().get_type::<crate::scenario::PyRunResult>())?;
+        crate::scenario::add_outcome_properties(&m.py().get_type::<crate::scenario::PyRunResult>())?;
         // One class per law of the registry (`wmr_core::for_each_law!`).
         crate::controller::add_law_classes(m)?;
         crate::interrupt::load_numpy_api(m.py())

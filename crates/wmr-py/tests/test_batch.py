@@ -24,17 +24,33 @@ def starts(n: int, seed: int = 7) -> np.ndarray:
 def test_batch_equals_simulate_per_start() -> None:
     s = starts(6)
     out = wmr_py.run_batch(s, GOAL, t_end=5.0)
-    assert set(out) >= {"converged", "diverged", "time_to_1cm", "final_dl", "final_heading_error", "peak_wheel_speed"}
-    assert out["converged"].dtype == np.bool_ and out["final_dl"].dtype == np.float64
+    assert set(out) >= {"converged", "diverged", "time_to_1cm_s", "final_dl_m", "final_heading_error_deg", "peak_wheel_speed_rad_s"}
+    assert out["converged"].dtype == np.bool_ and out["final_dl_m"].dtype == np.float64
     for i, start in enumerate(s):
         one = wmr_py.simulate(start, GOAL, t_end=5.0)
-        assert out["final_dl"][i] == one.final_dl
-        assert out["final_heading_error"][i] == one.final_heading_error
-        assert out["peak_wheel_speed"][i] == one.peak_wheel_speed
-        assert out["final_x"][i] == one.x[-1] and out["final_y"][i] == one.y[-1]
+        assert out["final_dl_m"][i] == one.final_dl_m
+        assert out["final_heading_error_deg"][i] == one.final_heading_error_deg
+        assert out["peak_wheel_speed_rad_s"][i] == one.peak_wheel_speed_rad_s
+        assert out["final_x_m"][i] == one.x[-1] and out["final_y_m"][i] == one.y[-1]
         assert bool(out["converged"][i]) == one.converged and bool(out["diverged"][i]) == one.diverged
-        t1 = out["time_to_1cm"][i]
-        assert (math.isnan(t1) and one.time_to_1cm is None) or t1 == one.time_to_1cm
+        t1 = out["time_to_1cm_s"][i]
+        assert (math.isnan(t1) and one.time_to_1cm_s is None) or t1 == one.time_to_1cm_s
+        # Every outcome field in one spelling: each array of the batch is the run's
+        # attribute of the same name (NaN where the attribute is None).
+        for name in wmr_py.OUTCOME_FIELDS:
+            v = getattr(one, name)
+            assert (v is None and math.isnan(out[name][i])) or out[name][i] == v, name
+
+
+def test_outcome_fields_carry_their_unit() -> None:
+    """One spelling, with the unit as suffix: the names the CSV, help and docs use."""
+    units = ("_m", "_s", "_deg", "_rad_s", "_j")
+    floats = [n for n in wmr_py.OUTCOME_FIELDS if n not in ("converged", "diverged")]
+    assert floats and all(n.endswith(units) for n in (*floats, *wmr_py.TRACKING_FIELDS))
+    assert "abs_work_j" in floats and "energy" not in wmr_py.OUTCOME_FIELDS
+    r = wmr_py.simulate((1.0, 0.5, 0.0), GOAL, t_end=1.0)
+    assert r.final_theta_deg == pytest.approx(math.degrees(r.theta[-1]))
+    assert r.t_final_s == r.t[-1] and r.final_x_m == r.x[-1]
 
 
 def test_batch_releases_the_gil() -> None:
@@ -80,7 +96,7 @@ def test_two_threads_at_once_get_the_right_answers() -> None:
     for t in threads:
         t.join()
     for want, have in ((want_a, got["a"]), (want_b, got["b"])):
-        for key in ("final_dl", "final_heading_error", "final_x", "converged"):
+        for key in ("final_dl_m", "final_heading_error_deg", "final_x_m", "converged"):
             np.testing.assert_array_equal(want[key], have[key], err_msg=key)
 
 
@@ -88,7 +104,7 @@ def test_batch_goal_forms_and_settings() -> None:
     s = starts(3)
     a = wmr_py.run_batch(s, {"x": 1.0, "y": 1.0, "theta_deg": 90.0}, t_end=2.0)
     b = wmr_py.run_batch(s.tolist(), (1.0, 1.0, math.pi / 2), t_end=2.0)
-    np.testing.assert_array_equal(a["final_dl"], b["final_dl"])
+    np.testing.assert_array_equal(a["final_dl_m"], b["final_dl_m"])
     c = wmr_py.run_batch(s, (1.0, 1.0, math.pi / 2), t_end=2.0, robot={"mass": 8.0})
-    assert not np.array_equal(a["final_dl"], c["final_dl"])
-    assert a["t_final"] == pytest.approx([2.0, 2.0, 2.0])
+    assert not np.array_equal(a["final_dl_m"], c["final_dl_m"])
+    assert a["t_final_s"] == pytest.approx([2.0, 2.0, 2.0])

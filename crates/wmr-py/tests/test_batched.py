@@ -134,7 +134,7 @@ def test_batched_loop_in_python_is_run_batch(kind: str) -> None:
         np.clip(tau, -tau_max, tau_max, out=tau)
         state = robot.step(state, tau, dt)
     ref = wmr_py.run_batch(starts, goal, t_end=steps * dt, controller={"kind": kind})
-    final = np.column_stack([ref["final_x"], ref["final_y"], ref["final_theta"]])
+    final = np.column_stack([ref["final_x_m"], ref["final_y_m"], np.radians(ref["final_theta_deg"])])
     np.testing.assert_allclose(state[:, :3], final, rtol=0, atol=1e-9)
     # The loop did something: the robots moved.
     assert np.min(np.linalg.norm(state[:, :2] - starts[:, :2], axis=1)) > 1e-3

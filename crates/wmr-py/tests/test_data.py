@@ -71,7 +71,7 @@ def test_run_result_to_pandas_and_pickle() -> None:
     assert np.array_equal(df["theta_meas"].to_numpy(), r.theta_meas)
     back = pickle.loads(pickle.dumps(r))
     assert type(back) is wmr_py.RunResult
-    for name in ("run", "label", "status", "converged", "diverged", "time_to_1cm", "final_dl", "energy", "summary"):
+    for name in ("run", "label", "status", "converged", "diverged", "time_to_1cm_s", "final_dl_m", "abs_work_j", "summary"):
         assert getattr(back, name) == getattr(r, name), name
     for name, col in back.columns().items():
         assert same(col, r.columns()[name]), name
@@ -117,7 +117,7 @@ def test_run_batch_gives_its_starts_and_a_data_frame() -> None:
     df = res.to_pandas()
     assert len(df) == 3 and set(df["law"]) == {"polar"}
     assert list(df.columns[:6]) == ["law", "start", "x0", "y0", "theta0", "status"]
-    assert np.array_equal(df["final_dl"].to_numpy(), res["final_dl"])
+    assert np.array_equal(df["final_dl_m"].to_numpy(), res["final_dl_m"])
     assert pd.DataFrame(dict(res)).shape == (3, len(res.keys()))
     back = pickle.loads(pickle.dumps(res))
     assert type(back) is wmr_py.BatchResult and back.law == "polar"
@@ -135,7 +135,7 @@ def test_sweep_to_pandas_and_xarray() -> None:
     assert {"law", "start", "x0", "sensor.latency", "world.slope_deg", "controller.model.wheel_radius", "trial"} <= set(df.columns)
     ds = res.to_xarray()
     assert isinstance(ds, xr.Dataset)
-    assert ds["final_dl"].dims == ("law", "sensor.latency", "world.slope_deg", "trial", "start")
+    assert ds["final_dl_m"].dims == ("law", "sensor.latency", "world.slope_deg", "trial", "start")
     assert list(ds["sensor.latency"].values) == [0.0, 0.02] and list(ds["world.slope_deg"].values) == [0.0, 3.0]
     assert ds.attrs["seed"] == 0 and ds.attrs["starts_seed"] == 9 and ds.attrs["wmr_version"] == wmr_py.__version__
     # Each run sits in its cell: latency, slope, trial and start of the row.
@@ -145,10 +145,10 @@ def test_sweep_to_pandas_and_xarray() -> None:
         if lat[i] == 0.0 and slope[i] == 0.0 and i % 32 >= 16:
             continue
         cell = ds.sel({"law": law[i], "sensor.latency": lat[i], "world.slope_deg": slope[i], "trial": trial[i], "start": start[i]})
-        assert cell["final_dl"].item() == res["final_dl"][i], i
+        assert cell["final_dl_m"].item() == res["final_dl_m"][i], i
         assert cell["controller.model.wheel_radius"].item() == res["controller.model.wheel_radius"][i]
     # Cells no run reaches (latency and slope both off nominal) are NaN.
-    assert math.isnan(ds["final_dl"].sel({"law": "paper", "sensor.latency": 0.02, "world.slope_deg": 3.0}).values[0, 0])
+    assert math.isnan(ds["final_dl_m"].sel({"law": "paper", "sensor.latency": 0.02, "world.slope_deg": 3.0}).values[0, 0])
     # The resolved scenario in the attributes runs the same sweep.
     again = wmr_py.sweep(ds.attrs["scenario"])
     assert all(same(np.asarray(again[k]), np.asarray(res[k])) for k in res if k != "law")
@@ -164,7 +164,7 @@ def test_plain_sweep_has_law_by_start() -> None:
     ds = res.to_xarray()
     assert ds["converged"].dims == ("law", "start") and ds["converged"].dtype == bool
     assert ds.sizes == {"law": 2, "start": 6}
-    assert np.array_equal(ds["final_x"].values.ravel(), res["final_x"])
+    assert np.array_equal(ds["final_x_m"].values.ravel(), res["final_x_m"])
     assert np.array_equal(ds["x0"].values, res["x0"][:6])
 
 

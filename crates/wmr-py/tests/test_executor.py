@@ -236,7 +236,7 @@ def test_settled_sweep_parts_are_the_local_sweep() -> None:
         'controllers = [{ kind = "polar" }, { kind = "lyapunov" }]\nrandom = { n = 10, seed = 3, radius = 1.5 }\n'
     )
     local = wmr_py.sweep(text)
-    assert np.min(local["t_final"]) < 30.0
+    assert np.min(local["t_final_s"]) < 30.0
     parted = wmr_py.sweep(text, executor=ReverseExecutor(), chunk_size=3)
     assert all(same(parted[k], local[k]) for k in local)
 

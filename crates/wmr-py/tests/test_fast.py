@@ -22,11 +22,11 @@ def test_fast_sweep_is_close_to_the_exact_one_and_the_same_through_an_executor()
     exact = wmr_py.sweep(SWEEP)
     fast = wmr_py.sweep(SWEEP, fast=True)
     assert list(fast["converged"]) == list(exact["converged"])
-    for key in ("final_x", "final_y", "final_theta"):
+    for key in ("final_x_m", "final_y_m", "final_theta_deg"):
         np.testing.assert_allclose(fast[key], exact[key], rtol=1e-9, atol=1e-9)
     with ThreadPoolExecutor(2) as ex:
         parted = wmr_py.sweep(SWEEP, fast=True, executor=ex, chunk_size=7)
-    for key in ("final_x", "final_y", "final_theta", "time_to_1cm"):
+    for key in ("final_x_m", "final_y_m", "final_theta_deg", "time_to_1cm_s"):
         np.testing.assert_array_equal(parted[key], fast[key])
 
 
@@ -38,8 +38,8 @@ def test_fast_batch_is_close_to_the_exact_one():
     exact = wmr_py.run_batch(starts, goal, controller=ctl, t_end=20.0)
     fast = wmr_py.run_batch(starts, goal, controller=ctl, t_end=20.0, fast=True)
     assert list(fast["converged"]) == list(exact["converged"])
-    np.testing.assert_allclose(fast["final_x"], exact["final_x"], rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(fast["final_x_m"], exact["final_x_m"], rtol=1e-9, atol=1e-9)
     np.testing.assert_array_equal(fast["start"], exact["start"])
     with ThreadPoolExecutor(2) as ex:
         parted = wmr_py.run_batch(starts, goal, controller=ctl, t_end=20.0, fast=True, executor=ex, chunk_size=5)
-    np.testing.assert_array_equal(parted["final_x"], fast["final_x"])
+    np.testing.assert_array_equal(parted["final_x_m"], fast["final_x_m"])

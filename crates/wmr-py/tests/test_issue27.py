@@ -103,7 +103,7 @@ def test_regression_27_results_behave_one_way_attributes_and_items() -> None:
     assert res.converged is res["converged"]
     assert res.laws == ["paper", "polar"]
     batch = wmr_py.run_batch(np.array([[1.0, 0.5, 0.0]]), (0, 0, 0), t_end=1.0)
-    assert batch.final_dl is batch["final_dl"]
+    assert batch.final_dl_m is batch["final_dl_m"]
     assert batch.law == "paper"
     r = wmr_py.simulate((0, 0, 0), (1, 1, 0), t_end=0.5)
     np.testing.assert_array_equal(r.x, r["x"])

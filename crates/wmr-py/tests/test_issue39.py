@@ -182,7 +182,7 @@ def test_regression_39_8_executor_sweep_with_a_preset_and_a_file_runs_in_another
     ctx = multiprocessing.get_context("spawn")
     with ProcessPoolExecutor(1, mp_context=ctx, initializer=_chdir, initargs=(str(elsewhere),)) as ex:
         parted = wmr_py.sweep(d / "s.toml", executor=ex, chunk_size=5)
-    for k in ("final_dl", "rms_error", "x0", "converged"):
+    for k in ("final_dl_m", "rms_error_m", "x0", "converged"):
         np.testing.assert_array_equal(parted[k], local[k])
     assert list(parted["reference"]) == list(local["reference"])
 
@@ -204,7 +204,7 @@ def test_regression_39_8_resolved_scenario_runs_again_without_its_files(
     elsewhere.mkdir()
     monkeypatch.chdir(elsewhere)
     again = wmr_py.sweep(text)
-    for k in ("final_dl", "rms_error", "x0"):
+    for k in ("final_dl_m", "rms_error_m", "x0"):
         np.testing.assert_array_equal(again[k], local[k])
     assert list(again["reference"]) == list(local["reference"])
     assert sorted(local["reference"]) == ["circle"] * 6 + ["file"] * 6

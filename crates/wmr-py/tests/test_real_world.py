@@ -60,7 +60,7 @@ def test_bad_real_world_keys_name_the_key(kwargs, key):
 def test_run_batch_takes_a_sensor_and_a_sweep_reports_varied_keys():
     starts = np.array([[0.5, 0.0, 0.0], [-0.5, 0.3, 1.0]])
     out = wmr_py.run_batch(starts, (0, 0, 0), t_end=2.0, sensor={"position_noise": 0.005, "seed": 1})
-    assert out["final_dl"].shape == (2,)
+    assert out["final_dl_m"].shape == (2,)
     sw = wmr_py.sweep(
         {
             "sim": {"t_end": 1.0},

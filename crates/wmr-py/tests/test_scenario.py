@@ -85,11 +85,13 @@ def test_fig7_shape_and_summary(fig7_path: pathlib.Path) -> None:
     assert res.x is res.x  # the same array object every time: no copy per access
     # The paper's law: the position converges within ~40-50 s; a heading error remains.
     assert res.converged and not res.diverged and res.status == "converged"
-    assert res.time_to_1cm is not None and 20.0 < res.time_to_1cm < 60.0
-    assert res.final_dl == pytest.approx(math.hypot(1 - res.x[-1], 1 - res.y[-1]))
-    assert res.final_heading_error_deg == pytest.approx(math.degrees(res.final_heading_error))
+    assert res.time_to_1cm_s is not None and 20.0 < res.time_to_1cm_s < 60.0
+    assert res.final_dl_m == pytest.approx(math.hypot(1 - res.x[-1], 1 - res.y[-1]))
+    # The goal heading of Fig. 7 is 120 deg: the error is wrap(theta_d - theta), in degrees.
+    wrapped = math.remainder(math.radians(120.0) - res.theta[-1], math.tau)
+    assert res.final_heading_error_deg == pytest.approx(math.degrees(wrapped))
     assert 1.0 < abs(res.final_heading_error_deg) < 20.0
-    assert res.dl[-1] == pytest.approx(res.final_dl, abs=1e-3)
+    assert res.dl[-1] == pytest.approx(res.final_dl_m, abs=1e-3)
 
 
 def test_path_text_dict_and_simulate_agree(fig7_path: pathlib.Path) -> None:

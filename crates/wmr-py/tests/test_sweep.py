@@ -27,14 +27,14 @@ def test_sweep_rows_match_single_runs() -> None:
         r = wmr_py.simulate(
             (out["x0"][i], out["y0"][i], out["theta0"][i]), (0, 0, 0), controller={"kind": kind}, t_end=15.0
         )
-        assert r.final_dl == out["final_dl"][i]
-        assert r.final_heading_error == out["final_heading_error"][i]
+        assert r.final_dl_m == out["final_dl_m"][i]
+        assert r.final_heading_error_deg == out["final_heading_error_deg"][i]
         assert r.converged == bool(out["converged"][i])
     # The exact-heading law ends with no heading error wherever it converged.
     lyap = np.array(out["law"]) == "lyapunov"
     ok = lyap & out["converged"]
     assert ok.any()
-    assert np.all(np.abs(np.degrees(out["final_heading_error"][ok])) < 1.0)
+    assert np.all(np.abs(out["final_heading_error_deg"][ok]) < 1.0)
 
 
 def test_sweep_without_sweep_table_names_the_key() -> None:

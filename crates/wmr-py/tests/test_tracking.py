@@ -124,23 +124,23 @@ def test_loop_closed_in_python_is_simulate(kind: str) -> None:
 
 
 def test_tracking_summary_replays_the_rule() -> None:
-    """converged, rms_error, max_error and time_to_tolerance from the samples (log_dt = dt:
+    """converged, rms_error_m, max_error_m and time_to_tolerance_s from the samples (log_dt = dt:
     every plant step) by the issue's rule, written out here."""
     t_end, tol = 8.0, 0.01
     ref = wmr_py.Reference("circle", radius=1.0, speed=0.3)
     r = wmr_py.simulate((0.05, -1.1, 0.2), reference=ref, controller={"kind": "kanayama"}, t_end=t_end, log_dt=1e-3)
     err = np.hypot(r.x - r.x_ref, r.y - r.y_ref)
     half = r.t >= t_end / 2
-    assert r.rms_error == pytest.approx(math.sqrt(np.mean(err[half] ** 2)), rel=1e-6)
-    assert r.max_error == pytest.approx(err[half].max(), rel=1e-9)
-    assert r.final_error == pytest.approx(err[-1], rel=1e-9, abs=1e-15)
+    assert r.rms_error_m == pytest.approx(math.sqrt(np.mean(err[half] ** 2)), rel=1e-6)
+    assert r.max_error_m == pytest.approx(err[half].max(), rel=1e-9)
+    assert r.final_error_m == pytest.approx(err[-1], rel=1e-9, abs=1e-15)
     above = np.nonzero(err >= tol)[0]
-    assert r.time_to_tolerance == pytest.approx(r.t[above[-1]], abs=1e-9)
+    assert r.time_to_tolerance_s == pytest.approx(r.t[above[-1]], abs=1e-9)
     assert r.converged == bool(err[r.t >= 0.9 * t_end].max() < tol) and r.converged
-    assert r.tracking_tolerance == tol and r.status == "converged"
+    assert r.tracking_tolerance_m == tol and r.status == "converged"
     # A stabilization run has none of it.
     s = wmr_py.simulate((0, 0, 0), (0.2, 0.0, 0.0), t_end=1.0)
-    assert not s.tracking and s.rms_error is None and s.time_to_tolerance is None
+    assert not s.tracking and s.rms_error_m is None and s.time_to_tolerance_s is None
     with pytest.raises(AttributeError, match="tracking run"):
         s.x_ref
     with pytest.raises(KeyError, match="tracking run"):
@@ -156,10 +156,10 @@ def test_to_pandas_and_to_xarray_carry_the_reference_and_summary() -> None:
     df = r.to_pandas()
     for name in wmr_py.REFERENCE_COLUMNS:
         np.testing.assert_array_equal(df[name].to_numpy(), r[name])
-    assert df.attrs["rms_error"] == r.rms_error and df.attrs["time_to_tolerance"] == r.time_to_tolerance
+    assert df.attrs["rms_error_m"] == r.rms_error_m and df.attrs["time_to_tolerance_s"] == r.time_to_tolerance_s
     ds = r.to_xarray()
     np.testing.assert_array_equal(ds["x_ref"].to_numpy(), r.x_ref)
-    assert ds["v_ref"].attrs["units"] == "m/s" and ds.attrs["max_error"] == r.max_error
+    assert ds["v_ref"].attrs["units"] == "m/s" and ds.attrs["max_error_m"] == r.max_error_m
     np.testing.assert_array_equal(ds["t"].to_numpy(), r.t)
 
 
@@ -176,10 +176,10 @@ def test_run_batch_with_a_reference_is_simulate_run_by_run() -> None:
         np.testing.assert_array_equal(fast[k], b[k], err_msg=f"fast takes the exact path: {k}")
     for i, start in enumerate(starts):
         r = wmr_py.simulate(start, reference=ref, controller=ctrl, t_end=10.0, log_dt=10.0)
-        assert b["final_x"][i] == r.x[-1] and b["converged"][i] == r.converged
-        assert b["rms_error"][i] == r.rms_error and b["max_error"][i] == r.max_error
-        want = math.nan if r.time_to_tolerance is None else r.time_to_tolerance
-        np.testing.assert_array_equal(b["time_to_tolerance"][i], want)
+        assert b["final_x_m"][i] == r.x[-1] and b["converged"][i] == r.converged
+        assert b["rms_error_m"][i] == r.rms_error_m and b["max_error_m"][i] == r.max_error_m
+        want = math.nan if r.time_to_tolerance_s is None else r.time_to_tolerance_s
+        np.testing.assert_array_equal(b["time_to_tolerance_s"][i], want)
 
     class Serial:
         """An executor running each part at once, in the caller."""
@@ -257,7 +257,7 @@ def test_pickles_and_file_references(tmp_path: pathlib.Path, monkeypatch: pytest
     assert copy.update(*m) == ctrl.update(*m)
     r = wmr_py.simulate((0, 0, 0), reference=ref, controller={"kind": "kanayama"}, t_end=1.0)
     back = pickle.loads(pickle.dumps(r))
-    assert back.tracking and back.rms_error == r.rms_error
+    assert back.tracking and back.rms_error_m == r.rms_error_m
     np.testing.assert_array_equal(back.omega_ref, r.omega_ref)
 
 
@@ -304,7 +304,7 @@ def test_sweep_over_references_is_the_clis(tmp_path: pathlib.Path) -> None:
     )
     res = wmr_py.sweep(str(scenario))
     assert res.references == ["circle", "figure_eight", "waypoints"]
-    assert res.tracking_tolerance == 0.01
+    assert res.tracking_tolerance_m == 0.01
     assert res.table.strip() in done.stdout.decode()
     with open(out, newline="") as f:
         rows = list(csv.DictReader(f))
@@ -315,10 +315,10 @@ def test_sweep_over_references_is_the_clis(tmp_path: pathlib.Path) -> None:
         # The sweep's arrays say converged and diverged; a run the CLI calls cannot_follow
         # (issue 38) is neither, as unsettled is.
         assert status[i] == row["status"].replace("cannot_follow", "unsettled"), i
-        for name in ("rms_error", "max_error", "final_error"):
-            assert res[name][i] == float(row[f"{name}_m"]), (i, name)
+        for name in ("rms_error_m", "max_error_m", "final_error_m"):
+            assert res[name][i] == float(row[name]), (i, name)
         ttt = row["time_to_tolerance_s"]
-        assert (np.isnan(res.time_to_tolerance[i]) and ttt in ("", "NaN")) or res.time_to_tolerance[i] == float(ttt)
+        assert (np.isnan(res.time_to_tolerance_s[i]) and ttt in ("", "NaN")) or res.time_to_tolerance_s[i] == float(ttt)
     pytest.importorskip("pandas")  # optional: what follows needs it
     pytest.importorskip("xarray")  # optional: what follows needs it
     df = res.to_pandas()
@@ -340,7 +340,7 @@ def test_sweep_over_references_is_the_clis(tmp_path: pathlib.Path) -> None:
 
     again = wmr_py.sweep(str(scenario), executor=Inline(), chunk_size=5)
     assert again.table == res.table
-    for name in ("reference", "converged", "diverged", "rms_error", "max_error", "time_to_tolerance", "final_error"):
+    for name in ("reference", "converged", "diverged", "rms_error_m", "max_error_m", "time_to_tolerance_s", "final_error_m"):
         np.testing.assert_array_equal(np.asarray(again[name]), np.asarray(res[name]), err_msg=name)
 
 

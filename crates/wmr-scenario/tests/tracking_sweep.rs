@@ -7,7 +7,7 @@
 //! refused naming `sweep`.
 
 use wmr_core::Status;
-use wmr_scenario::{Scenario, TRACKING_SWEEP_COLUMNS, tracking_summary, tracking_sweep_row};
+use wmr_scenario::{Scenario, tracking_summary, tracking_sweep_columns, tracking_sweep_row};
 
 const SWEEP: &str = r#"
 [sim]
@@ -53,7 +53,7 @@ fn every_law_on_every_reference_is_the_run_of_a_reference_scenario() {
         assert_eq!(o.outcome, replay.outcome, "run {k}");
         assert_eq!(o.status(), replay.status(), "run {k}");
         let row = tracking_sweep_row(spec, o).unwrap();
-        assert_eq!(row.len(), TRACKING_SWEEP_COLUMNS.len());
+        assert_eq!(row.len(), tracking_sweep_columns().len());
         assert_eq!(row[1], ["circle", "figure_eight"][o.reference]);
         assert_eq!(row[9], o.status().name());
     }

@@ -92,7 +92,7 @@ REFERENCE_COLUMNS: tuple = _native.REFERENCE_COLUMNS
 #: The unit of each of REFERENCE_COLUMNS.
 REFERENCE_UNITS: tuple = _native.REFERENCE_UNITS
 #: The tracking summary arrays run_batch adds for a tracking scenario (RunResult has them
-#: as attributes, with ``tracking_tolerance``).
+#: as attributes, with ``tracking_tolerance_m``).
 TRACKING_FIELDS: tuple = _native.TRACKING_FIELDS
 
 __all__ = [
@@ -248,7 +248,7 @@ def simulate(
     a tracking law (``controller={"kind": "kanayama"}``, ``"backstepping"`` or
     ``"pure_pursuit"``). The result then has the reference columns (``x_ref``, ``y_ref``,
     ``theta_ref``, ``v_ref``, ``omega_ref``, as the CSV) and the tracking summary
-    (``rms_error``, ``max_error``, ``time_to_tolerance``, ``final_error``); it
+    (``time_to_tolerance_s``, ``rms_error_m``, ``max_error_m``, ``final_error_m``); it
     converged when the tracking error stayed below ``sim.tracking_tolerance`` (1 cm)
     over the last 10 % of t_end.
     robot, drive, controller: overrides with the scenario's ``[robot]``, ``[drive]`` and
@@ -298,11 +298,11 @@ def run_batch(
     """Run the closed loop from many starts to one goal in parallel (rayon, the GIL
     released) and return a BatchResult: a dict of 1-D arrays, one entry per start, in order:
 
-    ``start`` (int64), ``x0``, ``y0`` (m), ``theta0`` (rad): the starts; ``final_x``,
-    ``final_y`` (m), ``final_theta`` (rad), ``final_dl`` (m), ``final_heading_error``
-    (rad, wrap(theta_d - theta)), ``time_to_1cm`` (s; NaN if dl never stays below 1 cm),
-    ``t_final`` (s), ``peak_wheel_speed`` (rad/s), ``path_length`` (m), ``energy`` (J)
-    as float64; ``converged`` and ``diverged`` as bool. ``.arrival_radius`` (m, the 1 cm
+    ``start`` (int64), ``x0``, ``y0`` (m), ``theta0`` (rad): the starts; the outcome
+    fields of ``OUTCOME_FIELDS`` as float64, each name ending in its unit (``final_x_m``,
+    ``final_theta_deg``, ``final_dl_m``, ``time_to_1cm_s``: NaN if dl never stays below
+    1 cm, ..., ``abs_work_j``; ``wmr-cli help keys outputs`` says what each is);
+    ``converged`` and ``diverged`` as bool. ``.arrival_radius`` (m, the 1 cm
     threshold) and ``.law`` are attributes; ``.to_pandas()`` gives one row per start.
 
     starts: array-like of shape (N, 3): rows (x_m, y_m, theta_rad).
@@ -318,9 +318,10 @@ def run_batch(
     1e-9 relative; docs/scenario.md, "The fast path"). Runs with a real sensor or a
     reference take the exact path.
     reference: instead of a goal, a moving reference every start tracks (as for
-    ``simulate``); the result then also has ``rms_error``, ``max_error`` (m, over the
-    last half), ``time_to_tolerance`` (s; NaN if the error is above the tolerance at the
-    end) and ``final_error`` (m), and ``converged`` is the tracking rule's.
+    ``simulate``); the result then also has the arrays of ``TRACKING_FIELDS``
+    (``time_to_tolerance_s``: NaN if the error is above the tolerance at the end;
+    ``rms_error_m``, ``max_error_m`` over the last half; ``final_error_m``), and
+    ``converged`` is the tracking rule's.
     """
     arr = np.ascontiguousarray(_real_array(starts, "starts", "an array of shape (N, 3) of (x, y, theta_rad)"))
     if arr.ndim != 2 or arr.shape[1] != 3 or arr.shape[0] == 0:

@@ -30,7 +30,7 @@ ARRIVAL_RADIUS_M: float = _native.ARRIVAL_RADIUS_M
 TRACKING_FIELDS: tuple = _native.TRACKING_FIELDS
 
 #: A tracking run's summary as RunResult attributes: TRACKING_FIELDS and the tolerance.
-RUN_TRACKING_FIELDS: tuple = (*_native.TRACKING_FIELDS, "tracking_tolerance")
+RUN_TRACKING_FIELDS: tuple = (*_native.TRACKING_FIELDS, "tracking_tolerance_m")
 
 
 def require(package: str, what: str) -> Any:
@@ -62,8 +62,8 @@ def _run_columns(r: Any) -> dict:
 
 def _run_attrs(r: Any) -> dict:
     """A RunResult's summary: run, label, status and, for a tracking run, its tracking
-    summary (rms_error, max_error in m, time_to_tolerance in s or None, final_error and
-    tracking_tolerance in m)."""
+    summary (RUN_TRACKING_FIELDS: time_to_tolerance_s, or None, rms_error_m, max_error_m,
+    final_error_m and tracking_tolerance_m)."""
     attrs: dict = {"run": r.run, "label": r.label, "status": r.status, "summary": r.summary}
     if r.tracking:
         for name in RUN_TRACKING_FIELDS:
@@ -122,11 +122,11 @@ class _Entries(dict):
 class BatchResult(_Entries):
     """The outcome of ``run_batch``: a dict of 1-D arrays, one entry per start, in order.
 
-    ``start`` (int64), ``x0``, ``y0`` (m), ``theta0`` (rad): the starts; ``final_x``,
-    ``final_y`` (m), ``final_theta`` (rad), ``final_dl`` (m), ``final_heading_error`` (rad,
-    wrap(theta_d - theta)), ``time_to_1cm`` (s; NaN if dl never stays below 1 cm),
-    ``t_final`` (s), ``peak_wheel_speed`` (rad/s), ``path_length`` (m), ``energy`` (J) as
-    float64; ``converged`` and ``diverged`` as bool. Attributes: ``law`` (the controller's
+    ``start`` (int64), ``x0``, ``y0`` (m), ``theta0`` (rad): the starts; the outcome
+    fields of ``OUTCOME_FIELDS`` as float64, each name ending in its unit (``final_x_m``,
+    ``final_theta_deg``, ``final_dl_m``, ``time_to_1cm_s``: NaN if dl never stays below
+    1 cm, ..., ``abs_work_j``; ``wmr-cli help keys outputs`` says what each is);
+    ``converged`` and ``diverged`` as bool. Attributes: ``law`` (the controller's
     kind), ``arrival_radius`` (m, the 1 cm threshold of ``converged``); every entry reads
     as an attribute too (``res.converged``, ``res["converged"]``).
     """
@@ -165,11 +165,11 @@ class SweepResult(_Entries):
     ``y0`` (m), ``theta0`` (rad), the outcome arrays of ``run_batch``, one array per
     varied key of ``[sweep] vary`` (the value each run used), and ``table`` (the CLI's
     comparison table). A sweep over references (``[sweep] references``) adds ``reference``
-    (the reference's name per run) and the tracking arrays (``rms_error`` ...
-    ``final_error``); its ``converged``/``diverged`` are the tracking rule's.
+    (the reference's name per run) and the tracking arrays (``TRACKING_FIELDS``:
+    ``time_to_tolerance_s`` ... ``final_error_m``); its ``converged``/``diverged`` are the tracking rule's.
 
     Attributes: ``laws`` (names, in order), ``references`` (names, in order; empty for a
-    sweep towards a goal), ``tracking_tolerance`` (m, or None), ``varied`` ({key: "values", "uniform" or
+    sweep towards a goal), ``tracking_tolerance_m`` (or None), ``varied`` ({key: "values", "uniform" or
     "normal"}), ``trials``, ``scenario_toml`` (the resolved scenario), ``seed`` (of the
     draws), ``starts_seed`` (of random starts, or None), ``goal``, ``version`` (wmr's);
     every entry reads as an attribute too (``res.table``, ``res["table"]``; ``res.law`` is
@@ -178,7 +178,7 @@ class SweepResult(_Entries):
 
     laws: list
     references: list
-    tracking_tolerance: Optional[float]
+    tracking_tolerance_m: Optional[float]
     varied: dict
     trials: int
     scenario_toml: str
@@ -194,7 +194,7 @@ class SweepResult(_Entries):
         super().__init__(data)
         self.laws = list(meta.get("laws", []))
         self.references = list(meta.get("references", []))
-        self.tracking_tolerance = meta.get("tracking_tolerance")
+        self.tracking_tolerance_m = meta.get("tracking_tolerance_m")
         self.varied = dict(meta.get("varied", {}))
         self.trials = int(meta.get("trials", 1))
         self.scenario_toml = meta.get("scenario_toml", "")

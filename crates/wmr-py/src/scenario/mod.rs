@@ -20,7 +20,9 @@ mod sweep_run;
 pub use batch::run_batch_native;
 pub use outcomes::{outcome_fields, tracking_fields};
 pub use run::{run_scenario, time_run_rust};
-pub use run_result::{PyRunResult, RESULT_COLUMNS, RESULT_UNITS, add_column_properties, run_result_from_state};
+pub use run_result::{
+    PyRunResult, RESULT_COLUMNS, RESULT_UNITS, add_column_properties, add_outcome_properties, run_result_from_state,
+};
 pub use source::scenario_arg;
 pub(crate) use source::to_toml;
 pub use sweep_parts::{SWEEP_ROW_LEN, sweep_gather, sweep_part, sweep_plan};

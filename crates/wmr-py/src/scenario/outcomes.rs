@@ -4,35 +4,34 @@
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use wmr_core::outcome_fields::{FieldGroup, OUTCOME_FIELDS, OutcomeField, Read, fields_of};
 use wmr_core::tracking::TrackingOutcome;
 use wmr_core::{Outcome, Status};
 
-use super::run_result::TRACKING_FIELDS;
+/// Whether a field of the table has an array in `run_batch` and `sweep` (every run's:
+/// the final pose and time, the figures towards a goal, the drive's; a tracking
+/// scenario's arrays add [`tracking_fields`]).
+fn is_array(f: &OutcomeField) -> bool {
+    matches!(f.group, FieldGroup::Final | FieldGroup::Goal | FieldGroup::Drive)
+}
 
-/// A float outcome array: its name and how it is read from an outcome.
-type FloatField = (&'static str, fn(&Outcome<f64>) -> f64);
+/// The float outcome arrays of `run_batch` and `sweep`, in table order (NaN where a run
+/// has none: a time never reached).
+fn float_fields() -> impl Iterator<Item = &'static OutcomeField> {
+    OUTCOME_FIELDS.iter().filter(|f| is_array(f))
+}
 
-/// The float outcome arrays of `run_batch` and `sweep`, in order: each name written once,
-/// next to the value it names.
-const FLOAT_FIELDS: [FloatField; 10] = [
-    ("final_x", |o| o.final_pose.x),
-    ("final_y", |o| o.final_pose.y),
-    ("final_theta", |o| o.final_pose.theta),
-    ("final_dl", |o| o.final_dl),
-    ("final_heading_error", |o| o.final_heading_error),
-    ("time_to_1cm", |o| o.time_to_arrival.unwrap_or(f64::NAN)),
-    ("t_final", |o| o.t_final),
-    ("peak_wheel_speed", |o| o.peak_wheel_speed),
-    ("path_length", |o| o.path_length),
-    ("energy", |o| o.energy),
-];
+/// The tracking arrays of a tracking scenario's `run_batch` and `sweep`, in table order.
+fn tracking_array_fields() -> impl Iterator<Item = &'static OutcomeField> {
+    fields_of(FieldGroup::Tracking)
+}
 
 /// The bool outcome arrays, after the float ones: the run's status is this one.
 const BOOL_FIELDS: [(&str, Status); 2] = [("converged", Status::Converged), ("diverged", Status::Diverged)];
 
 /// Names of the run_batch and sweep outcome arrays, in order (`wmr_py.OUTCOME_FIELDS`).
 pub fn outcome_fields() -> impl Iterator<Item = &'static str> {
-    FLOAT_FIELDS.iter().map(|f| f.0).chain(BOOL_FIELDS.iter().map(|f| f.0))
+    float_fields().map(|f| f.name).chain(BOOL_FIELDS.iter().map(|f| f.0))
 }
 
 /// The per-run outcome arrays of `run_batch` and `sweep` ([`outcome_fields`]), one entry
@@ -42,11 +41,11 @@ pub(super) fn outcome_dict<'py, 'a>(
     outcomes: impl ExactSizeIterator<Item = &'a Outcome<f64>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let n = outcomes.len();
-    let mut cols: [Vec<f64>; FLOAT_FIELDS.len()] = std::array::from_fn(|_| Vec::with_capacity(n));
+    let mut cols: Vec<Vec<f64>> = float_fields().map(|_| Vec::with_capacity(n)).collect();
     let mut flags: [Vec<bool>; BOOL_FIELDS.len()] = std::array::from_fn(|_| Vec::with_capacity(n));
     for o in outcomes {
-        for (c, (_, get)) in cols.iter_mut().zip(FLOAT_FIELDS) {
-            c.push(get(o));
+        for (c, f) in cols.iter_mut().zip(float_fields()) {
+            c.push(f.value(o, None).unwrap_or(f64::NAN));
         }
         let status = o.status();
         for (c, (_, s)) in flags.iter_mut().zip(BOOL_FIELDS) {
@@ -54,8 +53,8 @@ pub(super) fn outcome_dict<'py, 'a>(
         }
     }
     let d = PyDict::new(py);
-    for ((name, _), c) in FLOAT_FIELDS.iter().zip(cols) {
-        d.set_item(name, PyArray1::from_vec(py, c))?;
+    for (f, c) in float_fields().zip(cols) {
+        d.set_item(f.name, PyArray1::from_vec(py, c))?;
     }
     for ((name, _), c) in BOOL_FIELDS.iter().zip(flags) {
         d.set_item(name, PyArray1::from_vec(py, c))?;
@@ -64,9 +63,9 @@ pub(super) fn outcome_dict<'py, 'a>(
 }
 
 /// Adds to `d` (the arrays of [`outcome_dict`]) the tracking summary of each run, one
-/// float64 array per [`TRACKING_FIELDS`] entry but the tolerance (NaN where a run has no
-/// value: a time never reached), and sets `converged` and `diverged` from `status`, the
-/// tracking rule's outcome of each run.
+/// float64 array per [`tracking_fields`] entry (NaN where a run has no value: a time never
+/// reached), and sets `converged` and `diverged` from `status`, the tracking rule's
+/// outcome of each run.
 pub(super) fn add_tracking_arrays<'a>(
     d: &Bound<'_, PyDict>,
     tracking: impl ExactSizeIterator<Item = Option<&'a TrackingOutcome<f64>>>,
@@ -74,15 +73,18 @@ pub(super) fn add_tracking_arrays<'a>(
 ) -> PyResult<()> {
     let py = d.py();
     let n = tracking.len();
-    let fields = &TRACKING_FIELDS[..TRACKING_FIELDS.len() - 1];
-    let mut cols: Vec<Vec<f64>> = fields.iter().map(|_| Vec::with_capacity(n)).collect();
+    let mut cols: Vec<Vec<f64>> = tracking_array_fields().map(|_| Vec::with_capacity(n)).collect();
     for t in tracking {
-        for (c, (_, get)) in cols.iter_mut().zip(fields) {
-            c.push(t.and_then(get).unwrap_or(f64::NAN));
+        for (c, f) in cols.iter_mut().zip(tracking_array_fields()) {
+            let v = match (f.read, t) {
+                (Read::Tracking(get), Some(t)) => get(t),
+                _ => None,
+            };
+            c.push(v.unwrap_or(f64::NAN));
         }
     }
-    for ((name, _), c) in fields.iter().zip(cols) {
-        d.set_item(name, PyArray1::from_vec(py, c))?;
+    for (f, c) in tracking_array_fields().zip(cols) {
+        d.set_item(f.name, PyArray1::from_vec(py, c))?;
     }
     for (name, s) in BOOL_FIELDS {
         d.set_item(name, PyArray1::from_vec(py, status.iter().map(|x| *x == s).collect()))?;
@@ -93,5 +95,5 @@ pub(super) fn add_tracking_arrays<'a>(
 /// Names of the tracking arrays a run_batch of a tracking scenario adds after
 /// [`outcome_fields`] (`wmr_py.TRACKING_FIELDS`).
 pub fn tracking_fields() -> impl Iterator<Item = &'static str> {
-    TRACKING_FIELDS[..TRACKING_FIELDS.len() - 1].iter().map(|f| f.0)
+    tracking_array_fields().map(|f| f.name)
 }

@@ -5,7 +5,7 @@ use numpy::{PyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use wmr_core::Status;
-use wmr_core::tracking::TrackingOutcome;
+use wmr_core::{FieldGroup, OUTCOME_FIELDS};
 use wmr_scenario::{ColumnGroup, MEASURED_COLUMNS, MEASURED_UNITS, RunResult, SAMPLE_COLUMNS, SAMPLE_UNITS};
 
 use crate::error::parameter_error;
@@ -39,21 +39,6 @@ pub const RESULT_UNITS: [&str; N_ALL] = {
     }
     out
 };
-
-/// The tracking summary of a RunResult: each name written once, next to the value it
-/// names (None for a point-stabilization run). Units: m, m, s, m, m.
-type TrackingField = (&'static str, fn(&TrackingOutcome<f64>) -> Option<f64>);
-
-/// The tracking summary fields of a tracking run ([`TrackingOutcome`]), in order: RMS and
-/// maximum tracking error over the last half of t_end (m), the time after which the
-/// error stays below the tolerance (s), the final error (m) and the tolerance (m).
-pub const TRACKING_FIELDS: [TrackingField; 5] = [
-    ("rms_error", |t| Some(t.rms_last_half)),
-    ("max_error", |t| Some(t.max_last_half)),
-    ("time_to_tolerance", |t| t.time_to_tolerance),
-    ("final_error", |t| Some(t.final_error)),
-    ("tracking_tolerance", |t| Some(t.tolerance)),
-];
 
 /// The column groups a RunResult may have after [`RESULT_COLUMNS`], in CSV order: each
 /// only on the runs whose CSV has it ([`ColumnGroup::carried_by`]).
@@ -118,30 +103,6 @@ pub struct PyRunResult {
     /// True when the state stopped being finite or C left the 1 km box.
     #[pyo3(get)]
     diverged: bool,
-    /// First time (s) from which dl stays below 1 cm to the end; None if never.
-    #[pyo3(get)]
-    time_to_1cm: Option<f64>,
-    /// Final distance from C to the goal position, m.
-    #[pyo3(get)]
-    final_dl: f64,
-    /// Final heading error wrap(theta_d - theta), rad.
-    #[pyo3(get)]
-    final_heading_error: f64,
-    /// Final heading error, degrees.
-    #[pyo3(get)]
-    final_heading_error_deg: f64,
-    /// Time of the last state, s (t_end unless diverged).
-    #[pyo3(get)]
-    t_final: f64,
-    /// Largest |wheel speed| seen, rad/s.
-    #[pyo3(get)]
-    peak_wheel_speed: f64,
-    /// Path length of C, m.
-    #[pyo3(get)]
-    path_length: f64,
-    /// Mechanical energy the drives put into the wheels, J.
-    #[pyo3(get)]
-    energy: f64,
     /// The summary line the CLI prints.
     #[pyo3(get)]
     summary: String,
@@ -151,9 +112,10 @@ pub struct PyRunResult {
     /// The run's groups of [`OPTIONAL_GROUPS`] (those its CSV has), in order, each with
     /// its columns in the group's order.
     groups: Vec<(ColumnGroup, Vec<Py<PyArray1<f64>>>)>,
-    /// A tracking run's summary, in [`TRACKING_FIELDS`] order (`None` values for a
-    /// point-stabilization run, or a time never reached).
-    tracking: [Option<f64>; TRACKING_FIELDS.len()],
+    /// The run's outcome, in [`OUTCOME_FIELDS`] order, each in its unit (`None` where the
+    /// run has none: a time never reached, a tracking figure of a run towards a goal); each
+    /// is also an attribute of the class (`add_outcome_properties`).
+    fields: [Option<f64>; OUTCOME_FIELDS.len()],
 }
 
 impl PyRunResult {
@@ -170,26 +132,17 @@ impl PyRunResult {
             }
         }
         let cols = result_cols;
-        let tracking = TRACKING_FIELDS.map(|(_, get)| r.tracking.as_ref().and_then(get));
-        let o = &r.outcome;
+        let fields = OUTCOME_FIELDS.map(|f| f.value(&r.outcome, r.tracking.as_ref()));
         Self {
             run: r.index,
             status: r.status().name(),
             converged: r.converged(),
             diverged: r.diverged(),
-            time_to_1cm: o.time_to_arrival,
-            final_dl: o.final_dl,
-            final_heading_error: o.final_heading_error,
-            final_heading_error_deg: o.final_heading_error.to_degrees(),
-            t_final: o.t_final,
-            peak_wheel_speed: o.peak_wheel_speed,
-            path_length: o.path_length,
-            energy: o.energy,
             summary: r.summary_line(),
             label: r.label,
             cols,
             groups,
-            tracking,
+            fields,
         }
     }
 
@@ -210,11 +163,6 @@ impl PyRunResult {
         RESULT_COLUMNS.iter().copied().chain(self.groups.iter().flat_map(|(g, _)| g.names().iter().copied()))
     }
 
-    /// The value of tracking summary field `name` ([`TRACKING_FIELDS`]).
-    fn tracking_field(&self, name: &str) -> Option<f64> {
-        TRACKING_FIELDS.iter().position(|(n, _)| *n == name).and_then(|i| self.tracking[i])
-    }
-
     fn len(&self, py: Python<'_>) -> usize {
         self.cols[0].bind(py).len()
     }
@@ -231,17 +179,9 @@ impl PyRunResult {
         d.set_item("status", self.status)?;
         d.set_item("converged", self.converged)?;
         d.set_item("diverged", self.diverged)?;
-        d.set_item("time_to_1cm", self.time_to_1cm)?;
-        d.set_item("final_dl", self.final_dl)?;
-        d.set_item("final_heading_error", self.final_heading_error)?;
-        d.set_item("final_heading_error_deg", self.final_heading_error_deg)?;
-        d.set_item("t_final", self.t_final)?;
-        d.set_item("peak_wheel_speed", self.peak_wheel_speed)?;
-        d.set_item("path_length", self.path_length)?;
-        d.set_item("energy", self.energy)?;
         d.set_item("summary", &self.summary)?;
-        for ((name, _), v) in TRACKING_FIELDS.iter().zip(self.tracking) {
-            d.set_item(name, v)?;
+        for (f, v) in OUTCOME_FIELDS.iter().zip(self.fields) {
+            d.set_item(f.name, v)?;
         }
         for name in self.names() {
             if let Some(c) = self.column(name) {
@@ -314,38 +254,6 @@ impl PyRunResult {
         self.has(ColumnGroup::Reference)
     }
 
-    /// Tracking run: RMS of the true tracking error over the last half of t_end, m (the
-    /// distance from C to C_ref, or to the path for path following); None otherwise.
-    #[getter]
-    fn rms_error(&self) -> Option<f64> {
-        self.tracking_field("rms_error")
-    }
-
-    /// Tracking run: the largest tracking error over the last half of t_end, m; None otherwise.
-    #[getter]
-    fn max_error(&self) -> Option<f64> {
-        self.tracking_field("max_error")
-    }
-
-    /// Tracking run: the time after which the tracking error stays below
-    /// `tracking_tolerance`, s; None if it is above at the end, or not a tracking run.
-    #[getter]
-    fn time_to_tolerance(&self) -> Option<f64> {
-        self.tracking_field("time_to_tolerance")
-    }
-
-    /// Tracking run: the tracking error at the last step, m; None otherwise.
-    #[getter]
-    fn final_error(&self) -> Option<f64> {
-        self.tracking_field("final_error")
-    }
-
-    /// Tracking run: `sim.tracking_tolerance`, m, the run was judged with; None otherwise.
-    #[getter]
-    fn tracking_tolerance(&self) -> Option<f64> {
-        self.tracking_field("tracking_tolerance")
-    }
-
     /// Number of logged samples.
     fn __len__(&self, py: Python<'_>) -> usize {
         self.len(py)
@@ -406,6 +314,38 @@ pub fn add_column_properties(cls: &Bound<'_, pyo3::types::PyType>) -> PyResult<(
         cls.setattr(*name, prop)?;
     }
     Ok(())
+}
+
+/// Adds to `RunResult` one read-only property per outcome field ([`OUTCOME_FIELDS`]:
+/// `result.final_dl_m`), with its unit and meaning as the doc: a float, or None where the
+/// run has none (a time never reached; a tracking figure of a run towards a goal).
+pub fn add_outcome_properties(cls: &Bound<'_, pyo3::types::PyType>) -> PyResult<()> {
+    let py = cls.py();
+    let property = py.import("builtins")?.getattr("property")?;
+    for (i, f) in OUTCOME_FIELDS.iter().enumerate() {
+        let get = pyo3::types::PyCFunction::new_closure(
+            py,
+            None,
+            None,
+            move |args: &Bound<'_, PyTuple>, _kw: Option<&Bound<'_, PyDict>>| -> PyResult<Option<f64>> {
+                let r = args.get_item(0)?;
+                Ok(r.cast::<PyRunResult>()?.get().fields[i])
+            },
+        )?;
+        let when = match f.group {
+            FieldGroup::Tracking | FieldGroup::TrackingSetting => " A tracking run's; None for a run towards a goal.",
+            _ => "",
+        };
+        let doc = format!("{}, {}.{when}", capitalized(f.doc), f.unit);
+        cls.setattr(f.name, property.call1((get, py.None(), py.None(), doc))?)?;
+    }
+    Ok(())
+}
+
+/// `text` with its first letter upper-case.
+fn capitalized(text: &str) -> String {
+    let mut c = text.chars();
+    c.next().map(|first| first.to_uppercase().chain(c).collect()).unwrap_or_default()
 }
 
 /// A RunResult from the state its `__getstate__` gave (unpickling); every field checked.
@@ -479,25 +419,13 @@ pub fn run_result_from_state(state: &Bound<'_, PyDict>) -> PyResult<PyRunResult>
         status,
         converged: get("converged")?.extract()?,
         diverged: get("diverged")?.extract()?,
-        time_to_1cm: get("time_to_1cm")?.extract()?,
-        final_dl: get("final_dl")?.extract()?,
-        final_heading_error: get("final_heading_error")?.extract()?,
-        final_heading_error_deg: get("final_heading_error_deg")?.extract()?,
-        t_final: get("t_final")?.extract()?,
-        peak_wheel_speed: get("peak_wheel_speed")?.extract()?,
-        path_length: get("path_length")?.extract()?,
-        energy: get("energy")?.extract()?,
         summary: get("summary")?.extract()?,
-        tracking: {
-            let mut t = [None; TRACKING_FIELDS.len()];
-            for (v, (name, _)) in t.iter_mut().zip(TRACKING_FIELDS) {
-                // A state pickled before the tracking fields: a stabilization run.
-                *v = match state.get_item(name)? {
-                    Some(x) => x.extract()?,
-                    None => None,
-                };
+        fields: {
+            let mut values = [None; OUTCOME_FIELDS.len()];
+            for (v, f) in values.iter_mut().zip(&OUTCOME_FIELDS) {
+                *v = get(f.name)?.extract()?;
             }
-            t
+            values
         },
         groups,
         cols,

@@ -71,7 +71,7 @@ fn outcome_row(o: &SweepOutcome) -> [f64; ROW_LEN] {
         u.time_to_arrival.unwrap_or(f64::NAN),
         u.peak_wheel_speed,
         u.path_length,
-        u.energy,
+        u.abs_work,
         o.reference as f64,
         f64::from(u8::from(t.is_some())),
         tr(|t| t.rms_last_half),
@@ -111,7 +111,7 @@ fn row_outcome(r: &[f64]) -> Option<SweepOutcome> {
             time_to_arrival: (!r[18].is_nan()).then_some(r[18]),
             peak_wheel_speed: r[19],
             path_length: r[20],
-            energy: r[21],
+            abs_work: r[21],
         },
         reference: index(r[22])?,
         tracking: match r[23] {

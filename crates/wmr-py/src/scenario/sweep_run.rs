@@ -88,7 +88,7 @@ pub(super) fn sweep_dict<'py>(
             let summary = wmr_scenario::tracking_summary(spec, outcomes);
             d.set_item("table", wmr_scenario::tracking_summary_table(&summary, tr.tolerance))?;
             meta.set_item("references", tr.references.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>())?;
-            meta.set_item("tracking_tolerance", tr.tolerance)?;
+            meta.set_item("tracking_tolerance_m", tr.tolerance)?;
         }
     }
     meta.set_item("laws", spec.laws.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>())?;

@@ -36,7 +36,7 @@ mod tracking_summary;
 mod write;
 
 pub use outcome::SweepOutcome;
-pub use row::{SWEEP_COLUMNS, TRACKING_SWEEP_COLUMNS, csv_num, sweep_row, tracking_sweep_row};
+pub use row::{csv_num, sweep_columns, sweep_row, tracking_sweep_columns, tracking_sweep_row};
 pub(crate) use spec::check_reference_count;
 pub use spec::{SweepSpec, SweepTracking};
 pub use starts::StartsSource;

@@ -1,48 +1,39 @@
 //! A sweep outcome as one row of the sweep CSV.
 
+use wmr_core::outcome_fields::sweep_csv_fields;
+
 use super::outcome::SweepOutcome;
 use super::spec::SweepSpec;
 
-/// Columns of the sweep CSV, in order.
-pub const SWEEP_COLUMNS: [&str; 12] = [
-    "law",
-    "start",
-    "x0",
-    "y0",
-    "theta0_deg",
-    "status",
-    "time_to_1cm_s",
-    "final_dl_m",
-    "final_heading_error_deg",
-    "peak_wheel_speed_rad_s",
-    "path_length_m",
-    "energy_j",
-];
+/// The columns of a sweep CSV before its outcome columns: the law, the start (its index
+/// and pose).
+const SWEEP_HEAD: [&str; 5] = ["law", "start", "x0", "y0", "theta0_deg"];
 
-/// Columns of the CSV of a sweep over references, in order: the law, the reference, the
-/// start (its index, its pose, the offset from the reference's pose at t = 0), the
-/// status judged by the tracking error, then the tracking figures (the error is the true
-/// distance from C to C_ref, or to the path for path following: RMS and maximum over the
-/// last half of t_end, final) and the drive figures of [`SWEEP_COLUMNS`].
-pub const TRACKING_SWEEP_COLUMNS: [&str; 17] = [
-    "law",
-    "reference",
-    "start",
-    "x0",
-    "y0",
-    "theta0_deg",
-    "dx0",
-    "dy0",
-    "dtheta0_deg",
-    "status",
-    "time_to_tolerance_s",
-    "rms_error_m",
-    "max_error_m",
-    "final_error_m",
-    "peak_wheel_speed_rad_s",
-    "path_length_m",
-    "energy_j",
-];
+/// The columns of the CSV of a sweep over references before its outcome columns: the
+/// law, the reference, the start (its index, its pose, the offset from the reference's
+/// pose at t = 0).
+const TRACKING_SWEEP_HEAD: [&str; 9] =
+    ["law", "reference", "start", "x0", "y0", "theta0_deg", "dx0", "dy0", "dtheta0_deg"];
+
+/// Columns of the sweep CSV, in order: the start, the status, then the outcome columns
+/// of a run towards a goal ([`sweep_csv_fields`]).
+pub fn sweep_columns() -> Vec<&'static str> {
+    SWEEP_HEAD.into_iter().chain(["status"]).chain(sweep_csv_fields(false).map(|f| f.name)).collect()
+}
+
+/// Columns of the CSV of a sweep over references, in order: the start and its offset,
+/// the status judged by the tracking error, then the outcome columns of a tracking run
+/// ([`sweep_csv_fields`]: the error is the true distance from C to C_ref, or to the path
+/// for path following: its time below the tolerance, RMS and maximum over the last half
+/// of t_end, final; then the drive figures).
+pub fn tracking_sweep_columns() -> Vec<&'static str> {
+    TRACKING_SWEEP_HEAD.into_iter().chain(["status"]).chain(sweep_csv_fields(true).map(|f| f.name)).collect()
+}
+
+/// A figure as a CSV field: empty where the run has none.
+fn field(v: Option<f64>) -> String {
+    v.map(csv_num).unwrap_or_default()
+}
 
 /// Longest decimal a CSV field holds; a longer one (|v| below about 1e-14, or huge) is
 /// written in exponent form.
@@ -56,32 +47,26 @@ pub fn csv_num(v: f64) -> String {
     if d.len() > MAX_DECIMAL_CHARS { format!("{v:e}") } else { d }
 }
 
-/// One CSV row of a sweep outcome, as strings in [`SWEEP_COLUMNS`] order.
-pub fn sweep_row(spec: &SweepSpec, o: &SweepOutcome) -> [String; 12] {
-    let out = &o.outcome;
-    [
+/// One CSV row of a sweep outcome, as strings in [`sweep_columns`] order.
+pub fn sweep_row(spec: &SweepSpec, o: &SweepOutcome) -> Vec<String> {
+    let mut row = vec![
         spec.laws[o.law].0.clone(),
         o.start_index.to_string(),
         csv_num(o.start.x),
         csv_num(o.start.y),
         csv_num(o.start.theta.to_degrees()),
         o.status().name().to_owned(),
-        out.time_to_arrival.map(csv_num).unwrap_or_default(),
-        csv_num(out.final_dl),
-        csv_num(out.final_heading_error.to_degrees()),
-        csv_num(out.peak_wheel_speed),
-        csv_num(out.path_length),
-        csv_num(out.energy),
-    ]
+    ];
+    row.extend(sweep_csv_fields(false).map(|f| field(f.value(&o.outcome, o.tracking.as_ref()))));
+    row
 }
 
-/// One CSV row of an outcome of a sweep over references, in [`TRACKING_SWEEP_COLUMNS`]
+/// One CSV row of an outcome of a sweep over references, in [`tracking_sweep_columns`]
 /// order; `None` for an outcome without a tracking outcome.
-pub fn tracking_sweep_row(spec: &SweepSpec, o: &SweepOutcome) -> Option<[String; 17]> {
+pub fn tracking_sweep_row(spec: &SweepSpec, o: &SweepOutcome) -> Option<Vec<String>> {
     let (tr, refs) = (o.tracking.as_ref()?, spec.tracking.as_ref()?);
-    let out = &o.outcome;
     let offset = spec.starts[o.start_index];
-    Some([
+    let mut row = vec![
         spec.laws[o.law].0.clone(),
         refs.references[o.reference].0.clone(),
         o.start_index.to_string(),
@@ -92,14 +77,9 @@ pub fn tracking_sweep_row(spec: &SweepSpec, o: &SweepOutcome) -> Option<[String;
         csv_num(offset.y),
         csv_num(offset.theta.to_degrees()),
         o.status().name().to_owned(),
-        tr.time_to_tolerance.map(csv_num).unwrap_or_default(),
-        csv_num(tr.rms_last_half),
-        csv_num(tr.max_last_half),
-        csv_num(tr.final_error),
-        csv_num(out.peak_wheel_speed),
-        csv_num(out.path_length),
-        csv_num(out.energy),
-    ])
+    ];
+    row.extend(sweep_csv_fields(true).map(|f| field(f.value(&o.outcome, Some(tr)))));
+    Some(row)
 }
 
 #[cfg(test)]

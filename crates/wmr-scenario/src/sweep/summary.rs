@@ -48,8 +48,8 @@ pub struct LawSummary {
     pub peak_wheel_speed: Spread,
     /// Path length, m.
     pub path_length: Spread,
-    /// Drive energy, J.
-    pub energy: Spread,
+    /// Work of both drives on their wheels, braking counted as positive, J ([`Outcome::abs_work`]).
+    pub abs_work: Spread,
 }
 
 /// Per-law comparison of sweep outcomes, in law order.
@@ -73,7 +73,7 @@ pub fn summarize(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<LawSummary>
                 heading_error_deg: over(|o| o.final_heading_error.to_degrees().abs()),
                 peak_wheel_speed: over(|o| o.peak_wheel_speed),
                 path_length: over(|o| o.path_length),
-                energy: over(|o| o.energy),
+                abs_work: over(|o| o.abs_work),
             }
         })
         .collect()
@@ -97,7 +97,7 @@ pub fn summary_table(rows: &[LawSummary]) -> String {
         "|e_th| deg",
         "peak w rad/s",
         "path m",
-        "energy J"
+        "|work| J"
     );
     for r in rows {
         out.push_str(&format!(
@@ -111,7 +111,7 @@ pub fn summary_table(rows: &[LawSummary]) -> String {
             fmt(r.heading_error_deg, 2),
             fmt(r.peak_wheel_speed, 1),
             fmt(r.path_length, 2),
-            fmt(r.energy, 1),
+            fmt(r.abs_work, 1),
         ));
     }
     out
