@@ -5,7 +5,7 @@
 //! test passes) and, when `WMR_SKIP_LOG` names a file, appended to it (`scripts/test`
 //! counts the lines starting `SKIP ` at the end); a long reason (a list of the documented
 //! commands not run) is wrapped at [`WIDTH`] columns, its further lines indented. Where
-//! `WMR_REQUIRE` lists the capability (`WMR_REQUIRE=node,root,tmpfs`: what CI has), the
+//! `WMR_REQUIRE` lists the capability (`WMR_REQUIRE=node,root,tmpfs,python-packages`: what CI has), the
 //! lack is a failure instead.
 
 use std::io::Write as _;
