@@ -302,7 +302,9 @@ def run_batch(
     ``final_y`` (m), ``final_theta`` (rad), ``final_dl`` (m), ``final_heading_error``
     (rad, wrap(theta_d - theta)), ``time_to_1cm`` (s; NaN if dl never stays below 1 cm),
     ``t_final`` (s), ``peak_wheel_speed`` (rad/s), ``path_length`` (m), ``energy`` (J)
-    as float64; ``converged`` and ``diverged`` as bool. ``.arrival_radius`` (m, the 1 cm
+    as float64; ``converged`` and ``diverged`` as bool; ``status`` (list of str:
+    ``converged``, ``diverged``, ``unsettled`` or, for a tracking run whose reference asks
+    more than the robot can give, ``cannot_follow``, the CLI's word). ``.arrival_radius`` (m, the 1 cm
     threshold) and ``.law`` are attributes; ``.to_pandas()`` gives one row per start.
 
     starts: array-like of shape (N, 3): rows (x_m, y_m, theta_rad).
@@ -396,7 +398,9 @@ def sweep(
 ) -> SweepResult:
     """Run a scenario's ``[sweep]``: every law from every start (and every variant and
     trial of ``vary``), in parallel with the GIL released, and return a SweepResult (a
-    dict of 1-D arrays, one entry per run, with ``.to_pandas()`` and ``.to_xarray()``).
+    dict of 1-D arrays, one entry per run, with ``.to_pandas()`` and ``.to_xarray()``);
+    its ``status`` (list of str) is each run's word in the CLI's CSV, ``cannot_follow``
+    included.
 
     scenario: a path, TOML text or a dict, as for ``run_scenario``.
     progress: show a tqdm bar of the runs (needs tqdm).
