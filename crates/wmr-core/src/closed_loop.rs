@@ -322,12 +322,14 @@ pub const POLL_EVERY_STEPS: u64 = 1024;
 /// plant steps per control tick. Errors name `dt` and `control_dt`.
 pub(crate) fn control_every<T: Real>(plant: &Plant<T>, control_dt: T, dt: T) -> Result<u32, ParamError> {
     check::positive("dt", dt)?;
-    if dt >= plant.max_stable_dt() {
-        return Err(check::out_of_range(
-            "dt",
-            "too large for the plant's friction: RK4 is unstable unless dt * stiffness < 2.785 (Plant::stiffness)",
-            dt,
-        ));
+    if plant.substeps(dt).is_none() {
+        let reason = if plant.slips() {
+            "too large for the slip's contacts: more than 1000 RK4 sub-steps of dt * stiffness <= 0.9 x 2.785 \
+             (Plant::substeps)"
+        } else {
+            "too large for the plant's friction: RK4 is unstable unless dt * stiffness < 2.785 (Plant::stiffness)"
+        };
+        return Err(check::out_of_range("dt", reason, dt));
     }
     check::whole_multiple("control_dt", control_dt, dt)
 }

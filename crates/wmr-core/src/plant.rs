@@ -20,6 +20,15 @@ use crate::{Real, Robot};
 /// Half-width of the box (m) point C must stay in; outside it the run has diverged.
 pub const DIVERGENCE_BOX_M: f64 = 1000.0;
 
+/// The most RK4 sub-steps a slip plant takes in one [`Plant::step`]
+/// ([`Plant::substeps`]); a step that would need more is refused where it is checked
+/// (`sim.dt`, the C API's `dt`).
+pub const MAX_SLIP_SUBSTEPS: u32 = 1000;
+
+/// The share of the RK4 stability limit a sub-step of a slip plant uses at most:
+/// dt * stiffness / n <= 0.9 x 2.785 ([`Plant::substeps`]).
+pub const SLIP_SUBSTEP_SHARE: f64 = 0.9;
+
 /// The robot, its drive and its state, with a drive command held between control ticks.
 #[derive(Clone, Copy, Debug)]
 pub struct Plant<T> {
@@ -36,6 +45,9 @@ pub struct Plant<T> {
     traction: Traction<T>,
     /// The slip plant's speeds beyond [`State`] (zero and unused when rolling).
     extra: SlipExtra<T>,
+    /// A slip plant's [`Plant::stiffness`], 1/s, computed once for its sub-steps (zero
+    /// when rolling).
+    slip_stiffness: T,
 }
 
 impl<T: Real> Plant<T> {
@@ -59,6 +71,7 @@ impl<T: Real> Plant<T> {
             held_torque: Wheels::default(),
             traction: Traction::Rolling,
             extra: SlipExtra::default(),
+            slip_stiffness: T::zero(),
         })
     }
 
@@ -66,6 +79,7 @@ impl<T: Real> Plant<T> {
     /// this plant's robot and world); a slip plant starts with its wheels at rest.
     pub fn with_traction(mut self, traction: Traction<T>) -> Self {
         self.traction = traction;
+        self.slip_stiffness = if self.slips() { self.stiffness() } else { T::zero() };
         self
     }
 
@@ -170,10 +184,49 @@ impl<T: Real> Plant<T> {
         (two * b / r2) * m11.recip().max(p.half_track * p.half_track / m22)
     }
 
-    /// The largest plant step (s) RK4 integrates stably: limit / [`Plant::stiffness`]
-    /// (infinite for a plant without damping).
+    /// The largest plant step (s) one RK4 step integrates stably: limit /
+    /// [`Plant::stiffness`] (infinite for a plant without damping).
     pub fn max_stable_dt(&self) -> T {
         T::lit(crate::integrator::RK4_REAL_STABILITY_LIMIT) / self.stiffness()
+    }
+
+    /// The RK4 sub-steps [`Plant::step`] takes for a step of `dt` (s), or `None` when it
+    /// cannot take it stably.
+    ///
+    /// A rolling plant takes one step, stable while dt < [`Plant::max_stable_dt`]. A slip
+    /// plant's contacts are stiffer than its step need be (a tyre that holds its force
+    /// within a few per cent of slip: [`crate::TractionParams`]'s `slip_speed`), so it
+    /// splits the step: one RK4 step while dt * stiffness < 2.785, as before, else
+    ///
+    /// ```text
+    /// n = ceil(dt * stiffness / (0.9 * 2.785))      sub-steps of dt / n
+    /// ```
+    ///
+    /// ([`SLIP_SUBSTEP_SHARE`]), each stable with a margin; `None` beyond
+    /// [`MAX_SLIP_SUBSTEPS`]. The CLI's `check` shows n; the C API and the firmware step
+    /// through this same function, so every surface takes the same sub-steps.
+    pub fn substeps(&self, dt: T) -> Option<u32> {
+        let limit = T::lit(crate::integrator::RK4_REAL_STABILITY_LIMIT);
+        if !self.slips() {
+            return (dt < self.max_stable_dt()).then_some(1);
+        }
+        let x = dt * self.slip_stiffness;
+        if x < limit {
+            return Some(1);
+        }
+        let n = (x / (T::lit(SLIP_SUBSTEP_SHARE) * limit)).ceil();
+        (n <= T::lit(f64::from(MAX_SLIP_SUBSTEPS))).then(|| n.to_f64_lossless() as u32)
+    }
+
+    /// The largest plant step (s) [`Plant::step`] takes stably ([`Plant::substeps`]):
+    /// [`Plant::max_stable_dt`] for a rolling plant, 1000 sub-steps at 90 % of it for a
+    /// slip plant.
+    pub fn max_step_dt(&self) -> T {
+        if !self.slips() {
+            return self.max_stable_dt();
+        }
+        let substeps = T::lit(f64::from(MAX_SLIP_SUBSTEPS) * SLIP_SUBSTEP_SHARE);
+        substeps * T::lit(crate::integrator::RK4_REAL_STABILITY_LIMIT) / self.slip_stiffness
     }
 
     /// True wheel speeds, rad/s: each wheel's own speed (for a rolling plant, the
@@ -247,10 +300,32 @@ impl<T: Real> Plant<T> {
     }
 
     /// Advances the state by one RK4 step of `dt` (s) from time `t` (s) under the held
-    /// command. A result that is not finite or leaves the 1 km box is refused: the state
-    /// stays at the last good one and the reason is returned.
+    /// command; a slip plant whose contacts are too stiff for `dt` takes
+    /// [`Plant::substeps`] equal steps instead (at most [`MAX_SLIP_SUBSTEPS`]). A result
+    /// that is not finite or leaves the 1 km box is refused: the state stays at the last
+    /// good one and the reason is returned.
     #[inline]
     pub fn step(&mut self, t: T, dt: T) -> Result<(), Termination> {
+        if let Traction::Slip(slip) = self.traction {
+            let n = self.substeps(dt).unwrap_or(MAX_SLIP_SUBSTEPS);
+            if n == 1 {
+                return self.step_slip(&slip, t, dt);
+            }
+            // The sub-steps' times t + k h: each from t, so no rounding accumulates.
+            let h = dt / T::lit(f64::from(n));
+            for k in 0..n {
+                self.step_slip(&slip, t + T::lit(f64::from(k)) * h, h)?;
+            }
+            return Ok(());
+        }
+        self.rk4_step(t, dt)
+    }
+
+    /// One RK4 step of `dt` (s) from `t` (s), never split ([`Plant::step`] splits a slip
+    /// plant's step the contacts are too stiff for; this is what it does otherwise), with
+    /// the same refusals.
+    #[inline]
+    pub fn rk4_step(&mut self, t: T, dt: T) -> Result<(), Termination> {
         if let Traction::Slip(slip) = self.traction {
             return self.step_slip(&slip, t, dt);
         }

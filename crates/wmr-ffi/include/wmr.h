@@ -441,9 +441,9 @@ typedef struct {
   float caster_offset;
   // h, height of the centre of mass G above the ground, m (>= 0).
   float com_height;
-  // v_eps, the contact's damping: below mu N, F = mu N (deflection / stiction_length + slip / v_eps), m/s (> 0, and dt * stiffness < 2.785).
+  // v_eps, the contact's damping: below mu N, F = mu N (deflection / stiction_length + slip / v_eps); the plant takes sub-steps of dt while dt * stiffness >= 2.785, m/s (> 0, and at most 1000 sub-steps: dt * stiffness <= 2506.8).
   float slip_speed;
-  // L, the contact's deflection at which the tyre holds mu N without slipping (its stiffness is mu N / L), m (> 0, finite, and dt * stiffness < 2.785).
+  // L, the contact's deflection at which the tyre holds mu N without slipping (its stiffness is mu N / L), m (> 0, finite, and at most 1000 sub-steps: dt * stiffness <= 2506.8).
   float stiction_length;
 } wmr_traction_params_f32;
 
@@ -854,9 +854,9 @@ typedef struct {
   double caster_offset;
   // h, height of the centre of mass G above the ground, m (>= 0).
   double com_height;
-  // v_eps, the contact's damping: below mu N, F = mu N (deflection / stiction_length + slip / v_eps), m/s (> 0, and dt * stiffness < 2.785).
+  // v_eps, the contact's damping: below mu N, F = mu N (deflection / stiction_length + slip / v_eps); the plant takes sub-steps of dt while dt * stiffness >= 2.785, m/s (> 0, and at most 1000 sub-steps: dt * stiffness <= 2506.8).
   double slip_speed;
-  // L, the contact's deflection at which the tyre holds mu N without slipping (its stiffness is mu N / L), m (> 0, finite, and dt * stiffness < 2.785).
+  // L, the contact's deflection at which the tyre holds mu N without slipping (its stiffness is mu N / L), m (> 0, finite, and at most 1000 sub-steps: dt * stiffness <= 2506.8).
   double stiction_length;
 } wmr_traction_params_f64;
 
@@ -1107,14 +1107,15 @@ wmr_status wmr_plant_f32_init(wmr_plant_f32 *out,
                               wmr_error *err);
 
 // Fills `out` with the slip plant's defaults with `traction = WMR_TRACTION_SLIP` (mu =
-// 0.8, caster 0.35 m ahead of C, G 0.1 m high, slip_speed 0.2 m/s, stiction_length
+// 0.8, caster 0.35 m ahead of C, G 0.1 m high, slip_speed 0.03 m/s, stiction_length
 // 1 mm).
 wmr_status wmr_traction_params_f32_default(wmr_traction_params_f32 *out);
 
 // As `wmr_plant_f32_init`, with the traction model `traction` (NULL or
 // `WMR_TRACTION_ROLLING`: the paper's rolling wheels; `WMR_TRACTION_SLIP`: wheels that
-// slip when the forces exceed mu times the normal loads). The slip plant's RK4 limit on
-// `dt` is tighter (`wmr_plant_f32_step` says so).
+// slip when the forces exceed mu times the normal loads). The slip plant splits a step
+// its contacts are too stiff for into RK4 sub-steps, as the CLI does
+// (`wmr_plant_f32_step` says so).
 wmr_status wmr_plant_f32_init_traction(wmr_plant_f32 *out,
                                        const wmr_robot_f32 *robot,
                                        const wmr_drive_f32 *drive,
@@ -1129,10 +1130,13 @@ wmr_status wmr_plant_f32_init_traction(wmr_plant_f32 *out,
 wmr_status wmr_plant_f32_apply(wmr_plant_f32 *plant,
                                wmr_wheels_f32 command);
 
-// One RK4 step of `dt` (s) from time `t` (s) under the held command. `t` must be
-// finite and `dt` finite, > 0 and below the plant's RK4 limit (`WMR_NOT_FINITE`,
-// `WMR_NOT_POSITIVE`, `WMR_OUT_OF_RANGE`). A state that is not finite or leaves the
-// 1 km box is refused (`WMR_DIVERGED_*`), the state unchanged.
+// One RK4 step of `dt` (s) from time `t` (s) under the held command; a slip plant
+// takes n equal sub-steps, n = 1 while dt * stiffness < 2.785, else
+// ceil(dt * stiffness / (0.9 * 2.785)), the CLI's (`wmr-cli check` shows n). `t` must be
+// finite and `dt` finite, > 0 and below the plant's RK4 limit, for a slip plant within
+// 1000 sub-steps (`WMR_NOT_FINITE`, `WMR_NOT_POSITIVE`, `WMR_OUT_OF_RANGE`). A state
+// that is not finite or leaves the 1 km box is refused (`WMR_DIVERGED_*`), the state
+// unchanged.
 wmr_status wmr_plant_f32_step(wmr_plant_f32 *plant,
                               float t,
                               float dt);
@@ -1627,14 +1631,15 @@ wmr_status wmr_plant_f64_init(wmr_plant_f64 *out,
                               wmr_error *err);
 
 // Fills `out` with the slip plant's defaults with `traction = WMR_TRACTION_SLIP` (mu =
-// 0.8, caster 0.35 m ahead of C, G 0.1 m high, slip_speed 0.2 m/s, stiction_length
+// 0.8, caster 0.35 m ahead of C, G 0.1 m high, slip_speed 0.03 m/s, stiction_length
 // 1 mm).
 wmr_status wmr_traction_params_f64_default(wmr_traction_params_f64 *out);
 
 // As `wmr_plant_f64_init`, with the traction model `traction` (NULL or
 // `WMR_TRACTION_ROLLING`: the paper's rolling wheels; `WMR_TRACTION_SLIP`: wheels that
-// slip when the forces exceed mu times the normal loads). The slip plant's RK4 limit on
-// `dt` is tighter (`wmr_plant_f64_step` says so).
+// slip when the forces exceed mu times the normal loads). The slip plant splits a step
+// its contacts are too stiff for into RK4 sub-steps, as the CLI does
+// (`wmr_plant_f64_step` says so).
 wmr_status wmr_plant_f64_init_traction(wmr_plant_f64 *out,
                                        const wmr_robot_f64 *robot,
                                        const wmr_drive_f64 *drive,
@@ -1649,10 +1654,13 @@ wmr_status wmr_plant_f64_init_traction(wmr_plant_f64 *out,
 wmr_status wmr_plant_f64_apply(wmr_plant_f64 *plant,
                                wmr_wheels_f64 command);
 
-// One RK4 step of `dt` (s) from time `t` (s) under the held command. `t` must be
-// finite and `dt` finite, > 0 and below the plant's RK4 limit (`WMR_NOT_FINITE`,
-// `WMR_NOT_POSITIVE`, `WMR_OUT_OF_RANGE`). A state that is not finite or leaves the
-// 1 km box is refused (`WMR_DIVERGED_*`), the state unchanged.
+// One RK4 step of `dt` (s) from time `t` (s) under the held command; a slip plant
+// takes n equal sub-steps, n = 1 while dt * stiffness < 2.785, else
+// ceil(dt * stiffness / (0.9 * 2.785)), the CLI's (`wmr-cli check` shows n). `t` must be
+// finite and `dt` finite, > 0 and below the plant's RK4 limit, for a slip plant within
+// 1000 sub-steps (`WMR_NOT_FINITE`, `WMR_NOT_POSITIVE`, `WMR_OUT_OF_RANGE`). A state
+// that is not finite or leaves the 1 km box is refused (`WMR_DIVERGED_*`), the state
+// unchanged.
 wmr_status wmr_plant_f64_step(wmr_plant_f64 *plant,
                               double t,
                               double dt);

@@ -128,7 +128,7 @@ pub unsafe extern "C" fn wmr_plant_f64_init(
 }
 
 /// Fills `out` with the slip plant's defaults with `traction = WMR_TRACTION_SLIP` (mu =
-/// 0.8, caster 0.35 m ahead of C, G 0.1 m high, slip_speed 0.2 m/s, stiction_length
+/// 0.8, caster 0.35 m ahead of C, G 0.1 m high, slip_speed 0.03 m/s, stiction_length
 /// 1 mm).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_traction_params_f64_default(out: *mut wmr_traction_params<f64>) -> wmr_status {
@@ -137,8 +137,9 @@ pub unsafe extern "C" fn wmr_traction_params_f64_default(out: *mut wmr_traction_
 
 /// As `wmr_plant_f64_init`, with the traction model `traction` (NULL or
 /// `WMR_TRACTION_ROLLING`: the paper's rolling wheels; `WMR_TRACTION_SLIP`: wheels that
-/// slip when the forces exceed mu times the normal loads). The slip plant's RK4 limit on
-/// `dt` is tighter (`wmr_plant_f64_step` says so).
+/// slip when the forces exceed mu times the normal loads). The slip plant splits a step
+/// its contacts are too stiff for into RK4 sub-steps, as the CLI does
+/// (`wmr_plant_f64_step` says so).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_plant_f64_init_traction(
     out: *mut wmr_plant_f64,
@@ -160,10 +161,13 @@ pub unsafe extern "C" fn wmr_plant_f64_apply(plant: *mut wmr_plant_f64, command:
     imp::plant_apply(plant, command)
 }
 
-/// One RK4 step of `dt` (s) from time `t` (s) under the held command. `t` must be
-/// finite and `dt` finite, > 0 and below the plant's RK4 limit (`WMR_NOT_FINITE`,
-/// `WMR_NOT_POSITIVE`, `WMR_OUT_OF_RANGE`). A state that is not finite or leaves the
-/// 1 km box is refused (`WMR_DIVERGED_*`), the state unchanged.
+/// One RK4 step of `dt` (s) from time `t` (s) under the held command; a slip plant
+/// takes n equal sub-steps, n = 1 while dt * stiffness < 2.785, else
+/// ceil(dt * stiffness / (0.9 * 2.785)), the CLI's (`wmr-cli check` shows n). `t` must be
+/// finite and `dt` finite, > 0 and below the plant's RK4 limit, for a slip plant within
+/// 1000 sub-steps (`WMR_NOT_FINITE`, `WMR_NOT_POSITIVE`, `WMR_OUT_OF_RANGE`). A state
+/// that is not finite or leaves the 1 km box is refused (`WMR_DIVERGED_*`), the state
+/// unchanged.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_plant_f64_step(plant: *mut wmr_plant_f64, t: f64, dt: f64) -> wmr_status {
     imp::plant_step(plant, t, dt)

@@ -814,7 +814,8 @@ pub fn plant_step<T: Prec>(plant: *mut T::Plant, t: T, dt: T) -> wmr_status {
         finite("t", t)?;
         let plant = get_mut(plant, "plant")?;
         // dt > 0 (a step of 0 or backwards in time is no step of the model) and below
-        // the RK4 stability limit of the plant's friction (as `ClosedLoop` checks it).
+        // the RK4 stability limit of the plant's friction, or for a slip plant within
+        // 1000 sub-steps (Plant::substeps, as `ClosedLoop` checks it).
         finite("dt", dt)?;
         if dt <= T::zero() {
             return Err(Fail {
@@ -824,12 +825,13 @@ pub fn plant_step<T: Prec>(plant: *mut T::Plant, t: T, dt: T) -> wmr_status {
                 value: dt.to_f64_lossless(),
             });
         }
-        if dt >= plant.max_stable_dt() {
-            return Err(Fail::out_of_range(
-                "dt",
-                "too large for the plant's friction: RK4 is unstable unless dt * stiffness < 2.785",
-                dt.to_f64_lossless(),
-            ));
+        if plant.substeps(dt).is_none() {
+            let reason = if plant.slips() {
+                "too large for the slip's contacts: more than 1000 RK4 sub-steps of dt * stiffness <= 0.9 x 2.785"
+            } else {
+                "too large for the plant's friction: RK4 is unstable unless dt * stiffness < 2.785"
+            };
+            return Err(Fail::out_of_range("dt", reason, dt.to_f64_lossless()));
         }
         plant.step(t, dt).map_err(|term| {
             let code = match term {

@@ -309,12 +309,11 @@ def test_sweep_over_references_is_the_clis(tmp_path: pathlib.Path) -> None:
     with open(out, newline="") as f:
         rows = list(csv.DictReader(f))
     assert len(rows) == len(res) == 27
-    status = np.where(res.converged, "converged", np.where(res.diverged, "diverged", "unsettled"))
     for i, row in enumerate(rows):
         assert (res.law[i], res.reference[i], int(res.start[i])) == (row["law"], row["reference"], int(row["start"]))
-        # The sweep's arrays say converged and diverged; a run the CLI calls cannot_follow
-        # (issue 38) is neither, as unsettled is.
-        assert status[i] == row["status"].replace("cannot_follow", "unsettled"), i
+        # The sweep's status is the CLI's word, cannot_follow (issue 38) included.
+        assert res.status[i] == row["status"], i
+        assert res.converged[i] == (row["status"] == "converged") and res.diverged[i] == (row["status"] == "diverged")
         for name in ("rms_error_m", "max_error_m", "final_error_m"):
             assert res[name][i] == float(row[name]), (i, name)
         ttt = row["time_to_tolerance_s"]
@@ -382,3 +381,61 @@ def test_regression_38_9_a_recorded_path_of_2000_points(tmp_path: pathlib.Path) 
     cli = read_csv(out)
     for name in ("x", "y", "theta", "x_ref", "y_ref", "v_ref"):
         np.testing.assert_array_equal(s[name], cli[name], err_msg=name)
+
+
+def test_batch_and_sweep_status_say_cannot_follow() -> None:
+    """Issue 38 (item 8, in Python): a 3 m x 2 m figure-eight at a peak of 2 m/s through
+    the DC motor on a 6 V supply asks more than the motor's no-load speed at the wheel:
+    the CLI's CSV says cannot_follow (wmr-scenario's
+    a_reference_the_robot_cannot_follow_is_reported_as_such), and so do run_batch's and
+    sweep's ``status`` and their data frames; on the unlimited torque drive the same run
+    converges. Before, the status arrays knew only converged, diverged and unsettled."""
+    ref = {"kind": "figure_eight", "width": 3.0, "height": 2.0, "period": 2.0 * np.pi / 0.8}
+    start = [[0.0, 0.0, np.arctan2(2.0, 1.5)]]
+    ctrl = {"kind": "backstepping"}
+    dc = {"kind": "dc_motor", "voltage_max": 6.0}
+    b = wmr_py.run_batch(start, reference=ref, controller=ctrl, drive=dc, t_end=30.0)
+    assert list(b["status"]) == ["cannot_follow"] and not b.converged[0] and not b.diverged[0]
+    assert "100.0% cannot_follow" in repr(b)
+    torque = wmr_py.run_batch(start, reference=ref, controller=ctrl, t_end=30.0)
+    assert list(torque["status"]) == ["converged"]
+    # A batch towards a goal says the same words as before.
+    goal = wmr_py.run_batch([[0.5, 0.0, 0.0]], (0, 0, 0), t_end=4.0, controller={"kind": "polar"})
+    assert list(goal["status"]) == [("converged" if goal.converged[0] else "unsettled")]
+
+    class Serial:
+        """An executor running each part at once, in the caller."""
+
+        def submit(self, fn, *args):
+            class Done:
+                def __init__(self, v):
+                    self.v = v
+
+                def result(self):
+                    return self.v
+
+            return Done(fn(*args))
+
+    parts = wmr_py.run_batch(start, reference=ref, controller=ctrl, drive=dc, t_end=30.0, executor=Serial())
+    assert list(parts["status"]) == ["cannot_follow"]
+    text = f"""
+[reference]
+kind = "figure_eight"
+width = 3.0
+height = 2.0
+period = {2.0 * np.pi / 0.8!r}
+[drive]
+kind = "dc_motor"
+voltage_max = 6.0
+[sim]
+t_end = 30.0
+[sweep]
+controllers = [{{ kind = "backstepping" }}]
+grid = {{ x_min = 0.0, x_max = 0.0, nx = 1, y_min = 0.0, y_max = 0.0, ny = 1, theta_deg = [0.0] }}
+"""
+    s = wmr_py.sweep(text)
+    assert list(s["status"]) == ["cannot_follow"], s.table
+    assert list(wmr_py.sweep(text, executor=Serial())["status"]) == ["cannot_follow"]
+    pytest.importorskip("pandas")  # optional: what follows needs it
+    assert list(b.to_pandas()["status"]) == ["cannot_follow"]
+    assert list(s.to_pandas()["status"]) == ["cannot_follow"]

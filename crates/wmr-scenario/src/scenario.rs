@@ -633,6 +633,16 @@ impl Scenario {
             let _ = writeln!(o, "tracking_tolerance = {}", f(tol));
         }
         let _ = writeln!(o, "# {} steps and {} samples per run", s.n_steps(), s.n_samples());
+        if let Some((n, x)) = setup.slip_substeps(s.dt()) {
+            // Derived, not a key: the slip plant splits each step its contacts are too
+            // stiff for (wmr_core::Plant::substeps).
+            let _ = writeln!(
+                o,
+                "# derived: the slip plant takes {n} RK4 sub-step{} per dt (dt * stiffness = {x:.3}; \
+                 1 below 2.785, else ceil(dt * stiffness / (0.9 x 2.785)))",
+                if n == 1 { "" } else { "s" }
+            );
+        }
         for run in &self.runs {
             let pose = |p: &Pose2<f64>| {
                 format!(

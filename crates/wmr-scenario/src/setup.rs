@@ -209,26 +209,39 @@ impl Setup {
         matches!(self.traction, Traction::Slip(_))
     }
 
+    /// A slip plant's RK4 sub-steps per plant step `dt` (s) with the dt * stiffness they
+    /// come from ([`Plant::substeps`]: one while dt * stiffness < 2.785, else
+    /// ceil(dt * stiffness / (0.9 x 2.785))); `None` for a rolling plant or a step
+    /// [`Setup::check_step`] refuses.
+    pub fn slip_substeps(&self, dt: f64) -> Option<(u32, f64)> {
+        let plant = self.plant(Pose2::default()).ok()?;
+        if !plant.slips() {
+            return None;
+        }
+        Some((plant.substeps(dt)?, dt * plant.stiffness()))
+    }
+
     /// Checks the plant step `dt` (s, `sim.dt`) against the plant's stiffness: RK4 is
     /// unstable beyond it. A Coulomb friction too sharp for the step names
-    /// `robot.coulomb_speed` and says what would do.
+    /// `robot.coulomb_speed` and says what would do. A slip plant splits a step its
+    /// contacts are too stiff for into sub-steps ([`Setup::slip_substeps`]); a step
+    /// that would need more than 1000 names `robot.slip_speed`.
     pub fn check_step(&self, dt: f64) -> Result<(), ScenarioError> {
         let plant = self.plant(Pose2::default()).map_err(param_error("run"))?;
-        let max_dt = plant.max_stable_dt();
-        if dt < max_dt {
+        if plant.substeps(dt).is_some() {
             return Ok(());
         }
+        let max_dt = plant.max_step_dt();
         if let Traction::Slip(_) = &self.traction {
             // The slip's stiffness (Slip::stiffness) falls as slip_speed (the contacts'
             // damping) or stiction_length (their spring) grows, though not in proportion:
-            // the first value of either, raised by steps of 1 %, that brings it to 90 % of
-            // the limit at this dt, if one within a factor of 1000 does.
+            // the first value of either, raised by steps of 1 %, that the plant steps in
+            // at most 1000 sub-steps at this dt, if one within a factor of 1000 does.
             let tp = &self.traction_params;
             let fits = |candidate: TractionParams<f64>| {
                 candidate.validate(&self.robot, &self.world).is_ok_and(|t| {
                     Plant::on(self.robot, self.drive, self.world, Pose2::default())
-                        .map(|p| dt * p.with_traction(t).stiffness())
-                        .is_ok_and(|x| x <= 0.9 * wmr_core::integrator::RK4_REAL_STABILITY_LIMIT)
+                        .is_ok_and(|p| p.with_traction(t).substeps(dt).is_some())
                 })
             };
             let raised = |value: f64, with: &dyn Fn(f64) -> TractionParams<f64>| {
@@ -245,12 +258,16 @@ impl Setup {
                 "robot.slip_speed",
                 format!(
                     "with friction_coefficient = {}, slip_speed = {} m/s, stiction_length = {} m and sim.dt = {dt} s \
-                     the slip is too stiff for RK4 (dt * stiffness = {:.3} must be < 2.785, stiffness = {:.4e} 1/s): \
-                     {advice}",
+                     the slip is too stiff for RK4 in {} sub-steps (dt * stiffness = {:.3} must be <= {:.1}, \
+                     stiffness = {:.4e} 1/s): {advice}",
                     tp.friction_coefficient,
                     tp.slip_speed,
                     tp.stiction_length,
+                    wmr_core::plant::MAX_SLIP_SUBSTEPS,
                     dt * plant.stiffness(),
+                    f64::from(wmr_core::plant::MAX_SLIP_SUBSTEPS)
+                        * wmr_core::plant::SLIP_SUBSTEP_SHARE
+                        * wmr_core::integrator::RK4_REAL_STABILITY_LIMIT,
                     plant.stiffness()
                 ),
             ));

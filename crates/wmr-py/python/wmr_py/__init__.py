@@ -302,7 +302,9 @@ def run_batch(
     fields of ``OUTCOME_FIELDS`` as float64, each name ending in its unit (``final_x_m``,
     ``final_theta_deg``, ``final_dl_m``, ``time_to_1cm_s``: NaN if dl never stays below
     1 cm, ..., ``abs_work_j``; ``wmr-cli help keys outputs`` says what each is);
-    ``converged`` and ``diverged`` as bool. ``.arrival_radius`` (m, the 1 cm
+    ``converged`` and ``diverged`` as bool; ``status`` (list of str: ``converged``,
+    ``diverged``, ``unsettled`` or, for a tracking run whose reference asks more than the
+    robot can give, ``cannot_follow``, the CLI's word). ``.arrival_radius`` (m, the 1 cm
     threshold) and ``.law`` are attributes; ``.to_pandas()`` gives one row per start.
 
     starts: array-like of shape (N, 3): rows (x_m, y_m, theta_rad).
@@ -397,7 +399,9 @@ def sweep(
 ) -> SweepResult:
     """Run a scenario's ``[sweep]``: every law from every start (and every variant and
     trial of ``vary``), in parallel with the GIL released, and return a SweepResult (a
-    dict of 1-D arrays, one entry per run, with ``.to_pandas()`` and ``.to_xarray()``).
+    dict of 1-D arrays, one entry per run, with ``.to_pandas()`` and ``.to_xarray()``);
+    its ``status`` (list of str) is each run's word in the CLI's CSV, ``cannot_follow``
+    included.
 
     scenario: a path, TOML text or a dict, as for ``run_scenario``.
     progress: show a tqdm bar of the runs (needs tqdm).

@@ -41,16 +41,28 @@ def require(package: str, what: str) -> Any:
         raise ImportError(f"{what} needs {package}, which is not installed: pip install {package}") from e
 
 
-def _status(converged: np.ndarray, diverged: np.ndarray) -> np.ndarray:
-    return np.where(converged, "converged", np.where(diverged, "diverged", "unsettled"))
+#: Every run's status word, as the CLI's CSV writes it, in report order (wmr-core's
+#: ``Status``): a tracking run whose reference asks more than the robot can give is
+#: ``cannot_follow``, neither converged nor diverged.
+STATUSES: tuple = ("converged", "diverged", "unsettled", "cannot_follow")
+
+
+def _status(res: Any) -> np.ndarray:
+    """Each run's status word: the native ``status`` entry; a result without one (built
+    by hand from ``converged`` and ``diverged``) cannot tell cannot_follow from unsettled."""
+    if "status" in res:
+        return np.asarray(res["status"], dtype=str)
+    return np.where(res["converged"], "converged", np.where(res["diverged"], "diverged", "unsettled"))
 
 
 def _shares(res: Any) -> str:
     if "converged" not in res or "diverged" not in res:
         return "no runs"
-    n = max(len(res["converged"]), 1)
-    c, d = int(np.sum(res["converged"])), int(np.sum(res["diverged"]))
-    return f"{100 * c / n:.1f}% converged, {100 * d / n:.1f}% diverged, {100 * (n - c - d) / n:.1f}% unsettled"
+    status = _status(res)
+    n = max(len(status), 1)
+    shares = [f"{100 * int(np.sum(status == s)) / n:.1f}% {s}" for s in STATUSES]
+    # cannot_follow only where a run is (a goal's batch never is).
+    return ", ".join(shares if "cannot_follow" in status else shares[:3])
 
 
 def _run_columns(r: Any) -> dict:
@@ -126,7 +138,9 @@ class BatchResult(_Entries):
     fields of ``OUTCOME_FIELDS`` as float64, each name ending in its unit (``final_x_m``,
     ``final_theta_deg``, ``final_dl_m``, ``time_to_1cm_s``: NaN if dl never stays below
     1 cm, ..., ``abs_work_j``; ``wmr-cli help keys outputs`` says what each is);
-    ``converged`` and ``diverged`` as bool. Attributes: ``law`` (the controller's
+    ``converged`` and ``diverged`` as bool; ``status`` (list of str, each run's word as
+    the CLI's CSV writes it: ``cannot_follow`` for a tracking run whose reference asks
+    more than the robot can give). Attributes: ``law`` (the controller's
     kind), ``arrival_radius`` (m, the 1 cm threshold of ``converged``); every entry reads
     as an attribute too (``res.converged``, ``res["converged"]``).
     """
@@ -149,7 +163,7 @@ class BatchResult(_Entries):
         data: dict = {"law": np.full(n, self.law, dtype=object)}
         for k in ("start", "x0", "y0", "theta0"):
             data[k] = self[k]
-        data["status"] = _status(self["converged"], self["diverged"])
+        data["status"] = _status(self)
         for k in (*OUTCOME_FIELDS, *TRACKING_FIELDS):
             if k in self:
                 data[k] = self[k]
@@ -220,7 +234,7 @@ class SweepResult(_Entries):
             data[k] = self[k]
         if self.trials > 1:
             data["trial"] = self.trial
-        data["status"] = _status(self["converged"], self["diverged"])
+        data["status"] = _status(self)
         for k in (*OUTCOME_FIELDS, *TRACKING_FIELDS):
             if k in self:
                 data[k] = self[k]
@@ -483,6 +497,7 @@ def gather_batch(outs: Sequence[Any], parts: Sequence[tuple], starts: np.ndarray
             raise bad(k, "returned the result of another part (swapped or foreign)")
     # A tracking scenario's parts carry the tracking arrays too (each part, as the first).
     fields = [*OUTCOME_FIELDS, *(f for f in TRACKING_FIELDS if outs and isinstance(outs[0], Mapping) and f in outs[0])]
+    fields.append("status")
     for k, (o, (a, b)) in enumerate(zip(outs, parts)):
         for f in fields:
             col = o.get(f)

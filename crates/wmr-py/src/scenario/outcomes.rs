@@ -29,13 +29,17 @@ fn tracking_array_fields() -> impl Iterator<Item = &'static OutcomeField> {
 /// The bool outcome arrays, after the float ones: the run's status is this one.
 const BOOL_FIELDS: [(&str, Status); 2] = [("converged", Status::Converged), ("diverged", Status::Diverged)];
 
+/// The entry of each run's status word beside the outcome arrays.
+const STATUS: &str = "status";
+
 /// Names of the run_batch and sweep outcome arrays, in order (`wmr_py.OUTCOME_FIELDS`).
 pub fn outcome_fields() -> impl Iterator<Item = &'static str> {
     float_fields().map(|f| f.name).chain(BOOL_FIELDS.iter().map(|f| f.0))
 }
 
 /// The per-run outcome arrays of `run_batch` and `sweep` ([`outcome_fields`]), one entry
-/// per outcome, in order.
+/// per outcome, in order, and `status`: each run's word ([`Status::name`], what the
+/// CLI's CSV says), a list of str.
 pub(super) fn outcome_dict<'py, 'a>(
     py: Python<'py>,
     outcomes: impl ExactSizeIterator<Item = &'a Outcome<f64>>,
@@ -43,6 +47,7 @@ pub(super) fn outcome_dict<'py, 'a>(
     let n = outcomes.len();
     let mut cols: Vec<Vec<f64>> = float_fields().map(|_| Vec::with_capacity(n)).collect();
     let mut flags: [Vec<bool>; BOOL_FIELDS.len()] = std::array::from_fn(|_| Vec::with_capacity(n));
+    let mut words = Vec::with_capacity(n);
     for o in outcomes {
         for (c, f) in cols.iter_mut().zip(float_fields()) {
             c.push(f.value(o, None).unwrap_or(f64::NAN));
@@ -51,6 +56,7 @@ pub(super) fn outcome_dict<'py, 'a>(
         for (c, (_, s)) in flags.iter_mut().zip(BOOL_FIELDS) {
             c.push(status == s);
         }
+        words.push(status.name());
     }
     let d = PyDict::new(py);
     for (f, c) in float_fields().zip(cols) {
@@ -59,13 +65,14 @@ pub(super) fn outcome_dict<'py, 'a>(
     for ((name, _), c) in BOOL_FIELDS.iter().zip(flags) {
         d.set_item(name, PyArray1::from_vec(py, c))?;
     }
+    d.set_item(STATUS, words)?;
     Ok(d)
 }
 
 /// Adds to `d` (the arrays of [`outcome_dict`]) the tracking summary of each run, one
 /// float64 array per [`tracking_fields`] entry (NaN where a run has no value: a time never
-/// reached), and sets `converged` and `diverged` from `status`, the tracking rule's
-/// outcome of each run.
+/// reached), and sets `converged`, `diverged` and `status` from `status`, the tracking
+/// rule's outcome of each run (`cannot_follow` among them, issue 38).
 pub(super) fn add_tracking_arrays<'a>(
     d: &Bound<'_, PyDict>,
     tracking: impl ExactSizeIterator<Item = Option<&'a TrackingOutcome<f64>>>,
@@ -89,6 +96,7 @@ pub(super) fn add_tracking_arrays<'a>(
     for (name, s) in BOOL_FIELDS {
         d.set_item(name, PyArray1::from_vec(py, status.iter().map(|x| *x == s).collect()))?;
     }
+    d.set_item(STATUS, status.iter().map(|s| s.name()).collect::<Vec<_>>())?;
     Ok(())
 }
 
