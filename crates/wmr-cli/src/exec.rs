@@ -421,14 +421,15 @@ fn stream_runs(
 
 /// Loads a scenario file: read (a regular file, size-capped), checked, its warnings
 /// printed, and remembered as an input so no output replaces it.
-pub fn load(file: &Path) -> Result<Scenario> {
+pub fn load(file: &Path, access: &wmr_scenario::FileAccess) -> Result<Scenario> {
     let name = wmr_scenario::shown(file);
     let text = wmr_scenario::read_text(file).map_err(|e| anyhow::Error::new(e).context(name.clone()))?;
     crate::atomic::register_input(file);
     // Printed as "FILE: line L: KEY: what is wrong".
-    // A `[robot] from = "robots/NAME.toml"` is relative to the scenario's folder.
+    // A `[robot] from = "robots/NAME.toml"` is relative to the scenario's folder, and
+    // stays in it unless `access` allows another.
     let dir = file.parent().unwrap_or(Path::new(""));
-    let scenario = Scenario::from_toml_str_in(&text, &wmr_scenario::default_name(file), dir)
+    let scenario = Scenario::from_toml_str_with(&text, &wmr_scenario::default_name(file), dir, access)
         .map_err(|e| anyhow::Error::new(e).context(name.clone()))?;
     for w in wmr_scenario::warnings(&text) {
         note(&format!("wmr-cli: warning: {name}: {w}"));
@@ -437,8 +438,8 @@ pub fn load(file: &Path) -> Result<Scenario> {
 }
 
 /// `wmr-cli check FILE`: the resolved scenario on stdout.
-pub fn check_command(file: &Path) -> Result<()> {
-    let scenario = load(file)?;
+pub fn check_command(file: &Path, access: &wmr_scenario::FileAccess) -> Result<()> {
+    let scenario = load(file, access)?;
     let total = wmr_scenario::total_steps(&scenario);
     let text = scenario.to_toml();
     // Labels and the name are TOML strings: control characters come out escaped by

@@ -40,6 +40,8 @@ enum Command {
     Run {
         /// The scenario file (TOML).
         file: PathBuf,
+        #[command(flatten)]
+        files: Files,
         /// Output file: MCAP when it ends in .mcap, CSV when it ends in .csv; without it, only
         /// the summary is printed. `-` is stdout (with --format). Replaced atomically when
         /// complete; a device or FIFO is written to directly. Its directory must exist.
@@ -66,6 +68,8 @@ enum Command {
     Layout {
         /// The scenario file (TOML).
         file: PathBuf,
+        #[command(flatten)]
+        files: Files,
         /// The layout (JSON); import it in Foxglove with Layouts > Import from file.
         #[arg(short, long, value_name = "LAYOUT")]
         output: PathBuf,
@@ -76,6 +80,8 @@ enum Command {
     Sweep {
         /// The scenario file (TOML) with a sweep table.
         file: PathBuf,
+        #[command(flatten)]
+        files: Files,
         /// Outcome CSV (`-`: stdout); default: STEM-sweep.csv in the current folder (STEM:
         /// the scenario file's name without .toml).
         #[arg(short, long, value_name = "OUT")]
@@ -95,6 +101,8 @@ enum Command {
     Plot {
         /// The scenario file (TOML).
         file: PathBuf,
+        #[command(flatten)]
+        files: Files,
         /// Output folder (created if missing; its parent must exist).
         #[arg(short, long, value_name = "DIR")]
         output: PathBuf,
@@ -104,6 +112,8 @@ enum Command {
     Check {
         /// The scenario file (TOML).
         file: PathBuf,
+        #[command(flatten)]
+        files: Files,
     },
     /// Run one [[run]] in f32, as firmware does, and write every control tick's inputs
     /// (true state, measurement, goal) and outputs (command, errors): OUT.bin for the
@@ -111,6 +121,8 @@ enum Command {
     Trace {
         /// The scenario file (TOML).
         file: PathBuf,
+        #[command(flatten)]
+        files: Files,
         /// Output file: .bin (the trace format of wmr_core::trace) or .csv.
         #[arg(short, long, value_name = "OUT")]
         output: PathBuf,
@@ -131,6 +143,23 @@ enum Command {
         /// with or without its brackets).
         table: Option<String>,
     },
+}
+
+/// The files a scenario may name besides those in its folder (issue 39 item 14).
+#[derive(clap::Args, Debug)]
+struct Files {
+    /// Also read the files the scenario names (`[robot] from`, `[reference] path`) from DIR
+    /// and below; without it, only from the scenario's folder and below (links followed).
+    /// Repeat for several folders.
+    #[arg(long = "allow-files-under", value_name = "DIR")]
+    allow_files_under: Vec<PathBuf>,
+}
+
+impl Files {
+    fn access(&self) -> Result<wmr_scenario::FileAccess> {
+        wmr_scenario::FileAccess::under(&self.allow_files_under, wmr_scenario::AllowedBy::CommandLine)
+            .map_err(|e| bad_input(e.to_string()))
+    }
 }
 
 /// Output format.
@@ -167,8 +196,8 @@ fn format_of(out: &Path, format: Option<Format>) -> Result<Format> {
 /// Loads a scenario file ([`exec::load`], which remembers it as an input) and remembers
 /// every other file it read (its robot preset, its reference CSVs) as an input too, so
 /// that no output of the command (`-o`, `--layout`, `--plots`) replaces one of them.
-fn load(file: &Path) -> Result<wmr_scenario::Scenario> {
-    let scenario = exec::load(file)?;
+fn load(file: &Path, files: &Files) -> Result<wmr_scenario::Scenario> {
+    let scenario = exec::load(file, &files.access()?)?;
     for input in scenario.inputs() {
         let described =
             format!("{} ({} in {})", wmr_scenario::shown(&input.path), input.key, wmr_scenario::shown(file));
@@ -196,10 +225,10 @@ fn help(topic: Option<&str>, table: Option<&str>) -> Result<()> {
 
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
-        Command::Check { file } => exec::check_command(&file),
+        Command::Check { file, files } => exec::check_command(&file, &files.access()?),
         Command::Help { topic, table } => help(topic.as_deref(), table.as_deref()),
-        Command::Trace { file, output, run, format } => {
-            let scenario = load(&file)?;
+        Command::Trace { file, files, output, run, format } => {
+            let scenario = load(&file, &files)?;
             let t = trace_cmd::trace(&scenario, run, &output, format)?;
             let end = if t.diverged { "diverged" } else { "completed" };
             let shown = if output.as_os_str() == "-" { "stdout".to_owned() } else { wmr_scenario::shown(&output) };
@@ -212,27 +241,27 @@ fn run(cli: Cli) -> Result<()> {
                 errors::say(&line)
             }
         }
-        Command::Sweep { file, output, plots, fast } => {
-            let scenario = load(&file)?;
+        Command::Sweep { file, files, output, plots, fast } => {
+            let scenario = load(&file, &files)?;
             let output = output.unwrap_or_else(|| sweep_cmd::default_output(&file));
             sweep_cmd::sweep(&scenario, &file, &output, plots.as_deref(), fast, std::io::stderr().is_terminal())
         }
-        Command::Plot { file, output } => {
-            let scenario = load(&file)?;
+        Command::Plot { file, files, output } => {
+            let scenario = load(&file, &files)?;
             let written = plot_cmd::plot(&scenario, &file, &output)?;
             note(&format!("wmr-cli: wrote {} SVG file(s) into {}", written.len(), wmr_scenario::shown(&output)));
             Ok(())
         }
-        Command::Layout { file, output } => {
-            let scenario = load(&file)?;
+        Command::Layout { file, files, output } => {
+            let scenario = load(&file, &files)?;
             exec::require_runs(&scenario, &file)?;
             foxglove_cmd::write_layout(&scenario, &output)?;
             note(&format!("wmr-cli: wrote {} ({} run(s))", wmr_scenario::shown(&output), scenario.runs().len()));
             Ok(())
         }
-        Command::Run { file, output, format, layout, live, speed } => {
+        Command::Run { file, files, output, format, layout, live, speed } => {
             if let Some(addr) = live {
-                let scenario = load(&file)?;
+                let scenario = load(&file, &files)?;
                 exec::require_runs(&scenario, &file)?;
                 return foxglove_cmd::run_live(&scenario, output, format, layout, addr, speed.unwrap_or(1.0));
             }
@@ -240,14 +269,14 @@ fn run(cli: Cli) -> Result<()> {
                 if layout.is_some() || format.is_some() {
                     foxglove_cmd::usage_error("--layout and --format describe OUT: give -o OUT");
                 }
-                let scenario = load(&file)?;
+                let scenario = load(&file, &files)?;
                 return exec::run_summary(&scenario, &file);
             };
             let format = format_of(&output, format)?;
             if layout.is_some() && format != Format::Mcap {
                 foxglove_cmd::usage_error("--layout describes the MCAP topics: write OUT as .mcap");
             }
-            let scenario = load(&file)?;
+            let scenario = load(&file, &files)?;
             // After the load, which names the inputs LAYOUT must not replace either (it is
             // written after OUT: refused now, before OUT is).
             if let Some(l) = &layout {

@@ -238,6 +238,86 @@ fn regression_39_14_a_file_swapped_for_a_fifo_never_blocks_a_read() {
     }
 }
 
+/// Issue 39 item 14: a scenario's `[robot] from` and `[reference] path` could name any
+/// file on the machine (`..`, absolute paths, links). Now they are read from the
+/// scenario's folder and below only, unless `--allow-files-under DIR` allows another:
+/// every subcommand that reads a scenario refuses the others in one line naming the key,
+/// the file, why, and the flag; nothing is written.
+#[test]
+fn regression_39_14_file_references_stay_in_the_scenario_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    fs::create_dir_all(d.join("project/robots")).unwrap();
+    fs::create_dir_all(d.join("project/scenarios/robots")).unwrap();
+    let preset = fs::read_to_string(repo("robots/paper.toml")).unwrap();
+    write(d, "project/robots/mine.toml", &preset);
+    write(d, "project/scenarios/robots/mine.toml", &preset);
+    write(d, "secret.csv", REF_CSV);
+    write(d, "project/scenarios/ref.csv", REF_CSV);
+    std::os::unix::fs::symlink(d.join("secret.csv"), d.join("project/scenarios/link.csv")).unwrap();
+    let secret = d.join("secret.csv").canonicalize().unwrap();
+    let s = d.join("project/scenarios");
+    let tracking = |path: &str| TRACK.replace("ref.csv", path);
+    write(&s, "inside.toml", PRESET);
+    write(&s, "up.toml", &PRESET.replace("robots/mine.toml", "../robots/mine.toml"));
+    write(&s, "absolute.toml", &tracking(&secret.display().to_string()));
+    write(&s, "link.toml", &tracking("link.csv"));
+    write(&s, "sweep.toml", &SWEEP_TRACK.replace("ref.csv", "../../secret.csv"));
+    write(&s, "fine.toml", &tracking("./robots/../ref.csv"));
+    let flag = "--allow-files-under";
+    let robots = d.join("project/robots").canonicalize().unwrap();
+    let cases: [(&str, &str, &str, &Path); 4] = [
+        ("up.toml", "robot.from", "../robots/mine.toml", &robots),
+        ("absolute.toml", "reference.path", "secret.csv", d),
+        ("link.toml", "reference.path", "link.csv", d),
+        ("sweep.toml", "sweep.references[1].path", "../../secret.csv", d),
+    ];
+    for (file, key, named, allow) in cases {
+        let subcommands: Vec<Vec<&str>> = if file == "sweep.toml" {
+            vec![vec!["check"], vec!["sweep", "-o", "out.csv"]]
+        } else {
+            vec![
+                vec!["check"],
+                vec!["run"],
+                vec!["run", "-o", "out.csv"],
+                vec!["trace", "-o", "out.csv"],
+                vec!["layout", "-o", "out.json"],
+                vec!["plot", "-o", "plots"],
+            ]
+        };
+        for sub in subcommands {
+            let mut args = vec![sub[0], file];
+            args.extend(&sub[1..]);
+            let what = args.join(" ");
+            let before = entries(&s);
+            let o = run_in(&s, &args);
+            assert_one_line_error(&o, &what, &[key, named, "outside the scenario's folder", flag]);
+            assert_eq!(entries(&s), before, "{what}: wrote something");
+            // Allowed by the flag (the folder the error names), the same command runs.
+            let allow = allow.canonicalize().unwrap();
+            let allowed: Vec<&str> = args.iter().copied().chain([flag, allow.to_str().unwrap()]).collect();
+            let o = run_in(&s, &allowed);
+            assert!(o.status.success(), "{}: {}", allowed.join(" "), text(&o.stderr));
+            let _ = fs::remove_file(s.join("out.csv"));
+            let _ = fs::remove_file(s.join("out.json"));
+            let _ = fs::remove_dir_all(s.join("plots"));
+        }
+    }
+    // The error names the folder to allow: robots/, not the whole machine.
+    let o = run_in(&s, &["check", "up.toml"]);
+    assert!(text(&o.stderr).contains(&format!("{flag} {}", robots.display())), "{}", text(&o.stderr));
+    // Files in the folder and below, `..` that stays inside, and built-in presets run.
+    for file in ["inside.toml", "fine.toml"] {
+        let o = run_in(&s, &["check", file]);
+        assert!(o.status.success(), "{file}: {}", text(&o.stderr));
+    }
+    let o = run_in(&repo(""), &["check", "examples/turtlebot3.toml"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    // A folder to allow that does not exist is one line too.
+    let o = run_in(&s, &["check", "up.toml", flag, "no/such/dir"]);
+    assert_one_line_error(&o, "a missing DIR", &[flag, "no/such/dir"]);
+}
+
 /// `wmr-cli ARGS` in `dir` under a 1.5 GB address-space cap, awaited for at most 120 s:
 /// its exit status and stderr. `None` when prlimit is missing (the skip is recorded).
 fn capped(dir: &Path, args: &[&str]) -> Option<(std::process::ExitStatus, String)> {

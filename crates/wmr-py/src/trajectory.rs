@@ -58,7 +58,8 @@ fn state_dict<'py>(py: Python<'py>, r: &ReferenceState<f64>) -> PyResult<Bound<'
 /// defaults of the scenario's `[reference]` table, read and checked by the scenario
 /// code; a bad or unknown key raises ScenarioError naming it (``reference.radius``).
 /// A `file` path is relative to the current folder (kept as an absolute path, so the
-/// reference means the same file on an executor's workers).
+/// reference means the same file on an executor's workers); it may lead anywhere, as
+/// `open`'s does (a scenario's own `path` keys stay in its folder: `allow_files_under`).
 ///
 /// `simulate`, `run_batch` and the tracking laws' classes take a Reference or the same
 /// keys as a dict (``{"kind": "circle", "radius": 1.0}``).
@@ -125,7 +126,8 @@ impl PyReference {
             let full = cwd.join(p).to_string_lossy().into_owned();
             table.insert("path".to_owned(), toml::Value::String(full));
         }
-        let spec = resolve(&table, None).map_err(|e| from_scenario(&e, None))?;
+        // The path is the caller's own (as for `open`), not one a scenario names: any file.
+        let spec = resolve(&table, None, &wmr_scenario::FileAccess::anywhere()).map_err(|e| from_scenario(&e, None))?;
         Ok(Self { spec })
     }
 

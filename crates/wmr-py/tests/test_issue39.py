@@ -208,3 +208,56 @@ def test_regression_39_8_resolved_scenario_runs_again_without_its_files(
         np.testing.assert_array_equal(again[k], local[k])
     assert list(again["reference"]) == list(local["reference"])
     assert sorted(local["reference"]) == ["circle"] * 6 + ["file"] * 6
+
+
+# --- item 14: the files a scenario names stay in its folder ------------------------------
+
+
+def test_regression_39_14_file_references_stay_in_the_scenario_folder(
+    tmp_path: pathlib.Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Issue 39 item 14: `[robot] from` and `[reference] path` could name any file on the
+    machine (`..`, absolute paths, links). Now they are read from the scenario's folder
+    (for text and dicts: the current folder) and below, unless ``allow_files_under``
+    allows another; the error is a ScenarioError naming the key, the file and the keyword."""
+    d = _scenario_folder(tmp_path)
+    shared = tmp_path / "shared"
+    shared.mkdir()
+    (d / "robots" / "mine.toml").rename(shared / "mine.toml")
+    (d / "s.toml").write_text(SWEEP_WITH_FILES.replace("robots/mine.toml", "../shared/mine.toml"))
+    with pytest.raises(wmr_py.ScenarioError) as e:
+        wmr_py.sweep(d / "s.toml")
+    assert e.value.key == "robot.from", str(e.value)
+    for word in ("../shared/mine.toml", "outside the scenario's folder", "allow_files_under"):
+        assert word in str(e.value), str(e.value)
+    # Allowed: the folder the error names, as a list or a single path.
+    allowed = wmr_py.sweep(d / "s.toml", allow_files_under=[shared])
+    again = wmr_py.sweep(d / "s.toml", allow_files_under=str(shared))
+    np.testing.assert_array_equal(allowed["final_dl"], again["final_dl"])
+    # A link inside the folder that leads outside is outside; text is judged from the
+    # current folder, and every function that reads a scenario takes the keyword.
+    outside_csv = tmp_path / "secret.csv"
+    outside_csv.write_text((d / "ref.csv").read_text())
+    (d / "ref.csv").unlink()
+    (d / "ref.csv").symlink_to(outside_csv)
+    monkeypatch.chdir(d)
+    track = '[reference]\nkind = "file"\npath = "ref.csv"\n[controller]\nkind = "kanayama"\n[sim]\nt_end = 0.2\n[[run]]\n'
+    calls = [
+        lambda **k: wmr_py.run_scenario(track, **k),
+        lambda **k: wmr_py.simulate((0, 0, 0), reference={"kind": "file", "path": "ref.csv"},
+                                    controller={"kind": "kanayama"}, t_end=0.2, **k),
+        lambda **k: wmr_py.run_batch(np.zeros((2, 3)), reference={"kind": "file", "path": str(outside_csv)},
+                                     controller={"kind": "kanayama"}, t_end=0.2, **k),
+    ]
+    for call in calls:
+        with pytest.raises(wmr_py.ScenarioError) as e:
+            call()
+        assert e.value.key == "reference.path" and "allow_files_under" in str(e.value), str(e.value)
+        call(allow_files_under=[tmp_path])
+    # A folder to allow that does not exist is named.
+    with pytest.raises(wmr_py.ScenarioError) as e:
+        wmr_py.run_scenario(track, allow_files_under=[tmp_path / "missing"])
+    assert e.value.key == "allow_files_under", str(e.value)
+    # A Reference reads the path its caller gives, as open() does.
+    ref = wmr_py.Reference("file", path=str(outside_csv))
+    wmr_py.simulate((0, 0, 0), reference=ref, controller={"kind": "kanayama"}, t_end=0.2)

@@ -41,6 +41,7 @@ mod error;
 pub mod executor;
 pub mod fast;
 mod file;
+mod files;
 pub mod keys;
 mod locate;
 mod memory;
@@ -64,6 +65,7 @@ pub use budget::{MAX_SWEEP_REFERENCES, MAX_SWEEP_RUNS, MAX_TOTAL_STEPS};
 pub use controller::{controller_keys, law_kinds, stabilization_law_kinds, tracking_law_kinds};
 pub use error::{ScenarioError, escape_controls, is_unsafe_char, shown};
 pub use file::{GridFile, PoseFile, RandomFile, RunFile, ScenarioFile, SimFile, SweepFile};
+pub use files::{AllowedBy, FileAccess};
 pub use memory::{Headroom, available_memory_bytes, memory_headroom};
 pub use output::{
     CONTACT_COLUMNS, CONTACT_UNITS, CSV_COLUMNS, ColumnGroup, Columns, MEASURED_COLUMNS, MEASURED_UNITS,

@@ -8,6 +8,7 @@ use std::path::Path;
 use toml::{Table, Value};
 
 use crate::error::ScenarioError;
+use crate::files::FileAccess;
 use crate::keys::unknown_key;
 use crate::setup::robot_keys;
 
@@ -83,8 +84,9 @@ fn from_error(reason: impl Into<String>) -> ScenarioError {
     ScenarioError::new("robot.from", reason)
 }
 
-/// The text of preset `from`: a built-in name, or a file relative to `dir`.
-fn preset_text(from: &str, dir: &Path) -> Result<String, ScenarioError> {
+/// The text of preset `from`: a built-in name, or a file relative to `dir`, in the
+/// folders `access` allows.
+fn preset_text(from: &str, dir: &Path, access: &FileAccess) -> Result<String, ScenarioError> {
     if let Some((_, text)) = BUILT_IN.iter().find(|(name, _)| *name == from) {
         return Ok((*text).to_owned());
     }
@@ -95,13 +97,21 @@ fn preset_text(from: &str, dir: &Path) -> Result<String, ScenarioError> {
             names.join(", ")
         )));
     }
-    crate::read::read_text(&dir.join(from)).map_err(|e| from_error(format!("{e}")))
+    let (path, opened) = crate::files::check("robot.from", from, dir, access)?;
+    crate::read::read_text_within(&path, Some(&opened))
+        .map_err(|e| if e.key.is_empty() { from_error(format!("{e}")) } else { e })
 }
 
 /// Replaces `[robot] from = ...` in `robot` and `drive` by the preset's keys under those
 /// written beside it; returns where every given value came from. `dir`: the scenario's
-/// folder (relative preset paths start there).
-pub fn expand(robot: &mut Option<Table>, drive: &mut Option<Table>, dir: &Path) -> Result<Origins, ScenarioError> {
+/// folder (relative preset paths start there); a preset file is read from it and below,
+/// and from the folders `access` allows.
+pub fn expand(
+    robot: &mut Option<Table>,
+    drive: &mut Option<Table>,
+    dir: &Path,
+    access: &FileAccess,
+) -> Result<Origins, ScenarioError> {
     let given = |t: &Option<Table>| -> Vec<(String, String)> {
         t.iter().flat_map(|t| t.keys()).filter(|k| *k != "from").map(|k| (k.clone(), "scenario".to_owned())).collect()
     };
@@ -113,7 +123,7 @@ pub fn expand(robot: &mut Option<Table>, drive: &mut Option<Table>, dir: &Path) 
             from.type_str()
         )));
     };
-    let text = preset_text(&from, dir)?;
+    let text = preset_text(&from, dir, access)?;
     origins.preset = Some((from.clone(), text.clone()));
     let mut preset: Table =
         toml::from_str(&text).map_err(|e| from_error(format!("{from}: bad TOML: {}", e.message().trim())))?;

@@ -27,6 +27,15 @@ pub fn default_name(path: &Path) -> String {
 /// the opened handle is what is checked and read: a file swapped for a FIFO or a folder
 /// after a check can neither block the read nor be read in its place.
 pub fn read_text(path: &Path) -> Result<String, ScenarioError> {
+    read_text_within(path, None)
+}
+
+/// [`read_text`] of a file a scenario names, refused when the opened file lies outside
+/// the folders `opened` allows (checked on the handle, before anything is read).
+pub(crate) fn read_text_within(
+    path: &Path,
+    opened: Option<&crate::files::Opened<'_>>,
+) -> Result<String, ScenarioError> {
     let name = shown(path);
     let io_err = |e: io::Error| ScenarioError::unreadable(e.kind(), format!("cannot read {name}: {e}"));
     // Refused before opening when it already is no regular file (opening a device may do
@@ -35,6 +44,9 @@ pub fn read_text(path: &Path) -> Result<String, ScenarioError> {
         check_regular(&meta, &name)?;
     }
     let file = open_nonblocking(path).map_err(io_err)?;
+    if let Some(o) = opened {
+        o.check(&file, path)?;
+    }
     let meta = file.metadata().map_err(io_err)?;
     check_regular(&meta, &name)?;
     record(path);

@@ -13,6 +13,7 @@ use wmr_core::reference::{Circle, FigureEight, Line, Waypoints};
 use wmr_core::{AnyReference, LawParams, Pose2};
 
 use crate::error::{ScenarioError, fixed};
+use crate::files::FileAccess;
 
 /// One key of `[reference]`: the kinds that read it, unit, default and what it is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -96,7 +97,7 @@ pub const REFERENCE_KEYS: &[ReferenceKey] = &[
         kinds: "file",
         unit: "",
         default: "",
-        doc: "CSV with columns t, x, y (a header line, t increasing), relative to the scenario file",
+        doc: "CSV with columns t, x, y (a header line, t increasing), relative to the scenario file, in its folder or below",
     },
 ];
 
@@ -194,8 +195,10 @@ pub(crate) struct PointFiles(HashMap<PathBuf, Result<Vec<[f64; 2]>, ScenarioErro
 
 /// Reads `[reference]`; `dir` is the scenario file's folder (where a `file` reference's
 /// `path` is looked up; the working directory when `None`).
-pub fn resolve(table: &Table, dir: Option<&Path>) -> Result<ReferenceSpec, ScenarioError> {
-    resolve_sharing(table, dir, &mut PointFiles::default())
+/// A `file` reference's CSV is read from that folder and below, and from the folders
+/// `access` allows.
+pub fn resolve(table: &Table, dir: Option<&Path>, access: &FileAccess) -> Result<ReferenceSpec, ScenarioError> {
+    resolve_sharing(table, dir, access, &mut PointFiles::default())
 }
 
 /// [`resolve`], a `file` reference's points taken from `files` when its CSV was read
@@ -203,6 +206,7 @@ pub fn resolve(table: &Table, dir: Option<&Path>) -> Result<ReferenceSpec, Scena
 pub(crate) fn resolve_sharing(
     table: &Table,
     dir: Option<&Path>,
+    access: &FileAccess,
     files: &mut PointFiles,
 ) -> Result<ReferenceSpec, ScenarioError> {
     let kind = match table.get("kind") {
@@ -277,7 +281,7 @@ pub(crate) fn resolve_sharing(
             // scenario (`check`, Python's `scenario_toml`, an executor's parts) then holds
             // them and runs again anywhere, without the file.
             let from_file = kind == "file" && !table.contains_key("points");
-            let points = if from_file { read_points_file(table, dir, files)? } else { points_of(table)? };
+            let points = if from_file { read_points_file(table, dir, access, files)? } else { points_of(table)? };
             let points_key = if from_file { "path" } else { "points" };
             if points.len() > MAX_PATH_POINTS {
                 return Err(ScenarioError::new(
@@ -366,24 +370,28 @@ fn points_of(table: &Table) -> Result<Vec<[f64; 2]>, ScenarioError> {
 
 /// The points of a `file` reference: CSV `t,x,y` with a header, t strictly increasing
 /// (the timing is re-planned by the speed profile; t gives the order).
-fn read_points_file(table: &Table, dir: Option<&Path>, files: &mut PointFiles) -> Result<Vec<[f64; 2]>, ScenarioError> {
+fn read_points_file(
+    table: &Table,
+    dir: Option<&Path>,
+    access: &FileAccess,
+    files: &mut PointFiles,
+) -> Result<Vec<[f64; 2]>, ScenarioError> {
     let Some(Value::String(rel)) = table.get("path") else {
         return Err(ScenarioError::new(
             key("path"),
             "missing: kind = \"file\" needs path = \"ref.csv\" (columns t, x, y)",
         ));
     };
-    let full = match dir {
-        Some(d) => d.join(rel),
-        None => Path::new(rel).to_path_buf(),
-    };
-    files.0.entry(full.clone()).or_insert_with(|| parse_points_file(&full)).clone()
+    let key = key("path");
+    let (full, opened) = crate::files::check(&key, rel, dir.unwrap_or(Path::new("")), access)?;
+    files.0.entry(full.clone()).or_insert_with(|| parse_points_file(&full, &opened)).clone()
 }
 
 /// The points of the CSV at `full`, refused at the first point past what a reference
 /// holds (a long file is not parsed to its end).
-fn parse_points_file(full: &Path) -> Result<Vec<[f64; 2]>, ScenarioError> {
-    let text = crate::read::read_text(full).map_err(|e| ScenarioError::new(key("path"), e.message))?;
+fn parse_points_file(full: &Path, opened: &crate::files::Opened<'_>) -> Result<Vec<[f64; 2]>, ScenarioError> {
+    let text = crate::read::read_text_within(full, Some(opened))
+        .map_err(|e| if e.key.is_empty() { ScenarioError::new(key("path"), e.message) } else { e })?;
     let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
     match lines.next() {
         Some((_, h)) if h.split(',').map(str::trim).eq(["t", "x", "y"]) => {}

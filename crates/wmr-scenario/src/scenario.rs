@@ -19,6 +19,7 @@ use crate::assemble::{self, Origin, RunLoop};
 const TRACTION_KEYS: [&str; 3] = ["friction_coefficient", "caster_offset", "com_height"];
 use crate::error::ScenarioError;
 use crate::file::{RunFile, ScenarioFile, SimFile};
+use crate::files::FileAccess;
 use crate::keys::{fields_of, fields_read_by, join, to_table, toml_f64, write_keys, write_keys_noted};
 use crate::output::{Columns, OdometryDrift, RunResult};
 use crate::preset::{self, Origins};
@@ -93,12 +94,17 @@ pub const DEFAULT_TRACKING_TOLERANCE_M: f64 = 0.01;
 
 impl ScenarioFile {
     /// [`ScenarioFile::resolve`] for a file in folder `dir` (where a `[reference]` of kind
-    /// `file` finds its CSV).
-    pub fn resolve_in(mut self, default_name: &str, dir: Option<&Path>) -> Result<Scenario, ScenarioError> {
+    /// `file` finds its CSV, in that folder and below or a folder `access` allows).
+    pub fn resolve_in(
+        mut self,
+        default_name: &str,
+        dir: Option<&Path>,
+        access: &FileAccess,
+    ) -> Result<Scenario, ScenarioError> {
         let (mut inputs, mut seen) = (Vec::new(), HashSet::new());
         let reference = match self.reference.take() {
             Some(t) => {
-                let (r, read) = read::recording(|| crate::reference::resolve(&t, dir));
+                let (r, read) = read::recording(|| crate::reference::resolve(&t, dir, access));
                 add_inputs(&mut inputs, &mut seen, read, "reference.path");
                 Some(r?)
             }
@@ -127,7 +133,8 @@ impl ScenarioFile {
                 list.iter()
                     .enumerate()
                     .map(|(i, t)| {
-                        let (r, read) = read::recording(|| crate::reference::resolve_sharing(t, dir, &mut files));
+                        let (r, read) =
+                            read::recording(|| crate::reference::resolve_sharing(t, dir, access, &mut files));
                         add_inputs(&mut inputs, &mut seen, read, &format!("sweep.references[{i}].path"));
                         r.map_err(|e| ScenarioError {
                             key: e.key.replacen("reference", &format!("sweep.references[{i}]"), 1),
@@ -283,8 +290,22 @@ impl Scenario {
     }
 
     /// [`Scenario::from_toml_str`] of the text of a file in folder `dir`: a `[robot] from`
-    /// path (`robots/NAME.toml`) and a `[reference]` of kind `file` are relative to `dir`.
+    /// path (`robots/NAME.toml`) and a `[reference]` of kind `file` are relative to `dir`,
+    /// and must lead into it or below (links followed; see [`Scenario::from_toml_str_with`]
+    /// to allow other folders).
     pub fn from_toml_str_in(text: &str, default_name: &str, dir: &Path) -> Result<Self, ScenarioError> {
+        Self::from_toml_str_with(text, default_name, dir, &FileAccess::default())
+    }
+
+    /// [`Scenario::from_toml_str_in`], the files the scenario names read from `dir` and
+    /// below and from the folders `access` allows (issue 39 item 14): a file elsewhere is
+    /// refused naming its key, before it is opened.
+    pub fn from_toml_str_with(
+        text: &str,
+        default_name: &str,
+        dir: &Path,
+        access: &FileAccess,
+    ) -> Result<Self, ScenarioError> {
         let de = toml::de::Deserializer::parse(text).map_err(|e| {
             // A syntax error: toml gives the place; quote the line so the key shows.
             let line = e.span().map(|s| locate::line_of(text, s.start));
@@ -312,12 +333,12 @@ impl Scenario {
         .into_iter()
         .flat_map(|(name, t)| t.iter().flat_map(|t| t.keys()).map(move |k| format!("{name}.{k}")))
         .collect();
-        let (origins, presets) = read::recording(|| preset::expand(&mut file.robot, &mut file.drive, dir));
+        let (origins, presets) = read::recording(|| preset::expand(&mut file.robot, &mut file.drive, dir, access));
         // Kept to name a preset's line when one of its values is refused.
         let preset_origins = origins.as_ref().ok().filter(|o| o.preset.is_some()).cloned();
         origins
             .and_then(|origins| {
-                let mut s = file.resolve_in(default_name, Some(dir))?;
+                let mut s = file.resolve_in(default_name, Some(dir), access)?;
                 s.origins = Origins { given, law_note: s.origins.law_note.take(), ..origins };
                 // The preset first, as it was read first.
                 let mut inputs = Vec::new();
@@ -343,11 +364,18 @@ impl Scenario {
     }
 
     /// Reads a TOML file (a regular file of at most [`read::MAX_FILE_BYTES`]); the
-    /// name defaults to the file's stem. Read errors name the path.
+    /// name defaults to the file's stem. Read errors name the path. The files it names
+    /// are read from its folder and below.
     pub fn from_path(path: impl AsRef<Path>) -> Result<Self, ScenarioError> {
+        Self::from_path_with(path, &FileAccess::default())
+    }
+
+    /// [`Scenario::from_path`], the files it names read from its folder and below and
+    /// from the folders `access` allows.
+    pub fn from_path_with(path: impl AsRef<Path>, access: &FileAccess) -> Result<Self, ScenarioError> {
         let path = path.as_ref();
         let dir = path.parent().unwrap_or(Path::new(""));
-        Self::from_toml_str_in(&read::read_text(path)?, &read::default_name(path), dir)
+        Self::from_toml_str_with(&read::read_text(path)?, &read::default_name(path), dir, access)
     }
 
     /// The same scenario with other runs, each checked (Python's batches of starts).

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use wmr_core::Drive;
-use wmr_scenario::Scenario;
+use wmr_scenario::{AllowedBy, FileAccess, Scenario};
 
 const RUN: &str = "[sim]\nt_end = 1.0\n[[run]]\ngoal = { x = 1.0, y = 1.0 }\n";
 
@@ -58,7 +58,9 @@ fn built_in_names_are_the_files_of_robots() {
         let by_name = Scenario::from_toml_str(&format!("[robot]\nfrom = \"{name}\"\n{RUN}"), "s").unwrap();
         let path = robots().join(format!("{name}.toml"));
         let text = format!("[robot]\nfrom = \"{}\"\n{RUN}", path.display());
-        let by_file = Scenario::from_toml_str(&text, "s").unwrap();
+        // robots/ is outside the current folder (the crate's): allowed by name.
+        let access = FileAccess::under(&[robots()], AllowedBy::Library).unwrap();
+        let by_file = Scenario::from_toml_str_with(&text, "s", Path::new(""), &access).unwrap();
         assert_eq!(by_name.robot(), by_file.robot(), "{name}");
         assert_eq!(by_name.drive(), by_file.drive(), "{name}");
         let want = preset_values(name);

@@ -35,6 +35,7 @@ Example::
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Mapping
 from typing import Any, Optional, Sequence, Union
 
@@ -238,6 +239,8 @@ def simulate(
     sensor: Optional[Mapping[str, Any]] = None,
     world: Optional[Mapping[str, Any]] = None,
     reference: Union[None, Reference, Mapping[str, Any]] = None,
+    *,
+    allow_files_under: Optional[Sequence[Union[str, os.PathLike]]] = None,
 ) -> RunResult:
     """Simulate one run of the closed loop and return its RunResult.
 
@@ -264,6 +267,9 @@ def simulate(
     controller's idea of the robot). With ``sensor``, ``x_meas``, ``y_meas`` and
     ``theta_meas`` are the pose the controller used.
 
+    allow_files_under: as for ``run_scenario`` (a ``robot={"from": "FILE.toml"}`` or a
+    reference dict's ``path`` is read from the current folder and below only).
+
     The same as ``run_scenario`` on a one-run scenario: same parser, checks and loop.
     Raises ScenarioError naming the key (e.g. ``robot.mass``, ``run[0].start.x``).
     """
@@ -275,7 +281,7 @@ def simulate(
     if label is not None:
         run["label"] = label
     sc = _scenario([run], robot, drive, controller, t_end, dt, log_dt, sensor, world, reference)
-    return run_scenario(sc)[0]
+    return run_scenario(sc, allow_files_under=allow_files_under)[0]
 
 
 def run_batch(
@@ -294,6 +300,7 @@ def run_batch(
     chunk_size: Optional[int] = None,
     fast: bool = False,
     reference: Union[None, Reference, Mapping[str, Any]] = None,
+    allow_files_under: Optional[Sequence[Union[str, os.PathLike]]] = None,
 ) -> BatchResult:
     """Run the closed loop from many starts to one goal in parallel (rayon, the GIL
     released) and return a BatchResult: a dict of 1-D arrays, one entry per start, in order:
@@ -324,6 +331,7 @@ def run_batch(
     (``time_to_tolerance_s``: NaN if the error is above the tolerance at the end;
     ``rms_error_m``, ``max_error_m`` over the last half; ``final_error_m``), and
     ``converged`` is the tracking rule's.
+    allow_files_under: as for ``run_scenario``.
     """
     arr = np.ascontiguousarray(_real_array(starts, "starts", "an array of shape (N, 3) of (x, y, theta_rad)"))
     if arr.ndim != 2 or arr.shape[1] != 3 or arr.shape[0] == 0:
@@ -342,10 +350,11 @@ def run_batch(
         run["goal"] = _pose(goal, "goal") if goal is not None else None
     base = _scenario([run], robot, drive, controller, t_end, dt, t_end, sensor, world, reference)
     law = str(controller.get("kind", "paper")) if isinstance(controller, Mapping) else "paper"
+    allow = _allowed(allow_files_under)
     bar = _results.progress_bar(progress, "run_batch", "run")
     try:
         if executor is None:
-            out = _native._run_batch(base, arr, None, 0, 0, bar, fast)
+            out = _native._run_batch(base, arr, None, 0, 0, bar, fast, allow)
         else:
             _results.check_executor(executor)
             # Checked here as the local call checks them, so an error names starts[i, j]
@@ -355,7 +364,7 @@ def run_batch(
             for (i, j) in zip(*np.nonzero(np.abs(arr[:, :2]) > 1000.0)):
                 raise _error(f"starts[{i}, {j}]", f"{('x', 'y')[j]} must be within 1000 m of the origin (got {arr[i, j]:e})")
             parts = _results.chunks(len(arr), chunk_size)
-            tasks = [(base, arr[a:b], None, a, fast) for a, b in parts]
+            tasks = [(base, arr[a:b], None, a, fast, allow) for a, b in parts]
             outs = _results.run_tasks(executor, _results.batch_task, tasks, bar, [b - a for a, b in parts])
             out = _results.gather_batch(outs, parts, arr)
     finally:
@@ -368,13 +377,31 @@ def run_batch(
     return res
 
 
-def run_scenario(scenario: Any, *, progress: bool = False) -> list[RunResult]:
+def _allowed(dirs: Any) -> Optional[list]:
+    """The ``allow_files_under`` keyword as a list of paths (a single path is one folder)."""
+    if dirs is None:
+        return None
+    if isinstance(dirs, (str, bytes)) or hasattr(dirs, "__fspath__"):
+        return [dirs]
+    return list(dirs)
+
+
+def run_scenario(
+    scenario: Any,
+    *,
+    progress: bool = False,
+    allow_files_under: Optional[Sequence[Union[str, os.PathLike]]] = None,
+) -> list[RunResult]:
     """Run every ``[[run]]`` of a scenario and return one RunResult per run, in run order.
 
     scenario: a path (str or os.PathLike) to a TOML file, TOML text, or a dict with the
     same keys (docs/scenario.md; None values take the default). Runs go in parallel with
     the GIL released. Raises ScenarioError (a ValueError) naming the bad key.
     progress: show a tqdm bar of the samples logged (needs tqdm).
+    allow_files_under: folders whose files the scenario may name (``[robot] from``,
+    ``[reference] path``) besides its own folder and below (for text and dicts: the
+    current folder); any other file raises ScenarioError naming the key, as
+    ``wmr-cli --allow-files-under DIR`` (docs/scenario.md, "Files a scenario names").
 
     Memory: every run keeps its columns, 18 float64 arrays of t_end / log_dt + 1 values
     (144 bytes per sample; a 60 s run at the default log_dt = 0.01 s takes 0.9 MB). A
@@ -383,7 +410,7 @@ def run_scenario(scenario: Any, *, progress: bool = False) -> list[RunResult]:
     """
     bar = _results.progress_bar(progress, "run_scenario", "sample")
     try:
-        return _native.run_scenario(scenario, bar)
+        return _native.run_scenario(scenario, bar, _allowed(allow_files_under))
     finally:
         if bar is not None:
             bar.close()
@@ -396,6 +423,7 @@ def sweep(
     executor: Any = None,
     chunk_size: Optional[int] = None,
     fast: bool = False,
+    allow_files_under: Optional[Sequence[Union[str, os.PathLike]]] = None,
 ) -> SweepResult:
     """Run a scenario's ``[sweep]``: every law from every start (and every variant and
     trial of ``vary``), in parallel with the GIL released, and return a SweepResult (a
@@ -413,13 +441,14 @@ def sweep(
     folder; the result is the local call's, bit for bit, in order.
     fast: step the runs in SIMD lanes (``wmr-cli sweep --fast``): several times faster,
     not bit-identical to the exact path; with an executor, the local fast call's result.
+    allow_files_under: as for ``run_scenario``.
     """
     bar = _results.progress_bar(progress, "sweep", "run")
     try:
         if executor is None:
-            return SweepResult(_native._sweep(scenario, bar, fast))
+            return SweepResult(_native._sweep(scenario, bar, fast, _allowed(allow_files_under)))
         _results.check_executor(executor)
-        text, n = _native._sweep_plan(scenario)
+        text, n = _native._sweep_plan(scenario, _allowed(allow_files_under))
         parts = _results.chunks(n, chunk_size)
         tasks = [(text, a, b, fast) for a, b in parts]
         rows = _results.run_tasks(executor, _results.sweep_task, tasks, bar, [b - a for a, b in parts])

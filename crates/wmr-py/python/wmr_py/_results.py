@@ -449,10 +449,17 @@ def sweep_task(text: str, first: int, last: int, fast: bool = False) -> np.ndarr
     return _in_worker(lambda: _native._sweep_part(text, first, last, fast))
 
 
-def batch_task(base: dict, starts: np.ndarray, goals: Optional[np.ndarray], first: int, fast: bool = False) -> dict:
+def batch_task(
+    base: dict,
+    starts: np.ndarray,
+    goals: Optional[np.ndarray],
+    first: int,
+    fast: bool = False,
+    allow_files_under: Optional[list] = None,
+) -> dict:
     """Runs a part of a batch (starts[first:...] of the whole) on one thread; the result
     says which part it is (``_first``, ``_starts``), for ``gather_batch`` to check."""
-    out = dict(_in_worker(lambda: _native._run_batch(base, starts, goals, first, 1, None, fast)))
+    out = dict(_in_worker(lambda: _native._run_batch(base, starts, goals, first, 1, None, fast, allow_files_under)))
     out["_first"] = first
     out["_starts"] = np.asarray(starts)
     return out

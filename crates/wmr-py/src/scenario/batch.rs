@@ -13,7 +13,7 @@ use wmr_core::plant::DIVERGENCE_BOX_M;
 use wmr_scenario::{RunResult, RunSpec, ScenarioError, executor};
 
 use super::outcomes::{add_tracking_arrays, outcome_dict};
-use super::source::scenario_arg;
+use super::source::{file_access, scenario_arg_with};
 use crate::alloc::{bytes_of, check_alloc, vec_with_capacity};
 use crate::convert::{readonly_array, type_name};
 use crate::error::{parameter_error, to_py};
@@ -31,7 +31,7 @@ const OUTCOME_ARRAYS: usize = 24;
 /// of a process pool or Dask must not start a thread pool per process); 0: rayon's pool.
 /// `progress`: as for `run_scenario`, counting runs.
 #[pyfunction(name = "_run_batch")]
-#[pyo3(signature = (base, starts, goals=None, first=0, threads=0, progress=None, fast=false))]
+#[pyo3(signature = (base, starts, goals=None, first=0, threads=0, progress=None, fast=false, allow_files_under=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn run_batch_native<'py>(
     py: Python<'py>,
@@ -42,11 +42,12 @@ pub fn run_batch_native<'py>(
     threads: usize,
     progress: Option<&Bound<'py, PyAny>>,
     fast: bool,
+    allow_files_under: Option<Vec<std::path::PathBuf>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     if threads > 1 {
         return Err(parameter_error("threads", format_args!("0 (rayon's pool) or 1, got {threads}")));
     }
-    let sc = scenario_arg(base)?;
+    let sc = scenario_arg_with(base, &file_access(allow_files_under)?)?;
     let poses = |obj: &Bound<'py, PyAny>, arg: &str| -> PyResult<Vec<Pose2<f64>>> {
         let a: PyReadonlyArray2<'py, f64> = readonly_array(obj)?.ok_or_else(|| {
             parameter_error(arg, format_args!("expected a float64 array of shape (N, 3), got {}", type_name(obj)))

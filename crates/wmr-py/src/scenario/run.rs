@@ -3,6 +3,7 @@
 //! inside Rust for the benches.
 
 use std::ops::ControlFlow;
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
@@ -10,7 +11,7 @@ use pyo3::prelude::*;
 use wmr_scenario::{RunResult, Scenario, ScenarioError, executor};
 
 use super::run_result::{Columns, PyRunResult};
-use super::source::{Source, scenario_arg};
+use super::source::{Source, file_access, scenario_arg_with};
 use crate::error::{scenario_error, to_py};
 use crate::interrupt::{Progress, Stop, check_memory, interruptible_with};
 
@@ -59,15 +60,17 @@ fn run_one(sc: &Scenario, i: usize, stop: &Stop, done: &AtomicUsize) -> PyResult
 /// same keys (docs/scenario.md; None values take the default). Runs go in parallel with the
 /// GIL released. Raises ScenarioError (a ValueError) naming the bad key. `progress`: None
 /// or a callable given the number of samples logged so far (about every 50 ms) and the
-/// total first, as `progress(-total)`.
+/// total first, as `progress(-total)`. `allow_files_under`: folders whose files the
+/// scenario may name besides its own folder's (docs/scenario.md, "Files a scenario names").
 #[pyfunction]
-#[pyo3(signature = (scenario, progress=None))]
+#[pyo3(signature = (scenario, progress=None, allow_files_under=None))]
 pub fn run_scenario(
     py: Python<'_>,
     scenario: &Bound<'_, PyAny>,
     progress: Option<&Bound<'_, PyAny>>,
+    allow_files_under: Option<Vec<PathBuf>>,
 ) -> PyResult<Vec<PyRunResult>> {
-    let sc = scenario_arg(scenario)?;
+    let sc = scenario_arg_with(scenario, &file_access(allow_files_under)?)?;
     if sc.runs().is_empty() {
         return Err(scenario_error(
             "run",
@@ -101,7 +104,7 @@ pub fn time_run_rust(py: Python<'_>, scenario: &Bound<'_, PyAny>, n: usize) -> P
         let mut best = f64::INFINITY;
         for _ in 0..n.max(1) {
             let t0 = Instant::now();
-            let (sc, _) = source.parse().map_err(to_py)?;
+            let (sc, _) = source.parse(&wmr_scenario::FileAccess::default()).map_err(to_py)?;
             let (_r, cols) = run_one(&sc, 0, &Stop::new(), &AtomicUsize::new(0))?
                 .ok_or_else(|| to_py(ScenarioError::new("", "stopped")))?;
             std::hint::black_box(&cols.cols);

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
-use wmr_scenario::{Scenario, ScenarioError};
+use wmr_scenario::{AllowedBy, FileAccess, Scenario, ScenarioError};
 
 use crate::convert::{is_real_number, type_name};
 use crate::error::{from_scenario, scenario_error};
@@ -116,7 +116,9 @@ impl Source {
 
     /// Parses and checks the scenario (no Python involved: may run without the GIL), with
     /// the warnings about its text (a heading of 90 rad).
-    pub(super) fn parse(&self) -> Result<(Scenario, Vec<ScenarioError>), ScenarioError> {
+    /// The files it names are read from its folder (the current one for text and dicts)
+    /// and below, and from the folders `access` allows.
+    pub(super) fn parse(&self, access: &FileAccess) -> Result<(Scenario, Vec<ScenarioError>), ScenarioError> {
         let (text, name, dir) = match self {
             Source::Path(p) => {
                 let dir = p.parent().unwrap_or(std::path::Path::new("")).to_path_buf();
@@ -126,7 +128,7 @@ impl Source {
         };
         // A `[robot] from = "robots/NAME.toml"` is relative to the scenario file's folder
         // (to the current folder for text and dicts).
-        let parsed = Scenario::from_toml_str_in(&text, &name, &dir);
+        let parsed = Scenario::from_toml_str_with(&text, &name, &dir, access);
         let (sc, warnings) = match self {
             Source::Dict(_) => (
                 parsed.map_err(|e| e.at_line(None))?,
@@ -153,8 +155,21 @@ impl Source {
 /// Parses a scenario from a path (str or os.PathLike), TOML text, or a dict; its
 /// warnings become Python `UserWarning`s.
 pub fn scenario_arg(obj: &Bound<'_, PyAny>) -> PyResult<Scenario> {
+    scenario_arg_with(obj, &file_access(None)?)
+}
+
+/// The `allow_files_under` keyword: the folders, besides the scenario's own, whose files
+/// a scenario may name (issue 39 item 14); a folder that does not exist raises
+/// ScenarioError naming `allow_files_under`.
+pub fn file_access(dirs: Option<Vec<PathBuf>>) -> PyResult<FileAccess> {
+    FileAccess::under(&dirs.unwrap_or_default(), AllowedBy::Python).map_err(|e| from_scenario(&e, None))
+}
+
+/// [`scenario_arg`], the files the scenario names read from the folders `access` allows
+/// too.
+pub fn scenario_arg_with(obj: &Bound<'_, PyAny>, access: &FileAccess) -> PyResult<Scenario> {
     let source = Source::from_py(obj)?;
-    let (sc, warnings) = source.parse().map_err(|e| from_scenario(&e, source.path()))?;
+    let (sc, warnings) = source.parse(access).map_err(|e| from_scenario(&e, source.path()))?;
     let py = obj.py();
     for w in warnings {
         let category = py.get_type::<pyo3::exceptions::PyUserWarning>();

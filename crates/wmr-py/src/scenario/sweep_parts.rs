@@ -13,7 +13,7 @@ use wmr_core::tracking::TrackingOutcome;
 use wmr_core::{Outcome, Pose2, Termination};
 use wmr_scenario::{Scenario, SweepOutcome};
 
-use super::source::scenario_arg;
+use super::source::{file_access, scenario_arg_with};
 use super::sweep_run::{sweep_dict, sweep_of};
 use crate::convert::{readonly_array, type_name};
 use crate::error::{parameter_error, to_py};
@@ -25,8 +25,12 @@ use crate::interrupt::interruptible;
 /// ([`Scenario::to_toml`]), so each worker parses it again in any folder, on any machine,
 /// without the scenario's files; it reads back to the same sweep, bit for bit.
 #[pyfunction(name = "_sweep_plan")]
-pub fn sweep_plan(scenario: &Bound<'_, PyAny>) -> PyResult<(String, usize)> {
-    let sc = scenario_arg(scenario)?;
+#[pyo3(signature = (scenario, allow_files_under=None))]
+pub fn sweep_plan(
+    scenario: &Bound<'_, PyAny>,
+    allow_files_under: Option<Vec<std::path::PathBuf>>,
+) -> PyResult<(String, usize)> {
+    let sc = scenario_arg_with(scenario, &file_access(allow_files_under)?)?;
     Ok((sc.to_toml(), sweep_of(&sc)?.len()))
 }
 

@@ -10,7 +10,7 @@ use pyo3::types::PyDict;
 use wmr_scenario::{Scenario, StartsSource, SweepOutcome, SweepSpec};
 
 use super::outcomes::{add_tracking_arrays, outcome_dict};
-use super::source::scenario_arg;
+use super::source::{file_access, scenario_arg_with};
 use crate::error::{scenario_error, to_py};
 use crate::interrupt::{Progress, interruptible_with};
 
@@ -30,14 +30,15 @@ pub(super) fn sweep_of(sc: &Scenario) -> PyResult<&SweepSpec> {
 /// `table` is the CLI's tracking table; `_meta` then names the references and the
 /// tolerance. `progress`: as for `run_scenario`, counting runs.
 #[pyfunction(name = "_sweep")]
-#[pyo3(signature = (scenario, progress=None, fast=false))]
+#[pyo3(signature = (scenario, progress=None, fast=false, allow_files_under=None))]
 pub fn sweep<'py>(
     py: Python<'py>,
     scenario: &Bound<'py, PyAny>,
     progress: Option<&Bound<'py, PyAny>>,
     fast: bool,
+    allow_files_under: Option<Vec<std::path::PathBuf>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let sc = scenario_arg(scenario)?;
+    let sc = scenario_arg_with(scenario, &file_access(allow_files_under)?)?;
     let spec = sweep_of(&sc)?;
     let done = AtomicUsize::new(0);
     if let Some(p) = progress {
