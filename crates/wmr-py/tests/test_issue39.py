@@ -233,7 +233,7 @@ def test_regression_39_14_file_references_stay_in_the_scenario_folder(
     # Allowed: the folder the error names, as a list or a single path.
     allowed = wmr_py.sweep(d / "s.toml", allow_files_under=[shared])
     again = wmr_py.sweep(d / "s.toml", allow_files_under=str(shared))
-    np.testing.assert_array_equal(allowed["final_dl"], again["final_dl"])
+    np.testing.assert_array_equal(allowed["final_dl_m"], again["final_dl_m"])
     # A link inside the folder that leads outside is outside; text is judged from the
     # current folder, and every function that reads a scenario takes the keyword.
     outside_csv = tmp_path / "secret.csv"
