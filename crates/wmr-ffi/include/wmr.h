@@ -133,7 +133,7 @@
 #define WMR_GRACEFUL_CONTROLLER_F32_WORDS 40
 
 // Words (8 bytes each) of `wmr_graceful_controller_f64`: the law `graceful` with its wheel stage.
-#define WMR_GRACEFUL_CONTROLLER_F64_WORDS 64
+#define WMR_GRACEFUL_CONTROLLER_F64_WORDS 72
 
 // Words (8 bytes each) of `wmr_kanayama_controller_f32`: the law `kanayama` with its wheel stage.
 #define WMR_KANAYAMA_CONTROLLER_F32_WORDS 32
@@ -151,7 +151,7 @@
 #define WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS 40
 
 // Words (8 bytes each) of `wmr_pure_pursuit_controller_f64`: the law `pure_pursuit` with its wheel stage.
-#define WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS 72
+#define WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS 80
 
 // What a call did. `WMR_OK` is 0; every other value is an error.
 enum wmr_status

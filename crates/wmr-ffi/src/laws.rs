@@ -150,7 +150,7 @@ pub struct wmr_graceful_params<T> {
 /// Words (8 bytes each) of `wmr_graceful_controller_f32`: the law `graceful` with its wheel stage.
 pub const WMR_GRACEFUL_CONTROLLER_F32_WORDS: usize = 40;
 /// Words (8 bytes each) of `wmr_graceful_controller_f64`: the law `graceful` with its wheel stage.
-pub const WMR_GRACEFUL_CONTROLLER_F64_WORDS: usize = 64;
+pub const WMR_GRACEFUL_CONTROLLER_F64_WORDS: usize = 72;
 /// The law `graceful` with its wheel stage (f32): Park and Kuipers' graceful law as nav2's docking server drives it: curvature from egocentric polar coordinates, speed falling with it, forward or backwards.
 #[repr(C)]
 pub struct wmr_graceful_controller_f32 {
@@ -245,7 +245,7 @@ pub struct wmr_pure_pursuit_params<T> {
 /// Words (8 bytes each) of `wmr_pure_pursuit_controller_f32`: the law `pure_pursuit` with its wheel stage.
 pub const WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS: usize = 40;
 /// Words (8 bytes each) of `wmr_pure_pursuit_controller_f64`: the law `pure_pursuit` with its wheel stage.
-pub const WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS: usize = 72;
+pub const WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS: usize = 80;
 /// The law `pure_pursuit` with its wheel stage (f32): Regulated pure pursuit (nav2's names): path following on the reference's path, its timing ignored.
 #[repr(C)]
 pub struct wmr_pure_pursuit_controller_f32 {
