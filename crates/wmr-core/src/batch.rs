@@ -260,7 +260,7 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
             wheel_speeds: wheel_speeds_lanes(self.plant.robot().params(), s.v, s.omega),
         };
         let r = self.reference_lanes(t);
-        self.command = self.controller.update(t, &m, &r).command;
+        self.command = self.plant.drive().deadband(self.controller.update(t, &m, &r).command);
         self.held_torque = self.plant.held_torque_lanes(self.command);
     }
 

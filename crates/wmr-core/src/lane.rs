@@ -115,6 +115,8 @@ pub trait Lane:
     fn hypot(self, y: Self) -> Self;
     /// Hyperbolic tangent.
     fn tanh(self) -> Self;
+    /// self^y (`libm`'s pow in every lane: not vectorized; the graceful law's only).
+    fn powf(self, y: Self) -> Self;
     /// Finite per lane (not NaN, not infinite).
     fn is_finite(self) -> Self::Mask;
 }
@@ -186,6 +188,10 @@ impl<T: Real> Lane for T {
     #[inline(always)]
     fn tanh(self) -> Self {
         self.tanh_libm()
+    }
+    #[inline(always)]
+    fn powf(self, y: Self) -> Self {
+        self.powf_libm(y)
     }
     #[inline(always)]
     fn is_finite(self) -> bool {
@@ -593,6 +599,10 @@ impl<const N: usize> Lane for Lanes<N> {
     fn tanh(self) -> Self {
         // 1 - 2 / (e^(2x) + 1): -1 and 1 at the ends, no NaN.
         self.map(|a| 1.0 - 2.0 / (exp_lane(a + a) + 1.0))
+    }
+    #[inline(always)]
+    fn powf(self, y: Self) -> Self {
+        self.zip(y, libm::pow)
     }
     #[inline(always)]
     fn is_finite(self) -> LaneMask<N> {

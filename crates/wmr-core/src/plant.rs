@@ -146,9 +146,13 @@ impl<T: Real> Plant<T> {
     }
 
     /// Holds `command` (per wheel: wheel-torque demand in N m, or volts, by drive) until
-    /// the next call: the zero-order hold of a digital controller.
+    /// the next call: the zero-order hold of a digital controller. The drive's deadband
+    /// (`[drive] deadband`) zeroes a small command here: [`Plant::command`] is what the
+    /// motor driver passes on.
     #[inline(always)]
     pub fn apply(&mut self, command: Wheels<T>) {
+        // The driver's deadband acts here, in the plant ([`Drive::deadband`]).
+        let command = self.drive.deadband(command);
         self.command = command;
         if self.drive.is_speed_independent() {
             let d = self.drive;

@@ -31,6 +31,8 @@ pub trait Real: Float + FloatConst + Debug + Display + Default + Send + Sync + '
     fn hypot_libm(self, y: Self) -> Self;
     /// Hyperbolic tangent.
     fn tanh_libm(self) -> Self;
+    /// self^y.
+    fn powf_libm(self, y: Self) -> Self;
 }
 
 impl Real for f32 {
@@ -53,6 +55,10 @@ impl Real for f32 {
     #[inline(always)]
     fn tanh_libm(self) -> Self {
         libm::tanhf(self)
+    }
+    #[inline(always)]
+    fn powf_libm(self, y: Self) -> Self {
+        libm::powf(self, y)
     }
     #[inline(always)]
     fn lit(x: f64) -> Self {
@@ -84,6 +90,10 @@ impl Real for f64 {
     #[inline(always)]
     fn tanh_libm(self) -> Self {
         libm::tanh(self)
+    }
+    #[inline(always)]
+    fn powf_libm(self, y: Self) -> Self {
+        libm::pow(self, y)
     }
     #[inline(always)]
     fn lit(x: f64) -> Self {

@@ -50,10 +50,13 @@ fn zero_yaw_inertia_about_c_is_rejected() {
 #[test]
 fn drive_fields_are_checked_and_infinite_torque_is_allowed() {
     let robot = Robot::<f64>::paper();
-    let inf = DriveParams::Torque(TorqueDriveParams { motor_torque_max: f64::INFINITY });
+    let inf =
+        DriveParams::Torque(TorqueDriveParams { motor_torque_max: f64::INFINITY, ..TorqueDriveParams::default() });
     assert!(inf.validate(&robot).is_ok());
     for v in [0.0, -1.0, f64::NAN] {
-        let e = DriveParams::Torque(TorqueDriveParams { motor_torque_max: v }).validate(&robot).unwrap_err();
+        let e = DriveParams::Torque(TorqueDriveParams { motor_torque_max: v, ..TorqueDriveParams::default() })
+            .validate(&robot)
+            .unwrap_err();
         assert_eq!(e.field, "motor_torque_max");
     }
     let cases: [Case<DcMotorParams<f64>>; 4] = [

@@ -129,6 +129,12 @@
 // Words (8 bytes each) of `wmr_lyapunov_controller_f64`: the law `lyapunov` with its wheel stage.
 #define WMR_LYAPUNOV_CONTROLLER_F64_WORDS 64
 
+// Words (8 bytes each) of `wmr_graceful_controller_f32`: the law `graceful` with its wheel stage.
+#define WMR_GRACEFUL_CONTROLLER_F32_WORDS 40
+
+// Words (8 bytes each) of `wmr_graceful_controller_f64`: the law `graceful` with its wheel stage.
+#define WMR_GRACEFUL_CONTROLLER_F64_WORDS 72
+
 // Words (8 bytes each) of `wmr_kanayama_controller_f32`: the law `kanayama` with its wheel stage.
 #define WMR_KANAYAMA_CONTROLLER_F32_WORDS 32
 
@@ -145,7 +151,7 @@
 #define WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS 40
 
 // Words (8 bytes each) of `wmr_pure_pursuit_controller_f64`: the law `pure_pursuit` with its wheel stage.
-#define WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS 72
+#define WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS 80
 
 // What a call did. `WMR_OK` is 0; every other value is an error.
 enum wmr_status
@@ -347,6 +353,35 @@ typedef struct {
   // Within this distance of the goal the law stops. Unit: m; valid: >= 0.
   float goal_radius;
 } wmr_lyapunov_params_f32;
+
+// Park and Kuipers' graceful law as nav2's docking server drives it: curvature from egocentric polar coordinates, speed falling with it, forward or backwards. (`kind = "graceful"`): `wmr_core::GracefulParams`.
+// The core's keys with each flag as a 0/1 `uint32_t`.
+typedef struct {
+  // k_phi: how much faster the target heading error falls than the distance (phi ~ r^k_phi). valid: >= 0.
+  float k_phi;
+  // k_delta: gain of the heading (delta) error feedback. valid: > 0.
+  float k_delta;
+  // beta: how fast the speed drops with the curvature, v_max / (1 + beta |kappa|^lambda). Unit: m^lambda; valid: >= 0.
+  float beta;
+  // lambda: the exponent of the curvature in the speed rule (higher: sharper curves). valid: >= 1.
+  float lambda;
+  // Lowest forward speed while the yaw rate is within its bound. Unit: m/s; valid: >= 0, <= v_linear_max.
+  float v_linear_min;
+  // Highest forward speed. Unit: m/s; valid: > 0.
+  float v_linear_max;
+  // Yaw rate bound; the speed follows it, keeping the curvature. Unit: rad/s; valid: > 0.
+  float v_angular_max;
+  // Within this distance of the target the speed falls in proportion to it. Unit: m; valid: > 0.
+  float slowdown_radius;
+  // The speed stays below sqrt(2 r deceleration_max) at distance r from the target. Unit: m/s^2; valid: > 0, inf allowed.
+  float deceleration_max;
+  // Reach the goal driving backwards (rear first; nav2's dock_backwards). valid: 1 or 0.
+  uint32_t dock_backwards;
+  // The law aims this far past the goal along the final motion (nav2's docking: 0.25). Unit: m; valid: >= 0.
+  float target_projection;
+  // Within this distance of the goal the law stops; it resumes beyond twice that. Unit: m; valid: >= 0.
+  float goal_radius;
+} wmr_graceful_params_f32;
 
 // Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)) (`[controller] kind = "kanayama"`).
 typedef struct {
@@ -603,6 +638,12 @@ typedef struct {
   uint64_t opaque[WMR_LYAPUNOV_CONTROLLER_F32_WORDS];
 } wmr_lyapunov_controller_f32;
 
+// The law `graceful` with its wheel stage (f32): Park and Kuipers' graceful law as nav2's docking server drives it: curvature from egocentric polar coordinates, speed falling with it, forward or backwards.
+typedef struct {
+  // Opaque: only the library reads or writes it.
+  uint64_t opaque[WMR_GRACEFUL_CONTROLLER_F32_WORDS];
+} wmr_graceful_controller_f32;
+
 // The law `kanayama` with its wheel stage (f32): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)).
 typedef struct {
   // Opaque: only the library reads or writes it.
@@ -760,6 +801,35 @@ typedef struct {
   // Within this distance of the goal the law stops. Unit: m; valid: >= 0.
   double goal_radius;
 } wmr_lyapunov_params_f64;
+
+// Park and Kuipers' graceful law as nav2's docking server drives it: curvature from egocentric polar coordinates, speed falling with it, forward or backwards. (`kind = "graceful"`): `wmr_core::GracefulParams`.
+// The core's keys with each flag as a 0/1 `uint32_t`.
+typedef struct {
+  // k_phi: how much faster the target heading error falls than the distance (phi ~ r^k_phi). valid: >= 0.
+  double k_phi;
+  // k_delta: gain of the heading (delta) error feedback. valid: > 0.
+  double k_delta;
+  // beta: how fast the speed drops with the curvature, v_max / (1 + beta |kappa|^lambda). Unit: m^lambda; valid: >= 0.
+  double beta;
+  // lambda: the exponent of the curvature in the speed rule (higher: sharper curves). valid: >= 1.
+  double lambda;
+  // Lowest forward speed while the yaw rate is within its bound. Unit: m/s; valid: >= 0, <= v_linear_max.
+  double v_linear_min;
+  // Highest forward speed. Unit: m/s; valid: > 0.
+  double v_linear_max;
+  // Yaw rate bound; the speed follows it, keeping the curvature. Unit: rad/s; valid: > 0.
+  double v_angular_max;
+  // Within this distance of the target the speed falls in proportion to it. Unit: m; valid: > 0.
+  double slowdown_radius;
+  // The speed stays below sqrt(2 r deceleration_max) at distance r from the target. Unit: m/s^2; valid: > 0, inf allowed.
+  double deceleration_max;
+  // Reach the goal driving backwards (rear first; nav2's dock_backwards). valid: 1 or 0.
+  uint32_t dock_backwards;
+  // The law aims this far past the goal along the final motion (nav2's docking: 0.25). Unit: m; valid: >= 0.
+  double target_projection;
+  // Within this distance of the goal the law stops; it resumes beyond twice that. Unit: m; valid: >= 0.
+  double goal_radius;
+} wmr_graceful_params_f64;
 
 // Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)) (`[controller] kind = "kanayama"`).
 typedef struct {
@@ -1014,6 +1084,12 @@ typedef struct {
   uint64_t opaque[WMR_LYAPUNOV_CONTROLLER_F64_WORDS];
 } wmr_lyapunov_controller_f64;
 
+// The law `graceful` with its wheel stage (f64): Park and Kuipers' graceful law as nav2's docking server drives it: curvature from egocentric polar coordinates, speed falling with it, forward or backwards.
+typedef struct {
+  // Opaque: only the library reads or writes it.
+  uint64_t opaque[WMR_GRACEFUL_CONTROLLER_F64_WORDS];
+} wmr_graceful_controller_f64;
+
 // The law `kanayama` with its wheel stage (f64): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)).
 typedef struct {
   // Opaque: only the library reads or writes it.
@@ -1084,6 +1160,10 @@ wmr_status wmr_polar_params_f32_default(wmr_polar_params_f32 *out);
 // Fills `out` with the default keys of `[controller] kind = "lyapunov"`
 // (docs/scenario.md).
 wmr_status wmr_lyapunov_params_f32_default(wmr_lyapunov_params_f32 *out);
+
+// Fills `out` with the default keys of `[controller] kind = "graceful"`
+// (docs/scenario.md).
+wmr_status wmr_graceful_params_f32_default(wmr_graceful_params_f32 *out);
 
 // Fills `out` with the default keys of `[controller] kind = "kanayama"`
 // (docs/scenario.md).
@@ -1441,6 +1521,49 @@ wmr_status wmr_lyapunov_controller_f32_reset(wmr_lyapunov_controller_f32 *ctrl);
 wmr_status wmr_lyapunov_controller_f32_for_plant(wmr_lyapunov_controller_f32 *ctrl,
                                                  const wmr_plant_f32 *plant);
 
+// Park and Kuipers' graceful law as nav2's docking server drives it: curvature from
+// egocentric polar coordinates, speed falling with it, forward or backwards. with its
+// wheel stage (see `wmr_paper_controller_f32_init`).
+wmr_status wmr_graceful_controller_f32_init(wmr_graceful_controller_f32 *out,
+                                            const wmr_graceful_params_f32 *params,
+                                            const wmr_wheel_stage_params_f32 *wheels,
+                                            const wmr_robot_f32 *model,
+                                            const wmr_drive_f32 *drive,
+                                            float control_dt,
+                                            wmr_error *err);
+
+// One control tick (see `wmr_paper_controller_f32_update`).
+wmr_status wmr_graceful_controller_f32_update(wmr_graceful_controller_f32 *ctrl,
+                                              float t,
+                                              const wmr_measurement_f32 *measurement,
+                                              wmr_pose_f32 goal,
+                                              wmr_control_output_f32 *out);
+
+// One control tick following a reference (see
+// `wmr_paper_controller_f32_update_reference`).
+wmr_status wmr_graceful_controller_f32_update_reference(wmr_graceful_controller_f32 *ctrl,
+                                                        float t,
+                                                        const wmr_measurement_f32 *measurement,
+                                                        const wmr_reference_state_f32 *reference,
+                                                        wmr_control_output_f32 *out,
+                                                        wmr_error *err);
+
+// One control tick following a reference object (see
+// `wmr_paper_controller_f32_update_on`).
+wmr_status wmr_graceful_controller_f32_update_on(wmr_graceful_controller_f32 *ctrl,
+                                                 float t,
+                                                 const wmr_measurement_f32 *measurement,
+                                                 const wmr_reference_f32 *reference,
+                                                 wmr_control_output_f32 *out,
+                                                 wmr_error *err);
+
+// Clears the law's memories and the wheel servos, as at t = 0.
+wmr_status wmr_graceful_controller_f32_reset(wmr_graceful_controller_f32 *ctrl);
+
+// (see `wmr_paper_controller_f32_for_plant`)
+wmr_status wmr_graceful_controller_f32_for_plant(wmr_graceful_controller_f32 *ctrl,
+                                                 const wmr_plant_f32 *plant);
+
 // Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega =
 // omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)). with its wheel stage
 // (see `wmr_paper_controller_f32_init`).
@@ -1608,6 +1731,10 @@ wmr_status wmr_polar_params_f64_default(wmr_polar_params_f64 *out);
 // Fills `out` with the default keys of `[controller] kind = "lyapunov"`
 // (docs/scenario.md).
 wmr_status wmr_lyapunov_params_f64_default(wmr_lyapunov_params_f64 *out);
+
+// Fills `out` with the default keys of `[controller] kind = "graceful"`
+// (docs/scenario.md).
+wmr_status wmr_graceful_params_f64_default(wmr_graceful_params_f64 *out);
 
 // Fills `out` with the default keys of `[controller] kind = "kanayama"`
 // (docs/scenario.md).
@@ -1963,6 +2090,49 @@ wmr_status wmr_lyapunov_controller_f64_reset(wmr_lyapunov_controller_f64 *ctrl);
 
 // (see `wmr_paper_controller_f64_for_plant`)
 wmr_status wmr_lyapunov_controller_f64_for_plant(wmr_lyapunov_controller_f64 *ctrl,
+                                                 const wmr_plant_f64 *plant);
+
+// Park and Kuipers' graceful law as nav2's docking server drives it: curvature from
+// egocentric polar coordinates, speed falling with it, forward or backwards. with its
+// wheel stage (see `wmr_paper_controller_f64_init`).
+wmr_status wmr_graceful_controller_f64_init(wmr_graceful_controller_f64 *out,
+                                            const wmr_graceful_params_f64 *params,
+                                            const wmr_wheel_stage_params_f64 *wheels,
+                                            const wmr_robot_f64 *model,
+                                            const wmr_drive_f64 *drive,
+                                            double control_dt,
+                                            wmr_error *err);
+
+// One control tick (see `wmr_paper_controller_f64_update`).
+wmr_status wmr_graceful_controller_f64_update(wmr_graceful_controller_f64 *ctrl,
+                                              double t,
+                                              const wmr_measurement_f64 *measurement,
+                                              wmr_pose_f64 goal,
+                                              wmr_control_output_f64 *out);
+
+// One control tick following a reference (see
+// `wmr_paper_controller_f64_update_reference`).
+wmr_status wmr_graceful_controller_f64_update_reference(wmr_graceful_controller_f64 *ctrl,
+                                                        double t,
+                                                        const wmr_measurement_f64 *measurement,
+                                                        const wmr_reference_state_f64 *reference,
+                                                        wmr_control_output_f64 *out,
+                                                        wmr_error *err);
+
+// One control tick following a reference object (see
+// `wmr_paper_controller_f64_update_on`).
+wmr_status wmr_graceful_controller_f64_update_on(wmr_graceful_controller_f64 *ctrl,
+                                                 double t,
+                                                 const wmr_measurement_f64 *measurement,
+                                                 const wmr_reference_f64 *reference,
+                                                 wmr_control_output_f64 *out,
+                                                 wmr_error *err);
+
+// Clears the law's memories and the wheel servos, as at t = 0.
+wmr_status wmr_graceful_controller_f64_reset(wmr_graceful_controller_f64 *ctrl);
+
+// (see `wmr_paper_controller_f64_for_plant`)
+wmr_status wmr_graceful_controller_f64_for_plant(wmr_graceful_controller_f64 *ctrl,
                                                  const wmr_plant_f64 *plant);
 
 // Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega =

@@ -425,13 +425,19 @@ fn c_wheels<T: Real>(w: Wheels<T>) -> wmr_wheels<T> {
 
 fn drive_params<T: Real>(p: &wmr_drive_params<T>) -> Result<DriveParams<T>, Fail> {
     match p.kind {
-        WMR_DRIVE_TORQUE => Ok(DriveParams::Torque(TorqueDriveParams { motor_torque_max: p.motor_torque_max })),
+        WMR_DRIVE_TORQUE => Ok(DriveParams::Torque(TorqueDriveParams {
+            motor_torque_max: p.motor_torque_max,
+            // The C struct has no deadband yet (issue 42): none.
+            ..TorqueDriveParams::default()
+        })),
         WMR_DRIVE_DC_MOTOR => Ok(DriveParams::DcMotor(DcMotorParams {
             voltage_max: p.voltage_max,
             torque_constant: p.torque_constant,
             back_emf_constant: p.back_emf_constant,
             armature_resistance: p.armature_resistance,
             current_max: p.current_max,
+            // The C struct has no deadband yet (issue 42): none.
+            ..DcMotorParams::default()
         })),
         k => Err(Fail::out_of_range("kind", "must be WMR_DRIVE_TORQUE (0) or WMR_DRIVE_DC_MOTOR (1)", f64::from(k))),
     }

@@ -117,6 +117,53 @@ pub struct wmr_lyapunov_controller_f64 {
     pub opaque: [u64; WMR_LYAPUNOV_CONTROLLER_F64_WORDS],
 }
 
+/// Park and Kuipers' graceful law as nav2's docking server drives it: curvature from egocentric polar coordinates, speed falling with it, forward or backwards. (`kind = "graceful"`): `wmr_core::GracefulParams`.
+/// The core's keys with each flag as a 0/1 `uint32_t`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct wmr_graceful_params<T> {
+    /// k_phi: how much faster the target heading error falls than the distance (phi ~ r^k_phi). valid: >= 0.
+    pub k_phi: T,
+    /// k_delta: gain of the heading (delta) error feedback. valid: > 0.
+    pub k_delta: T,
+    /// beta: how fast the speed drops with the curvature, v_max / (1 + beta |kappa|^lambda). Unit: m^lambda; valid: >= 0.
+    pub beta: T,
+    /// lambda: the exponent of the curvature in the speed rule (higher: sharper curves). valid: >= 1.
+    pub lambda: T,
+    /// Lowest forward speed while the yaw rate is within its bound. Unit: m/s; valid: >= 0, <= v_linear_max.
+    pub v_linear_min: T,
+    /// Highest forward speed. Unit: m/s; valid: > 0.
+    pub v_linear_max: T,
+    /// Yaw rate bound; the speed follows it, keeping the curvature. Unit: rad/s; valid: > 0.
+    pub v_angular_max: T,
+    /// Within this distance of the target the speed falls in proportion to it. Unit: m; valid: > 0.
+    pub slowdown_radius: T,
+    /// The speed stays below sqrt(2 r deceleration_max) at distance r from the target. Unit: m/s^2; valid: > 0, inf allowed.
+    pub deceleration_max: T,
+    /// Reach the goal driving backwards (rear first; nav2's dock_backwards). valid: 1 or 0.
+    pub dock_backwards: u32,
+    /// The law aims this far past the goal along the final motion (nav2's docking: 0.25). Unit: m; valid: >= 0.
+    pub target_projection: T,
+    /// Within this distance of the goal the law stops; it resumes beyond twice that. Unit: m; valid: >= 0.
+    pub goal_radius: T,
+}
+/// Words (8 bytes each) of `wmr_graceful_controller_f32`: the law `graceful` with its wheel stage.
+pub const WMR_GRACEFUL_CONTROLLER_F32_WORDS: usize = 40;
+/// Words (8 bytes each) of `wmr_graceful_controller_f64`: the law `graceful` with its wheel stage.
+pub const WMR_GRACEFUL_CONTROLLER_F64_WORDS: usize = 72;
+/// The law `graceful` with its wheel stage (f32): Park and Kuipers' graceful law as nav2's docking server drives it: curvature from egocentric polar coordinates, speed falling with it, forward or backwards.
+#[repr(C)]
+pub struct wmr_graceful_controller_f32 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_GRACEFUL_CONTROLLER_F32_WORDS],
+}
+/// The law `graceful` with its wheel stage (f64): Park and Kuipers' graceful law as nav2's docking server drives it: curvature from egocentric polar coordinates, speed falling with it, forward or backwards.
+#[repr(C)]
+pub struct wmr_graceful_controller_f64 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_GRACEFUL_CONTROLLER_F64_WORDS],
+}
+
 /// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)). (`kind = "kanayama"`): `wmr_core::KanayamaParams`.
 /// cbindgen:ignore
 pub type wmr_kanayama_params<T> = wmr_core::KanayamaParams<T>;
@@ -198,7 +245,7 @@ pub struct wmr_pure_pursuit_params<T> {
 /// Words (8 bytes each) of `wmr_pure_pursuit_controller_f32`: the law `pure_pursuit` with its wheel stage.
 pub const WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS: usize = 40;
 /// Words (8 bytes each) of `wmr_pure_pursuit_controller_f64`: the law `pure_pursuit` with its wheel stage.
-pub const WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS: usize = 72;
+pub const WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS: usize = 80;
 /// The law `pure_pursuit` with its wheel stage (f32): Regulated pure pursuit (nav2's names): path following on the reference's path, its timing ignored.
 #[repr(C)]
 pub struct wmr_pure_pursuit_controller_f32 {
@@ -224,6 +271,7 @@ macro_rules! for_each_c_params {
         alias BacksteppingParams {  };
         mirror wmr_polar_params = PolarParams { k_rho, k_alpha, k_beta, reverse_hysteresis, goal_radius; flags reverse };
         mirror wmr_lyapunov_params = LyapunovParams { gamma, k, h, reverse_hysteresis, goal_radius; flags reverse };
+        mirror wmr_graceful_params = GracefulParams { k_phi, k_delta, beta, lambda, v_linear_min, v_linear_max, v_angular_max, slowdown_radius, deceleration_max, target_projection, goal_radius; flags dock_backwards };
         mirror wmr_pure_pursuit_params = PurePursuitParams { speed, lookahead_dist, lookahead_time, min_lookahead_dist, max_lookahead_dist, regulated_linear_scaling_min_radius, regulated_linear_scaling_min_speed, approach_velocity_scaling_dist, min_approach_linear_velocity, rotate_to_heading_min_angle, rotate_to_heading_angular_vel, max_angular_accel, max_robot_pose_search_dist, xy_goal_tolerance; flags use_velocity_scaled_lookahead_dist, use_rotate_to_heading };
         }
     };

@@ -132,7 +132,7 @@ proptest! {
         let mut drive_c = MaybeUninit::<wmr_drive_f64>::uninit();
         // SAFETY: valid pointers.
         let code = unsafe { wmr_drive_f64_init(drive_c.as_mut_ptr(), &dp, &robot_c, &mut err) };
-        let core = DriveParams::Torque(TorqueDriveParams { motor_torque_max: limit }).validate(&robot);
+        let core = DriveParams::Torque(TorqueDriveParams { motor_torque_max: limit, ..TorqueDriveParams::default() }).validate(&robot);
         let drive = match core {
             Err(e) => {
                 prop_assert_eq!(code, code_of(&e));

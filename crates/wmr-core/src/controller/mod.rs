@@ -2,7 +2,7 @@
 //! (make them go there), run every control period.
 //!
 //! - [`law`]: the [`Law`] contract and what a law asks of the wheels ([`WheelDemand`]).
-//! - [`paper`], [`paper_bidirectional`], [`polar`], [`lyapunov`]: the laws; [`polar_frame`]
+//! - [`paper`], [`paper_bidirectional`], [`polar`], [`lyapunov`], [`graceful`]: the laws; [`polar_frame`]
 //!   the polar laws' shared geometry.
 //! - [`kanayama`], [`backstepping`]: trajectory tracking; [`pure_pursuit`]: path following.
 //! - [`registry`]: the one list of laws; [`any`]: every law behind one enum, chosen by
@@ -13,6 +13,7 @@
 pub mod any;
 pub mod backstepping;
 pub mod composed;
+pub mod graceful;
 pub mod kanayama;
 pub mod law;
 pub mod lyapunov;

@@ -222,7 +222,7 @@ pub fn polar_errors<T: Lane>(pose: Pose2<T>, goal: Pose2<T>) -> ControlErrors<T>
 /// Stop inside `radius`, resume beyond twice that: returns the new "held" flag.
 #[cfg_attr(target_os = "none", inline)]
 #[cfg_attr(not(target_os = "none"), inline(always))]
-fn goal_hold<T: Lane>(held: T::Mask, dl: T, radius: T::Scalar) -> T::Mask {
+pub(crate) fn goal_hold<T: Lane>(held: T::Mask, dl: T, radius: T::Scalar) -> T::Mask {
     (held & dl.le(T::splat(radius + radius))) | (!held & dl.le(T::splat(radius)))
 }
 

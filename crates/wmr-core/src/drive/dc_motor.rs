@@ -43,6 +43,8 @@ crate::params! {
         ///
         /// The current is clamped to +-i_max, so the wheel torque to +-k_tau i_max / k_t.
         pub current_max: T [unit = "A", rule = "> 0, inf allowed"],
+        /// Driver deadband: a voltage below this fraction of voltage_max gives none (plant only).
+        pub deadband: T [unit = "", rule = "in [0, 1)"],
     }
 }
 
@@ -54,6 +56,7 @@ impl<T: Real> Default for DcMotorParams<T> {
             back_emf_constant: T::lit(0.0573),
             armature_resistance: T::lit(2.18),
             current_max: T::lit(6.0),
+            deadband: T::zero(),
         }
     }
 }
@@ -65,6 +68,7 @@ impl<T: Real> DcMotorParams<T> {
         check::non_negative("back_emf_constant", self.back_emf_constant)?;
         check::positive("armature_resistance", self.armature_resistance)?;
         check::positive_or_inf("current_max", self.current_max)?;
+        super::check_deadband(self.deadband)?;
         let torque_per_volt = self.torque_constant / (self.armature_resistance * gear_ratio);
         let emf_per_wheel_speed = self.back_emf_constant / gear_ratio;
         let wheel_torque_max = self.torque_constant * self.current_max / gear_ratio;

@@ -20,6 +20,15 @@ pub(crate) fn clamp_keep_nan<L: Lane>(x: L, limit: L) -> L {
     L::select(x.eq(x), x.max(-limit).min(limit), x)
 }
 
+/// `deadband` is a fraction in [0, 1); the error names it.
+pub(crate) fn check_deadband<T: Real>(deadband: T) -> Result<T, ParamError> {
+    let d = crate::error::check::non_negative("deadband", deadband)?;
+    if d >= T::one() {
+        return Err(crate::error::check::out_of_range("deadband", "must be < 1", d));
+    }
+    Ok(d)
+}
+
 /// Drive parameters as written in a scenario (`[drive]`), before validation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 /// Serialized with a `kind` key; read with `DriveParams::deserialize_variant` (feature `serde`) (serde's
@@ -107,6 +116,24 @@ impl<T: Real> Drive<T> {
             Drive::Torque(d) => d.wheel_torque(command),
             Drive::DcMotor(d) => d.wheel_torque(command, omega_wheel),
         }
+    }
+
+    /// The commands the motor driver passes on (plant only; the controller never sees
+    /// it): a command whose magnitude is below `deadband` times the largest command
+    /// (the torque drive: motor_torque_max / k_t, N m at the wheel; the DC motor:
+    /// voltage_max, V) becomes 0, any other passes unchanged. Without a deadband the
+    /// commands themselves (the same bits).
+    #[inline(always)]
+    pub fn deadband<L: Lane<Scalar = T>>(&self, command: crate::math::Wheels<L>) -> crate::math::Wheels<L> {
+        let dead = match self {
+            Drive::Torque(d) => d.dead_demand(),
+            Drive::DcMotor(d) => d.params().deadband * d.params().voltage_max,
+        };
+        if dead == T::zero() {
+            return command;
+        }
+        let dead = L::splat(dead);
+        command.map(|c| L::select(c.abs().lt(dead), L::default(), c))
     }
 
     /// Where the drive cannot give what `command` asks at wheel speed `omega_wheel`

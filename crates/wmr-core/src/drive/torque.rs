@@ -11,19 +11,25 @@ crate::params! {
     pub struct TorqueDriveParams<T> {
         /// |tau_motor| limit at the motor shaft (the wheel gets it / k_t).
         pub motor_torque_max: T [unit = "N m", rule = "> 0, inf allowed"],
+        /// Driver deadband: a demand below this fraction of the largest gives no torque (plant only).
+        pub deadband: T [unit = "", rule = "in [0, 1); > 0 only with a finite motor_torque_max"],
     }
 }
 
 impl<T: Real> Default for TorqueDriveParams<T> {
     /// 0.2 N m at the motor, i.e. 2 N m at the wheel with k_t = 0.1 (docs/model.md, "Drives").
     fn default() -> Self {
-        Self { motor_torque_max: T::lit(0.2) }
+        Self { motor_torque_max: T::lit(0.2), deadband: T::zero() }
     }
 }
 
 impl<T: Real> TorqueDriveParams<T> {
     pub(crate) fn validate(self, gear_ratio: T) -> Result<TorqueDrive<T>, ParamError> {
         check::positive_or_inf("motor_torque_max", self.motor_torque_max)?;
+        let deadband = super::check_deadband(self.deadband)?;
+        if deadband > T::zero() && self.motor_torque_max.is_infinite() {
+            return Err(check::out_of_range("deadband", "must be 0 with an infinite motor_torque_max", deadband));
+        }
         Ok(TorqueDrive {
             params: self,
             gear_ratio,
@@ -55,6 +61,12 @@ impl<T: Real> TorqueDrive<T> {
     /// Largest wheel torque, N m: motor_torque_max / k_t.
     pub fn wheel_torque_max(&self) -> T {
         self.wheel_torque_max
+    }
+
+    /// The largest wheel-torque demand (N m) the deadband zeroes: deadband
+    /// motor_torque_max / k_t (0: none).
+    pub fn dead_demand(&self) -> T {
+        if self.params.deadband > T::zero() { self.params.deadband * self.wheel_torque_max } else { T::zero() }
     }
 
     /// Where a wheel-torque demand (N m) exceeds what the motor gives: |demand| above

@@ -4,6 +4,7 @@
 
 from ._native import (
     BacksteppingController,
+    GracefulController,
     KanayamaController,
     LyapunovController,
     PaperBidirectionalController,
@@ -18,6 +19,7 @@ LAW_CLASSES: tuple = (
     "PaperBidirectionalController",
     "PolarController",
     "LyapunovController",
+    "GracefulController",
     "KanayamaController",
     "BacksteppingController",
     "PurePursuitController",
@@ -26,6 +28,7 @@ LAW_CLASSES: tuple = (
 __all__ = [
     "LAW_CLASSES",
     "BacksteppingController",
+    "GracefulController",
     "KanayamaController",
     "LyapunovController",
     "PaperBidirectionalController",
