@@ -158,8 +158,8 @@ fn hold_mode_is_a_paper_key() {
     assert_eq!(e.key, "controller.hold");
 }
 
-/// The step budget counts the runs of `[sweep]` with those of `[[run]]`: (250,000 starts
-/// x 4 laws + 1 run) x 200,000 steps = 2e11 plant steps, more than `MAX_TOTAL_STEPS`
+/// The step budget counts the runs of `[sweep]` with those of `[[run]]`: (200,000 starts
+/// x 5 laws + 1 run) x 200,000 steps = 2e11 plant steps, more than `MAX_TOTAL_STEPS`
 /// (1e11), while the one `[[run]]` alone is far below it.
 #[test]
 fn a_sweep_counts_in_the_step_budget() {
@@ -170,9 +170,9 @@ t_end = 200.0
 goal = { x = 1.0 }
 [sweep]
 goal = {}
-random = { n = 250000, seed = 1, radius = 1.0 }
+random = { n = 200000, seed = 1, radius = 1.0 }
 "#;
-    assert_eq!(wmr_scenario::stabilization_law_kinds().len(), 4);
+    assert_eq!(wmr_scenario::stabilization_law_kinds().len(), 5);
     let Err(err) = Scenario::from_toml_str(text, "big") else { panic!("2e11 plant steps accepted") };
     assert_eq!(err.key, "sim.t_end");
     assert!(err.message.starts_with("1000001 runs x 200000 steps (t_end / dt) = 2.000e11 plant steps"), "{err}");
