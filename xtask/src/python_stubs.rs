@@ -48,6 +48,14 @@ pub fn class_keys(keys: &[SchemaKey], table: &str, kind: Option<&str>) -> Vec<Sc
         .collect()
 }
 
+/// Python's reserved words: a key spelled as one (nav2's `lambda`) cannot be a keyword
+/// argument; its stub line is a comment saying how to pass it (`**{"lambda": 2.0}`).
+pub const PYTHON_KEYWORDS: [&str; 35] = [
+    "False", "None", "True", "and", "as", "assert", "async", "await", "break", "class", "continue", "def", "del",
+    "elif", "else", "except", "finally", "for", "from", "global", "if", "import", "in", "is", "lambda", "nonlocal",
+    "not", "or", "pass", "raise", "return", "try", "while", "with", "yield",
+];
+
 /// The keyword lines of a class: `name: type = default,  # [unit] doc`, with the markers.
 fn keyword_block(keys: &[SchemaKey], indent: &str) -> String {
     let mut out = format!("{indent}{KEYS_BEGIN}");
@@ -56,6 +64,14 @@ fn keyword_block(keys: &[SchemaKey], indent: &str) -> String {
         let default = default.unwrap_or_else(|| panic!("{} has no default to show", k.key));
         let (ty, value) = py_value(default);
         let unit = if k.unit.is_empty() { String::new() } else { format!(" [{}]", k.unit) };
+        if PYTHON_KEYWORDS.contains(&k.key) {
+            let key = k.key;
+            out.push_str(&format!(
+                "{indent}# {key} ({ty}, default {value}): a Python keyword, passed as **{{\"{key}\": {value}}}.{unit} {}\n",
+                k.doc.trim()
+            ));
+            continue;
+        }
         out.push_str(&format!("{indent}{}: {ty} = {value},  #{unit} {}\n", k.key, k.doc.trim()));
     }
     out.push_str(&format!("{indent}{KEYS_END}"));

@@ -3,7 +3,7 @@
 //! text `cargo xtask gen` wrote), with the schema's default.
 
 use wmr_scenario::schema;
-use xtask::python_stubs::{PATH, class_keys};
+use xtask::python_stubs::{PATH, PYTHON_KEYWORDS, class_keys};
 
 /// `(name, default)` of the keyword-only arguments of `class NAME`'s `__new__`.
 fn init_kwargs<'a>(stub: &'a str, class: &str) -> Vec<(&'a str, &'a str)> {
@@ -48,7 +48,9 @@ fn stubs_list_every_robot_and_controller_key_with_its_default() {
     );
     for (class, table, kind) in classes {
         let got = init_kwargs(&stub, &class);
-        let want = class_keys(&keys, table, kind);
+        // A key spelled as a Python keyword is a comment line (passed through **kwargs).
+        let want: Vec<_> =
+            class_keys(&keys, table, kind).into_iter().filter(|k| !PYTHON_KEYWORDS.contains(&k.key)).collect();
         let mut got_names: Vec<&str> = got.iter().map(|(n, _)| *n).collect();
         let mut want_names: Vec<&str> = want.iter().map(|k| k.key).collect();
         got_names.sort_unstable();

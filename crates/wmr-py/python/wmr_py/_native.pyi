@@ -348,7 +348,7 @@ class GracefulController:
         k_phi: float = 3.0,  # k_phi: how much faster the target heading error falls than the distance (phi ~ r^k_phi).
         k_delta: float = 2.0,  # k_delta: gain of the heading (delta) error feedback.
         beta: float = 0.4,  # [m^lambda] beta: how fast the speed drops with the curvature, v_max / (1 + beta |kappa|^lambda).
-        lambda: float = 2.0,  # lambda: the exponent of the curvature in the speed rule (higher: sharper curves).
+        # lambda (float, default 2.0): a Python keyword, passed as **{"lambda": 2.0}. lambda: the exponent of the curvature in the speed rule (higher: sharper curves).
         v_linear_min: float = 0.1,  # [m/s] Lowest forward speed while the yaw rate is within its bound.
         v_linear_max: float = 0.25,  # [m/s] Highest forward speed.
         v_angular_max: float = 0.75,  # [rad/s] Yaw rate bound; the speed follows it, keeping the curvature.
@@ -785,6 +785,7 @@ __all__ = [
     "KanayamaController",
     "PurePursuitController",
     "Reference",
+    "GracefulController",
     "LyapunovController",
     "PaperBidirectionalController",
     "PaperController",
