@@ -1,11 +1,13 @@
-//! The files wmr generates from its registries (`wmr_core::for_each_law!`, and the
-//! scenario schema for the Python stubs' keywords), written by
+//! The files wmr generates from its registries (`wmr_core::for_each_law!`, the core's
+//! `params!` tables, and the scenario schema for the Python stubs' keywords), written by
 //! `cargo xtask gen` and checked by `cargo xtask check` and this crate's test. Each
 //! generator is a function from the registry to a file's text: no generator depends on
 //! the crate whose file it writes, so a new law can be generated before that crate
 //! compiles again.
 
 pub mod docs_outcomes;
+pub mod ffi_api;
+pub mod ffi_header;
 pub mod ffi_laws;
 pub mod firmware_costs;
 pub mod python_laws;
@@ -38,6 +40,10 @@ pub fn generated() -> Vec<Generated> {
         docs_outcomes::generate(),
     ];
     out.extend(firmware_costs::generate());
+    out.extend(ffi_api::generate());
+    // Last: cbindgen reads the C API's sources as they are on disk (`gen` writes until
+    // nothing changes, so the header follows the entry points written just before).
+    out.push(ffi_header::generate());
     out
 }
 

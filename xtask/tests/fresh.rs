@@ -23,3 +23,28 @@ fn storage_words_hold_every_law() {
         }
     }
 }
+
+/// Every law of the registry gets its entry points in C, in both precisions.
+#[test]
+fn every_law_has_its_c_entry_points() {
+    let (f32_src, f64_src) = (xtask::ffi_api::api_f32(), xtask::ffi_api::api_f64());
+    for law in xtask::registry::laws() {
+        for f in ["init", "update", "update_reference", "update_on", "reset", "for_plant"] {
+            for (p, src) in [("f32", &f32_src), ("f64", &f64_src)] {
+                assert!(src.contains(&format!("fn wmr_{}_controller_{p}_{f}(", law.kind)), "{} {p} {f}", law.kind);
+            }
+        }
+        assert!(f32_src.contains(&format!("fn wmr_{}_params_f32_default(", law.kind)), "{}", law.kind);
+    }
+}
+
+/// Every field type of a struct C shares with the core has a C type: a float, or a
+/// `uint32_t`/`uint64_t` code.
+#[test]
+fn shared_struct_fields_have_c_types() {
+    for (name, _, fields) in xtask::ffi_header::shared_structs() {
+        for f in fields {
+            assert!(matches!(xtask::ffi_header::c_type(f.ty).0, "T" | "u32" | "u64"), "{name}.{}: {}", f.name, f.ty);
+        }
+    }
+}

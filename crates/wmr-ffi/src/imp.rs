@@ -610,23 +610,12 @@ pub trait CLaw<T: Prec> {
 /// [`CLaw`], the storage of each law per precision ([`Storage`], [`Prec`]), and [`Prec`]
 /// itself. The C entry points of a law are `law_params_default`, `controller_init`,
 /// `controller_update`, `controller_update_reference` and `controller_reset` with its
-/// marker (`api_f32.rs`); its C declarations are in `laws.rs` (`cargo xtask gen`). A
+/// marker (`api_f32.rs`, written by `cargo xtask gen` from the registry: xtask/src/ffi_api.rs);
+/// its C declarations are in `laws.rs` (`cargo xtask gen`). A
 /// storage tag is `0x574d52__00000f32` (f32) or `..0f64`, `__` = 5 + the law's code.
 macro_rules! c_laws {
     ($krate:tt; $( $(#[doc = $doc:literal])* $marker:ident($params:ident, $law:ident) = $kind:ident, code $code:literal, follows $follows:ident; )+) => { paste::paste! {
         $( $(#[doc = $doc])* pub struct $marker; )+
-
-        /// The laws of the C API, in the registry's order, as `tests/header.rs` writes their
-        /// entry points into `api_f32.rs` and `api_f64.rs`.
-        pub const C_LAWS: &[CLawEntry] = &[
-            $( CLawEntry {
-                c_name: stringify!($kind),
-                marker: stringify!($marker),
-                about: [$($doc),*][0].trim_ascii(),
-                defaults: concat!("the default keys of `[controller] kind = \"", stringify!($kind), "\"` (docs/scenario.md)"),
-                reset: "Clears the law's memories and the wheel servos, as at t = 0.",
-            }, )+
-        ];
 
         storage_of! {
             $(
@@ -688,21 +677,6 @@ macro_rules! c_laws {
             }
         )+
     } };
-}
-
-/// A law of [`C_LAWS`]: what its C entry points are named and say.
-#[derive(Clone, Copy, Debug)]
-pub struct CLawEntry {
-    /// The law in C names: `wmr_<c_name>_params_*`, `wmr_<c_name>_controller_*`.
-    pub c_name: &'static str,
-    /// Its marker type in this module (`Paper`).
-    pub marker: &'static str,
-    /// What the law is, as the start of its `_init` doc.
-    pub about: &'static str,
-    /// What `_params_*_default` fills in (after "Fills `out` with ").
-    pub defaults: &'static str,
-    /// What `_reset` clears.
-    pub reset: &'static str,
 }
 
 // The C API's laws: the registry's.

@@ -1,8 +1,7 @@
 //! # wmr-ffi: the C API of wmr-core
 //!
 //! The header is `crates/wmr-ffi/include/wmr.h`, generated from this crate by cbindgen
-//! (`WMR_BLESS=1 cargo test -p wmr-ffi --test header` rewrites it; the same test fails
-//! when it is stale). Build the static library with
+//! (`cargo xtask gen` rewrites it; `cargo test -p xtask` fails when it is stale). Build the static library with
 //!
 //! ```text
 //! cargo build -p wmr-ffi --release                       # host: target/release/libwmr_ffi.a
@@ -61,8 +60,8 @@
 #[cfg(feature = "std")]
 extern crate std;
 
-// Generated from the law list `c_laws!` in `imp` (tests/header.rs; `WMR_BLESS=1` writes
-// them); laid out by the generator, not by rustfmt.
+// Generated from the registry by `cargo xtask gen` (xtask/src/ffi_api.rs); laid out by
+// the generator, not by rustfmt.
 #[rustfmt::skip]
 mod api_f32;
 #[rustfmt::skip]
@@ -72,11 +71,6 @@ mod laws;
 
 pub use api_f32::*;
 pub use api_f64::*;
-/// The C API's law list, for the generator of `api_f32.rs` and `api_f64.rs`
-/// (tests/header.rs); not part of the C API.
-/// cbindgen:ignore
-#[doc(hidden)]
-pub use imp::{C_LAWS, CLawEntry};
 pub use laws::*;
 
 use core::ffi::c_char;
@@ -243,7 +237,7 @@ pub struct wmr_wheels<T> {
 }
 
 /// The robot's state: the core's `wmr_core::State` (`#[repr(C)]`; cbindgen reads its
-/// declaration from the core's src/state.rs, tests/header.rs).
+/// declaration from the core's src/state.rs: xtask/src/ffi_header.rs).
 /// cbindgen:ignore
 pub type wmr_state<T> = wmr_core::State<T>;
 
@@ -289,7 +283,7 @@ pub struct wmr_control_output<T> {
 
 // The parameter structs the C API shares with the core: the core's own `#[repr(C)]`
 // types (declared with `wmr_core::params!`). cbindgen does not see through the alias or
-// the macro, so tests/header.rs writes their C declarations from the core's field tables
+// the macro, so `cargo xtask gen` (xtask/src/ffi_header.rs) writes their C declarations from the core's field tables
 // (`wmr_core::describe::Described::FIELDS`).
 /// The robot (the `[robot]` keys): `wmr_core::RobotParams`.
 /// cbindgen:ignore
