@@ -1,5 +1,6 @@
-//! docs/scenario.md's sweep CSV columns and its table of outcome fields, written from
-//! the table every output reads (`wmr_core::OUTCOME_FIELDS`).
+//! docs/scenario.md's generated parts: its key tables (`crate::docs_keys`, from the
+//! schema), its sweep CSV columns and its table of outcome fields, written from the table
+//! every output reads (`wmr_core::OUTCOME_FIELDS`).
 
 use wmr_core::{FieldGroup, OUTCOME_FIELDS};
 use wmr_scenario::{sweep_columns, tracking_sweep_columns};
@@ -50,5 +51,6 @@ pub fn generate() -> Generated {
     let text = between(&text, "columns:sweep", &format!("`{}`\n", sweep_columns().join(",")));
     let text = between(&text, "columns:tracking-sweep", &format!("`{}`\n", tracking_sweep_columns().join(",")));
     let text = between(&text, "outcome-fields", &fields_table());
+    let (text, _) = crate::docs_keys::regenerate(&text, &wmr_scenario::schema());
     Generated { path: PATH.into(), text }
 }

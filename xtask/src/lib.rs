@@ -5,6 +5,7 @@
 //! the crate whose file it writes, so a new law can be generated before that crate
 //! compiles again.
 
+pub mod docs_keys;
 pub mod docs_outcomes;
 pub mod ffi_api;
 pub mod ffi_header;

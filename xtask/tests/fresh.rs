@@ -48,3 +48,16 @@ fn shared_struct_fields_have_c_types() {
         }
     }
 }
+
+/// Every key the schema describes has its table in docs/scenario.md (a new law or key
+/// without its docs section fails here, naming the block to add).
+#[test]
+fn every_described_key_has_a_docs_block() {
+    let doc = std::fs::read_to_string(xtask::repo_root().join("docs/scenario.md")).expect("docs/scenario.md");
+    let keys = wmr_scenario::schema();
+    let (_, ids) = xtask::docs_keys::regenerate(&doc, &keys);
+    for k in keys.iter().filter(|k| k.is_described() && k.key != "model") {
+        let id = xtask::docs_keys::block_of(k);
+        assert!(ids.contains(&id), "docs/scenario.md has no block keys:{id} for {}", k.key);
+    }
+}
