@@ -53,6 +53,20 @@ def wrap(a: np.ndarray) -> np.ndarray:
     return (a + np.pi) % (2 * np.pi) - np.pi
 
 
+class Serial:
+    """An executor running each part at once, in the caller (run_batch's `executor`)."""
+
+    def submit(self, fn, *args):
+        class Done:
+            def __init__(self, v):
+                self.v = v
+
+            def result(self):
+                return self.v
+
+        return Done(fn(*args))
+
+
 @pytest.mark.parametrize("keys, truth", [(CIRCLE, circle_truth), (EIGHT, eight_truth)])
 def test_reference_columns_are_the_closed_form_reference(keys: dict, truth) -> None:
     ref = wmr_py.Reference(keys["kind"], **{k: v for k, v in keys.items() if k != "kind"})
@@ -180,19 +194,6 @@ def test_run_batch_with_a_reference_is_simulate_run_by_run() -> None:
         assert b["rms_error_m"][i] == r.rms_error_m and b["max_error_m"][i] == r.max_error_m
         want = math.nan if r.time_to_tolerance_s is None else r.time_to_tolerance_s
         np.testing.assert_array_equal(b["time_to_tolerance_s"][i], want)
-
-    class Serial:
-        """An executor running each part at once, in the caller."""
-
-        def submit(self, fn, *args):
-            class Done:
-                def __init__(self, v):
-                    self.v = v
-
-                def result(self):
-                    return self.v
-
-            return Done(fn(*args))
 
     parts = wmr_py.run_batch(starts, reference=ref, controller=ctrl, t_end=10.0, executor=Serial(), chunk_size=2)
     for k in (*wmr_py.OUTCOME_FIELDS, *wmr_py.TRACKING_FIELDS):
@@ -402,19 +403,6 @@ def test_batch_and_sweep_status_say_cannot_follow() -> None:
     # A batch towards a goal says the same words as before.
     goal = wmr_py.run_batch([[0.5, 0.0, 0.0]], (0, 0, 0), t_end=4.0, controller={"kind": "polar"})
     assert list(goal["status"]) == [("converged" if goal.converged[0] else "unsettled")]
-
-    class Serial:
-        """An executor running each part at once, in the caller."""
-
-        def submit(self, fn, *args):
-            class Done:
-                def __init__(self, v):
-                    self.v = v
-
-                def result(self):
-                    return self.v
-
-            return Done(fn(*args))
 
     parts = wmr_py.run_batch(start, reference=ref, controller=ctrl, drive=dc, t_end=30.0, executor=Serial())
     assert list(parts["status"]) == ["cannot_follow"]
