@@ -10,7 +10,8 @@
 //!
 //! Likewise between `<!-- laws-table begin -->` and `<!-- laws-table end -->`: the per-law
 //! table of a sweep (converged, diverged, unsettled, time to 1 cm and heading error, median
-//! / worst) from the first lines of the console block after it; and a number in the prose
+//! / worst) from the first lines of the console block after it; between
+//! `<!-- tracking-table begin -->` and its end, the table of a sweep over references; and a number in the prose
 //! that a command prints is checked against that command's console block
 //! (`prose_numbers_are_those_of_their_console_blocks`).
 
@@ -20,6 +21,8 @@ const BEGIN: &str = "<!-- shares-table begin -->\n";
 const END: &str = "<!-- shares-table end -->";
 const LAWS_BEGIN: &str = "<!-- laws-table begin -->\n";
 const LAWS_END: &str = "<!-- laws-table end -->";
+const TRACKING_BEGIN: &str = "<!-- tracking-table begin -->\n";
+const TRACKING_END: &str = "<!-- tracking-table end -->";
 
 /// The documents that hold such tables.
 const DOCS: [&str; 2] = ["README.md", "docs/model.md"];
@@ -137,6 +140,44 @@ fn laws_table(block: &str) -> String {
     out
 }
 
+/// The Markdown table of a sweep over references in `block`: one row per law and
+/// reference (`law  reference  runs  converged  diverged  unsettled  cannot_follow  RMS mm
+/// (med/max)  max mm (med/max)  s to 10 mm`), the shares without their runs count.
+fn tracking_table(block: &str) -> String {
+    let mut lines = block.lines().skip_while(|l| !(l.starts_with("law ") && l.contains(" reference ")));
+    assert!(lines.next().is_some(), "no sweep table over references (a `law  reference  runs ...` header)");
+    let mut out = String::from(
+        "| law | reference | converged | diverged | unsettled | cannot follow | RMS mm, median / worst | max mm, \
+         median / worst | below 10 mm after s, median / worst |\n|---|---|---|---|---|---|---|---|---|\n",
+    );
+    let mut rows = 0;
+    for line in lines {
+        let c: Vec<&str> = line.split_whitespace().collect();
+        // law, reference, runs, 4 shares, two pairs `a / b`, then a pair or `-`.
+        if c.len() < 13 || !c[3].ends_with('%') {
+            break;
+        }
+        let pct = |s: &str| format!("{} %", s.trim_end_matches('%'));
+        let after = if c.len() == 16 { format!("{} / {}", c[13], c[15]) } else { c[13].to_owned() };
+        out.push_str(&format!(
+            "| {} | {} | {} | {} | {} | {} | {} / {} | {} / {} | {after} |\n",
+            c[0],
+            c[1],
+            pct(c[3]),
+            pct(c[4]),
+            pct(c[5]),
+            pct(c[6]),
+            c[7],
+            c[9],
+            c[10],
+            c[12]
+        ));
+        rows += 1;
+    }
+    assert!(rows > 0, "the sweep table over references has no rows");
+    out
+}
+
 /// The first console block of `text`.
 fn console_after(text: &str) -> &str {
     let open = text.find("```console\n").expect("a console block after the table") + "```console\n".len();
@@ -164,7 +205,8 @@ fn regenerate_with(doc: &str, begin: &str, end: &str, make: fn(&str) -> String) 
 fn regenerate(doc: &str) -> (String, usize) {
     let (doc, n) = regenerate_with(doc, BEGIN, END, table);
     let (doc, m) = regenerate_with(&doc, LAWS_BEGIN, LAWS_END, laws_table);
-    (doc, n + m)
+    let (doc, k) = regenerate_with(&doc, TRACKING_BEGIN, TRACKING_END, tracking_table);
+    (doc, n + m + k)
 }
 
 #[test]
@@ -186,7 +228,7 @@ fn shares_tables_are_generated_from_their_console_blocks() {
              `WMR_BLESS=1 cargo test -p wmr-cli --test docs_console_tables`"
         );
     }
-    assert!(found >= 3, "{found} tables between {BEGIN:?} or {LAWS_BEGIN:?} and their end markers");
+    assert!(found >= 4, "{found} tables between {BEGIN:?} or {LAWS_BEGIN:?} and their end markers");
 }
 
 #[test]
@@ -299,6 +341,29 @@ fn a_laws_table_follows_its_block() {
     assert_eq!(n, 1);
     assert!(
         fresh.contains("| paper | 1000 | 84.0 % | 10.3 % | 5.7 % | 49.57 / 179.61 s | 12.15 / 43.26 deg |\n"),
+        "{fresh}"
+    );
+    assert!(!fresh.contains("stale"));
+}
+
+#[test]
+fn a_tracking_table_follows_its_block() {
+    let block = "$ wmr-cli sweep t.toml\nlaw          reference      runs  converged  diverged  unsettled  cannot_follow    \
+                 RMS mm (med/max)    max mm (med/max)      s to 10 mm\nkanayama     circle          200     100.0%      \
+                 0.0%       0.0%           0.0%         0.00 / 0.00         0.00 / 0.00     1.95 / 2.68\npure_pursuit \
+                 figure_eight    200       0.0%      0.0%      93.0%           7.0%     103.84 / 381.34     225.92 / \
+                 394.86               -\nwmr-cli: 400 runs\n";
+    let doc = format!("x\n{TRACKING_BEGIN}| stale |\n{TRACKING_END}\n\n```console\n{block}```\n");
+    let (fresh, n) = regenerate(&doc);
+    assert_eq!(n, 1);
+    assert!(
+        fresh.contains("| kanayama | circle | 100.0 % | 0.0 % | 0.0 % | 0.0 % | 0.00 / 0.00 | 0.00 / 0.00 | 1.95 / 2.68 |\n"),
+        "{fresh}"
+    );
+    assert!(
+        fresh.contains(
+            "| pure_pursuit | figure_eight | 0.0 % | 0.0 % | 93.0 % | 7.0 % | 103.84 / 381.34 | 225.92 / 394.86 | - |\n"
+        ),
         "{fresh}"
     );
     assert!(!fresh.contains("stale"));
