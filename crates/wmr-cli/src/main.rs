@@ -12,6 +12,7 @@ mod layout;
 mod live;
 mod mcap_sink;
 mod plot_cmd;
+mod ros2;
 mod sweep_cmd;
 mod trace_cmd;
 
@@ -50,6 +51,11 @@ enum Command {
         /// Output format; overrides the extension of OUT.
         #[arg(long, value_enum)]
         format: Option<Format>,
+        /// The MCAP's topics: `foxglove` (Foxglove's schemas, the default), `ros2` (ROS 2
+        /// messages in CDR, as `ros2 bag record` writes them: /tf, /odom, /joint_states, ...),
+        /// or `both`. Only for an MCAP OUT.
+        #[arg(long, value_enum, value_name = "PROFILE")]
+        profile: Option<mcap_sink::Profile>,
         /// Also write LAYOUT, a Foxglove layout made for these runs (as `wmr-cli layout`).
         #[arg(long, value_name = "LAYOUT")]
         layout: Option<PathBuf>,
@@ -259,15 +265,18 @@ fn run(cli: Cli) -> Result<()> {
             note(&format!("wmr-cli: wrote {} ({} run(s))", wmr_scenario::shown(&output), scenario.runs().len()));
             Ok(())
         }
-        Command::Run { file, files, output, format, layout, live, speed } => {
+        Command::Run { file, files, output, format, profile, layout, live, speed } => {
+            if profile.is_some() && live.is_some() {
+                foxglove_cmd::usage_error("--profile: --live serves the Foxglove topics only; leave --profile out");
+            }
             if let Some(addr) = live {
                 let scenario = load(&file, &files)?;
                 exec::require_runs(&scenario, &file)?;
                 return foxglove_cmd::run_live(&scenario, output, format, layout, addr, speed.unwrap_or(1.0));
             }
             let Some(output) = output else {
-                if layout.is_some() || format.is_some() {
-                    foxglove_cmd::usage_error("--layout and --format describe OUT: give -o OUT");
+                if layout.is_some() || format.is_some() || profile.is_some() {
+                    foxglove_cmd::usage_error("--layout, --format and --profile describe OUT: give -o OUT");
                 }
                 let scenario = load(&file, &files)?;
                 return exec::run_summary(&scenario, &file);
@@ -276,13 +285,16 @@ fn run(cli: Cli) -> Result<()> {
             if layout.is_some() && format != Format::Mcap {
                 foxglove_cmd::usage_error("--layout describes the MCAP topics: write OUT as .mcap");
             }
+            if profile.is_some() && format != Format::Mcap {
+                foxglove_cmd::usage_error("--profile chooses the MCAP's topics: write OUT as .mcap");
+            }
             let scenario = load(&file, &files)?;
             // After the load, which names the inputs LAYOUT must not replace either (it is
             // written after OUT: refused now, before OUT is).
             if let Some(l) = &layout {
                 foxglove_cmd::check_layout_path(l, Some(&output))?;
             }
-            exec::run_command(&scenario, &file, &output, format, layout.as_deref())
+            exec::run_command(&scenario, &file, &output, format, profile.unwrap_or_default(), layout.as_deref())
         }
     }
 }
