@@ -113,6 +113,31 @@ enum Command {
         #[arg(short, long, value_name = "DIR")]
         output: PathBuf,
     },
+    /// Write the scenario's robot as a URDF (ROS's robot description, for Foxglove, Rerun
+    /// and robot_state_publisher): platform, wheels on wheel_left_joint / wheel_right_joint,
+    /// caster, centre of mass and inertias from the [robot] parameters.
+    Urdf {
+        /// The scenario file (TOML).
+        file: PathBuf,
+        #[command(flatten)]
+        files: Files,
+        /// The URDF file; without it, stdout.
+        #[arg(short, long, value_name = "URDF")]
+        output: Option<PathBuf>,
+    },
+    /// Read a ROS 2 MCAP (a wmr `--profile ros2` file, or a robot's `ros2 bag record -s mcap`)
+    /// and write its /cmd_vel, /joint_states and /odom as one CSV in wmr's columns: a row at
+    /// each message time, each column its topic's latest value (docs/scenario.md).
+    Log2csv {
+        /// The MCAP file.
+        log: PathBuf,
+        /// The CSV file; without it, stdout.
+        #[arg(short, long, value_name = "CSV")]
+        output: Option<PathBuf>,
+        /// The robot's namespace in a file of several (`/run1` reads /run1/odom, ...).
+        #[arg(long, value_name = "NS")]
+        namespace: Option<String>,
+    },
     /// Validate a scenario and print it with every default filled in (TOML).
     #[command(after_help = keys::keys_hint())]
     Check {
@@ -232,6 +257,43 @@ fn help(topic: Option<&str>, table: Option<&str>) -> Result<()> {
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Check { file, files } => exec::check_command(&file, &files.access()?),
+        Command::Log2csv { log, output, namespace } => {
+            let shown = wmr_scenario::shown(&log);
+            let bytes = std::fs::read(&log).map_err(|e| bad_input(format!("{shown}: cannot read it: {e}")))?;
+            let tables =
+                ros2::log::read_log(&bytes, namespace.as_deref()).map_err(|e| bad_input(format!("{shown}: {e}")))?;
+            if tables.odom.is_empty() && tables.joint_states.is_empty() && tables.cmd_vel.is_empty() {
+                return Err(bad_input(format!("{shown}: no /cmd_vel, /joint_states or /odom messages")));
+            }
+            let text = tables.to_csv();
+            match output {
+                None => errors::say_raw(&text),
+                Some(path) => {
+                    atomic::register_input(&log);
+                    foxglove_cmd::write_text(&path, &text)?;
+                    note(&format!(
+                        "wmr-cli: wrote {} ({} odom, {} joint_states, {} cmd_vel messages)",
+                        wmr_scenario::shown(&path),
+                        tables.odom.len(),
+                        tables.joint_states.len(),
+                        tables.cmd_vel.len()
+                    ));
+                    Ok(())
+                }
+            }
+        }
+        Command::Urdf { file, files, output } => {
+            let scenario = load(&file, &files)?;
+            let text = ros2::urdf::urdf(scenario.robot().params(), scenario.name(), "");
+            match output {
+                None => errors::say_raw(&text),
+                Some(path) => {
+                    foxglove_cmd::write_text(&path, &text)?;
+                    note(&format!("wmr-cli: wrote {}", wmr_scenario::shown(&path)));
+                    Ok(())
+                }
+            }
+        }
         Command::Help { topic, table } => help(topic.as_deref(), table.as_deref()),
         Command::Trace { file, files, output, run, format } => {
             let scenario = load(&file, &files)?;

@@ -186,6 +186,18 @@ impl<W: Target> McapFile<W> {
         Ok(channels)
     }
 
+    /// Attaches the robot's URDF (`robot.urdf`, for Foxglove's 3D panel), log time 0.
+    pub fn attach_urdf(&mut self, urdf: &str) -> Result<(), SinkError> {
+        let attachment = mcap::Attachment {
+            log_time: 0,
+            create_time: 0,
+            name: "robot.urdf".into(),
+            media_type: "application/xml".into(),
+            data: std::borrow::Cow::Borrowed(urdf.as_bytes()),
+        };
+        self.writer.attach(&attachment).map_err(mcap_err)
+    }
+
     /// Writes one ROS 2 message of `topic` on `channels`, log time `ns`.
     #[inline]
     pub fn write_ros2(
@@ -266,6 +278,8 @@ pub struct McapSink {
     columns: Columns,
     profile: Profile,
     runs: usize,
+    /// The scenario's name: the URDF's robot name.
+    name: String,
     run: Option<RunState>,
     runs_begun: usize,
 }
@@ -275,13 +289,18 @@ impl McapSink {
     pub fn new(file: OutWriter, scenario: &Scenario, profile: Profile) -> Result<Self, SinkError> {
         let columns = Columns::of(scenario);
         let runs = scenario.runs().len();
+        let mut mcap = McapFile::with_profile(file, runs, columns.clone(), profile)?;
+        if profile.ros2() {
+            mcap.attach_urdf(&ros2::urdf::urdf(scenario.robot().params(), scenario.name(), ""))?;
+        }
         Ok(Self {
-            file: Some(McapFile::with_profile(file, runs, columns.clone(), profile)?),
+            file: Some(mcap),
             robot: *scenario.robot().params(),
             sim: *scenario.sim(),
             columns,
             profile,
             runs,
+            name: scenario.name().to_owned(),
             run: None,
             runs_begun: 0,
         })
@@ -310,9 +329,11 @@ impl Sink for McapSink {
                 .foxglove()
                 .then(|| RunEncoder::new(index, run, &self.robot, self.columns.clone(), &self.sim)),
             channels,
-            ros2: profile
-                .ros2()
-                .then(|| Ros2RunEncoder::new(index, self.runs, run, &self.robot, self.columns.clone(), &self.sim)),
+            ros2: profile.ros2().then(|| {
+                let prefix = ros2::topics::frame(index, self.runs, "");
+                let description = ros2::urdf::urdf(&self.robot, &self.name, &prefix);
+                Ros2RunEncoder::new(index, self.runs, run, &self.robot, self.columns.clone(), &self.sim, description)
+            }),
             ros2_channels,
             last_t: 0.0,
         });

@@ -188,7 +188,8 @@ def test_channels_follow_the_ros2_profile(written):
             assert "/msg/" in schema.name
             qos = parse_qos(ch.metadata["offered_qos_profiles"])
             assert len(qos) == 1
-            want = "TRANSIENT_LOCAL" if ch.topic.endswith("/tf_static") else "VOLATILE"
+            latched = ch.topic.endswith("/tf_static") or ch.topic.endswith("/robot_description")
+            want = "TRANSIENT_LOCAL" if latched else "VOLATILE"
             assert qos[0].durability.name == want, ch.topic
             assert qos[0].reliability.name == "RELIABLE"
 

@@ -32,6 +32,8 @@ pub struct Ros2RunEncoder {
     goal: Pose2<f64>,
     /// The reference's poses on the log grid (tracking runs), until sent at the first sample.
     plan: Option<Vec<Pose2<f64>>>,
+    /// The robot's URDF, for `robot_description`.
+    robot_description: String,
     first: bool,
     buf: Vec<u8>,
 }
@@ -75,7 +77,7 @@ fn pose(w: &mut CdrWriter, p: Pose2<f64>) {
 
 impl Ros2RunEncoder {
     /// The encoder of run `run` of `runs` (`spec`), robot `robot`, simulated with `sim`,
-    /// whose samples carry `columns`.
+    /// whose samples carry `columns`; `robot_description` is the robot's URDF.
     pub fn new(
         run: usize,
         runs: usize,
@@ -83,6 +85,7 @@ impl Ros2RunEncoder {
         robot: &RobotParams<f64>,
         columns: Columns,
         sim: &SimSpec,
+        robot_description: String,
     ) -> Self {
         // The reference at the samples' times (plant step k * log_every on the loop's clock), evenly thinned as the Foxglove drawing is.
         let plan = columns.reference.as_ref().map(|reference| {
@@ -111,6 +114,7 @@ impl Ros2RunEncoder {
             geometry: Geometry::of(robot),
             goal: spec.goal,
             plan,
+            robot_description,
             first: true,
             buf: Vec::with_capacity(1024),
         }
@@ -184,8 +188,13 @@ impl Ros2RunEncoder {
         out(Topic::Sample, ns, &self.buf)
     }
 
-    /// The messages sent once, at the first sample: `tf_static`, the goal, the plan.
+    /// The messages sent once, at the first sample: `robot_description`, `tf_static`, the
+    /// goal, the plan.
     fn send_once<E>(&mut self, ns: u64, out: &mut impl FnMut(Topic, u64, &[u8]) -> Result<(), E>) -> Result<(), E> {
+        let mut w = CdrWriter::new(&mut self.buf);
+        w.string(&self.robot_description);
+        out(Topic::RobotDescription, ns, &self.buf)?;
+
         let fr = &self.frames;
         let g = &self.geometry;
         let mut w = CdrWriter::new(&mut self.buf);

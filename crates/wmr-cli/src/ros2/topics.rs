@@ -25,12 +25,22 @@ pub enum Topic {
     GoalPose,
     /// `wmr_msgs/Sample`, every sample: every CSV column.
     Sample,
+    /// `std_msgs/String`, once (transient local): the robot's URDF.
+    RobotDescription,
 }
 
 impl Topic {
     /// Every topic, in the order channels are created.
-    pub const ALL: [Topic; 7] =
-        [Topic::Tf, Topic::TfStatic, Topic::Odom, Topic::JointStates, Topic::Plan, Topic::GoalPose, Topic::Sample];
+    pub const ALL: [Topic; 8] = [
+        Topic::Tf,
+        Topic::TfStatic,
+        Topic::Odom,
+        Topic::JointStates,
+        Topic::Plan,
+        Topic::GoalPose,
+        Topic::Sample,
+        Topic::RobotDescription,
+    ];
 
     /// The topic's name without its namespace.
     pub fn name(self) -> &'static str {
@@ -42,6 +52,7 @@ impl Topic {
             Topic::Plan => "plan",
             Topic::GoalPose => "goal_pose",
             Topic::Sample => "wmr/sample",
+            Topic::RobotDescription => "robot_description",
         }
     }
 
@@ -54,12 +65,13 @@ impl Topic {
             Topic::Plan => "nav_msgs/Path",
             Topic::GoalPose => "geometry_msgs/PoseStamped",
             Topic::Sample => "wmr_msgs/Sample",
+            Topic::RobotDescription => "std_msgs/String",
         }
     }
 
     /// Whether its publisher is transient local (a late subscriber gets the last message).
     pub fn transient_local(self) -> bool {
-        matches!(self, Topic::TfStatic)
+        matches!(self, Topic::TfStatic | Topic::RobotDescription)
     }
 
     /// Whether runs with `columns` have this topic: [`Topic::Plan`] with a `[reference]`.
