@@ -160,6 +160,7 @@ pub fn run_command(
     file: &Path,
     output: &Path,
     format: Format,
+    profile: mcap_sink::Profile,
     layout: Option<&Path>,
 ) -> Result<()> {
     require_runs(scenario, file)?;
@@ -174,7 +175,7 @@ pub fn run_command(
         Format::Csv => {
             csv_sink::CsvSink::new(writer, wmr_scenario::Columns::of(scenario)).map(|s| Box::new(s) as Box<dyn Sink>)
         }
-        Format::Mcap => mcap_sink::McapSink::new(writer, scenario).map(|s| Box::new(s) as Box<dyn Sink>),
+        Format::Mcap => mcap_sink::McapSink::new(writer, scenario, profile).map(|s| Box::new(s) as Box<dyn Sink>),
     }
     .map_err(sink_err)
     .map_err(|e| {

@@ -78,6 +78,14 @@ pub fn write_layout(scenario: &Scenario, path: &Path) -> Result<()> {
     out.persist()
 }
 
+/// Writes `text` to `path`, replaced atomically when complete (as `layout` writes its file).
+pub fn write_text(path: &Path, text: &str) -> Result<()> {
+    let out = AtomicOut::create(path)?;
+    let mut file = out.file()?;
+    file.write_all(text.as_bytes()).with_context(|| format!("cannot write {}", shown(path)))?;
+    out.persist()
+}
+
 /// The layout of a live session, written before the server waits for a viewer and undone
 /// when the session does not end well (a signal, a failure): the file it replaced is put
 /// back (kept meanwhile as a hard link, or a copy, beside it), or the new one removed.

@@ -12,6 +12,7 @@ mod layout;
 mod live;
 mod mcap_sink;
 mod plot_cmd;
+mod ros2;
 mod sweep_cmd;
 mod trace_cmd;
 
@@ -50,6 +51,11 @@ enum Command {
         /// Output format; overrides the extension of OUT.
         #[arg(long, value_enum)]
         format: Option<Format>,
+        /// The MCAP's topics: `foxglove` (Foxglove's schemas, the default), `ros2` (ROS 2
+        /// messages in CDR, as `ros2 bag record` writes them: /tf, /odom, /joint_states, ...),
+        /// or `both`. Only for an MCAP OUT.
+        #[arg(long, value_enum, value_name = "PROFILE")]
+        profile: Option<mcap_sink::Profile>,
         /// Also write LAYOUT, a Foxglove layout made for these runs (as `wmr-cli layout`).
         #[arg(long, value_name = "LAYOUT")]
         layout: Option<PathBuf>,
@@ -106,6 +112,31 @@ enum Command {
         /// Output folder (created if missing; its parent must exist).
         #[arg(short, long, value_name = "DIR")]
         output: PathBuf,
+    },
+    /// Write the scenario's robot as a URDF (ROS's robot description, for Foxglove, Rerun
+    /// and robot_state_publisher): platform, wheels on wheel_left_joint / wheel_right_joint,
+    /// caster, centre of mass and inertias from the [robot] parameters.
+    Urdf {
+        /// The scenario file (TOML).
+        file: PathBuf,
+        #[command(flatten)]
+        files: Files,
+        /// The URDF file; without it, stdout.
+        #[arg(short, long, value_name = "URDF")]
+        output: Option<PathBuf>,
+    },
+    /// Read a ROS 2 MCAP (a wmr `--profile ros2` file, or a robot's `ros2 bag record -s mcap`)
+    /// and write its /cmd_vel, /joint_states and /odom as one CSV in wmr's columns: a row at
+    /// each message time, each column its topic's latest value (docs/scenario.md).
+    Log2csv {
+        /// The MCAP file.
+        log: PathBuf,
+        /// The CSV file; without it, stdout.
+        #[arg(short, long, value_name = "CSV")]
+        output: Option<PathBuf>,
+        /// The robot's namespace in a file of several (`/run1` reads /run1/odom, ...).
+        #[arg(long, value_name = "NS")]
+        namespace: Option<String>,
     },
     /// Validate a scenario and print it with every default filled in (TOML).
     #[command(after_help = keys::keys_hint())]
@@ -226,6 +257,43 @@ fn help(topic: Option<&str>, table: Option<&str>) -> Result<()> {
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Check { file, files } => exec::check_command(&file, &files.access()?),
+        Command::Log2csv { log, output, namespace } => {
+            let shown = wmr_scenario::shown(&log);
+            let bytes = std::fs::read(&log).map_err(|e| bad_input(format!("{shown}: cannot read it: {e}")))?;
+            let tables =
+                ros2::log::read_log(&bytes, namespace.as_deref()).map_err(|e| bad_input(format!("{shown}: {e}")))?;
+            if tables.odom.is_empty() && tables.joint_states.is_empty() && tables.cmd_vel.is_empty() {
+                return Err(bad_input(format!("{shown}: no /cmd_vel, /joint_states or /odom messages")));
+            }
+            let text = tables.to_csv();
+            match output {
+                None => errors::say_raw(&text),
+                Some(path) => {
+                    atomic::register_input(&log);
+                    foxglove_cmd::write_text(&path, &text)?;
+                    note(&format!(
+                        "wmr-cli: wrote {} ({} odom, {} joint_states, {} cmd_vel messages)",
+                        wmr_scenario::shown(&path),
+                        tables.odom.len(),
+                        tables.joint_states.len(),
+                        tables.cmd_vel.len()
+                    ));
+                    Ok(())
+                }
+            }
+        }
+        Command::Urdf { file, files, output } => {
+            let scenario = load(&file, &files)?;
+            let text = ros2::urdf::urdf(scenario.robot().params(), scenario.name(), "");
+            match output {
+                None => errors::say_raw(&text),
+                Some(path) => {
+                    foxglove_cmd::write_text(&path, &text)?;
+                    note(&format!("wmr-cli: wrote {}", wmr_scenario::shown(&path)));
+                    Ok(())
+                }
+            }
+        }
         Command::Help { topic, table } => help(topic.as_deref(), table.as_deref()),
         Command::Trace { file, files, output, run, format } => {
             let scenario = load(&file, &files)?;
@@ -259,15 +327,18 @@ fn run(cli: Cli) -> Result<()> {
             note(&format!("wmr-cli: wrote {} ({} run(s))", wmr_scenario::shown(&output), scenario.runs().len()));
             Ok(())
         }
-        Command::Run { file, files, output, format, layout, live, speed } => {
+        Command::Run { file, files, output, format, profile, layout, live, speed } => {
+            if profile.is_some() && live.is_some() {
+                foxglove_cmd::usage_error("--profile: --live serves the Foxglove topics only; leave --profile out");
+            }
             if let Some(addr) = live {
                 let scenario = load(&file, &files)?;
                 exec::require_runs(&scenario, &file)?;
                 return foxglove_cmd::run_live(&scenario, output, format, layout, addr, speed.unwrap_or(1.0));
             }
             let Some(output) = output else {
-                if layout.is_some() || format.is_some() {
-                    foxglove_cmd::usage_error("--layout and --format describe OUT: give -o OUT");
+                if layout.is_some() || format.is_some() || profile.is_some() {
+                    foxglove_cmd::usage_error("--layout, --format and --profile describe OUT: give -o OUT");
                 }
                 let scenario = load(&file, &files)?;
                 return exec::run_summary(&scenario, &file);
@@ -276,13 +347,16 @@ fn run(cli: Cli) -> Result<()> {
             if layout.is_some() && format != Format::Mcap {
                 foxglove_cmd::usage_error("--layout describes the MCAP topics: write OUT as .mcap");
             }
+            if profile.is_some() && format != Format::Mcap {
+                foxglove_cmd::usage_error("--profile chooses the MCAP's topics: write OUT as .mcap");
+            }
             let scenario = load(&file, &files)?;
             // After the load, which names the inputs LAYOUT must not replace either (it is
             // written after OUT: refused now, before OUT is).
             if let Some(l) = &layout {
                 foxglove_cmd::check_layout_path(l, Some(&output))?;
             }
-            exec::run_command(&scenario, &file, &output, format, layout.as_deref())
+            exec::run_command(&scenario, &file, &output, format, profile.unwrap_or_default(), layout.as_deref())
         }
     }
 }

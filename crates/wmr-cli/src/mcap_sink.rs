@@ -18,6 +18,37 @@ use wmr_scenario::{Columns, RunSpec, Scenario, SimSpec, Sink, SinkError};
 
 use crate::atomic::OutWriter;
 use crate::foxglove_topics::{Kind, MESSAGE_ENCODING, RunEncoder, Schemas, topic};
+use crate::ros2::{self, Ros2RunEncoder, Ros2Schema, Topic};
+
+/// Which topics an MCAP file carries (`wmr-cli run --profile`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Profile {
+    /// Foxglove's well-known schemas (protobuf): `/runN/tf`, `/runN/sample`, scenes.
+    #[default]
+    Foxglove,
+    /// ROS 2 messages (CDR, `.msg` schemas; the MCAP `ros2` profile): `/tf`, `/odom`,
+    /// `/joint_states`, ... (`/runN/...` with several runs).
+    Ros2,
+    /// Both sets of channels in one file.
+    Both,
+}
+
+impl Profile {
+    /// Whether the file has the Foxglove channels.
+    pub fn foxglove(self) -> bool {
+        self != Profile::Ros2
+    }
+
+    /// Whether the file has the ROS 2 channels.
+    pub fn ros2(self) -> bool {
+        self != Profile::Foxglove
+    }
+
+    /// The profile field of the MCAP header: `ros2` for a ROS 2 file, else empty.
+    fn header(self) -> &'static str {
+        if self == Profile::Ros2 { "ros2" } else { "" }
+    }
+}
 
 /// Decompressed bytes a seek should cost at most, when chunks need not be smaller than
 /// [`MIN_CHUNK_BYTES`].
@@ -44,12 +75,19 @@ const ZSTD_LEVEL: u32 = 1;
 /// The channel ids of one run, indexed by [`Kind`] (0 where the file has no such topic).
 pub type RunChannels = [u16; Kind::ALL.len()];
 
+/// The ROS 2 channel ids of one run, indexed by [`Topic`] (0 where the file has no such topic).
+pub type Ros2Channels = [u16; Topic::ALL.len()];
+
 /// An MCAP file being written: its schemas, and channels added run by run.
 pub struct McapFile<W: Target = File> {
     writer: Writer<BufWriter<W>>,
     /// Schema ids by [`Kind`].
     schema_ids: [u16; Kind::ALL.len()],
+    /// ROS 2 schema ids by [`Topic`].
+    ros2_schema_ids: [u16; Topic::ALL.len()],
     columns: Columns,
+    profile: Profile,
+    runs: usize,
     sequence: u32,
 }
 
@@ -79,31 +117,112 @@ fn mcap_err(e: mcap::McapError) -> SinkError {
 }
 
 impl<W: Target> McapFile<W> {
-    /// Starts the file on `file` for `runs` runs carrying `columns`.
+    /// Starts the file on `file` for `runs` runs carrying `columns` (the Foxglove profile).
     pub fn new(file: W, runs: usize, columns: Columns) -> Result<Self, SinkError> {
+        Self::with_profile(file, runs, columns, Profile::Foxglove)
+    }
+
+    /// Starts the file on `file` for `runs` runs carrying `columns`, with the channels of
+    /// `profile`.
+    pub fn with_profile(file: W, runs: usize, columns: Columns, profile: Profile) -> Result<Self, SinkError> {
+        let chunk = if profile == Profile::Foxglove {
+            chunk_bytes(runs, &columns)
+        } else {
+            let fox = if profile.foxglove() { Kind::present(&columns).count() } else { 0 };
+            let topics = (runs.max(1) * (fox + Topic::present(&columns).count())) as u64;
+            (SEEK_BUDGET_BYTES / topics).clamp(MIN_CHUNK_BYTES, MAX_CHUNK_BYTES)
+        };
         let options = WriteOptions::new()
             .disable_seeking(!file.seekable())
-            .profile("")
+            .profile(profile.header())
             .library(concat!("wmr-cli ", env!("CARGO_PKG_VERSION")))
             .compression(Some(Compression::Zstd))
             .compression_level(ZSTD_LEVEL)
             // One thread: zstd's worker threads cost more in locking than they save on
             // 64 KiB chunks, and this keeps the writer's cost plain CPU time on this thread.
             .compression_threads(0)
-            .chunk_size(Some(chunk_bytes(runs, &columns)));
+            .chunk_size(Some(chunk));
         let mut writer = options.create(BufWriter::with_capacity(1 << 16, file)).map_err(mcap_err)?;
-        let schemas = Schemas::new(&columns);
         let mut schema_ids = [0u16; Kind::ALL.len()];
-        for kind in Kind::present(&columns) {
-            let s = kind.schema(&schemas);
-            schema_ids[kind as usize] = writer.add_schema(&s.name, &s.encoding, &s.data).map_err(mcap_err)?;
+        if profile.foxglove() {
+            let schemas = Schemas::new(&columns);
+            for kind in Kind::present(&columns) {
+                let s = kind.schema(&schemas);
+                schema_ids[kind as usize] = writer.add_schema(&s.name, &s.encoding, &s.data).map_err(mcap_err)?;
+            }
         }
-        Ok(Self { writer, schema_ids, columns, sequence: 0 })
+        let mut ros2_schema_ids = [0u16; Topic::ALL.len()];
+        if profile.ros2() {
+            for topic in Topic::present(&columns) {
+                let s = Ros2Schema::of(topic.msg_type());
+                ros2_schema_ids[topic as usize] =
+                    writer.add_schema(&s.name, ros2::ROS2MSG, s.data.as_bytes()).map_err(mcap_err)?;
+            }
+        }
+        Ok(Self { writer, schema_ids, ros2_schema_ids, columns, profile, runs, sequence: 0 })
+    }
+
+    /// Adds the ROS 2 channels of run `run` (none without the ROS 2 profile).
+    pub fn add_ros2_run(&mut self, run: usize) -> Result<Ros2Channels, SinkError> {
+        let mut channels = [0u16; Topic::ALL.len()];
+        if !self.profile.ros2() {
+            return Ok(channels);
+        }
+        for topic in Topic::present(&self.columns) {
+            let metadata = BTreeMap::from([(
+                "offered_qos_profiles".to_owned(),
+                ros2::offered_qos_profiles(topic.transient_local()),
+            )]);
+            channels[topic as usize] = self
+                .writer
+                .add_channel(
+                    self.ros2_schema_ids[topic as usize],
+                    &ros2::topic_name(run, self.runs, topic),
+                    ros2::CDR,
+                    &metadata,
+                )
+                .map_err(|e| SinkError::from(format!("cannot add the channels of run {run} to the MCAP file: {e}")))?;
+        }
+        Ok(channels)
+    }
+
+    /// Attaches the robot's URDF (`robot.urdf`, for Foxglove's 3D panel), log time 0.
+    pub fn attach_urdf(&mut self, urdf: &str) -> Result<(), SinkError> {
+        let attachment = mcap::Attachment {
+            log_time: 0,
+            create_time: 0,
+            name: "robot.urdf".into(),
+            media_type: "application/xml".into(),
+            data: std::borrow::Cow::Borrowed(urdf.as_bytes()),
+        };
+        self.writer.attach(&attachment).map_err(mcap_err)
+    }
+
+    /// Writes one ROS 2 message of `topic` on `channels`, log time `ns`.
+    #[inline]
+    pub fn write_ros2(
+        &mut self,
+        channels: &Ros2Channels,
+        topic: Topic,
+        ns: u64,
+        data: &[u8],
+    ) -> Result<(), mcap::McapError> {
+        self.sequence = self.sequence.wrapping_add(1);
+        let header = MessageHeader {
+            channel_id: channels[topic as usize],
+            sequence: self.sequence,
+            log_time: ns,
+            publish_time: ns,
+        };
+        self.writer.write_to_known_channel(&header, data)
     }
 
     /// Adds the channels of run `run`.
     pub fn add_run(&mut self, run: usize) -> Result<RunChannels, SinkError> {
         let mut channels = [0u16; Kind::ALL.len()];
+        if !self.profile.foxglove() {
+            return Ok(channels);
+        }
         let none = BTreeMap::new();
         for kind in Kind::present(&self.columns) {
             let id = self.schema_ids[kind as usize];
@@ -140,10 +259,14 @@ impl<W: Target> McapFile<W> {
     }
 }
 
-/// One run's encoder and channels.
+/// One run's encoders and channels.
 struct RunState {
-    encoder: RunEncoder,
+    /// The Foxglove topics' encoder (Foxglove profile).
+    encoder: Option<RunEncoder>,
     channels: RunChannels,
+    /// The ROS 2 topics' encoder (ROS 2 profile).
+    ros2: Option<Ros2RunEncoder>,
+    ros2_channels: Ros2Channels,
     last_t: f64,
 }
 
@@ -153,19 +276,31 @@ pub struct McapSink {
     robot: RobotParams<f64>,
     sim: SimSpec,
     columns: Columns,
+    profile: Profile,
+    runs: usize,
+    /// The scenario's name: the URDF's robot name.
+    name: String,
     run: Option<RunState>,
     runs_begun: usize,
 }
 
 impl McapSink {
-    /// Starts an MCAP file on `file` for the runs of `scenario`.
-    pub fn new(file: OutWriter, scenario: &Scenario) -> Result<Self, SinkError> {
+    /// Starts an MCAP file on `file` for the runs of `scenario`, with the topics of `profile`.
+    pub fn new(file: OutWriter, scenario: &Scenario, profile: Profile) -> Result<Self, SinkError> {
         let columns = Columns::of(scenario);
+        let runs = scenario.runs().len();
+        let mut mcap = McapFile::with_profile(file, runs, columns.clone(), profile)?;
+        if profile.ros2() {
+            mcap.attach_urdf(&ros2::urdf::urdf(scenario.robot().params(), scenario.name(), ""))?;
+        }
         Ok(Self {
-            file: Some(McapFile::new(file, scenario.runs().len(), columns.clone())?),
+            file: Some(mcap),
             robot: *scenario.robot().params(),
             sim: *scenario.sim(),
             columns,
+            profile,
+            runs,
+            name: scenario.name().to_owned(),
             run: None,
             runs_begun: 0,
         })
@@ -187,9 +322,19 @@ impl Sink for McapSink {
             file.end_chunk()?;
         }
         let channels = file.add_run(index)?;
+        let ros2_channels = file.add_ros2_run(index)?;
+        let profile = self.profile;
         self.run = Some(RunState {
-            encoder: RunEncoder::new(index, run, &self.robot, self.columns.clone(), &self.sim),
+            encoder: profile
+                .foxglove()
+                .then(|| RunEncoder::new(index, run, &self.robot, self.columns.clone(), &self.sim)),
             channels,
+            ros2: profile.ros2().then(|| {
+                let prefix = ros2::topics::frame(index, self.runs, "");
+                let description = ros2::urdf::urdf(&self.robot, &self.name, &prefix);
+                Ros2RunEncoder::new(index, self.runs, run, &self.robot, self.columns.clone(), &self.sim, description)
+            }),
+            ros2_channels,
             last_t: 0.0,
         });
         Ok(())
@@ -201,7 +346,14 @@ impl Sink for McapSink {
         };
         run.last_t = s.t;
         let channels = &run.channels;
-        run.encoder.sample(s, &mut |kind, ns, data| file.write(channels, kind, ns, data)).map_err(mcap_err)
+        if let Some(encoder) = &mut run.encoder {
+            encoder.sample(s, &mut |kind, ns, data| file.write(channels, kind, ns, data)).map_err(mcap_err)?;
+        }
+        let channels = &run.ros2_channels;
+        if let Some(encoder) = &mut run.ros2 {
+            encoder.sample(s, &mut |topic, ns, data| file.write_ros2(channels, topic, ns, data)).map_err(mcap_err)?;
+        }
+        Ok(())
     }
 
     fn end_run(&mut self, _result: &wmr_scenario::RunResult) -> Result<(), SinkError> {
@@ -209,7 +361,12 @@ impl Sink for McapSink {
             return Err("MCAP sink: end_run before begin_run".into());
         };
         let channels = &run.channels;
-        run.encoder.finish(run.last_t, &mut |kind, ns, data| file.write(channels, kind, ns, data)).map_err(mcap_err)
+        match &mut run.encoder {
+            Some(encoder) => {
+                encoder.finish(run.last_t, &mut |kind, ns, data| file.write(channels, kind, ns, data)).map_err(mcap_err)
+            }
+            None => Ok(()),
+        }
     }
 
     fn finish(&mut self) -> Result<(), SinkError> {

@@ -19,5 +19,5 @@ mod topics;
 pub use clock::LogClock;
 pub use colour::{run_hex, run_rgb};
 pub use encoder::RunEncoder;
-pub use reference::log_positions;
+pub use reference::{MAX_REFERENCE_SAMPLES, log_positions};
 pub use topics::{Kind, MESSAGE_ENCODING, Schemas, WORLD_FRAME, base_link, reference_frame, topic};
