@@ -357,7 +357,9 @@ fn a_tracking_table_follows_its_block() {
     let (fresh, n) = regenerate(&doc);
     assert_eq!(n, 1);
     assert!(
-        fresh.contains("| kanayama | circle | 100.0 % | 0.0 % | 0.0 % | 0.0 % | 0.00 / 0.00 | 0.00 / 0.00 | 1.95 / 2.68 |\n"),
+        fresh.contains(
+            "| kanayama | circle | 100.0 % | 0.0 % | 0.0 % | 0.0 % | 0.00 / 0.00 | 0.00 / 0.00 | 1.95 / 2.68 |\n"
+        ),
         "{fresh}"
     );
     assert!(

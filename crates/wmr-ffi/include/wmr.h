@@ -1356,7 +1356,9 @@ wmr_status wmr_paper_controller_f32_init(wmr_paper_controller_f32 *out,
 // zero twist and acceleration). Non-finite inputs, a measured pose or goal outside the
 // 1 km box, and a tick whose output comes out non-finite (gains or inputs that
 // overflow) are refused (`WMR_NOT_FINITE`, `WMR_OUT_OF_RANGE`) and leave the
-// controller and `out` unchanged.
+// controller and `out` unchanged. A law that follows a path (`pure_pursuit`) is
+// refused here (`WMR_OUT_OF_RANGE`): it steers by a reference's path, given through
+// `_update_on`.
 wmr_status wmr_paper_controller_f32_update(wmr_paper_controller_f32 *ctrl,
                                            float t,
                                            const wmr_measurement_f32 *measurement,
@@ -1367,7 +1369,8 @@ wmr_status wmr_paper_controller_f32_update(wmr_paper_controller_f32 *ctrl,
 // (m/s, rad/s) and acceleration (m/s^2, rad/s^2) of the reference point at `t`.
 // Non-finite inputs are refused (`WMR_NOT_FINITE`; `err`, may be NULL, names the
 // field, as `reference.twist.v`, or the output, as `out.command.right`) and leave the
-// controller unchanged.
+// controller unchanged. A law that follows a path is refused (`WMR_OUT_OF_RANGE`
+// naming `reference`): use `_update_on`.
 wmr_status wmr_paper_controller_f32_update_reference(wmr_paper_controller_f32 *ctrl,
                                                      float t,
                                                      const wmr_measurement_f32 *measurement,
@@ -1377,7 +1380,8 @@ wmr_status wmr_paper_controller_f32_update_reference(wmr_paper_controller_f32 *c
 
 // One control tick at time `t` (s) following the reference object `reference` (a
 // `wmr_reference_*`): its state at `t` and, for the path-following law, its path, as a
-// scenario run steps the law. Refusals as for `_update_reference`.
+// scenario run steps the law. Refusals as for `_update_reference`; a path-following
+// law given a reference without a path (a goal) is refused naming `reference`.
 wmr_status wmr_paper_controller_f32_update_on(wmr_paper_controller_f32 *ctrl,
                                               float t,
                                               const wmr_measurement_f32 *measurement,
@@ -1927,7 +1931,9 @@ wmr_status wmr_paper_controller_f64_init(wmr_paper_controller_f64 *out,
 // zero twist and acceleration). Non-finite inputs, a measured pose or goal outside the
 // 1 km box, and a tick whose output comes out non-finite (gains or inputs that
 // overflow) are refused (`WMR_NOT_FINITE`, `WMR_OUT_OF_RANGE`) and leave the
-// controller and `out` unchanged.
+// controller and `out` unchanged. A law that follows a path (`pure_pursuit`) is
+// refused here (`WMR_OUT_OF_RANGE`): it steers by a reference's path, given through
+// `_update_on`.
 wmr_status wmr_paper_controller_f64_update(wmr_paper_controller_f64 *ctrl,
                                            double t,
                                            const wmr_measurement_f64 *measurement,
@@ -1938,7 +1944,8 @@ wmr_status wmr_paper_controller_f64_update(wmr_paper_controller_f64 *ctrl,
 // (m/s, rad/s) and acceleration (m/s^2, rad/s^2) of the reference point at `t`.
 // Non-finite inputs are refused (`WMR_NOT_FINITE`; `err`, may be NULL, names the
 // field, as `reference.twist.v`, or the output, as `out.command.right`) and leave the
-// controller unchanged.
+// controller unchanged. A law that follows a path is refused (`WMR_OUT_OF_RANGE`
+// naming `reference`): use `_update_on`.
 wmr_status wmr_paper_controller_f64_update_reference(wmr_paper_controller_f64 *ctrl,
                                                      double t,
                                                      const wmr_measurement_f64 *measurement,
@@ -1948,7 +1955,8 @@ wmr_status wmr_paper_controller_f64_update_reference(wmr_paper_controller_f64 *c
 
 // One control tick at time `t` (s) following the reference object `reference` (a
 // `wmr_reference_*`): its state at `t` and, for the path-following law, its path, as a
-// scenario run steps the law. Refusals as for `_update_reference`.
+// scenario run steps the law. Refusals as for `_update_reference`; a path-following
+// law given a reference without a path (a goal) is refused naming `reference`.
 wmr_status wmr_paper_controller_f64_update_on(wmr_paper_controller_f64 *ctrl,
                                               double t,
                                               const wmr_measurement_f64 *measurement,

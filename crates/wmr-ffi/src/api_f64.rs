@@ -388,7 +388,9 @@ pub unsafe extern "C" fn wmr_paper_controller_f64_init(
 /// zero twist and acceleration). Non-finite inputs, a measured pose or goal outside the
 /// 1 km box, and a tick whose output comes out non-finite (gains or inputs that
 /// overflow) are refused (`WMR_NOT_FINITE`, `WMR_OUT_OF_RANGE`) and leave the
-/// controller and `out` unchanged.
+/// controller and `out` unchanged. A law that follows a path (`pure_pursuit`) is
+/// refused here (`WMR_OUT_OF_RANGE`): it steers by a reference's path, given through
+/// `_update_on`.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_paper_controller_f64_update(
     ctrl: *mut wmr_paper_controller_f64,
@@ -404,7 +406,8 @@ pub unsafe extern "C" fn wmr_paper_controller_f64_update(
 /// (m/s, rad/s) and acceleration (m/s^2, rad/s^2) of the reference point at `t`.
 /// Non-finite inputs are refused (`WMR_NOT_FINITE`; `err`, may be NULL, names the
 /// field, as `reference.twist.v`, or the output, as `out.command.right`) and leave the
-/// controller unchanged.
+/// controller unchanged. A law that follows a path is refused (`WMR_OUT_OF_RANGE`
+/// naming `reference`): use `_update_on`.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_paper_controller_f64_update_reference(
     ctrl: *mut wmr_paper_controller_f64,
@@ -419,7 +422,8 @@ pub unsafe extern "C" fn wmr_paper_controller_f64_update_reference(
 
 /// One control tick at time `t` (s) following the reference object `reference` (a
 /// `wmr_reference_*`): its state at `t` and, for the path-following law, its path, as a
-/// scenario run steps the law. Refusals as for `_update_reference`.
+/// scenario run steps the law. Refusals as for `_update_reference`; a path-following
+/// law given a reference without a path (a goal) is refused naming `reference`.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_paper_controller_f64_update_on(
     ctrl: *mut wmr_paper_controller_f64,

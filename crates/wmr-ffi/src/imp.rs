@@ -600,6 +600,9 @@ pub trait CLaw<T: Prec> {
     type Law: Law<T> + Copy;
     /// The storage of the law with its wheel stage.
     type Storage: Storage<Value = Controller<T, Self::Law>>;
+    /// What the law follows (the registry's `follows`): a path-following law is only
+    /// updated on a reference's path.
+    const FOLLOWS: wmr_core::Follows;
     /// The default parameters.
     fn defaults() -> Self::Params;
     /// Validates and builds the law for the controller's robot model and period (s).
@@ -666,6 +669,7 @@ macro_rules! c_laws {
                 type Params = [<wmr_ $kind _params>]<T>;
                 type Law = $krate::$law<T>;
                 type Storage = <T as Prec>::$marker;
+                const FOLLOWS: wmr_core::Follows = wmr_core::Follows::$follows;
 
                 fn defaults() -> Self::Params {
                     CParams::from_core(Default::default())
@@ -1066,6 +1070,15 @@ fn tick_on<T: Prec, L: CLaw<T>>(
 ) -> Result<(), Fail> {
     if out.is_null() {
         return Err(Fail::null("out"));
+    }
+    // A path-following law steers by the reference's path: without one it has nothing to
+    // follow, and a zero command would pass for an answer.
+    if L::FOLLOWS == wmr_core::Follows::Path && path.is_none() {
+        return Err(Fail::out_of_range(
+            "reference",
+            "this law follows a path: call _update_on with a reference that has one",
+            f64::NAN,
+        ));
     }
     let values = measurement_fields!("measurement", m);
     [("t", t)].iter().chain(&values).chain(reference_fields).try_for_each(|&(f, v)| finite(f, v))?;

@@ -279,8 +279,9 @@ const POINTS: [[f64; 2]; 4] = [[0.0, 0.0], [1.0, 0.2], [1.5, 1.0], [0.5, 1.5]];
 
 #[test]
 fn pure_pursuit_on_waypoints_is_closed_loop() {
-    // `_update_reference` has no path: the path follower stops there (documented), so
-    // only `_update_on` is compared with the core.
+    // `_update` and `_update_reference` give no path: the path follower refuses them
+    // (naming `reference`) instead of answering a zero command; `_update_on` is compared
+    // with the core.
     let dt = 1e-3;
     let start = Pose2::new(0.0, 0.05, 0.1);
     let mut rig = rig(start);
@@ -309,6 +310,26 @@ fn pure_pursuit_on_waypoints_is_closed_loop() {
         );
         (a.assume_init(), r.assume_init())
     };
+    // SAFETY: valid, initialized storage.
+    unsafe {
+        let mut m = wmr_measurement::default();
+        assert_eq!(wmr_sensor_f64_measure(&mut rig.sensor, 0.0, &rig.plant, &mut m), wmr_status::WMR_OK);
+        let (mut out, mut err) = (wmr_control_output::default(), new_err());
+        let before = std::mem::transmute_copy::<_, [u8; std::mem::size_of::<wmr_pure_pursuit_controller_f64>()]>(&ctrl);
+        let goal = wmr_pose { x: 1.0, y: 0.0, theta: 0.0 };
+        assert_eq!(
+            wmr_pure_pursuit_controller_f64_update(&mut ctrl, 0.0, &m, goal, &mut out),
+            wmr_status::WMR_OUT_OF_RANGE
+        );
+        let state = wmr_reference_state::default();
+        assert_eq!(
+            wmr_pure_pursuit_controller_f64_update_reference(&mut ctrl, 0.0, &m, &state, &mut out, &mut err),
+            wmr_status::WMR_OUT_OF_RANGE
+        );
+        assert_eq!(field(&err), "reference");
+        let after = std::mem::transmute_copy::<_, [u8; std::mem::size_of::<wmr_pure_pursuit_controller_f64>()]>(&ctrl);
+        assert_eq!(before, after, "a refused update leaves the controller as it was");
+    }
     let robot = Robot::<f64>::paper();
     let drive_params = DriveParams::Torque(TorqueDriveParams::default());
     let drive = drive_params.validate(&robot).unwrap();

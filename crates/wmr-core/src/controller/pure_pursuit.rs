@@ -238,6 +238,9 @@ pub(crate) fn search_step<S: Real>(shortest_lookahead_m: S) -> S {
 }
 
 impl<T: Lane> Law<T> for PurePursuitLaw<T> {
+    /// Without a path there is nothing to follow: a zero twist. Every caller in wmr gives
+    /// the reference's path ([`Law::update_on_path`]: `ClosedLoop`, the lanes, Python), and
+    /// the C API refuses `_update` and `_update_reference` of a path-following law.
     fn update(&mut self, _t: T, _m: &Measurement<T>, _r: &ReferenceState<T>) -> LawOutput<T> {
         LawOutput { demand: WheelDemand::Twist(Twist2::default()), errors: ControlErrors::default() }
     }
