@@ -55,6 +55,16 @@ pub enum IdentifyError {
         /// Why, with the figures (e.g. the condition number).
         detail: String,
     },
+    /// The fit gives a parameter below zero by more than 3 standard errors: the model does
+    /// not describe the log (a wrong geometry, a drive other than the one named, slip).
+    Unphysical {
+        /// The parameter's key.
+        parameter: String,
+        /// The value the fit gave.
+        value: f64,
+        /// Its standard error.
+        std_err: f64,
+    },
     /// A setting of the fit is out of range.
     BadSetting {
         /// The setting's name.
@@ -90,6 +100,10 @@ impl fmt::Display for IdentifyError {
                 f,
                 "{parameter}: not identifiable from this log ({detail}); hold it at a known value (--hold {})",
                 parameter.split(", ").next().unwrap_or(parameter)
+            ),
+            IdentifyError::Unphysical { parameter, value, std_err } => write!(
+                f,
+                "{parameter}: the fit gives {value:.4e} +- {std_err:.2e}, below zero: the model does not describe this log (check the geometry, --drive, and that the wheels do not slip)"
             ),
             IdentifyError::BadSetting { key, detail } => write!(f, "{key}: {detail}"),
             IdentifyError::Read { detail } => write!(f, "log: {detail}"),

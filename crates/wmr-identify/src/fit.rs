@@ -123,7 +123,8 @@ impl Param {
         Param::ALL.into_iter().find(|p| p.key() == key)
     }
 
-    fn get(self, robot: &RobotParams<f64>, motor: &DcMotorParams<f64>) -> f64 {
+    /// Its value in `robot` or `motor`.
+    pub fn get(self, robot: &RobotParams<f64>, motor: &DcMotorParams<f64>) -> f64 {
         match self {
             Param::Mass => robot.mass,
             Param::WheelInertia => robot.wheel_inertia,
@@ -136,7 +137,8 @@ impl Param {
         }
     }
 
-    fn set(self, robot: &mut RobotParams<f64>, motor: &mut DcMotorParams<f64>, v: f64) {
+    /// Sets its value in `robot` or `motor` to `v`.
+    pub fn set(self, robot: &mut RobotParams<f64>, motor: &mut DcMotorParams<f64>, v: f64) {
         match self {
             Param::Mass => robot.mass = v,
             Param::WheelInertia => robot.wheel_inertia = v,
@@ -212,6 +214,9 @@ pub struct Estimate {
     pub std_err: f64,
     /// True when held at the given value.
     pub held: bool,
+    /// True when the fit came out below zero, within 3 standard errors of it, and was
+    /// set to 0 (every parameter is >= 0); `std_err` is the fit's.
+    pub zeroed: bool,
 }
 
 /// The result of a fit.
@@ -565,7 +570,7 @@ pub fn fit(log: &Log, settings: &FitSettings) -> Result<Fit, IdentifyError> {
                 detail: format!(
                     "its regressor's own part ({own:.3e}) is within {}x the filter's noise in it ({noise:.3e}): {}",
                     settings.min_excitation,
-                    why_zero(u.name)
+                    why_noise(u.name)
                 ),
             });
         }
@@ -586,13 +591,19 @@ pub fn fit(log: &Log, settings: &FitSettings) -> Result<Fit, IdentifyError> {
     let mut robot = settings.robot;
     let mut motor = settings.motor;
     let mut estimates = Vec::new();
-    let held_estimate =
-        |q: Param| Estimate { param: q, value: q.get(&settings.robot, &settings.motor), std_err: 0.0, held: true };
+    let held_estimate = |q: Param| Estimate {
+        param: q,
+        value: q.get(&settings.robot, &settings.motor),
+        std_err: 0.0,
+        held: true,
+        zeroed: false,
+    };
     if !voltage {
         for q in MECHANICAL {
             match pos(q) {
                 Some(a) => {
-                    let e = Estimate { param: q, value: theta[a], std_err: cov[a][a].sqrt(), held: false };
+                    let e =
+                        Estimate { param: q, value: theta[a], std_err: cov[a][a].sqrt(), held: false, zeroed: false };
                     q.set(&mut robot, &mut motor, e.value);
                     estimates.push(e);
                 }
@@ -609,7 +620,13 @@ pub fn fit(log: &Log, settings: &FitSettings) -> Result<Fit, IdentifyError> {
                     // q = alpha / g: dq/dalpha = 1 / g, dq/dg = -alpha / g^2.
                     let (ja, jg) = (1.0 / g, -theta[a] / (g * g));
                     let var = ja * ja * cov[a][a] + jg * jg * var_g + 2.0 * ja * jg * cov[a][0];
-                    let e = Estimate { param: q, value: theta[a] / g, std_err: var.max(0.0).sqrt(), held: false };
+                    let e = Estimate {
+                        param: q,
+                        value: theta[a] / g,
+                        std_err: var.max(0.0).sqrt(),
+                        held: false,
+                        zeroed: false,
+                    };
                     q.set(&mut robot, &mut motor, e.value);
                     estimates.push(e);
                 }
@@ -626,7 +643,10 @@ pub fn fit(log: &Log, settings: &FitSettings) -> Result<Fit, IdentifyError> {
         if held(Param::ArmatureResistance) {
             let r_a = settings.motor.armature_resistance;
             let (v, se) = (r_a * k_t / g, r_a * k_t / (g * g) * var_g.sqrt());
-            push(Estimate { param: Param::TorqueConstant, value: v, std_err: se, held: false }, &mut motor);
+            push(
+                Estimate { param: Param::TorqueConstant, value: v, std_err: se, held: false, zeroed: false },
+                &mut motor,
+            );
         } else {
             push(held_estimate(Param::TorqueConstant), &mut motor);
         }
@@ -637,6 +657,7 @@ pub fn fit(log: &Log, settings: &FitSettings) -> Result<Fit, IdentifyError> {
                     value: theta[a] * k_t,
                     std_err: cov[a][a].sqrt() * k_t,
                     held: false,
+                    zeroed: false,
                 },
                 &mut motor,
             ),
@@ -647,7 +668,26 @@ pub fn fit(log: &Log, settings: &FitSettings) -> Result<Fit, IdentifyError> {
         } else {
             let k_tau = settings.motor.torque_constant;
             let (v, se) = (g * k_tau / k_t, var_g.sqrt() * k_tau / k_t);
-            push(Estimate { param: Param::ArmatureResistance, value: v, std_err: se, held: false }, &mut motor);
+            push(
+                Estimate { param: Param::ArmatureResistance, value: v, std_err: se, held: false, zeroed: false },
+                &mut motor,
+            );
+        }
+    }
+    // Every parameter is >= 0: a value below zero within 3 standard errors of it is a
+    // zero the noise moved (a robot without that friction); one further below is a model
+    // that does not fit the log, refused.
+    for e in estimates.iter_mut().filter(|e| !e.held && e.value < 0.0) {
+        if e.value >= -3.0 * e.std_err {
+            e.value = 0.0;
+            e.zeroed = true;
+            e.param.set(&mut robot, &mut motor, 0.0);
+        } else {
+            return Err(IdentifyError::Unphysical {
+                parameter: e.param.key().to_owned(),
+                value: e.value,
+                std_err: e.std_err,
+            });
         }
     }
     Ok(Fit {
@@ -675,6 +715,16 @@ fn why_zero(q: Param) -> &'static str {
         Param::Mass | Param::WheelInertia => "the wheels never accelerate",
         Param::CoulombFriction | Param::ViscousFriction | Param::BackEmfConstant => "the wheels never turn",
         Param::TorqueConstant | Param::ArmatureResistance => "the held parameters exert no torque",
+    }
+}
+
+/// Why a parameter's regressor can be lost in the noise.
+fn why_noise(q: Param) -> &'static str {
+    match q {
+        Param::PlatformInertia => "the log barely accelerates the turning (straight-line runs only?)",
+        _ => {
+            "its share of the motion is too small for this log's encoder noise (a harder or longer excitation, a finer encoder, or hold it)"
+        }
     }
 }
 

@@ -18,6 +18,7 @@ pub mod filter;
 pub mod fit;
 pub mod linalg;
 pub mod log;
+pub mod replay;
 pub mod sim;
 pub mod table;
 

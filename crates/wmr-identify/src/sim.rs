@@ -1,7 +1,7 @@
 //! Open-loop simulation of a log's commands on a wmr plant: what the replay compares with
 //! the log, and how the tests and `wmr-cli excite` make logs of a known robot.
 
-use wmr_core::{Drive, Plant, Pose2, Robot, Wheels};
+use wmr_core::{Drive, Plant, Pose2, Robot, State, Wheels};
 
 use crate::error::IdentifyError;
 
@@ -31,8 +31,20 @@ pub fn simulate(
     t_s: &[f64],
     command: [&[f64]; 2],
 ) -> Result<Simulated, IdentifyError> {
-    let mut plant = Plant::new(robot, drive, start)
+    simulate_from(robot, drive, State::at_rest(start), t_s, command)
+}
+
+/// [`simulate`] from the state `start` (pose, speeds and wheel angles) at `t_s[0]`.
+pub fn simulate_from(
+    robot: Robot<f64>,
+    drive: Drive<f64>,
+    start: State<f64>,
+    t_s: &[f64],
+    command: [&[f64]; 2],
+) -> Result<Simulated, IdentifyError> {
+    let mut plant = Plant::new(robot, drive, start.pose())
         .map_err(|e| IdentifyError::BadSetting { key: "start".to_owned(), detail: e.to_string() })?;
+    plant.set_state(start);
     let h_max = (0.5 * plant.max_stable_dt()).min(1e-3);
     let mut out = Simulated { t_s: t_s.to_vec(), ..Default::default() };
     for k in 0..t_s.len() {
