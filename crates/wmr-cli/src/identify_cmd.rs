@@ -139,6 +139,8 @@ pub fn identify(
 ) -> Result<()> {
     let base = base(robot_path, access)?;
     let table = read_table(log_path)?;
+    // OUT must not be an input (checked before the fit, so a refusal costs nothing).
+    crate::atomic::target_of(output)?;
     let shown = wmr_scenario::shown(log_path);
     let log = Log::from_table(&table, &ColumnNames::default(), drive.command())
         .map_err(|e| bad_input(format!("{shown}: {e}")))?;
@@ -296,6 +298,11 @@ pub fn excite(
     }
     let settings = ExciteSettings::new(command_max);
     settings.check().map_err(bad)?;
+    // Neither output may be an input: refused before anything is printed.
+    crate::atomic::target_of(output)?;
+    if let Some(l) = log {
+        crate::atomic::target_of(l)?;
+    }
     let tests = Test::all();
     let unit = if voltage { "V" } else { "N m" };
     let mut csv = String::from(if voltage { "run,t,u_r,u_l\n" } else { "run,t,tau_r,tau_l\n" });

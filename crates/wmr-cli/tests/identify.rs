@@ -156,6 +156,13 @@ fn issue_44_bad_logs_are_refused_naming_the_column_or_the_time() {
     assert!(err.contains("--hold: unknown parameter `bogus`"), "{err}");
     let err = refused(&run(d, &["identify", "log.csv", "-o", "out.toml", "--drive", "dc_motor"]));
     assert!(err.contains("missing column `u_r or voltage_r`"), "{err}");
+    // An output that is an input is refused before any work (nothing printed).
+    let o = run(d, &["identify", "log.csv", "-o", "log.csv"]);
+    assert!(refused(&o).contains("refusing to overwrite"));
+    fs::write(d.join("r.toml"), TRUTH).unwrap();
+    let o = run(d, &["excite", "-o", "r.toml", "--robot", "r.toml"]);
+    assert!(refused(&o).contains("refusing to overwrite") && o.stdout.is_empty());
+    assert_eq!(fs::read_to_string(d.join("r.toml")).unwrap(), TRUTH);
     let err = refused(&run(d, &["replay", "log.csv", "--robot", "none.toml"]));
     assert!(err.contains("none.toml"), "{err}");
 }
