@@ -176,3 +176,21 @@ fn issue_44_dc_motor_log_gives_its_constants() {
     let (p, detail) = refused(fit(&log, &settings));
     assert!(p.contains("viscous_friction") && p.contains("back_emf_constant"), "{p}: {detail}");
 }
+
+/// The paper's robot has no friction: its viscous friction fits a little below zero
+/// (within its standard error) on this seeded log, and is written as 0, said so, so the
+/// robot file stays valid (viscous_friction >= 0).
+#[test]
+fn issue_44_a_friction_fitted_just_below_zero_is_zero() {
+    let paper = RobotParams::<f64>::paper();
+    let r = paper.validate().unwrap();
+    let drive = DriveParams::default().validate(&r).unwrap();
+    let noise = LogNoise { encoder_fraction: 0.01, jitter_s: 0.005, seed: 1 };
+    let table = log_table(r, drive, &Test::all(), &ExciteSettings::new(2.0), noise).unwrap();
+    let log = Log::from_table(&table, &ColumnNames::default(), CommandKind::Torque).unwrap();
+    let f = fit(&log, &FitSettings::new(CommandKind::Torque, paper, DcMotorParams::default())).unwrap();
+    let e = f.get(Param::ViscousFriction).unwrap();
+    assert!(e.zeroed && e.value == 0.0 && e.std_err > 0.0, "{e:?}");
+    assert_eq!(f.robot.viscous_friction, 0.0);
+    assert!(f.robot.validate().is_ok());
+}
