@@ -7,6 +7,7 @@ mod errors;
 mod exec;
 mod foxglove_cmd;
 mod foxglove_topics;
+mod identify_cmd;
 mod keys;
 mod layout;
 mod live;
@@ -165,6 +166,76 @@ enum Command {
         #[arg(long, value_enum)]
         format: Option<trace_cmd::TraceFormat>,
     },
+    /// Fit a robot file to a log (docs/identify.md): mass, inertias and friction (and a DC
+    /// motor's constants) by least squares on the model's equations, each value written with
+    /// its standard error; refuses a parameter the log does not determine, naming it.
+    Identify {
+        /// The log: a wmr run's CSV, or a CSV with the columns t, tau_r, tau_l (or u_r, u_l
+        /// with --drive dc_motor), phi_r, phi_l (or omega_r, omega_l), optionally run, x, y, theta.
+        log: PathBuf,
+        #[command(flatten)]
+        files: Files,
+        /// The robot file to write (usable with `[robot] from`).
+        #[arg(short, long, value_name = "OUT")]
+        output: PathBuf,
+        /// What the log's commands are: wheel torques (torque) or motor voltages (dc_motor).
+        #[arg(long, value_enum, default_value = "torque")]
+        drive: identify_cmd::DriveKind,
+        /// A robot file with the geometry (wheel_radius, half_track, com_offset, gear_ratio,
+        /// coulomb_speed) and the held values [default: the paper's robot].
+        #[arg(long, value_name = "ROBOT")]
+        robot: Option<PathBuf>,
+        /// Parameters held rather than fitted, `key` (at ROBOT's value) or `key=value`,
+        /// comma-separated; replaces the default (torque: none; dc_motor: mass,
+        /// viscous_friction, armature_resistance).
+        #[arg(long, value_name = "KEYS", num_args = 1)]
+        hold: Option<Vec<String>>,
+    },
+    /// Write the command profiles to play on a robot for `identify` (SysId's quasistatic
+    /// ramps and dynamic steps; straight, turning and arcs) as CSV, with the room each needs.
+    Excite {
+        /// The profile CSV: run, t, and tau_r, tau_l (N m) or u_r, u_l (V) by ROBOT's drive.
+        #[arg(short, long, value_name = "OUT")]
+        output: PathBuf,
+        #[command(flatten)]
+        files: Files,
+        /// The robot file (its drive and its limits; the safe distances are simulated on it)
+        /// [default: the paper's robot].
+        #[arg(long, value_name = "ROBOT")]
+        robot: Option<PathBuf>,
+        /// The largest command, N m at the wheel or V [default: the drive's limit].
+        #[arg(long, value_name = "X")]
+        command_max: Option<f64>,
+        /// Also write LOG, the robot playing the profile as wmr simulates it (a log to try
+        /// `identify` on), with --encoder-noise and --jitter.
+        #[arg(long, value_name = "LOG")]
+        log: Option<PathBuf>,
+        /// With --log: encoder noise, a fraction of the wheels' mean travel per sample.
+        #[arg(long, value_name = "F", default_value_t = 0.0)]
+        encoder_noise: f64,
+        /// With --log: each sample up to this late, s (uniform).
+        #[arg(long, value_name = "S", default_value_t = 0.0)]
+        jitter: f64,
+        /// With --log: the noise's seed.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+    },
+    /// Run a robot file open loop on a log's commands and print the error against the
+    /// logged wheel speeds and poses (RMS and final, per run): how a fit is judged.
+    Replay {
+        /// The log (as for `identify`; the commands' columns by ROBOT's drive).
+        log: PathBuf,
+        #[command(flatten)]
+        files: Files,
+        /// The robot file to replay.
+        #[arg(long, value_name = "ROBOT")]
+        robot: PathBuf,
+        /// Start again from the log's state every S seconds (0: once per run). An open-loop
+        /// replay cannot follow an unstable motion (d > 0 driving backward spins on the
+        /// smallest error): a short horizon measures the model instead (docs/identify.md).
+        #[arg(long, value_name = "S", default_value_t = 0.0)]
+        horizon: f64,
+    },
     /// Print this help, a subcommand's (`help run`), or the scenario file's keys with their
     /// units, defaults and rules (`help keys`, or one table: `help keys robot`).
     Help {
@@ -295,6 +366,22 @@ fn run(cli: Cli) -> Result<()> {
             }
         }
         Command::Help { topic, table } => help(topic.as_deref(), table.as_deref()),
+        Command::Identify { log, files, output, drive, robot, hold } => {
+            identify_cmd::identify(&log, &output, drive, robot.as_deref(), hold.as_deref(), &files.access()?)
+        }
+        Command::Excite { output, files, robot, command_max, log, encoder_noise, jitter, seed } => {
+            identify_cmd::excite(
+                &output,
+                robot.as_deref(),
+                command_max,
+                log.as_deref(),
+                encoder_noise,
+                jitter,
+                seed,
+                &files.access()?,
+            )
+        }
+        Command::Replay { log, files, robot, horizon } => identify_cmd::replay(&log, &robot, horizon, &files.access()?),
         Command::Trace { file, files, output, run, format } => {
             let scenario = load(&file, &files)?;
             let t = trace_cmd::trace(&scenario, run, &output, format)?;

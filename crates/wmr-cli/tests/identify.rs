@@ -1,0 +1,168 @@
+//! Issue 44, item 2: `wmr-cli excite`, `identify` and `replay` end to end: a log of a
+//! known robot identified into a robot file that `[robot] from` reads, and bad logs
+//! refused naming the column or the time, exit 2.
+
+use std::fs;
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn run(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wmr-cli")).current_dir(dir).args(args).output().expect("spawn wmr-cli")
+}
+
+fn ok(o: &Output) -> String {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn refused(o: &Output) -> String {
+    assert_eq!(o.status.code(), Some(2), "stdout {}", String::from_utf8_lossy(&o.stdout));
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The robot of crates/wmr-identify/tests/fit.rs, torque drive without a limit.
+const TRUTH: &str = "[robot]
+mass = 10.0
+wheel_radius = 0.05
+half_track = 0.2
+com_offset = 0.1
+wheel_inertia = 0.004
+platform_inertia = 0.3
+gear_ratio = 0.1
+viscous_friction = 0.02
+coulomb_friction = 0.1
+
+[drive]
+kind = \"torque\"
+motor_torque_max = 0.3
+";
+
+/// Its geometry only: every fitted value wrong.
+const GEOMETRY: &str = "[robot]
+mass = 1.0
+wheel_radius = 0.05
+half_track = 0.2
+com_offset = 0.1
+wheel_inertia = 0.0
+platform_inertia = 1.0
+gear_ratio = 0.1
+";
+
+fn value(toml: &str, key: &str) -> f64 {
+    let line = toml.lines().find(|l| l.starts_with(&format!("{key} ="))).unwrap_or_else(|| panic!("{key} in {toml}"));
+    line.split('=').nth(1).unwrap().split('#').next().unwrap().trim().parse().unwrap()
+}
+
+#[test]
+fn issue_44_excite_identify_replay_round_trip() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    fs::write(d.join("truth.toml"), TRUTH).unwrap();
+    fs::write(d.join("geometry.toml"), GEOMETRY).unwrap();
+    let out = ok(&run(
+        d,
+        &[
+            "excite",
+            "-o",
+            "profile.csv",
+            "--robot",
+            "truth.toml",
+            "--log",
+            "sim.csv",
+            "--encoder-noise",
+            "0.01",
+            "--jitter",
+            "0.005",
+            "--seed",
+            "44",
+        ],
+    ));
+    assert!(out.contains("quasistatic-linear-forward") && out.contains("safe_distance_m"), "{out}");
+    let profile = fs::read_to_string(d.join("profile.csv")).unwrap();
+    assert!(profile.starts_with("run,t,tau_r,tau_l\n"), "{}", &profile[..40]);
+    // 12 tests: 6 of 6 s and 6 of 2 s at 100 Hz, each with its first sample.
+    assert_eq!(profile.lines().count(), 1 + 6 * 601 + 6 * 201);
+
+    let out = ok(&run(d, &["identify", "sim.csv", "-o", "fitted.toml", "--robot", "geometry.toml"]));
+    assert!(out.contains("mass") && out.contains("+-"), "{out}");
+    let fitted = fs::read_to_string(d.join("fitted.toml")).unwrap();
+    assert!(fitted.contains("fitted: +-") && fitted.contains("from sim.csv"), "{fitted}");
+    for (key, truth, tol) in [
+        ("mass", 10.0, 0.02),
+        ("platform_inertia", 0.3, 0.03),
+        ("wheel_inertia", 0.004, 0.05),
+        ("coulomb_friction", 0.1, 0.05),
+        ("viscous_friction", 0.02, 0.05),
+    ] {
+        let v = value(&fitted, key);
+        assert!((v - truth).abs() < tol * truth, "{key} = {v}, truth {truth}");
+    }
+    // Usable with [robot] from (a step short enough for its stiff Coulomb friction).
+    fs::write(d.join("s.toml"), "[robot]\nfrom = \"fitted.toml\"\n\n[sim]\ndt = 0.0001\n\n[[run]]\ngoal = { x = 1.0, y = 0.0, theta_deg = 0.0 }\n").unwrap();
+    let check = ok(&run(d, &["check", "s.toml"]));
+    assert!(check.contains("mass = 9.9") || check.contains("mass = 10.0"), "{check}");
+
+    // The replay of the fitted robot over 1 s horizons follows the log closely.
+    let out = ok(&run(d, &["replay", "sim.csv", "--robot", "fitted.toml", "--horizon", "1"]));
+    let all = out.lines().find(|l| l.starts_with("all")).unwrap();
+    let pct: f64 = all.split_whitespace().nth(3).unwrap().parse().unwrap();
+    assert!(pct < 2.0, "{out}");
+    // The wrong robot does not.
+    let out = ok(&run(d, &["replay", "sim.csv", "--robot", "geometry.toml", "--horizon", "1"]));
+    let all = out.lines().find(|l| l.starts_with("all")).unwrap();
+    let pct_wrong: f64 = all.split_whitespace().nth(3).unwrap().parse().unwrap();
+    assert!(pct_wrong > 10.0 * pct, "{out}");
+}
+
+fn log_of(rows: &[[f64; 5]]) -> String {
+    let mut s = String::from("t,tau_r,tau_l,phi_r,phi_l\n");
+    for r in rows {
+        s += &format!("{},{},{},{},{}\n", r[0], r[1], r[2], r[3], r[4]);
+    }
+    s
+}
+
+#[test]
+fn issue_44_bad_logs_are_refused_naming_the_column_or_the_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let good: Vec<[f64; 5]> = (0..100).map(|i| [i as f64 * 0.01, 1.0, 1.0, 0.0, 0.0]).collect();
+    let cases: Vec<(&str, String, &str)> = vec![
+        (
+            "missing.csv",
+            "t,tau_r,tau_l,phi_r\n0,1,1,0\n".to_owned(),
+            "missing column `phi_l or position_l (or omega_l or velocity_l)`",
+        ),
+        (
+            "back.csv",
+            log_of(&[[0.0, 1.0, 1.0, 0.0, 0.0], [0.02, 1.0, 1.0, 0.0, 0.0], [0.01, 1.0, 1.0, 0.0, 0.0]]),
+            "column `t` at t = 0.01 s (row 3): time does not increase",
+        ),
+        (
+            "nan.csv",
+            log_of(&[[0.0, 1.0, 1.0, 0.0, 0.0], [0.01, f64::NAN, 1.0, 0.0, 0.0]]),
+            "column `tau_r` at t = 0.01 s (row 2): not a finite number",
+        ),
+        ("still.csv", log_of(&good), "no excitation in column `phi_r`: the wheels never turn"),
+    ];
+    for (name, body, expected) in cases {
+        fs::write(d.join(name), body).unwrap();
+        let err = refused(&run(d, &["identify", name, "-o", "out.toml"]));
+        assert!(err.contains(expected), "{name}: {err}");
+        assert!(!d.join("out.toml").exists());
+    }
+    fs::write(d.join("log.csv"), log_of(&good)).unwrap();
+    let err = refused(&run(d, &["identify", "log.csv", "-o", "out.toml", "--hold", "mass,bogus"]));
+    assert!(err.contains("--hold: unknown parameter `bogus`"), "{err}");
+    let err = refused(&run(d, &["identify", "log.csv", "-o", "out.toml", "--drive", "dc_motor"]));
+    assert!(err.contains("missing column `u_r or voltage_r`"), "{err}");
+    // An output that is an input is refused before any work (nothing printed).
+    let o = run(d, &["identify", "log.csv", "-o", "log.csv"]);
+    assert!(refused(&o).contains("refusing to overwrite"));
+    fs::write(d.join("r.toml"), TRUTH).unwrap();
+    let o = run(d, &["excite", "-o", "r.toml", "--robot", "r.toml"]);
+    assert!(refused(&o).contains("refusing to overwrite") && o.stdout.is_empty());
+    assert_eq!(fs::read_to_string(d.join("r.toml")).unwrap(), TRUTH);
+    let err = refused(&run(d, &["replay", "log.csv", "--robot", "none.toml"]));
+    assert!(err.contains("none.toml"), "{err}");
+}
