@@ -54,6 +54,18 @@ impl<T: Real> Pose2<T> {
     }
 }
 
+impl<T: Lane> Pose2<T> {
+    /// The world point (`x`, `y`) (m) in this pose's body frame (m: ahead, to the left):
+    /// the offset of a goal, a reference point or a path point from the robot, one robot
+    /// or several side by side ([`crate::lane`]). Every law's body-frame transform.
+    #[inline(always)]
+    pub fn body_offset(&self, x: T, y: T) -> (T, T) {
+        let (s, c) = self.theta.sin_cos();
+        let (dx, dy) = (x - self.x, y - self.y);
+        (c * dx + s * dy, -s * dx + c * dy)
+    }
+}
+
 /// Body-frame velocity of point C: forward speed `v` (m/s) and yaw rate `omega` (rad/s).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Twist2<T> {

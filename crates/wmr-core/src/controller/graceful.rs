@@ -221,10 +221,7 @@ impl<T: Real> GracefulParams<T> {
         let (sd, cd) = goal.theta.sin_cos();
         let (xt, yt) = (goal.x + p * cd, goal.y + p * sd);
         // In the robot's frame.
-        let (s, c) = pose.theta.sin_cos();
-        let (ex, ey) = (xt - pose.x, yt - pose.y);
-        let dx = c * ex + s * ey;
-        let dy = -s * ex + c * ey;
+        let (dx, dy) = pose.body_offset(xt, yt);
         // Egocentric polar coordinates; the line of sight turned by pi when backwards.
         let los = (-dy).atan2(dx);
         let los = if backward { los + L::lit(core::f64::consts::PI) } else { los };

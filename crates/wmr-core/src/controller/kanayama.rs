@@ -105,9 +105,7 @@ impl<T: Real> KanayamaParams<T> {
         r: &ReferenceState<L>,
     ) -> (Twist2<L>, ControlErrors<L>) {
         let (dx, dy) = (r.pose.x - m.pose.x, r.pose.y - m.pose.y);
-        let (s, c) = m.pose.theta.sin_cos();
-        let x_e = c * dx + s * dy;
-        let y_e = -s * dx + c * dy;
+        let (x_e, y_e) = m.pose.body_offset(r.pose.x, r.pose.y);
         let theta_e = wrap_angle(r.pose.theta - m.pose.theta);
         let (s_e, c_e) = theta_e.sin_cos();
         let v = r.twist.v * c_e + L::splat(self.kx) * x_e;

@@ -58,7 +58,7 @@ use super::law::{ControlErrors, Law, LawOutput, WheelDemand};
 use crate::error::{ParamError, check};
 use crate::lane::Lane;
 use crate::math::{Twist2, wrap_angle};
-use crate::reference::path::{PathCursor, in_body_frame, lookahead};
+use crate::reference::path::{PathCursor, lookahead};
 use crate::reference::{Path, ReferenceState};
 use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
@@ -257,7 +257,7 @@ impl<T: Lane> Law<T> for PurePursuitLaw<T> {
         let (x, y) = (m.pose.x, m.pose.y);
         let s_c = self.cursor.advance(path, x, y, p.max_robot_pose_search_dist, ds);
         let closest = path.pose_on_path(s_c);
-        let (ex, ey) = in_body_frame(&m.pose, &closest);
+        let (ex, ey) = m.pose.body_offset(closest.x, closest.y);
         let errors = ControlErrors { e_s: ex, e_theta: wrap_angle(closest.theta - m.pose.theta), dl: ex.hypot(ey) };
 
         let r = T::splat(self.wheel_radius);
@@ -272,7 +272,7 @@ impl<T: Lane> Law<T> for PurePursuitLaw<T> {
         };
         let s_l = lookahead(path, x, y, s_c, l, ds, p.lookahead_max() * <T::Scalar as Real>::lit(2.0));
         let carrot = path.pose_on_path(s_l);
-        let (x_l, y_l) = in_body_frame(&m.pose, &carrot);
+        let (x_l, y_l) = m.pose.body_offset(carrot.x, carrot.y);
         let d2 = x_l * x_l + y_l * y_l;
         let zero = T::default();
         let kappa = T::select(T::lit(SMALL_CARROT_DIST2_M2).lt(d2), T::lit(2.0) * y_l / d2, zero);

@@ -187,14 +187,6 @@ pub fn lookahead<T: Lane>(path: &dyn Path<T>, x: T, y: T, from: T, l: T, ds: T::
     hi
 }
 
-/// A path point's offset from the robot: the point in the body frame of `pose` (m).
-#[inline(always)]
-pub fn in_body_frame<T: Lane>(pose: &Pose2<T>, p: &Pose2<T>) -> (T, T) {
-    let (s, c) = pose.theta.sin_cos();
-    let (dx, dy) = (p.x - pose.x, p.y - pose.y);
-    (c * dx + s * dy, -s * dx + c * dy)
-}
-
 /// Follows the closest point of a path from tick to tick as nav2 prunes its plan: the
 /// first search starts at the path's beginning, every search covers `window` m of path
 /// forward of the last closest point (nav2's `max_robot_pose_search_dist`), and the cursor
