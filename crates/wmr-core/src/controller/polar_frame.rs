@@ -213,10 +213,8 @@ impl<T: Real> DirectionSelector<T> {
 #[cfg_attr(target_os = "none", inline)]
 #[cfg_attr(not(target_os = "none"), inline(always))]
 pub fn polar_errors<T: Lane>(pose: Pose2<T>, goal: Pose2<T>) -> ControlErrors<T> {
-    let dx = goal.x - pose.x;
-    let dy = goal.y - pose.y;
-    let (s, c) = pose.theta.sin_cos();
-    ControlErrors { e_s: dx * c + dy * s, e_theta: wrap_angle(goal.theta - pose.theta), dl: dx.hypot(dy) }
+    let (e_s, _) = pose.body_offset(goal.x, goal.y);
+    ControlErrors { e_s, e_theta: wrap_angle(goal.theta - pose.theta), dl: (goal.x - pose.x).hypot(goal.y - pose.y) }
 }
 
 /// Stop inside `radius`, resume beyond twice that: returns the new "held" flag.
