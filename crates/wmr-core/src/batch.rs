@@ -86,6 +86,14 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
         stop_when_settled: bool,
     ) -> Result<Self, ParamError> {
         let control_every = control_every(&plant, controller.control_dt(), dt)?;
+        // The lanes step the Coulomb model; stiction's stick/slip switch is per run.
+        if plant.robot().has_stiction() {
+            return Err(check::out_of_range(
+                "static_friction",
+                "the lanes do not step stiction (run such a plant on the exact path)",
+                plant.robot().params().static_friction,
+            ));
+        }
         // Each lane counts its steps in an f64, exact up to 2^53 (a scenario allows 1e9).
         if n_steps > 1 << 53 {
             return Err(check::out_of_range("t_end", "more than 2^53 plant steps", n_steps as f64));

@@ -68,6 +68,8 @@ pub(crate) struct Model<T> {
     tau_c: T,
     /// omega_eps, rad/s.
     omega_eps: T,
+    /// tau_s, N m: the breakaway torque of stiction (0: none, [`Robot::breakaway_torque`]).
+    tau_s: T,
     /// d, m: C forward to G.
     d: T,
     /// Gravity along a tilted ground, world x and y components, N (zero when flat).
@@ -99,6 +101,7 @@ impl<T: Real> Model<T> {
             b_v: p.viscous_friction,
             tau_c: p.coulomb_friction,
             omega_eps: p.coulomb_speed,
+            tau_s: robot.breakaway_torque(),
             d: p.com_offset,
             downhill: world.downhill_force(p.mass),
             sloped: world.is_sloped(),
@@ -210,5 +213,147 @@ impl<T: Real> Model<T> {
             phi_r: w_r,
             phi_l: w_l,
         }
+    }
+}
+
+/// Stiction (docs/model.md, "Stiction"): a stick/slip switch decided once per plant step.
+///
+/// In wheel speeds (omega_r, omega_l), with a = 1 / (r M_r11), c = R^2 / (r M_r22),
+/// net_i = tau_i - f_i the torque at wheel i less its friction, and (F, M) the forward
+/// force and the moment of the Coriolis terms and the slope, (15) reads
+///
+/// ```text
+/// r omega_r' = (a + c) net_r + (a - c) net_l + g_r,   g_r = F / M_r11 + R M / M_r22
+/// r omega_l' = (a - c) net_r + (a + c) net_l + g_l,   g_l = F / M_r11 - R M / M_r22
+/// ```
+///
+/// A stuck wheel's friction is whatever keeps its speed at zero: its row set to 0 and
+/// solved for its net torque (both stuck: the 2 x 2 system, determinant 4 a c > 0). It
+/// stays stuck while that friction, tau_i - net_i, is within +-tau_s.
+impl<T: Real> Model<T> {
+    /// True when stiction holds wheels at rest (tau_s > 0).
+    #[inline(always)]
+    pub(crate) fn has_stiction(&self) -> bool {
+        self.tau_s > T::zero()
+    }
+
+    /// The wheel speeds (rad/s) of state `s`.
+    #[inline(always)]
+    fn wheel_speeds_of(&self, s: &State<T>) -> Wheels<T> {
+        Wheels::new((s.v + self.big_r * s.omega) / self.r, (s.v - self.big_r * s.omega) / self.r)
+    }
+
+    /// `s` with the wheels in `stuck` at rest and the others at their speed (the
+    /// static friction's impulse that stops a wheel within omega_eps of rest).
+    pub(crate) fn at_rest(&self, s: &State<T>, stuck: Wheels<bool>) -> State<T> {
+        if !stuck.right && !stuck.left {
+            return *s;
+        }
+        let w = self.wheel_speeds_of(s);
+        let w_r = if stuck.right { T::zero() } else { w.right };
+        let w_l = if stuck.left { T::zero() } else { w.left };
+        let half = T::lit(0.5);
+        State { v: half * self.r * (w_r + w_l), omega: half * self.r * (w_r - w_l) / self.big_r, ..*s }
+    }
+
+    /// Each wheel's net torque tau - f (N m) in state `s` under wheel torques `tau`, the
+    /// wheels in `stuck` held at rest by their static friction (the impl's docs);
+    /// `heading` = (sin, cos) of `s.theta`.
+    fn net_torques(&self, s: &State<T>, tau: Wheels<T>, stuck: Wheels<bool>, (sin, cos): (T, T)) -> Wheels<T> {
+        let w = self.wheel_speeds_of(s);
+        let mut net = Wheels::new(tau.right - self.friction_torque(w.right), tau.left - self.friction_torque(w.left));
+        if !stuck.right && !stuck.left {
+            return net;
+        }
+        let (mut f, mut m) = (self.md * s.omega * s.omega, -(self.md * s.v * s.omega));
+        if self.sloped {
+            let (f_x, f_y) = self.downhill;
+            f = f + (f_x * cos + f_y * sin);
+            m = m + self.d * (f_y * cos - f_x * sin);
+        }
+        let big_r = self.big_r;
+        let a = self.inv_m11 * self.inv_r;
+        let c = big_r * big_r * self.inv_m22 * self.inv_r;
+        let (p, q) = (a + c, a - c);
+        let g_r = f * self.inv_m11 + big_r * m * self.inv_m22;
+        let g_l = f * self.inv_m11 - big_r * m * self.inv_m22;
+        match (stuck.right, stuck.left) {
+            (true, true) => {
+                let det = p * p - q * q;
+                net = Wheels::new((q * g_l - p * g_r) / det, (q * g_r - p * g_l) / det);
+            }
+            (true, false) => net.right = -(q * net.left + g_r) / p,
+            (false, true) => net.left = -(q * net.right + g_l) / p,
+            (false, false) => {}
+        }
+        net
+    }
+
+    /// Which wheels stiction holds over the next step from `s` under wheel torques `tau`
+    /// (N m): those within omega_eps of rest whose holding friction is within +-tau_s;
+    /// both if both can be held, else the one that can (the smaller hold if either can).
+    pub(crate) fn stuck_wheels(&self, s: &State<T>, tau: Wheels<T>) -> Wheels<bool> {
+        let w = self.wheel_speeds_of(s);
+        let near = Wheels::new(w.right.abs() <= self.omega_eps, w.left.abs() <= self.omega_eps);
+        let heading = s.theta.sin_cos_libm();
+        // The friction each wheel of `stuck` needs, as a share of tau_s (> 1: slips).
+        let share = |stuck: Wheels<bool>| {
+            let net = self.net_torques(&self.at_rest(s, stuck), tau, stuck, heading);
+            let hold = |on: bool, tau: T, net: T| if on { (tau - net).abs() / self.tau_s } else { T::zero() };
+            hold(stuck.right, tau.right, net.right).max(hold(stuck.left, tau.left, net.left))
+        };
+        let one = T::one();
+        let none = Wheels::new(false, false);
+        if !near.right && !near.left {
+            return none;
+        }
+        if share(near) <= one {
+            return near;
+        }
+        if !(near.right && near.left) {
+            return none;
+        }
+        let (right, left) = (Wheels::new(true, false), Wheels::new(false, true));
+        let (s_r, s_l) = (share(right), share(left));
+        match (s_r <= one, s_l <= one) {
+            (true, true) => {
+                if s_r <= s_l {
+                    right
+                } else {
+                    left
+                }
+            }
+            (true, false) => right,
+            (false, true) => left,
+            (false, false) => none,
+        }
+    }
+
+    /// [`Model::derivative_at_heading`] with the wheels in `stuck` held at rest by
+    /// static friction (their speeds' derivatives zero); the others as always.
+    pub(crate) fn derivative_stuck(&self, s: &State<T>, tau: Wheels<T>, stuck: Wheels<bool>) -> State<T> {
+        let (sin, cos) = s.theta.sin_cos_libm();
+        let w = self.wheel_speeds_of(s);
+        let base = State { x: s.v * cos, y: s.v * sin, theta: s.omega, phi_r: w.right, phi_l: w.left, ..*s };
+        if stuck.right && stuck.left {
+            return State { v: T::zero(), omega: T::zero(), ..base };
+        }
+        let net = self.net_torques(s, tau, stuck, (sin, cos));
+        let md = self.md;
+        let mut forward = (net.right + net.left) / self.r + md * s.omega * s.omega;
+        let mut moment = self.big_r_over_r * (net.right - net.left) - md * s.v * s.omega;
+        if self.sloped {
+            let (f_x, f_y) = self.downhill;
+            forward = forward + (f_x * cos + f_y * sin);
+            moment = moment + self.d * (f_y * cos - f_x * sin);
+        }
+        State { v: forward * self.inv_m11, omega: moment * self.inv_m22, ..base }
+    }
+
+    /// The slip plant's wheel `i` within omega_eps of rest is held over the next step
+    /// when the friction that holds it, tau - r F_x (N m, F_x the contact's force), is
+    /// within +-tau_s.
+    pub(crate) fn holds(&self, omega_wheel: T, tau: T, contact_torque: T) -> bool {
+        self.has_stiction() && omega_wheel.abs() <= self.omega_eps && (tau - contact_torque).abs() <= self.tau_s
     }
 }

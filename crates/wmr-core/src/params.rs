@@ -33,6 +33,8 @@ crate::params! {
         pub coulomb_friction: T [unit = "N m", rule = ">= 0"],
         /// omega_eps: Coulomb friction is tau_c * tanh(omega_wheel / omega_eps).
         pub coulomb_speed: T [unit = "rad/s", rule = "> 0"],
+        /// tau_s, stiction: the breakaway torque at each wheel; a wheel at rest stays so while the torque holding it is below (0: off, equal to coulomb_friction).
+        pub static_friction: T [unit = "N m", rule = "0 (off) or >= coulomb_friction"],
     }
 }
 
@@ -51,13 +53,15 @@ impl<T: Real> RobotParams<T> {
             viscous_friction: T::zero(),
             coulomb_friction: T::zero(),
             coulomb_speed: T::lit(1e-3),
+            static_friction: T::zero(),
         }
     }
 
     /// Checks every field and precomputes the model's constant matrices.
     ///
     /// Rejects NaN and infinity everywhere; m, r, R, k_t, omega_eps and
-    /// I_p + m d^2 must be > 0; I_m, I_p, b_v and tau_c must be >= 0.
+    /// I_p + m d^2 must be > 0; I_m, I_p, b_v and tau_c must be >= 0; tau_s must be 0
+    /// or >= tau_c.
     pub fn validate(self) -> Result<Robot<T>, ParamError> {
         let m = check::positive("mass", self.mass)?;
         check::positive("wheel_radius", self.wheel_radius)?;
@@ -69,6 +73,14 @@ impl<T: Real> RobotParams<T> {
         check::non_negative("viscous_friction", self.viscous_friction)?;
         check::non_negative("coulomb_friction", self.coulomb_friction)?;
         check::positive("coulomb_speed", self.coulomb_speed)?;
+        let tau_s = check::non_negative("static_friction", self.static_friction)?;
+        if tau_s > T::zero() && tau_s < self.coulomb_friction {
+            return Err(check::out_of_range(
+                "static_friction",
+                "must be >= coulomb_friction (the breakaway torque is at least the sliding one), or 0 (off)",
+                tau_s,
+            ));
+        }
         let yaw_inertia_g = i_p + m * d * d;
         if yaw_inertia_g <= T::zero() {
             return Err(check::out_of_range(
@@ -134,6 +146,20 @@ impl<T: Real> Robot<T> {
         let r = self.params.wheel_radius;
         let big_r = self.params.half_track;
         r * r / (self.m11.recip() + big_r * big_r / self.m22)
+    }
+
+    /// tau_s, the breakaway torque at each wheel (N m) when stiction is on
+    /// ([`Robot::has_stiction`]: `static_friction` > `coulomb_friction`), else 0.
+    pub fn breakaway_torque(&self) -> T {
+        if self.has_stiction() { self.params.static_friction } else { T::zero() }
+    }
+
+    /// True when `static_friction` > `coulomb_friction`: the plant then holds a wheel at
+    /// rest until the torque at it exceeds the breakaway torque (docs/model.md,
+    /// "Stiction"). With `static_friction` 0 or equal to `coulomb_friction` the plant is
+    /// the Coulomb model alone, bit for bit.
+    pub fn has_stiction(&self) -> bool {
+        self.params.static_friction > self.params.coulomb_friction
     }
 
     /// Inverse diagonal of M_r, precomputed: (1/kg, 1/(kg m^2)).

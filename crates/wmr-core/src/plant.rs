@@ -333,7 +333,11 @@ impl<T: Real> Plant<T> {
         if let Traction::Slip(slip) = self.traction {
             return self.step_slip(&slip, t, dt);
         }
-        let next = self.advance(&self.state, self.command, self.held_torque, t, dt);
+        let next = if self.model.has_stiction() {
+            self.advance_sticking(t, dt)
+        } else {
+            self.advance(&self.state, self.command, self.held_torque, t, dt)
+        };
         let bound = T::lit(DIVERGENCE_BOX_M);
         if !all_finite(&next) {
             return Err(Termination::NonFinite);
@@ -347,6 +351,17 @@ impl<T: Real> Plant<T> {
 }
 
 impl<T: Real> Plant<T> {
+    /// One RK4 step of `dt` (s) from `t` (s) of a rolling plant with stiction: the wheels
+    /// it holds are decided at the step's start ([`Model::stuck_wheels`]), set at rest,
+    /// and kept so through the four stages (docs/model.md, "Stiction").
+    fn advance_sticking(&self, t: T, dt: T) -> State<T> {
+        let tau = self.wheel_torque_at(&self.state);
+        let stuck = self.model.stuck_wheels(&self.state, tau);
+        let start = self.model.at_rest(&self.state, stuck);
+        let mut f = StuckRhs { plant: self, stuck };
+        State::from_array(rk4_step_of(&mut f, t, &start.to_array(), dt))
+    }
+
     /// [`Plant::step`] of a slip plant, with the same refusals.
     #[inline(never)]
     fn step_slip(&mut self, slip: &crate::traction::Slip<T>, t: T, dt: T) -> Result<(), Termination> {
@@ -395,6 +410,22 @@ impl<T: Real, L: Lane<Scalar = T>> Rhs<L, STATE_LEN> for PlantRhs<'_, T, L> {
     fn eval(&mut self, _t: L, y: &[L; STATE_LEN]) -> [L; STATE_LEN] {
         let s = State::from_array(*y);
         self.plant.derivative_under(&s, self.command, self.held_torque, s.theta.sin_cos()).to_array()
+    }
+}
+
+/// [`PlantRhs`] of one run with stiction: the wheels in `stuck` held at rest.
+struct StuckRhs<'a, T> {
+    plant: &'a Plant<T>,
+    stuck: Wheels<bool>,
+}
+
+impl<T: Real> Rhs<T, STATE_LEN> for StuckRhs<'_, T> {
+    #[inline]
+    fn eval(&mut self, _t: T, y: &[T; STATE_LEN]) -> [T; STATE_LEN] {
+        let s = State::from_array(*y);
+        let plant = self.plant;
+        let tau = plant.wheel_torque_lanes(&s, plant.command, plant.held_torque);
+        plant.model.derivative_stuck(&s, tau, self.stuck).to_array()
     }
 }
 

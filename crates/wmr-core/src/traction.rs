@@ -398,7 +398,14 @@ impl<T: Real> Slip<T> {
     /// The time derivative of the slip state under wheel torques from `torque(omega_w)`
     /// (N m, the drive at each wheel's own speed).
     #[inline]
-    fn derivative(&self, y: &[T; SLIP_STATE_LEN], torque: impl Fn(Wheels<T>) -> Wheels<T>) -> [T; SLIP_STATE_LEN] {
+    /// The wheels in `stuck` are held at rest by static friction (their speeds'
+    /// derivatives zero: docs/model.md, "Stiction").
+    fn derivative(
+        &self,
+        y: &[T; SLIP_STATE_LEN],
+        torque: impl Fn(Wheels<T>) -> Wheels<T>,
+        stuck: Wheels<bool>,
+    ) -> [T; SLIP_STATE_LEN] {
         let [_, _, theta, u, omega, _, _, v_lat, w_r, w_l, ex_r, ex_l, ey_r, ey_l] = *y;
         let w = Wheels::new(w_r, w_l);
         let tau = torque(w);
@@ -417,7 +424,9 @@ impl<T: Real> Slip<T> {
             * self.inv_i_g;
         let u_dot = f_x * self.inv_mass + omega * v_lat + omega * omega * self.d;
         let v_lat_dot = f_y * self.inv_mass - omega_dot * self.d - omega * u;
-        let wheel_dot = |tau: T, w: T, fx: T| (tau - self.model.friction_torque(w) - self.r * fx) * self.inv_i_m;
+        let wheel_dot = |held: bool, tau: T, w: T, fx: T| {
+            if held { T::zero() } else { (tau - self.model.friction_torque(w) - self.r * fx) * self.inv_i_m }
+        };
         [
             u * cos - v_lat * sin,
             u * sin + v_lat * cos,
@@ -427,8 +436,8 @@ impl<T: Real> Slip<T> {
             w_r,
             w_l,
             v_lat_dot,
-            wheel_dot(tau.right, w_r, c.force_x.right),
-            wheel_dot(tau.left, w_l, c.force_x.left),
+            wheel_dot(stuck.right, tau.right, w_r, c.force_x.right),
+            wheel_dot(stuck.left, tau.left, w_l, c.force_x.left),
             dex_r,
             dex_l,
             dey_r,
@@ -447,6 +456,19 @@ impl<T: Real> Slip<T> {
         t: T,
         dt: T,
     ) -> (State<T>, SlipExtra<T>) {
+        // Stiction: a wheel within omega_eps of rest whose friction can hold it against
+        // its drive and its contact's force is held at rest over the step.
+        let mut stuck = Wheels::new(false, false);
+        let mut w = extra.wheel_speeds;
+        if self.model.has_stiction() {
+            let c = self.contact_of(s, extra);
+            let tau = Wheels::new(drive.wheel_torque(command.right, w.right), drive.wheel_torque(command.left, w.left));
+            stuck = Wheels::new(
+                self.model.holds(w.right, tau.right, self.r * c.force_x.right),
+                self.model.holds(w.left, tau.left, self.r * c.force_x.left),
+            );
+            w = Wheels::new(if stuck.right { T::zero() } else { w.right }, if stuck.left { T::zero() } else { w.left });
+        }
         let y = [
             s.x,
             s.y,
@@ -456,14 +478,14 @@ impl<T: Real> Slip<T> {
             s.phi_r,
             s.phi_l,
             extra.v_lat,
-            extra.wheel_speeds.right,
-            extra.wheel_speeds.left,
+            w.right,
+            w.left,
             extra.deflection_x.right,
             extra.deflection_x.left,
             extra.deflection_y.right,
             extra.deflection_y.left,
         ];
-        let mut f = SlipRhs { slip: self, drive, command };
+        let mut f = SlipRhs { slip: self, drive, command, stuck };
         let [x, y, theta, v, omega, phi_r, phi_l, v_lat, w_r, w_l, ex_r, ex_l, ey_r, ey_l] =
             rk4_step_of(&mut f, t, &y, dt);
         let extra = SlipExtra {
@@ -540,14 +562,18 @@ struct SlipRhs<'a, T> {
     slip: &'a Slip<T>,
     drive: &'a Drive<T>,
     command: Wheels<T>,
+    /// The wheels stiction holds at rest over this step.
+    stuck: Wheels<bool>,
 }
 
 impl<T: Real> Rhs<T, SLIP_STATE_LEN> for SlipRhs<'_, T> {
     #[inline]
     fn eval(&mut self, _t: T, y: &[T; SLIP_STATE_LEN]) -> [T; SLIP_STATE_LEN] {
         let (drive, command) = (self.drive, self.command);
-        self.slip.derivative(y, |w| {
-            Wheels::new(drive.wheel_torque(command.right, w.right), drive.wheel_torque(command.left, w.left))
-        })
+        self.slip.derivative(
+            y,
+            |w| Wheels::new(drive.wheel_torque(command.right, w.right), drive.wheel_torque(command.left, w.left)),
+            self.stuck,
+        )
     }
 }

@@ -12,7 +12,7 @@ use wmr_core::{
 type Setter = fn(&mut RobotParams<f64>, f64);
 type Case<P> = (&'static str, fn(&mut P));
 
-const ROBOT_FIELDS: [(&str, Setter, &[f64]); 10] = [
+const ROBOT_FIELDS: [(&str, Setter, &[f64]); 11] = [
     ("mass", |p, v| p.mass = v, &[0.0, -1.0]),
     ("wheel_radius", |p, v| p.wheel_radius = v, &[0.0, -0.1]),
     ("half_track", |p, v| p.half_track = v, &[0.0, -0.2]),
@@ -23,7 +23,24 @@ const ROBOT_FIELDS: [(&str, Setter, &[f64]); 10] = [
     ("viscous_friction", |p, v| p.viscous_friction = v, &[-0.01]),
     ("coulomb_friction", |p, v| p.coulomb_friction = v, &[-0.01]),
     ("coulomb_speed", |p, v| p.coulomb_speed = v, &[0.0, -1.0]),
+    // Below the paper's coulomb_friction (0) nothing but a negative; the cross rule:
+    // static_friction_below_coulomb_is_rejected.
+    ("static_friction", |p, v| p.static_friction = v, &[-0.01]),
 ];
+
+/// Stiction's breakaway torque is at least the sliding friction (issue 42): 0 (off) or
+/// >= coulomb_friction.
+#[test]
+fn static_friction_below_coulomb_is_rejected() {
+    let p = RobotParams { coulomb_friction: 0.1, static_friction: 0.09, ..RobotParams::<f64>::paper() };
+    let err = p.validate().unwrap_err();
+    assert_eq!(err.field, "static_friction");
+    assert!(err.to_string().contains("coulomb_friction"), "{err}");
+    for ok in [0.0, 0.1, 0.2] {
+        let p = RobotParams { coulomb_friction: 0.1, static_friction: ok, ..RobotParams::<f64>::paper() };
+        assert_eq!(p.validate().map(|r| r.has_stiction()), Ok(ok > 0.1), "static_friction = {ok}");
+    }
+}
 
 #[test]
 fn every_robot_field_rejects_nan_infinity_and_out_of_range_values() {

@@ -223,6 +223,8 @@ typedef struct {
   float coulomb_friction;
   // omega_eps: Coulomb friction is tau_c * tanh(omega_wheel / omega_eps), rad/s (> 0).
   float coulomb_speed;
+  // tau_s, stiction: the breakaway torque at each wheel; a wheel at rest stays so while the torque holding it is below (0: off, equal to coulomb_friction), N m (0 (off) or >= coulomb_friction).
+  float static_friction;
 } wmr_robot_params_f32;
 
 // A validated robot (f32): parameters and the reduced inertia matrix.
@@ -684,6 +686,8 @@ typedef struct {
   double coulomb_friction;
   // omega_eps: Coulomb friction is tau_c * tanh(omega_wheel / omega_eps), rad/s (> 0).
   double coulomb_speed;
+  // tau_s, stiction: the breakaway torque at each wheel; a wheel at rest stays so while the torque holding it is below (0: off, equal to coulomb_friction), N m (0 (off) or >= coulomb_friction).
+  double static_friction;
 } wmr_robot_params_f64;
 
 // A validated robot (f64): parameters and the reduced inertia matrix.

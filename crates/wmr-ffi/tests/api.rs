@@ -41,7 +41,7 @@ fn any_value() -> impl Strategy<Value = f64> {
 }
 
 fn robot_params() -> impl Strategy<Value = RobotParams<f64>> {
-    (prop::array::uniform10(any_value()), prop::array::uniform10(any::<bool>())).prop_map(|(v, keep)| {
+    (prop::array::uniform11(any_value()), prop::array::uniform11(any::<bool>())).prop_map(|(v, keep)| {
         let p = RobotParams::<f64>::paper();
         let pick = |i: usize, d: f64| if keep[i] { d } else { v[i] };
         RobotParams {
@@ -55,6 +55,7 @@ fn robot_params() -> impl Strategy<Value = RobotParams<f64>> {
             viscous_friction: pick(7, p.viscous_friction),
             coulomb_friction: pick(8, p.coulomb_friction),
             coulomb_speed: pick(9, p.coulomb_speed),
+            static_friction: pick(10, p.static_friction),
         }
     })
 }
@@ -71,6 +72,7 @@ fn c_robot(p: &RobotParams<f64>) -> wmr_robot_params<f64> {
         viscous_friction: p.viscous_friction,
         coulomb_friction: p.coulomb_friction,
         coulomb_speed: p.coulomb_speed,
+        static_friction: p.static_friction,
     }
 }
 

@@ -21,14 +21,15 @@ pub const STATE_NAMES: [&str; STATE_LEN] = ["x", "y", "theta", "v", "omega", "ph
 /// Robot(**params), params being the scenario's `[robot]` keys: mass=5.0,
 /// wheel_radius=0.1, half_track=0.2, com_offset=0.25, wheel_inertia=0.002,
 /// platform_inertia=0.005, gear_ratio=0.1, viscous_friction=0.0, coulomb_friction=0.0,
-/// coulomb_speed=1e-3.
+/// coulomb_speed=1e-3, static_friction=0.0.
 ///
 /// Every keyword is optional and defaults to the paper's robot: mass m (kg), wheel
 /// radius r (m), half track R (m, axle midpoint C to each wheel), com_offset d (m, C
 /// forward to the centre of mass G), wheel_inertia I_m (kg m^2, one wheel plus rotor),
 /// platform_inertia I_p (kg m^2, about G), gear_ratio k_t (wheel speed = k_t * motor
 /// speed), viscous_friction b_v (N m s), coulomb_friction tau_c (N m) smoothed by
-/// tanh(omega / coulomb_speed) (rad/s).
+/// tanh(omega / coulomb_speed) (rad/s), static_friction tau_s (N m, stiction's breakaway
+/// torque, 0: off).
 ///
 /// The state is the 7-vector [x, y, theta, v, omega, phi_r, phi_l]: point C (m, world
 /// frame), heading (rad), forward speed of C (m/s), yaw rate (rad/s), wheel angles (rad).
@@ -323,6 +324,12 @@ impl PyRobot {
     fn coulomb_speed(&self) -> f64 {
         self.inner.params().coulomb_speed
     }
+    /// tau_s, N m: stiction's breakaway torque at each wheel (0: off); the plant's step
+    /// holds a wheel at rest below it (`derivative` and `step` are (15) without it).
+    #[getter]
+    fn static_friction(&self) -> f64 {
+        self.inner.params().static_friction
+    }
 
     /// The parameters as a dict with the scenario's `[robot]` keys (SI units).
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
@@ -351,7 +358,7 @@ impl PyRobot {
 }
 
 /// The `[robot]` keys and values.
-pub fn robot_items(p: &RobotParams<f64>) -> [(&'static str, f64); 10] {
+pub fn robot_items(p: &RobotParams<f64>) -> [(&'static str, f64); 11] {
     [
         ("mass", p.mass),
         ("wheel_radius", p.wheel_radius),
@@ -363,5 +370,6 @@ pub fn robot_items(p: &RobotParams<f64>) -> [(&'static str, f64); 10] {
         ("viscous_friction", p.viscous_friction),
         ("coulomb_friction", p.coulomb_friction),
         ("coulomb_speed", p.coulomb_speed),
+        ("static_friction", p.static_friction),
     ]
 }

@@ -27,6 +27,17 @@ def test_robot_defaults_and_properties() -> None:
     assert wmr_py.Robot(**p) == robot
 
 
+def test_static_friction_is_a_robot_key() -> None:
+    """Issue 42: stiction's breakaway torque, 0 (off) by default, >= coulomb_friction."""
+    assert wmr_py.Robot().static_friction == 0.0
+    robot = wmr_py.Robot(coulomb_friction=0.1, coulomb_speed=0.01, static_friction=0.2)
+    assert robot.static_friction == 0.2 and robot.to_dict()["static_friction"] == 0.2
+    assert wmr_py.Robot(**robot.to_dict()) == robot
+    with pytest.raises(wmr_py.ScenarioError) as e:
+        wmr_py.Robot(coulomb_friction=0.1, coulomb_speed=0.01, static_friction=0.05)
+    assert e.value.key == "robot.static_friction"
+
+
 def test_derivative_matches_equations_of_motion() -> None:
     """The dynamics (15) of docs/model.md, written out in numpy, at a generic state with friction."""
     robot = wmr_py.Robot(viscous_friction=0.05, coulomb_friction=0.02, coulomb_speed=0.5)

@@ -9,7 +9,8 @@
 //! controllers see the true state: runs with a real
 //! sensor (rate, latency, noise, encoders) take the exact path, as do runs whose values
 //! `vary` draws one by one (each has its own plant), runs whose wheels slip (the
-//! lanes step the rolling plant only; `wmr-cli sweep --fast` says so) and the runs of a
+//! lanes step the rolling plant only; `wmr-cli sweep --fast` says so), runs with stiction
+//! (`robot.static_friction`: its stick/slip switch is per run) and the runs of a
 //! sweep over references (the lanes follow a fixed goal; [`SweepSpec::fast_refusal`] says so).
 //!
 //! Not bit-identical to [`SweepSpec::run`]: the lanes' sin and cos are not `libm`'s, and
@@ -102,7 +103,7 @@ impl SweepSpec {
         let mut drawn = None;
         let exact = kernel == Kernel::Exact || self.tracking.is_some() || self.variation.has_draws() || {
             let setup = self.setup_of(sim, first, &mut drawn)?;
-            !setup.sensor_is_perfect() || setup.slips()
+            !setup.sensor_is_perfect() || setup.slips() || setup.robot.has_stiction()
         };
         if !exact {
             return self.run_lanes(sim, kernel, first..end, done, stop);
@@ -190,7 +191,11 @@ impl Scenario {
         let kernel = Kernel::detect()?;
         let task = |t: usize| -> Result<Option<Vec<Outcome<f64>>>, ScenarioError> {
             let (first, end) = tasks[t];
-            if kernel == Kernel::Exact || !self.setup().sensor_is_perfect() || self.setup().slips() {
+            if kernel == Kernel::Exact
+                || !self.setup().sensor_is_perfect()
+                || self.setup().slips()
+                || self.setup().robot.has_stiction()
+            {
                 return one_by_one(first..end, done, stop, |i, poll| {
                     Ok(match self.try_run_as(i, i as u64 + stream_offset, |_| ControlFlow::Continue(()), poll)? {
                         ControlFlow::Continue(r) => ControlFlow::Continue(r.outcome),

@@ -23,6 +23,8 @@ fn bad_real_world_keys_are_named() {
         ("[controller.model]\nwheel_radius = -0.1\n", "controller.model.wheel_radius"),
         ("[controller.model]\nwheel_size = 0.1\n", "controller.model.wheel_size"),
         ("[robot]\ncoulomb_friction = 0.1\n", "robot.coulomb_speed"),
+        ("[robot]\ncoulomb_friction = 0.05\ncoulomb_speed = 0.1\nstatic_friction = 0.04\n", "robot.static_friction"),
+        ("[robot]\nstatic_friction = -0.1\n", "robot.static_friction"),
     ];
     for (table, key) in cases {
         let text = format!("{table}{RUN}");
