@@ -79,7 +79,7 @@ fn issue_44_a_ros2_mcap_fits_as_its_csv_does() {
 fn joint_state(ns: u64, names: &[&str], position: &[f64], velocity: &[f64], effort: &[f64]) -> Vec<u8> {
     let mut b = vec![0u8, 1, 0, 0];
     let align = |b: &mut Vec<u8>, n: usize| {
-        while (b.len() - 4) % n != 0 {
+        while !(b.len() - 4).is_multiple_of(n) {
             b.push(0);
         }
     };
