@@ -97,11 +97,102 @@ fn bad(e: IdentifyError) -> anyhow::Error {
     bad_input(e.to_string())
 }
 
-/// Reads the CSV at `path` into a table.
-pub fn read_table(path: &Path) -> Result<Table> {
-    let file = std::fs::File::open(path).map_err(|e| bad_input(format!("{}: {e}", wmr_scenario::shown(path))))?;
+/// The first bytes of every MCAP file.
+const MCAP_MAGIC: &[u8; 8] = b"\x89MCAP0\r\n";
+
+/// Whether `path` is an MCAP log: a `.mcap` name, or a file starting with the MCAP magic.
+fn is_mcap(path: &Path) -> bool {
+    if path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("mcap")) {
+        return true;
+    }
+    let mut head = [0u8; 8];
+    std::fs::File::open(path).and_then(|mut f| std::io::Read::read_exact(&mut f, &mut head)).is_ok()
+        && &head == MCAP_MAGIC
+}
+
+/// Reads the log at `path` into a table: a CSV, or a ROS 2 MCAP (`.mcap`, or any file
+/// starting with the MCAP magic) through [`crate::ros2::log::read_log`] ([`mcap_table`]);
+/// `namespace` (`/run1`) picks one robot of an MCAP of several.
+pub fn read_table(path: &Path, namespace: Option<&str>, kind: CommandKind) -> Result<Table> {
+    let shown = wmr_scenario::shown(path);
+    if is_mcap(path) {
+        let bytes = std::fs::read(path).map_err(|e| bad_input(format!("{shown}: cannot read it: {e}")))?;
+        crate::atomic::register_input(path);
+        let log = crate::ros2::log::read_log(&bytes, namespace).map_err(|e| bad_input(format!("{shown}: {e}")))?;
+        return mcap_table(&log, kind).map_err(|e| bad_input(format!("{shown}: {e}")));
+    }
+    if namespace.is_some() {
+        return Err(bad_input(format!("--namespace: {shown} is a CSV; the flag picks a robot of a ROS 2 MCAP")));
+    }
+    let file = std::fs::File::open(path).map_err(|e| bad_input(format!("{shown}: {e}")))?;
     crate::atomic::register_input(path);
-    Table::read_csv(std::io::BufReader::new(file)).map_err(|e| bad_input(format!("{}: {e}", wmr_scenario::shown(path))))
+    Table::read_csv(std::io::BufReader::new(file)).map_err(|e| bad_input(format!("{shown}: {e}")))
+}
+
+/// A ROS 2 log as the table a wmr run's CSV gives: a row per `/joint_states` message, `t`
+/// (s since its first stamp, so that an epoch's 1.7e9 s costs no precision), `tau_r,
+/// tau_l` from `effort` (N m), `phi_r, phi_l` from `position` (rad) and `omega_r, omega_l`
+/// from `velocity` (rad/s) where every message has them, and `x, y, theta` from the latest
+/// `/odom` at or before each row when there is one before the first row (the robot's own
+/// pose estimate: `--profile ros2` logs the measured pose there).
+pub fn mcap_table(log: &crate::ros2::log::Ros2Log, kind: CommandKind) -> Result<Table, String> {
+    if kind == CommandKind::Voltage {
+        return Err("per-wheel voltage is not in a ROS 2 log (sensor_msgs/msg/JointState has position, velocity and effort): \
+             a ROS 2 MCAP takes a torque drive (its effort, N m: identify --drive torque, a replay robot of [drive] kind = \"torque\"); give voltages as a CSV with u_r, u_l"
+            .to_owned());
+    }
+    let js = &log.joint_states;
+    let Some(first) = js.first() else {
+        return Err("no /joint_states messages (sensor_msgs/msg/JointState): the wheels' efforts and positions or velocities are needed".to_owned());
+    };
+    let t0 = first.t_ns;
+    let t: Vec<f64> = js.iter().map(|m| (m.t_ns - t0) as f64 / 1e9).collect();
+    let at = |i: usize| t[i];
+    if let Some(i) = js.iter().position(|m| !m.tau.iter().all(|v| v.is_finite())) {
+        return Err(format!(
+            "/joint_states: no effort (the wheel torques, N m) for both wheels in the message at t = {} s (stamp {} ns)",
+            at(i),
+            js[i].t_ns
+        ));
+    }
+    let all = |f: fn(&crate::ros2::log::WheelStates) -> [f64; 2]| js.iter().all(|m| f(m).iter().all(|v| v.is_finite()));
+    let has_phi = all(|m| m.phi);
+    let has_omega = all(|m| m.omega);
+    if !has_phi && !has_omega {
+        return Err("/joint_states: neither position nor velocity for both wheels in every message".to_owned());
+    }
+    let col = |f: &dyn Fn(&crate::ros2::log::WheelStates) -> f64| js.iter().map(f).collect::<Vec<f64>>();
+    let mut table = Table::new();
+    let e = |e: IdentifyError| e.to_string();
+    table.push("t", t.clone()).map_err(e)?;
+    table.push("tau_r", col(&|m| m.tau[0])).map_err(e)?;
+    table.push("tau_l", col(&|m| m.tau[1])).map_err(e)?;
+    if has_phi {
+        table.push("phi_r", col(&|m| m.phi[0])).map_err(e)?;
+        table.push("phi_l", col(&|m| m.phi[1])).map_err(e)?;
+    }
+    if has_omega {
+        table.push("omega_r", col(&|m| m.omega[0])).map_err(e)?;
+        table.push("omega_l", col(&|m| m.omega[1])).map_err(e)?;
+    }
+    let odom = &log.odom;
+    if odom.first().is_some_and(|o| o.t_ns <= t0) {
+        let mut k = 0usize;
+        let mut pose = [Vec::new(), Vec::new(), Vec::new()];
+        for m in js {
+            while k + 1 < odom.len() && odom[k + 1].t_ns <= m.t_ns {
+                k += 1;
+            }
+            pose[0].push(odom[k].x);
+            pose[1].push(odom[k].y);
+            pose[2].push(odom[k].theta);
+        }
+        let [x, y, theta] = pose;
+        table.push("x", x).map_err(e)?;
+        table.push("y", y).map_err(e)?;
+        table.push("theta", theta).map_err(e)?;
+    }
+    Ok(table)
 }
 
 /// `--hold key[=value],...`: the parameters held, with the values given.
@@ -135,10 +226,11 @@ pub fn identify(
     drive: DriveKind,
     robot_path: Option<&Path>,
     hold: Option<&[String]>,
+    namespace: Option<&str>,
     access: &wmr_scenario::FileAccess,
 ) -> Result<()> {
     let base = base(robot_path, access)?;
-    let table = read_table(log_path)?;
+    let table = read_table(log_path, namespace, drive.command())?;
     // OUT must not be an input (checked before the fit, so a refusal costs nothing).
     crate::atomic::target_of(output)?;
     let shown = wmr_scenario::shown(log_path);
@@ -349,12 +441,18 @@ pub fn excite(
 
 /// `wmr-cli replay LOG --robot ROBOT`: each run of the log from its first sample, open
 /// loop on its commands; the errors against the logged wheel speeds and poses.
-pub fn replay(log_path: &Path, robot_path: &Path, horizon_s: f64, access: &wmr_scenario::FileAccess) -> Result<()> {
+pub fn replay(
+    log_path: &Path,
+    robot_path: &Path,
+    horizon_s: f64,
+    namespace: Option<&str>,
+    access: &wmr_scenario::FileAccess,
+) -> Result<()> {
     let base = base(Some(robot_path), access)?;
     let robot: Robot<f64> = base.robot.validate().map_err(|e| bad_input(format!("{}: {e}", base.source)))?;
     let drive = base.drive.validate(&robot).map_err(|e| bad_input(format!("{}: {e}", base.source)))?;
     let kind = if matches!(drive, Drive::DcMotor(_)) { CommandKind::Voltage } else { CommandKind::Torque };
-    let table = read_table(log_path)?;
+    let table = read_table(log_path, namespace, kind)?;
     let shown = wmr_scenario::shown(log_path);
     let log = Log::from_table(&table, &ColumnNames::default(), kind).map_err(|e| bad_input(format!("{shown}: {e}")))?;
     let report =

@@ -171,7 +171,8 @@ enum Command {
     /// its standard error; refuses a parameter the log does not determine, naming it.
     Identify {
         /// The log: a wmr run's CSV, or a CSV with the columns t, tau_r, tau_l (or u_r, u_l
-        /// with --drive dc_motor), phi_r, phi_l (or omega_r, omega_l), optionally run, x, y, theta.
+        /// with --drive dc_motor), phi_r, phi_l (or omega_r, omega_l), optionally run, x, y, theta;
+        /// or a ROS 2 MCAP (.mcap): /joint_states effort, position or velocity, and /odom.
         log: PathBuf,
         #[command(flatten)]
         files: Files,
@@ -190,6 +191,10 @@ enum Command {
         /// viscous_friction, armature_resistance).
         #[arg(long, value_name = "KEYS", num_args = 1)]
         hold: Option<Vec<String>>,
+        /// With a ROS 2 MCAP log: the robot's namespace in a file of several (`/run1` reads
+        /// /run1/joint_states, ...), as for `log2csv`.
+        #[arg(long, value_name = "NS")]
+        namespace: Option<String>,
     },
     /// Write the command profiles to play on a robot for `identify` (SysId's quasistatic
     /// ramps and dynamic steps; straight, turning and arcs) as CSV, with the room each needs.
@@ -235,6 +240,10 @@ enum Command {
         /// smallest error): a short horizon measures the model instead (docs/identify.md).
         #[arg(long, value_name = "S", default_value_t = 0.0)]
         horizon: f64,
+        /// With a ROS 2 MCAP log: the robot's namespace in a file of several (`/run1` reads
+        /// /run1/joint_states, ...), as for `log2csv`.
+        #[arg(long, value_name = "NS")]
+        namespace: Option<String>,
     },
     /// Print this help, a subcommand's (`help run`), or the scenario file's keys with their
     /// units, defaults and rules (`help keys`, or one table: `help keys robot`).
@@ -366,9 +375,15 @@ fn run(cli: Cli) -> Result<()> {
             }
         }
         Command::Help { topic, table } => help(topic.as_deref(), table.as_deref()),
-        Command::Identify { log, files, output, drive, robot, hold } => {
-            identify_cmd::identify(&log, &output, drive, robot.as_deref(), hold.as_deref(), &files.access()?)
-        }
+        Command::Identify { log, files, output, drive, robot, hold, namespace } => identify_cmd::identify(
+            &log,
+            &output,
+            drive,
+            robot.as_deref(),
+            hold.as_deref(),
+            namespace.as_deref(),
+            &files.access()?,
+        ),
         Command::Excite { output, files, robot, command_max, log, encoder_noise, jitter, seed } => {
             identify_cmd::excite(
                 &output,
@@ -381,7 +396,9 @@ fn run(cli: Cli) -> Result<()> {
                 &files.access()?,
             )
         }
-        Command::Replay { log, files, robot, horizon } => identify_cmd::replay(&log, &robot, horizon, &files.access()?),
+        Command::Replay { log, files, robot, horizon, namespace } => {
+            identify_cmd::replay(&log, &robot, horizon, namespace.as_deref(), &files.access()?)
+        }
         Command::Trace { file, files, output, run, format } => {
             let scenario = load(&file, &files)?;
             let t = trace_cmd::trace(&scenario, run, &output, format)?;
