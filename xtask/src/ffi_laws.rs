@@ -34,7 +34,8 @@ fn c_params_line(law: &LawRow) -> String {
         )
     } else {
         let enums: Vec<String> =
-            law.fields.iter().filter(|f| f.ty != "T").map(|f| format!("{}: wmr_core::{}", f.name, f.ty)).collect();
+            // A `u32` key (a count, a seed) is a plain number, valid for any bits: no check.
+            law.fields.iter().filter(|f| f.ty != "T" && f.ty != "u32").map(|f| format!("{}: wmr_core::{}", f.name, f.ty)).collect();
         format!("    alias {} {{ {} }};\n", law.params, enums.join(", "))
     }
 }
@@ -65,7 +66,7 @@ pub fn generate() -> Generated {
             }
             let _ = writeln!(s, "}}");
         } else {
-            for f in law.fields.iter().filter(|f| f.ty != "T") {
+            for f in law.fields.iter().filter(|f| f.ty != "T" && f.ty != "u32") {
                 let _ = writeln!(
                     s,
                     "/// `{}` is a `uint32_t` in C (a `WMR_*` constant of `{}`): a value that is not one is refused by `*_init`.",

@@ -96,6 +96,16 @@ fn config_of(scenario: &Scenario, run: usize) -> Result<ConfigOf<f64>, ScenarioE
     })?;
     let setup = scenario.setup();
     let c = &setup.controller;
+    if !c.law.traced() {
+        return Err(ScenarioError::new(
+            "controller.kind",
+            format!(
+                "{} is not traced: its {} keys do not fit the trace's 16 law words (the firmware does not replay it)",
+                c.law.kind(),
+                c.law.fields().len()
+            ),
+        ));
+    }
     let dt = scenario.sim().dt();
     // The scenario checked that control_dt is a whole multiple of dt.
     let steps_per_tick = (c.control_dt / dt).round() as u32;

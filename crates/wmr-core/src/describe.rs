@@ -55,6 +55,15 @@ impl Word for bool {
     }
 }
 
+impl Word for u32 {
+    fn to_word(self) -> u32 {
+        self
+    }
+    fn from_word(w: u32) -> Option<Self> {
+        Some(w)
+    }
+}
+
 /// [`Word`] for a `#[repr(u32)]` enum without data: its discriminants are its words.
 #[macro_export]
 #[doc(hidden)]

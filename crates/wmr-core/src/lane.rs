@@ -119,6 +119,13 @@ pub trait Lane:
     fn powf(self, y: Self) -> Self;
     /// Finite per lane (not NaN, not infinite).
     fn is_finite(self) -> Self::Mask;
+    /// How many runs side by side: 1 for a [`Real`], N for [`Lanes`]`<N>`.
+    const WIDTH: usize;
+    /// Lane `i` (< [`Lane::WIDTH`]) alone: for a law that runs each lane's run by itself
+    /// (MPPI, [`crate::controller::mppi`]).
+    fn lane(self, i: usize) -> Self::Scalar;
+    /// Sets lane `i` (< [`Lane::WIDTH`]) to `x`, the other lanes kept.
+    fn set_lane(&mut self, i: usize, x: Self::Scalar);
 }
 
 impl<T: Real> Lane for T {
@@ -196,6 +203,15 @@ impl<T: Real> Lane for T {
     #[inline(always)]
     fn is_finite(self) -> bool {
         num_traits::Float::is_finite(self)
+    }
+    const WIDTH: usize = 1;
+    #[inline(always)]
+    fn lane(self, _i: usize) -> T {
+        self
+    }
+    #[inline(always)]
+    fn set_lane(&mut self, _i: usize, x: T) {
+        *self = x;
     }
 }
 
@@ -496,6 +512,16 @@ const FACTORIALS: [f64; 13] =
 impl<const N: usize> Lane for Lanes<N> {
     type Scalar = f64;
     type Mask = LaneMask<N>;
+    const WIDTH: usize = N;
+
+    #[inline(always)]
+    fn lane(self, i: usize) -> f64 {
+        self.0[i]
+    }
+    #[inline(always)]
+    fn set_lane(&mut self, i: usize, x: f64) {
+        self.0[i] = x;
+    }
 
     #[inline(always)]
     fn splat(x: f64) -> Self {

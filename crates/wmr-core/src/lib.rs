@@ -78,7 +78,7 @@ pub use clock::StepClock;
 pub use closed_loop::{ClosedLoop, Diverged, Tick};
 pub use controller::{
     AntiWindup, AnyLaw, ControlErrors, ControlOutput, Controller, ControllerParams, Follows, HoldMode, Law, LawParams,
-    LawSpec, PaperMode, ServoGains, WheelDemand, WheelStage, WheelStageParams,
+    LawSpec, MotionModel, PaperMode, ServoGains, WheelDemand, WheelStage, WheelStageParams,
 };
 /// Each law's keys and law at the root (`wmr_core::KanayamaParams`), from the registry.
 macro_rules! root_law_exports {

@@ -33,6 +33,8 @@ pub trait Real: Float + FloatConst + Debug + Display + Default + Send + Sync + '
     fn tanh_libm(self) -> Self;
     /// self^y.
     fn powf_libm(self, y: Self) -> Self;
+    /// e^self (MPPI's softmax weights).
+    fn exp_libm(self) -> Self;
 }
 
 impl Real for f32 {
@@ -59,6 +61,10 @@ impl Real for f32 {
     #[inline(always)]
     fn powf_libm(self, y: Self) -> Self {
         libm::powf(self, y)
+    }
+    #[inline(always)]
+    fn exp_libm(self) -> Self {
+        libm::expf(self)
     }
     #[inline(always)]
     fn lit(x: f64) -> Self {
@@ -94,6 +100,10 @@ impl Real for f64 {
     #[inline(always)]
     fn powf_libm(self, y: Self) -> Self {
         libm::pow(self, y)
+    }
+    #[inline(always)]
+    fn exp_libm(self) -> Self {
+        libm::exp(self)
     }
     #[inline(always)]
     fn lit(x: f64) -> Self {

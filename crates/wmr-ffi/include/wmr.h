@@ -68,6 +68,10 @@
 // the wheels saturate.
 #define WMR_ANTI_WINDUP_CONDITIONAL 1
 
+// `wmr_mppi_params_*.motion_model`: nav2's DiffDrive, the sampled twists within the
+// acceleration limits.
+#define WMR_MOTION_MODEL_KINEMATIC 0
+
 // Words (8 bytes each) of a validated robot, `wmr_robot_f32`.
 #define WMR_ROBOT_F32_WORDS 12
 
@@ -134,6 +138,12 @@
 
 // Words (8 bytes each) of `wmr_graceful_controller_f64`: the law `graceful` with its wheel stage.
 #define WMR_GRACEFUL_CONTROLLER_F64_WORDS 72
+
+// Words (8 bytes each) of `wmr_mppi_controller_f32`: the law `mppi` with its wheel stage.
+#define WMR_MPPI_CONTROLLER_F32_WORDS 112
+
+// Words (8 bytes each) of `wmr_mppi_controller_f64`: the law `mppi` with its wheel stage.
+#define WMR_MPPI_CONTROLLER_F64_WORDS 216
 
 // Words (8 bytes each) of `wmr_kanayama_controller_f32`: the law `kanayama` with its wheel stage.
 #define WMR_KANAYAMA_CONTROLLER_F32_WORDS 32
@@ -384,6 +394,68 @@ typedef struct {
   // Within this distance of the goal the law stops; it resumes beyond twice that. Unit: m; valid: >= 0.
   float goal_radius;
 } wmr_graceful_params_f32;
+
+// Model predictive path integral control (nav2's MPPI): sampled twist sequences rolled out on a model, averaged by the softmax of their critics' costs (`[controller] kind = "mppi"`).
+typedef struct {
+  // The model the rollouts predict with: "kinematic" (nav2's DiffDrive) (`WMR_MOTION_MODEL_KINEMATIC`).
+  uint32_t motion_model;
+  // Samples (rollouts) per iteration (>= 1).
+  uint32_t batch_size;
+  // Steps of a rollout (the horizon is time_steps * model_dt) (>= 2, <= 64).
+  uint32_t time_steps;
+  // Step of the rollouts and period of the planning (nav2: the controller period), s (a whole multiple of control_dt).
+  float model_dt;
+  // Sample-and-update iterations per cycle (>= 1).
+  uint32_t iteration_count;
+  // Softmax temperature: lower follows the best samples more closely (> 0).
+  float temperature;
+  // Weight of the control cost gamma / std^2 sum (u_sampled - u) u (>= 0).
+  float gamma;
+  // Standard deviation of the sampled forward speed, m/s (>= 0).
+  float vx_std;
+  // Standard deviation of the sampled yaw rate, rad/s (>= 0).
+  float wz_std;
+  // Highest forward speed, m/s (>= vx_min).
+  float vx_max;
+  // Lowest forward speed (negative: reversing allowed), m/s (finite).
+  float vx_min;
+  // Highest yaw rate magnitude, rad/s (>= 0).
+  float wz_max;
+  // Highest acceleration away from rest, m/s^2 (> 0).
+  float ax_max;
+  // Highest deceleration towards rest, negative, m/s^2 (< 0).
+  float ax_min;
+  // Highest yaw acceleration magnitude, rad/s^2 (> 0).
+  float az_max;
+  // Seed of the sampling noise: the noise is a function of (seed, cycle, sample, step) (whole number).
+  uint32_t seed;
+  // goal critic: weight of the mean distance of a rollout to the goal, 1/m (>= 0).
+  float goal_cost_weight;
+  // goal critic: power of its cost (>= 1).
+  uint32_t goal_cost_power;
+  // goal critic: on only within this distance of the goal, m (>= 0).
+  float goal_threshold_to_consider;
+  // goal_angle critic: weight of the mean heading error of a rollout to the goal's heading, 1/rad (>= 0).
+  float goal_angle_cost_weight;
+  // goal_angle critic: power of its cost (>= 1).
+  uint32_t goal_angle_cost_power;
+  // goal_angle critic: on only within this distance of the goal, m (>= 0).
+  float goal_angle_threshold_to_consider;
+  // constraint critic: weight of the distance driven beyond vx_max or vx_min, 1/m (>= 0).
+  float constraint_cost_weight;
+  // constraint critic: power of its cost (>= 1).
+  uint32_t constraint_cost_power;
+  // prefer_forward critic: weight of the distance driven backwards, 1/m (>= 0).
+  float prefer_forward_cost_weight;
+  // prefer_forward critic: power of its cost (>= 1).
+  uint32_t prefer_forward_cost_power;
+  // prefer_forward critic: on only beyond this distance of the goal, m (>= 0).
+  float prefer_forward_threshold_to_consider;
+  // twirling critic: weight of the mean yaw rate magnitude (0: off), s/rad (>= 0).
+  float twirling_cost_weight;
+  // twirling critic: power of its cost (>= 1).
+  uint32_t twirling_cost_power;
+} wmr_mppi_params_f32;
 
 // Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)) (`[controller] kind = "kanayama"`).
 typedef struct {
@@ -646,6 +718,12 @@ typedef struct {
   uint64_t opaque[WMR_GRACEFUL_CONTROLLER_F32_WORDS];
 } wmr_graceful_controller_f32;
 
+// The law `mppi` with its wheel stage (f32): Model predictive path integral control (nav2's MPPI): sampled twist sequences rolled out on a model, averaged by the softmax of their critics' costs.
+typedef struct {
+  // Opaque: only the library reads or writes it.
+  uint64_t opaque[WMR_MPPI_CONTROLLER_F32_WORDS];
+} wmr_mppi_controller_f32;
+
 // The law `kanayama` with its wheel stage (f32): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)).
 typedef struct {
   // Opaque: only the library reads or writes it.
@@ -834,6 +912,68 @@ typedef struct {
   // Within this distance of the goal the law stops; it resumes beyond twice that. Unit: m; valid: >= 0.
   double goal_radius;
 } wmr_graceful_params_f64;
+
+// Model predictive path integral control (nav2's MPPI): sampled twist sequences rolled out on a model, averaged by the softmax of their critics' costs (`[controller] kind = "mppi"`).
+typedef struct {
+  // The model the rollouts predict with: "kinematic" (nav2's DiffDrive) (`WMR_MOTION_MODEL_KINEMATIC`).
+  uint32_t motion_model;
+  // Samples (rollouts) per iteration (>= 1).
+  uint32_t batch_size;
+  // Steps of a rollout (the horizon is time_steps * model_dt) (>= 2, <= 64).
+  uint32_t time_steps;
+  // Step of the rollouts and period of the planning (nav2: the controller period), s (a whole multiple of control_dt).
+  double model_dt;
+  // Sample-and-update iterations per cycle (>= 1).
+  uint32_t iteration_count;
+  // Softmax temperature: lower follows the best samples more closely (> 0).
+  double temperature;
+  // Weight of the control cost gamma / std^2 sum (u_sampled - u) u (>= 0).
+  double gamma;
+  // Standard deviation of the sampled forward speed, m/s (>= 0).
+  double vx_std;
+  // Standard deviation of the sampled yaw rate, rad/s (>= 0).
+  double wz_std;
+  // Highest forward speed, m/s (>= vx_min).
+  double vx_max;
+  // Lowest forward speed (negative: reversing allowed), m/s (finite).
+  double vx_min;
+  // Highest yaw rate magnitude, rad/s (>= 0).
+  double wz_max;
+  // Highest acceleration away from rest, m/s^2 (> 0).
+  double ax_max;
+  // Highest deceleration towards rest, negative, m/s^2 (< 0).
+  double ax_min;
+  // Highest yaw acceleration magnitude, rad/s^2 (> 0).
+  double az_max;
+  // Seed of the sampling noise: the noise is a function of (seed, cycle, sample, step) (whole number).
+  uint32_t seed;
+  // goal critic: weight of the mean distance of a rollout to the goal, 1/m (>= 0).
+  double goal_cost_weight;
+  // goal critic: power of its cost (>= 1).
+  uint32_t goal_cost_power;
+  // goal critic: on only within this distance of the goal, m (>= 0).
+  double goal_threshold_to_consider;
+  // goal_angle critic: weight of the mean heading error of a rollout to the goal's heading, 1/rad (>= 0).
+  double goal_angle_cost_weight;
+  // goal_angle critic: power of its cost (>= 1).
+  uint32_t goal_angle_cost_power;
+  // goal_angle critic: on only within this distance of the goal, m (>= 0).
+  double goal_angle_threshold_to_consider;
+  // constraint critic: weight of the distance driven beyond vx_max or vx_min, 1/m (>= 0).
+  double constraint_cost_weight;
+  // constraint critic: power of its cost (>= 1).
+  uint32_t constraint_cost_power;
+  // prefer_forward critic: weight of the distance driven backwards, 1/m (>= 0).
+  double prefer_forward_cost_weight;
+  // prefer_forward critic: power of its cost (>= 1).
+  uint32_t prefer_forward_cost_power;
+  // prefer_forward critic: on only beyond this distance of the goal, m (>= 0).
+  double prefer_forward_threshold_to_consider;
+  // twirling critic: weight of the mean yaw rate magnitude (0: off), s/rad (>= 0).
+  double twirling_cost_weight;
+  // twirling critic: power of its cost (>= 1).
+  uint32_t twirling_cost_power;
+} wmr_mppi_params_f64;
 
 // Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)) (`[controller] kind = "kanayama"`).
 typedef struct {
@@ -1094,6 +1234,12 @@ typedef struct {
   uint64_t opaque[WMR_GRACEFUL_CONTROLLER_F64_WORDS];
 } wmr_graceful_controller_f64;
 
+// The law `mppi` with its wheel stage (f64): Model predictive path integral control (nav2's MPPI): sampled twist sequences rolled out on a model, averaged by the softmax of their critics' costs.
+typedef struct {
+  // Opaque: only the library reads or writes it.
+  uint64_t opaque[WMR_MPPI_CONTROLLER_F64_WORDS];
+} wmr_mppi_controller_f64;
+
 // The law `kanayama` with its wheel stage (f64): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)).
 typedef struct {
   // Opaque: only the library reads or writes it.
@@ -1168,6 +1314,10 @@ wmr_status wmr_lyapunov_params_f32_default(wmr_lyapunov_params_f32 *out);
 // Fills `out` with the default keys of `[controller] kind = "graceful"`
 // (docs/scenario.md).
 wmr_status wmr_graceful_params_f32_default(wmr_graceful_params_f32 *out);
+
+// Fills `out` with the default keys of `[controller] kind = "mppi"`
+// (docs/scenario.md).
+wmr_status wmr_mppi_params_f32_default(wmr_mppi_params_f32 *out);
 
 // Fills `out` with the default keys of `[controller] kind = "kanayama"`
 // (docs/scenario.md).
@@ -1572,6 +1722,49 @@ wmr_status wmr_graceful_controller_f32_reset(wmr_graceful_controller_f32 *ctrl);
 wmr_status wmr_graceful_controller_f32_for_plant(wmr_graceful_controller_f32 *ctrl,
                                                  const wmr_plant_f32 *plant);
 
+// Model predictive path integral control (nav2's MPPI): sampled twist sequences rolled
+// out on a model, averaged by the softmax of their critics' costs. with its wheel
+// stage (see `wmr_paper_controller_f32_init`).
+wmr_status wmr_mppi_controller_f32_init(wmr_mppi_controller_f32 *out,
+                                        const wmr_mppi_params_f32 *params,
+                                        const wmr_wheel_stage_params_f32 *wheels,
+                                        const wmr_robot_f32 *model,
+                                        const wmr_drive_f32 *drive,
+                                        float control_dt,
+                                        wmr_error *err);
+
+// One control tick (see `wmr_paper_controller_f32_update`).
+wmr_status wmr_mppi_controller_f32_update(wmr_mppi_controller_f32 *ctrl,
+                                          float t,
+                                          const wmr_measurement_f32 *measurement,
+                                          wmr_pose_f32 goal,
+                                          wmr_control_output_f32 *out);
+
+// One control tick following a reference (see
+// `wmr_paper_controller_f32_update_reference`).
+wmr_status wmr_mppi_controller_f32_update_reference(wmr_mppi_controller_f32 *ctrl,
+                                                    float t,
+                                                    const wmr_measurement_f32 *measurement,
+                                                    const wmr_reference_state_f32 *reference,
+                                                    wmr_control_output_f32 *out,
+                                                    wmr_error *err);
+
+// One control tick following a reference object (see
+// `wmr_paper_controller_f32_update_on`).
+wmr_status wmr_mppi_controller_f32_update_on(wmr_mppi_controller_f32 *ctrl,
+                                             float t,
+                                             const wmr_measurement_f32 *measurement,
+                                             const wmr_reference_f32 *reference,
+                                             wmr_control_output_f32 *out,
+                                             wmr_error *err);
+
+// Clears the law's memories and the wheel servos, as at t = 0.
+wmr_status wmr_mppi_controller_f32_reset(wmr_mppi_controller_f32 *ctrl);
+
+// (see `wmr_paper_controller_f32_for_plant`)
+wmr_status wmr_mppi_controller_f32_for_plant(wmr_mppi_controller_f32 *ctrl,
+                                             const wmr_plant_f32 *plant);
+
 // Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega =
 // omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)). with its wheel stage
 // (see `wmr_paper_controller_f32_init`).
@@ -1743,6 +1936,10 @@ wmr_status wmr_lyapunov_params_f64_default(wmr_lyapunov_params_f64 *out);
 // Fills `out` with the default keys of `[controller] kind = "graceful"`
 // (docs/scenario.md).
 wmr_status wmr_graceful_params_f64_default(wmr_graceful_params_f64 *out);
+
+// Fills `out` with the default keys of `[controller] kind = "mppi"`
+// (docs/scenario.md).
+wmr_status wmr_mppi_params_f64_default(wmr_mppi_params_f64 *out);
 
 // Fills `out` with the default keys of `[controller] kind = "kanayama"`
 // (docs/scenario.md).
@@ -2146,6 +2343,49 @@ wmr_status wmr_graceful_controller_f64_reset(wmr_graceful_controller_f64 *ctrl);
 // (see `wmr_paper_controller_f64_for_plant`)
 wmr_status wmr_graceful_controller_f64_for_plant(wmr_graceful_controller_f64 *ctrl,
                                                  const wmr_plant_f64 *plant);
+
+// Model predictive path integral control (nav2's MPPI): sampled twist sequences rolled
+// out on a model, averaged by the softmax of their critics' costs. with its wheel
+// stage (see `wmr_paper_controller_f64_init`).
+wmr_status wmr_mppi_controller_f64_init(wmr_mppi_controller_f64 *out,
+                                        const wmr_mppi_params_f64 *params,
+                                        const wmr_wheel_stage_params_f64 *wheels,
+                                        const wmr_robot_f64 *model,
+                                        const wmr_drive_f64 *drive,
+                                        double control_dt,
+                                        wmr_error *err);
+
+// One control tick (see `wmr_paper_controller_f64_update`).
+wmr_status wmr_mppi_controller_f64_update(wmr_mppi_controller_f64 *ctrl,
+                                          double t,
+                                          const wmr_measurement_f64 *measurement,
+                                          wmr_pose_f64 goal,
+                                          wmr_control_output_f64 *out);
+
+// One control tick following a reference (see
+// `wmr_paper_controller_f64_update_reference`).
+wmr_status wmr_mppi_controller_f64_update_reference(wmr_mppi_controller_f64 *ctrl,
+                                                    double t,
+                                                    const wmr_measurement_f64 *measurement,
+                                                    const wmr_reference_state_f64 *reference,
+                                                    wmr_control_output_f64 *out,
+                                                    wmr_error *err);
+
+// One control tick following a reference object (see
+// `wmr_paper_controller_f64_update_on`).
+wmr_status wmr_mppi_controller_f64_update_on(wmr_mppi_controller_f64 *ctrl,
+                                             double t,
+                                             const wmr_measurement_f64 *measurement,
+                                             const wmr_reference_f64 *reference,
+                                             wmr_control_output_f64 *out,
+                                             wmr_error *err);
+
+// Clears the law's memories and the wheel servos, as at t = 0.
+wmr_status wmr_mppi_controller_f64_reset(wmr_mppi_controller_f64 *ctrl);
+
+// (see `wmr_paper_controller_f64_for_plant`)
+wmr_status wmr_mppi_controller_f64_for_plant(wmr_mppi_controller_f64 *ctrl,
+                                             const wmr_plant_f64 *plant);
 
 // Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega =
 // omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)). with its wheel stage

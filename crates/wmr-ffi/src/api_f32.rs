@@ -2,7 +2,7 @@
 // Do not edit: edit the registry or the law's file, then run `cargo xtask gen`.
 //! The f32 entry points (`api_f64.rs`: the same in f64).
 
-use crate::imp::{self, Paper, PaperBidirectional, Polar, Lyapunov, Graceful, Kanayama, Backstepping, PurePursuit};
+use crate::imp::{self, Paper, PaperBidirectional, Polar, Lyapunov, Graceful, Mppi, Kanayama, Backstepping, PurePursuit};
 use crate::*;
 
 /// Fills `out` with the paper's robot: m = 5 kg, r = 0.1 m, R = 0.2 m, d = 0.25 m,
@@ -93,6 +93,15 @@ pub unsafe extern "C" fn wmr_graceful_params_f32_default(
     out: *mut wmr_graceful_params<f32>,
 ) -> wmr_status {
     imp::law_params_default::<f32, Graceful>(out)
+}
+
+/// Fills `out` with the default keys of `[controller] kind = "mppi"`
+/// (docs/scenario.md).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_mppi_params_f32_default(
+    out: *mut wmr_mppi_params<f32>,
+) -> wmr_status {
+    imp::law_params_default::<f32, Mppi>(out)
 }
 
 /// Fills `out` with the default keys of `[controller] kind = "kanayama"`
@@ -743,6 +752,79 @@ pub unsafe extern "C" fn wmr_graceful_controller_f32_for_plant(
     plant: *const wmr_plant_f32,
 ) -> wmr_status {
     imp::controller_for_plant::<f32, Graceful>(ctrl, plant)
+}
+
+/// Model predictive path integral control (nav2's MPPI): sampled twist sequences rolled
+/// out on a model, averaged by the softmax of their critics' costs. with its wheel
+/// stage (see `wmr_paper_controller_f32_init`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_mppi_controller_f32_init(
+    out: *mut wmr_mppi_controller_f32,
+    params: *const wmr_mppi_params<f32>,
+    wheels: *const wmr_wheel_stage_params<f32>,
+    model: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    control_dt: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init::<f32, Mppi>(out, params, wheels, model, drive, control_dt, err)
+}
+
+/// One control tick (see `wmr_paper_controller_f32_update`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_mppi_controller_f32_update(
+    ctrl: *mut wmr_mppi_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    goal: wmr_pose<f32>,
+    out: *mut wmr_control_output<f32>,
+) -> wmr_status {
+    imp::controller_update::<f32, Mppi>(ctrl, t, measurement, goal, out)
+}
+
+/// One control tick following a reference (see
+/// `wmr_paper_controller_f32_update_reference`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_mppi_controller_f32_update_reference(
+    ctrl: *mut wmr_mppi_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    reference: *const wmr_reference_state<f32>,
+    out: *mut wmr_control_output<f32>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_reference::<f32, Mppi>(ctrl, t, measurement, reference, out, err)
+}
+
+/// One control tick following a reference object (see
+/// `wmr_paper_controller_f32_update_on`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_mppi_controller_f32_update_on(
+    ctrl: *mut wmr_mppi_controller_f32,
+    t: f32,
+    measurement: *const wmr_measurement<f32>,
+    reference: *const wmr_reference_f32,
+    out: *mut wmr_control_output<f32>,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_update_on::<f32, Mppi>(ctrl, t, measurement, reference, out, err)
+}
+
+/// Clears the law's memories and the wheel servos, as at t = 0.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_mppi_controller_f32_reset(
+    ctrl: *mut wmr_mppi_controller_f32,
+) -> wmr_status {
+    imp::controller_reset::<f32, Mppi>(ctrl)
+}
+
+/// (see `wmr_paper_controller_f32_for_plant`)
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_mppi_controller_f32_for_plant(
+    ctrl: *mut wmr_mppi_controller_f32,
+    plant: *const wmr_plant_f32,
+) -> wmr_status {
+    imp::controller_for_plant::<f32, Mppi>(ctrl, plant)
 }
 
 /// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega =

@@ -510,6 +510,14 @@ impl CEnum for TractionKind {
     }
 }
 
+impl CEnum for wmr_core::MotionModel {
+    const ALL: &'static [Self] = &[wmr_core::MotionModel::Kinematic];
+    const REASON: &'static str = "must be WMR_MOTION_MODEL_KINEMATIC (0)";
+    fn code(self) -> u32 {
+        self as u32
+    }
+}
+
 impl CEnum for AntiWindup {
     const ALL: &'static [Self] = &[AntiWindup::Off, AntiWindup::Conditional];
     const REASON: &'static str = "must be WMR_ANTI_WINDUP_OFF (0) or WMR_ANTI_WINDUP_CONDITIONAL (1)";

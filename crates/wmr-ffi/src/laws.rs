@@ -164,6 +164,27 @@ pub struct wmr_graceful_controller_f64 {
     pub opaque: [u64; WMR_GRACEFUL_CONTROLLER_F64_WORDS],
 }
 
+/// Model predictive path integral control (nav2's MPPI): sampled twist sequences rolled out on a model, averaged by the softmax of their critics' costs. (`kind = "mppi"`): `wmr_core::MppiParams`.
+/// `motion_model` is a `uint32_t` in C (a `WMR_*` constant of `MotionModel`): a value that is not one is refused by `*_init`.
+/// cbindgen:ignore
+pub type wmr_mppi_params<T> = wmr_core::MppiParams<T>;
+/// Words (8 bytes each) of `wmr_mppi_controller_f32`: the law `mppi` with its wheel stage.
+pub const WMR_MPPI_CONTROLLER_F32_WORDS: usize = 112;
+/// Words (8 bytes each) of `wmr_mppi_controller_f64`: the law `mppi` with its wheel stage.
+pub const WMR_MPPI_CONTROLLER_F64_WORDS: usize = 216;
+/// The law `mppi` with its wheel stage (f32): Model predictive path integral control (nav2's MPPI): sampled twist sequences rolled out on a model, averaged by the softmax of their critics' costs.
+#[repr(C)]
+pub struct wmr_mppi_controller_f32 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_MPPI_CONTROLLER_F32_WORDS],
+}
+/// The law `mppi` with its wheel stage (f64): Model predictive path integral control (nav2's MPPI): sampled twist sequences rolled out on a model, averaged by the softmax of their critics' costs.
+#[repr(C)]
+pub struct wmr_mppi_controller_f64 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_MPPI_CONTROLLER_F64_WORDS],
+}
+
 /// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)). (`kind = "kanayama"`): `wmr_core::KanayamaParams`.
 /// cbindgen:ignore
 pub type wmr_kanayama_params<T> = wmr_core::KanayamaParams<T>;
@@ -267,6 +288,7 @@ macro_rules! for_each_c_params {
         $callback! {
         alias PaperParams { mode: wmr_core::PaperMode, hold: wmr_core::HoldMode, anti_windup: wmr_core::AntiWindup };
         alias PaperBidirectionalParams { hold: wmr_core::HoldMode };
+        alias MppiParams { motion_model: wmr_core::MotionModel };
         alias KanayamaParams {  };
         alias BacksteppingParams {  };
         mirror wmr_polar_params = PolarParams { k_rho, k_alpha, k_beta, reverse_hysteresis, goal_radius; flags reverse };

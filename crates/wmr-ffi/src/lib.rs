@@ -126,6 +126,10 @@ pub const WMR_ANTI_WINDUP_OFF: u32 = 0;
 /// the wheels saturate.
 pub const WMR_ANTI_WINDUP_CONDITIONAL: u32 = 1;
 
+/// `wmr_mppi_params_*.motion_model`: nav2's DiffDrive, the sampled twists within the
+/// acceleration limits.
+pub const WMR_MOTION_MODEL_KINEMATIC: u32 = 0;
+
 /// What a call did. `WMR_OK` is 0; every other value is an error.
 #[repr(i32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -317,6 +321,7 @@ const _: () = {
     assert!(wmr_core::PoseSource::Odometry as u32 == WMR_POSE_ODOMETRY);
     assert!(wmr_core::TractionKind::Rolling as u32 == WMR_TRACTION_ROLLING);
     assert!(wmr_core::TractionKind::Slip as u32 == WMR_TRACTION_SLIP);
+    assert!(wmr_core::MotionModel::Kinematic as u32 == WMR_MOTION_MODEL_KINEMATIC);
 };
 
 /// Drive parameters (the `[drive]` keys). `kind` selects which fields are read.

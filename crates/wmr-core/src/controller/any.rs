@@ -63,6 +63,11 @@ macro_rules! laws {
                 match self { $( LawParams::$variant(_) => <$krate::$params<T> as LawSpec<T>>::UPDATE_COST, )+ }
             }
 
+            /// Whether the trace carries the law ([`LawSpec::TRACED`]).
+            pub fn traced(&self) -> bool {
+                match self { $( LawParams::$variant(_) => <$krate::$params<T> as LawSpec<T>>::TRACED, )+ }
+            }
+
             /// The declared keys of the law ([`crate::describe`]): what `--help`, the
             /// docs tables and the C header are made from.
             pub fn fields(&self) -> &'static [ParamField] {

@@ -42,6 +42,11 @@ pub trait LawSpec<T: Real>: Described + Copy + Default + PartialEq {
     /// sweep's announced duration only (measured, the law file says where).
     const UPDATE_COST: f64 = 1.0;
 
+    /// Whether the trace ([`crate::trace`]) carries the law: its keys fit the trace's
+    /// law words (16). MPPI's 30 keys do not: `wmr-cli trace` refuses it, and the
+    /// firmware does not replay it.
+    const TRACED: bool = true;
+
     /// Validates the keys (errors name the key) and builds the law for the controller's
     /// robot model and control period (s).
     fn build<L: Lane<Scalar = T>>(&self, model: &RobotParams<T>, control_dt: T) -> Result<Self::Law<L>, ParamError>;

@@ -4,6 +4,7 @@
 //! - [`law`]: the [`Law`] contract and what a law asks of the wheels ([`WheelDemand`]).
 //! - [`paper`], [`paper_bidirectional`], [`polar`], [`lyapunov`], [`graceful`]: the laws; [`polar_frame`]
 //!   the polar laws' shared geometry.
+//! - [`mppi`]: model predictive path integral control (nav2's MPPI) to a goal.
 //! - [`kanayama`], [`backstepping`]: trajectory tracking; [`pure_pursuit`]: path following.
 //! - [`registry`]: the one list of laws; [`any`]: every law behind one enum, chosen by
 //!   name at run time, expanded from it.
@@ -17,6 +18,7 @@ pub mod graceful;
 pub mod kanayama;
 pub mod law;
 pub mod lyapunov;
+pub mod mppi;
 pub mod paper;
 pub mod paper_bidirectional;
 pub mod polar;
@@ -30,6 +32,7 @@ pub mod wheel_stage;
 pub use any::{AnyLaw, LawParams};
 pub use composed::{ControlOutput, Controller, ControllerParams};
 pub use law::{ControlErrors, Follows, Law, LawOutput, LawSpec, WheelDemand};
+pub use mppi::MotionModel;
 pub use paper::{AntiWindup, HoldMode, PaperMode};
 pub use polar_frame::{Direction, DirectionSelector, PolarCoordinateLaw, PolarCoords, PolarGains, Steering};
 pub use saturation::{WheelRateLimiter, limit_wheel_speeds, wheel_speed_scale};

@@ -44,6 +44,8 @@ macro_rules! for_each_law {
             Lyapunov(LyapunovParams, LyapunovLaw) = lyapunov, code 2, follows Goal;
             /// Park and Kuipers' graceful law as nav2's docking server drives it: curvature from egocentric polar coordinates, speed falling with it, forward or backwards.
             Graceful(GracefulParams, GracefulLaw) = graceful, code 7, follows Goal;
+            /// Model predictive path integral control (nav2's MPPI): sampled twist sequences rolled out on a model, averaged by the softmax of their critics' costs.
+            Mppi(MppiParams, MppiLaw) = mppi, code 8, follows Goal;
             /// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)).
             Kanayama(KanayamaParams, KanayamaLaw) = kanayama, code 4, follows Trajectory;
             /// Kanayama's twist back-stepped into the dynamics: wheel torques from the controller's model.

@@ -1,0 +1,667 @@
+//! Model Predictive Path Integral control (MPPI) as nav2's `nav2_mppi_controller` runs
+//! it: sample `batch_size` control sequences around the previous optimal one, roll each
+//! out over `time_steps` steps of `model_dt` on a motion model, score the rollouts with
+//! critics, and average the samples with softmax weights of their costs.
+//!
+//! Source: G. Williams, P. Drews, B. Goldfain, J. M. Rehg, E. A. Theodorou, "Information
+//! theoretic MPC for model-based reinforcement learning", Proc. IEEE ICRA 2017; in the
+//! form of nav2's `nav2_mppi_controller` (`optimizer.cpp`, `motion_models.hpp`,
+//! `critics/*.cpp`, `tools/utils.hpp`), read at ros-navigation/navigation2 a3a97043e
+//! (2026). The keys are nav2's (snake_case, flat: `goal_cost_weight` is nav2's
+//! `GoalCritic.cost_weight`, since wmr's parameter structs are flat), with nav2's defaults.
+//!
+//! # One cycle (nav2 `Optimizer::evalControl`), every `model_dt`
+//!
+//! With the sequence u_t = (vx_t, wz_t), t = 0 .. T-1 (T = `time_steps`), the last
+//! command c and the speed (v, w) measured from the wheel encoders
+//! (v = r (w_R + w_L) / 2, w = r (w_R - w_L) / (2 R)):
+//!
+//! ```text
+//! speed   s = (clamp(c.vx, v + dt ax_min, v + dt ax_max), clamp(c.wz, w - dt az_max, w + dt az_max))
+//! repeat iteration_count times:
+//!   u_0 = s
+//!   sample k:  cvx_k,t = vx_t + vx_std n,  cwz_k,t = wz_t + wz_std n'      (n, n' ~ N(0, 1))
+//!   rollout:   vx_0 = s.vx, wz_0 = s.wz,
+//!              vx_i = clamp(cvx_(i-1), vx_(i-1) + dt ax_min, vx_(i-1) + dt ax_max)   (vx_(i-1) > 0; mirrored below)
+//!              wz_i = clamp(cwz_(i-1), wz_(i-1) - dt az_max, wz_(i-1) + dt az_max)
+//!              yaw_i = yaw_(i-1) + wz_i dt,  x_i = x_(i-1) + vx_i cos(yaw_(i-1)) dt,  y likewise
+//!   cost:      S_k = critics (below) + gamma / vx_std^2 sum_t (cvx_k,t - vx_t) vx_t
+//!                                    + gamma / wz_std^2 sum_t (cwz_k,t - wz_t) wz_t
+//!   weights:   w_k = exp(-(S_k - min S) / temperature) / sum_j exp(-(S_j - min S) / temperature)
+//!   update:    u_t = sum_k w_k (cvx_k,t, cwz_k,t), then clamped to the bounds and to the
+//!              accelerations from u_0 = s on (nav2 `applyControlSequenceConstraints`)
+//! command u_1 (nav2's `shift_control_sequence`: u_0 is the speed the robot has now);
+//! shift the sequence by one, the last element repeated.
+//! ```
+//!
+//! (dt = `model_dt`, which is also the planning period, as nav2 needs it to shift.) The
+//! command goes to the wheel stage as a twist demand and holds until the next cycle; the
+//! wheel stage keeps ticking at `control_dt`.
+//!
+//! # Critics (nav2 `critics/*.cpp`), over the rollout's steps i = 1 .. T
+//!
+//! With L the distance from the measured position to the goal (nav2's
+//! `local_path_length`: at a goal, the plan is the straight line to it) and P the
+//! critic's `cost_power` ((weight x)^P when P > 1, weight x otherwise):
+//!
+//! | critic | x | on when |
+//! |---|---|---|
+//! | `constraint` | sum_i (max(vx_i - vx_max, 0) + max(vx_min - vx_i, 0)) dt | always |
+//! | `goal` | mean_i |(x_i, y_i) - goal| | L <= `goal_threshold_to_consider` |
+//! | `goal_angle` | mean_i |wrap(theta_goal - yaw_i)| | L <= `goal_angle_threshold_to_consider` |
+//! | `prefer_forward` | sum_i max(-vx_i, 0) dt | L >= `prefer_forward_threshold_to_consider` |
+//! | `twirling` | mean_i |wz_i| | always (nav2: beyond the goal checker's tolerance) |
+//!
+//! A weight of 0 turns a critic off (nav2: leave it out of `critics`); twirling is off by
+//! default, as in nav2's example configuration.
+//!
+//! # Where wmr differs from nav2
+//!
+//! - No workspace: the law is `Copy` and allocates nothing. The noise is not stored but
+//!   regenerated from a counter-based generator keyed by (seed, draw, sample, step)
+//!   ([`noise_pair`]), and the samples are combined as they are rolled out with an online
+//!   softmax: a running minimum cost, a running sum of weights and a running weighted sum
+//!   of the sampled sequences, all rescaled by exp(-(old min - new min) / temperature)
+//!   when the minimum falls. The law holds O(T) numbers (the sequence; T at most
+//!   [`MAX_TIME_STEPS`]); one sample's sequence lives on the stack while it is rolled out.
+//!   The result equals the two-pass softmax up to rounding (`tests/mppi.rs`, 1e-12).
+//! - No Savitzky-Golay smoothing of the sequence, no trajectory validator, no fallback.
+//! - The noise: Box-Muller from SplitMix64 hashes, not Eigen's normal distribution.
+//!
+//! Logged errors ([`super::ControlErrors`]), as the polar laws': dl the distance from C to
+//! the goal, e_theta = wrap(theta_d - theta), e_s = (x_d - x) cos(theta) + (y_d - y) sin(theta).
+
+use super::law::{Law, LawOutput, WheelDemand};
+use super::polar_frame::polar_errors;
+use crate::error::{ParamError, check};
+use crate::lane::Lane;
+use crate::math::{Pose2, Twist2, wrap_angle};
+use crate::reference::ReferenceState;
+use crate::sensor::Measurement;
+use crate::sensor::gaussian::mix64;
+use crate::{Real, RobotParams};
+
+/// The largest `time_steps`: the law holds its sequence in arrays of this length (no
+/// allocation); nav2's default is 56.
+pub const MAX_TIME_STEPS: usize = 64;
+
+/// The model the rollouts predict with (`motion_model`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize), serde(rename_all = "snake_case"))]
+#[repr(u32)]
+pub enum MotionModel {
+    /// nav2's `DiffDrive`: the velocities are the sampled commands, clamped by the
+    /// acceleration limits (`ax_max`, `ax_min`, `az_max`).
+    #[default]
+    Kinematic = 0,
+}
+crate::word_enum!(MotionModel { Kinematic });
+
+crate::params! {
+    words;
+    /// `[controller] kind = "mppi"` parameters (nav2 `nav2_mppi_controller`, its critics'
+    /// keys flat: `goal_cost_weight` is nav2's `GoalCritic.cost_weight`).
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+    #[repr(C)]
+    pub struct MppiParams<T> {
+        /// The model the rollouts predict with: "kinematic" (nav2's DiffDrive).
+        pub motion_model: MotionModel [unit = "", rule = "\"kinematic\""],
+        /// Samples (rollouts) per iteration.
+        pub batch_size: u32 [unit = "", rule = ">= 1"],
+        /// Steps of a rollout (the horizon is time_steps * model_dt).
+        pub time_steps: u32 [unit = "", rule = ">= 2, <= 64"],
+        /// Step of the rollouts and period of the planning (nav2: the controller period).
+        pub model_dt: T [unit = "s", rule = "a whole multiple of control_dt"],
+        /// Sample-and-update iterations per cycle.
+        pub iteration_count: u32 [unit = "", rule = ">= 1"],
+        /// Softmax temperature: lower follows the best samples more closely.
+        pub temperature: T [unit = "", rule = "> 0"],
+        /// Weight of the control cost gamma / std^2 sum (u_sampled - u) u.
+        pub gamma: T [unit = "", rule = ">= 0"],
+        /// Standard deviation of the sampled forward speed.
+        pub vx_std: T [unit = "m/s", rule = ">= 0"],
+        /// Standard deviation of the sampled yaw rate.
+        pub wz_std: T [unit = "rad/s", rule = ">= 0"],
+        /// Highest forward speed.
+        pub vx_max: T [unit = "m/s", rule = ">= vx_min"],
+        /// Lowest forward speed (negative: reversing allowed).
+        pub vx_min: T [unit = "m/s", rule = "finite"],
+        /// Highest yaw rate magnitude.
+        pub wz_max: T [unit = "rad/s", rule = ">= 0"],
+        /// Highest acceleration away from rest.
+        pub ax_max: T [unit = "m/s^2", rule = "> 0"],
+        /// Highest deceleration towards rest, negative.
+        pub ax_min: T [unit = "m/s^2", rule = "< 0"],
+        /// Highest yaw acceleration magnitude.
+        pub az_max: T [unit = "rad/s^2", rule = "> 0"],
+        /// Seed of the sampling noise: the noise is a function of (seed, cycle, sample, step).
+        pub seed: u32 [unit = "", rule = "whole number"],
+        /// goal critic: weight of the mean distance of a rollout to the goal.
+        pub goal_cost_weight: T [unit = "1/m", rule = ">= 0"],
+        /// goal critic: power of its cost.
+        pub goal_cost_power: u32 [unit = "", rule = ">= 1"],
+        /// goal critic: on only within this distance of the goal.
+        pub goal_threshold_to_consider: T [unit = "m", rule = ">= 0"],
+        /// goal_angle critic: weight of the mean heading error of a rollout to the goal's heading.
+        pub goal_angle_cost_weight: T [unit = "1/rad", rule = ">= 0"],
+        /// goal_angle critic: power of its cost.
+        pub goal_angle_cost_power: u32 [unit = "", rule = ">= 1"],
+        /// goal_angle critic: on only within this distance of the goal.
+        pub goal_angle_threshold_to_consider: T [unit = "m", rule = ">= 0"],
+        /// constraint critic: weight of the distance driven beyond vx_max or vx_min.
+        pub constraint_cost_weight: T [unit = "1/m", rule = ">= 0"],
+        /// constraint critic: power of its cost.
+        pub constraint_cost_power: u32 [unit = "", rule = ">= 1"],
+        /// prefer_forward critic: weight of the distance driven backwards.
+        pub prefer_forward_cost_weight: T [unit = "1/m", rule = ">= 0"],
+        /// prefer_forward critic: power of its cost.
+        pub prefer_forward_cost_power: u32 [unit = "", rule = ">= 1"],
+        /// prefer_forward critic: on only beyond this distance of the goal.
+        pub prefer_forward_threshold_to_consider: T [unit = "m", rule = ">= 0"],
+        /// twirling critic: weight of the mean yaw rate magnitude (0: off).
+        pub twirling_cost_weight: T [unit = "s/rad", rule = ">= 0"],
+        /// twirling critic: power of its cost.
+        pub twirling_cost_power: u32 [unit = "", rule = ">= 1"],
+    }
+}
+
+impl<T: Real> Default for MppiParams<T> {
+    /// nav2's defaults: 1000 x 56 samples of 0.05 s, one iteration, temperature 0.3,
+    /// gamma 0.015, vx_std 0.2 m/s, wz_std 0.4 rad/s, vx in [-0.35, 0.5] m/s,
+    /// |wz| <= 1.9 rad/s, ax in [-3, 3] m/s^2, |az| <= 3.5 rad/s^2; the critics' weights
+    /// goal 5 (within 1.4 m), goal_angle 3 (within 0.5 m), constraint 4,
+    /// prefer_forward 5 (beyond 0.5 m), powers 1; twirling off (nav2's weight when on: 10).
+    fn default() -> Self {
+        Self {
+            motion_model: MotionModel::Kinematic,
+            batch_size: 1000,
+            time_steps: 56,
+            model_dt: T::lit(0.05),
+            iteration_count: 1,
+            temperature: T::lit(0.3),
+            gamma: T::lit(0.015),
+            vx_std: T::lit(0.2),
+            wz_std: T::lit(0.4),
+            vx_max: T::lit(0.5),
+            vx_min: T::lit(-0.35),
+            wz_max: T::lit(1.9),
+            ax_max: T::lit(3.0),
+            ax_min: T::lit(-3.0),
+            az_max: T::lit(3.5),
+            seed: 0,
+            goal_cost_weight: T::lit(5.0),
+            goal_cost_power: 1,
+            goal_threshold_to_consider: T::lit(1.4),
+            goal_angle_cost_weight: T::lit(3.0),
+            goal_angle_cost_power: 1,
+            goal_angle_threshold_to_consider: T::lit(0.5),
+            constraint_cost_weight: T::lit(4.0),
+            constraint_cost_power: 1,
+            prefer_forward_cost_weight: T::lit(5.0),
+            prefer_forward_cost_power: 1,
+            prefer_forward_threshold_to_consider: T::lit(0.5),
+            twirling_cost_weight: T::zero(),
+            twirling_cost_power: 1,
+        }
+    }
+}
+
+impl<T: Real> super::law::LawSpec<T> for MppiParams<T> {
+    type Law<L: Lane<Scalar = T>> = MppiLaw<L>;
+
+    /// One cycle at nav2's defaults is 56,000 rollout steps every 0.05 s (a few ms):
+    /// against a plant step of the paper's law at control_dt = 1 ms, about a thousand.
+    const UPDATE_COST: f64 = 1000.0;
+
+    /// 30 keys: more than the trace's 16 law words.
+    const TRACED: bool = false;
+
+    fn build<L: Lane<Scalar = T>>(&self, model: &RobotParams<T>, control_dt: T) -> Result<MppiLaw<L>, ParamError> {
+        MppiLaw::for_lanes(*self, model, control_dt)
+    }
+}
+
+fn count_at_least<T: Real>(field: &'static str, v: u32, min: u32) -> Result<u32, ParamError> {
+    if v < min {
+        let why = if min == 1 { "must be >= 1" } else { "must be >= 2" };
+        return Err(check::out_of_range(field, why, T::lit(f64::from(v))));
+    }
+    Ok(v)
+}
+
+impl<T: Real> MppiParams<T> {
+    /// Checks every key against the control period `control_dt` (s); errors name the key.
+    /// Returns the control ticks per planning cycle (model_dt / control_dt).
+    pub fn validate(&self, control_dt: T) -> Result<u32, ParamError> {
+        count_at_least::<T>("batch_size", self.batch_size, 1)?;
+        count_at_least::<T>("time_steps", self.time_steps, 2)?;
+        if self.time_steps as usize > MAX_TIME_STEPS {
+            return Err(check::out_of_range(
+                "time_steps",
+                "must be <= 64 (the law's sequence has a fixed capacity, MAX_TIME_STEPS)",
+                T::lit(f64::from(self.time_steps)),
+            ));
+        }
+        count_at_least::<T>("iteration_count", self.iteration_count, 1)?;
+        let model_dt = check::positive("model_dt", self.model_dt)?;
+        let ratio = (model_dt / control_dt).round();
+        let tol = T::lit(1e-9) * model_dt;
+        if ratio < T::one() || (ratio * control_dt - model_dt).abs() > tol || ratio > T::lit(1e6) {
+            return Err(check::out_of_range(
+                "model_dt",
+                "must be a whole multiple of control_dt (at least control_dt)",
+                model_dt,
+            ));
+        }
+        check::positive("temperature", self.temperature)?;
+        check::non_negative("gamma", self.gamma)?;
+        check::non_negative("vx_std", self.vx_std)?;
+        check::non_negative("wz_std", self.wz_std)?;
+        let vx_min = check::finite("vx_min", self.vx_min)?;
+        let vx_max = check::finite("vx_max", self.vx_max)?;
+        if vx_max < vx_min {
+            return Err(check::out_of_range("vx_max", "must be >= vx_min", vx_max));
+        }
+        check::non_negative("wz_max", self.wz_max)?;
+        check::positive("ax_max", self.ax_max)?;
+        let ax_min = check::finite("ax_min", self.ax_min)?;
+        if ax_min >= T::zero() {
+            return Err(check::out_of_range("ax_min", "must be < 0 (a deceleration)", ax_min));
+        }
+        check::positive("az_max", self.az_max)?;
+        check::non_negative("goal_cost_weight", self.goal_cost_weight)?;
+        count_at_least::<T>("goal_cost_power", self.goal_cost_power, 1)?;
+        check::non_negative("goal_threshold_to_consider", self.goal_threshold_to_consider)?;
+        check::non_negative("goal_angle_cost_weight", self.goal_angle_cost_weight)?;
+        count_at_least::<T>("goal_angle_cost_power", self.goal_angle_cost_power, 1)?;
+        check::non_negative("goal_angle_threshold_to_consider", self.goal_angle_threshold_to_consider)?;
+        check::non_negative("constraint_cost_weight", self.constraint_cost_weight)?;
+        count_at_least::<T>("constraint_cost_power", self.constraint_cost_power, 1)?;
+        check::non_negative("prefer_forward_cost_weight", self.prefer_forward_cost_weight)?;
+        count_at_least::<T>("prefer_forward_cost_power", self.prefer_forward_cost_power, 1)?;
+        check::non_negative("prefer_forward_threshold_to_consider", self.prefer_forward_threshold_to_consider)?;
+        check::non_negative("twirling_cost_weight", self.twirling_cost_weight)?;
+        count_at_least::<T>("twirling_cost_power", self.twirling_cost_power, 1)?;
+        // The ratio is a whole number in [1, 1e6] (checked above).
+        Ok(ratio.to_u32().unwrap_or(1))
+    }
+}
+
+/// Two standard normal numbers (Box-Muller, in f64 with `libm`) for sample `sample`,
+/// step `step` of draw `draw` (cycle * iteration_count + iteration) under `seed`: a pure
+/// function of its arguments, so the noise is regenerated rather than stored. The first
+/// perturbs vx, the second wz.
+#[inline]
+pub fn noise_pair(seed: u32, draw: u64, sample: u32, step: u32) -> (f64, f64) {
+    noise_pair_keyed(draw_key(seed, draw), sample, step)
+}
+
+/// The key of one draw: [`noise_pair`] = `noise_pair_keyed(draw_key(seed, draw), ..)`.
+#[inline]
+fn draw_key(seed: u32, draw: u64) -> u64 {
+    mix64(mix64(u64::from(seed) ^ 0x4D50_5049_0000_0000) ^ draw)
+}
+
+#[inline]
+fn noise_pair_keyed(key: u64, sample: u32, step: u32) -> (f64, f64) {
+    let h1 = mix64(key ^ ((u64::from(sample) << 32) | u64::from(step)));
+    let h2 = mix64(h1);
+    // (0, 1]: 53 random bits, never 0, so the log is finite.
+    let u1 = ((h1 >> 11) + 1) as f64 * (1.0 / 9_007_199_254_740_992.0);
+    let u2 = ((h2 >> 11) + 1) as f64 * (1.0 / 9_007_199_254_740_992.0);
+    let radius = libm::sqrt(-2.0 * libm::log(u1));
+    let (s, c) = libm::sincos(core::f64::consts::TAU * u2);
+    (radius * c, radius * s)
+}
+
+/// nav2 `utils::clampVelocityByAccel`: `max_delta` speeds up, `min_delta` (< 0) slows down.
+#[inline(always)]
+fn clamp_by_accel<T: Real>(last: T, curr: T, min_delta: T, max_delta: T) -> T {
+    if last >= T::zero() {
+        (last + max_delta).min(curr.max(last + min_delta))
+    } else {
+        (last - min_delta).min(curr.max(last - max_delta))
+    }
+}
+
+/// (weight x)^power for power > 1, weight x otherwise (nav2's critics).
+#[inline(always)]
+fn critic_cost<T: Real>(x: T, weight: T, power: u32) -> T {
+    let c = x * weight;
+    if power > 1 { c.powi(power as i32) } else { c }
+}
+
+/// nav2's DiffDrive rollout (`MotionModel::predict`, `integrateStateVelocities`) of the
+/// sampled sequence `cvx`, `cwz` (m/s, rad/s; `time_steps` long) from `pose` (world
+/// frame) at `speed`: calls `visit(i, pose_i, twist_i)` for i = 0 .. T-1 with the pose
+/// after step i + 1 and the twist the step was driven at:
+///
+/// ```text
+/// vx_0 = speed.v, wz_0 = speed.omega
+/// vx_i = clamp(cvx_(i-1), vx_(i-1) + dt ax_min, vx_(i-1) + dt ax_max)   (vx_(i-1) > 0; else mirrored)
+/// wz_i = clamp(cwz_(i-1), wz_(i-1) - dt az_max, wz_(i-1) + dt az_max)
+/// yaw_i = yaw_(i-1) + wz_i dt
+/// x_i = x_(i-1) + vx_i cos(yaw_(i-1)) dt,   y_i = y_(i-1) + vx_i sin(yaw_(i-1)) dt
+/// ```
+///
+/// (dt = `model_dt`; yaw_(-1), x_(-1), y_(-1) the start pose): the heading first, the
+/// position on the heading of the step before, as nav2 integrates.
+#[inline(always)]
+pub fn kinematic_rollout<T: Real>(
+    p: &MppiParams<T>,
+    pose: Pose2<T>,
+    speed: Twist2<T>,
+    cvx: &[T],
+    cwz: &[T],
+    mut visit: impl FnMut(usize, Pose2<T>, Twist2<T>),
+) {
+    let dt = p.model_dt;
+    let (max_dvx, min_dvx, max_dwz) = (dt * p.ax_max, dt * p.ax_min, dt * p.az_max);
+    let (mut vx, mut wz) = (speed.v, speed.omega);
+    let (mut x, mut y, mut yaw) = (pose.x, pose.y, pose.theta);
+    let (mut sin_prev, mut cos_prev) = yaw.sin_cos_libm();
+    for i in 0..cvx.len().min(cwz.len()) {
+        if i > 0 {
+            let (lo, hi) = if vx > T::zero() { (vx + min_dvx, vx + max_dvx) } else { (vx - max_dvx, vx - min_dvx) };
+            vx = cvx[i - 1].max(lo).min(hi);
+            wz = cwz[i - 1].max(wz - max_dwz).min(wz + max_dwz);
+        }
+        yaw = yaw + wz * dt;
+        x = x + vx * cos_prev * dt;
+        y = y + vx * sin_prev * dt;
+        (sin_prev, cos_prev) = yaw.sin_cos_libm();
+        visit(i, Pose2 { x, y, theta: yaw }, Twist2 { v: vx, omega: wz });
+    }
+}
+
+/// One run's planning state and its inputs at a cycle, in scalars.
+struct Cycle<T> {
+    pose: Pose2<T>,
+    goal: Pose2<T>,
+    /// The speed the rollouts start from (nav2 `state_.speed`).
+    speed: Twist2<T>,
+    /// The first draw of this cycle (cycle * iteration_count).
+    draw: u64,
+}
+
+/// The streaming softmax over the samples of one iteration: a running minimum cost, the
+/// running sum of exp(-(S - min) / temperature) and the running weighted sum of the
+/// sampled sequences, rescaled when the minimum falls.
+struct Softmax<T> {
+    min: T,
+    sum: T,
+    vx: [T; MAX_TIME_STEPS],
+    wz: [T; MAX_TIME_STEPS],
+}
+
+impl<T: Real> Softmax<T> {
+    fn new() -> Self {
+        Self { min: T::infinity(), sum: T::zero(), vx: [T::zero(); MAX_TIME_STEPS], wz: [T::zero(); MAX_TIME_STEPS] }
+    }
+
+    #[inline(always)]
+    fn add(&mut self, cost: T, inv_temp: T, cvx: &[T], cwz: &[T]) {
+        let n = cvx.len();
+        if cost < self.min {
+            if self.sum > T::zero() {
+                let scale = (-(self.min - cost) * inv_temp).exp_libm();
+                self.sum = self.sum * scale;
+                for t in 0..n {
+                    self.vx[t] = self.vx[t] * scale;
+                    self.wz[t] = self.wz[t] * scale;
+                }
+            }
+            self.min = cost;
+        }
+        let w = (-(cost - self.min) * inv_temp).exp_libm();
+        self.sum = self.sum + w;
+        for t in 0..n {
+            self.vx[t] = self.vx[t] + w * cvx[t];
+            self.wz[t] = self.wz[t] + w * cwz[t];
+        }
+    }
+}
+
+/// The sampled costs of MPPI, one sample at a time: what [`MppiLaw`] runs each cycle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Planner<T> {
+    p: MppiParams<T>,
+}
+
+impl<T: Real> Planner<T> {
+    /// One sample's rollout from `c` with the sampled sequence `cvx`, `cwz` (T long):
+    /// its critics' cost (without the control cost).
+    #[inline(always)]
+    fn rollout_cost(&self, c: &Cycle<T>, cvx: &[T], cwz: &[T], path_length: T) -> T {
+        let p = &self.p;
+        let n = cvx.len();
+        let dt = p.model_dt;
+        let (mut goal_sum, mut angle_sum, mut beyond, mut backwards, mut twirl) =
+            (T::zero(), T::zero(), T::zero(), T::zero(), T::zero());
+        kinematic_rollout(p, c.pose, c.speed, cvx, cwz, |_, pose, vel| {
+            goal_sum = goal_sum + (pose.x - c.goal.x).hypot_libm(pose.y - c.goal.y);
+            angle_sum = angle_sum + wrap_angle(c.goal.theta - pose.theta).abs();
+            beyond = beyond + ((vel.v - p.vx_max).max(T::zero()) + (p.vx_min - vel.v).max(T::zero())) * dt;
+            backwards = backwards + (-vel.v).max(T::zero()) * dt;
+            twirl = twirl + vel.omega.abs();
+        });
+        let nt = T::lit(n as f64);
+        // nav2's critic order: constraint, goal, goal_angle, prefer_forward, twirling.
+        let mut cost = T::zero();
+        if p.constraint_cost_weight > T::zero() {
+            cost = cost + critic_cost(beyond, p.constraint_cost_weight, p.constraint_cost_power);
+        }
+        if p.goal_cost_weight > T::zero() && path_length <= p.goal_threshold_to_consider {
+            cost = cost + critic_cost(goal_sum / nt, p.goal_cost_weight, p.goal_cost_power);
+        }
+        if p.goal_angle_cost_weight > T::zero() && path_length <= p.goal_angle_threshold_to_consider {
+            cost = cost + critic_cost(angle_sum / nt, p.goal_angle_cost_weight, p.goal_angle_cost_power);
+        }
+        if p.prefer_forward_cost_weight > T::zero() && path_length >= p.prefer_forward_threshold_to_consider {
+            cost = cost + critic_cost(backwards, p.prefer_forward_cost_weight, p.prefer_forward_cost_power);
+        }
+        if p.twirling_cost_weight > T::zero() {
+            cost = cost + critic_cost(twirl / nt, p.twirling_cost_weight, p.twirling_cost_power);
+        }
+        cost
+    }
+
+    /// One cycle: updates `vx`, `wz` (the optimal sequence, `time_steps` long) and returns
+    /// the command (u_1), before the shift.
+    fn plan(&self, c: &Cycle<T>, vx: &mut [T], wz: &mut [T]) -> Twist2<T> {
+        let p = &self.p;
+        let n = vx.len();
+        let path_length = (c.goal.x - c.pose.x).hypot_libm(c.goal.y - c.pose.y);
+        let inv_temp = p.temperature.recip();
+        let (vx_std, wz_std) = (p.vx_std, p.wz_std);
+        let gamma_vx = if vx_std > T::zero() { p.gamma / (vx_std * vx_std) } else { T::zero() };
+        let gamma_wz = if wz_std > T::zero() { p.gamma / (wz_std * wz_std) } else { T::zero() };
+        let mut cvx = [T::zero(); MAX_TIME_STEPS];
+        let mut cwz = [T::zero(); MAX_TIME_STEPS];
+        for iter in 0..p.iteration_count {
+            // nav2 `applyControlSequenceInterIterationConstraints` (shifting): u_0 = speed.
+            vx[0] = c.speed.v;
+            wz[0] = c.speed.omega;
+            let key = draw_key(p.seed, c.draw.wrapping_add(u64::from(iter)));
+            let mut soft = Softmax::new();
+            for k in 0..p.batch_size {
+                for t in 0..n {
+                    let (a, b) = noise_pair_keyed(key, k, t as u32);
+                    cvx[t] = vx[t] + vx_std * T::lit(a);
+                    cwz[t] = wz[t] + wz_std * T::lit(b);
+                }
+                let mut cost = self.rollout_cost(c, &cvx[..n], &cwz[..n], path_length);
+                // nav2 `updateControlSequence`: the control cost, vx then wz.
+                let (mut ctrl_vx, mut ctrl_wz) = (T::zero(), T::zero());
+                for t in 0..n {
+                    ctrl_vx = ctrl_vx + (cvx[t] - vx[t]) * vx[t];
+                    ctrl_wz = ctrl_wz + (cwz[t] - wz[t]) * wz[t];
+                }
+                cost = cost + gamma_vx * ctrl_vx;
+                if wz_std > T::zero() {
+                    cost = cost + gamma_wz * ctrl_wz;
+                }
+                soft.add(cost, inv_temp, &cvx[..n], &cwz[..n]);
+            }
+            let inv_sum = soft.sum.recip();
+            for t in 0..n {
+                vx[t] = soft.vx[t] * inv_sum;
+                wz[t] = soft.wz[t] * inv_sum;
+            }
+            self.constrain(c, vx, wz);
+        }
+        Twist2 { v: vx[1], omega: wz[1] }
+    }
+
+    /// nav2 `applyControlSequenceConstraints` (shifting, DiffDrive): u_0 = speed, every
+    /// element within the bounds and the accelerations from the one before.
+    fn constrain(&self, c: &Cycle<T>, vx: &mut [T], wz: &mut [T]) {
+        let p = &self.p;
+        let dt = p.model_dt;
+        let (max_dvx, min_dvx, max_dwz) = (dt * p.ax_max, dt * p.ax_min, dt * p.az_max);
+        vx[0] = c.speed.v;
+        wz[0] = c.speed.omega;
+        let (mut vx_last, mut wz_last) = (c.speed.v, c.speed.omega);
+        for t in 0..vx.len() {
+            let v = p.vx_max.min(vx[t].max(p.vx_min));
+            vx[t] = clamp_by_accel(vx_last, v, min_dvx, max_dvx);
+            vx_last = vx[t];
+            let w = p.wz_max.min(wz[t].max(-p.wz_max));
+            wz[t] = clamp_by_accel(wz_last, w, -max_dwz, max_dwz);
+            wz_last = wz[t];
+        }
+    }
+}
+
+/// MPPI (module docs). Implements [`Law`] with [`WheelDemand::Twist`]. Several runs side
+/// by side ([`crate::lane`]) are planned one lane at a time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MppiLaw<L: Lane> {
+    planner: Planner<L::Scalar>,
+    /// Control ticks per planning cycle: model_dt / control_dt.
+    ticks_per_plan: u32,
+    /// r, m and R, m: the speed from the wheel encoders.
+    wheel_radius: L::Scalar,
+    half_track: L::Scalar,
+    /// The optimal sequence (nav2 `control_sequence_`), `time_steps` long: vx m/s, wz rad/s.
+    vx: [L; MAX_TIME_STEPS],
+    wz: [L; MAX_TIME_STEPS],
+    /// The last command (nav2 `last_command_vel_`).
+    command: Twist2<L>,
+    /// Control ticks since the last plan (0: plan at this tick).
+    tick: L,
+    /// Planning cycles since the start: the noise's draw counter.
+    cycle: L,
+}
+
+impl<L: Lane> MppiLaw<L> {
+    /// Checks the keys (errors name the key) and builds the law for the robot model
+    /// (wheel radius and half track: the speed from the encoders) and `control_dt` (s).
+    pub fn for_lanes(
+        p: MppiParams<L::Scalar>,
+        model: &RobotParams<L::Scalar>,
+        control_dt: L::Scalar,
+    ) -> Result<Self, ParamError> {
+        let ticks_per_plan = p.validate(control_dt)?;
+        Ok(Self {
+            planner: Planner { p },
+            ticks_per_plan,
+            wheel_radius: model.wheel_radius,
+            half_track: model.half_track,
+            vx: [L::default(); MAX_TIME_STEPS],
+            wz: [L::default(); MAX_TIME_STEPS],
+            command: Twist2::default(),
+            tick: L::default(),
+            cycle: L::default(),
+        })
+    }
+
+    /// The keys.
+    pub fn params(&self) -> &MppiParams<L::Scalar> {
+        &self.planner.p
+    }
+
+    /// The optimal sequence of lane `lane` after the last plan and its shift: (vx m/s,
+    /// wz rad/s) per step of `model_dt`, `time_steps` long.
+    pub fn sequence(&self, lane: usize, vx: &mut [L::Scalar], wz: &mut [L::Scalar]) {
+        let n = self.planner.p.time_steps as usize;
+        for t in 0..n.min(vx.len()).min(wz.len()) {
+            vx[t] = self.vx[t].lane(lane);
+            wz[t] = self.wz[t].lane(lane);
+        }
+    }
+
+    fn plan_lane(&mut self, i: usize, m: &Measurement<L>, r: &ReferenceState<L>) {
+        let p = self.planner.p;
+        let n = p.time_steps as usize;
+        let dt = p.model_dt;
+        let rr = self.wheel_radius;
+        let (w_r, w_l) = (m.wheel_speeds.right.lane(i), m.wheel_speeds.left.lane(i));
+        let half = <L::Scalar as Real>::lit(0.5);
+        let v_meas = rr * (w_r + w_l) * half;
+        let w_meas = rr * (w_r - w_l) * half / self.half_track;
+        // nav2 `prepare` (closed loop): the last command within what the accelerations
+        // allow from the measured speed over one period.
+        let (c_v, c_w) = (self.command.v.lane(i), self.command.omega.lane(i));
+        let speed = Twist2 {
+            v: c_v.max(v_meas + dt * p.ax_min).min(v_meas + dt * p.ax_max),
+            omega: c_w.max(w_meas - dt * p.az_max).min(w_meas + dt * p.az_max),
+        };
+        let cycle = self.cycle.lane(i).to_f64_lossless() as u64;
+        let c = Cycle {
+            pose: Pose2 { x: m.pose.x.lane(i), y: m.pose.y.lane(i), theta: m.pose.theta.lane(i) },
+            goal: Pose2 { x: r.pose.x.lane(i), y: r.pose.y.lane(i), theta: r.pose.theta.lane(i) },
+            speed,
+            draw: cycle.wrapping_mul(u64::from(p.iteration_count)),
+        };
+        let mut vx = [<L::Scalar as num_traits::Zero>::zero(); MAX_TIME_STEPS];
+        let mut wz = [<L::Scalar as num_traits::Zero>::zero(); MAX_TIME_STEPS];
+        for t in 0..n {
+            vx[t] = self.vx[t].lane(i);
+            wz[t] = self.wz[t].lane(i);
+        }
+        let cmd = self.planner.plan(&c, &mut vx[..n], &mut wz[..n]);
+        // nav2 `shiftControlSequence`: one step on, the last element repeated.
+        for t in 0..n - 1 {
+            self.vx[t].set_lane(i, vx[t + 1]);
+            self.wz[t].set_lane(i, wz[t + 1]);
+        }
+        self.vx[n - 1].set_lane(i, vx[n - 1]);
+        self.wz[n - 1].set_lane(i, wz[n - 1]);
+        self.command.v.set_lane(i, cmd.v);
+        self.command.omega.set_lane(i, cmd.omega);
+        self.cycle.set_lane(i, <L::Scalar as Real>::lit((cycle + 1) as f64));
+    }
+}
+
+impl<L: Lane> Law<L> for MppiLaw<L> {
+    fn update(&mut self, _t: L, m: &Measurement<L>, r: &ReferenceState<L>) -> LawOutput<L> {
+        for i in 0..L::WIDTH {
+            let tick = self.tick.lane(i);
+            if tick == <L::Scalar as num_traits::Zero>::zero() {
+                self.plan_lane(i, m, r);
+            }
+            let next = tick + <L::Scalar as num_traits::One>::one();
+            let next = if next >= <L::Scalar as Real>::lit(f64::from(self.ticks_per_plan)) {
+                <L::Scalar as num_traits::Zero>::zero()
+            } else {
+                next
+            };
+            self.tick.set_lane(i, next);
+        }
+        LawOutput { demand: WheelDemand::Twist(self.command), errors: polar_errors(m.pose, r.pose) }
+    }
+
+    fn reset_lanes(&mut self, lanes: L::Mask) {
+        let zero = L::default();
+        for t in 0..MAX_TIME_STEPS {
+            self.vx[t] = L::select(lanes, zero, self.vx[t]);
+            self.wz[t] = L::select(lanes, zero, self.wz[t]);
+        }
+        self.command.v = L::select(lanes, zero, self.command.v);
+        self.command.omega = L::select(lanes, zero, self.command.omega);
+        self.tick = L::select(lanes, zero, self.tick);
+        self.cycle = L::select(lanes, zero, self.cycle);
+    }
+}
