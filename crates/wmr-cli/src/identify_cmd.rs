@@ -311,7 +311,7 @@ fn robot_file(fit: &wmr_identify::Fit, base: &Base, drive: DriveKind, log: &str,
     };
     let r = &fit.robot;
     let _ = writeln!(s, "\n[robot]");
-    let rows: [(&str, f64, String); 10] = [
+    let rows: [(&str, f64, String); 11] = [
         ("mass", r.mass, note_of(Param::Mass)),
         ("wheel_radius", r.wheel_radius, "# m, held".to_owned()),
         ("half_track", r.half_track, "# m, held".to_owned()),
@@ -322,6 +322,7 @@ fn robot_file(fit: &wmr_identify::Fit, base: &Base, drive: DriveKind, log: &str,
         ("viscous_friction", r.viscous_friction, note_of(Param::ViscousFriction)),
         ("coulomb_friction", r.coulomb_friction, note_of(Param::CoulombFriction)),
         ("coulomb_speed", r.coulomb_speed, "# rad/s, held".to_owned()),
+        ("static_friction", r.static_friction, "# N m, held (0: no stiction beyond coulomb_friction)".to_owned()),
     ];
     for (k, v, c) in rows {
         let _ = writeln!(s, "{k} = {v:?}   {c}");

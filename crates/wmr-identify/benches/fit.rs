@@ -22,6 +22,7 @@ fn robot() -> RobotParams<f64> {
         viscous_friction: 0.02,
         coulomb_friction: 0.1,
         coulomb_speed: 1e-3,
+        static_friction: 0.0,
     }
 }
 
