@@ -116,7 +116,7 @@ enum Command {
     },
     /// Write the scenario's robot as a URDF (ROS's robot description, for Foxglove, Rerun
     /// and robot_state_publisher): platform, wheels on wheel_left_joint / wheel_right_joint,
-    /// caster, centre of mass and inertias from the [robot] parameters.
+    /// caster, centre of mass and inertias from the `[robot]` parameters.
     Urdf {
         /// The scenario file (TOML).
         file: PathBuf,

@@ -25,7 +25,7 @@
 //! the cubic's bias dt^2 K4 / (12 tau^2) (2.7 % at h = 10, dt = 10 ms) showed as a 15 %
 //! error of the small wheel inertia; the quintic's is (dt / tau)^4 K6 / 360 at
 //! h = 15 (about 0.09 %). A step of the command (a jump of phi'') is still smeared over the window: rows
-//! within h samples of a jump are left out of the fit ([`crate::fit`]). The first and
+//! within h samples of a jump are left out of the fit ([`mod@crate::fit`]). The first and
 //! last h rows of a run have no centred window and are left out too.
 
 /// The value, first and second derivative of a local polynomial fit at each sample
