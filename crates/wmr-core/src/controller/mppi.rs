@@ -361,12 +361,15 @@ pub fn kinematic_rollout<T: Real>(
     let (mut vx, mut wz) = (speed.v, speed.omega);
     let (mut x, mut y, mut yaw) = (pose.x, pose.y, pose.theta);
     let (mut sin_prev, mut cos_prev) = yaw.sin_cos_libm();
-    for i in 0..cvx.len().min(cwz.len()) {
+    // The sampled controls of the step before (iterators, no index: nothing to panic).
+    let (mut cvx_prev, mut cwz_prev) = (T::zero(), T::zero());
+    for (i, (&cv, &cw)) in cvx.iter().zip(cwz).enumerate() {
         if i > 0 {
             let (lo, hi) = if vx > T::zero() { (vx + min_dvx, vx + max_dvx) } else { (vx - max_dvx, vx - min_dvx) };
-            vx = cvx[i - 1].max(lo).min(hi);
-            wz = cwz[i - 1].max(wz - max_dwz).min(wz + max_dwz);
+            vx = cvx_prev.max(lo).min(hi);
+            wz = cwz_prev.max(wz - max_dwz).min(wz + max_dwz);
         }
+        (cvx_prev, cwz_prev) = (cv, cw);
         yaw = yaw + wz * dt;
         x = x + vx * cos_prev * dt;
         y = y + vx * sin_prev * dt;
@@ -407,18 +410,18 @@ impl<T: Real> Softmax<T> {
             if self.sum > T::zero() {
                 let scale = (-(self.min - cost) * inv_temp).exp_libm();
                 self.sum = self.sum * scale;
-                for t in 0..n {
-                    self.vx[t] = self.vx[t] * scale;
-                    self.wz[t] = self.wz[t] * scale;
+                for (v, w) in self.vx.iter_mut().zip(self.wz.iter_mut()).take(n) {
+                    *v = *v * scale;
+                    *w = *w * scale;
                 }
             }
             self.min = cost;
         }
-        let w = (-(cost - self.min) * inv_temp).exp_libm();
-        self.sum = self.sum + w;
-        for t in 0..n {
-            self.vx[t] = self.vx[t] + w * cvx[t];
-            self.wz[t] = self.wz[t] + w * cwz[t];
+        let weight = (-(cost - self.min) * inv_temp).exp_libm();
+        self.sum = self.sum + weight;
+        for ((v, w), (&cv, &cw)) in self.vx.iter_mut().zip(self.wz.iter_mut()).zip(cvx.iter().zip(cwz)) {
+            *v = *v + weight * cv;
+            *w = *w + weight * cw;
         }
     }
 }
@@ -471,7 +474,10 @@ impl<T: Real> Planner<T> {
     /// the command (u_1), before the shift.
     fn plan(&self, c: &Cycle<T>, vx: &mut [T], wz: &mut [T]) -> Twist2<T> {
         let p = &self.p;
-        let n = vx.len();
+        // Bounded by the arrays below, so that no index can panic (the firmware's C
+        // library is checked for panic paths): `time_steps` is validated within it.
+        let n = vx.len().min(wz.len()).min(MAX_TIME_STEPS);
+        let (vx, wz) = (&mut vx[..n], &mut wz[..n]);
         let path_length = (c.goal.x - c.pose.x).hypot_libm(c.goal.y - c.pose.y);
         let inv_temp = p.temperature.recip();
         let (vx_std, wz_std) = (p.vx_std, p.wz_std);
@@ -481,22 +487,24 @@ impl<T: Real> Planner<T> {
         let mut cwz = [T::zero(); MAX_TIME_STEPS];
         for iter in 0..p.iteration_count {
             // nav2 `applyControlSequenceInterIterationConstraints` (shifting): u_0 = speed.
-            vx[0] = c.speed.v;
-            wz[0] = c.speed.omega;
+            if let (Some(v0), Some(w0)) = (vx.first_mut(), wz.first_mut()) {
+                (*v0, *w0) = (c.speed.v, c.speed.omega);
+            }
             let key = draw_key(p.seed, c.draw.wrapping_add(u64::from(iter)));
             let mut soft = Softmax::new();
             for k in 0..p.batch_size {
-                for t in 0..n {
+                let sampled = cvx.iter_mut().zip(cwz.iter_mut()).zip(vx.iter().zip(wz.iter()));
+                for (t, ((cv, cw), (&v, &w))) in sampled.enumerate() {
                     let (a, b) = noise_pair_keyed(key, k, t as u32);
-                    cvx[t] = vx[t] + vx_std * T::lit(a);
-                    cwz[t] = wz[t] + wz_std * T::lit(b);
+                    *cv = v + vx_std * T::lit(a);
+                    *cw = w + wz_std * T::lit(b);
                 }
                 let mut cost = self.rollout_cost(c, &cvx[..n], &cwz[..n], path_length);
                 // nav2 `updateControlSequence`: the control cost, vx then wz.
                 let (mut ctrl_vx, mut ctrl_wz) = (T::zero(), T::zero());
-                for t in 0..n {
-                    ctrl_vx = ctrl_vx + (cvx[t] - vx[t]) * vx[t];
-                    ctrl_wz = ctrl_wz + (cwz[t] - wz[t]) * wz[t];
+                for ((&cv, &cw), (&v, &w)) in cvx.iter().zip(&cwz).zip(vx.iter().zip(wz.iter())) {
+                    ctrl_vx = ctrl_vx + (cv - v) * v;
+                    ctrl_wz = ctrl_wz + (cw - w) * w;
                 }
                 cost = cost + gamma_vx * ctrl_vx;
                 if wz_std > T::zero() {
@@ -505,13 +513,14 @@ impl<T: Real> Planner<T> {
                 soft.add(cost, inv_temp, &cvx[..n], &cwz[..n]);
             }
             let inv_sum = soft.sum.recip();
-            for t in 0..n {
-                vx[t] = soft.vx[t] * inv_sum;
-                wz[t] = soft.wz[t] * inv_sum;
+            for ((v, w), (&sv, &sw)) in vx.iter_mut().zip(wz.iter_mut()).zip(soft.vx.iter().zip(&soft.wz)) {
+                *v = sv * inv_sum;
+                *w = sw * inv_sum;
             }
             self.constrain(c, vx, wz);
         }
-        Twist2 { v: vx[1], omega: wz[1] }
+        // u_1 (`time_steps` >= 2 is validated; the speed itself otherwise).
+        Twist2 { v: vx.get(1).copied().unwrap_or(c.speed.v), omega: wz.get(1).copied().unwrap_or(c.speed.omega) }
     }
 
     /// nav2 `applyControlSequenceConstraints` (shifting, DiffDrive): u_0 = speed, every
@@ -520,16 +529,17 @@ impl<T: Real> Planner<T> {
         let p = &self.p;
         let dt = p.model_dt;
         let (max_dvx, min_dvx, max_dwz) = (dt * p.ax_max, dt * p.ax_min, dt * p.az_max);
-        vx[0] = c.speed.v;
-        wz[0] = c.speed.omega;
+        if let (Some(v0), Some(w0)) = (vx.first_mut(), wz.first_mut()) {
+            (*v0, *w0) = (c.speed.v, c.speed.omega);
+        }
         let (mut vx_last, mut wz_last) = (c.speed.v, c.speed.omega);
-        for t in 0..vx.len() {
-            let v = p.vx_max.min(vx[t].max(p.vx_min));
-            vx[t] = clamp_by_accel(vx_last, v, min_dvx, max_dvx);
-            vx_last = vx[t];
-            let w = p.wz_max.min(wz[t].max(-p.wz_max));
-            wz[t] = clamp_by_accel(wz_last, w, -max_dwz, max_dwz);
-            wz_last = wz[t];
+        for (vt, wt) in vx.iter_mut().zip(wz.iter_mut()) {
+            let v = p.vx_max.min(vt.max(p.vx_min));
+            *vt = clamp_by_accel(vx_last, v, min_dvx, max_dvx);
+            vx_last = *vt;
+            let w = p.wz_max.min(wt.max(-p.wz_max));
+            *wt = clamp_by_accel(wz_last, w, -max_dwz, max_dwz);
+            wz_last = *wt;
         }
     }
 }
@@ -586,15 +596,16 @@ impl<L: Lane> MppiLaw<L> {
     /// wz rad/s) per step of `model_dt`, `time_steps` long.
     pub fn sequence(&self, lane: usize, vx: &mut [L::Scalar], wz: &mut [L::Scalar]) {
         let n = self.planner.p.time_steps as usize;
-        for t in 0..n.min(vx.len()).min(wz.len()) {
-            vx[t] = self.vx[t].lane(lane);
-            wz[t] = self.wz[t].lane(lane);
+        for ((v, w), (sv, sw)) in vx.iter_mut().zip(wz.iter_mut()).zip(self.vx.iter().zip(&self.wz)).take(n) {
+            *v = sv.lane(lane);
+            *w = sw.lane(lane);
         }
     }
 
     fn plan_lane(&mut self, i: usize, m: &Measurement<L>, r: &ReferenceState<L>) {
         let p = self.planner.p;
-        let n = p.time_steps as usize;
+        // Within the arrays (validated so), so that no index can panic.
+        let n = (p.time_steps as usize).min(MAX_TIME_STEPS);
         let dt = p.model_dt;
         let rr = self.wheel_radius;
         let (w_r, w_l) = (m.wheel_speeds.right.lane(i), m.wheel_speeds.left.lane(i));
@@ -617,18 +628,24 @@ impl<L: Lane> MppiLaw<L> {
         };
         let mut vx = [<L::Scalar as num_traits::Zero>::zero(); MAX_TIME_STEPS];
         let mut wz = [<L::Scalar as num_traits::Zero>::zero(); MAX_TIME_STEPS];
-        for t in 0..n {
-            vx[t] = self.vx[t].lane(i);
-            wz[t] = self.wz[t].lane(i);
+        for ((v, w), (sv, sw)) in vx.iter_mut().zip(wz.iter_mut()).zip(self.vx.iter().zip(&self.wz)).take(n) {
+            *v = sv.lane(i);
+            *w = sw.lane(i);
         }
         let cmd = self.planner.plan(&c, &mut vx[..n], &mut wz[..n]);
         // nav2 `shiftControlSequence`: one step on, the last element repeated.
-        for t in 0..n - 1 {
-            self.vx[t].set_lane(i, vx[t + 1]);
-            self.wz[t].set_lane(i, wz[t + 1]);
+        let on = vx.iter().zip(&wz).take(n).skip(1);
+        for ((sv, sw), (&v, &w)) in self.vx.iter_mut().zip(self.wz.iter_mut()).zip(on) {
+            sv.set_lane(i, v);
+            sw.set_lane(i, w);
         }
-        self.vx[n - 1].set_lane(i, vx[n - 1]);
-        self.wz[n - 1].set_lane(i, wz[n - 1]);
+        if let Some(last) = n.checked_sub(1) {
+            let (v, w) = (vx.get(last).copied(), wz.get(last).copied());
+            if let (Some(sv), Some(sw), Some(v), Some(w)) = (self.vx.get_mut(last), self.wz.get_mut(last), v, w) {
+                sv.set_lane(i, v);
+                sw.set_lane(i, w);
+            }
+        }
         self.command.v.set_lane(i, cmd.v);
         self.command.omega.set_lane(i, cmd.omega);
         self.cycle.set_lane(i, <L::Scalar as Real>::lit((cycle + 1) as f64));
