@@ -487,7 +487,9 @@ mod tests {
 
     #[test]
     fn config_round_trips_for_every_law_and_drive() {
-        for law in LawParams::<f64>::defaults() {
+        // A law the trace does not carry (mppi: more keys than the trace's law words) is
+        // refused by `wmr-cli trace` before any encoding.
+        for law in LawParams::<f64>::defaults().into_iter().filter(|l| l.traced()) {
             for drive in DriveParams::<f64>::defaults() {
                 let c = ConfigOf {
                     law,
