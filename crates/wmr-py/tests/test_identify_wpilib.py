@@ -17,14 +17,13 @@ one kV for both motions, as wmr's physics does, and no centre-of-mass offset (d 
 from __future__ import annotations
 
 import csv
-import os
 import pathlib
-import shutil
 import subprocess
 
 import pytest
 
 from conftest import REPO
+from test_scenario import build_cli
 
 #: WPILib's drivetrain: kV (V per m/s) and kA (V per m/s^2) of the straight-line motion,
 #: kA of the turning per wheel speed (V per m/s^2 at each wheel), the track width (m); a
@@ -59,18 +58,9 @@ current_max = inf
 
 
 def _wmr_cli() -> list:
-    """The wmr-cli to run: $WMR_CLI, else this checkout's build (made if missing)."""
-    if os.environ.get("WMR_CLI"):
-        return [os.environ["WMR_CLI"]]
-    for profile in ("release", "debug"):
-        exe = REPO / "target" / profile / "wmr-cli"
-        if exe.exists():
-            return [str(exe)]
-    cargo = shutil.which("cargo")
-    if cargo is None:
-        pytest.skip("no wmr-cli build and no cargo to make one (set WMR_CLI)")
-    subprocess.run([cargo, "build", "-q", "-p", "wmr-cli"], cwd=REPO, check=True)
-    return [str(REPO / "target" / "debug" / "wmr-cli")]
+    """The wmr-cli to run: the test command's (`WMR_TEST_CLI`), else this checkout's, built
+    now (test_scenario.build_cli: never a stale binary left in target/)."""
+    return [str(build_cli())]
 
 
 def _run(args: list, cwd: pathlib.Path) -> str:

@@ -869,6 +869,7 @@ __all__ = [
     "PurePursuitController",
     "Reference",
     "GracefulController",
+    "MppiController",
     "LyapunovController",
     "PaperBidirectionalController",
     "PaperController",
