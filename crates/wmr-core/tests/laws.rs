@@ -651,8 +651,18 @@ fn wheel_speed_max_validation() {
 fn kinds_by_name() {
     let (robot, drive) = robot_and_drive();
     assert_eq!(
-        LawParams::<f64>::defaults().map(|p| p.kind())[..8],
-        ["paper", "paper_bidirectional", "polar", "lyapunov", "graceful", "kanayama", "backstepping", "pure_pursuit"]
+        LawParams::<f64>::defaults().map(|p| p.kind())[..9],
+        [
+            "paper",
+            "paper_bidirectional",
+            "polar",
+            "lyapunov",
+            "graceful",
+            "mppi",
+            "kanayama",
+            "backstepping",
+            "pure_pursuit"
+        ]
     );
     for p in LawParams::<f64>::defaults() {
         assert_eq!(p.build(robot.params(), DT).unwrap().kind(), p.kind());
