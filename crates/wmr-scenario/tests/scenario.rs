@@ -178,7 +178,10 @@ random = { n = 200000, seed = 1, radius = 1.0 }
     let Err(err) = Scenario::from_toml_str(text, "big") else { panic!("{runs} x 200000 plant steps accepted") };
     assert_eq!(err.key, "sim.t_end");
     let steps = runs as f64 * 200_000.0;
-    assert!(err.message.starts_with(&format!("{runs} runs x 200000 steps (t_end / dt) = {steps:.3e} plant steps")), "{err}");
+    assert!(
+        err.message.starts_with(&format!("{runs} runs x 200000 steps (t_end / dt) = {steps:.3e} plant steps")),
+        "{err}"
+    );
     assert!(u128::from(wmr_scenario::MAX_TOTAL_STEPS) < runs as u128 * 200_000);
 }
 
