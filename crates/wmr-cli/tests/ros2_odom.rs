@@ -99,7 +99,7 @@ fn odom_carries_the_ekf_covariance_on_odometry() {
     let mut lp = sc.closed_loop(0).unwrap();
     let ekf = |lp: &wmr_scenario::RunLoop| match lp.sensor() {
         AnySensor::Odometry(s) => s.covariance().expect("a tick has run"),
-        AnySensor::Absolute(_) => panic!("the run is on odometry"),
+        _ => panic!("the run is on odometry"),
     };
     let mut want = vec![(0u64, ekf(&lp))];
     for k in 1..=n {
