@@ -717,6 +717,7 @@ impl Columns {
             odometry: setup.odometry(),
             contact: setup.slips(),
             reference: scenario.tracking().map(|t| t.reference.built.clone()),
+            command: scenario.controller().law.twist_demand(),
         }
     }
 }

@@ -68,6 +68,11 @@ macro_rules! laws {
                 match self { $( LawParams::$variant(_) => <$krate::$params<T> as LawSpec<T>>::TRACED, )+ }
             }
 
+            /// Whether the law demands a body twist ([`LawSpec::TWIST_DEMAND`]).
+            pub fn twist_demand(&self) -> bool {
+                match self { $( LawParams::$variant(_) => <$krate::$params<T> as LawSpec<T>>::TWIST_DEMAND, )+ }
+            }
+
             /// The declared keys of the law ([`crate::describe`]): what `--help`, the
             /// docs tables and the C header are made from.
             pub fn fields(&self) -> &'static [ParamField] {

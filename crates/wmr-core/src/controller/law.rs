@@ -51,6 +51,11 @@ pub trait LawSpec<T: Real>: Described + Copy + Default + PartialEq {
     /// firmware does not replay it.
     const TRACED: bool = true;
 
+    /// Whether the law demands a body twist ([`WheelDemand::Twist`]) at every tick, which
+    /// the samples then carry (`Sample::twist_demand`, CSV `v_cmd`, `omega_cmd`, ROS 2
+    /// `/cmd_vel`); false for a law that demands wheel angles or torques.
+    const TWIST_DEMAND: bool = true;
+
     /// Validates the keys (errors name the key) and builds the law for the controller's
     /// robot model and control period (s).
     fn build<L: Lane<Scalar = T>>(&self, model: &RobotParams<T>, control_dt: T) -> Result<Self::Law<L>, ParamError>;
