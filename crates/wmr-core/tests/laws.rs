@@ -858,7 +858,7 @@ fn samples_carry_the_law_twist_demand<T: Real>() {
         let mut lp = closed(ctrl, pose::<T>(0.0, 0.0, 0.0), goal);
         let mut law = p.build(robot.params(), T::lit(DT)).unwrap();
         // The law's own answers to the ticks the loop ran (control_dt = dt: every step).
-        let mut check = |lp: &ClosedLoop<T, AnyLaw<T>>, law: &mut AnyLaw<T>| {
+        let check = |lp: &ClosedLoop<T, AnyLaw<T>>, law: &mut AnyLaw<T>| {
             let tick = *lp.last_tick();
             let out = law.update(tick.t, &tick.measurement, &tick.reference);
             let want = match out.demand {
