@@ -393,7 +393,7 @@ impl Scenario {
 
     /// [`Self::all_runs`], each weighed by its law's cost per step
     /// ([`wmr_core::LawParams::update_cost`]: an MPPI run at nav2's defaults weighs about
-    /// a thousand runs of the paper's law).
+    /// 430 runs of the paper's law).
     fn weighted_runs(&self) -> f64 {
         let own = self.runs.len() as f64 * self.setup.controller.law.update_cost();
         let sweep = self.sweep.as_ref().map_or(0.0, |s| {

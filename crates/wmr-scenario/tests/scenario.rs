@@ -185,23 +185,23 @@ random = { n = 150000, seed = 1, radius = 1.0 }
     assert!(u128::from(wmr_scenario::MAX_TOTAL_STEPS) < runs as u128 * 200_000);
 }
 
-/// A run is weighed in the step budget by its law's cost per step: 2,000 MPPI runs of
-/// 100 s are 2e8 plant steps, but MPPI at nav2's defaults (1,000 samples x 56 steps every
-/// 0.05 s) costs about a thousand paper-law steps per step: 2e11, refused before any
-/// run is built; with 100 samples (a tenth of the rollouts) the same sweep is accepted.
+/// A run is weighed in the step budget by its law's cost per step: 3,000 MPPI runs of
+/// 100 s are 3e8 plant steps, but MPPI at nav2's defaults (1,000 samples x 56 steps every
+/// 0.05 s) costs 430 paper-law steps per step: 1.29e11, refused before any run is
+/// built; with 100 samples (a tenth of the rollouts) the same sweep is accepted.
 #[test]
 fn a_law_s_cost_per_step_counts_in_the_step_budget() {
     let text = |batch: u32| {
         format!(
             "[sim]\nt_end = 100.0\n[sweep]\ngoal = {{}}\ncontrollers = [{{ kind = \"mppi\", batch_size = {batch} }}]\n\
-             random = {{ n = 2000, seed = 1, radius = 1.0 }}\n"
+             random = {{ n = 3000, seed = 1, radius = 1.0 }}\n"
         )
     };
-    let Err(err) = Scenario::from_toml_str(&text(1000), "mppi") else { panic!("2e11 steps' work accepted") };
+    let Err(err) = Scenario::from_toml_str(&text(1000), "mppi") else { panic!("1.29e11 steps' work accepted") };
     assert_eq!(err.key, "sim.t_end");
     assert!(
         err.message
-            .starts_with("2000 runs x 100000 steps (t_end / dt) = 2.000e8 plant steps, as much work as 2.000e11"),
+            .starts_with("3000 runs x 100000 steps (t_end / dt) = 3.000e8 plant steps, as much work as 1.290e11"),
         "{err}"
     );
     assert!(Scenario::from_toml_str(&text(100), "mppi").is_ok());

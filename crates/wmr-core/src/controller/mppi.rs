@@ -86,8 +86,9 @@ use crate::{Real, RobotParams};
 pub const MAX_TIME_STEPS: usize = 64;
 
 /// Most rollout steps one planning cycle may take (batch_size x time_steps x
-/// iteration_count): 1e7, about a second of one core, 180 times nav2's defaults
-/// (1000 x 56 x 1). One `update` is one cycle and cannot be interrupted: from C or
+/// iteration_count): 1e7, 180 times nav2's defaults (1000 x 56 x 1), about 0.4 s of one
+/// core (a cycle at nav2's defaults took 2.1 ms: `wmr-cli run examples/mppi/goal.toml`,
+/// release, 600 cycles in 1.27 s of CPU, AMD EPYC Zen 4, idle, 2026-12-07). One `update` is one cycle and cannot be interrupted: from C or
 /// Python a larger one would hang the caller, so it is refused by name instead.
 pub const MAX_ROLLOUT_STEPS_PER_CYCLE: u64 = 10_000_000;
 
@@ -216,8 +217,10 @@ impl<T: Real> Default for MppiParams<T> {
 impl<T: Real> super::law::LawSpec<T> for MppiParams<T> {
     type Law<L: Lane<Scalar = T>> = MppiLaw<L>;
 
-    /// One cycle at nav2's defaults is 56,000 rollout steps every 0.05 s (a few ms):
-    /// against a plant step of the paper's law at control_dt = 1 ms, about a thousand.
+    /// One cycle at nav2's defaults is 56,000 rollout steps every 0.05 s: a plant step
+    /// under it cost 430 times one under the paper's law (42.5 us against 0.098 us per
+    /// step: examples/mppi/goal.toml and the same runs under paper_bidirectional for
+    /// 1000 s, log_dt 1 s, release, AMD EPYC Zen 4, idle, 2026-12-07).
     /// It grows with the rollout steps per cycle (batch_size x time_steps x
     /// iteration_count) and the cycles per second (1 / model_dt), so that a scenario
     /// asking for a billion samples is refused by the step budget, not run for days.
@@ -227,7 +230,7 @@ impl<T: Real> super::law::LawSpec<T> for MppiParams<T> {
         // A model_dt the law refuses (<= 0, NaN) costs what the defaults do: the law's
         // own check names the key.
         let per_second = if model_dt > 0.0 { 0.05 / model_dt } else { 1.0 };
-        1000.0 * rollout_steps / 56_000.0 * per_second
+        430.0 * rollout_steps / 56_000.0 * per_second
     }
 
     /// 30 keys: more than the trace's 16 law words.
@@ -265,7 +268,7 @@ impl<T: Real> MppiParams<T> {
             return Err(check::out_of_range(
                 "batch_size",
                 "batch_size x time_steps x iteration_count must be <= 1e7 rollout steps per cycle \
-                 (MAX_ROLLOUT_STEPS_PER_CYCLE, about a second of one core)",
+                 (MAX_ROLLOUT_STEPS_PER_CYCLE, about 0.4 s of one core)",
                 T::lit(f64::from(self.batch_size)),
             ));
         }
