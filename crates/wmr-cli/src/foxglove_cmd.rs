@@ -56,13 +56,20 @@ pub fn usage_error(msg: &str) -> ! {
 /// Refuses, before any work, a LAYOUT path that cannot take the layout file (the rules of
 /// OUT, except that LAYOUT must be a file) or that is OUT itself.
 pub fn check_layout_path(layout: &Path, out: Option<&Path>) -> Result<()> {
+    check_side_output("--layout", layout, out)
+}
+
+/// Refuses, before any work, a `path` that a flag (`--layout`, `--rosbag2`) writes beside
+/// OUT when it cannot take the file (the rules of OUT, except that it must be a file) or
+/// is OUT itself.
+pub fn check_side_output(flag: &str, layout: &Path, out: Option<&Path>) -> Result<()> {
     let Target::File(real) = target_of(layout)? else {
-        return Err(bad_input(format!("--layout {} is not a regular file; give a file name", shown(layout))));
+        return Err(bad_input(format!("{flag} {} is not a regular file; give a file name", shown(layout))));
     };
     if let Some(Ok(Target::File(out))) = out.map(target_of) {
         let same = |p: &Path| std::fs::canonicalize(p).ok();
         if out == real || (same(&out).is_some() && same(&out) == same(&real)) {
-            return Err(bad_input(format!("--layout {} is OUT itself; give another file name", shown(layout))));
+            return Err(bad_input(format!("{flag} {} is OUT itself; give another file name", shown(layout))));
         }
     }
     Ok(())

@@ -60,6 +60,11 @@ enum Command {
         /// Also write LAYOUT, a Foxglove layout made for these runs (as `wmr-cli layout`).
         #[arg(long, value_name = "LAYOUT")]
         layout: Option<PathBuf>,
+        /// With --profile ros2: also write metadata.yaml beside OUT, so that OUT's folder is
+        /// a rosbag2 bag (`ros2 bag play DIR`, `ros2 bag info DIR`; rosbag2's Humble format,
+        /// which Jazzy reads too).
+        #[arg(long)]
+        rosbag2: bool,
         /// Serve the runs live on ADDR (default 127.0.0.1:8765, loopback only) over Foxglove's
         /// WebSocket protocol, paced at simulated time; in Foxglove: Open connection. Starts when
         /// a client subscribes; with -o OUT.mcap the file is written too. Give FILE first.
@@ -431,7 +436,12 @@ fn run(cli: Cli) -> Result<()> {
             note(&format!("wmr-cli: wrote {} ({} run(s))", wmr_scenario::shown(&output), scenario.runs().len()));
             Ok(())
         }
-        Command::Run { file, files, output, format, profile, layout, live, speed } => {
+        Command::Run { file, files, output, format, profile, layout, rosbag2, live, speed } => {
+            if rosbag2 && profile != Some(mcap_sink::Profile::Ros2) {
+                foxglove_cmd::usage_error(
+                    "--rosbag2: a rosbag2 bag holds ROS 2 channels only; give --profile ros2 (and -o OUT.mcap)",
+                );
+            }
             if profile.is_some() && live.is_some() {
                 foxglove_cmd::usage_error("--profile: --live serves the Foxglove topics only; leave --profile out");
             }
@@ -460,7 +470,23 @@ fn run(cli: Cli) -> Result<()> {
             if let Some(l) = &layout {
                 foxglove_cmd::check_layout_path(l, Some(&output))?;
             }
-            exec::run_command(&scenario, &file, &output, format, profile.unwrap_or_default(), layout.as_deref())
+            let bag = rosbag2.then(|| ros2::bag::metadata_path(&output));
+            if let Some(meta) = &bag {
+                if !matches!(atomic::target_of(&output)?, atomic::Target::File(_)) {
+                    foxglove_cmd::usage_error("--rosbag2 writes metadata.yaml beside OUT: give OUT as a file");
+                }
+                foxglove_cmd::check_side_output("--rosbag2", meta, Some(&output))?;
+            }
+            exec::run_command(&scenario, &file, &output, format, profile.unwrap_or_default(), layout.as_deref())?;
+            if bag.is_some() {
+                let meta = ros2::bag::write_metadata(&output)?;
+                note(&format!(
+                    "wmr-cli: wrote {} (a rosbag2 bag: ros2 bag play {})",
+                    wmr_scenario::shown(&meta),
+                    wmr_scenario::shown(&atomic::parent_dir(&output))
+                ));
+            }
+            Ok(())
         }
     }
 }

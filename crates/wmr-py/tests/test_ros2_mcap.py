@@ -254,3 +254,53 @@ def test_the_foxglove_default_is_unchanged_and_both_holds_both(cli, tmp_path):
     assert encodings == {"protobuf", "cdr"}
     topics = {ch.topic for ch in summary.channels.values()}
     assert {"/run0/tf", "/run1/sample", "/run0/odom", "/run1/wmr/sample"} <= topics
+
+
+def test_rosbag2_makes_the_folder_a_bag_rosbags_reads_by_its_metadata(cli, tmp_path):
+    """`--rosbag2`: metadata.yaml beside the file, in rosbag2's Humble form (version 5, each
+    topic's QoS one YAML string), read by rosbags' directory reader, which takes the topics,
+    types, counts and QoS from metadata.yaml and the messages from the file it names."""
+    from ruamel.yaml import YAML
+
+    scenario = FIXTURES / "two-runs-every-topic.toml"
+    bag = tmp_path / "bag"
+    bag.mkdir()
+    run(cli, scenario, bag / "run.mcap", "--profile", "ros2", "--rosbag2")
+    info = YAML(typ="safe").load((bag / "metadata.yaml").read_text())["rosbag2_bagfile_information"]
+    assert info["version"] == 5 and info["storage_identifier"] == "mcap"
+    assert info["relative_file_paths"] == ["run.mcap"]
+    assert all(isinstance(t["topic_metadata"]["offered_qos_profiles"], str) for t in info["topics_with_message_count"])
+    # What the file itself holds, read without metadata.yaml (its summary and its messages).
+    with open(bag / "run.mcap", "rb") as f:
+        reader = make_reader(f)
+        summary = reader.get_summary()
+        counted: dict[str, int] = {}
+        first, last = None, None
+        for _, channel, message in reader.iter_messages():
+            counted[channel.topic] = counted.get(channel.topic, 0) + 1
+            first = message.log_time if first is None else min(first, message.log_time)
+            last = message.log_time if last is None else max(last, message.log_time)
+    types = {ch.topic: summary.schemas[ch.schema_id].name for ch in summary.channels.values()}
+    with Reader(bag) as r:
+        assert {c.topic: c.msgcount for c in r.connections} == counted
+        assert {c.topic: c.msgtype for c in r.connections} == types
+        assert r.message_count == sum(counted.values())
+        assert r.start_time == first and r.end_time == last + 1  # rosbags' end is exclusive
+        durability = {c.topic: c.ext.offered_qos_profiles[0].durability.name for c in r.connections}
+        assert durability["/run0/tf_static"] == "TRANSIENT_LOCAL" and durability["/run0/odom"] == "VOLATILE"
+        assert sum(1 for _ in r.messages()) == sum(counted.values())
+
+
+def test_rosbag2_is_refused_where_no_bag_can_be_made(cli, tmp_path):
+    scenario = FIXTURES / "odometry-3s.toml"
+    cases = (
+        ["-o", str(tmp_path / "a.mcap"), "--rosbag2"],  # Foxglove channels
+        ["-o", str(tmp_path / "b.mcap"), "--profile", "both", "--rosbag2"],
+        ["-o", "-", "--format", "mcap", "--profile", "ros2", "--rosbag2"],  # stdout
+        ["-o", str(tmp_path / "metadata.yaml"), "--format", "mcap", "--profile", "ros2", "--rosbag2"],
+    )
+    for extra in cases:
+        r = subprocess.run([str(cli), "run", str(scenario), *extra], capture_output=True, text=True)
+        assert r.returncode == 2, (extra, r)
+        assert "--rosbag2" in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == []

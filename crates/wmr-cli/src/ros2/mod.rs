@@ -3,8 +3,10 @@
 //!
 //! [`cdr`] writes and reads CDR, [`msgs`] holds the message definitions, [`topics`] names
 //! the topics, their types and QoS, [`geometry`] places the robot's parts, [`urdf`] writes
-//! the robot's description, and [`encoder`] turns a run's samples into messages.
+//! the robot's description, [`encoder`] turns a run's samples into messages, [`log`] reads
+//! a ROS 2 MCAP back, and [`bag`] writes the `metadata.yaml` of a rosbag2 bag around one.
 
+pub mod bag;
 pub mod cdr;
 pub mod encoder;
 pub mod geometry;
