@@ -196,7 +196,7 @@ pub fn run_command(
     let to_stdout = out.is_stdout();
     out.finish()?;
     if let Some(layout) = layout {
-        crate::foxglove_cmd::write_layout(scenario, layout)?;
+        crate::foxglove_cmd::write_layout(scenario, layout, profile)?;
     }
     for r in &results {
         // With OUT on stdout the summary goes to stderr, so the data stays clean.

@@ -11,6 +11,7 @@ use wmr_scenario::{Scenario, shown};
 
 use crate::atomic::{AtomicOut, Target, target_of};
 use crate::errors::{bad_input, note, say};
+use crate::mcap_sink::Profile;
 use crate::{Format, format_of, layout, live};
 
 /// `--live ADDR`: `IP:PORT` (port 0: any free port) of one host: a multicast or broadcast
@@ -77,10 +78,10 @@ pub fn check_side_output(flag: &str, layout: &Path, out: Option<&Path>) -> Resul
 
 /// Writes `scenario`'s layout to `path` (beside it under a temporary name, renamed when
 /// complete; a path that cannot take a file is bad input, as for OUT).
-pub fn write_layout(scenario: &Scenario, path: &Path) -> Result<()> {
+pub fn write_layout(scenario: &Scenario, path: &Path, profile: Profile) -> Result<()> {
     let out = AtomicOut::create(path)?;
     let mut file = out.file()?;
-    file.write_all(layout::layout_text(scenario).as_bytes())
+    file.write_all(layout::layout_text(scenario, profile).as_bytes())
         .with_context(|| format!("cannot write {}", shown(path)))?;
     out.persist()
 }
@@ -119,7 +120,7 @@ impl LiveLayout {
             kept = Some(k);
         }
         let layout = Self { file, kept };
-        if let Err(e) = write_layout(scenario, path) {
+        if let Err(e) = write_layout(scenario, path, Profile::Foxglove) {
             layout.undo();
             return Err(e);
         }

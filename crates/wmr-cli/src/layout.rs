@@ -15,11 +15,22 @@
 //!   odometry run 0's true and dead-reckoned position (the drift), with a `[reference]`
 //!   run 0's reference and actual speed. A run's series has the colour of its path in the
 //!   3D panel.
+//!
+//! For a `--profile ros2` file ([`layout`] with [`Profile::Ros2`]) the same panels name the
+//! ROS 2 topics and frames: the 3D panel follows `map` and shows each run's robot from its
+//! URDF (`/robot_description`, which the 3D panel draws on the `/tf` frames: the wheels
+//! turn), its goal (`/goal_pose`) as an arrow and, with a `[reference]`, its `/plan`
+//! (`nav_msgs/Odometry` is not a type the 3D panel draws); the plots read `/wmr/sample` (`/runN/wmr/sample`), whose
+//! fields are the CSV's. A `both` file gets the Foxglove layout (its channels are complete;
+//! the ROS 2 frames hang from `map`, not from `world`).
 
 use serde_json::{Value, json};
 use wmr_scenario::{Columns, Scenario};
 
 use crate::foxglove_topics::{Kind, WORLD_FRAME, base_link, log_positions, reference_frame, run_hex, run_rgb, topic};
+use crate::mcap_sink::Profile;
+use crate::ros2::Topic;
+use crate::ros2::topics::{MAP_FRAME, frame, topic_name};
 
 /// Id (type!name) of the 3D panel.
 pub const PANEL_3D: &str = "3D!wmr-plane";
@@ -74,9 +85,34 @@ fn plot(title: &str, paths: Vec<Value>) -> Value {
     })
 }
 
-fn series(run: usize, field: &str, label: String, color: String) -> Value {
+/// Where a layout finds a run's samples and frames: the Foxglove profile's names or the
+/// ROS 2 profile's.
+#[derive(Clone, Copy)]
+struct Names {
+    ros2: bool,
+    runs: usize,
+}
+
+impl Names {
+    /// The topic of run `run`'s samples (every CSV column as a field).
+    fn sample(self, run: usize) -> String {
+        if self.ros2 { topic_name(run, self.runs, Topic::Sample) } else { topic(run, Kind::Sample) }
+    }
+
+    /// The fixed frame the 3D panel draws in.
+    fn fixed_frame(self) -> &'static str {
+        if self.ros2 { MAP_FRAME } else { WORLD_FRAME }
+    }
+
+    /// Run `run`'s body frame.
+    fn base_link(self, run: usize) -> String {
+        if self.ros2 { frame(run, self.runs, "base_link") } else { base_link(run) }
+    }
+}
+
+fn series(sample_topic: &str, field: &str, label: String, color: String) -> Value {
     json!({
-        "value": format!("{}.{field}", topic(run, Kind::Sample)),
+        "value": format!("{sample_topic}.{field}"),
         "enabled": true,
         "timestampMethod": "receiveTime",
         "label": label,
@@ -98,9 +134,10 @@ fn column(ids: &[&str]) -> Value {
     }
 }
 
-/// The layout for `scenario`'s runs.
-pub fn layout(scenario: &Scenario) -> Value {
+/// The layout for `scenario`'s runs in a file of `profile` ([module doc](self)).
+pub fn layout(scenario: &Scenario, profile: Profile) -> Value {
     let runs = scenario.runs();
+    let names = Names { ros2: profile == Profile::Ros2, runs: runs.len() };
     let robot = scenario.robot().params();
     let columns = Columns::of(scenario);
     let tracking = columns.reference.is_some();
@@ -129,13 +166,10 @@ pub fn layout(scenario: &Scenario) -> Value {
     let grid_size = cells * spacing;
 
     let mut transforms = serde_json::Map::new();
-    transforms.insert(format!("frame:{WORLD_FRAME}"), json!({ "visible": true }));
+    transforms.insert(format!("frame:{}", names.fixed_frame()), json!({ "visible": true }));
     let mut topics = serde_json::Map::new();
     for i in 0..runs.len() {
-        transforms.insert(format!("frame:{}", base_link(i)), json!({ "visible": true }));
-        for kind in [Kind::Scene, Kind::Path, Kind::PathTip] {
-            topics.insert(topic(i, kind), json!({ "visible": true }));
-        }
+        transforms.insert(format!("frame:{}", names.base_link(i)), json!({ "visible": true }));
         // A pose as an arrow (ThreeDeeRender's PoseInFrame settings: type, arrowScale, color).
         let s = robot.half_track;
         let arrow = |color: String| {
@@ -146,6 +180,18 @@ pub fn layout(scenario: &Scenario) -> Value {
                 "color": format!("{color}ff")
             })
         };
+        if names.ros2 {
+            // The URDF on the /tf frames (Foxglove's Urdfs: hidden unless set visible).
+            topics.insert(topic_name(i, runs.len(), Topic::RobotDescription), json!({ "visible": true }));
+            topics.insert(topic_name(i, runs.len(), Topic::GoalPose), arrow(shade(i, 1.0, 0.5)));
+            if tracking {
+                topics.insert(topic_name(i, runs.len(), Topic::Plan), json!({ "visible": true }));
+            }
+            continue;
+        }
+        for kind in [Kind::Scene, Kind::Path, Kind::PathTip] {
+            topics.insert(topic(i, kind), json!({ "visible": true }));
+        }
         if columns.measured {
             topics.insert(topic(i, Kind::PoseMeas), arrow(run_hex(i)));
         }
@@ -159,7 +205,11 @@ pub fn layout(scenario: &Scenario) -> Value {
     }
 
     let three_d = json!({
-        "foxglovePanelTitle": "the plane from above (m, frame world): every run's path, body and goal",
+        "foxglovePanelTitle": if names.ros2 {
+            "the plane from above (m, frame map): every run's robot and goal"
+        } else {
+            "the plane from above (m, frame world): every run's path, body and goal"
+        },
         "cameraState": {
             "perspective": false,
             "distance": r6(span),
@@ -173,7 +223,7 @@ pub fn layout(scenario: &Scenario) -> Value {
             "far": 5000
         },
         "followMode": "follow-none",
-        "followTf": WORLD_FRAME,
+        "followTf": names.fixed_frame(),
         "scene": {
             "backgroundColor": "#ffffff",
             "transforms": {
@@ -189,7 +239,7 @@ pub fn layout(scenario: &Scenario) -> Value {
             "grid": {
                 "visible": true,
                 "layerId": "foxglove.Grid",
-                "frameId": WORLD_FRAME,
+                "frameId": names.fixed_frame(),
                 "size": r6(grid_size),
                 "divisions": cells as u64,
                 "lineWidth": 1,
@@ -212,8 +262,9 @@ pub fn layout(scenario: &Scenario) -> Value {
     });
 
     let every = |field: &str| -> Vec<Value> {
-        (0..runs.len()).map(|i| series(i, field, format!("run {i}"), run_hex(i))).collect()
+        (0..runs.len()).map(|i| series(&names.sample(i), field, format!("run {i}"), run_hex(i))).collect()
     };
+    let run0 = names.sample(0);
     let mut config = serde_json::Map::new();
     config.insert(PANEL_3D.into(), three_d);
     // A tracking run's dl is its tracking error: the plot of dl becomes the tracking-error plot.
@@ -232,8 +283,8 @@ pub fn layout(scenario: &Scenario) -> Value {
         plot(
             "run 0: wheel speeds omega_r, omega_l (rad/s)",
             vec![
-                series(0, "omega_r", "omega_r (rad/s)".into(), run_hex(0)),
-                series(0, "omega_l", "omega_l (rad/s)".into(), shade(0, 0.0, 0.45)),
+                series(&run0, "omega_r", "omega_r (rad/s)".into(), run_hex(0)),
+                series(&run0, "omega_l", "omega_l (rad/s)".into(), shade(0, 0.0, 0.45)),
             ],
         ),
     );
@@ -244,10 +295,10 @@ pub fn layout(scenario: &Scenario) -> Value {
         plot(
             &format!("run 0: {what} position x, {x}, y, {y} (m)"),
             vec![
-                series(0, "x", "x (m)".into(), run_hex(0)),
-                series(0, &x, format!("{x} (m)"), shade(0, 1.0, 0.5)),
-                series(0, "y", "y (m)".into(), shade(0, 0.0, 0.45)),
-                series(0, &y, format!("{y} (m)"), shade(0, 0.0, 0.75)),
+                series(&run0, "x", "x (m)".into(), run_hex(0)),
+                series(&run0, &x, format!("{x} (m)"), shade(0, 1.0, 0.5)),
+                series(&run0, "y", "y (m)".into(), shade(0, 0.0, 0.45)),
+                series(&run0, &y, format!("{y} (m)"), shade(0, 0.0, 0.75)),
             ],
         )
     };
@@ -265,8 +316,8 @@ pub fn layout(scenario: &Scenario) -> Value {
             plot(
                 "run 0: reference and actual speed v_ref, v (m/s)",
                 vec![
-                    series(0, "v_ref", "v_ref (m/s)".into(), shade(0, 1.0, 0.5)),
-                    series(0, "v", "v (m/s)".into(), run_hex(0)),
+                    series(&run0, "v_ref", "v_ref (m/s)".into(), shade(0, 1.0, 0.5)),
+                    series(&run0, "v", "v (m/s)".into(), run_hex(0)),
                 ],
             ),
         );
@@ -289,8 +340,8 @@ pub fn layout(scenario: &Scenario) -> Value {
 }
 
 /// The layout as pretty JSON text, ending in a newline.
-pub fn layout_text(scenario: &Scenario) -> String {
-    let mut s = serde_json::to_string_pretty(&layout(scenario)).unwrap_or_default();
+pub fn layout_text(scenario: &Scenario, profile: Profile) -> String {
+    let mut s = serde_json::to_string_pretty(&layout(scenario, profile)).unwrap_or_default();
     s.push('\n');
     s
 }

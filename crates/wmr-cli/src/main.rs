@@ -85,6 +85,10 @@ enum Command {
         /// The layout (JSON); import it in Foxglove with Layouts > Import from file.
         #[arg(short, long, value_name = "LAYOUT")]
         output: PathBuf,
+        /// The profile of the MCAP it is for (`run --profile`): `ros2` names the ROS 2
+        /// topics and frames and shows the robot from its URDF [default: foxglove].
+        #[arg(long, value_enum, value_name = "PROFILE")]
+        profile: Option<mcap_sink::Profile>,
     },
     /// Run the sweep table of a scenario: every law from every start, in parallel; write one CSV
     /// row per (law, start) and print a comparison table (median / worst per law).
@@ -369,7 +373,7 @@ fn run(cli: Cli) -> Result<()> {
         }
         Command::Urdf { file, files, output } => {
             let scenario = load(&file, &files)?;
-            let text = ros2::urdf::urdf(scenario.robot().params(), scenario.name(), "");
+            let text = wmr_scenario::urdf::urdf(scenario.robot().params(), scenario.name(), "");
             match output {
                 None => errors::say_raw(&text),
                 Some(path) => {
@@ -429,10 +433,10 @@ fn run(cli: Cli) -> Result<()> {
             note(&format!("wmr-cli: wrote {} SVG file(s) into {}", written.len(), wmr_scenario::shown(&output)));
             Ok(())
         }
-        Command::Layout { file, files, output } => {
+        Command::Layout { file, files, output, profile } => {
             let scenario = load(&file, &files)?;
             exec::require_runs(&scenario, &file)?;
-            foxglove_cmd::write_layout(&scenario, &output)?;
+            foxglove_cmd::write_layout(&scenario, &output, profile.unwrap_or_default())?;
             note(&format!("wmr-cli: wrote {} ({} run(s))", wmr_scenario::shown(&output), scenario.runs().len()));
             Ok(())
         }

@@ -291,7 +291,7 @@ impl McapSink {
         let runs = scenario.runs().len();
         let mut mcap = McapFile::with_profile(file, runs, columns.clone(), profile)?;
         if profile.ros2() {
-            mcap.attach_urdf(&ros2::urdf::urdf(scenario.robot().params(), scenario.name(), ""))?;
+            mcap.attach_urdf(&wmr_scenario::urdf::urdf(scenario.robot().params(), scenario.name(), ""))?;
         }
         Ok(Self {
             file: Some(mcap),
@@ -331,7 +331,7 @@ impl Sink for McapSink {
             channels,
             ros2: profile.ros2().then(|| {
                 let prefix = ros2::topics::frame(index, self.runs, "");
-                let description = ros2::urdf::urdf(&self.robot, &self.name, &prefix);
+                let description = wmr_scenario::urdf::urdf(&self.robot, &self.name, &prefix);
                 Ros2RunEncoder::new(index, self.runs, run, &self.robot, self.columns.clone(), &self.sim, description)
             }),
             ros2_channels,

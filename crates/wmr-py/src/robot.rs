@@ -331,6 +331,14 @@ impl PyRobot {
         self.inner.params().static_friction
     }
 
+    /// The robot as a URDF (XML text), named `name`: the platform on `base_link` (mass and
+    /// inertia at the centre of mass), the wheels on `wheel_left_joint` and
+    /// `wheel_right_joint`, a caster; the file `wmr-cli urdf` writes for the same robot.
+    #[pyo3(signature = (name = "wmr"))]
+    fn urdf(&self, name: &str) -> String {
+        wmr_scenario::urdf::urdf(self.inner.params(), name, "")
+    }
+
     /// The parameters as a dict with the scenario's `[robot]` keys (SI units).
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let p = self.inner.params();

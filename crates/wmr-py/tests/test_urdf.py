@@ -101,3 +101,19 @@ def test_every_ros2_mcap_carries_the_urdf_as_topic_and_attachment(cli, tmp_path)
     subprocess.run([str(cli), "run", str(scenario), "-o", str(path)], check=True, capture_output=True)
     with open(path, "rb") as f:
         assert list(make_reader(f).iter_attachments()) == []
+
+
+@pytest.mark.parametrize("scenario", SCENARIOS)
+def test_python_gives_the_urdf_the_cli_writes(cli, scenario):
+    """`wmr_py.Robot.urdf()`: the very text of `wmr-cli urdf` for the same robot and name."""
+    import wmr_py
+
+    robot = robot_of(cli, REPO / scenario)
+    keys = wmr_py.Robot().to_dict().keys()
+    name = pathlib.Path(scenario).stem
+    text = subprocess.run([str(cli), "urdf", str(REPO / scenario)], check=True, capture_output=True, text=True).stdout
+    assert f'<robot name="{name}">' in text
+    assert wmr_py.Robot(**{k: robot[k] for k in keys}).urdf(name=name) == text
+    # Escaped where XML needs it, and named "wmr" by default.
+    assert '<robot name="a&lt;b&amp;&quot;c">' in wmr_py.Robot().urdf(name='a<b&"c')
+    assert '<robot name="wmr">' in wmr_py.Robot().urdf()

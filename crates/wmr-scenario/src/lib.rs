@@ -57,6 +57,7 @@ mod setup;
 mod sim;
 mod sweep;
 mod tracking_run;
+pub mod urdf;
 pub mod vary;
 mod warnings;
 

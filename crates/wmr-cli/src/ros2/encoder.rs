@@ -10,9 +10,9 @@ use wmr_core::{Pose2, Reference, RobotParams, Sample};
 use wmr_scenario::{Columns, RunSpec, SimSpec};
 
 use super::cdr::CdrWriter;
-use super::geometry::{Geometry, JOINT_NAMES};
 use super::topics::{MAP_FRAME, Topic, frame};
 use crate::foxglove_topics::{LogClock, MAX_REFERENCE_SAMPLES};
+use wmr_scenario::urdf::{Geometry, JOINT_NAMES};
 
 /// The frames of one run.
 struct Frames {

@@ -2,18 +2,16 @@
 //! messages in CDR, with the `.msg` definitions ROS 2 tools read them by.
 //!
 //! [`cdr`] writes and reads CDR, [`msgs`] holds the message definitions, [`topics`] names
-//! the topics, their types and QoS, [`geometry`] places the robot's parts, [`urdf`] writes
-//! the robot's description, [`encoder`] turns a run's samples into messages, [`log`] reads
+//! the topics, their types and QoS (the robot's parts and URDF: `wmr_scenario::urdf`),
+//! [`encoder`] turns a run's samples into messages, [`log`] reads
 //! a ROS 2 MCAP back, and [`bag`] writes the `metadata.yaml` of a rosbag2 bag around one.
 
 pub mod bag;
 pub mod cdr;
 pub mod encoder;
-pub mod geometry;
 pub mod log;
 pub mod msgs;
 pub mod topics;
-pub mod urdf;
 
 pub use encoder::Ros2RunEncoder;
 pub use topics::{CDR, ROS2MSG, Ros2Schema, Topic, offered_qos_profiles, topic_name};

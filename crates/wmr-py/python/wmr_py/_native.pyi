@@ -76,6 +76,8 @@ class Robot:
         """1/2 M11 v^2 + 1/2 M22 omega^2, J (float; (N,) array for (N, 7) states)."""
     def wheel_speeds(self, state: _ArrayLike) -> Any:
         """(omega_r, omega_l), rad/s ((N, 2) array for (N, 7) states)."""
+    def urdf(self, name: str = "wmr") -> str:
+        """The robot as a URDF (XML text), as `wmr-cli urdf` writes it."""
     def to_dict(self) -> dict[str, float]: ...
     @property
     def reduced_inertia(self) -> Tuple[float, float]:

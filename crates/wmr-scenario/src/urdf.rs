@@ -1,4 +1,5 @@
-//! The robot as a URDF (`wmr-cli urdf`, and `/robot_description` of a ROS 2 MCAP): the
+//! The robot as a URDF (`wmr-cli urdf`, `/robot_description` of a ROS 2 MCAP, and
+//! `wmr_py.Robot.urdf()`): the
 //! platform on `base_link`, the two wheels on continuous joints `wheel_left_joint` and
 //! `wheel_right_joint` at `(0, +-half_track, wheel_radius)` turning about y, and a caster
 //! ball on a fixed joint ([`Geometry`]).
@@ -11,11 +12,42 @@
 //! `I_m / 2` about x and z (a disc's), with mass 0 (its mass is in `m`). The caster is
 //! massless.
 
+//!
+//! [`Geometry`] places the parts in `base_link` (C on the ground, x forward, y left, z up,
+//! m): the transforms of the ROS 2 topics use it too, so both draw one robot.
+
 use std::fmt::Write as _;
 
 use wmr_core::RobotParams;
 
-use super::geometry::{Geometry, JOINT_NAMES};
+/// The wheels' joints, left then right (TurtleBot3's names).
+pub const JOINT_NAMES: [&str; 2] = ["wheel_left_joint", "wheel_right_joint"];
+
+/// The robot's parts in `base_link`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Geometry {
+    /// The wheels' axle: at `(0, +-half_track, wheel_z)`, m (`wheel_z` = the wheel radius).
+    pub half_track: f64,
+    /// Height of the wheels' axis, m: the wheel radius.
+    pub wheel_z: f64,
+    /// x of the caster's centre, m: on the centre of mass's side of the axle, twice as far
+    /// (at least two wheel radii), so the centre of mass lies between axle and caster.
+    pub caster_x: f64,
+    /// z of the caster's centre, m: its radius (half the wheel radius), so it touches the ground.
+    pub caster_z: f64,
+    /// Radius of the caster ball, m.
+    pub caster_radius: f64,
+}
+
+impl Geometry {
+    /// The geometry of `robot`.
+    pub fn of(robot: &RobotParams<f64>) -> Self {
+        let r = robot.wheel_radius;
+        let d = robot.com_offset;
+        let caster_x = if d >= 0.0 { (2.0 * d).max(2.0 * r) } else { (2.0 * d).min(-2.0 * r) };
+        Self { half_track: robot.half_track, wheel_z: r, caster_x, caster_z: 0.5 * r, caster_radius: 0.5 * r }
+    }
+}
 
 /// Escapes `&`, `<`, `>` and `"` for an XML attribute.
 fn xml_attr(s: &str) -> String {
@@ -36,7 +68,7 @@ pub fn urdf(robot: &RobotParams<f64>, name: &str, prefix: &str) -> String {
     let p = xml_attr(prefix);
     let mut out = String::new();
     let _ = writeln!(out, r#"<?xml version="1.0"?>"#);
-    let _ = writeln!(out, "<!-- Written by wmr-cli {} from the robot's parameters. -->", env!("CARGO_PKG_VERSION"));
+    let _ = writeln!(out, "<!-- Written by wmr {} from the robot's parameters. -->", env!("CARGO_PKG_VERSION"));
     let _ = writeln!(out, r#"<robot name="{}">"#, xml_attr(name));
     let _ = writeln!(out, r#"  <link name="{p}base_link">"#);
     let _ = writeln!(out, "    <inertial>");
