@@ -72,3 +72,28 @@ impl Sink for CsvSink {
         Ok(())
     }
 }
+
+/// A ROS 2 log's table ([`wmr_ros2::log::Ros2Log::table`]) as CSV: `t` and
+/// [`wmr_ros2::log::LOG_COLUMNS`], a NaN written as an empty field (no message yet).
+pub fn log_table_csv(table: &wmr_ros2::log::LogTable) -> String {
+    let mut out = String::from("t");
+    for c in wmr_ros2::log::LOG_COLUMNS {
+        out.push(',');
+        out.push_str(c);
+    }
+    out.push('\n');
+    let mut field = String::new();
+    for (row, t) in table.t.iter().enumerate() {
+        format_f64(*t, &mut field);
+        out.push_str(&field);
+        for column in &table.columns {
+            out.push(',');
+            if !column[row].is_nan() {
+                format_f64(column[row], &mut field);
+                out.push_str(&field);
+            }
+        }
+        out.push('\n');
+    }
+    out
+}

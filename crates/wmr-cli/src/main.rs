@@ -348,13 +348,9 @@ fn run(cli: Cli) -> Result<()> {
         Command::Check { file, files } => exec::check_command(&file, &files.access()?),
         Command::Log2csv { log, output, namespace } => {
             let shown = wmr_scenario::shown(&log);
-            let bytes = std::fs::read(&log).map_err(|e| bad_input(format!("{shown}: cannot read it: {e}")))?;
             let tables =
-                ros2::log::read_log(&bytes, namespace.as_deref()).map_err(|e| bad_input(format!("{shown}: {e}")))?;
-            if tables.odom.is_empty() && tables.joint_states.is_empty() && tables.cmd_vel.is_empty() {
-                return Err(bad_input(format!("{shown}: no /cmd_vel, /joint_states or /odom messages")));
-            }
-            let text = tables.to_csv();
+                ros2::log::read_log_file(&log, namespace.as_deref()).map_err(|e| bad_input(format!("{shown}: {e}")))?;
+            let text = csv_sink::log_table_csv(&tables.table());
             match output {
                 None => errors::say_raw(&text),
                 Some(path) => {

@@ -15,9 +15,12 @@ fn cli(args: &[&str]) {
     assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
 }
 
-/// The file's topics with their schema names and `.msg` texts, and every frame name the
-/// `/tf` and `/tf_static` messages carry (CDR strings: a u32 length, the bytes, a NUL).
-fn read(file: &Path) -> (BTreeMap<String, (String, String)>, Vec<Vec<u8>>) {
+/// Topic name -> (schema name, `.msg` text).
+type Topics = BTreeMap<String, (String, String)>;
+
+/// The file's topics with their schema names and `.msg` texts, and the `/tf` and
+/// `/tf_static` messages (the frame names are CDR strings in them).
+fn read(file: &Path) -> (Topics, Vec<Vec<u8>>) {
     let bytes = fs::read(file).unwrap();
     let mut topics = BTreeMap::new();
     let mut tf = Vec::new();

@@ -12,6 +12,7 @@ pub mod error;
 pub mod interrupt;
 pub mod reference;
 pub mod robot;
+pub mod ros2_log;
 pub mod scenario;
 pub mod trajectory;
 
@@ -24,6 +25,8 @@ mod _native {
     use crate::error::{ParameterError, ScenarioError};
     #[pymodule_export]
     use crate::robot::PyRobot;
+    #[pymodule_export]
+    use crate::ros2_log::read_log;
     #[pymodule_export]
     use crate::scenario::{
         PyRunResult, run_batch_native, run_result_from_state, run_scenario, sweep, sweep_gather, sweep_part,

@@ -130,3 +130,36 @@ def test_what_is_not_a_ros2_log_is_one_line_exit_2(cli, tmp_path):
         r = subprocess.run([str(cli), "log2csv", str(path)], capture_output=True, text=True)
         assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, (path, r.stderr)
         assert "panicked" not in r.stderr
+
+
+def test_python_reads_a_log_into_the_table_log2csv_writes(cli, tmp_path):
+    """`wmr_py.read_log`: the columns of `wmr-cli log2csv`'s CSV, value for value (an empty
+    field is NaN), through the same reader; bad files are refused by name."""
+    import numpy as np
+
+    import wmr_py
+
+    scenario = FIXTURES / "two-runs-every-topic.toml"
+    log = tmp_path / "r.mcap"
+    subprocess.run([str(cli), "run", str(scenario), "-o", str(log), "--profile", "ros2"], check=True,
+                   capture_output=True)
+    subprocess.run([str(cli), "log2csv", str(log), "--namespace", "/run1", "-o", str(tmp_path / "back.csv")],
+                   check=True, capture_output=True)
+    back = rows_of(tmp_path / "back.csv")
+    table = wmr_py.read_log(log, namespace="/run1")
+    assert list(table) == list(back[0].keys())
+    for name, column in table.items():
+        assert column.dtype == np.float64 and column.shape == (len(back),), name
+        want = np.array([float(r[name]) if r[name] != "" else math.nan for r in back])
+        assert np.array_equal(column, want, equal_nan=True), name
+    assert not np.isnan(table["v_cmd"]).all()  # kanayama's twist demand is there
+    # Two robots and no namespace: the choice named; not an MCAP; no file.
+    with pytest.raises(wmr_py.ParameterError, match="/run0") as e:
+        wmr_py.read_log(str(log))
+    assert e.value.key == "path"
+    (tmp_path / "not.mcap").write_text("x,y\n1,2\n")
+    with pytest.raises(wmr_py.ParameterError) as e:
+        wmr_py.read_log(tmp_path / "not.mcap")
+    assert e.value.key == "path" and "not.mcap" in str(e.value)
+    with pytest.raises(FileNotFoundError):
+        wmr_py.read_log(tmp_path / "missing.mcap")

@@ -110,8 +110,9 @@ def test_python_gives_the_urdf_the_cli_writes(cli, scenario):
 
     robot = robot_of(cli, REPO / scenario)
     keys = wmr_py.Robot().to_dict().keys()
-    name = pathlib.Path(scenario).stem
     text = subprocess.run([str(cli), "urdf", str(REPO / scenario)], check=True, capture_output=True, text=True).stdout
+    # The scenario's name, which the CLI names the robot after.
+    name = tomllib.loads((REPO / scenario).read_text())["name"]
     assert f'<robot name="{name}">' in text
     assert wmr_py.Robot(**{k: robot[k] for k in keys}).urdf(name=name) == text
     # Escaped where XML needs it, and named "wmr" by default.

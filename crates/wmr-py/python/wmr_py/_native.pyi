@@ -850,6 +850,9 @@ _Folders = Optional[Sequence[Union[str, "os.PathLike[str]"]]]
 def run_scenario(scenario: _ScenarioLike, progress: _Progress = None, allow_files_under: _Folders = None) -> list[RunResult]:
     """Every run of a scenario (path, TOML text or dict), in run order."""
 
+def read_log(path: Union[str, "os.PathLike[str]"], namespace: Optional[str] = None) -> dict[str, _FloatArray]:
+    """A ROS 2 MCAP's /cmd_vel, /joint_states and /odom as the table `wmr-cli log2csv` writes."""
+
 def _sweep(
     scenario: _ScenarioLike, progress: _Progress = None, fast: bool = False, allow_files_under: _Folders = None
 ) -> dict[str, Any]: ...
@@ -886,6 +889,7 @@ __all__ = [
     "ParameterError",
     "ScenarioError",
     "Robot",
+    "read_log",
     "RunResult",
     "_run_batch",
     "_run_result_from_state",

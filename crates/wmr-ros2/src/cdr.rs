@@ -157,7 +157,7 @@ impl<'a> CdrReader<'a> {
     }
 
     /// A sequence's element count; refuses one longer than the bytes left could hold.
-    pub fn len(&mut self) -> Result<usize, CdrError> {
+    pub fn seq_len(&mut self) -> Result<usize, CdrError> {
         let n = self.u32()? as usize;
         if n > self.data.len().saturating_sub(self.pos) {
             return Err(CdrError(format!("a sequence of {n} elements runs past the message's end")));
@@ -167,7 +167,7 @@ impl<'a> CdrReader<'a> {
 
     /// A sequence of `float64`.
     pub fn f64_seq(&mut self) -> Result<Vec<f64>, CdrError> {
-        let n = self.len()?;
+        let n = self.seq_len()?;
         (0..n).map(|_| self.f64()).collect()
     }
 

@@ -1,5 +1,5 @@
-//! Reading a ROS 2 MCAP back (`wmr-cli log2csv`, and the identification of a robot from its
-//! logs): `/cmd_vel` (`geometry_msgs/msg/Twist` or `TwistStamped`), `/joint_states`
+//! Reading a ROS 2 MCAP back (`wmr-cli log2csv`, `wmr_py.read_log`, and the identification
+//! of a robot from its logs): `/cmd_vel` (`geometry_msgs/msg/Twist` or `TwistStamped`), `/joint_states`
 //! (`sensor_msgs/msg/JointState`) and `/odom` (`nav_msgs/msg/Odometry`) of any ROS 2 MCAP
 //! (wmr's `--profile ros2`, `ros2 bag record -s mcap`, `rosbags`) into time-stamped tables.
 //!
@@ -9,7 +9,7 @@
 
 use std::collections::BTreeSet;
 
-use super::cdr::{CdrError, CdrReader};
+use crate::cdr::{CdrError, CdrReader};
 
 /// A `/cmd_vel` message: the commanded body twist.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -145,7 +145,7 @@ pub fn read_log(mcap: &[u8], namespace: Option<&str>) -> Result<Ros2Log, String>
                 }
                 (1, "sensor_msgs/msg/JointState") => {
                     let t_ns = header(&mut r)?;
-                    let n = r.len()?;
+                    let n = r.seq_len()?;
                     let names = (0..n).map(|_| r.string()).collect::<Result<Vec<_>, _>>()?;
                     let [ir, il] = wheel_indices(&names)
                         .ok_or_else(|| CdrError(format!("no left and right wheel among the joints {names:?}")))?;
@@ -187,17 +187,74 @@ pub fn read_log(mcap: &[u8], namespace: Option<&str>) -> Result<Ros2Log, String>
     Ok(log)
 }
 
-/// The CSV columns of [`Ros2Log::to_csv`], after `t`.
+/// Largest log file read (into memory, whole): 1 GiB. A larger one is refused by
+/// [`read_log_file`] before it is read, not read until memory runs out.
+pub const MAX_LOG_BYTES: u64 = 1 << 30;
+
+/// Why [`read_log_file`] failed.
+#[derive(Debug)]
+pub enum LogFileError {
+    /// The file could not be opened or read.
+    Io(std::io::Error),
+    /// The file is not a ROS 2 MCAP it can read, or is over [`MAX_LOG_BYTES`]: the reason.
+    Bad(String),
+}
+
+impl std::fmt::Display for LogFileError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LogFileError::Io(e) => write!(f, "cannot read it: {e}"),
+            LogFileError::Bad(why) => f.write_str(why),
+        }
+    }
+}
+
+impl std::error::Error for LogFileError {}
+
+/// [`read_log`] of the file at `path`, refused beyond [`MAX_LOG_BYTES`] and when it holds
+/// none of the three topics.
+pub fn read_log_file(path: &std::path::Path, namespace: Option<&str>) -> Result<Ros2Log, LogFileError> {
+    use std::io::Read as _;
+    let file = std::fs::File::open(path).map_err(LogFileError::Io)?;
+    let len = file.metadata().map_err(LogFileError::Io)?.len();
+    if len > MAX_LOG_BYTES {
+        return Err(LogFileError::Bad(format!("{len} bytes, over the {MAX_LOG_BYTES} a log may have")));
+    }
+    let mut bytes = Vec::with_capacity(len as usize);
+    // `take`: a file that grows while it is read stays within the bound.
+    file.take(MAX_LOG_BYTES).read_to_end(&mut bytes).map_err(LogFileError::Io)?;
+    let log = read_log(&bytes, namespace).map_err(LogFileError::Bad)?;
+    if log.is_empty() {
+        return Err(LogFileError::Bad("no /cmd_vel, /joint_states or /odom messages".into()));
+    }
+    Ok(log)
+}
+
+/// The columns of [`Ros2Log::table`] (wmr's CSV names), after `t`.
 pub const LOG_COLUMNS: [&str; 13] =
     ["x", "y", "theta", "v", "omega", "phi_r", "phi_l", "omega_r", "omega_l", "tau_r", "tau_l", "v_cmd", "omega_cmd"];
 
+/// [`Ros2Log::table`]: the row times and, per [`LOG_COLUMNS`] entry, its values.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LogTable {
+    /// Row times, s from the epoch (stamp ns / 1e9).
+    pub t: Vec<f64>,
+    /// One column per [`LOG_COLUMNS`] entry, NaN before its topic's first message.
+    pub columns: [Vec<f64>; 13],
+}
+
 impl Ros2Log {
+    /// Whether the log has none of the three topics' messages.
+    pub fn is_empty(&self) -> bool {
+        self.odom.is_empty() && self.joint_states.is_empty() && self.cmd_vel.is_empty()
+    }
+
     /// The log as one table in wmr's CSV columns: a row at every time any of the three
     /// topics has a message (t in s from the epoch: stamp ns / 1e9), each column the
-    /// latest value at or before it (empty before its topic's first message). `x, y,
+    /// latest value at or before it (NaN before its topic's first message). `x, y,
     /// theta, v, omega` from `/odom`, the wheels from `/joint_states`, `v_cmd, omega_cmd`
     /// from `/cmd_vel`.
-    pub fn to_csv(&self) -> String {
+    pub fn table(&self) -> LogTable {
         let times: BTreeSet<u64> = self
             .odom
             .iter()
@@ -205,14 +262,8 @@ impl Ros2Log {
             .chain(self.joint_states.iter().map(|m| m.t_ns))
             .chain(self.cmd_vel.iter().map(|m| m.t_ns))
             .collect();
-        let mut out = String::from("t");
-        for c in LOG_COLUMNS {
-            out.push(',');
-            out.push_str(c);
-        }
-        out.push('\n');
+        let mut table = LogTable::default();
         let (mut io, mut ij, mut ic) = (0usize, 0usize, 0usize);
-        let mut field = String::new();
         for t in times {
             while io < self.odom.len() && self.odom[io].t_ns <= t {
                 io += 1;
@@ -223,32 +274,23 @@ impl Ros2Log {
             while ic < self.cmd_vel.len() && self.cmd_vel[ic].t_ns <= t {
                 ic += 1;
             }
-            let mut values: [Option<f64>; 13] = [None; 13];
+            let mut values = [f64::NAN; 13];
             if let Some(o) = io.checked_sub(1).map(|i| &self.odom[i]) {
-                values[..5].copy_from_slice(&[Some(o.x), Some(o.y), Some(o.theta), Some(o.v), Some(o.omega)]);
+                values[..5].copy_from_slice(&[o.x, o.y, o.theta, o.v, o.omega]);
             }
             if let Some(j) = ij.checked_sub(1).map(|i| &self.joint_states[i]) {
-                let w = [j.phi[0], j.phi[1], j.omega[0], j.omega[1], j.tau[0], j.tau[1]];
-                for (slot, v) in values[5..11].iter_mut().zip(w) {
-                    *slot = Some(v);
-                }
+                values[5..11].copy_from_slice(&[j.phi[0], j.phi[1], j.omega[0], j.omega[1], j.tau[0], j.tau[1]]);
             }
             if let Some(c) = ic.checked_sub(1).map(|i| &self.cmd_vel[i]) {
-                values[11] = Some(c.v);
-                values[12] = Some(c.omega);
+                values[11] = c.v;
+                values[12] = c.omega;
             }
-            crate::csv_sink::format_f64(t as f64 / 1e9, &mut field);
-            out.push_str(&field);
-            for v in values {
-                out.push(',');
-                if let Some(v) = v.filter(|v| !v.is_nan()) {
-                    crate::csv_sink::format_f64(v, &mut field);
-                    out.push_str(&field);
-                }
+            table.t.push(t as f64 / 1e9);
+            for (column, v) in table.columns.iter_mut().zip(values) {
+                column.push(v);
             }
-            out.push('\n');
         }
-        out
+        table
     }
 }
 
