@@ -163,3 +163,8 @@ def test_python_reads_a_log_into_the_table_log2csv_writes(cli, tmp_path):
     assert e.value.key == "path" and "not.mcap" in str(e.value)
     with pytest.raises(FileNotFoundError):
         wmr_py.read_log(tmp_path / "missing.mcap")
+    # Over 1 GiB (a sparse file: no disk used): refused by its size, before it is read.
+    with open(tmp_path / "huge.mcap", "wb") as f:
+        f.truncate((1 << 30) + 1)
+    with pytest.raises(wmr_py.ParameterError, match="over the 1073741824"):
+        wmr_py.read_log(tmp_path / "huge.mcap")
