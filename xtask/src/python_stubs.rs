@@ -1,7 +1,8 @@
 //! The generated parts of the Python stubs `wmr_py/_native.pyi`: the keyword block of
 //! `Robot` (the `[robot]` keys of `wmr_scenario::schema()`, each with its default, unit
 //! and doc line) and, whole, the controller class of every law of the registry (its
-//! doc, what it follows, its keys). The rest of the file is written by hand.
+//! doc, what it follows, its keys), RunResult's outcome properties, and `__all__` (every
+//! name the stub defines). The rest of the file is written by hand.
 
 use wmr_core::{FieldGroup, Follows, OUTCOME_FIELDS};
 use wmr_scenario::{SchemaKey, schema};
@@ -183,8 +184,45 @@ fn outcome_properties() -> String {
     out
 }
 
-/// `_native.pyi` with `Robot`'s keyword block, RunResult's outcome properties and the
-/// law classes written.
+/// The names the stub defines at its top level, in order: each `class`, `def` and
+/// annotated constant (`COLUMNS: Tuple[str, ...]`); not its type aliases (`_X = ...`),
+/// which the module does not have.
+fn top_level_names(text: &str) -> Vec<&str> {
+    fn ident(s: &str) -> &str {
+        let end = s.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(s.len());
+        &s[..end]
+    }
+    let mut names = Vec::new();
+    for line in text.lines() {
+        let name = if let Some(rest) = line.strip_prefix("class ").or_else(|| line.strip_prefix("def ")) {
+            ident(rest)
+        } else {
+            let name = ident(line);
+            if name.is_empty() || !line[name.len()..].starts_with(':') {
+                continue;
+            }
+            name
+        };
+        if !name.is_empty() && name != "__all__" {
+            names.push(name);
+        }
+    }
+    names
+}
+
+/// The stub's `__all__`: every name it defines ([`top_level_names`]), which stubtest
+/// compares with the module's own `__all__` (pyo3 lists what the module exports).
+fn all_list(text: &str) -> String {
+    let mut out = String::from("__all__ = [\n");
+    for name in top_level_names(text) {
+        out.push_str(&format!("    \"{name}\",\n"));
+    }
+    out.push_str("]\n");
+    out
+}
+
+/// `_native.pyi` with `Robot`'s keyword block, RunResult's outcome properties, the law
+/// classes and `__all__` written.
 pub fn native_stub() -> Generated {
     let text = std::fs::read_to_string(repo_root().join(PATH)).unwrap_or_default();
     let keys = schema();
@@ -204,5 +242,14 @@ pub fn native_stub() -> Generated {
     let body = format!("\n{}\n", classes.join("\n\n"));
     let text = replace_between(&text, LAWS_BEGIN, LAWS_END, &body).unwrap_or(text);
     let text = replace_between(&text, OUTCOME_BEGIN, OUTCOME_END, &outcome_properties()).unwrap_or(text);
+    // `__all__`: from its line to the closing bracket, written from the definitions.
+    let text = match text.find("\n__all__ = [") {
+        Some(a) => {
+            let a = a + 1;
+            let b = text[a..].find("\n]\n").map_or(text.len(), |i| a + i + 3);
+            format!("{}{}{}", &text[..a], all_list(&text), &text[b..])
+        }
+        None => text,
+    };
     Generated { path: PATH.into(), text }
 }
