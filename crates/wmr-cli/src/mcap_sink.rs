@@ -325,9 +325,11 @@ impl Sink for McapSink {
         let ros2_channels = file.add_ros2_run(index)?;
         let profile = self.profile;
         self.run = Some(RunState {
-            encoder: profile
-                .foxglove()
-                .then(|| RunEncoder::new(index, run, &self.robot, self.columns.clone(), &self.sim)),
+            encoder: profile.foxglove().then(|| {
+                let encoder = RunEncoder::new(index, run, &self.robot, self.columns.clone(), &self.sim);
+                // Several runs' ROS 2 frames are named as the Foxglove ones (run3/base_link).
+                if profile == Profile::Both && self.runs > 1 { encoder.joined_to_ros2_map() } else { encoder }
+            }),
             channels,
             ros2: profile.ros2().then(|| {
                 let prefix = ros2::topics::frame(index, self.runs, "");

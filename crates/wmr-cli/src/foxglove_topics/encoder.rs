@@ -42,6 +42,9 @@ pub struct RunEncoder {
     clock: LogClock,
     columns: Columns,
     tf: FrameTransform,
+    /// `tf` joins `world` to the ROS 2 channels' `map` instead of placing the body
+    /// ([`RunEncoder::joined_to_ros2_map`]).
+    tf_to_map: bool,
     meas: PoseInFrame,
     last_meas: Option<Pose2<f64>>,
     last_odom: Option<Pose2<f64>>,
@@ -57,6 +60,19 @@ pub struct RunEncoder {
 }
 
 impl RunEncoder {
+    /// In a file that also has the ROS 2 channels of several runs (`--profile both`),
+    /// where this run's body frame `runN/base_link` is also the ROS 2 one (parent
+    /// `runN/odom`): the `tf` channel carries `world -> map` (identity) instead of
+    /// `world -> runN/base_link`, so that every frame has one parent (Foxglove re-parents
+    /// a frame at each transform that names another parent: the body would flicker
+    /// between two trees) and the ROS 2 tree, which places `runN/base_link` at the same
+    /// true pose, hangs from `world`.
+    pub fn joined_to_ros2_map(mut self) -> Self {
+        self.tf_to_map = true;
+        self.tf.child_frame_id = crate::ros2::topics::MAP_FRAME.into();
+        self
+    }
+
     /// The encoder of run `run` (`spec`) of robot `robot`, simulated with `sim`, whose
     /// samples carry `columns`: `wmr.Sample` has their fields, and the topics
     /// [`Kind::present`] says (`pose_meas`, `pose_odom`, the reference's) are written.
@@ -123,6 +139,7 @@ impl RunEncoder {
                 translation: None,
                 rotation: None,
             },
+            tf_to_map: false,
             meas: PoseInFrame { timestamp: None, frame_id: WORLD_FRAME.into(), pose: None },
             last_meas: None,
             last_odom: None,
@@ -187,8 +204,9 @@ impl RunEncoder {
         }
 
         self.tf.timestamp = ts;
-        self.tf.translation = Some(Vector3 { x: p.x, y: p.y, z: 0.0 });
-        self.tf.rotation = Some(yaw(p.theta));
+        let placed = if self.tf_to_map { Pose2::new(0.0, 0.0, 0.0) } else { p };
+        self.tf.translation = Some(Vector3 { x: placed.x, y: placed.y, z: 0.0 });
+        self.tf.rotation = Some(yaw(placed.theta));
         self.buf.clear();
         let _ = prost::Message::encode(&self.tf, &mut self.buf);
         out(Kind::Tf, ns, &self.buf)?;

@@ -1,5 +1,7 @@
-//! The layout of a `--profile ros2` file (issue 43: "the generated Foxglove layout shows the
-//! robot model"): `layout --profile ros2` and `run --profile ros2 --layout` write the same
+//! What a viewer sees of a ROS 2 file. Its frame tree: in a `--profile both` file of
+//! several runs every frame has one parent and hangs from `world` (Foxglove re-parents a
+//! frame at each transform naming another parent). Its layout (issue 43: "the generated
+//! Foxglove layout shows the robot model"): `layout --profile ros2` and `run --profile ros2 --layout` write the same
 //! file, whose 3D panel draws in `map` and shows each run's `/robot_description` (the URDF
 //! Foxglove draws on the `/tf` frames), `/goal_pose` and, tracking, `/plan`; every topic,
 //! frame and plotted field it names is one the MCAP has (read back here: channels, schemas,
@@ -9,6 +11,10 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
 use std::path::Path;
 use std::process::Command;
+
+use foxglove::messages::FrameTransform;
+use prost::Message as _;
+use wmr_ros2::cdr::CdrReader;
 
 fn cli(args: &[&str]) {
     let out = Command::new(env!("CARGO_BIN_EXE_wmr-cli")).args(args).output().unwrap();
@@ -94,4 +100,61 @@ fn the_ros2_layout_shows_the_robot_and_names_only_what_the_file_has() {
         }
         assert_eq!(plotted, (0..runs).map(|i| format!("{}/wmr/sample", ns(i))).collect(), "{name}");
     }
+}
+
+/// Every (parent, child) pair of the file's transforms: Foxglove's `FrameTransform`s and
+/// ROS 2's `TFMessage`s (`geometry_msgs/TransformStamped`: header (stamp, frame_id),
+/// child_frame_id, translation, rotation).
+fn frame_edges(file: &Path) -> BTreeSet<(String, String)> {
+    let bytes = fs::read(file).unwrap();
+    let mut edges = BTreeSet::new();
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = m.unwrap();
+        let schema = m.channel.schema.as_ref().unwrap().name.clone();
+        if schema == "foxglove.FrameTransform" {
+            let tf = FrameTransform::decode(&m.data[..]).unwrap();
+            edges.insert((tf.parent_frame_id, tf.child_frame_id));
+        } else if schema == "tf2_msgs/msg/TFMessage" {
+            let mut r = CdrReader::new(&m.data).unwrap();
+            for _ in 0..r.seq_len().unwrap() {
+                r.time().unwrap();
+                let parent = r.string().unwrap();
+                let child = r.string().unwrap();
+                r.skip_f64(7).unwrap();
+                edges.insert((parent, child));
+            }
+        }
+    }
+    edges
+}
+
+#[test]
+fn in_a_both_file_every_frame_has_one_parent_and_hangs_from_world() {
+    let dir = tempfile::tempdir().unwrap();
+    let scen = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/two-runs-every-topic.toml");
+    let s = |p: &Path| p.to_str().unwrap().to_owned();
+    let both = dir.path().join("both.mcap");
+    cli(&["run", &s(&scen), "-o", &s(&both), "--profile", "both"]);
+    let edges = frame_edges(&both);
+    let mut parent: BTreeMap<&str, &str> = BTreeMap::new();
+    for (p, c) in &edges {
+        if let Some(other) = parent.insert(c, p) {
+            panic!("{c} has two parents: {other} and {p}");
+        }
+    }
+    for child in parent.keys() {
+        let (mut at, mut hops) = (*child, 0);
+        while let Some(p) = parent.get(at) {
+            (at, hops) = (p, hops + 1);
+            assert!(hops < 100, "a cycle through {child}");
+        }
+        assert_eq!(at, "world", "{child} hangs from {at}, not from world");
+    }
+    for i in 0..2 {
+        assert_eq!(parent[format!("run{i}/base_link").as_str()], format!("run{i}/odom"));
+    }
+    // The Foxglove profile alone keeps its own tree (world -> runN/base_link).
+    let fox = dir.path().join("fox.mcap");
+    cli(&["run", &s(&scen), "-o", &s(&fox)]);
+    assert!(frame_edges(&fox).contains(&("world".to_owned(), "run1/base_link".to_owned())));
 }
