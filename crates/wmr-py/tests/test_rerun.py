@@ -59,3 +59,65 @@ def test_rerun_maps_transforms_poses_scalars_and_the_robot(tmp_path):
             assert "Scalars" in components[path] and rows[path] == samples, path
         links = [e for e in components if e.startswith("/two-runs-every-topic/visual_geometries/" + run)]
         assert len(links) == 4, links  # base_link, two wheels, caster
+
+
+def _read_rrd(path: pathlib.Path) -> tuple[dict, dict]:
+    """Per entity: its components, and per component its values flattened (row order)."""
+    components: dict[str, set] = defaultdict(set)
+    values: dict[tuple[str, str], list] = defaultdict(list)
+    for chunk in RrdReader(path).stream():
+        batch = chunk.to_record_batch()
+        for i, field in enumerate(batch.schema):
+            name = (field.metadata or {}).get(b"rerun:component", b"").decode()
+            if name:
+                components[chunk.entity_path].add(name)
+                for row in batch.column(i).to_pylist():
+                    values[(chunk.entity_path, name)].extend(row or [])
+    return components, values
+
+
+def test_log_rerun_gives_the_path_the_pose_and_every_column_as_a_plot(tmp_path):
+    """RunResult.log_rerun(): what `rerun mcap convert` does not show, read back from the
+    recording: the path and the reference as line strips (their points the columns'), the
+    pose at every sample, every other column as Scalars equal to the column to the bit."""
+    import rerun as rr
+
+    import wmr_py
+
+    r = wmr_py.run_scenario(FIXTURES / "two-runs-every-topic.toml")[1]
+    assert r.tracking
+    rec = rr.RecordingStream("wmr-test")
+    rrd = tmp_path / "run.rrd"
+    rec.save(str(rrd))
+    r.log_rerun(rec)
+    rec.flush()
+    rec.disconnect()
+    components, values = _read_rrd(rrd)
+    n = len(r)
+
+    def f32(*columns):  # Rerun keeps positions as float32
+        return [[float(np.float32(v)) for v in p] for p in zip(*columns)]
+
+    import numpy as np
+
+    strip = values[("/wmr/run1/path", "LineStrips3D:strips")]
+    assert len(strip) == 1 and [p[:2] for p in strip[0]] == f32(r.x, r.y)
+    ref = values[("/wmr/run1/reference", "LineStrips3D:strips")]
+    assert [p[:2] for p in ref[0]] == f32(r["x_ref"], r["y_ref"])
+    translations = values[("/wmr/run1/base_link", "Transform3D:translation")]
+    assert [p[:2] for p in translations] == f32(r.x, r.y) and len(translations) == n
+    for name in ("dl", "e_theta", "omega_r", "tau_l", "x_ref", "v_cmd"):
+        got = values[(f"/wmr/run1/columns/{name}", "Scalars:scalars")]
+        assert got == list(r[name]), name
+    assert not any(e.startswith("/wmr/run1/columns/") and e.endswith(("/x", "/y", "/theta", "/t")) for e in components)
+
+
+def test_log_rerun_without_rerun_names_the_package(monkeypatch):
+    import sys
+
+    import wmr_py
+
+    r = wmr_py.simulate(start=(0, 0, 0), goal={"x": 0.2, "y": 0.0, "theta_deg": 0}, t_end=0.1)
+    monkeypatch.setitem(sys.modules, "rerun", None)
+    with pytest.raises(ImportError, match="rerun"):
+        r.log_rerun()

@@ -825,6 +825,8 @@ class RunResult:
         tracking run's summary in ``df.attrs``."""
     def to_xarray(self) -> Any:
         """Every column along ``t`` with its units, the summary as attributes (needs xarray)."""
+    def log_rerun(self, recording: Optional[Any] = None, entity: Optional[str] = None, timeline: str = "sim_time") -> None:
+        """Logs the run into a Rerun recording: its path, the reference path, the pose over time, every column as a plot."""
     def __getstate__(self) -> dict[str, Any]: ...
 
 __version__: str

@@ -211,6 +211,21 @@ impl PyRunResult {
         slf.py().import("wmr_py._results")?.getattr("run_result_to_xarray")?.call1((slf,))
     }
 
+    /// Logs the run into a Rerun recording (`recording`, a `rerun.RecordingStream`; the
+    /// current one by default) under `entity` (`wmr/runN`): its path, a tracking run's
+    /// reference path, the robot's pose over time and every other column as a plot, on the
+    /// timeline `timeline` (simulation time, s). Needs rerun-sdk (ImportError naming it).
+    #[pyo3(signature = (recording = None, entity = None, timeline = "sim_time"))]
+    fn log_rerun<'py>(
+        slf: &Bound<'py, Self>,
+        recording: Option<Bound<'py, PyAny>>,
+        entity: Option<&str>,
+        timeline: &str,
+    ) -> PyResult<()> {
+        slf.py().import("wmr_py._rerun")?.getattr("run_result_log_rerun")?.call1((slf, recording, entity, timeline))?;
+        Ok(())
+    }
+
     /// A column by its CSV name, e.g. result["omega_r"]; a tracking run's also
     /// result["x_ref"] ... result["omega_ref"], a run on odometry's result["x_odom"] ...,
     /// a run whose wheels slip result["slip_r"] ... result["n_l"].
