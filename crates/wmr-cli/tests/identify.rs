@@ -3,22 +3,9 @@
 //! refused naming the column or the time, exit 2.
 
 use std::fs;
-use std::path::Path;
-use std::process::{Command, Output};
 
-fn run(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wmr-cli")).current_dir(dir).args(args).output().expect("spawn wmr-cli")
-}
-
-fn ok(o: &Output) -> String {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn refused(o: &Output) -> String {
-    assert_eq!(o.status.code(), Some(2), "stdout {}", String::from_utf8_lossy(&o.stdout));
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+mod identify_common;
+use identify_common::{ok, refused, run};
 
 /// The robot of crates/wmr-identify/tests/fit.rs, torque drive without a limit.
 const TRUTH: &str = "[robot]
@@ -101,6 +88,17 @@ fn issue_44_excite_identify_replay_round_trip() {
     fs::write(d.join("s.toml"), "[robot]\nfrom = \"fitted.toml\"\n\n[sim]\ndt = 0.0001\n\n[[run]]\ngoal = { x = 1.0, y = 0.0, theta_deg = 0.0 }\n").unwrap();
     let check = ok(&run(d, &["check", "s.toml"]));
     assert!(check.contains("mass = 9.9") || check.contains("mass = 10.0"), "{check}");
+    // `check` shows each fitted value's standard error and the log it came from, as the
+    // robot file says them; a held key (the geometry) is only the file's.
+    for key in ["mass", "wheel_inertia", "platform_inertia", "viscous_friction", "coulomb_friction"] {
+        let line = check.lines().find(|l| l.starts_with(&format!("{key} = "))).unwrap();
+        let in_file = fitted.lines().find(|l| l.starts_with(&format!("{key} = "))).unwrap();
+        let note = &in_file[in_file.find("fitted: +- ").unwrap()..];
+        assert!(note.ends_with("(standard error), from sim.csv"), "{in_file}");
+        assert!(line.ends_with(&format!("# fitted.toml, {note}")), "{line}");
+    }
+    let line = check.lines().find(|l| l.starts_with("wheel_radius = ")).unwrap();
+    assert!(line.ends_with("# fitted.toml"), "{line}");
 
     // The replay of the fitted robot over 1 s horizons follows the log closely.
     let out = ok(&run(d, &["replay", "sim.csv", "--robot", "fitted.toml", "--horizon", "1"]));
@@ -165,4 +163,39 @@ fn issue_44_bad_logs_are_refused_naming_the_column_or_the_time() {
     assert_eq!(fs::read_to_string(d.join("r.toml")).unwrap(), TRUTH);
     let err = refused(&run(d, &["replay", "log.csv", "--robot", "none.toml"]));
     assert!(err.contains("none.toml"), "{err}");
+}
+
+/// A log is read into memory whole: one larger than the bound (1 GiB; WMR_MAX_LOG_BYTES
+/// sets it) is refused naming the file, its size and the bound, exit 2, before anything
+/// is allocated for it: a sparse file of 2 GiB costs no disk and no time.
+#[test]
+fn issue_44_a_log_larger_than_the_bound_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    fs::write(d.join("robot.toml"), "[robot]\nmass = 5.0\n").unwrap();
+    for name in ["big.csv", "big.mcap"] {
+        let f = fs::File::create(d.join(name)).unwrap();
+        f.set_len(2 << 30).unwrap();
+        let err = refused(&run(d, &["identify", name, "-o", "r.toml"]));
+        assert!(
+            err.contains(&format!("{name}: 2147483648 bytes, more than the 1073741824 bytes a log may have")),
+            "{err}"
+        );
+        assert_eq!(err.lines().count(), 1, "{err}");
+        let err = refused(&run(d, &["replay", name, "--robot", "robot.toml"]));
+        assert!(err.contains(&format!("{name}: 2147483648 bytes")), "{err}");
+    }
+    let err = refused(&run(d, &["log2csv", "big.mcap"]));
+    assert!(err.contains("big.mcap: 2147483648 bytes, more than the 1073741824 bytes"), "{err}");
+    // A small bound set by the environment: a log of a few hundred bytes is over it.
+    fs::write(d.join("small.csv"), log_of(&[[0.0, 1.0, 1.0, 0.0, 0.0]; 20])).unwrap();
+    let len = fs::metadata(d.join("small.csv")).unwrap().len();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_wmr-cli"))
+        .current_dir(d)
+        .env("WMR_MAX_LOG_BYTES", "100")
+        .args(["identify", "small.csv", "-o", "r.toml"])
+        .output()
+        .unwrap();
+    let err = refused(&o);
+    assert!(err.contains(&format!("small.csv: {len} bytes, more than the 100 bytes a log may have")), "{err}");
 }

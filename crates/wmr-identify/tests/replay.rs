@@ -18,9 +18,8 @@ fn issue_44_replay_error_per_second_pools_to_the_run_rms() {
     let mut wrong = robot();
     wrong.mass *= 1.1;
     let r = wrong.validate().unwrap();
-    let drive = DriveParams::Torque(TorqueDriveParams { motor_torque_max: f64::INFINITY, deadband: 0.0 })
-        .validate(&r)
-        .unwrap();
+    let drive =
+        DriveParams::Torque(TorqueDriveParams { motor_torque_max: f64::INFINITY, deadband: 0.0 }).validate(&r).unwrap();
     let report = replay(&log, r, drive, 0.0).unwrap();
     assert_eq!(report.traces.len(), report.runs.len());
     for (run, tr) in report.runs.iter().zip(&report.traces) {
@@ -33,8 +32,9 @@ fn issue_44_replay_error_per_second_pools_to_the_run_rms() {
         for t in &tr.t_s {
             counts[(t - t0).floor() as usize] += 1;
         }
-        let pooled: f64 = tr.speed_rms_per_second_rad_s.iter().zip(&counts).map(|(r, &n)| r * r * n as f64).sum::<f64>()
-            / run.samples as f64;
+        let pooled: f64 =
+            tr.speed_rms_per_second_rad_s.iter().zip(&counts).map(|(r, &n)| r * r * n as f64).sum::<f64>()
+                / run.samples as f64;
         assert!(
             (pooled.sqrt() - run.speed_rms_rad_s).abs() <= 1e-12 * run.speed_rms_rad_s,
             "run {}: {} against {}",
