@@ -9,16 +9,9 @@ pub mod alloc;
 pub mod controller;
 pub mod convert;
 pub mod error;
-pub mod identify;
-// `wmr-cli identify`'s own code (and, in `ros2`, its ROS 2 MCAP reader), compiled here so
-// that `identify` is the CLI's fit bit for bit; what only the CLI calls stays unused here.
-#[allow(dead_code)]
-#[path = "../../wmr-cli/src/identify_file.rs"]
-mod identify_file;
 pub mod interrupt;
 pub mod reference;
 pub mod robot;
-mod ros2;
 pub mod scenario;
 pub mod trajectory;
 
@@ -29,8 +22,6 @@ mod _native {
     use crate::controller::controller_from_toml;
     #[pymodule_export]
     use crate::error::{ParameterError, ScenarioError};
-    #[pymodule_export]
-    use crate::identify::{PyIdentified, identify};
     #[pymodule_export]
     use crate::robot::PyRobot;
     #[pymodule_export]
