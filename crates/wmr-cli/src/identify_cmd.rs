@@ -59,6 +59,7 @@ pub fn read_table(path: &Path, namespace: Option<&str>, kind: CommandKind) -> Re
 }
 
 /// `wmr-cli identify LOG -o OUT`.
+#[allow(clippy::too_many_arguments)]
 pub fn identify(
     log_path: &Path,
     output: &Path,

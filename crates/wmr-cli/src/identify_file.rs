@@ -1,10 +1,6 @@
-//! The identification of a log file into a robot file (docs/identify.md), shared by
-//! `wmr-cli identify` and `wmr_py.identify`: the Python module compiles this very file
-//! (`#[path]` in crates/wmr-py/src/lib.rs), so both read the log, hold the parameters and
-//! write the robot file with the same code, and give the same file bit for bit.
-//!
-//! It uses only `crate::ros2::{cdr, log}` (which wmr-py includes the same way), wmr-core,
-//! wmr-scenario and wmr-identify.
+//! The identification of a log file into a robot file (docs/identify.md) for `wmr-cli
+//! identify` and `replay`: reading the log (a CSV or a ROS 2 MCAP, bounded in size),
+//! the held parameters, the robot file and its C header.
 
 use std::fmt::{self, Write as _};
 use std::path::Path;
@@ -136,10 +132,21 @@ pub fn is_mcap(path: &Path) -> bool {
 /// 100 Hz. `WMR_MAX_LOG_BYTES` (bytes) replaces it.
 pub const MAX_LOG_BYTES: u64 = 1 << 30;
 
-/// The bound on a log's size in bytes: `WMR_MAX_LOG_BYTES` when set to a number, else
-/// [`MAX_LOG_BYTES`].
-pub fn max_log_bytes() -> u64 {
-    std::env::var("WMR_MAX_LOG_BYTES").ok().and_then(|v| v.trim().parse().ok()).unwrap_or(MAX_LOG_BYTES)
+/// The environment variable that replaces [`MAX_LOG_BYTES`], in bytes.
+pub const MAX_LOG_BYTES_VAR: &str = "WMR_MAX_LOG_BYTES";
+
+/// The bound on a log's size in bytes: [`MAX_LOG_BYTES_VAR`] when set, else
+/// [`MAX_LOG_BYTES`]; a value that is not a whole number of bytes is bad input naming
+/// the variable.
+pub fn max_log_bytes() -> Result<u64, FileError> {
+    let Some(v) = std::env::var_os(MAX_LOG_BYTES_VAR) else { return Ok(MAX_LOG_BYTES) };
+    let text = v.to_string_lossy();
+    text.trim().parse().map_err(|_| {
+        input(
+            "log",
+            format!("{MAX_LOG_BYTES_VAR}: {text:?} is not a whole number of bytes (the largest log read into memory)"),
+        )
+    })
 }
 
 /// The refusal of a log larger than `bound` bytes (`size` when known).
@@ -174,7 +181,7 @@ impl<R: std::io::Read> std::io::Read for Bounded<R> {
 
 /// Opens the log at `path`, refusing one larger than [`max_log_bytes`] by its size.
 fn open_log(path: &Path, shown: &str) -> Result<(std::fs::File, u64), FileError> {
-    let bound = max_log_bytes();
+    let bound = max_log_bytes()?;
     let file = std::fs::File::open(path).map_err(|e| input("log", format!("{shown}: cannot read it: {e}")))?;
     let len = file.metadata().map_err(|e| input("log", format!("{shown}: cannot read it: {e}")))?.len();
     if len > bound {

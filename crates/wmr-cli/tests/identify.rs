@@ -198,4 +198,16 @@ fn issue_44_a_log_larger_than_the_bound_is_refused() {
         .unwrap();
     let err = refused(&o);
     assert!(err.contains(&format!("small.csv: {len} bytes, more than the 100 bytes a log may have")), "{err}");
+    // A bound that is not a number of bytes is bad input naming the variable.
+    for bad in ["1GiB", "-1", ""] {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_wmr-cli"))
+            .current_dir(d)
+            .env("WMR_MAX_LOG_BYTES", bad)
+            .args(["replay", "small.csv", "--robot", "robot.toml"])
+            .output()
+            .unwrap();
+        let err = refused(&o);
+        assert!(err.contains(&format!("WMR_MAX_LOG_BYTES: {bad:?} is not a whole number of bytes")), "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
 }
