@@ -495,18 +495,21 @@ pub fn c_header(id: &Identified, log: &str, guard: &str) -> String {
     let _ = writeln!(s, " *   wmr_drive_params_f64 d = WMR_IDENTIFIED_DRIVE_PARAMS;");
     let _ = writeln!(s, " * (or the _f32 structs: the constants round to float). */");
     let _ = writeln!(s, "#ifndef {guard}\n#define {guard}\n\n#include <math.h>\n#include \"wmr.h\"\n");
-    let note = |p: Option<Param>| -> String {
+    // `p`: the fitted parameter the key is; `read`: whether the drive's kind reads it
+    // (the other kind's fields are its defaults, there to fill the struct).
+    let note = |p: Option<Param>, read: bool| -> String {
         match p.and_then(|p| fit.get(p)) {
+            _ if !read => "the default; not read for this drive kind".to_owned(),
             Some(e) if e.zeroed => "fitted below 0 within 3 standard errors: 0".to_owned(),
             Some(e) if !e.held => "fitted".to_owned(),
             _ => "held".to_owned(),
         }
     };
-    let mut line = |key: &str, v: f64, unit: &str, p: Option<Param>| {
+    let mut line = |key: &str, v: f64, unit: &str, p: Option<Param>, read: bool| {
         let name = key.to_ascii_uppercase();
         let unit = if unit.is_empty() { String::new() } else { format!("{unit}, ") };
-        let _ = writeln!(s, "#define WMR_IDENTIFIED_{name} {}  /* {unit}{} */", c_double(v), note(p));
-        if let Some(e) = p.and_then(|p| fit.get(p)).filter(|e| !e.held) {
+        let _ = writeln!(s, "#define WMR_IDENTIFIED_{name} {}  /* {unit}{} */", c_double(v), note(p, read));
+        if let Some(e) = p.and_then(|p| fit.get(p)).filter(|e| read && !e.held) {
             let _ = writeln!(
                 s,
                 "#define WMR_IDENTIFIED_{name}_STD_ERR {}  /* {unit}standard error */",
@@ -515,17 +518,17 @@ pub fn c_header(id: &Identified, log: &str, guard: &str) -> String {
         }
     };
     let r = &fit.robot;
-    line("mass", r.mass, "kg", Some(Param::Mass));
-    line("wheel_radius", r.wheel_radius, "m", None);
-    line("half_track", r.half_track, "m", None);
-    line("com_offset", r.com_offset, "m", None);
-    line("wheel_inertia", r.wheel_inertia, "kg m^2", Some(Param::WheelInertia));
-    line("platform_inertia", r.platform_inertia, "kg m^2", Some(Param::PlatformInertia));
-    line("gear_ratio", r.gear_ratio, "", None);
-    line("viscous_friction", r.viscous_friction, "N m s", Some(Param::ViscousFriction));
-    line("coulomb_friction", r.coulomb_friction, "N m", Some(Param::CoulombFriction));
-    line("coulomb_speed", r.coulomb_speed, "rad/s", None);
-    line("static_friction", r.static_friction, "N m", None);
+    line("mass", r.mass, "kg", Some(Param::Mass), true);
+    line("wheel_radius", r.wheel_radius, "m", None, true);
+    line("half_track", r.half_track, "m", None, true);
+    line("com_offset", r.com_offset, "m", None, true);
+    line("wheel_inertia", r.wheel_inertia, "kg m^2", Some(Param::WheelInertia), true);
+    line("platform_inertia", r.platform_inertia, "kg m^2", Some(Param::PlatformInertia), true);
+    line("gear_ratio", r.gear_ratio, "", None, true);
+    line("viscous_friction", r.viscous_friction, "N m s", Some(Param::ViscousFriction), true);
+    line("coulomb_friction", r.coulomb_friction, "N m", Some(Param::CoulombFriction), true);
+    line("coulomb_speed", r.coulomb_speed, "rad/s", None, true);
+    line("static_friction", r.static_friction, "N m", None, true);
     let (kind, motor_torque_max, m) = match id.drive {
         DriveParams::Torque(p) => ("WMR_DRIVE_TORQUE", p.motor_torque_max, DcMotorParams::default()),
         DriveParams::DcMotor(m) => ("WMR_DRIVE_DC_MOTOR", TorqueDriveParams::<f64>::default().motor_torque_max, m),
@@ -533,13 +536,12 @@ pub fn c_header(id: &Identified, log: &str, guard: &str) -> String {
         _ => ("WMR_DRIVE_TORQUE", TorqueDriveParams::<f64>::default().motor_torque_max, DcMotorParams::default()),
     };
     let dc = matches!(id.drive, DriveParams::DcMotor(_));
-    let held_or = |p: Param| if dc { Some(p) } else { None };
-    line("motor_torque_max", motor_torque_max, "N m at the motor", None);
-    line("voltage_max", m.voltage_max, "V", None);
-    line("torque_constant", m.torque_constant, "N m/A", held_or(Param::TorqueConstant));
-    line("back_emf_constant", m.back_emf_constant, "V s/rad", held_or(Param::BackEmfConstant));
-    line("armature_resistance", m.armature_resistance, "Ohm", held_or(Param::ArmatureResistance));
-    line("current_max", m.current_max, "A", None);
+    line("motor_torque_max", motor_torque_max, "N m at the motor", None, !dc);
+    line("voltage_max", m.voltage_max, "V", None, dc);
+    line("torque_constant", m.torque_constant, "N m/A", Some(Param::TorqueConstant), dc);
+    line("back_emf_constant", m.back_emf_constant, "V s/rad", Some(Param::BackEmfConstant), dc);
+    line("armature_resistance", m.armature_resistance, "Ohm", Some(Param::ArmatureResistance), dc);
+    line("current_max", m.current_max, "A", None, dc);
     let _ = writeln!(s, "\n/* Initializer of wmr_robot_params_f64 (or _f32). */");
     let _ = writeln!(s, "#define WMR_IDENTIFIED_ROBOT_PARAMS {{ \\");
     let keys = [

@@ -145,7 +145,14 @@ fn issue_44_c_header_initialises_the_c_api_bit_for_bit() {
     let run_c = Command::new(&exe).output().unwrap();
     let out = String::from_utf8(run_c.stdout).unwrap();
     assert!(run_c.status.success(), "{out}");
-    for k in ROBOT_KEYS.iter().chain(DRIVE_KEYS.iter()) {
+    // The torque drive's limit is not a key of a DC-motor robot file: the C struct gets
+    // the torque drive's default (unread for WMR_DRIVE_DC_MOTOR).
+    assert!(!toml.contains("motor_torque_max"), "{toml}");
+    let (limit, _) = printed(&out, "motor_torque_max");
+    assert_eq!(limit.to_bits(), wmr_core::TorqueDriveParams::<f64>::default().motor_torque_max.to_bits());
+    let line = header.lines().find(|l| l.starts_with("#define WMR_IDENTIFIED_MOTOR_TORQUE_MAX ")).unwrap();
+    assert!(line.ends_with("/* N m at the motor, the default; not read for this drive kind */"), "{line}");
+    for k in ROBOT_KEYS.iter().chain(DRIVE_KEYS.iter().filter(|k| **k != "motor_torque_max")) {
         let want = file_value(&toml, k);
         let (got, got32) = printed(&out, k);
         assert_eq!(got.to_bits(), want.to_bits(), "{k}: C {got:e}, robot file {want:e}\n{header}");
