@@ -202,6 +202,9 @@ pub fn excite(
     Ok(())
 }
 
+/// Seconds of the replay's per-second error table on one line.
+const PER_LINE: usize = 10;
+
 /// `wmr-cli replay LOG --robot ROBOT`: each run of the log from its first sample, open
 /// loop on its commands; the errors against the logged wheel speeds and poses.
 pub fn replay(
@@ -266,10 +269,17 @@ pub fn replay(
         opt(t.position_rms_m),
     )
     .trim_end())?;
-    say("speed RMS per second of log, rad/s (from each run's first compared sample: second 0, 1, ...)")?;
+    // Ten seconds a line, each line led by its first second, so a long run stays readable.
+    say(&format!(
+        "wheel-speed error RMS in each second of log, rad/s (second 0: each run's first compared sample; {PER_LINE} a line)"
+    ))?;
+    say("run  from_s")?;
     for tr in &report.traces {
-        let values: Vec<String> = tr.speed_rms_per_second_rad_s.iter().map(|v| format!("{v:.2e}")).collect();
-        say(&format!("{:<4} {}", tr.index, values.join(" ")))?;
+        for (k, chunk) in tr.speed_rms_per_second_rad_s.chunks(PER_LINE).enumerate() {
+            let values: Vec<String> = chunk.iter().map(|v| format!("{v:.2e}")).collect();
+            let run = if k == 0 { tr.index.to_string() } else { String::new() };
+            say(&format!("{run:<4} {:>6}  {}", k * PER_LINE, values.join(" ")))?;
+        }
     }
     if let Some((svg, k)) = plot {
         let tr = &report.traces[k];

@@ -7,6 +7,45 @@ use std::fs;
 mod identify_common;
 use identify_common::{ok, refused, run};
 
+/// The replay's table of the wheel-speed error RMS in each second (`run  from_s` then
+/// ten seconds a line): a row per run, `durations_s[run]` values (one per started second
+/// of the run's compared samples), and the run's RMS over all its seconds lies between
+/// the smallest and the largest of them (an RMS pooled from parts is within their range).
+fn per_second_table_bounds_each_run(out: &str, durations_s: &[f64]) {
+    let rms: Vec<f64> = out
+        .lines()
+        .skip_while(|l| !l.starts_with("run  samples"))
+        .skip(1)
+        .take_while(|l| !l.starts_with("all"))
+        .map(|l| l.split_whitespace().nth(2).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(rms.len(), durations_s.len(), "{out}");
+    let table: Vec<&str> = out.lines().skip_while(|l| *l != "run  from_s").skip(1).collect();
+    let mut runs: Vec<Vec<f64>> = Vec::new();
+    for line in table {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        if !line.starts_with(' ') {
+            assert_eq!(words[0], runs.len().to_string(), "{line}");
+            runs.push(Vec::new());
+        }
+        let values = &words[if line.starts_with(' ') { 1 } else { 2 }..];
+        let from: usize = words[if line.starts_with(' ') { 0 } else { 1 }].parse().unwrap();
+        let run = runs.last_mut().unwrap();
+        assert_eq!(from, run.len(), "{line}");
+        assert!(values.len() <= 10, "{line}");
+        run.extend(values.iter().map(|v| v.parse::<f64>().unwrap()));
+    }
+    assert_eq!(runs.len(), durations_s.len(), "{out}");
+    for (k, (seconds, dur)) in runs.iter().zip(durations_s).enumerate() {
+        // The compared samples start after the filter's first samples: the run's seconds
+        // are its duration's, the last one partly.
+        assert!((seconds.len() as f64 - dur).abs() <= 1.0, "run {k}: {} seconds, {dur} s", seconds.len());
+        let (lo, hi) = seconds.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+        // Printed to 3 digits: half a unit of the last on each side.
+        assert!(lo * (1.0 - 5e-3) <= rms[k] && rms[k] <= hi * (1.0 + 5e-3), "run {k}: {} not in [{lo}, {hi}]", rms[k]);
+    }
+}
+
 /// The robot of crates/wmr-identify/tests/fit.rs, torque drive without a limit.
 const TRUTH: &str = "[robot]
 mass = 10.0
@@ -105,6 +144,39 @@ fn issue_44_excite_identify_replay_round_trip() {
     let all = out.lines().find(|l| l.starts_with("all")).unwrap();
     let pct: f64 = all.split_whitespace().nth(3).unwrap().parse().unwrap();
     assert!(pct < 2.0, "{out}");
+    per_second_table_bounds_each_run(&out, &[6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0]);
+    // --plot draws one run: its wheel speeds (logged, replayed), the error per second and
+    // the paths, as one SVG of two pages; a run the log does not have is refused.
+    let out = ok(&run(d, &["replay", "sim.csv", "--robot", "fitted.toml", "--plot", "replay.svg", "--plot-run", "7"]));
+    assert!(out.ends_with("wrote replay.svg (run 7)\n"), "{out}");
+    let svg = fs::read_to_string(d.join("replay.svg")).unwrap();
+    let doc = roxmltree::Document::parse(&svg).expect("valid XML");
+    let ids: Vec<&str> = doc.descendants().filter_map(|n| n.attribute("id")).collect();
+    let unique: std::collections::BTreeSet<&str> = ids.iter().copied().collect();
+    assert_eq!(unique.len(), ids.len(), "ids repeat across the pages: {ids:?}");
+    // The texts as read (a subscript's tspan joined to its text: `ω_r` reads `ωr`).
+    let texts: Vec<String> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .map(|n| n.descendants().filter(|d| d.is_text()).filter_map(|d| d.text()).collect())
+        .collect();
+    for label in [
+        "right wheel ωr, logged",
+        "right wheel ωr, replayed",
+        "left wheel ωl, logged",
+        "left wheel ωl, replayed",
+        "RMS per second of log",
+        "logged",
+        "replayed",
+    ] {
+        assert!(texts.iter().any(|t| t == label), "{label} not in {texts:?}");
+    }
+    assert!(svg.contains("replay of fitted.toml on run 7 of sim.csv"));
+    let err = refused(&run(d, &["replay", "sim.csv", "--robot", "fitted.toml", "--plot", "r.svg", "--plot-run", "12"]));
+    assert!(err.contains("--plot-run 12: sim.csv has no such run (its runs: 0, 1, 2"), "{err}");
+    assert!(!d.join("r.svg").exists());
+    let err = refused(&run(d, &["replay", "sim.csv", "--robot", "fitted.toml", "--plot", "sim.csv"]));
+    assert!(err.contains("sim.csv"), "{err}");
     // The wrong robot does not.
     let out = ok(&run(d, &["replay", "sim.csv", "--robot", "geometry.toml", "--horizon", "1"]));
     let all = out.lines().find(|l| l.starts_with("all")).unwrap();
