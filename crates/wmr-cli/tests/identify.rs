@@ -134,7 +134,7 @@ fn issue_44_excite_identify_replay_round_trip() {
         let in_file = fitted.lines().find(|l| l.starts_with(&format!("{key} = "))).unwrap();
         let note = &in_file[in_file.find("fitted: +- ").unwrap()..];
         assert!(note.ends_with("(standard error), from sim.csv"), "{in_file}");
-        assert!(line.ends_with(&format!("# fitted.toml, {note}")), "{line}");
+        assert!(line.ends_with(&format!(" # fitted.toml, {note}")), "{line}");
     }
     let line = check.lines().find(|l| l.starts_with("wheel_radius = ")).unwrap();
     assert!(line.ends_with("# fitted.toml"), "{line}");
