@@ -12,7 +12,7 @@ use wmr_identify::sim::{LogNoise, log_table};
 use wmr_identify::{ColumnNames, CommandKind, IdentifyError, Log, Table};
 
 use crate::errors::{bad_input, say};
-use crate::identify_file::{
+use wmr_identify::file::{
     Base, FileError, c_guard, c_header as c_header_text, command_kind, identify_table, residual_unit,
 };
 
@@ -47,13 +47,13 @@ pub fn base(path: Option<&Path>, access: &wmr_scenario::FileAccess) -> Result<Ba
     if let Some(p) = path {
         crate::atomic::register_input(p);
     }
-    crate::identify_file::base(path, access).map_err(bad_file)
+    wmr_identify::file::base(path, access).map_err(bad_file)
 }
 
 /// Reads the log at `path` into a table (registered as an input): a CSV or a ROS 2 MCAP
-/// ([`crate::identify_file::read_table`]).
+/// ([`wmr_identify::file::read_table`]).
 pub fn read_table(path: &Path, namespace: Option<&str>, kind: CommandKind) -> Result<Table> {
-    let table = crate::identify_file::read_table(path, namespace, kind).map_err(bad_file)?;
+    let table = wmr_identify::file::read_table(path, namespace, kind).map_err(bad_file)?;
     crate::atomic::register_input(path);
     Ok(table)
 }

@@ -8,7 +8,6 @@ mod exec;
 mod foxglove_cmd;
 mod foxglove_topics;
 mod identify_cmd;
-mod identify_file;
 mod keys;
 mod layout;
 mod live;
@@ -352,7 +351,7 @@ fn run(cli: Cli) -> Result<()> {
         Command::Check { file, files } => exec::check_command(&file, &files.access()?),
         Command::Log2csv { log, output, namespace } => {
             let shown = wmr_scenario::shown(&log);
-            let bytes = identify_file::read_log_bytes(&log).map_err(|e| bad_input(e.to_string()))?;
+            let bytes = wmr_identify::file::read_log_bytes(&log).map_err(|e| bad_input(e.to_string()))?;
             let tables =
                 ros2::log::read_log(&bytes, namespace.as_deref()).map_err(|e| bad_input(format!("{shown}: {e}")))?;
             if tables.odom.is_empty() && tables.joint_states.is_empty() && tables.cmd_vel.is_empty() {

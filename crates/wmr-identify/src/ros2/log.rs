@@ -237,12 +237,12 @@ impl Ros2Log {
                 values[11] = Some(c.v);
                 values[12] = Some(c.omega);
             }
-            crate::csv_sink::format_f64(t as f64 / 1e9, &mut field);
+            crate::table::format_f64(t as f64 / 1e9, &mut field);
             out.push_str(&field);
             for v in values {
                 out.push(',');
                 if let Some(v) = v.filter(|v| !v.is_nan()) {
-                    crate::csv_sink::format_f64(v, &mut field);
+                    crate::table::format_f64(v, &mut field);
                     out.push_str(&field);
                 }
             }

@@ -1,12 +1,14 @@
-//! The identification of a log file into a robot file (docs/identify.md) for `wmr-cli
-//! identify` and `replay`: reading the log (a CSV or a ROS 2 MCAP, bounded in size),
-//! the held parameters, the robot file and its C header.
+//! A log file identified into a robot file (docs/identify.md), the code behind `wmr-cli
+//! identify` and `replay` (a library, for Python to share): reading the log (a CSV or a
+//! ROS 2 MCAP, bounded in size), the robot file the fit starts from, the held parameters,
+//! the robot file written and its C header. Errors are [`FileError`]s whose `Display` is
+//! the CLI's line.
 
 use std::fmt::{self, Write as _};
 use std::path::Path;
 
+use crate::{ColumnNames, CommandKind, Fit, FitSettings, IdentifyError, Log, Param, Table};
 use wmr_core::{DcMotorParams, DriveParams, RobotParams, TorqueDriveParams};
-use wmr_identify::{ColumnNames, CommandKind, Fit, FitSettings, IdentifyError, Log, Param, Table};
 
 /// Why a log could not be identified: a bad argument or file, or a parameter the log does
 /// not determine. Its `Display` is the CLI's one line.
@@ -15,8 +17,7 @@ pub enum FileError {
     /// A bad argument or file: `key` names the argument (`log`, `robot`, `hold`,
     /// `namespace`), `message` is the line the CLI prints.
     Input {
-        /// The argument (read by wmr_py, which raises with it as `key`).
-        #[allow(dead_code)]
+        /// The argument (for a binding to name, as a Python error's `key`).
         key: &'static str,
         /// The CLI's line.
         message: String,
@@ -24,8 +25,7 @@ pub enum FileError {
     /// A parameter the log does not determine, or fits below zero (`error` names it);
     /// `log` is the log's shown path.
     Parameter {
-        /// The parameter's key (the first, if the error names several; read by wmr_py).
-        #[allow(dead_code)]
+        /// The parameter's key (the first, if the error names several).
         parameter: String,
         /// The log, as shown in messages.
         log: String,
@@ -358,7 +358,7 @@ pub fn identify_table(
         settings.robot = robot;
         settings.motor = motor;
     }
-    let fit = wmr_identify::fit(&log, &settings).map_err(|e| match &e {
+    let fit = crate::fit(&log, &settings).map_err(|e| match &e {
         IdentifyError::NotIdentifiable { parameter, .. } | IdentifyError::Unphysical { parameter, .. } => {
             FileError::Parameter {
                 parameter: parameter.split(", ").next().unwrap_or(parameter).to_owned(),
