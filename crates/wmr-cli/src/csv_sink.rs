@@ -16,19 +16,8 @@ pub struct CsvSink {
     columns: Columns,
 }
 
-/// The shortest text that reads back to `v`: plain decimals in the usual range,
-/// exponent form (`3.4e-17`) for the very small and very large.
-pub fn format_f64(v: f64, out: &mut String) {
-    out.clear();
-    let a = v.abs();
-    if v == 0.0 {
-        out.push('0');
-    } else if (1e-5..1e16).contains(&a) {
-        let _ = write!(out, "{v}");
-    } else {
-        let _ = write!(out, "{v:e}");
-    }
-}
+/// The shortest text that reads back to `v` (shared with the ROS 2 log reader).
+pub use wmr_identify::table::format_f64;
 
 impl CsvSink {
     /// Writes the header (`run`, then `columns`' names) to `out` and flushes it, so an

@@ -6,12 +6,15 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use anyhow::Result;
-use wmr_core::{DcMotorParams, Drive, DriveParams, Robot, RobotParams, TorqueDriveParams};
+use wmr_core::{Drive, Robot};
 use wmr_identify::excite::{ExciteSettings, Test};
 use wmr_identify::sim::{LogNoise, log_table};
-use wmr_identify::{ColumnNames, CommandKind, FitSettings, IdentifyError, Log, Param, Table};
+use wmr_identify::{ColumnNames, CommandKind, IdentifyError, Log, Table};
 
 use crate::errors::{bad_input, say};
+use wmr_identify::file::{
+    Base, FileError, c_guard, c_header as c_header_text, command_kind, identify_table, residual_unit,
+};
 
 /// The drive a log's commands are for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -25,71 +28,8 @@ pub enum DriveKind {
 
 impl DriveKind {
     fn command(self) -> CommandKind {
-        match self {
-            DriveKind::Torque => CommandKind::Torque,
-            DriveKind::DcMotor => CommandKind::Voltage,
-        }
+        command_kind(self == DriveKind::DcMotor)
     }
-}
-
-/// The robot and drive of a robot file (or scenario) `path`, or the paper's robot.
-pub struct Base {
-    /// Where it came from, for the comments of the output.
-    pub source: String,
-    /// The robot's parameters.
-    pub robot: RobotParams<f64>,
-    /// The drive's parameters.
-    pub drive: DriveParams<f64>,
-}
-
-/// Reads the robot file `path` as `[robot] from = "path"` reads it (its `[robot]` and
-/// `[drive]` keys, every one checked), or the paper's robot without one.
-pub fn base(path: Option<&Path>, access: &wmr_scenario::FileAccess) -> Result<Base> {
-    match path {
-        Some(p) => {
-            let shown = wmr_scenario::shown(p);
-            let name = p
-                .file_name()
-                .and_then(|n| n.to_str())
-                .ok_or_else(|| bad_input(format!("--robot {shown}: not a file name")))?;
-            let dir = p.parent().unwrap_or(Path::new(""));
-            crate::atomic::register_input(p);
-            // A scenario of this robot alone (the run is never run: it only makes the
-            // scenario complete), so the robot file is read exactly as `from` reads it. Its
-            // step is short, so that a stiff Coulomb friction is not refused here: the fit
-            // and the replay take their own steps (a scenario using the robot is checked
-            // against its own sim.dt).
-            let text = format!(
-                "[robot]\nfrom = {}\n\n[sim]\ndt = 1e-5\nt_end = 0.01\nlog_dt = 0.01\n\n[[run]]\ngoal = {{ x = 1.0, y = 0.0, theta_deg = 0.0 }}\n",
-                toml_string(name)
-            );
-            let s = wmr_scenario::Scenario::from_toml_str_with(&text, "robot", dir, access)
-                .map_err(|e| bad_input(format!("--robot {shown}: {e}")))?;
-            Ok(Base { source: shown, robot: *s.robot().params(), drive: s.drive().params() })
-        }
-        None => Ok(Base {
-            source: "the paper's robot (no --robot given)".to_owned(),
-            robot: RobotParams::paper(),
-            drive: DriveParams::default(),
-        }),
-    }
-}
-
-/// `s` as a TOML basic string.
-fn toml_string(s: &str) -> String {
-    let mut out = String::from("\"");
-    for c in s.chars() {
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            c if c.is_control() => {
-                let _ = write!(out, "\\u{:04X}", c as u32);
-            }
-            c => out.push(c),
-        }
-    }
-    out.push('"');
-    out
 }
 
 /// An identification error as bad input (exit 2), its message unchanged.
@@ -97,129 +37,29 @@ fn bad(e: IdentifyError) -> anyhow::Error {
     bad_input(e.to_string())
 }
 
-/// The first bytes of every MCAP file.
-const MCAP_MAGIC: &[u8; 8] = b"\x89MCAP0\r\n";
-
-/// Whether `path` is an MCAP log: a `.mcap` name, or a file starting with the MCAP magic.
-fn is_mcap(path: &Path) -> bool {
-    if path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("mcap")) {
-        return true;
-    }
-    let mut head = [0u8; 8];
-    std::fs::File::open(path).and_then(|mut f| std::io::Read::read_exact(&mut f, &mut head)).is_ok()
-        && &head == MCAP_MAGIC
+/// A shared identification error as bad input (exit 2), its message unchanged.
+fn bad_file(e: FileError) -> anyhow::Error {
+    bad_input(e.to_string())
 }
 
-/// Reads the log at `path` into a table: a CSV, or a ROS 2 MCAP (`.mcap`, or any file
-/// starting with the MCAP magic) through [`crate::ros2::log::read_log`] ([`mcap_table`]);
-/// `namespace` (`/run1`) picks one robot of an MCAP of several.
+/// The robot file `path` (registered as an input), or the paper's robot.
+pub fn base(path: Option<&Path>, access: &wmr_scenario::FileAccess) -> Result<Base> {
+    if let Some(p) = path {
+        crate::atomic::register_input(p);
+    }
+    wmr_identify::file::base(path, access).map_err(bad_file)
+}
+
+/// Reads the log at `path` into a table (registered as an input): a CSV or a ROS 2 MCAP
+/// ([`wmr_identify::file::read_table`]).
 pub fn read_table(path: &Path, namespace: Option<&str>, kind: CommandKind) -> Result<Table> {
-    let shown = wmr_scenario::shown(path);
-    if is_mcap(path) {
-        let bytes = std::fs::read(path).map_err(|e| bad_input(format!("{shown}: cannot read it: {e}")))?;
-        crate::atomic::register_input(path);
-        let log = crate::ros2::log::read_log(&bytes, namespace).map_err(|e| bad_input(format!("{shown}: {e}")))?;
-        return mcap_table(&log, kind).map_err(|e| bad_input(format!("{shown}: {e}")));
-    }
-    if namespace.is_some() {
-        return Err(bad_input(format!("--namespace: {shown} is a CSV; the flag picks a robot of a ROS 2 MCAP")));
-    }
-    let file = std::fs::File::open(path).map_err(|e| bad_input(format!("{shown}: {e}")))?;
+    let table = wmr_identify::file::read_table(path, namespace, kind).map_err(bad_file)?;
     crate::atomic::register_input(path);
-    Table::read_csv(std::io::BufReader::new(file)).map_err(|e| bad_input(format!("{shown}: {e}")))
-}
-
-/// A ROS 2 log as the table a wmr run's CSV gives: a row per `/joint_states` message, `t`
-/// (s since its first stamp, so that an epoch's 1.7e9 s costs no precision), `tau_r,
-/// tau_l` from `effort` (N m), `phi_r, phi_l` from `position` (rad) and `omega_r, omega_l`
-/// from `velocity` (rad/s) where every message has them, and `x, y, theta` from the latest
-/// `/odom` at or before each row when there is one before the first row (the robot's own
-/// pose estimate: `--profile ros2` logs the measured pose there).
-pub fn mcap_table(log: &crate::ros2::log::Ros2Log, kind: CommandKind) -> Result<Table, String> {
-    if kind == CommandKind::Voltage {
-        return Err("per-wheel voltage is not in a ROS 2 log (sensor_msgs/msg/JointState has position, velocity and effort): \
-             a ROS 2 MCAP takes a torque drive (its effort, N m: identify --drive torque, a replay robot of [drive] kind = \"torque\"); give voltages as a CSV with u_r, u_l"
-            .to_owned());
-    }
-    let js = &log.joint_states;
-    let Some(first) = js.first() else {
-        return Err("no /joint_states messages (sensor_msgs/msg/JointState): the wheels' efforts and positions or velocities are needed".to_owned());
-    };
-    let t0 = first.t_ns;
-    let t: Vec<f64> = js.iter().map(|m| (m.t_ns - t0) as f64 / 1e9).collect();
-    let at = |i: usize| t[i];
-    if let Some(i) = js.iter().position(|m| !m.tau.iter().all(|v| v.is_finite())) {
-        return Err(format!(
-            "/joint_states: no effort (the wheel torques, N m) for both wheels in the message at t = {} s (stamp {} ns)",
-            at(i),
-            js[i].t_ns
-        ));
-    }
-    let all = |f: fn(&crate::ros2::log::WheelStates) -> [f64; 2]| js.iter().all(|m| f(m).iter().all(|v| v.is_finite()));
-    let has_phi = all(|m| m.phi);
-    let has_omega = all(|m| m.omega);
-    if !has_phi && !has_omega {
-        return Err("/joint_states: neither position nor velocity for both wheels in every message".to_owned());
-    }
-    let col = |f: &dyn Fn(&crate::ros2::log::WheelStates) -> f64| js.iter().map(f).collect::<Vec<f64>>();
-    let mut table = Table::new();
-    let e = |e: IdentifyError| e.to_string();
-    table.push("t", t.clone()).map_err(e)?;
-    table.push("tau_r", col(&|m| m.tau[0])).map_err(e)?;
-    table.push("tau_l", col(&|m| m.tau[1])).map_err(e)?;
-    if has_phi {
-        table.push("phi_r", col(&|m| m.phi[0])).map_err(e)?;
-        table.push("phi_l", col(&|m| m.phi[1])).map_err(e)?;
-    }
-    if has_omega {
-        table.push("omega_r", col(&|m| m.omega[0])).map_err(e)?;
-        table.push("omega_l", col(&|m| m.omega[1])).map_err(e)?;
-    }
-    let odom = &log.odom;
-    if odom.first().is_some_and(|o| o.t_ns <= t0) {
-        let mut k = 0usize;
-        let mut pose = [Vec::new(), Vec::new(), Vec::new()];
-        for m in js {
-            while k + 1 < odom.len() && odom[k + 1].t_ns <= m.t_ns {
-                k += 1;
-            }
-            pose[0].push(odom[k].x);
-            pose[1].push(odom[k].y);
-            pose[2].push(odom[k].theta);
-        }
-        let [x, y, theta] = pose;
-        table.push("x", x).map_err(e)?;
-        table.push("y", y).map_err(e)?;
-        table.push("theta", theta).map_err(e)?;
-    }
     Ok(table)
 }
 
-/// `--hold key[=value],...`: the parameters held, with the values given.
-fn parse_hold(list: &[String], robot: &mut RobotParams<f64>, motor: &mut DcMotorParams<f64>) -> Result<Vec<Param>> {
-    let mut out = Vec::new();
-    for item in list.iter().flat_map(|s| s.split(',')).map(str::trim).filter(|s| !s.is_empty()) {
-        let (key, value) = match item.split_once('=') {
-            Some((k, v)) => (k.trim(), Some(v.trim())),
-            None => (item, None),
-        };
-        let Some(p) = Param::from_key(key) else {
-            let known: Vec<&str> = Param::ALL.iter().map(|p| p.key()).collect();
-            return Err(bad_input(format!("--hold: unknown parameter `{key}` (one of {})", known.join(", "))));
-        };
-        if let Some(v) = value {
-            let x: f64 = v.parse().map_err(|_| bad_input(format!("--hold: {key} = `{v}` is not a number")))?;
-            if !(x.is_finite() && x >= 0.0) {
-                return Err(bad_input(format!("--hold: {key} must be finite and >= 0, got {v}")));
-            }
-            p.set(robot, motor, x);
-        }
-        out.push(p);
-    }
-    Ok(out)
-}
-
 /// `wmr-cli identify LOG -o OUT`.
+#[allow(clippy::too_many_arguments)]
 pub fn identify(
     log_path: &Path,
     output: &Path,
@@ -227,29 +67,27 @@ pub fn identify(
     robot_path: Option<&Path>,
     hold: Option<&[String]>,
     namespace: Option<&str>,
+    c_header: Option<&Path>,
     access: &wmr_scenario::FileAccess,
 ) -> Result<()> {
     let base = base(robot_path, access)?;
     let table = read_table(log_path, namespace, drive.command())?;
-    // OUT must not be an input (checked before the fit, so a refusal costs nothing).
+    // OUT (and the header) must not be an input (checked before the fit, so a refusal
+    // costs nothing).
     crate::atomic::target_of(output)?;
-    let shown = wmr_scenario::shown(log_path);
-    let log = Log::from_table(&table, &ColumnNames::default(), drive.command())
-        .map_err(|e| bad_input(format!("{shown}: {e}")))?;
-    let mut motor = match base.drive {
-        DriveParams::DcMotor(m) => m,
-        _ => DcMotorParams::default(),
-    };
-    let mut robot = base.robot;
-    let mut settings = FitSettings::new(drive.command(), robot, motor);
-    if let Some(h) = hold {
-        settings.hold = parse_hold(h, &mut robot, &mut motor)?;
-        settings.robot = robot;
-        settings.motor = motor;
+    if let Some(h) = c_header {
+        crate::atomic::target_of(h)?;
+        if h == output {
+            return Err(bad_input("--c-header: the same file as -o; give the header its own name (robot.h)"));
+        }
     }
-    let fit = wmr_identify::fit(&log, &settings).map_err(|e| bad_input(format!("{shown}: {e}")))?;
-    let text = robot_file(&fit, &base, drive, &shown, &log);
-    crate::atomic::write_text(output, &text)?;
+    let shown = wmr_scenario::shown(log_path);
+    let id = identify_table(&table, &shown, &base, drive.command(), hold).map_err(bad_file)?;
+    let fit = &id.fit;
+    crate::atomic::write_text(output, &id.text)?;
+    if let Some(h) = c_header {
+        crate::atomic::write_text(h, &c_header_text(&id, &shown, &c_guard(h)))?;
+    }
     let mut summary = String::new();
     let _ = writeln!(
         summary,
@@ -259,7 +97,7 @@ pub fn identify(
         fit.equations,
         fit.condition,
         fit.rms_residual,
-        if drive == DriveKind::Torque { "N m" } else { "V" }
+        residual_unit(id.kind)
     );
     for e in &fit.estimates {
         let how = if e.held {
@@ -272,89 +110,13 @@ pub fn identify(
         let _ = writeln!(summary, "  {:<20} {:>12.6e} {:<7} {how}", e.param.key(), e.value, e.param.unit());
     }
     let _ = write!(summary, "wrote {}", wmr_scenario::shown(output));
+    if let Some(h) = c_header {
+        let _ = write!(summary, "\nwrote {} (C header)", wmr_scenario::shown(h));
+    }
     for line in summary.lines() {
         say(line)?;
     }
     Ok(())
-}
-
-/// A robot file of the fit: `[robot]` and `[drive]` with every key, each fitted value with
-/// its standard error and the log in a comment.
-fn robot_file(fit: &wmr_identify::Fit, base: &Base, drive: DriveKind, log: &str, l: &Log) -> String {
-    let mut s = String::new();
-    let _ = writeln!(s, "# Identified by `wmr-cli identify` (docs/identify.md) from {log}:");
-    let _ = writeln!(
-        s,
-        "# {} of its {} rows used (columns {}), condition number {:.3}, RMS residual {:.4e} {}.",
-        fit.rows_used,
-        fit.rows_total,
-        l.columns_used.join(", "),
-        fit.condition,
-        fit.rms_residual,
-        if drive == DriveKind::Torque { "N m" } else { "V" }
-    );
-    let _ = writeln!(s, "# Geometry and held values from {}.", base.source);
-    let _ = writeln!(s, "# Use: [robot] from = \"THIS FILE\"; check it with `wmr-cli replay LOG --robot THIS FILE`.");
-    let note_of = |p: Param| -> String {
-        match fit.get(p) {
-            Some(e) if e.zeroed => {
-                format!(
-                    "# {}, fitted: below 0 within 3 standard errors ({:.3e}), so 0, from {log}",
-                    p.unit(),
-                    e.std_err
-                )
-            }
-            Some(e) if !e.held => format!("# {}, fitted: +- {:.3e} (standard error), from {log}", p.unit(), e.std_err),
-            Some(_) => format!("# {}, held", p.unit()),
-            None => String::new(),
-        }
-    };
-    let r = &fit.robot;
-    let _ = writeln!(s, "\n[robot]");
-    let rows: [(&str, f64, String); 11] = [
-        ("mass", r.mass, note_of(Param::Mass)),
-        ("wheel_radius", r.wheel_radius, "# m, held".to_owned()),
-        ("half_track", r.half_track, "# m, held".to_owned()),
-        ("com_offset", r.com_offset, "# m, held".to_owned()),
-        ("wheel_inertia", r.wheel_inertia, note_of(Param::WheelInertia)),
-        ("platform_inertia", r.platform_inertia, note_of(Param::PlatformInertia)),
-        ("gear_ratio", r.gear_ratio, "# held".to_owned()),
-        ("viscous_friction", r.viscous_friction, note_of(Param::ViscousFriction)),
-        ("coulomb_friction", r.coulomb_friction, note_of(Param::CoulombFriction)),
-        ("coulomb_speed", r.coulomb_speed, "# rad/s, held".to_owned()),
-        ("static_friction", r.static_friction, "# N m, held (0: no stiction beyond coulomb_friction)".to_owned()),
-    ];
-    for (k, v, c) in rows {
-        let _ = writeln!(s, "{k} = {v:?}   {c}");
-    }
-    let _ = writeln!(s, "\n[drive]");
-    match drive {
-        DriveKind::Torque => {
-            let p = match base.drive {
-                DriveParams::Torque(p) => p,
-                _ => TorqueDriveParams::default(),
-            };
-            let _ = writeln!(s, "kind = \"torque\"");
-            let _ = writeln!(s, "motor_torque_max = {:?}   # N m at the motor, held", p.motor_torque_max);
-            let _ = writeln!(s, "deadband = {:?}   # held", p.deadband);
-        }
-        DriveKind::DcMotor => {
-            let m = &fit.motor;
-            let _ = writeln!(s, "kind = \"dc_motor\"");
-            let _ = writeln!(s, "voltage_max = {:?}   # V, held", m.voltage_max);
-            let _ = writeln!(s, "torque_constant = {:?}   {}", m.torque_constant, note_of(Param::TorqueConstant));
-            let _ = writeln!(s, "back_emf_constant = {:?}   {}", m.back_emf_constant, note_of(Param::BackEmfConstant));
-            let _ = writeln!(
-                s,
-                "armature_resistance = {:?}   {}",
-                m.armature_resistance,
-                note_of(Param::ArmatureResistance)
-            );
-            let _ = writeln!(s, "current_max = {:?}   # A, held", m.current_max);
-            let _ = writeln!(s, "deadband = {:?}   # held", m.deadband);
-        }
-    }
-    s
 }
 
 /// `wmr-cli excite -o OUT`: the profile CSV, a table of the tests with their safe
@@ -440,6 +202,9 @@ pub fn excite(
     Ok(())
 }
 
+/// Seconds of the replay's per-second error table on one line.
+const PER_LINE: usize = 10;
+
 /// `wmr-cli replay LOG --robot ROBOT`: each run of the log from its first sample, open
 /// loop on its commands; the errors against the logged wheel speeds and poses.
 pub fn replay(
@@ -447,6 +212,7 @@ pub fn replay(
     robot_path: &Path,
     horizon_s: f64,
     namespace: Option<&str>,
+    plot: Option<(&Path, usize)>,
     access: &wmr_scenario::FileAccess,
 ) -> Result<()> {
     let base = base(Some(robot_path), access)?;
@@ -456,6 +222,21 @@ pub fn replay(
     let table = read_table(log_path, namespace, kind)?;
     let shown = wmr_scenario::shown(log_path);
     let log = Log::from_table(&table, &ColumnNames::default(), kind).map_err(|e| bad_input(format!("{shown}: {e}")))?;
+    // The plot's run must be in the log, and the SVG not an input (both before the replay).
+    let plot = match plot {
+        Some((svg, run)) => {
+            let Some(k) = log.runs.iter().position(|r| r.index == run) else {
+                let have: Vec<String> = log.runs.iter().map(|r| r.index.to_string()).collect();
+                return Err(bad_input(format!(
+                    "--plot-run {run}: {shown} has no such run (its runs: {})",
+                    have.join(", ")
+                )));
+            };
+            crate::atomic::target_of(svg)?;
+            Some((svg, k))
+        }
+        None => None,
+    };
     let report =
         wmr_identify::replay::replay(&log, robot, drive, horizon_s).map_err(|e| bad_input(format!("{shown}: {e}")))?;
     let from = if horizon_s > 0.0 {
@@ -488,6 +269,33 @@ pub fn replay(
         opt(t.position_rms_m),
     )
     .trim_end())?;
+    // Ten seconds a line, each line led by its first second, so a long run stays readable.
+    say(&format!(
+        "wheel-speed error RMS in each second of log, rad/s (second 0: each run's first compared sample; {PER_LINE} a line)"
+    ))?;
+    say("run  from_s")?;
+    for tr in &report.traces {
+        for (k, chunk) in tr.speed_rms_per_second_rad_s.chunks(PER_LINE).enumerate() {
+            let values: Vec<String> = chunk.iter().map(|v| format!("{v:.2e}")).collect();
+            let run = if k == 0 { tr.index.to_string() } else { String::new() };
+            say(&format!("{run:<4} {:>6}  {}", k * PER_LINE, values.join(" ")))?;
+        }
+    }
+    if let Some((svg, k)) = plot {
+        let tr = &report.traces[k];
+        let run = wmr_plot::ReplayRun {
+            t_s: &tr.t_s,
+            logged_speed: [&tr.logged_speed[0], &tr.logged_speed[1]],
+            replayed_speed: [&tr.replayed_speed[0], &tr.replayed_speed[1]],
+            speed_rms_per_second: &tr.speed_rms_per_second_rad_s,
+            logged_pose: tr.logged_pose.as_ref().map(|p| [&p[0][..], &p[1][..], &p[2][..]]),
+            replayed_pose: [&tr.replayed_pose[0], &tr.replayed_pose[1], &tr.replayed_pose[2]],
+        };
+        let title = format!("replay of {} on run {} of {shown}", base.source, tr.index);
+        let text = wmr_plot::replay_svg(&title, &run).map_err(|e| bad_input(format!("--plot: {e}")))?;
+        crate::atomic::write_text(svg, &text)?;
+        say(&format!("wrote {} (run {})", wmr_scenario::shown(svg), tr.index))?;
+    }
     Ok(())
 }
 

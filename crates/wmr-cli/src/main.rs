@@ -204,6 +204,11 @@ enum Command {
         /// /run1/joint_states, ...), as for `log2csv`.
         #[arg(long, value_name = "NS")]
         namespace: Option<String>,
+        /// Also write the identified values as a C header of constants for the C API
+        /// (crates/wmr-ffi/include/wmr.h): `WMR_IDENTIFIED_<KEY>`, bit for bit the robot
+        /// file's, and the initializers WMR_IDENTIFIED_ROBOT_PARAMS, WMR_IDENTIFIED_DRIVE_PARAMS.
+        #[arg(long, value_name = "H")]
+        c_header: Option<PathBuf>,
     },
     /// Write the command profiles to play on a robot for `identify` (SysId's quasistatic
     /// ramps and dynamic steps; straight, turning and arcs) as CSV, with the room each needs.
@@ -253,6 +258,13 @@ enum Command {
         /// /run1/joint_states, ...), as for `log2csv`.
         #[arg(long, value_name = "NS")]
         namespace: Option<String>,
+        /// Also draw one run of the replay as an SVG: the logged and replayed wheel speeds,
+        /// the error's RMS per second, and the logged and replayed paths of C.
+        #[arg(long, value_name = "SVG")]
+        plot: Option<PathBuf>,
+        /// With --plot: the run to draw (its `run` index).
+        #[arg(long, value_name = "N", default_value_t = 0)]
+        plot_run: usize,
     },
     /// Print this help, a subcommand's (`help run`), or the scenario file's keys with their
     /// units, defaults and rules (`help keys`, or one table: `help keys robot`).
@@ -348,8 +360,12 @@ fn run(cli: Cli) -> Result<()> {
         Command::Check { file, files } => exec::check_command(&file, &files.access()?),
         Command::Log2csv { log, output, namespace } => {
             let shown = wmr_scenario::shown(&log);
+            let bytes = wmr_identify::file::read_log_bytes(&log).map_err(|e| bad_input(e.to_string()))?;
             let tables =
-                ros2::log::read_log_file(&log, namespace.as_deref()).map_err(|e| bad_input(format!("{shown}: {e}")))?;
+                ros2::log::read_log(&bytes, namespace.as_deref()).map_err(|e| bad_input(format!("{shown}: {e}")))?;
+            if tables.is_empty() {
+                return Err(bad_input(format!("{shown}: no /cmd_vel, /joint_states or /odom messages")));
+            }
             let text = csv_sink::log_table_csv(&tables.table());
             match output {
                 None => errors::say_raw(&text),
@@ -380,13 +396,14 @@ fn run(cli: Cli) -> Result<()> {
             }
         }
         Command::Help { topic, table } => help(topic.as_deref(), table.as_deref()),
-        Command::Identify { log, files, output, drive, robot, hold, namespace } => identify_cmd::identify(
+        Command::Identify { log, files, output, drive, robot, hold, namespace, c_header } => identify_cmd::identify(
             &log,
             &output,
             drive,
             robot.as_deref(),
             hold.as_deref(),
             namespace.as_deref(),
+            c_header.as_deref(),
             &files.access()?,
         ),
         Command::Excite { output, files, robot, command_max, log, encoder_noise, jitter, seed } => {
@@ -401,9 +418,14 @@ fn run(cli: Cli) -> Result<()> {
                 &files.access()?,
             )
         }
-        Command::Replay { log, files, robot, horizon, namespace } => {
-            identify_cmd::replay(&log, &robot, horizon, namespace.as_deref(), &files.access()?)
-        }
+        Command::Replay { log, files, robot, horizon, namespace, plot, plot_run } => identify_cmd::replay(
+            &log,
+            &robot,
+            horizon,
+            namespace.as_deref(),
+            plot.as_deref().map(|p| (p, plot_run)),
+            &files.access()?,
+        ),
         Command::Trace { file, files, output, run, format } => {
             let scenario = load(&file, &files)?;
             let t = trace_cmd::trace(&scenario, run, &output, format)?;

@@ -3,21 +3,47 @@
 //! refused naming the column or the time, exit 2.
 
 use std::fs;
-use std::path::Path;
-use std::process::{Command, Output};
 
-fn run(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wmr-cli")).current_dir(dir).args(args).output().expect("spawn wmr-cli")
-}
+mod identify_common;
+use identify_common::{ok, refused, run};
 
-fn ok(o: &Output) -> String {
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn refused(o: &Output) -> String {
-    assert_eq!(o.status.code(), Some(2), "stdout {}", String::from_utf8_lossy(&o.stdout));
-    String::from_utf8_lossy(&o.stderr).into_owned()
+/// The replay's table of the wheel-speed error RMS in each second (`run  from_s` then
+/// ten seconds a line): a row per run, `durations_s[run]` values (one per started second
+/// of the run's compared samples), and the run's RMS over all its seconds lies between
+/// the smallest and the largest of them (an RMS pooled from parts is within their range).
+fn per_second_table_bounds_each_run(out: &str, durations_s: &[f64]) {
+    let rms: Vec<f64> = out
+        .lines()
+        .skip_while(|l| !l.starts_with("run  samples"))
+        .skip(1)
+        .take_while(|l| !l.starts_with("all"))
+        .map(|l| l.split_whitespace().nth(2).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(rms.len(), durations_s.len(), "{out}");
+    let table: Vec<&str> = out.lines().skip_while(|l| *l != "run  from_s").skip(1).collect();
+    let mut runs: Vec<Vec<f64>> = Vec::new();
+    for line in table {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        if !line.starts_with(' ') {
+            assert_eq!(words[0], runs.len().to_string(), "{line}");
+            runs.push(Vec::new());
+        }
+        let values = &words[if line.starts_with(' ') { 1 } else { 2 }..];
+        let from: usize = words[if line.starts_with(' ') { 0 } else { 1 }].parse().unwrap();
+        let run = runs.last_mut().unwrap();
+        assert_eq!(from, run.len(), "{line}");
+        assert!(values.len() <= 10, "{line}");
+        run.extend(values.iter().map(|v| v.parse::<f64>().unwrap()));
+    }
+    assert_eq!(runs.len(), durations_s.len(), "{out}");
+    for (k, (seconds, dur)) in runs.iter().zip(durations_s).enumerate() {
+        // The compared samples start after the filter's first samples: the run's seconds
+        // are its duration's, the last one partly.
+        assert!((seconds.len() as f64 - dur).abs() <= 1.0, "run {k}: {} seconds, {dur} s", seconds.len());
+        let (lo, hi) = seconds.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+        // Printed to 3 digits: half a unit of the last on each side.
+        assert!(lo * (1.0 - 5e-3) <= rms[k] && rms[k] <= hi * (1.0 + 5e-3), "run {k}: {} not in [{lo}, {hi}]", rms[k]);
+    }
 }
 
 /// The robot of crates/wmr-identify/tests/fit.rs, torque drive without a limit.
@@ -101,12 +127,56 @@ fn issue_44_excite_identify_replay_round_trip() {
     fs::write(d.join("s.toml"), "[robot]\nfrom = \"fitted.toml\"\n\n[sim]\ndt = 0.0001\n\n[[run]]\ngoal = { x = 1.0, y = 0.0, theta_deg = 0.0 }\n").unwrap();
     let check = ok(&run(d, &["check", "s.toml"]));
     assert!(check.contains("mass = 9.9") || check.contains("mass = 10.0"), "{check}");
+    // `check` shows each fitted value's standard error and the log it came from, as the
+    // robot file says them; a held key (the geometry) is only the file's.
+    for key in ["mass", "wheel_inertia", "platform_inertia", "viscous_friction", "coulomb_friction"] {
+        let line = check.lines().find(|l| l.starts_with(&format!("{key} = "))).unwrap();
+        let in_file = fitted.lines().find(|l| l.starts_with(&format!("{key} = "))).unwrap();
+        let note = &in_file[in_file.find("fitted: +- ").unwrap()..];
+        assert!(note.ends_with("(standard error), from sim.csv"), "{in_file}");
+        assert!(line.ends_with(&format!(" # fitted.toml, {note}")), "{line}");
+    }
+    let line = check.lines().find(|l| l.starts_with("wheel_radius = ")).unwrap();
+    assert!(line.ends_with("# fitted.toml"), "{line}");
 
     // The replay of the fitted robot over 1 s horizons follows the log closely.
     let out = ok(&run(d, &["replay", "sim.csv", "--robot", "fitted.toml", "--horizon", "1"]));
     let all = out.lines().find(|l| l.starts_with("all")).unwrap();
     let pct: f64 = all.split_whitespace().nth(3).unwrap().parse().unwrap();
     assert!(pct < 2.0, "{out}");
+    per_second_table_bounds_each_run(&out, &[6.0, 6.0, 6.0, 6.0, 6.0, 6.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0]);
+    // --plot draws one run: its wheel speeds (logged, replayed), the error per second and
+    // the paths, as one SVG of two pages; a run the log does not have is refused.
+    let out = ok(&run(d, &["replay", "sim.csv", "--robot", "fitted.toml", "--plot", "replay.svg", "--plot-run", "7"]));
+    assert!(out.ends_with("wrote replay.svg (run 7)\n"), "{out}");
+    let svg = fs::read_to_string(d.join("replay.svg")).unwrap();
+    let doc = roxmltree::Document::parse(&svg).expect("valid XML");
+    let ids: Vec<&str> = doc.descendants().filter_map(|n| n.attribute("id")).collect();
+    let unique: std::collections::BTreeSet<&str> = ids.iter().copied().collect();
+    assert_eq!(unique.len(), ids.len(), "ids repeat across the pages: {ids:?}");
+    // The texts as read (a subscript's tspan joined to its text: `ω_r` reads `ωr`).
+    let texts: Vec<String> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .map(|n| n.descendants().filter(|d| d.is_text()).filter_map(|d| d.text()).collect())
+        .collect();
+    for label in [
+        "right wheel ωr, logged",
+        "right wheel ωr, replayed",
+        "left wheel ωl, logged",
+        "left wheel ωl, replayed",
+        "RMS per second of log",
+        "logged",
+        "replayed",
+    ] {
+        assert!(texts.iter().any(|t| t == label), "{label} not in {texts:?}");
+    }
+    assert!(svg.contains("replay of fitted.toml on run 7 of sim.csv"));
+    let err = refused(&run(d, &["replay", "sim.csv", "--robot", "fitted.toml", "--plot", "r.svg", "--plot-run", "12"]));
+    assert!(err.contains("--plot-run 12: sim.csv has no such run (its runs: 0, 1, 2"), "{err}");
+    assert!(!d.join("r.svg").exists());
+    let err = refused(&run(d, &["replay", "sim.csv", "--robot", "fitted.toml", "--plot", "sim.csv"]));
+    assert!(err.contains("sim.csv"), "{err}");
     // The wrong robot does not.
     let out = ok(&run(d, &["replay", "sim.csv", "--robot", "geometry.toml", "--horizon", "1"]));
     let all = out.lines().find(|l| l.starts_with("all")).unwrap();
@@ -165,4 +235,51 @@ fn issue_44_bad_logs_are_refused_naming_the_column_or_the_time() {
     assert_eq!(fs::read_to_string(d.join("r.toml")).unwrap(), TRUTH);
     let err = refused(&run(d, &["replay", "log.csv", "--robot", "none.toml"]));
     assert!(err.contains("none.toml"), "{err}");
+}
+
+/// A log is read into memory whole: one larger than the bound (1 GiB; WMR_MAX_LOG_BYTES
+/// sets it) is refused naming the file, its size and the bound, exit 2, before anything
+/// is allocated for it: a sparse file of 2 GiB costs no disk and no time.
+#[test]
+fn issue_44_a_log_larger_than_the_bound_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    fs::write(d.join("robot.toml"), "[robot]\nmass = 5.0\n").unwrap();
+    for name in ["big.csv", "big.mcap"] {
+        let f = fs::File::create(d.join(name)).unwrap();
+        f.set_len(2 << 30).unwrap();
+        let err = refused(&run(d, &["identify", name, "-o", "r.toml"]));
+        assert!(
+            err.contains(&format!("{name}: 2147483648 bytes, more than the 1073741824 bytes a log may have")),
+            "{err}"
+        );
+        assert_eq!(err.lines().count(), 1, "{err}");
+        let err = refused(&run(d, &["replay", name, "--robot", "robot.toml"]));
+        assert!(err.contains(&format!("{name}: 2147483648 bytes")), "{err}");
+    }
+    let err = refused(&run(d, &["log2csv", "big.mcap"]));
+    assert!(err.contains("big.mcap: 2147483648 bytes, more than the 1073741824 bytes"), "{err}");
+    // A small bound set by the environment: a log of a few hundred bytes is over it.
+    fs::write(d.join("small.csv"), log_of(&[[0.0, 1.0, 1.0, 0.0, 0.0]; 20])).unwrap();
+    let len = fs::metadata(d.join("small.csv")).unwrap().len();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_wmr-cli"))
+        .current_dir(d)
+        .env("WMR_MAX_LOG_BYTES", "100")
+        .args(["identify", "small.csv", "-o", "r.toml"])
+        .output()
+        .unwrap();
+    let err = refused(&o);
+    assert!(err.contains(&format!("small.csv: {len} bytes, more than the 100 bytes a log may have")), "{err}");
+    // A bound that is not a number of bytes is bad input naming the variable.
+    for bad in ["1GiB", "-1", ""] {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_wmr-cli"))
+            .current_dir(d)
+            .env("WMR_MAX_LOG_BYTES", bad)
+            .args(["replay", "small.csv", "--robot", "robot.toml"])
+            .output()
+            .unwrap();
+        let err = refused(&o);
+        assert!(err.contains(&format!("WMR_MAX_LOG_BYTES: {bad:?} is not a whole number of bytes")), "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
 }

@@ -1,8 +1,11 @@
 //! Identify a robot's parameters from a log (docs/identify.md): mass, inertias, friction
 //! and a DC motor's constants, by linear least squares on the model's own equations (15).
 //!
-//! A log is a [`Table`] of named, time-stamped columns (read from CSV here; any other
-//! reader builds the same table), checked into a [`Log`], and fitted by [`fit()`].
+//! A log is a [`Table`] of named, time-stamped columns (read from CSV, or from a ROS 2
+//! MCAP by [`ros2::log`]), checked into a [`Log`], and fitted by [`fit()`]. [`file`] is
+//! the whole of `wmr-cli identify` short of its arguments: a log file in, a robot file
+//! (and a C header) out, in a library so that a Python `identify` can give the same file
+//! bit for bit.
 //!
 //! Its own crate (std, alloc) rather than part of wmr-core (no_std, no alloc: a fit needs
 //! the whole log in memory) or of wmr-scenario (the scenario file): the CLI and the Python
@@ -14,6 +17,7 @@
 
 pub mod error;
 pub mod excite;
+pub mod file;
 pub mod filter;
 pub mod fit;
 pub mod linalg;
@@ -21,6 +25,10 @@ pub mod log;
 pub mod replay;
 pub mod sim;
 pub mod table;
+
+/// CDR and the ROS 2 log reader (`wmr-ros2`), under the path the identification reads
+/// ROS 2 logs by.
+pub use wmr_ros2 as ros2;
 
 pub use error::IdentifyError;
 pub use fit::{Estimate, Fit, FitSettings, Param, fit};

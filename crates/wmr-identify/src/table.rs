@@ -83,3 +83,19 @@ impl Table {
         Ok(t)
     }
 }
+
+/// The shortest text that reads back to `v` (a CSV field): plain decimals in the usual
+/// range, exponent form (`3.4e-17`) for the very small and very large. wmr's CSV files
+/// (`wmr-cli run`, `log2csv`, `excite`) all write their numbers so.
+pub fn format_f64(v: f64, out: &mut String) {
+    use std::fmt::Write as _;
+    out.clear();
+    let a = v.abs();
+    if v == 0.0 {
+        out.push('0');
+    } else if (1e-5..1e16).contains(&a) {
+        let _ = write!(out, "{v}");
+    } else {
+        let _ = write!(out, "{v:e}");
+    }
+}

@@ -459,3 +459,102 @@ pub fn errors_svg(title_text: &str, trace: &Trace<'_>) -> Result<String, PlotErr
     ];
     time_panels(title_text, &t, &[("distance, error (m)", dist), ("heading error (deg)", heading)])
 }
+
+/// One run of a replay (`wmr-cli replay --plot`, docs/identify.md): the logged and the
+/// replayed wheel speeds, the error per second, and the logged and replayed paths.
+#[derive(Clone, Copy, Debug)]
+pub struct ReplayRun<'a> {
+    /// Time of each compared sample, s.
+    pub t_s: &'a [f64],
+    /// Logged wheel speeds (right, left), rad/s.
+    pub logged_speed: [&'a [f64]; 2],
+    /// Replayed wheel speeds (right, left), rad/s.
+    pub replayed_speed: [&'a [f64]; 2],
+    /// RMS wheel-speed error in each second from the first sample, rad/s.
+    pub speed_rms_per_second: &'a [f64],
+    /// Logged pose of C (x m, y m, theta rad), if the log has one.
+    pub logged_pose: Option<[&'a [f64]; 3]>,
+    /// Replayed pose of C (x m, y m, theta rad).
+    pub replayed_pose: [&'a [f64]; 3],
+}
+
+/// The replay of one run: a page of the wheel speeds (logged and replayed, both wheels)
+/// and of the speed error's RMS per second over time, and below it a page of the paths
+/// of C, logged and replayed, at equal scale (the replayed one alone when the log has no
+/// pose); the two pages stacked in one SVG document.
+pub fn replay_svg(title_text: &str, run: &ReplayRun<'_>) -> Result<String, PlotError> {
+    let t = run.t_s;
+    if t.is_empty() {
+        return Err(PlotError::new("no sample to plot"));
+    }
+    let t0 = t[0];
+    let per_sample_error: Vec<f64> = t
+        .iter()
+        .map(|ti| run.speed_rms_per_second.get((ti - t0).floor().max(0.0) as usize).copied().unwrap_or(f64::NAN))
+        .collect();
+    let speeds = vec![
+        Series { name: "right wheel ω_r, logged", index: 0, values: run.logged_speed[0].to_vec() },
+        Series { name: "right wheel ω_r, replayed", index: 1, values: run.replayed_speed[0].to_vec() },
+        Series { name: "left wheel ω_l, logged", index: 2, values: run.logged_speed[1].to_vec() },
+        Series { name: "left wheel ω_l, replayed", index: 3, values: run.replayed_speed[1].to_vec() },
+    ];
+    let error = vec![Series { name: "RMS per second of log", index: 4, values: per_sample_error }];
+    let top =
+        time_panels(title_text, t, &[("wheel speed (rad/s)", speeds), ("speed error, RMS per second (rad/s)", error)])?;
+    let samples_of = |pose: [&[f64]; 3]| -> Vec<Sample<f64>> {
+        (0..t.len())
+            .map(|i| Sample::<f64> {
+                t: t[i],
+                state: wmr_core::State { x: pose[0][i], y: pose[1][i], theta: pose[2][i], ..Default::default() },
+                ..Default::default()
+            })
+            .collect()
+    };
+    let replayed = samples_of(run.replayed_pose);
+    let logged = run.logged_pose.map(samples_of);
+    let end = |s: &[Sample<f64>]| {
+        s.last().map_or(Pose2::new(0.0, 0.0, 0.0), |s| Pose2::new(s.state.x, s.state.y, s.state.theta))
+    };
+    let mut traces = Vec::new();
+    if let Some(l) = &logged {
+        traces.push(Trace { label: "logged", goal: end(l), samples: l, reference: &[] });
+    }
+    traces.push(Trace { label: "replayed", goal: end(&replayed), samples: &replayed, reference: &[] });
+    let bottom = paths_svg("path of C: logged and replayed (arrows: the final poses)", &traces)?;
+    Ok(stack(&[top, bottom]))
+}
+
+/// SVG documents of [`Svg::finish`] one above the other in one document.
+fn stack(docs: &[String]) -> String {
+    // Each document's viewBox size, pt.
+    let size = |d: &str| -> (f64, f64) {
+        let vb = d.split("viewBox=\"").nth(1).and_then(|r| r.split('"').next()).unwrap_or("0 0 0 0");
+        let v: Vec<f64> = vb.split(' ').filter_map(|x| x.parse().ok()).collect();
+        (v.get(2).copied().unwrap_or(0.0), v.get(3).copied().unwrap_or(0.0))
+    };
+    let w = docs.iter().map(|d| size(d).0).fold(0.0, f64::max);
+    let h: f64 = docs.iter().map(|d| size(d).1).sum();
+    let mut out = Svg::new(w, h).finish();
+    let close = out.rfind("</svg>").unwrap_or(out.len());
+    out.truncate(close);
+    let mut y = 0.0;
+    for (k, d) in docs.iter().enumerate() {
+        let (dw, dh) = size(d);
+        // Inner documents: placed by x, y and sized in pt; their clip ids made unique.
+        let inner = d.replacen("<svg ", &format!("<svg x=\"0\" y=\"{y}\" "), 1);
+        let inner = inner
+            .replacen(&format!("width=\"{}mm\"", num_mm(dw)), &format!("width=\"{dw}\""), 1)
+            .replacen(&format!("height=\"{}mm\"", num_mm(dh)), &format!("height=\"{dh}\""), 1)
+            .replace("id=\"clip", &format!("id=\"p{k}clip"))
+            .replace("url(#clip", &format!("url(#p{k}clip"));
+        out.push_str(&inner);
+        y += dh;
+    }
+    out.push_str("</svg>\n");
+    out
+}
+
+/// A size in pt as [`Svg::finish`] writes it in mm.
+fn num_mm(pt: f64) -> String {
+    crate::svg::num(pt * 25.4 / 72.0)
+}

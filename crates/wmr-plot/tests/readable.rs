@@ -7,7 +7,9 @@ mod common;
 
 use common::{points, run};
 use wmr_core::{Pose2, Sample, Status};
-use wmr_plot::{SweepCell, Trace, errors_svg, paths_svg, region_svg, share_svg, wheel_speeds_svg};
+use wmr_plot::{
+    ReplayRun, SweepCell, Trace, errors_svg, paths_svg, region_svg, replay_svg, share_svg, wheel_speeds_svg,
+};
 
 /// The paper's Fig. 4: from the origin to (1, 1) at six goal headings.
 fn fig4_runs() -> Vec<(String, Pose2<f64>, Vec<Sample<f64>>)> {
@@ -270,6 +272,45 @@ fn heading_arrows_are_sized_to_the_page_and_visible_at_column_width() {
     }
 }
 
+/// A replay of `s` (`wmr-cli replay --plot`): its v and omega as the two "wheel speeds",
+/// replayed 1 % larger, an error per second, and its path as both logged and replayed.
+fn replay_run(s: &[Sample<f64>]) -> ReplayRunOwned {
+    let t: Vec<f64> = s.iter().map(|x| x.t).collect();
+    let logged = [s.iter().map(|x| x.state.v).collect::<Vec<_>>(), s.iter().map(|x| x.state.omega).collect()];
+    let replayed =
+        [logged[0].iter().map(|w| 1.01 * w).collect::<Vec<_>>(), logged[1].iter().map(|w| 1.01 * w).collect()];
+    let pose = [
+        s.iter().map(|x| x.state.x).collect::<Vec<_>>(),
+        s.iter().map(|x| x.state.y).collect(),
+        s.iter().map(|x| x.state.theta).collect(),
+    ];
+    let seconds = (t.last().unwrap() - t[0]).floor() as usize + 1;
+    ReplayRunOwned { t, logged, replayed, per_second: vec![0.01; seconds], pose }
+}
+
+/// The columns a [`ReplayRun`] borrows.
+struct ReplayRunOwned {
+    t: Vec<f64>,
+    logged: [Vec<f64>; 2],
+    replayed: [Vec<f64>; 2],
+    per_second: Vec<f64>,
+    pose: [Vec<f64>; 3],
+}
+
+impl ReplayRunOwned {
+    fn view(&self) -> ReplayRun<'_> {
+        let p = &self.pose;
+        ReplayRun {
+            t_s: &self.t,
+            logged_speed: [&self.logged[0], &self.logged[1]],
+            replayed_speed: [&self.replayed[0], &self.replayed[1]],
+            speed_rms_per_second: &self.per_second,
+            logged_pose: Some([&p[0], &p[1], &p[2]]),
+            replayed_pose: [&p[0], &p[1], &p[2]],
+        }
+    }
+}
+
 /// Axis labels (the 8.5 pt texts) of every kind of figure name a unit in parentheses.
 #[test]
 fn every_axis_of_every_figure_names_its_unit() {
@@ -284,6 +325,7 @@ fn every_axis_of_every_figure_names_its_unit() {
         errors_svg("errors", &trace).unwrap(),
         region_svg("region", &cells, Pose2::default()).unwrap(),
         share_svg("share", "sensor.latency (s)", &series).unwrap(),
+        replay_svg("replay", &replay_run(&s).view()).unwrap(),
     ];
     for svg in &figures {
         let doc = roxmltree::Document::parse(svg).unwrap();

@@ -253,7 +253,8 @@ pub fn write_keys_noted(out: &mut String, table: &Table, order: &[&str], note: i
         if let Some(v) = table.get(k) {
             let line = format!("{k} = {}", toml_scalar(v));
             let _ = match note(k) {
-                Some(n) => writeln!(out, "{line:<32}# {n}"),
+                // At least one space before the note, however long the value.
+                Some(n) => writeln!(out, "{line:<31} # {n}"),
                 None => writeln!(out, "{line}"),
             };
         }

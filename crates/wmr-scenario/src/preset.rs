@@ -41,6 +41,30 @@ pub struct Origins {
 }
 
 impl Origins {
+    /// For a `[robot]` or `[drive]` key whose value a robot file written by `wmr-cli
+    /// identify` gave (docs/identify.md): the fit's note of it in that file's comment,
+    /// `fitted: +- 1.017e-5 (standard error), from log.csv` (or `fitted: below 0 ...`).
+    /// `None` for a key held, given by the scenario, or of any other preset.
+    pub fn fitted(&self, table: &str, key: &str) -> Option<&str> {
+        let (label, text) = self.preset.as_ref()?;
+        if self.of(table, key) != label.as_str() {
+            return None;
+        }
+        let mut current = "";
+        for line in text.lines().map(str::trim) {
+            if let Some(name) = line.strip_prefix('[').and_then(|l| l.strip_suffix(']')) {
+                current = name.trim();
+            } else if current == table
+                && line.split('=').next().is_some_and(|k| k.trim() == key)
+                && let Some((_, comment)) = line.split_once('#')
+                && let Some(at) = comment.find("fitted:")
+            {
+                return Some(comment[at..].trim_end());
+            }
+        }
+        None
+    }
+
     /// The origin of `key` of `table`: for `robot` and `drive`, `scenario`, the preset or
     /// `default`; for the other tables, `scenario` or `default`.
     pub fn of(&self, table: &str, key: &str) -> &str {

@@ -624,7 +624,13 @@ impl Scenario {
         let setup = &self.setup;
         // Each robot and drive value with where it came from: the file, a preset, a default.
         let _ = writeln!(o, "\n[robot]");
-        let noted = |table: &'static str| move |k: &str| Some(self.origins.of(table, k).to_owned());
+        // A value fitted by `wmr-cli identify` also shows its standard error and its log.
+        let noted = |table: &'static str| {
+            move |k: &str| {
+                let origin = self.origins.of(table, k);
+                Some(self.origins.fitted(table, k).map_or_else(|| origin.to_owned(), |f| format!("{origin}, {f}")))
+            }
+        };
         write_keys_noted(&mut o, &to_table(setup.robot.params()), fields_of::<RobotParams<f64>>(), noted("robot"));
         if setup.traction_params != wmr_core::TractionParams::default() {
             let order = fields_of::<wmr_core::TractionParams<f64>>();
