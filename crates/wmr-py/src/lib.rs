@@ -9,6 +9,7 @@ pub mod alloc;
 pub mod controller;
 pub mod convert;
 pub mod error;
+pub mod identify;
 pub mod interrupt;
 pub mod reference;
 pub mod robot;
@@ -23,6 +24,8 @@ mod _native {
     use crate::controller::controller_from_toml;
     #[pymodule_export]
     use crate::error::{ParameterError, ScenarioError};
+    #[pymodule_export]
+    use crate::identify::{PyIdentified, identify};
     #[pymodule_export]
     use crate::robot::PyRobot;
     #[pymodule_export]

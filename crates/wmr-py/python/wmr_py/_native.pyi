@@ -855,6 +855,63 @@ def run_scenario(scenario: _ScenarioLike, progress: _Progress = None, allow_file
 def read_log(path: Union[str, "os.PathLike[str]"], namespace: Optional[str] = None) -> dict[str, _FloatArray]:
     """A ROS 2 MCAP's /cmd_vel, /joint_states and /odom as the table `wmr-cli log2csv` writes."""
 
+_PathLike = Union[str, "os.PathLike[str]"]
+
+@final
+class IdentifiedRobot:
+    """A robot identified from a log (``identify``), as ``wmr-cli identify`` writes it."""
+
+    @property
+    def robot(self) -> Robot:
+        """The fitted robot (its ``[robot]`` keys)."""
+    @property
+    def toml(self) -> str:
+        """The robot file ``wmr-cli identify`` writes, bit for bit."""
+    @property
+    def log(self) -> str:
+        """The log the values came from, as given."""
+    @property
+    def values(self) -> dict[str, float]:
+        """Every parameter of the fit, fitted or held: key -> value (SI units)."""
+    @property
+    def std_errors(self) -> dict[str, float]:
+        """The standard error of each fitted parameter (the held ones are not in it)."""
+    @property
+    def held(self) -> list[str]:
+        """The keys of the parameters held rather than fitted."""
+    @property
+    def zeroed(self) -> list[str]:
+        """The keys of the parameters fitted below zero within 3 standard errors, set to 0."""
+    @property
+    def rows(self) -> Tuple[int, int]:
+        """(rows of the log used, rows in all)."""
+    @property
+    def condition(self) -> float:
+        """Condition number of the column-scaled regressor."""
+    @property
+    def rms_residual(self) -> float:
+        """RMS residual of the fit, N m (torque) or V (dc_motor)."""
+    def to_dict(self) -> dict[str, dict[str, Any]]:
+        """The scenario's ``robot`` and ``drive`` tables of the fitted robot."""
+
+def identify(
+    log: _PathLike,
+    *,
+    drive: str = "torque",
+    robot: Optional[_PathLike] = None,
+    hold: Optional[Sequence[str]] = None,
+    namespace: Optional[str] = None,
+    allow_files_under: _Folders = None,
+) -> IdentifiedRobot:
+    """Fits a robot to a log (CSV or ROS 2 MCAP), as ``wmr-cli identify`` (docs/identify.md).
+
+    drive: "torque" (the commands are wheel torques) or "dc_motor" (motor voltages);
+    robot: a robot file with the geometry and the held values (the paper's robot without);
+    hold: parameters held rather than fitted, ``key`` or ``key=value`` (replaces the
+    default holds); namespace: one robot of a ROS 2 MCAP of several. A parameter the log
+    does not determine raises ParameterError with ``key`` the parameter."""
+
+
 def _sweep(
     scenario: _ScenarioLike, progress: _Progress = None, fast: bool = False, allow_files_under: _Folders = None
 ) -> dict[str, Any]: ...
@@ -908,6 +965,8 @@ __all__ = [
     "TRACKING_FIELDS",
     "run_scenario",
     "read_log",
+    "IdentifiedRobot",
+    "identify",
     "_sweep",
     "_sweep_plan",
     "_sweep_part",

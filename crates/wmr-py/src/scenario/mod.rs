@@ -23,7 +23,7 @@ pub use run::{run_scenario, time_run_rust};
 pub use run_result::{
     PyRunResult, RESULT_COLUMNS, RESULT_UNITS, add_column_properties, add_outcome_properties, run_result_from_state,
 };
-pub use source::scenario_arg;
 pub(crate) use source::to_toml;
+pub use source::{file_access, scenario_arg};
 pub use sweep_parts::{SWEEP_ROW_LEN, sweep_gather, sweep_part, sweep_plan};
 pub use sweep_run::sweep;
