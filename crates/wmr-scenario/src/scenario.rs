@@ -521,7 +521,7 @@ impl Scenario {
         let s = &self.setup;
         let described = TRACTION_KEYS.iter().any(|k| self.origins.of("robot", k) != "default");
         let rolling =
-            (described && !lp.plant().slips()).then(|| RollingTraction::new(&s.robot, &s.world, &s.traction_params));
+            (described && !lp.plant().slips()).then(|| RollingTraction::new(&s.truth, &s.world, &s.traction_params));
         let mut traction = TractionWatch::default();
         let mut sink = sink;
         let sink = |sample: &Sample<f64>| {
@@ -635,6 +635,10 @@ impl Scenario {
         }
         let _ = writeln!(o, "\n[world]");
         write_keys_noted(&mut o, &to_table(setup.world.params()), fields_of::<WorldParams<f64>>(), noted("world"));
+        if setup.payload.is_some() {
+            let _ = writeln!(o, "\n[world.payload]");
+            write_keys(&mut o, &to_table(setup.payload.params()), fields_of::<wmr_core::PayloadParams<f64>>());
+        }
         if let Some(tr) = &self.tracking {
             let _ = writeln!(o, "\n[reference]");
             let (table, order) = crate::reference::filled(&tr.reference);
