@@ -75,7 +75,7 @@ fn impulse_is_the_change_of_momentum_f32() {
     impulse_is_the_change_of_momentum::<f32>(1e-5);
 }
 
-/// A slip plant with a near-frictionless ground (mu = 1e-6) is a free body: a push
+/// A slip plant with a near-frictionless ground (mu = 1e-9) is a free body: a push
 /// (F_x, F_y, tau) at C for T seconds changes the linear momentum of G (world frame) by the
 /// force's impulse (its body-frame components turned by the heading, integrated along the
 /// run) and the angular momentum about G, I_G omega, by (tau - d F_y) T.
@@ -87,14 +87,16 @@ fn a_free_body_takes_the_push_s_impulse() {
     let world = WorldParams::default().validate().unwrap();
     let traction = TractionParams {
         traction: TractionKind::Slip,
-        friction_coefficient: 1e-6,
+        friction_coefficient: 1e-9,
         com_height: 0.0,
         ..Default::default()
     }
     .validate(&robot, &world)
     .unwrap();
     let drive = DriveParams::default().validate(&robot).unwrap();
-    let (fx, fy, tau, t0, dur) = (6.0, -4.0, 0.05, 0.1, 0.2);
+    // The moment about G, tau - d F_y = 0.05 N m, spins it at 2 rad/s: slow enough for the
+    // trapezoid of the turned force below.
+    let (fx, fy, tau, t0, dur) = (6.0, -4.0, -0.95, 0.1, 0.2);
     let pushes = Pushes::new(&[push(t0, dur, (fx, fy), tau)]).unwrap();
     let mut plant =
         Plant::new(robot, drive, Pose2::new(0.0, 0.0, 0.4)).unwrap().with_traction(traction).with_pushes(pushes);
@@ -130,6 +132,7 @@ fn a_free_body_takes_the_push_s_impulse() {
 
 /// A lateral push of 60 N for 0.3 s on a robot at rest: the rolling plant's wheels take it
 /// (the plant does exactly what it does without it: no lateral motion, no turn), the slip
+/// plant, pushed through G (torque d F_y, so that it translates rather than spins),
 /// plant's tyres (mu N = 0.8 x 49 N = 39 N < 60 N) let go and it slides sideways.
 #[test]
 fn a_lateral_push_is_taken_by_rolling_wheels_and_slides_a_slip_plant() {
@@ -144,7 +147,8 @@ fn a_lateral_push_is_taken_by_rolling_wheels_and_slides_a_slip_plant() {
     assert_eq!((s.x, s.y, s.theta, s.v, s.omega), (0.0, 0.0, 0.0, 0.0, 0.0), "rolling: {s:?}");
     let traction =
         TractionParams { traction: TractionKind::Slip, ..Default::default() }.validate(&robot, &world).unwrap();
-    let mut slip = Plant::new(robot, drive, Pose2::default()).unwrap().with_traction(traction).with_pushes(pushes);
+    let through_g = Pushes::new(&[push(0.1, 0.3, (0.0, 60.0), 0.25 * 60.0)]).unwrap();
+    let mut slip = Plant::new(robot, drive, Pose2::default()).unwrap().with_traction(traction).with_pushes(through_g);
     coast(&mut slip, 600, dt);
     let s = slip.state();
     assert!(s.y > 0.01, "slip: slid {} m to the left", s.y);
@@ -170,7 +174,7 @@ fn bad_pushes_are_refused_naming_the_key() {
     for (p, key) in cases {
         assert_eq!(Pushes::new(&[p]).unwrap_err().field, key, "{p:?}");
     }
-    let good = push(0.0, 1.0, (1.0, 0.0), 0.0);
+    let good = push::<f64>(0.0, 1.0, (1.0, 0.0), 0.0);
     assert!(Pushes::new(&[good, good]).is_ok(), "overlapping pushes add");
     assert_eq!(Pushes::new(&[good; 17]).unwrap_err().field, "push");
 }
