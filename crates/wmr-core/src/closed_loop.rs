@@ -213,6 +213,8 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
             measured: self.tick.measurement.pose,
             contact: self.plant.contact(),
             odometry: self.sensor.odometry(),
+            twist_demand: self.tick.output.twist_demand,
+            pose_covariance: self.sensor.pose_covariance(),
         }
     }
 

@@ -2,7 +2,7 @@
 //! controller's diagnostic errors.
 
 use crate::controller::ControlErrors;
-use crate::math::{Pose2, Wheels};
+use crate::math::{Pose2, Twist2, Wheels};
 use crate::state::State;
 use crate::traction::Contact;
 
@@ -29,4 +29,12 @@ pub struct Sample<T> {
     /// The pose of C dead-reckoned from the encoders at that tick, for an odometry sensor
     /// (`measured` is then the fused pose, [`crate::sensor::odometry`]); `None` otherwise.
     pub odometry: Option<Pose2<T>>,
+    /// The body twist the law demanded at the last control tick at or before `t` (v m/s,
+    /// omega rad/s, before the wheel stage's limits: ROS 2's `/cmd_vel`); `None` for a
+    /// law that demands wheel angles or torques ([`crate::LawSpec::TWIST_DEMAND`]).
+    pub twist_demand: Option<Twist2<T>>,
+    /// The covariance of `measured` (x, y, theta: m^2, m rad, rad^2) at that tick, for a
+    /// sensor that estimates one (the odometry's EKF: ROS 2's `/odom` pose covariance);
+    /// `None` otherwise.
+    pub pose_covariance: Option<[[T; 3]; 3]>,
 }

@@ -502,6 +502,8 @@ fn paper_default_is_unchanged() {
             measured: s.pose(),
             contact: Default::default(),
             odometry: None,
+            twist_demand: None,
+            pose_covariance: None,
         });
         let dl = (goal.x - s.x).hypot_libm(goal.y - s.y);
         if dl < ARRIVAL_RADIUS_M {
@@ -841,4 +843,53 @@ fn servo_defaults_scale_with_the_inertia_at_the_wheel() {
     let dc = WheelStageParams::<f64>::for_drive(&DriveParams::DcMotor(m), &heavy);
     let b = m.torque_constant / (m.armature_resistance * heavy.gear_ratio);
     assert!((dc.servo_kp * b - g.servo_kp).abs() < 1e-9, "{dc:?}");
+}
+
+/// Issue 43 item 1: a loop's samples carry the twist its law demanded at the last tick
+/// (`/cmd_vel`): the law's own `WheelDemand::Twist`, asked of a second copy of the law
+/// with the same measurements, for every law that demands a twist; `None` for the laws
+/// that demand wheel angles or torques, as `LawParams::twist_demand` says. f64 and f32.
+fn samples_carry_the_law_twist_demand<T: Real>() {
+    let goal = pose::<T>(0.4, 0.3, 30.0);
+    let robot = Robot::<T>::paper();
+    let mut twist_laws = 0;
+    for p in LawParams::<T>::defaults() {
+        let ctrl = build(p);
+        let mut lp = closed(ctrl, pose::<T>(0.0, 0.0, 0.0), goal);
+        let mut law = p.build(robot.params(), T::lit(DT)).unwrap();
+        // The law's own answers to the ticks the loop ran (control_dt = dt: every step).
+        let check = |lp: &ClosedLoop<T, AnyLaw<T>>, law: &mut AnyLaw<T>| {
+            let tick = *lp.last_tick();
+            let out = law.update(tick.t, &tick.measurement, &tick.reference);
+            let want = match out.demand {
+                WheelDemand::Twist(t) => Some(t),
+                _ => None,
+            };
+            assert_eq!(lp.sample().twist_demand, want, "{}", p.kind());
+            assert_eq!(want.is_some(), p.twist_demand(), "{}", p.kind());
+        };
+        check(&lp, &mut law);
+        for _ in 0..50 {
+            lp.step().unwrap();
+            law.wheels_saturated(lp.controller().wheels().saturated());
+            check(&lp, &mut law);
+        }
+        twist_laws += usize::from(p.twist_demand());
+        // A path-following law without a path (a fixed goal) stands still.
+        if p.twist_demand() && p.follows() != wmr_core::controller::Follows::Path {
+            let d = lp.sample().twist_demand.unwrap();
+            assert!(d.v != T::lit(0.0) || d.omega != T::lit(0.0), "{}: a demand that moves", p.kind());
+        }
+    }
+    assert_eq!(twist_laws, LawParams::<T>::defaults().len() - 3, "all but paper, paper_bidirectional, backstepping");
+}
+
+#[test]
+fn samples_carry_the_law_twist_demand_f64() {
+    samples_carry_the_law_twist_demand::<f64>();
+}
+
+#[test]
+fn samples_carry_the_law_twist_demand_f32() {
+    samples_carry_the_law_twist_demand::<f32>();
 }

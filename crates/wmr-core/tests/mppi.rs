@@ -449,6 +449,11 @@ fn bad_keys_are_refused_naming_the_key() {
     let model = RobotParams::<f64>::paper();
     let cases: Vec<(MppiParams<f64>, f64, &str)> = vec![
         (MppiParams { batch_size: 0, ..ok }, 1e-3, "batch_size"),
+        // 178,572 x 56 x 1 > 1e7 rollout steps in one update (a call that would hang C or
+        // Python for seconds to days): refused by name; one sample fewer is accepted below.
+        (MppiParams { batch_size: 178_572, ..ok }, 1e-3, "batch_size"),
+        (MppiParams { batch_size: 4_000_000_000, ..ok }, 1e-3, "batch_size"),
+        (MppiParams { batch_size: 100_000, iteration_count: 2, ..ok }, 1e-3, "batch_size"),
         (MppiParams { time_steps: 65, ..ok }, 1e-3, "time_steps"),
         (MppiParams { time_steps: 1, ..ok }, 1e-3, "time_steps"),
         (MppiParams { iteration_count: 0, ..ok }, 1e-3, "iteration_count"),
@@ -467,6 +472,20 @@ fn bad_keys_are_refused_naming_the_key() {
         assert_eq!(e.field, key, "{e}");
     }
     assert!(LawParams::Mppi(ok).build(&model, 1e-3).is_ok());
+    assert!(LawParams::Mppi(MppiParams { batch_size: 178_571, ..ok }).build(&model, 1e-3).is_ok());
+}
+
+/// A run's weight in the step budget grows with the rollouts per second: nav2's defaults
+/// weigh 430 plant steps of the paper's law (measured: mppi.rs); twice the samples or
+/// twice the planning rate, twice that.
+#[test]
+fn update_cost_grows_with_the_rollouts_per_second() {
+    let ok = MppiParams::<f64>::default();
+    let cost = |p: MppiParams<f64>| LawParams::Mppi(p).update_cost();
+    assert_eq!(cost(ok), 430.0);
+    assert_eq!(cost(MppiParams { batch_size: 2000, ..ok }), 860.0);
+    assert_eq!(cost(MppiParams { model_dt: 0.025, ..ok }), 860.0);
+    assert_eq!(cost(MppiParams { iteration_count: 3, time_steps: 28, ..ok }), 645.0);
 }
 
 /// The paper's robot from 1 m away reaches the goal under MPPI with nav2's keys, in f32

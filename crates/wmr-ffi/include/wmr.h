@@ -399,7 +399,7 @@ typedef struct {
 typedef struct {
   // The model the rollouts predict with: "kinematic" (nav2's DiffDrive) (`WMR_MOTION_MODEL_KINEMATIC`).
   uint32_t motion_model;
-  // Samples (rollouts) per iteration (>= 1).
+  // Samples (rollouts) per iteration (>= 1; batch_size x time_steps x iteration_count <= 1e7).
   uint32_t batch_size;
   // Steps of a rollout (the horizon is time_steps * model_dt) (>= 2, <= 64).
   uint32_t time_steps;
@@ -917,7 +917,7 @@ typedef struct {
 typedef struct {
   // The model the rollouts predict with: "kinematic" (nav2's DiffDrive) (`WMR_MOTION_MODEL_KINEMATIC`).
   uint32_t motion_model;
-  // Samples (rollouts) per iteration (>= 1).
+  // Samples (rollouts) per iteration (>= 1; batch_size x time_steps x iteration_count <= 1e7).
   uint32_t batch_size;
   // Steps of a rollout (the horizon is time_steps * model_dt) (>= 2, <= 64).
   uint32_t time_steps;

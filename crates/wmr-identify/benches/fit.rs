@@ -5,35 +5,17 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
-use wmr_core::{DcMotorParams, DriveParams, RobotParams, TorqueDriveParams};
-use wmr_identify::excite::{ExciteSettings, Test};
-use wmr_identify::sim::{LogNoise, log_table};
-use wmr_identify::{ColumnNames, CommandKind, FitSettings, Log, fit};
+use wmr_core::DcMotorParams;
+use wmr_identify::excite::Test;
+use wmr_identify::{CommandKind, FitSettings, Log, fit};
 
-fn robot() -> RobotParams<f64> {
-    RobotParams {
-        mass: 10.0,
-        wheel_radius: 0.05,
-        half_track: 0.2,
-        com_offset: 0.1,
-        wheel_inertia: 0.004,
-        platform_inertia: 0.3,
-        gear_ratio: 0.1,
-        viscous_friction: 0.02,
-        coulomb_friction: 0.1,
-        coulomb_speed: 1e-3,
-        static_friction: 0.0,
-    }
-}
+#[path = "../tests/common/mod.rs"]
+mod common;
+use common::{NOISE, robot, torque_log_of};
 
 fn ten_minutes() -> Log {
-    let r = robot().validate().unwrap();
-    let drive =
-        DriveParams::Torque(TorqueDriveParams { motor_torque_max: f64::INFINITY, deadband: 0.0 }).validate(&r).unwrap();
     let tests: Vec<Test> = (0..13).flat_map(|_| Test::all()).collect();
-    let noise = LogNoise { encoder_fraction: 0.01, jitter_s: 0.005, seed: 44 };
-    let table = log_table(r, drive, &tests, &ExciteSettings::new(2.0), noise).unwrap();
-    Log::from_table(&table, &ColumnNames::default(), CommandKind::Torque).unwrap()
+    torque_log_of(robot(), &tests, NOISE)
 }
 
 fn bench(c: &mut Criterion) {

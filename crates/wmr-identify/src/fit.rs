@@ -690,6 +690,7 @@ pub fn fit(log: &Log, settings: &FitSettings) -> Result<Fit, IdentifyError> {
             });
         }
     }
+    settling_check(log, &robot, &motor, voltage, &held)?;
     Ok(Fit {
         estimates,
         robot,
@@ -702,6 +703,68 @@ pub fn fit(log: &Log, settings: &FitSettings) -> Result<Fit, IdentifyError> {
         condition,
         half_window: sigs.iter().map(|s| s.half).collect(),
     })
+}
+
+/// The wheels' mechanical time constants with the fitted values, s: (straight-line,
+/// turning). Per wheel, a straight-line motion is (M_r11 r^2 / 2) omega_s' = tau - c omega_s
+/// and a turning one (M_r22 r^2 / (2 R^2)) omega_s' = tau - c omega_s, where the damping c
+/// is the viscous friction plus, for a DC motor, the back-EMF's k_tau k_e / (R_a k_t^2)
+/// (N m s). Infinite without damping.
+pub fn time_constants(robot: &RobotParams<f64>, motor: &DcMotorParams<f64>, voltage: bool) -> (f64, f64) {
+    let (r, big_r, k_t) = (robot.wheel_radius, robot.half_track, robot.gear_ratio);
+    let emf = if voltage {
+        motor.torque_constant * motor.back_emf_constant / (motor.armature_resistance * k_t * k_t)
+    } else {
+        0.0
+    };
+    let c = robot.viscous_friction + emf;
+    let m11 = robot.mass + 2.0 * robot.wheel_inertia / (r * r);
+    let m22 = robot.platform_inertia
+        + robot.mass * robot.com_offset * robot.com_offset
+        + 2.0 * big_r * big_r * robot.wheel_inertia / (r * r);
+    if !(c > 0.0) {
+        return (f64::INFINITY, f64::INFINITY);
+    }
+    (m11 * r * r / (2.0 * c), m22 * r * r / (2.0 * big_r * big_r * c))
+}
+
+/// Refuses the inertias of a motion whose wheels settle within one sample of the log
+/// (their mechanical time constant, [`time_constants`], below the log's median sample
+/// period): such a log shows the speeds the commands hold, not the accelerations that
+/// carry the inertias (docs/identify.md, "When a parameter is refused").
+fn settling_check(
+    log: &Log,
+    robot: &RobotParams<f64>,
+    motor: &DcMotorParams<f64>,
+    voltage: bool,
+    held: &dyn Fn(Param) -> bool,
+) -> Result<(), IdentifyError> {
+    let mut dts: Vec<f64> = log.runs.iter().flat_map(|r| r.t_s.windows(2).map(|w| w[1] - w[0])).collect();
+    if dts.is_empty() {
+        return Ok(());
+    }
+    dts.sort_by(f64::total_cmp);
+    let dt = dts[dts.len() / 2];
+    let (tau_lin, tau_turn) = time_constants(robot, motor, voltage);
+    let damping = if voltage { "viscous friction and back-EMF" } else { "viscous friction" };
+    for (tau, motion, params) in [
+        (tau_turn, "turning", &[Param::PlatformInertia][..]),
+        (tau_lin, "straight-line", &[Param::WheelInertia, Param::Mass][..]),
+    ] {
+        let named: Vec<Param> = params.iter().copied().filter(|&q| !held(q)).collect();
+        if tau < dt && !named.is_empty() {
+            return Err(IdentifyError::NotIdentifiable {
+                parameter: names(&named),
+                detail: format!(
+                    "the wheels settle faster than one sample: the {motion} motion's mechanical time constant, \
+                     {tau:.3e} s with the fitted values (inertia over the {damping} damping), is below the log's \
+                     sample period {dt:.3e} s, so the log shows speeds but not the accelerations that carry the \
+                     inertia; log faster than every {tau:.1e} s"
+                ),
+            });
+        }
+    }
+    Ok(())
 }
 
 fn names(ps: &[Param]) -> String {

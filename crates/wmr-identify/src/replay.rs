@@ -33,6 +33,28 @@ pub struct RunErrors {
     pub heading_final_rad: Option<f64>,
 }
 
+/// One run's compared samples, logged and replayed (what a plot of the replay draws),
+/// and its error per second of log.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RunTrace {
+    /// The run's index (`run` column).
+    pub index: usize,
+    /// Time of each compared sample, s (the log's).
+    pub t_s: Vec<f64>,
+    /// The logged wheel speeds (right, left), rad/s, filtered as the fit filters them.
+    pub logged_speed: [Vec<f64>; 2],
+    /// The replayed wheel speeds (right, left), rad/s.
+    pub replayed_speed: [Vec<f64>; 2],
+    /// The logged pose of C (x m, y m, theta rad), if the log has one.
+    pub logged_pose: Option<[Vec<f64>; 3]>,
+    /// The replayed pose of C (x m, y m, theta rad).
+    pub replayed_pose: [Vec<f64>; 3],
+    /// RMS over both wheels of the wheel-speed error in each second of the run, rad/s:
+    /// element k covers the samples with `t - t_first` in [k, k + 1) s, `t_first` the
+    /// run's first compared sample.
+    pub speed_rms_per_second_rad_s: Vec<f64>,
+}
+
 /// Per run, and pooled over all runs.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ReplayReport {
@@ -40,6 +62,8 @@ pub struct ReplayReport {
     pub runs: Vec<RunErrors>,
     /// All runs' samples together (the finals are not pooled: 0 / None).
     pub total: RunErrors,
+    /// Each run's samples and its error per second, in the order of `runs`.
+    pub traces: Vec<RunTrace>,
 }
 
 /// Replays every run of `log` on `robot` with `drive`: from the first sample with a
@@ -77,6 +101,12 @@ pub fn replay(log: &Log, robot: Robot<f64>, drive: Drive<f64>, horizon_s: f64) -
         });
         let (first, last) = (half, n - half);
         let mut e = RunErrors { index: run.index, ..Default::default() };
+        let mut trace = RunTrace { index: run.index, ..Default::default() };
+        if run.pose.is_some() {
+            trace.logged_pose = Some(Default::default());
+        }
+        // Per second of log: the sum of squared errors and the samples in it.
+        let mut per_second: Vec<(f64, usize)> = Vec::new();
         let (mut e2, mut s2, mut p2, mut np) = (0.0, 0.0, 0.0, 0usize);
         let mut i0 = first;
         while i0 < last {
@@ -111,6 +141,25 @@ pub fn replay(log: &Log, robot: Robot<f64>, drive: Drive<f64>, horizon_s: f64) -
                 let i = i0 + k;
                 let err = [sim.omega[0][k] - speed[0][i], sim.omega[1][k] - speed[1][i]];
                 e2 += err[0] * err[0] + err[1] * err[1];
+                let second = (run.t_s[i] - run.t_s[first]).floor().max(0.0) as usize;
+                if per_second.len() <= second {
+                    per_second.resize(second + 1, (0.0, 0));
+                }
+                per_second[second].0 += err[0] * err[0] + err[1] * err[1];
+                per_second[second].1 += 1;
+                trace.t_s.push(run.t_s[i]);
+                for w in 0..2 {
+                    trace.logged_speed[w].push(speed[w][i]);
+                    trace.replayed_speed[w].push(sim.omega[w][k]);
+                }
+                for j in 0..3 {
+                    trace.replayed_pose[j].push(sim.pose[j][k]);
+                }
+                if let (Some(q), Some(lp)) = (&run.pose, trace.logged_pose.as_mut()) {
+                    for j in 0..3 {
+                        lp[j].push(q[j][i]);
+                    }
+                }
                 s2 += speed[0][i] * speed[0][i] + speed[1][i] * speed[1][i];
                 e.speed_final_rad_s = err[0].abs().max(err[1].abs());
                 if let Some(q) = &run.pose {
@@ -129,6 +178,9 @@ pub fn replay(log: &Log, robot: Robot<f64>, drive: Drive<f64>, horizon_s: f64) -
         if np > 0 {
             e.position_rms_m = Some((p2 / np as f64).sqrt());
         }
+        trace.speed_rms_per_second_rad_s =
+            per_second.iter().map(|&(e2, n)| if n == 0 { f64::NAN } else { (e2 / (2 * n) as f64).sqrt() }).collect();
+        report.traces.push(trace);
         sum_e2 += e2;
         sum_s2 += s2;
         sum_p2 += p2;

@@ -69,7 +69,10 @@ SIGINT_SCRIPT = textwrap.dedent(
         "run_scenario": lambda: wmr_py.run_scenario(
             "[sim]\\nt_end = 50000.0\\nlog_dt = 10.0\\n[[run]]\\ngoal = { x = 1.0 }\\n[[run]]\\ngoal = { x = 2.0 }\\n"
         ),
-        "sweep": lambda: wmr_py.sweep("[sim]\\nt_end = 20000.0\\n[sweep]\\nrandom = { n = 8, radius = 1.0 }\\n"),
+        "sweep": lambda: wmr_py.sweep(
+            "[sim]\\nt_end = 20000.0\\n[sweep]\\ncontrollers = [{ kind = \\"paper\\" }, { kind = \\"polar\\" }]\\n"
+            "random = { n = 8, radius = 1.0 }\\n"
+        ),
     }
     if warm:
         wmr_py.simulate((0, 0, 0), (1, 1, 2), t_end=0.1)

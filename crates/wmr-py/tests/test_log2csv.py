@@ -54,7 +54,8 @@ def test_a_wmr_ros2_file_reads_back_to_its_csv(cli, tmp_path):
                              ("tau_r", "tau_r"), ("tau_l", "tau_l")):
             assert b[ours] == t[theirs], (ours, b, t)
         assert abs(math.remainder(float(b["theta"]) - float(t["theta_meas"]), math.tau)) < 1e-15
-        assert b["v_cmd"] == "" and b["omega_cmd"] == ""
+        # /cmd_vel: the twist kanayama demanded, the CSV's command columns.
+        assert (b["v_cmd"], b["omega_cmd"]) == (t["v_cmd"], t["omega_cmd"]), (b, t)
 
 
 def test_a_bag_written_by_rosbags_reads_back(cli, tmp_path):

@@ -31,7 +31,8 @@ SAMPLE_FIELDS = (
     "t x y theta v omega phi_r phi_l omega_r omega_l tau_r tau_l e_s e_theta dl "
     "x_meas y_meas theta_meas x_odom y_odom theta_odom "
     "slip_r slip_l v_lat fx_r fx_l fy_r fy_l n_r n_l "
-    "x_ref y_ref theta_ref v_ref omega_ref"
+    "x_ref y_ref theta_ref v_ref omega_ref "
+    "v_cmd omega_cmd"
 ).split()
 
 PER_SAMPLE = ("tf", "odom", "joint_states", "wmr/sample")
@@ -163,6 +164,23 @@ def test_rosbags_reads_every_message_and_the_fields_equal_the_csv(written, store
             # The wheels turn about y by their joint angle.
             assert same(tf[2].transform.rotation.y, math.sin(0.5 * row["phi_l"]))
             assert same(tf[3].transform.rotation.y, math.sin(0.5 * row["phi_r"]))
+        # /cmd_vel (issue 43 item 1): the twist the law demanded, the CSV's v_cmd and
+        # omega_cmd to the bit, for a law that demands a twist (kanayama); none otherwise
+        # (the paper's law demands wheel angles).
+        assert ("v_cmd" in rows[0]) == (name == "two-runs-every-topic.toml"), name
+        if "v_cmd" in rows[0]:
+            assert conns[f"{ns}/cmd_vel"].msgtype == "geometry_msgs/msg/TwistStamped"
+            cmds = msgs[f"{ns}/cmd_vel"]
+            assert len(cmds) == len(rows), name
+            for cmd, row in zip(cmds, rows):
+                assert ns_of(cmd.header.stamp) == round(row["t"] * 1e9)
+                assert cmd.header.frame_id == f"{fp}base_link"
+                tw = cmd.twist
+                assert same(tw.linear.x, row["v_cmd"]) and same(tw.angular.z, row["omega_cmd"]), (name, row["t"])
+                assert (tw.linear.y, tw.linear.z, tw.angular.x, tw.angular.y) == (0.0, 0.0, 0.0, 0.0)
+            assert any(c.twist.linear.x != 0.0 for c in cmds) and any(c.twist.angular.z != 0.0 for c in cmds)
+        else:
+            assert f"{ns}/cmd_vel" not in msgs, name
         if "x_ref" in rows[0]:
             plan = msgs[f"{ns}/plan"][0]
             assert len(plan.poses) == len(rows)

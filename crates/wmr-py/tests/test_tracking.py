@@ -98,7 +98,9 @@ def test_circle_kanayama_equals_cli_csv_bit_for_bit(tmp_path: pathlib.Path) -> N
     out = tmp_path / "circle.csv"
     subprocess.run([str(build_cli()), "run", str(scenario), "-o", str(out)], check=True, capture_output=True, timeout=600)
     cli = read_csv(out)
-    assert list(cli)[-5:] == list(wmr_py.REFERENCE_COLUMNS)
+    # The reference's columns, then the twist kanayama demanded (a twist law's command).
+    assert list(cli)[-7:-2] == list(wmr_py.REFERENCE_COLUMNS)
+    assert list(cli)[-2:] == ["v_cmd", "omega_cmd"]
     results = wmr_py.run_scenario(scenario)
     run = cli["run"]
     for res in results:

@@ -25,15 +25,25 @@ pub(crate) fn steps(sim: &SimSpec, runs: usize) -> u128 {
 }
 
 /// Total work at most [`MAX_TOTAL_STEPS`]: `runs` runs (of `[[run]]` and `[sweep]`
-/// together) of `sim` each.
-pub(crate) fn check(sim: &SimSpec, runs: usize) -> Result<(), ScenarioError> {
+/// together) of `sim` each, which weigh `weighted_runs` runs of the paper's law (each
+/// run counted at its law's cost per step, `LawParams::update_cost`).
+pub(crate) fn check(sim: &SimSpec, runs: usize, weighted_runs: f64) -> Result<(), ScenarioError> {
     let total = steps(sim, runs);
-    if total > u128::from(MAX_TOTAL_STEPS) {
-        let most = MAX_TOTAL_STEPS / sim.n_steps().max(1);
+    let n_steps = sim.n_steps().max(1);
+    let weighted = weighted_runs * n_steps as f64;
+    if total > u128::from(MAX_TOTAL_STEPS) || weighted > MAX_TOTAL_STEPS as f64 {
+        let mean_cost = if runs == 0 { 1.0 } else { (weighted_runs / runs as f64).max(1.0) };
+        let most = (MAX_TOTAL_STEPS as f64 / (n_steps as f64 * mean_cost)).floor() as u64;
+        // A law dearer per step than the paper's (MPPI's rollouts) says so.
+        let weight = if mean_cost > 1.0 {
+            format!(", as much work as {weighted:.3e} steps of the paper's law (each law weighed by its cost per step)")
+        } else {
+            String::new()
+        };
         return Err(ScenarioError::new(
             "sim.t_end",
             format!(
-                "{runs} runs x {} steps (t_end / dt) = {total:.3e} plant steps, more than the limit of {:.0e} \
+                "{runs} runs x {} steps (t_end / dt) = {total:.3e} plant steps{weight}, more than the limit of {:.0e} \
                  (about a day of CPU): shorten sim.t_end, raise sim.dt, or split the {runs} runs into files \
                  of at most {most}",
                 sim.n_steps(),

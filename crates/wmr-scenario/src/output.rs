@@ -170,6 +170,22 @@ pub fn reference_values(r: &ReferenceState<f64>) -> [f64; 5] {
     [r.pose.x, r.pose.y, r.pose.theta, r.twist.v, r.twist.omega]
 }
 
+/// The columns a run whose law demands a body twist adds after the others
+/// ([`wmr_core::LawSpec::TWIST_DEMAND`]: every law but `paper`, `paper_bidirectional` and
+/// `backstepping`): the twist the law demanded at its last tick, before the wheel stage's
+/// limits (m/s, rad/s; ROS 2's `/cmd_vel`).
+pub const COMMAND_COLUMNS: [&str; 2] = ["v_cmd", "omega_cmd"];
+
+/// The unit of each of [`COMMAND_COLUMNS`], in order.
+pub const COMMAND_UNITS: [&str; COMMAND_COLUMNS.len()] = ["m/s", "rad/s"];
+
+/// A sample's values in [`COMMAND_COLUMNS`] order (NaN for a sample without a twist
+/// demand, which a run carrying the group never hands out).
+#[inline]
+pub fn command_values(s: &Sample<f64>) -> [f64; 2] {
+    s.twist_demand.map_or([f64::NAN; 2], |t| [t.v, t.omega])
+}
+
 /// One group of columns a run's output may carry; [`ColumnGroup::ALL`] is their order in
 /// the CSV (and so in `wmr.Sample` and Python's tables).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -184,11 +200,14 @@ pub enum ColumnGroup {
     Contact,
     /// [`REFERENCE_COLUMNS`]: runs with a `[reference]` (tracking and path following).
     Reference,
+    /// [`COMMAND_COLUMNS`]: runs whose law demands a twist.
+    Command,
 }
 
 impl ColumnGroup {
     /// Every group, in CSV order.
-    pub const ALL: [Self; 5] = [Self::Sample, Self::Measured, Self::Odometry, Self::Contact, Self::Reference];
+    pub const ALL: [Self; 6] =
+        [Self::Sample, Self::Measured, Self::Odometry, Self::Contact, Self::Reference, Self::Command];
 
     /// The group's column names, in order.
     pub fn names(self) -> &'static [&'static str] {
@@ -198,6 +217,7 @@ impl ColumnGroup {
             Self::Odometry => &ODOMETRY_COLUMNS,
             Self::Contact => &CONTACT_COLUMNS,
             Self::Reference => &REFERENCE_COLUMNS,
+            Self::Command => &COMMAND_COLUMNS,
         }
     }
 
@@ -209,6 +229,7 @@ impl ColumnGroup {
             Self::Odometry => &ODOMETRY_UNITS,
             Self::Contact => &CONTACT_UNITS,
             Self::Reference => &REFERENCE_UNITS,
+            Self::Command => &COMMAND_UNITS,
         }
     }
 
@@ -220,6 +241,7 @@ impl ColumnGroup {
             Self::Odometry => "odometry",
             Self::Contact => "contact",
             Self::Reference => "reference",
+            Self::Command => "command",
         }
     }
 
@@ -231,6 +253,7 @@ impl ColumnGroup {
             Self::Odometry => "a run on odometry ([sensor] pose = \"odometry\")",
             Self::Contact => "a run whose wheels slip ([robot] traction = \"slip\")",
             Self::Reference => "a tracking run (a scenario with a [reference])",
+            Self::Command => "a run whose law demands a twist (not paper, paper_bidirectional, backstepping)",
         }
     }
 }
@@ -249,6 +272,8 @@ pub struct Columns {
     pub contact: bool,
     /// The reference whose state at each sample's t fills [`REFERENCE_COLUMNS`].
     pub reference: Option<RunReference>,
+    /// The law's twist demand ([`COMMAND_COLUMNS`]).
+    pub command: bool,
 }
 
 impl Columns {
@@ -260,6 +285,7 @@ impl Columns {
             ColumnGroup::Odometry => self.odometry,
             ColumnGroup::Contact => self.contact,
             ColumnGroup::Reference => self.reference.is_some(),
+            ColumnGroup::Command => self.command,
         }
     }
 
@@ -293,6 +319,7 @@ impl Columns {
             .chain(group(self.odometry, odometry_values))
             .chain(self.contact.then(|| contact_values(s)).into_iter().flatten())
             .chain(self.reference.as_ref().map(|r| reference_values(&r.state_at(s.t))).into_iter().flatten())
+            .chain(self.command.then(|| command_values(s)).into_iter().flatten())
     }
 }
 

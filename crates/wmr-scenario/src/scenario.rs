@@ -350,7 +350,6 @@ impl Scenario {
                 s.inputs = inputs;
                 Ok(s)
             })
-            .and_then(|s| s.check_limits().map(|()| s))
             .map_err(|e| {
                 // A preset's value: said so, at the scenario's `from` line.
                 let (e, key) = match preset_origins.as_ref().and_then(|o| o.in_preset(&e)) {
@@ -382,7 +381,6 @@ impl Scenario {
     pub fn with_runs(mut self, runs: Vec<RunSpec>) -> Result<Self, ScenarioError> {
         self.runs = runs;
         self.check_runs()?;
-        self.check_limits()?;
         Ok(self)
     }
 
@@ -390,7 +388,19 @@ impl Scenario {
     /// work at most [`budget::MAX_TOTAL_STEPS`].
     fn check_limits(&self) -> Result<(), ScenarioError> {
         bounds::check_runs(&self.runs)?;
-        budget::check(&self.sim, self.all_runs())
+        budget::check(&self.sim, self.all_runs(), self.weighted_runs())
+    }
+
+    /// [`Self::all_runs`], each weighed by its law's cost per step
+    /// ([`wmr_core::LawParams::update_cost`]: an MPPI run at nav2's defaults weighs about
+    /// 430 runs of the paper's law).
+    fn weighted_runs(&self) -> f64 {
+        let own = self.runs.len() as f64 * self.setup.controller.law.update_cost();
+        let sweep = self.sweep.as_ref().map_or(0.0, |s| {
+            let per_law = (s.len() / s.laws.len().max(1)) as f64;
+            s.laws.iter().map(|(_, setup)| setup.controller.law.update_cost() * per_law).sum()
+        });
+        own + sweep
     }
 
     /// Runs of `[[run]]` and of `[sweep]` together.
@@ -415,8 +425,11 @@ impl Scenario {
         Ok(())
     }
 
-    /// Builds every run's loop once: the core's own checks are the truth.
+    /// The limits first ([`Self::check_limits`]: building a loop runs the law's first
+    /// update, which the step budget bounds), then every run's loop built once: the
+    /// core's own checks are the truth.
     fn check_runs(&self) -> Result<(), ScenarioError> {
+        self.check_limits()?;
         (0..self.runs.len()).try_for_each(|i| self.closed_loop(i).map(|_| ()))
     }
 
@@ -708,6 +721,7 @@ impl Columns {
             odometry: setup.odometry(),
             contact: setup.slips(),
             reference: scenario.tracking().map(|t| t.reference.built.clone()),
+            command: scenario.controller().law.twist_demand(),
         }
     }
 }

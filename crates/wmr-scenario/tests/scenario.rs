@@ -158,8 +158,8 @@ fn hold_mode_is_a_paper_key() {
     assert_eq!(e.key, "controller.hold");
 }
 
-/// The step budget counts the runs of `[sweep]` with those of `[[run]]`: (200,000 starts
-/// x 6 laws + 1 run) x 200,000 steps = 2.4e11 plant steps, more than `MAX_TOTAL_STEPS`
+/// The step budget counts the runs of `[sweep]` with those of `[[run]]`: (150,000 starts
+/// x 6 laws + 1 run) x 200,000 steps = 1.8e11 plant steps, more than `MAX_TOTAL_STEPS`
 /// (1e11), while the one `[[run]]` alone is far below it.
 #[test]
 fn a_sweep_counts_in_the_step_budget() {
@@ -170,16 +170,41 @@ t_end = 200.0
 goal = { x = 1.0 }
 [sweep]
 goal = {}
-random = { n = 200000, seed = 1, radius = 1.0 }
+random = { n = 150000, seed = 1, radius = 1.0 }
 "#;
     // Every stabilization law runs from each start (the registry's count: 6 with mppi).
     let laws = wmr_scenario::stabilization_law_kinds().len();
-    let runs = 200_000 * laws + 1;
+    let runs = 150_000 * laws + 1;
     let Err(err) = Scenario::from_toml_str(text, "big") else { panic!("{runs} x 200000 plant steps accepted") };
     assert_eq!(err.key, "sim.t_end");
     let steps = runs as f64 * 200_000.0;
-    assert!(err.message.starts_with(&format!("{runs} runs x 200000 steps (t_end / dt) = {steps:.3e} plant steps")), "{err}");
+    assert!(
+        err.message.starts_with(&format!("{runs} runs x 200000 steps (t_end / dt) = {steps:.3e} plant steps")),
+        "{err}"
+    );
     assert!(u128::from(wmr_scenario::MAX_TOTAL_STEPS) < runs as u128 * 200_000);
+}
+
+/// A run is weighed in the step budget by its law's cost per step: 3,000 MPPI runs of
+/// 100 s are 3e8 plant steps, but MPPI at nav2's defaults (1,000 samples x 56 steps every
+/// 0.05 s) costs 430 paper-law steps per step: 1.29e11, refused before any run is
+/// built; with 100 samples (a tenth of the rollouts) the same sweep is accepted.
+#[test]
+fn a_law_s_cost_per_step_counts_in_the_step_budget() {
+    let text = |batch: u32| {
+        format!(
+            "[sim]\nt_end = 100.0\n[sweep]\ngoal = {{}}\ncontrollers = [{{ kind = \"mppi\", batch_size = {batch} }}]\n\
+             random = {{ n = 3000, seed = 1, radius = 1.0 }}\n"
+        )
+    };
+    let Err(err) = Scenario::from_toml_str(&text(1000), "mppi") else { panic!("1.29e11 steps' work accepted") };
+    assert_eq!(err.key, "sim.t_end");
+    assert!(
+        err.message
+            .starts_with("3000 runs x 100000 steps (t_end / dt) = 3.000e8 plant steps, as much work as 1.290e11"),
+        "{err}"
+    );
+    assert!(Scenario::from_toml_str(&text(100), "mppi").is_ok());
 }
 
 /// A 120 kg robot of one's own (issue 38, item 8): r 0.1 m, R 0.25 m, a 48 V DC motor

@@ -164,8 +164,7 @@ impl Ros2RunEncoder {
         header(&mut w, ns, &fr.odom);
         w.string(&fr.base_link);
         pose(&mut w, used);
-        // No covariance is logged per sample: zeros ("not given").
-        w.f64_array(&[0.0; 36]);
+        w.f64_array(&pose_covariance(s.pose_covariance));
         // The true body twist: v forward, v_lat to the left (slip runs), omega about z.
         let v_lat = if self.columns.contact { s.contact.v_lat } else { 0.0 };
         w.f64_array(&[s.state.v, v_lat, 0.0, 0.0, 0.0, s.state.omega]);
@@ -181,6 +180,15 @@ impl Ros2RunEncoder {
         w.f64_seq(&[s.wheel_speeds.left, s.wheel_speeds.right]);
         w.f64_seq(&[s.torque.left, s.torque.right]);
         out(Topic::JointStates, ns, &self.buf)?;
+
+        if self.columns.command {
+            // The twist the law demanded (geometry_msgs/TwistStamped, base_link).
+            let [v, omega] = wmr_scenario::command_values(s);
+            let mut w = CdrWriter::new(&mut self.buf);
+            header(&mut w, ns, &fr.base_link);
+            w.f64_array(&[v, 0.0, 0.0, 0.0, 0.0, omega]);
+            out(Topic::CmdVel, ns, &self.buf)?;
+        }
 
         let mut w = CdrWriter::new(&mut self.buf);
         header(&mut w, ns, MAP_FRAME);
@@ -221,12 +229,30 @@ impl Ros2RunEncoder {
     }
 }
 
+/// The 6x6 row-major covariance of a `geometry_msgs/PoseWithCovariance` (x, y, z, roll,
+/// pitch, yaw) from the EKF's of (x, y, theta): its nine entries at rows and columns 0, 1
+/// and 5; z, roll and pitch zero (the planar model knows them exactly). All zeros (ROS's
+/// "unknown") for a sensor without an estimate (no odometry).
+pub fn pose_covariance(cov: Option<[[f64; 3]; 3]>) -> [f64; 36] {
+    let mut out = [0.0; 36];
+    if let Some(c) = cov {
+        const AT: [usize; 3] = [0, 1, 5];
+        for (i, row) in c.iter().enumerate() {
+            for (j, v) in row.iter().enumerate() {
+                out[6 * AT[i] + AT[j]] = *v;
+            }
+        }
+    }
+    out
+}
+
 /// The number of fields of `wmr_msgs/Sample` after its header: every CSV column of every group.
 pub const SAMPLE_FIELDS: usize = wmr_scenario::SAMPLE_COLUMNS.len()
     + wmr_scenario::MEASURED_COLUMNS.len()
     + wmr_scenario::ODOMETRY_COLUMNS.len()
     + wmr_scenario::CONTACT_COLUMNS.len()
-    + wmr_scenario::REFERENCE_COLUMNS.len();
+    + wmr_scenario::REFERENCE_COLUMNS.len()
+    + wmr_scenario::COMMAND_COLUMNS.len();
 
 /// Every field of `wmr_msgs/Sample`: the CSV columns of every group in order, NaN for the
 /// groups `columns` does not carry.
@@ -247,6 +273,7 @@ fn all_values(s: &Sample<f64>, columns: &Columns) -> [f64; SAMPLE_FIELDS] {
         Some(r) => put(true, &wmr_scenario::reference_values(&r.state_at(s.t))),
         None => put(false, &[0.0; 5]),
     }
+    put(columns.command, &wmr_scenario::command_values(s));
     out
 }
 

@@ -27,11 +27,14 @@ pub enum Topic {
     Sample,
     /// `std_msgs/String`, once (transient local): the robot's URDF.
     RobotDescription,
+    /// `geometry_msgs/TwistStamped` in `base_link`, every sample: the twist the law
+    /// demanded at its last tick (runs whose law demands a twist).
+    CmdVel,
 }
 
 impl Topic {
     /// Every topic, in the order channels are created.
-    pub const ALL: [Topic; 8] = [
+    pub const ALL: [Topic; 9] = [
         Topic::Tf,
         Topic::TfStatic,
         Topic::Odom,
@@ -40,6 +43,7 @@ impl Topic {
         Topic::GoalPose,
         Topic::Sample,
         Topic::RobotDescription,
+        Topic::CmdVel,
     ];
 
     /// The topic's name without its namespace.
@@ -53,6 +57,7 @@ impl Topic {
             Topic::GoalPose => "goal_pose",
             Topic::Sample => "wmr/sample",
             Topic::RobotDescription => "robot_description",
+            Topic::CmdVel => "cmd_vel",
         }
     }
 
@@ -66,6 +71,7 @@ impl Topic {
             Topic::GoalPose => "geometry_msgs/PoseStamped",
             Topic::Sample => "wmr_msgs/Sample",
             Topic::RobotDescription => "std_msgs/String",
+            Topic::CmdVel => "geometry_msgs/TwistStamped",
         }
     }
 
@@ -74,9 +80,14 @@ impl Topic {
         matches!(self, Topic::TfStatic | Topic::RobotDescription)
     }
 
-    /// Whether runs with `columns` have this topic: [`Topic::Plan`] with a `[reference]`.
+    /// Whether runs with `columns` have this topic: [`Topic::Plan`] with a `[reference]`,
+    /// [`Topic::CmdVel`] with a law that demands a twist.
     pub fn is_present(self, columns: &Columns) -> bool {
-        self != Topic::Plan || columns.reference.is_some()
+        match self {
+            Topic::Plan => columns.reference.is_some(),
+            Topic::CmdVel => columns.command,
+            _ => true,
+        }
     }
 
     /// The topics of runs with `columns`, in [`Topic::ALL`] order.

@@ -58,14 +58,19 @@ macro_rules! laws {
             }
 
             /// CPU time of a plant step under the law against one under the paper's law
-            /// ([`LawSpec::UPDATE_COST`]): for announced durations only.
+            /// ([`LawSpec::update_cost`]): announced durations and the step budget.
             pub fn update_cost(&self) -> f64 {
-                match self { $( LawParams::$variant(_) => <$krate::$params<T> as LawSpec<T>>::UPDATE_COST, )+ }
+                match self { $( LawParams::$variant(p) => LawSpec::<T>::update_cost(p), )+ }
             }
 
             /// Whether the trace carries the law ([`LawSpec::TRACED`]).
             pub fn traced(&self) -> bool {
                 match self { $( LawParams::$variant(_) => <$krate::$params<T> as LawSpec<T>>::TRACED, )+ }
+            }
+
+            /// Whether the law demands a body twist ([`LawSpec::TWIST_DEMAND`]).
+            pub fn twist_demand(&self) -> bool {
+                match self { $( LawParams::$variant(_) => <$krate::$params<T> as LawSpec<T>>::TWIST_DEMAND, )+ }
             }
 
             /// The declared keys of the law ([`crate::describe`]): what `--help`, the

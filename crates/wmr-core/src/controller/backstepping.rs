@@ -65,6 +65,9 @@ impl<T: Real> Default for BacksteppingParams<T> {
 }
 
 impl<T: Real> super::law::LawSpec<T> for BacksteppingParams<T> {
+    /// It demands wheel torques, not a twist.
+    const TWIST_DEMAND: bool = false;
+
     type Law<L: Lane<Scalar = T>> = BacksteppingLaw<L>;
 
     fn build<L: Lane<Scalar = T>>(

@@ -6,13 +6,13 @@
 //! which the plant holds until the next tick.
 
 use super::any::{AnyLaw, LawParams};
-use super::law::{ControlErrors, Law};
+use super::law::{ControlErrors, Law, WheelDemand};
 use super::paper::PaperParams;
 use super::wheel_stage::{WheelStage, WheelStageParams};
 use crate::drive::Drive;
 use crate::error::{ParamError, check};
 use crate::lane::{Lane, Mask};
-use crate::math::Wheels;
+use crate::math::{Twist2, Wheels};
 use crate::reference::{Path, ReferenceState};
 use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
@@ -24,6 +24,19 @@ pub struct ControlOutput<T> {
     pub command: Wheels<T>,
     /// The law's errors, for logging.
     pub errors: ControlErrors<T>,
+    /// The body twist the law demanded (v m/s, omega rad/s, before the wheel stage's
+    /// limits), for logging (`/cmd_vel`); `None` for a law that demands wheel angles or
+    /// torques ([`super::LawSpec::TWIST_DEMAND`]).
+    pub twist_demand: Option<Twist2<T>>,
+}
+
+/// The twist of a law's demand, if it is one.
+#[inline(always)]
+fn twist_of<T: Copy>(demand: &WheelDemand<T>) -> Option<Twist2<T>> {
+    match demand {
+        WheelDemand::Twist(t) => Some(*t),
+        _ => None,
+    }
 }
 
 /// A law, a wheel stage and the control period: everything a `[controller]` table says.
@@ -103,7 +116,8 @@ impl<T: Lane, L: Law<T>> Controller<T, L> {
     pub fn update(&mut self, t: T, m: &Measurement<T>, r: &ReferenceState<T>) -> ControlOutput<T> {
         self.law.wheels_saturated(self.wheels.saturated());
         let out = self.law.update(t, m, r);
-        ControlOutput { command: self.wheels.command(out.demand, m), errors: out.errors }
+        let twist_demand = twist_of(&out.demand);
+        ControlOutput { command: self.wheels.command(out.demand, m), errors: out.errors, twist_demand }
     }
 
     /// [`Controller::update`] with the reference's geometric path, for a path-following
@@ -119,7 +133,8 @@ impl<T: Lane, L: Law<T>> Controller<T, L> {
     ) -> ControlOutput<T> {
         self.law.wheels_saturated(self.wheels.saturated());
         let out = self.law.update_on_path(t, m, r, path);
-        ControlOutput { command: self.wheels.command(out.demand, m), errors: out.errors }
+        let twist_demand = twist_of(&out.demand);
+        ControlOutput { command: self.wheels.command(out.demand, m), errors: out.errors, twist_demand }
     }
 
     /// [`Law::reaches_heading`] of the law: whether its runs are judged on the heading too.

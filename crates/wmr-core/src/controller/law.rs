@@ -38,14 +38,23 @@ pub trait LawSpec<T: Real>: Described + Copy + Default + PartialEq {
     /// The law, running `L` (one run, or several side by side: [`crate::lane`]).
     type Law<L: Lane<Scalar = T>>: Law<L> + Copy;
 
-    /// CPU time of a plant step under this law against one under the paper's law: the
-    /// sweep's announced duration only (measured, the law file says where).
-    const UPDATE_COST: f64 = 1.0;
+    /// CPU time of a plant step under this law (with these keys) against one under the
+    /// paper's law: a sweep's announced duration, and the work a scenario may ask for
+    /// (`wmr_scenario`'s step budget weighs each run by it). Measured; the law file says
+    /// where.
+    fn update_cost(&self) -> f64 {
+        1.0
+    }
 
     /// Whether the trace ([`crate::trace`]) carries the law: its keys fit the trace's
     /// law words (16). MPPI's 30 keys do not: `wmr-cli trace` refuses it, and the
     /// firmware does not replay it.
     const TRACED: bool = true;
+
+    /// Whether the law demands a body twist ([`WheelDemand::Twist`]) at every tick, which
+    /// the samples then carry (`Sample::twist_demand`, CSV `v_cmd`, `omega_cmd`, ROS 2
+    /// `/cmd_vel`); false for a law that demands wheel angles or torques.
+    const TWIST_DEMAND: bool = true;
 
     /// Validates the keys (errors name the key) and builds the law for the controller's
     /// robot model and control period (s).

@@ -85,6 +85,13 @@ use crate::{Real, RobotParams};
 /// allocation); nav2's default is 56.
 pub const MAX_TIME_STEPS: usize = 64;
 
+/// Most rollout steps one planning cycle may take (batch_size x time_steps x
+/// iteration_count): 1e7, 180 times nav2's defaults (1000 x 56 x 1), about 0.4 s of one
+/// core (a cycle at nav2's defaults took 2.1 ms: `wmr-cli run examples/mppi/goal.toml`,
+/// release, 600 cycles in 1.27 s of CPU, AMD EPYC Zen 4, idle, 2026-12-07). One `update` is one cycle and cannot be interrupted: from C or
+/// Python a larger one would hang the caller, so it is refused by name instead.
+pub const MAX_ROLLOUT_STEPS_PER_CYCLE: u64 = 10_000_000;
+
 /// The model the rollouts predict with (`motion_model`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize), serde(rename_all = "snake_case"))]
@@ -108,7 +115,7 @@ crate::params! {
         /// The model the rollouts predict with: "kinematic" (nav2's DiffDrive).
         pub motion_model: MotionModel [unit = "", rule = "\"kinematic\""],
         /// Samples (rollouts) per iteration.
-        pub batch_size: u32 [unit = "", rule = ">= 1"],
+        pub batch_size: u32 [unit = "", rule = ">= 1; batch_size x time_steps x iteration_count <= 1e7"],
         /// Steps of a rollout (the horizon is time_steps * model_dt).
         pub time_steps: u32 [unit = "", rule = ">= 2, <= 64"],
         /// Step of the rollouts and period of the planning (nav2: the controller period).
@@ -210,9 +217,21 @@ impl<T: Real> Default for MppiParams<T> {
 impl<T: Real> super::law::LawSpec<T> for MppiParams<T> {
     type Law<L: Lane<Scalar = T>> = MppiLaw<L>;
 
-    /// One cycle at nav2's defaults is 56,000 rollout steps every 0.05 s (a few ms):
-    /// against a plant step of the paper's law at control_dt = 1 ms, about a thousand.
-    const UPDATE_COST: f64 = 1000.0;
+    /// One cycle at nav2's defaults is 56,000 rollout steps every 0.05 s: a plant step
+    /// under it cost 430 times one under the paper's law (42.5 us against 0.098 us per
+    /// step: examples/mppi/goal.toml and the same runs under paper_bidirectional for
+    /// 1000 s, log_dt 1 s, release, AMD EPYC Zen 4, idle, 2026-12-07).
+    /// It grows with the rollout steps per cycle (batch_size x time_steps x
+    /// iteration_count) and the cycles per second (1 / model_dt), so that a scenario
+    /// asking for a billion samples is refused by the step budget, not run for days.
+    fn update_cost(&self) -> f64 {
+        let rollout_steps = f64::from(self.batch_size) * f64::from(self.time_steps) * f64::from(self.iteration_count);
+        let model_dt = self.model_dt.to_f64_lossless();
+        // A model_dt the law refuses (<= 0, NaN) costs what the defaults do: the law's
+        // own check names the key.
+        let per_second = if model_dt > 0.0 { 0.05 / model_dt } else { 1.0 };
+        430.0 * rollout_steps / 56_000.0 * per_second
+    }
 
     /// 30 keys: more than the trace's 16 law words.
     const TRACED: bool = false;
@@ -244,6 +263,15 @@ impl<T: Real> MppiParams<T> {
             ));
         }
         count_at_least::<T>("iteration_count", self.iteration_count, 1)?;
+        let per_cycle = u64::from(self.batch_size) * u64::from(self.time_steps) * u64::from(self.iteration_count);
+        if per_cycle > MAX_ROLLOUT_STEPS_PER_CYCLE {
+            return Err(check::out_of_range(
+                "batch_size",
+                "batch_size x time_steps x iteration_count must be <= 1e7 rollout steps per cycle \
+                 (MAX_ROLLOUT_STEPS_PER_CYCLE, about 0.4 s of one core)",
+                T::lit(f64::from(self.batch_size)),
+            ));
+        }
         let model_dt = check::positive("model_dt", self.model_dt)?;
         let ratio = (model_dt / control_dt).round();
         let tol = T::lit(1e-9) * model_dt;

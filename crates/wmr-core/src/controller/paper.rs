@@ -156,6 +156,9 @@ impl<T: Real> Default for PaperParams<T> {
 }
 
 impl<T: Real> super::law::LawSpec<T> for PaperParams<T> {
+    /// It demands wheel angles, not a twist.
+    const TWIST_DEMAND: bool = false;
+
     type Law<L: Lane<Scalar = T>> = PaperLaw<L>;
 
     fn build<L: Lane<Scalar = T>>(&self, model: &RobotParams<T>, control_dt: T) -> Result<PaperLaw<L>, ParamError> {

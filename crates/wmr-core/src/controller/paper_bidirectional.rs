@@ -110,6 +110,9 @@ impl<T: Real> Default for PaperBidirectionalParams<T> {
 }
 
 impl<T: Real> super::law::LawSpec<T> for PaperBidirectionalParams<T> {
+    /// It demands wheel angles, not a twist.
+    const TWIST_DEMAND: bool = false;
+
     type Law<L: Lane<Scalar = T>> = PaperBidirectionalLaw<L>;
 
     fn build<L: Lane<Scalar = T>>(

@@ -140,7 +140,9 @@ impl<T: Real> super::law::LawSpec<T> for PurePursuitParams<T> {
     /// `examples/tracking/compare-tracking.toml` (a third of its runs pure pursuit) took
     /// 81 s where 11 s were announced (2026-12-06, 2-core AMD EPYC, idle), its runs about
     /// 20 times the others' per step.
-    const UPDATE_COST: f64 = 20.0;
+    fn update_cost(&self) -> f64 {
+        20.0
+    }
 
     fn build<L: Lane<Scalar = T>>(
         &self,

@@ -93,4 +93,12 @@ impl<T: Real> Sensor<T> for AnySensor<T> {
             AnySensor::Odometry(s) => s.odometry(),
         }
     }
+
+    #[inline]
+    fn pose_covariance(&self) -> Option<super::ekf::Mat3<T>> {
+        match self {
+            AnySensor::Absolute(_) => None,
+            AnySensor::Odometry(s) => s.pose_covariance(),
+        }
+    }
 }

@@ -79,6 +79,13 @@ pub trait Sensor<T: Real> {
     fn odometry(&self) -> Option<Pose2<T>> {
         None
     }
+
+    /// The covariance of the pose handed to the controller at the last measurement
+    /// (x, y, theta: m^2, m rad, rad^2), for a sensor that estimates one (the odometry's
+    /// EKF, [`odometry::OdometrySensor::covariance`]).
+    fn pose_covariance(&self) -> Option<ekf::Mat3<T>> {
+        None
+    }
 }
 
 /// The true pose and wheel state, instantly: the paper's assumption.

@@ -236,4 +236,8 @@ impl<T: Real, const N: usize> Sensor<T> for OdometrySensor<T, N> {
     fn odometry(&self) -> Option<Pose2<T>> {
         self.dead_reckoning()
     }
+
+    fn pose_covariance(&self) -> Option<Mat3<T>> {
+        self.covariance()
+    }
 }

@@ -806,6 +806,12 @@ class RunResult:
     def omega_ref(self) -> _FloatArray:
         """Tracking run only, rad/s."""
     @property
+    def v_cmd(self) -> _FloatArray:
+        """Run whose law demands a twist only (AttributeError otherwise), m/s."""
+    @property
+    def omega_cmd(self) -> _FloatArray:
+        """Run whose law demands a twist only, rad/s."""
+    @property
     def column_names(self) -> list[str]:
         """The run's columns in CSV order (the measured pose always)."""
     def __getitem__(self, name: str, /) -> _FloatArray: ...
