@@ -652,6 +652,17 @@ impl Scenario {
             let _ = writeln!(o, "\n[world.payload]");
             write_keys(&mut o, &to_table(setup.payload.params()), fields_of::<wmr_core::PayloadParams<f64>>());
         }
+        for p in setup.pushes.as_slice() {
+            let _ = writeln!(
+                o,
+                "\n[[world.push]]\nt = {}\nduration = {}\nforce = {{ x = {}, y = {} }}\ntorque = {}",
+                f(p.t),
+                f(p.duration),
+                f(p.force_x),
+                f(p.force_y),
+                f(p.torque)
+            );
+        }
         if let Some(tr) = &self.tracking {
             let _ = writeln!(o, "\n[reference]");
             let (table, order) = crate::reference::filled(&tr.reference);
