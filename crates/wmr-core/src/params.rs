@@ -210,7 +210,7 @@ impl<T: Real> Robot<T> {
         let mb = self.params.mass * b;
         self.m22 = self.m22 + mb * b;
         let det = self.m11 * self.m22 - mb * mb;
-        if !(det > T::zero()) {
+        if det.is_nan() || det <= T::zero() {
             return Err(check::out_of_range("payload.y", "gives a singular mass matrix", b));
         }
         self.com_lateral = b;

@@ -124,6 +124,7 @@ fn payload_at_c_is_a_heavier_robot_f32() {
 }
 
 /// Solves the 4 x 4 system `a z = b` by Gaussian elimination with partial pivoting.
+#[allow(clippy::needless_range_loop)] // the textbook index form of the elimination
 fn solve4(mut a: [[f64; 4]; 4], mut b: [f64; 4]) -> [f64; 4] {
     for c in 0..4 {
         let p = (c..4).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs())).unwrap();

@@ -143,10 +143,10 @@ fn resolve_pushes(given: Option<Value>) -> Result<Pushes<f64>, ScenarioError> {
     for (i, v) in list.into_iter().enumerate() {
         let path = format!("world.push[{i}]");
         // A push without its start or its length is refused naming the missing key.
-        if let Value::Table(given) = &v {
-            if let Some(key) = ["t", "duration"].into_iter().find(|k| !given.contains_key(*k)) {
-                return Err(ScenarioError::new(join(&path, key), "is required (s)"));
-            }
+        if let Value::Table(given) = &v
+            && let Some(key) = ["t", "duration"].into_iter().find(|k| !given.contains_key(*k))
+        {
+            return Err(ScenarioError::new(join(&path, key), "is required (s)"));
         }
         let p: PushFile = read_with(&path, v, |d| PushFile::deserialize(d))?;
         let params =
