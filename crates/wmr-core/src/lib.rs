@@ -89,6 +89,7 @@ macro_rules! root_law_exports {
     };
 }
 for_each_law!(root_law_exports);
+pub use controller::{DisturbanceObserver, DisturbanceObserverParams};
 pub use drive::{DcMotorParams, Drive, DriveParams, TorqueDriveParams};
 pub use error::{ParamError, Reason};
 pub use math::{Pose2, Twist2, Wheels, wrap_angle};
