@@ -733,6 +733,7 @@ impl Columns {
             contact: setup.slips(),
             reference: scenario.tracking().map(|t| t.reference.built.clone()),
             command: scenario.controller().law.twist_demand(),
+            disturbance: scenario.controller().observer.is_some(),
         }
     }
 }

@@ -81,6 +81,15 @@ const MODEL: ParamField = ParamField {
     rule: "[robot] keys",
 };
 
+/// `[controller.observer]`'s `kind`, written `observer.kind` in the `[controller]` tables.
+const OBSERVER_KIND: ParamField = ParamField {
+    name: "observer.kind",
+    ty: "string",
+    unit: "",
+    doc: "[controller.observer] (or observer = { .. } inline): \"disturbance\", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).",
+    rule: "\"disturbance\"",
+};
+
 /// The keys of one `[[world.push]]` (`wmr_core::push`), written `push.<key>` in the
 /// `[world]` tables.
 const PUSH_KEYS: [(ParamField, Option<&str>); 4] = [
@@ -210,6 +219,15 @@ pub fn schema() -> Vec<SchemaKey> {
     let control_dt = Value::Float(wmr_core::ControllerParams::<f64>::default_control_dt());
     out.push(SchemaKey::described("controller", None, &CONTROL_DT, Some(control_dt)));
     out.push(SchemaKey::described("controller", None, &MODEL, None));
+    // `[controller.observer]`, written `observer.bandwidth` and so on in `[controller]`.
+    out.push(SchemaKey::described("controller", None, &OBSERVER_KIND, Some(Value::String("disturbance".to_owned()))));
+    let observer = wmr_core::DisturbanceObserverParams::<f64>::default();
+    out.extend(declared("controller", None, wmr_core::DisturbanceObserverParams::<f64>::FIELDS, &observer).map(
+        |mut k| {
+            k.key = "observer.bandwidth";
+            k
+        },
+    ));
     out.extend(declared("sensor", None, SensorParams::<f64>::FIELDS, &SensorParams::<f64>::default()));
     out.extend(declared("sensor", None, OdometryParams::<f64>::FIELDS, &OdometryParams::<f64>::default()));
     out.extend(declared("world", None, WorldParams::<f64>::FIELDS, &WorldParams::<f64>::default()));
