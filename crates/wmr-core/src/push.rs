@@ -109,7 +109,8 @@ impl<T: Real> Pushes<T> {
     pub fn mean_over(&self, t: T, dt: T) -> Load<T> {
         let mut load = Load::default();
         let end = t + dt;
-        for p in self.as_slice() {
+        // take(len), not a slice: no bounds check that could panic (firmware/check).
+        for p in self.list.iter().take(self.len) {
             let overlap = (end.min(p.t + p.duration) - t.max(p.t)).max(T::zero());
             if overlap > T::zero() {
                 let q = overlap / dt;
