@@ -106,6 +106,13 @@ fn config_of(scenario: &Scenario, run: usize) -> Result<ConfigOf<f64>, ScenarioE
             ),
         ));
     }
+    if !setup.pushes.is_empty() {
+        return Err(ScenarioError::new("world.push", "is not traced: the firmware does not replay pushes"));
+    }
+    if setup.payload.is_some() {
+        // The trace's words hold [world]'s slope only (issue 42: the payload is not replayed).
+        return Err(ScenarioError::new("world.payload", "is not traced: the firmware does not replay a payload"));
+    }
     let dt = scenario.sim().dt();
     // The scenario checked that control_dt is a whole multiple of dt.
     let steps_per_tick = (c.control_dt / dt).round() as u32;

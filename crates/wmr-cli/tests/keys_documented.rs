@@ -94,7 +94,7 @@ fn help_documents_every_key_with_its_default() {
         // Keys of the tables are defined on their own line (`key = default  what`); the
         // pose, grid and random keys are written inside their inline tables.
         // A required `[reference]` key has no default to show: its line names it.
-        let required = k.table == "reference" && k.default.is_none();
+        let required = matches!(k.table, "reference" | "world") && k.default.is_none();
         let defined =
             if inline(k) || required { has_word(section, k.key) } else { shown_default(section, k.key).is_some() };
         assert!(defined, "--help: {:?} (kind {:?}) lacks {}", k.table, k.kind, k.key);

@@ -94,6 +94,14 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
                 plant.robot().params().static_friction,
             ));
         }
+        // The lanes step without the pushes' time windows (crate::push).
+        if !plant.pushes().is_empty() {
+            return Err(check::out_of_range(
+                "push",
+                "the lanes do not step pushes (run such a plant on the exact path)",
+                plant.pushes().as_slice().len() as f64,
+            ));
+        }
         // Each lane counts its steps in an f64, exact up to 2^53 (a scenario allows 1e9).
         if n_steps > 1 << 53 {
             return Err(check::out_of_range("t_end", "more than 2^53 plant steps", n_steps as f64));

@@ -215,6 +215,7 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
             odometry: self.sensor.odometry(),
             twist_demand: self.tick.output.twist_demand,
             pose_covariance: self.sensor.pose_covariance(),
+            disturbance: self.tick.output.disturbance,
         }
     }
 

@@ -36,7 +36,9 @@ impl<T: Real> Robot<T> {
     pub fn kinetic_energy(&self, s: &State<T>) -> T {
         let (m11, m22) = self.reduced_inertia();
         let half = T::lit(0.5);
-        half * m11 * s.v * s.v + half * m22 * s.omega * s.omega
+        let energy = half * m11 * s.v * s.v + half * m22 * s.omega * s.omega;
+        // The payload's coupling (crate::payload): - m b v omega.
+        if self.com_lateral() == T::zero() { energy } else { energy + self.mass_coupling() * s.v * s.omega }
     }
 }
 
@@ -76,6 +78,16 @@ pub(crate) struct Model<T> {
     downhill: (T, T),
     /// True when the ground is tilted.
     sloped: bool,
+    /// b, m: G left of C (a payload off the centreline, [`crate::payload`]; 0 otherwise).
+    b: T,
+    /// The off-diagonal term of the inverse mass matrix, 1/(kg m) (0 when b = 0).
+    inv_m12: T,
+    /// True when b != 0: the forward and yaw equations are coupled.
+    coupled: bool,
+    /// The pushes' load held over the current step ([`crate::push`]), body frame.
+    load: crate::push::Load<T>,
+    /// True when `load` is not zero.
+    pushed: bool,
 }
 
 impl<T: Real> Model<T> {
@@ -105,7 +117,39 @@ impl<T: Real> Model<T> {
             d: p.com_offset,
             downhill: world.downhill_force(p.mass),
             sloped: world.is_sloped(),
+            b: robot.com_lateral(),
+            inv_m12: robot.inv_coupling(),
+            coupled: robot.com_lateral() != T::zero(),
+            load: crate::push::Load::default(),
+            pushed: false,
         }
+    }
+
+    /// (v', omega') from the forward force and the moment about C (the right side of
+    /// (15)): M_r^-1 times them, diagonal unless a payload couples them ([`crate::payload`]).
+    #[inline(always)]
+    fn accelerations<L: Lane<Scalar = T>>(&self, forward: L, moment: L) -> (L, L) {
+        let (v_dot, omega_dot) = (forward * L::splat(self.inv_m11), moment * L::splat(self.inv_m22));
+        if self.coupled {
+            let k = L::splat(self.inv_m12);
+            (v_dot + moment * k, omega_dot + forward * k)
+        } else {
+            (v_dot, omega_dot)
+        }
+    }
+
+    /// Holds the pushes' `load` (body frame, at C) over the next step ([`crate::push`]).
+    #[inline(always)]
+    pub(crate) fn set_load(&mut self, load: crate::push::Load<T>) {
+        let zero = T::zero();
+        self.pushed = load.force_x != zero || load.force_y != zero || load.torque != zero;
+        self.load = load;
+    }
+
+    /// The load held over the current step, if any.
+    #[inline(always)]
+    pub(crate) fn load(&self) -> Option<crate::push::Load<T>> {
+        self.pushed.then_some(self.load)
     }
 
     /// True when gravity acts along the ground (a tilted plane).
@@ -203,16 +247,18 @@ impl<T: Real> Model<T> {
             let (f_x, f_y) = (L::splat(self.downhill.0), L::splat(self.downhill.1));
             forward = forward + (f_x * cos + f_y * sin);
             moment = moment + L::splat(self.d) * (f_y * cos - f_x * sin);
+            if self.coupled {
+                // The pull acts at G', b left of C: its forward part's moment -b f_x.
+                moment = moment - L::splat(self.b) * (f_x * cos + f_y * sin);
+            }
         }
-        State {
-            x: s.v * cos,
-            y: s.v * sin,
-            theta: s.omega,
-            v: forward * L::splat(self.inv_m11),
-            omega: moment * L::splat(self.inv_m22),
-            phi_r: w_r,
-            phi_l: w_l,
+        if self.pushed {
+            // A push at C: F_x forward, tau about C; F_y is the constraint's (crate::push).
+            forward = forward + L::splat(self.load.force_x);
+            moment = moment + L::splat(self.load.torque);
         }
+        let (v_dot, omega_dot) = self.accelerations(forward, moment);
+        State { x: s.v * cos, y: s.v * sin, theta: s.omega, v: v_dot, omega: omega_dot, phi_r: w_r, phi_l: w_l }
     }
 }
 
@@ -270,20 +316,39 @@ impl<T: Real> Model<T> {
             let (f_x, f_y) = self.downhill;
             f = f + (f_x * cos + f_y * sin);
             m = m + self.d * (f_y * cos - f_x * sin);
+            if self.coupled {
+                m = m - self.b * (f_x * cos + f_y * sin);
+            }
+        }
+        if self.pushed {
+            f = f + self.load.force_x;
+            m = m + self.load.torque;
         }
         let big_r = self.big_r;
         let a = self.inv_m11 * self.inv_r;
         let c = big_r * big_r * self.inv_m22 * self.inv_r;
-        let (p, q) = (a + c, a - c);
-        let g_r = f * self.inv_m11 + big_r * m * self.inv_m22;
-        let g_l = f * self.inv_m11 - big_r * m * self.inv_m22;
+        let (mut p_r, q) = (a + c, a - c);
+        let mut p_l = p_r;
+        let mut g_r = f * self.inv_m11 + big_r * m * self.inv_m22;
+        let mut g_l = f * self.inv_m11 - big_r * m * self.inv_m22;
+        if self.coupled {
+            // With k = inv_m12 (crate::payload): r omega_r' gains k (R F + M) and
+            // r omega_l' gains k (M - R F), F and M the forward force and moment; the
+            // net torques' share of them adds +-2 R k / r to the diagonal.
+            let k = self.inv_m12;
+            let e = T::lit(2.0) * big_r * k * self.inv_r;
+            p_r = p_r + e;
+            p_l = p_l - e;
+            g_r = g_r + k * (big_r * f + m);
+            g_l = g_l + k * (m - big_r * f);
+        }
         match (stuck.right, stuck.left) {
             (true, true) => {
-                let det = p * p - q * q;
-                net = Wheels::new((q * g_l - p * g_r) / det, (q * g_r - p * g_l) / det);
+                let det = p_r * p_l - q * q;
+                net = Wheels::new((q * g_l - p_l * g_r) / det, (q * g_r - p_r * g_l) / det);
             }
-            (true, false) => net.right = -(q * net.left + g_r) / p,
-            (false, true) => net.left = -(q * net.right + g_l) / p,
+            (true, false) => net.right = -(q * net.left + g_r) / p_r,
+            (false, true) => net.left = -(q * net.right + g_l) / p_l,
             (false, false) => {}
         }
         net
@@ -346,8 +411,16 @@ impl<T: Real> Model<T> {
             let (f_x, f_y) = self.downhill;
             forward = forward + (f_x * cos + f_y * sin);
             moment = moment + self.d * (f_y * cos - f_x * sin);
+            if self.coupled {
+                moment = moment - self.b * (f_x * cos + f_y * sin);
+            }
         }
-        State { v: forward * self.inv_m11, omega: moment * self.inv_m22, ..base }
+        if self.pushed {
+            forward = forward + self.load.force_x;
+            moment = moment + self.load.torque;
+        }
+        let (v, omega) = self.accelerations(forward, moment);
+        State { v, omega, ..base }
     }
 
     /// The slip plant's wheel `i` within omega_eps of rest is held over the next step

@@ -61,7 +61,9 @@ pub mod nalgebra_interop;
 pub mod outcome;
 pub mod outcome_fields;
 mod params;
+pub mod payload;
 pub mod plant;
+pub mod push;
 mod real;
 pub mod reference;
 pub mod rolling_traction;
@@ -87,13 +89,16 @@ macro_rules! root_law_exports {
     };
 }
 for_each_law!(root_law_exports);
+pub use controller::{DisturbanceObserver, DisturbanceObserverParams};
 pub use drive::{DcMotorParams, Drive, DriveParams, TorqueDriveParams};
 pub use error::{ParamError, Reason};
 pub use math::{Pose2, Twist2, Wheels, wrap_angle};
 pub use outcome::{ARRIVAL_HEADING_RAD, ARRIVAL_RADIUS_M, Outcome, Status, Termination};
 pub use outcome_fields::{FieldGroup, OUTCOME_FIELDS, OutcomeField};
 pub use params::{Robot, RobotParams};
+pub use payload::{Payload, PayloadParams};
 pub use plant::Plant;
+pub use push::{PushParams, Pushes};
 pub use real::Real;
 pub use reference::{AnyReference, FixedGoal, Path, Reference, ReferenceState};
 pub use sample::Sample;

@@ -103,7 +103,18 @@ impl<T: Real> RobotParams<T> {
         // Reduced inertia of (15): wheel/rotor inertia reflected to (v, omega).
         let m11 = m + two * i_m / (r * r);
         let m22 = yaw_inertia_g + two * big_r * big_r * i_m / (r * r);
-        Robot { params: self, m11, m22, inv_m11: m11.recip(), inv_m22: m22.recip(), md: m * d }
+        let zero = T::zero();
+        Robot {
+            params: self,
+            m11,
+            m22,
+            inv_m11: m11.recip(),
+            inv_m22: m22.recip(),
+            md: m * d,
+            com_lateral: zero,
+            mb: zero,
+            inv_m12: zero,
+        }
     }
 }
 
@@ -125,6 +136,14 @@ pub struct Robot<T> {
     inv_m22: T,
     /// m d, kg m: the Coriolis coefficient of C(v).
     md: T,
+    /// b, m: G left of C, nonzero only for a robot carrying a payload off the centreline
+    /// ([`crate::payload`]); then `m22` holds I_C with m b^2 and the mass matrix is
+    /// [[m11, -m b], [-m b, m22]], whose inverse is [[inv_m11, inv_m12], [inv_m12, inv_m22]].
+    com_lateral: T,
+    /// m b, kg m.
+    mb: T,
+    /// The off-diagonal term of the inverse mass matrix, m b / det (0 when b = 0).
+    inv_m12: T,
 }
 
 impl<T: Real> Robot<T> {
@@ -162,7 +181,48 @@ impl<T: Real> Robot<T> {
         self.params.static_friction > self.params.coulomb_friction
     }
 
-    /// Inverse diagonal of M_r, precomputed: (1/kg, 1/(kg m^2)).
+    /// b, m: how far G lies left of C (body frame); 0 except for a robot carrying a
+    /// payload off the centreline ([`crate::payload::Payload::carried_by`]).
+    pub fn com_lateral(&self) -> T {
+        self.com_lateral
+    }
+
+    /// The mass matrix's off-diagonal term -m b, kg m ([`crate::payload`]): 0 on the
+    /// centreline, where M_r is the diagonal [`Robot::reduced_inertia`].
+    pub fn mass_coupling(&self) -> T {
+        -self.mb
+    }
+
+    /// The off-diagonal term of M_r's inverse, m b / det: 0 on the centreline.
+    #[inline(always)]
+    pub(crate) fn inv_coupling(&self) -> T {
+        self.inv_m12
+    }
+
+    /// This robot with G moved `b` (m) left of C, the mass and the inertia about G kept
+    /// ([`crate::payload`]): M_22 gains m b^2 and the mass matrix couples. `b` = 0: the
+    /// robot itself. Error naming `payload.y`: b not finite, or a singular mass matrix.
+    pub(crate) fn with_lateral_offset(mut self, b: T) -> Result<Self, ParamError> {
+        check::finite("payload.y", b)?;
+        if b == T::zero() {
+            return Ok(self);
+        }
+        let mb = self.params.mass * b;
+        self.m22 = self.m22 + mb * b;
+        let det = self.m11 * self.m22 - mb * mb;
+        if det.is_nan() || det <= T::zero() {
+            return Err(check::out_of_range("payload.y", "gives a singular mass matrix", b));
+        }
+        self.com_lateral = b;
+        self.mb = mb;
+        self.inv_m11 = self.m22 / det;
+        self.inv_m22 = self.m11 / det;
+        self.inv_m12 = mb / det;
+        Ok(self)
+    }
+
+    /// Inverse diagonal of M_r, precomputed: (1/kg, 1/(kg m^2)) (with a payload off the
+    /// centreline, the diagonal of the coupled matrix's inverse).
     #[inline(always)]
     pub(crate) fn inv_reduced_inertia(&self) -> (T, T) {
         (self.inv_m11, self.inv_m22)

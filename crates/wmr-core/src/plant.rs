@@ -12,6 +12,7 @@ use crate::kinematics;
 use crate::lane::Lane;
 use crate::math::{Pose2, Wheels};
 use crate::outcome::Termination;
+use crate::push::Pushes;
 use crate::state::{STATE_LEN, State};
 use crate::traction::{Contact, SlipExtra, Traction};
 use crate::world::World;
@@ -48,6 +49,8 @@ pub struct Plant<T> {
     /// A slip plant's [`Plant::stiffness`], 1/s, computed once for its sub-steps (zero
     /// when rolling).
     slip_stiffness: T,
+    /// The pushes ([`crate::push`]); none by default.
+    pushes: Pushes<T>,
 }
 
 impl<T: Real> Plant<T> {
@@ -72,7 +75,19 @@ impl<T: Real> Plant<T> {
             traction: Traction::Rolling,
             extra: SlipExtra::default(),
             slip_stiffness: T::zero(),
+            pushes: Pushes::default(),
         })
+    }
+
+    /// The same plant with `pushes` acting on it ([`crate::push`]).
+    pub fn with_pushes(mut self, pushes: Pushes<T>) -> Self {
+        self.pushes = pushes;
+        self
+    }
+
+    /// The pushes.
+    pub fn pushes(&self) -> &Pushes<T> {
+        &self.pushes
     }
 
     /// The same plant with `traction` ([`crate::TractionParams::validate`], built for
@@ -310,8 +325,18 @@ impl<T: Real> Plant<T> {
     /// good one and the reason is returned.
     #[inline]
     pub fn step(&mut self, t: T, dt: T) -> Result<(), Termination> {
-        if let Traction::Slip(slip) = self.traction {
+        if let Traction::Slip(mut slip) = self.traction {
             let n = self.substeps(dt).unwrap_or(MAX_SLIP_SUBSTEPS);
+            if !self.pushes.is_empty() {
+                // Each sub-step holds the pushes' mean over itself.
+                let h = dt / T::lit(f64::from(n));
+                for k in 0..n {
+                    let t_k = t + T::lit(f64::from(k)) * h;
+                    slip.set_load(self.pushes.mean_over(t_k, h));
+                    self.step_slip(&slip, t_k, h)?;
+                }
+                return Ok(());
+            }
             if n == 1 {
                 return self.step_slip(&slip, t, dt);
             }
@@ -330,8 +355,14 @@ impl<T: Real> Plant<T> {
     /// the same refusals.
     #[inline]
     pub fn rk4_step(&mut self, t: T, dt: T) -> Result<(), Termination> {
-        if let Traction::Slip(slip) = self.traction {
+        if let Traction::Slip(mut slip) = self.traction {
+            if !self.pushes.is_empty() {
+                slip.set_load(self.pushes.mean_over(t, dt));
+            }
             return self.step_slip(&slip, t, dt);
+        }
+        if !self.pushes.is_empty() {
+            self.model.set_load(self.pushes.mean_over(t, dt));
         }
         let next = if self.model.has_stiction() {
             self.advance_sticking(t, dt)

@@ -37,4 +37,8 @@ pub struct Sample<T> {
     /// sensor that estimates one (the odometry's EKF: ROS 2's `/odom` pose covariance);
     /// `None` otherwise.
     pub pose_covariance: Option<[[T; 3]; 3]>,
+    /// The disturbance observer's estimate of the disturbance torque at each wheel at
+    /// the last control tick at or before `t` (N m, [`crate::controller::observer`]);
+    /// `None` without an observer.
+    pub disturbance: Option<Wheels<T>>,
 }

@@ -148,6 +148,14 @@ impl<T: Real> TractionParams<T> {
         check::positive("stiction_length", self.stiction_length)?;
         check::finite("stiction_length", self.stiction_length)?;
         let p = robot.params();
+        if robot.com_lateral() != T::zero() {
+            // The slip equations keep G on the centreline (crate::payload).
+            return Err(check::out_of_range(
+                "payload.y",
+                "must be 0 with traction = \"slip\" (the slip plant keeps G on the centreline)",
+                robot.com_lateral(),
+            ));
+        }
         check::positive("wheel_inertia", p.wheel_inertia)?;
         check::positive("platform_inertia", p.platform_inertia)?;
         let d = p.com_offset;
@@ -278,6 +286,11 @@ struct PerNewton<T> {
 }
 
 impl<T: Real> Slip<T> {
+    /// Holds the pushes' `load` over the next step ([`crate::push`]).
+    pub(crate) fn set_load(&mut self, load: crate::push::Load<T>) {
+        self.model.set_load(load);
+    }
+
     fn new(params: TractionParams<T>, robot: &Robot<T>, world: &World<T>) -> Self {
         let p = robot.params();
         let per_degree = T::PI() / T::lit(180.0);
@@ -420,8 +433,15 @@ impl<T: Real> Slip<T> {
             f_x = f_x + gx * cos + gy * sin;
             f_y = f_y - gx * sin + gy * cos;
         }
-        let omega_dot = (self.big_r * (c.force_x.right - c.force_x.left) - self.d * (c.force_y.right + c.force_y.left))
-            * self.inv_i_g;
+        let mut moment_g =
+            self.big_r * (c.force_x.right - c.force_x.left) - self.d * (c.force_y.right + c.force_y.left);
+        if let Some(load) = self.model.load() {
+            // A push at C (crate::push): its force on the body, its moment about G.
+            f_x = f_x + load.force_x;
+            f_y = f_y + load.force_y;
+            moment_g = moment_g + (load.torque - self.d * load.force_y);
+        }
+        let omega_dot = moment_g * self.inv_i_g;
         let u_dot = f_x * self.inv_mass + omega * v_lat + omega * omega * self.d;
         let v_lat_dot = f_y * self.inv_mass - omega_dot * self.d - omega * u;
         let wheel_dot = |held: bool, tau: T, w: T, fx: T| {

@@ -504,6 +504,7 @@ fn paper_default_is_unchanged() {
             odometry: None,
             twist_demand: None,
             pose_covariance: None,
+            disturbance: None,
         });
         let dl = (goal.x - s.x).hypot_libm(goal.y - s.y);
         if dl < ARRIVAL_RADIUS_M {

@@ -11,7 +11,7 @@
 #include <stddef.h>
 
 // Version of this C API: changes whenever a struct, a storage size or a signature does.
-#define WMR_ABI_VERSION 5
+#define WMR_ABI_VERSION 6
 
 // Alignment, bytes, of every storage struct (they are arrays of `uint64_t`).
 #define WMR_STORAGE_ALIGN 8
@@ -85,10 +85,10 @@
 #define WMR_DRIVE_F64_WORDS 12
 
 // Words of a plant, `wmr_plant_f32`.
-#define WMR_PLANT_F32_WORDS 48
+#define WMR_PLANT_F32_WORDS 104
 
 // Words of a plant, `wmr_plant_f64`.
-#define WMR_PLANT_F64_WORDS 96
+#define WMR_PLANT_F64_WORDS 192
 
 // Words of a sensor, `wmr_sensor_f32` (perfect, pose or odometry sensor).
 #define WMR_SENSOR_F32_WORDS 144
@@ -110,58 +110,58 @@
 #define WMR_REFERENCE_F64_WORDS 2432
 
 // Words (8 bytes each) of `wmr_paper_controller_f32`: the law `paper` with its wheel stage.
-#define WMR_PAPER_CONTROLLER_F32_WORDS 40
+#define WMR_PAPER_CONTROLLER_F32_WORDS 48
 
 // Words (8 bytes each) of `wmr_paper_controller_f64`: the law `paper` with its wheel stage.
-#define WMR_PAPER_CONTROLLER_F64_WORDS 72
+#define WMR_PAPER_CONTROLLER_F64_WORDS 88
 
 // Words (8 bytes each) of `wmr_paper_bidirectional_controller_f32`: the law `paper_bidirectional` with its wheel stage.
-#define WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F32_WORDS 40
+#define WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F32_WORDS 48
 
 // Words (8 bytes each) of `wmr_paper_bidirectional_controller_f64`: the law `paper_bidirectional` with its wheel stage.
-#define WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F64_WORDS 72
+#define WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F64_WORDS 88
 
 // Words (8 bytes each) of `wmr_polar_controller_f32`: the law `polar` with its wheel stage.
-#define WMR_POLAR_CONTROLLER_F32_WORDS 32
+#define WMR_POLAR_CONTROLLER_F32_WORDS 40
 
 // Words (8 bytes each) of `wmr_polar_controller_f64`: the law `polar` with its wheel stage.
-#define WMR_POLAR_CONTROLLER_F64_WORDS 64
+#define WMR_POLAR_CONTROLLER_F64_WORDS 80
 
 // Words (8 bytes each) of `wmr_lyapunov_controller_f32`: the law `lyapunov` with its wheel stage.
-#define WMR_LYAPUNOV_CONTROLLER_F32_WORDS 32
+#define WMR_LYAPUNOV_CONTROLLER_F32_WORDS 40
 
 // Words (8 bytes each) of `wmr_lyapunov_controller_f64`: the law `lyapunov` with its wheel stage.
-#define WMR_LYAPUNOV_CONTROLLER_F64_WORDS 64
+#define WMR_LYAPUNOV_CONTROLLER_F64_WORDS 80
 
 // Words (8 bytes each) of `wmr_graceful_controller_f32`: the law `graceful` with its wheel stage.
 #define WMR_GRACEFUL_CONTROLLER_F32_WORDS 40
 
 // Words (8 bytes each) of `wmr_graceful_controller_f64`: the law `graceful` with its wheel stage.
-#define WMR_GRACEFUL_CONTROLLER_F64_WORDS 72
+#define WMR_GRACEFUL_CONTROLLER_F64_WORDS 80
 
 // Words (8 bytes each) of `wmr_mppi_controller_f32`: the law `mppi` with its wheel stage.
-#define WMR_MPPI_CONTROLLER_F32_WORDS 112
+#define WMR_MPPI_CONTROLLER_F32_WORDS 120
 
 // Words (8 bytes each) of `wmr_mppi_controller_f64`: the law `mppi` with its wheel stage.
-#define WMR_MPPI_CONTROLLER_F64_WORDS 216
+#define WMR_MPPI_CONTROLLER_F64_WORDS 232
 
 // Words (8 bytes each) of `wmr_kanayama_controller_f32`: the law `kanayama` with its wheel stage.
-#define WMR_KANAYAMA_CONTROLLER_F32_WORDS 32
+#define WMR_KANAYAMA_CONTROLLER_F32_WORDS 40
 
 // Words (8 bytes each) of `wmr_kanayama_controller_f64`: the law `kanayama` with its wheel stage.
-#define WMR_KANAYAMA_CONTROLLER_F64_WORDS 56
+#define WMR_KANAYAMA_CONTROLLER_F64_WORDS 72
 
 // Words (8 bytes each) of `wmr_backstepping_controller_f32`: the law `backstepping` with its wheel stage.
-#define WMR_BACKSTEPPING_CONTROLLER_F32_WORDS 40
+#define WMR_BACKSTEPPING_CONTROLLER_F32_WORDS 48
 
 // Words (8 bytes each) of `wmr_backstepping_controller_f64`: the law `backstepping` with its wheel stage.
-#define WMR_BACKSTEPPING_CONTROLLER_F64_WORDS 72
+#define WMR_BACKSTEPPING_CONTROLLER_F64_WORDS 88
 
 // Words (8 bytes each) of `wmr_pure_pursuit_controller_f32`: the law `pure_pursuit` with its wheel stage.
-#define WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS 40
+#define WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS 48
 
 // Words (8 bytes each) of `wmr_pure_pursuit_controller_f64`: the law `pure_pursuit` with its wheel stage.
-#define WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS 80
+#define WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS 88
 
 // What a call did. `WMR_OK` is 0; every other value is an error.
 enum wmr_status

@@ -5,11 +5,11 @@
 
 use serde::Deserialize;
 use toml::{Table, Value};
-use wmr_core::{ControllerParams, DriveParams, LawParams, RobotParams, WheelStageParams};
+use wmr_core::{ControllerParams, DisturbanceObserverParams, DriveParams, LawParams, RobotParams, WheelStageParams};
 
 use crate::error::ScenarioError;
 use crate::keys::{
-    fields_of, fields_read_by, join, kind_of, overlay, overlay_table, read_with, to_table, unknown_key,
+    fields_of, fields_read_by, join, kind_of, overlay, overlay_table, read_with, to_table, toml_f64, unknown_key,
     write_keys_noted,
 };
 
@@ -37,7 +37,23 @@ pub fn controller_keys(kind: &str) -> Vec<String> {
     keys.extend(to_table(&WheelStageParams::<f64>::default()).keys().cloned());
     keys.push("control_dt".to_owned());
     keys.push("model".to_owned());
+    keys.push("observer".to_owned());
     keys
+}
+
+/// The `kind` names of `[controller.observer]`.
+pub const OBSERVER_KINDS: [&str; 1] = ["disturbance"];
+
+/// `[controller.observer]` (or `observer = { .. }` inline) at `path`
+/// (`controller.observer`): `kind = "disturbance"` (the default) and its keys
+/// ([`DisturbanceObserverParams`]); the build checks the values (`path.bandwidth`).
+fn resolve_observer(given: Value, path: &str) -> Result<DisturbanceObserverParams<f64>, ScenarioError> {
+    let Value::Table(mut table) = given else {
+        return Err(ScenarioError::new(path, format!("expected a table, got {}", given.type_str())));
+    };
+    kind_of(&table, path, OBSERVER_KINDS[0], &OBSERVER_KINDS)?;
+    table.remove("kind");
+    overlay(&DisturbanceObserverParams::<f64>::default(), &table, path)
 }
 
 /// A law's keys and defaults as a table, without `kind`.
@@ -65,6 +81,7 @@ pub fn resolve(
     let wheels_default = WheelStageParams::for_drive(drive, model);
     let wheel_defaults = to_table(&wheels_default);
     let (mut law_given, mut wheels_given, mut control_dt) = (Table::new(), Table::new(), None);
+    let mut observer = None;
     for (k, v) in given {
         if k == "kind" {
             continue;
@@ -74,6 +91,8 @@ pub fn resolve(
             wheels_given.insert(k.clone(), v.clone());
         } else if k == "control_dt" {
             control_dt = Some(v.clone());
+        } else if k == "observer" {
+            observer = Some(resolve_observer(v.clone(), &join(path, "observer"))?);
         } else {
             let accepted = controller_keys(kind);
             return Err(unknown_key(path, k, accepted.iter().map(String::as_str)));
@@ -86,7 +105,7 @@ pub fn resolve(
         None => ControllerParams::<f64>::default_control_dt(),
         Some(v) => read_with(&join(path, "control_dt"), v, |d| f64::deserialize(d))?,
     };
-    Ok(ControllerParams { law, wheels, control_dt })
+    Ok(ControllerParams { law, wheels, control_dt, observer })
 }
 
 /// The `[controller]` table's lines, every key written: `kind`, the law's keys, the
@@ -101,6 +120,13 @@ pub fn write(params: &ControllerParams<f64>, out: &mut String, note: impl Fn(&st
     t.clear();
     t.insert("control_dt".to_owned(), Value::Float(params.control_dt));
     write_keys_noted(out, &t, &[], &note);
+    if let Some(o) = &params.observer {
+        let line = format!("observer = {{ kind = \"{}\", bandwidth = {} }}", OBSERVER_KINDS[0], toml_f64(o.bandwidth));
+        match note("observer") {
+            Some(n) => out.push_str(&format!("{line:<32}# {n}\n")),
+            None => out.push_str(&format!("{line}\n")),
+        }
+    }
 }
 
 /// [`write`] for `wmr-cli check`: each key noted by `note` (where its value came from),

@@ -103,7 +103,7 @@ impl SweepSpec {
         let mut drawn = None;
         let exact = kernel == Kernel::Exact || self.tracking.is_some() || self.variation.has_draws() || {
             let setup = self.setup_of(sim, first, &mut drawn)?;
-            !setup.sensor_is_perfect() || setup.slips() || setup.robot.has_stiction()
+            !setup.sensor_is_perfect() || setup.slips() || setup.robot.has_stiction() || !setup.pushes.is_empty()
         };
         if !exact {
             return self.run_lanes(sim, kernel, first..end, done, stop);
@@ -195,6 +195,7 @@ impl Scenario {
                 || !self.setup().sensor_is_perfect()
                 || self.setup().slips()
                 || self.setup().robot.has_stiction()
+                || !self.setup().pushes.is_empty()
             {
                 return one_by_one(first..end, done, stop, |i, poll| {
                     Ok(match self.try_run_as(i, i as u64 + stream_offset, |_| ControlFlow::Continue(()), poll)? {

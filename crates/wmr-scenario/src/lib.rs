@@ -70,9 +70,10 @@ pub use files::{AllowedBy, FileAccess};
 pub use memory::{Headroom, available_memory_bytes, memory_headroom};
 pub use output::{
     COMMAND_COLUMNS, COMMAND_UNITS, CONTACT_COLUMNS, CONTACT_UNITS, CSV_COLUMNS, ColumnGroup, Columns,
-    MEASURED_COLUMNS, MEASURED_UNITS, ODOMETRY_COLUMNS, ODOMETRY_UNITS, OdometryDrift, REFERENCE_COLUMNS,
-    REFERENCE_UNITS, RunResult, SAMPLE_COLUMNS, SAMPLE_UNITS, Sink, SinkError, command_values, contact_values,
-    measured_values, odometry_values, reference_values, sample_values,
+    DISTURBANCE_COLUMNS, DISTURBANCE_UNITS, MEASURED_COLUMNS, MEASURED_UNITS, ODOMETRY_COLUMNS, ODOMETRY_UNITS,
+    OdometryDrift, REFERENCE_COLUMNS, REFERENCE_UNITS, RunResult, SAMPLE_COLUMNS, SAMPLE_UNITS, Sink, SinkError,
+    command_values, contact_values, disturbance_values, measured_values, odometry_values, reference_values,
+    sample_values,
 };
 pub use read::{MAX_FILE_BYTES, default_name, read_text};
 pub use run::RunSpec;

@@ -186,6 +186,21 @@ pub fn command_values(s: &Sample<f64>) -> [f64; 2] {
     s.twist_demand.map_or([f64::NAN; 2], |t| [t.v, t.omega])
 }
 
+/// The columns a run with a disturbance observer (`[controller.observer]`) adds after
+/// the others: its estimate of the disturbance torque at each wheel at the last control
+/// tick (N m, `wmr_core::controller::observer`).
+pub const DISTURBANCE_COLUMNS: [&str; 2] = ["tau_dist_r", "tau_dist_l"];
+
+/// The unit of each of [`DISTURBANCE_COLUMNS`], in order.
+pub const DISTURBANCE_UNITS: [&str; DISTURBANCE_COLUMNS.len()] = ["N m", "N m"];
+
+/// A sample's values in [`DISTURBANCE_COLUMNS`] order (NaN for a sample without an
+/// estimate, which a run carrying the group never hands out).
+#[inline]
+pub fn disturbance_values(s: &Sample<f64>) -> [f64; 2] {
+    s.disturbance.map_or([f64::NAN; 2], |d| [d.right, d.left])
+}
+
 /// One group of columns a run's output may carry; [`ColumnGroup::ALL`] is their order in
 /// the CSV (and so in `wmr.Sample` and Python's tables).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -202,12 +217,21 @@ pub enum ColumnGroup {
     Reference,
     /// [`COMMAND_COLUMNS`]: runs whose law demands a twist.
     Command,
+    /// [`DISTURBANCE_COLUMNS`]: runs with a disturbance observer.
+    Disturbance,
 }
 
 impl ColumnGroup {
     /// Every group, in CSV order.
-    pub const ALL: [Self; 6] =
-        [Self::Sample, Self::Measured, Self::Odometry, Self::Contact, Self::Reference, Self::Command];
+    pub const ALL: [Self; 7] = [
+        Self::Sample,
+        Self::Measured,
+        Self::Odometry,
+        Self::Contact,
+        Self::Reference,
+        Self::Command,
+        Self::Disturbance,
+    ];
 
     /// The group's column names, in order.
     pub fn names(self) -> &'static [&'static str] {
@@ -218,6 +242,7 @@ impl ColumnGroup {
             Self::Contact => &CONTACT_COLUMNS,
             Self::Reference => &REFERENCE_COLUMNS,
             Self::Command => &COMMAND_COLUMNS,
+            Self::Disturbance => &DISTURBANCE_COLUMNS,
         }
     }
 
@@ -230,6 +255,7 @@ impl ColumnGroup {
             Self::Contact => &CONTACT_UNITS,
             Self::Reference => &REFERENCE_UNITS,
             Self::Command => &COMMAND_UNITS,
+            Self::Disturbance => &DISTURBANCE_UNITS,
         }
     }
 
@@ -242,6 +268,7 @@ impl ColumnGroup {
             Self::Contact => "contact",
             Self::Reference => "reference",
             Self::Command => "command",
+            Self::Disturbance => "disturbance",
         }
     }
 
@@ -254,6 +281,7 @@ impl ColumnGroup {
             Self::Contact => "a run whose wheels slip ([robot] traction = \"slip\")",
             Self::Reference => "a tracking run (a scenario with a [reference])",
             Self::Command => "a run whose law demands a twist (not paper, paper_bidirectional, backstepping)",
+            Self::Disturbance => "a run with a disturbance observer ([controller.observer])",
         }
     }
 }
@@ -274,6 +302,8 @@ pub struct Columns {
     pub reference: Option<RunReference>,
     /// The law's twist demand ([`COMMAND_COLUMNS`]).
     pub command: bool,
+    /// The disturbance observer's estimate ([`DISTURBANCE_COLUMNS`]).
+    pub disturbance: bool,
 }
 
 impl Columns {
@@ -286,6 +316,7 @@ impl Columns {
             ColumnGroup::Contact => self.contact,
             ColumnGroup::Reference => self.reference.is_some(),
             ColumnGroup::Command => self.command,
+            ColumnGroup::Disturbance => self.disturbance,
         }
     }
 
@@ -320,6 +351,7 @@ impl Columns {
             .chain(self.contact.then(|| contact_values(s)).into_iter().flatten())
             .chain(self.reference.as_ref().map(|r| reference_values(&r.state_at(s.t))).into_iter().flatten())
             .chain(self.command.then(|| command_values(s)).into_iter().flatten())
+            .chain(self.disturbance.then(|| disturbance_values(s)).into_iter().flatten())
     }
 }
 

@@ -534,7 +534,7 @@ impl Scenario {
         let s = &self.setup;
         let described = TRACTION_KEYS.iter().any(|k| self.origins.of("robot", k) != "default");
         let rolling =
-            (described && !lp.plant().slips()).then(|| RollingTraction::new(&s.robot, &s.world, &s.traction_params));
+            (described && !lp.plant().slips()).then(|| RollingTraction::new(&s.truth, &s.world, &s.traction_params));
         let mut traction = TractionWatch::default();
         let mut sink = sink;
         let sink = |sample: &Sample<f64>| {
@@ -654,6 +654,21 @@ impl Scenario {
         }
         let _ = writeln!(o, "\n[world]");
         write_keys_noted(&mut o, &to_table(setup.world.params()), fields_of::<WorldParams<f64>>(), noted("world"));
+        if setup.payload.is_some() {
+            let _ = writeln!(o, "\n[world.payload]");
+            write_keys(&mut o, &to_table(setup.payload.params()), fields_of::<wmr_core::PayloadParams<f64>>());
+        }
+        for p in setup.pushes.as_slice() {
+            let _ = writeln!(
+                o,
+                "\n[[world.push]]\nt = {}\nduration = {}\nforce = {{ x = {}, y = {} }}\ntorque = {}",
+                f(p.t),
+                f(p.duration),
+                f(p.force_x),
+                f(p.force_y),
+                f(p.torque)
+            );
+        }
         if let Some(tr) = &self.tracking {
             let _ = writeln!(o, "\n[reference]");
             let (table, order) = crate::reference::filled(&tr.reference);
@@ -724,6 +739,7 @@ impl Columns {
             contact: setup.slips(),
             reference: scenario.tracking().map(|t| t.reference.built.clone()),
             command: scenario.controller().law.twist_demand(),
+            disturbance: scenario.controller().observer.is_some(),
         }
     }
 }

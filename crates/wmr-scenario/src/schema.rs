@@ -81,6 +81,60 @@ const MODEL: ParamField = ParamField {
     rule: "[robot] keys",
 };
 
+/// `[controller.observer]`'s `kind`, written `observer.kind` in the `[controller]` tables.
+const OBSERVER_KIND: ParamField = ParamField {
+    name: "observer.kind",
+    ty: "string",
+    unit: "",
+    doc: "[controller.observer] (or observer = { .. } inline): \"disturbance\", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).",
+    rule: "\"disturbance\"",
+};
+
+/// The keys of one `[[world.push]]` (`wmr_core::push`), written `push.<key>` in the
+/// `[world]` tables.
+const PUSH_KEYS: [(ParamField, Option<&str>); 4] = [
+    (
+        ParamField {
+            name: "push.t",
+            ty: "T",
+            unit: "s",
+            doc: "[[world.push]]: when the push starts.",
+            rule: "required, >= 0",
+        },
+        None,
+    ),
+    (
+        ParamField {
+            name: "push.duration",
+            ty: "T",
+            unit: "s",
+            doc: "[[world.push]]: how long it lasts (pushes may overlap; they add).",
+            rule: "required, > 0",
+        },
+        None,
+    ),
+    (
+        ParamField {
+            name: "push.force",
+            ty: "table",
+            unit: "N",
+            doc: "[[world.push]]: the force at C, body frame (x forward, y left); the rolling plant's wheels take y.",
+            rule: "{ x, y }, finite",
+        },
+        Some("{ x = 0.0, y = 0.0 }"),
+    ),
+    (
+        ParamField {
+            name: "push.torque",
+            ty: "T",
+            unit: "N m",
+            doc: "[[world.push]]: the torque about the vertical (counter-clockwise +).",
+            rule: "finite",
+        },
+        Some("0.0"),
+    ),
+];
+
 /// The `kind` key of a tagged table whose kinds are `kinds` (the first the default).
 fn kind_key(table: &'static str, doc: &'static str, kinds: &[&'static str]) -> SchemaKey {
     let quoted: Vec<String> = kinds.iter().map(|k| format!("\"{k}\"")).collect();
@@ -165,9 +219,34 @@ pub fn schema() -> Vec<SchemaKey> {
     let control_dt = Value::Float(wmr_core::ControllerParams::<f64>::default_control_dt());
     out.push(SchemaKey::described("controller", None, &CONTROL_DT, Some(control_dt)));
     out.push(SchemaKey::described("controller", None, &MODEL, None));
+    // `[controller.observer]`, written `observer.bandwidth` and so on in `[controller]`.
+    out.push(SchemaKey::described("controller", None, &OBSERVER_KIND, Some(Value::String("disturbance".to_owned()))));
+    let observer = wmr_core::DisturbanceObserverParams::<f64>::default();
+    out.extend(declared("controller", None, wmr_core::DisturbanceObserverParams::<f64>::FIELDS, &observer).map(
+        |mut k| {
+            k.key = "observer.bandwidth";
+            k
+        },
+    ));
     out.extend(declared("sensor", None, SensorParams::<f64>::FIELDS, &SensorParams::<f64>::default()));
     out.extend(declared("sensor", None, OdometryParams::<f64>::FIELDS, &OdometryParams::<f64>::default()));
     out.extend(declared("world", None, WorldParams::<f64>::FIELDS, &WorldParams::<f64>::default()));
+    // `[world.payload]`, written `payload.mass` and so on (TOML's dotted keys) in `[world]`.
+    out.extend(
+        declared("world", None, wmr_core::PayloadParams::<f64>::FIELDS, &wmr_core::PayloadParams::<f64>::default())
+            .map(|mut k| {
+                k.key = match k.key {
+                    "mass" => "payload.mass",
+                    "x" => "payload.x",
+                    _ => "payload.y",
+                };
+                k
+            }),
+    );
+    out.extend(PUSH_KEYS.iter().map(|(f, default)| {
+        let default = default.and_then(|d| toml::from_str::<toml::Table>(&format!("v = {d}")).ok()?.remove("v"));
+        SchemaKey::described("world", None, f, default)
+    }));
     out.extend(reference_keys());
     out.extend(plain("sim", fields_of::<SimFile>()));
     out.extend(plain("run", fields_of::<RunFile>()));

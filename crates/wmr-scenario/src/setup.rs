@@ -6,8 +6,9 @@
 use toml::{Table, Value};
 use wmr_core::describe::Described;
 use wmr_core::{
-    AnyLaw, AnySensor, Controller, ControllerParams, Drive, DriveParams, OdometryParams, Plant, Pose2, PoseSource,
-    Robot, RobotParams, SensorParams, Traction, TractionParams, World, WorldParams,
+    AnyLaw, AnySensor, Controller, ControllerParams, Drive, DriveParams, OdometryParams, Payload, PayloadParams, Plant,
+    Pose2, PoseSource, PushParams, Pushes, Robot, RobotParams, SensorParams, Traction, TractionParams, World,
+    WorldParams,
 };
 
 use crate::controller;
@@ -94,6 +95,73 @@ pub struct Setup {
     pub controller: ControllerParams<f64>,
     /// The controller built for the model and the drive, at t = 0.
     pub built: BuiltController,
+    /// The payload the plant carries and the controller does not know (`[world.payload]`;
+    /// none by default).
+    pub payload: Payload<f64>,
+    /// The plant's robot: `robot` carrying `payload` (`robot` itself without one).
+    pub truth: Robot<f64>,
+    /// The pushes on the plant (`[[world.push]]`; none by default).
+    pub pushes: Pushes<f64>,
+}
+
+/// One `[[world.push]]` as written.
+#[derive(Clone, Debug, Default, serde::Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+struct PushFile {
+    t: f64,
+    duration: f64,
+    #[serde(default)]
+    force: ForceFile,
+    #[serde(default)]
+    torque: f64,
+}
+
+/// `force = { x = .., y = .. }`, N, body frame.
+#[derive(Clone, Debug, Default, serde::Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+struct ForceFile {
+    #[serde(default)]
+    x: f64,
+    #[serde(default)]
+    y: f64,
+}
+
+/// `[[world.push]]`: each push read and checked; errors name `world.push[i].<key>`.
+fn resolve_pushes(given: Option<Value>) -> Result<Pushes<f64>, ScenarioError> {
+    use serde::Deserialize;
+    let list = match given {
+        None => return Ok(Pushes::default()),
+        Some(Value::Array(a)) => a,
+        Some(other) => {
+            return Err(ScenarioError::new(
+                "world.push",
+                format!("expected an array of tables ([[world.push]]), got {}", other.type_str()),
+            ));
+        }
+    };
+    let mut out = Vec::with_capacity(list.len());
+    for (i, v) in list.into_iter().enumerate() {
+        let path = format!("world.push[{i}]");
+        // A push without its start or its length is refused naming the missing key.
+        if let Value::Table(given) = &v
+            && let Some(key) = ["t", "duration"].into_iter().find(|k| !given.contains_key(*k))
+        {
+            return Err(ScenarioError::new(join(&path, key), "is required (s)"));
+        }
+        let p: PushFile = read_with(&path, v, |d| PushFile::deserialize(d))?;
+        let params =
+            PushParams { t: p.t, duration: p.duration, force_x: p.force.x, force_y: p.force.y, torque: p.torque };
+        params.validate().map_err(|e| {
+            let key = match e.field {
+                "push.force_x" => "force.x",
+                "push.force_y" => "force.y",
+                f => f.trim_start_matches("push."),
+            };
+            ScenarioError::from_param(&e, &join(&path, key))
+        })?;
+        out.push(params);
+    }
+    Pushes::new(&out).map_err(|e| ScenarioError::from_param(&e, "world.push"))
 }
 
 /// A TOML number as f64.
@@ -149,10 +217,25 @@ impl Setup {
         let robot = robot_params.validate().map_err(param_error("robot"))?;
         let drive_params = resolve_drive(&t.drive)?;
         let drive = drive_params.validate(&robot).map_err(param_error("drive"))?;
+        let mut world_keys = t.world.clone();
+        let pushes = resolve_pushes(world_keys.remove("push"))?;
+        let payload = match world_keys.remove("payload") {
+            None => Payload::none(),
+            Some(Value::Table(p)) => overlay(&PayloadParams::<f64>::default(), &p, "world.payload")?
+                .validate()
+                .map_err(param_error("world"))?,
+            Some(other) => {
+                return Err(ScenarioError::new("world.payload", format!("expected a table, got {}", other.type_str())));
+            }
+        };
         let world =
-            overlay(&WorldParams::<f64>::default(), &t.world, "world")?.validate().map_err(param_error("world"))?;
+            overlay(&WorldParams::<f64>::default(), &world_keys, "world")?.validate().map_err(param_error("world"))?;
+        let truth = payload.carried_by(&robot).map_err(param_error("world"))?;
         let traction_params = overlay(&TractionParams::<f64>::default(), &traction_keys, "robot")?;
-        let traction = traction_params.validate(&robot, &world).map_err(param_error("robot"))?;
+        let traction = traction_params.validate(&truth, &world).map_err(|e| match e.field {
+            "payload.y" => ScenarioError::from_param(&e, "world.payload.y"),
+            _ => ScenarioError::from_param(&e, &join("robot", e.field)),
+        })?;
         // `[sensor]` holds the keys of two types: the pose source's, and the sensor's.
         let (sensor, pose) = match &t.sensor {
             Some(s) => {
@@ -195,12 +278,15 @@ impl Setup {
             model,
             controller,
             built,
+            payload,
+            truth,
+            pushes,
         })
     }
 
     /// The plant at rest at `start` (m, m, rad).
     pub fn plant(&self, start: Pose2<f64>) -> Result<Plant<f64>, wmr_core::ParamError> {
-        Ok(Plant::on(self.robot, self.drive, self.world, start)?.with_traction(self.traction))
+        Ok(Plant::on(self.truth, self.drive, self.world, start)?.with_traction(self.traction).with_pushes(self.pushes))
     }
 
     /// True when the wheels slip (`robot.traction = "slip"`): outputs then carry the
@@ -239,8 +325,8 @@ impl Setup {
             // at most 1000 sub-steps at this dt, if one within a factor of 1000 does.
             let tp = &self.traction_params;
             let fits = |candidate: TractionParams<f64>| {
-                candidate.validate(&self.robot, &self.world).is_ok_and(|t| {
-                    Plant::on(self.robot, self.drive, self.world, Pose2::default())
+                candidate.validate(&self.truth, &self.world).is_ok_and(|t| {
+                    Plant::on(self.truth, self.drive, self.world, Pose2::default())
                         .is_ok_and(|p| p.with_traction(t).substeps(dt).is_some())
                 })
             };
@@ -310,7 +396,10 @@ impl Setup {
                 t
             }
             "drive" => to_table(&self.drive.params()),
-            "world" => to_table(self.world.params()),
+            "world" => match rest.strip_prefix("payload.") {
+                Some(k) => return number(to_table(self.payload.params()).get(k)?),
+                None => to_table(self.world.params()),
+            },
             "sensor" => {
                 let mut t = to_table(&self.sensor);
                 t.extend(to_table(&self.pose));

@@ -252,7 +252,8 @@ pub const SAMPLE_FIELDS: usize = wmr_scenario::SAMPLE_COLUMNS.len()
     + wmr_scenario::ODOMETRY_COLUMNS.len()
     + wmr_scenario::CONTACT_COLUMNS.len()
     + wmr_scenario::REFERENCE_COLUMNS.len()
-    + wmr_scenario::COMMAND_COLUMNS.len();
+    + wmr_scenario::COMMAND_COLUMNS.len()
+    + wmr_scenario::DISTURBANCE_COLUMNS.len();
 
 /// Every field of `wmr_msgs/Sample`: the CSV columns of every group in order, NaN for the
 /// groups `columns` does not carry.
@@ -274,6 +275,7 @@ fn all_values(s: &Sample<f64>, columns: &Columns) -> [f64; SAMPLE_FIELDS] {
         None => put(false, &[0.0; 5]),
     }
     put(columns.command, &wmr_scenario::command_values(s));
+    put(columns.disturbance, &wmr_scenario::disturbance_values(s));
     out
 }
 

@@ -28,6 +28,9 @@ pub struct ControlOutput<T> {
     /// limits), for logging (`/cmd_vel`); `None` for a law that demands wheel angles or
     /// torques ([`super::LawSpec::TWIST_DEMAND`]).
     pub twist_demand: Option<Twist2<T>>,
+    /// The disturbance observer's estimate of the disturbance torque at each wheel (N m,
+    /// [`super::observer`]), for logging; `None` without an observer.
+    pub disturbance: Option<Wheels<T>>,
 }
 
 /// The twist of a law's demand, if it is one.
@@ -48,6 +51,9 @@ pub struct ControllerParams<T> {
     pub wheels: WheelStageParams<T>,
     /// Control period, s (`control_dt`); a whole multiple of the plant step.
     pub control_dt: T,
+    /// The disturbance observer on the wheels (`[controller.observer]`), for any law;
+    /// `None` (the default): off.
+    pub observer: Option<super::observer::DisturbanceObserverParams<T>>,
 }
 
 impl<T: Real> ControllerParams<T> {
@@ -64,7 +70,7 @@ impl<T: Real> ControllerParams<T> {
 
     /// `law` with the torque drive's wheel stage defaults and the default period.
     pub fn with_law(law: LawParams<T>) -> Self {
-        Self { law, wheels: WheelStageParams::default(), control_dt: Self::default_control_dt() }
+        Self { law, wheels: WheelStageParams::default(), control_dt: Self::default_control_dt(), observer: None }
     }
 
     /// Validates everything and builds the controller for the controller's idea of the
@@ -81,7 +87,15 @@ impl<T: Real> ControllerParams<T> {
     ) -> Result<Controller<L, AnyLaw<L>>, ParamError> {
         let control_dt = check::positive("control_dt", self.control_dt)?;
         let law = self.law.build_lanes(model, control_dt)?;
-        Ok(Controller::new(law, WheelStage::for_lanes(&self.wheels, model, drive, control_dt)?))
+        let mut wheels = WheelStage::for_lanes(&self.wheels, model, drive, control_dt)?;
+        if let Some(observer) = &self.observer {
+            let named = |e: ParamError| match e.field {
+                "bandwidth" => ParamError { field: "observer.bandwidth", ..e },
+                _ => e,
+            };
+            wheels = wheels.with_observer(observer.validate(model, control_dt).map_err(named)?);
+        }
+        Ok(Controller::new(law, wheels))
     }
 }
 
@@ -117,7 +131,8 @@ impl<T: Lane, L: Law<T>> Controller<T, L> {
         self.law.wheels_saturated(self.wheels.saturated());
         let out = self.law.update(t, m, r);
         let twist_demand = twist_of(&out.demand);
-        ControlOutput { command: self.wheels.command(out.demand, m), errors: out.errors, twist_demand }
+        let command = self.wheels.command(out.demand, m);
+        ControlOutput { command, errors: out.errors, twist_demand, disturbance: self.wheels.disturbance_estimate() }
     }
 
     /// [`Controller::update`] with the reference's geometric path, for a path-following
@@ -134,7 +149,8 @@ impl<T: Lane, L: Law<T>> Controller<T, L> {
         self.law.wheels_saturated(self.wheels.saturated());
         let out = self.law.update_on_path(t, m, r, path);
         let twist_demand = twist_of(&out.demand);
-        ControlOutput { command: self.wheels.command(out.demand, m), errors: out.errors, twist_demand }
+        let command = self.wheels.command(out.demand, m);
+        ControlOutput { command, errors: out.errors, twist_demand, disturbance: self.wheels.disturbance_estimate() }
     }
 
     /// [`Law::reaches_heading`] of the law: whether its runs are judged on the heading too.

@@ -10,6 +10,7 @@
 //!   name at run time, expanded from it.
 //! - [`wheel_stage`]: the wheel servos and the curvature-keeping wheel speed limit.
 //! - [`composed`]: [`Controller`] = law + wheel stage + control period.
+//! - [`observer`]: the disturbance observer the wheel stage may carry, for every law.
 
 pub mod any;
 pub mod backstepping;
@@ -19,6 +20,7 @@ pub mod kanayama;
 pub mod law;
 pub mod lyapunov;
 pub mod mppi;
+pub mod observer;
 pub mod paper;
 pub mod paper_bidirectional;
 pub mod polar;
@@ -33,6 +35,7 @@ pub use any::{AnyLaw, LawParams};
 pub use composed::{ControlOutput, Controller, ControllerParams};
 pub use law::{ControlErrors, Follows, Law, LawOutput, LawSpec, WheelDemand};
 pub use mppi::MotionModel;
+pub use observer::{DisturbanceObserver, DisturbanceObserverParams};
 pub use paper::{AntiWindup, HoldMode, PaperMode};
 pub use polar_frame::{Direction, DirectionSelector, PolarCoordinateLaw, PolarCoords, PolarGains, Steering};
 pub use saturation::{WheelRateLimiter, limit_wheel_speeds, wheel_speed_scale};

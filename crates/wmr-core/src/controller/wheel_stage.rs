@@ -60,6 +60,7 @@
 //! there more slowly, from below.
 
 use super::law::WheelDemand;
+use super::observer::DisturbanceObserver;
 use super::saturation::{WheelRateLimiter, check_wheel_speed_max, limit_wheel_speeds_masked};
 use super::servo::{ServoGains, WheelServo};
 use crate::drive::{Drive, DriveParams};
@@ -167,6 +168,9 @@ pub struct WheelStage<T: Lane> {
     /// Where the stage saturated at the last tick, per wheel (module docs).
     saturated_right: T::Mask,
     saturated_left: T::Mask,
+    /// The disturbance observer whose estimate is subtracted from the commands
+    /// ([`super::observer`]); none by default.
+    observer: Option<DisturbanceObserver<T>>,
 }
 
 impl<T: Real> WheelStage<T> {
@@ -222,7 +226,27 @@ impl<T: Lane> WheelStage<T> {
             anti_windup: true,
             saturated_right: T::Mask::splat(false),
             saturated_left: T::Mask::splat(false),
+            observer: None,
         })
+    }
+
+    /// The stage with a disturbance observer ([`super::observer`]): each tick its estimate
+    /// of the disturbance torque at each wheel is subtracted from the commands, before the
+    /// speed guard.
+    pub fn with_observer(mut self, observer: DisturbanceObserver<T>) -> Self {
+        self.observer = Some(observer);
+        self
+    }
+
+    /// The disturbance observer, if any.
+    pub fn observer(&self) -> Option<&DisturbanceObserver<T>> {
+        self.observer.as_ref()
+    }
+
+    /// The observer's estimate of the disturbance torque at each wheel at the last tick
+    /// (N m); `None` without an observer.
+    pub fn disturbance_estimate(&self) -> Option<Wheels<T>> {
+        self.observer.as_ref().map(DisturbanceObserver::estimate)
     }
 
     /// The stage with the servos' anti-windup on or off (on after construction;
@@ -297,6 +321,20 @@ impl<T: Lane> WheelStage<T> {
         }
         let (command, limited) = self.servo_command(demand, m);
         let w = m.wheel_speeds;
+        let drive = self.drive;
+        let command = match &mut self.observer {
+            // The command moves by the command of -d_hat less the command of 0 (the
+            // drive's command is affine in the wheel torque; the torque drive: -d_hat).
+            Some(obs) => {
+                let d = obs.update(w);
+                let zero = T::default();
+                let shift = |c: T, d: T, w: T| {
+                    c + (drive.command_for_wheel_torque(-d, w) - drive.command_for_wheel_torque(zero, w))
+                };
+                Wheels::new(shift(command.right, d.right, w.right), shift(command.left, d.left, w.left))
+            }
+            None => command,
+        };
         let (command, clipped) = if Float::is_finite(self.wheel_speed_max) {
             let guarded = Wheels::new(self.guard(command.right, w.right), self.guard(command.left, w.left));
             (guarded, Wheels::new(!guarded.right.eq(command.right), !guarded.left.eq(command.left)))
@@ -306,6 +344,12 @@ impl<T: Lane> WheelStage<T> {
         };
         self.saturated_right = limited | clipped.right | self.drive.saturates(command.right, w.right);
         self.saturated_left = limited | clipped.left | self.drive.saturates(command.left, w.left);
+        if let Some(obs) = &mut self.observer {
+            obs.record(Wheels::new(
+                drive.wheel_torque(command.right, w.right),
+                drive.wheel_torque(command.left, w.left),
+            ));
+        }
         command
     }
 
@@ -383,6 +427,9 @@ impl<T: Lane> WheelStage<T> {
         let zero = T::default();
         self.last_refs =
             Wheels::new(T::select(lanes, zero, self.last_refs.right), T::select(lanes, zero, self.last_refs.left));
+        if let Some(obs) = &mut self.observer {
+            obs.reset_lanes(lanes);
+        }
     }
 }
 

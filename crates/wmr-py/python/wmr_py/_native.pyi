@@ -132,6 +132,8 @@ class PaperController:
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
         wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
+        observer.kind: str = "disturbance",  # [controller.observer] (or observer = { .. } inline): "disturbance", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).
+        observer.bandwidth: float = 50.0,  # [rad/s] g, the Q-filter's bandwidth g / (s + g): the estimate follows a step with time constant 1 / g.
         # end of generated keys
     ) -> Self: ...
     def update(
@@ -190,6 +192,8 @@ class PaperBidirectionalController:
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
         wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
+        observer.kind: str = "disturbance",  # [controller.observer] (or observer = { .. } inline): "disturbance", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).
+        observer.bandwidth: float = 50.0,  # [rad/s] g, the Q-filter's bandwidth g / (s + g): the estimate follows a step with time constant 1 / g.
         # end of generated keys
     ) -> Self: ...
     def update(
@@ -247,6 +251,8 @@ class PolarController:
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
         wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
+        observer.kind: str = "disturbance",  # [controller.observer] (or observer = { .. } inline): "disturbance", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).
+        observer.bandwidth: float = 50.0,  # [rad/s] g, the Q-filter's bandwidth g / (s + g): the estimate follows a step with time constant 1 / g.
         # end of generated keys
     ) -> Self: ...
     def update(
@@ -304,6 +310,8 @@ class LyapunovController:
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
         wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
+        observer.kind: str = "disturbance",  # [controller.observer] (or observer = { .. } inline): "disturbance", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).
+        observer.bandwidth: float = 50.0,  # [rad/s] g, the Q-filter's bandwidth g / (s + g): the estimate follows a step with time constant 1 / g.
         # end of generated keys
     ) -> Self: ...
     def update(
@@ -367,6 +375,8 @@ class GracefulController:
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
         wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
+        observer.kind: str = "disturbance",  # [controller.observer] (or observer = { .. } inline): "disturbance", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).
+        observer.bandwidth: float = 50.0,  # [rad/s] g, the Q-filter's bandwidth g / (s + g): the estimate follows a step with time constant 1 / g.
         # end of generated keys
     ) -> Self: ...
     def update(
@@ -447,6 +457,8 @@ class MppiController:
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
         wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
+        observer.kind: str = "disturbance",  # [controller.observer] (or observer = { .. } inline): "disturbance", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).
+        observer.bandwidth: float = 50.0,  # [rad/s] g, the Q-filter's bandwidth g / (s + g): the estimate follows a step with time constant 1 / g.
         # end of generated keys
     ) -> Self: ...
     def update(
@@ -501,6 +513,8 @@ class KanayamaController:
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
         wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
+        observer.kind: str = "disturbance",  # [controller.observer] (or observer = { .. } inline): "disturbance", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).
+        observer.bandwidth: float = 50.0,  # [rad/s] g, the Q-filter's bandwidth g / (s + g): the estimate follows a step with time constant 1 / g.
         # end of generated keys
     ) -> Self: ...
     def update(
@@ -556,6 +570,8 @@ class BacksteppingController:
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
         wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
+        observer.kind: str = "disturbance",  # [controller.observer] (or observer = { .. } inline): "disturbance", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).
+        observer.bandwidth: float = 50.0,  # [rad/s] g, the Q-filter's bandwidth g / (s + g): the estimate follows a step with time constant 1 / g.
         # end of generated keys
     ) -> Self: ...
     def update(
@@ -623,6 +639,8 @@ class PurePursuitController:
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
         wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
+        observer.kind: str = "disturbance",  # [controller.observer] (or observer = { .. } inline): "disturbance", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).
+        observer.bandwidth: float = 50.0,  # [rad/s] g, the Q-filter's bandwidth g / (s + g): the estimate follows a step with time constant 1 / g.
         # end of generated keys
     ) -> Self: ...
     def update(
@@ -813,6 +831,12 @@ class RunResult:
     @property
     def omega_cmd(self) -> _FloatArray:
         """Run whose law demands a twist only, rad/s."""
+    @property
+    def tau_dist_r(self) -> _FloatArray:
+        """Run with a disturbance observer only (AttributeError otherwise), N m."""
+    @property
+    def tau_dist_l(self) -> _FloatArray:
+        """Run with a disturbance observer only, N m."""
     @property
     def column_names(self) -> list[str]:
         """The run's columns in CSV order (the measured pose always)."""

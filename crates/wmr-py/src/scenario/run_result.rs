@@ -42,8 +42,13 @@ pub const RESULT_UNITS: [&str; N_ALL] = {
 
 /// The column groups a RunResult may have after [`RESULT_COLUMNS`], in CSV order: each
 /// only on the runs whose CSV has it ([`ColumnGroup::carried_by`]).
-const OPTIONAL_GROUPS: [ColumnGroup; 4] =
-    [ColumnGroup::Odometry, ColumnGroup::Contact, ColumnGroup::Reference, ColumnGroup::Command];
+const OPTIONAL_GROUPS: [ColumnGroup; 5] = [
+    ColumnGroup::Odometry,
+    ColumnGroup::Contact,
+    ColumnGroup::Reference,
+    ColumnGroup::Command,
+    ColumnGroup::Disturbance,
+];
 
 /// The optional group that has column `name`, if any.
 fn optional_group(name: &str) -> Option<ColumnGroup> {
@@ -311,6 +316,9 @@ pub fn add_column_properties(cls: &Bound<'_, pyo3::types::PyType>) -> PyResult<(
                 ColumnGroup::Odometry => "the pose dead-reckoned from the encoders at the controller's last tick",
                 ColumnGroup::Contact => "the wheels' contact with the ground",
                 ColumnGroup::Command => "the twist the law demanded at its last tick (ROS 2's /cmd_vel)",
+                ColumnGroup::Disturbance => {
+                    "the disturbance observer's estimate of the disturbance torque at the wheel"
+                }
                 _ => "the reference at each sample's t",
             };
             let doc =
