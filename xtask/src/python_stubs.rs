@@ -36,7 +36,8 @@ fn py_value(v: &toml::Value) -> (&'static str, String) {
 
 /// The schema keys a stub class takes: the table's keys for every kind and for its own.
 /// Python's `Robot` is the core's `RobotParams`: the traction keys of `[robot]`
-/// (`wmr_core::TractionParams`, wheels that slip) are read by scenarios only.
+/// (`wmr_core::TractionParams`, wheels that slip) are read by scenarios only; a
+/// sub-table's keys (`observer.bandwidth`, `[controller.observer]`) are not keywords.
 pub fn class_keys(keys: &[SchemaKey], table: &str, kind: Option<&str>) -> Vec<SchemaKey> {
     let traction = |k: &SchemaKey| {
         k.table == "robot"
@@ -44,7 +45,7 @@ pub fn class_keys(keys: &[SchemaKey], table: &str, kind: Option<&str>) -> Vec<Sc
     };
     keys.iter()
         .filter(|k| k.table == table && !matches!(k.key, "kind" | "model") && (k.kind.is_none() || k.kind == kind))
-        .filter(|k| !traction(k))
+        .filter(|k| !traction(k) && !k.key.contains('.'))
         .cloned()
         .collect()
 }

@@ -379,13 +379,15 @@ fn issue25_10_overwritten_bodies_are_refused() {
     }
     // SAFETY: filled by init.
     let mut plant = unsafe { plant.assume_init() };
-    // The plant's x, then y: find them by their bits (the layout is the library's).
-    let at = plant
-        .opaque
-        .windows(2)
-        .position(|w| w == [0.3f64.to_bits(), (-0.2f64).to_bits()])
-        .expect("the start pose in the plant's words");
-    plant.opaque[at] = f64::NAN.to_bits();
+    // The plant's x, then y: find them by their bits (the layout is the library's). Every
+    // such pair: the plant may keep the start pose beside its state.
+    let pairs: Vec<usize> = (0..plant.opaque.len() - 1)
+        .filter(|&i| plant.opaque[i..i + 2] == [0.3f64.to_bits(), (-0.2f64).to_bits()])
+        .collect();
+    assert!(!pairs.is_empty(), "the start pose in the plant's words");
+    for at in pairs {
+        plant.opaque[at] = f64::NAN.to_bits();
+    }
     // SAFETY: valid pointers.
     unsafe {
         assert_eq!(wmr_plant_f64_step(&mut *plant, 0.0, 1e-3), wmr_status::WMR_CORRUPTED);

@@ -32,7 +32,8 @@ SAMPLE_FIELDS = (
     "x_meas y_meas theta_meas x_odom y_odom theta_odom "
     "slip_r slip_l v_lat fx_r fx_l fy_r fy_l n_r n_l "
     "x_ref y_ref theta_ref v_ref omega_ref "
-    "v_cmd omega_cmd"
+    "v_cmd omega_cmd "
+    "tau_dist_r tau_dist_l"
 ).split()
 
 PER_SAMPLE = ("tf", "odom", "joint_states", "wmr/sample")

@@ -132,8 +132,6 @@ class PaperController:
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
         wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
-        observer.kind: str = "disturbance",  # [controller.observer] (or observer = { .. } inline): "disturbance", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).
-        observer.bandwidth: float = 50.0,  # [rad/s] g, the Q-filter's bandwidth g / (s + g): the estimate follows a step with time constant 1 / g.
         # end of generated keys
     ) -> Self: ...
     def update(
@@ -192,8 +190,6 @@ class PaperBidirectionalController:
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
         wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
-        observer.kind: str = "disturbance",  # [controller.observer] (or observer = { .. } inline): "disturbance", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).
-        observer.bandwidth: float = 50.0,  # [rad/s] g, the Q-filter's bandwidth g / (s + g): the estimate follows a step with time constant 1 / g.
         # end of generated keys
     ) -> Self: ...
     def update(
@@ -251,8 +247,6 @@ class PolarController:
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
         wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
-        observer.kind: str = "disturbance",  # [controller.observer] (or observer = { .. } inline): "disturbance", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).
-        observer.bandwidth: float = 50.0,  # [rad/s] g, the Q-filter's bandwidth g / (s + g): the estimate follows a step with time constant 1 / g.
         # end of generated keys
     ) -> Self: ...
     def update(
@@ -310,8 +304,6 @@ class LyapunovController:
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
         wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
-        observer.kind: str = "disturbance",  # [controller.observer] (or observer = { .. } inline): "disturbance", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).
-        observer.bandwidth: float = 50.0,  # [rad/s] g, the Q-filter's bandwidth g / (s + g): the estimate follows a step with time constant 1 / g.
         # end of generated keys
     ) -> Self: ...
     def update(
@@ -375,8 +367,6 @@ class GracefulController:
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
         wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
-        observer.kind: str = "disturbance",  # [controller.observer] (or observer = { .. } inline): "disturbance", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).
-        observer.bandwidth: float = 50.0,  # [rad/s] g, the Q-filter's bandwidth g / (s + g): the estimate follows a step with time constant 1 / g.
         # end of generated keys
     ) -> Self: ...
     def update(
@@ -457,8 +447,6 @@ class MppiController:
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
         wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
-        observer.kind: str = "disturbance",  # [controller.observer] (or observer = { .. } inline): "disturbance", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).
-        observer.bandwidth: float = 50.0,  # [rad/s] g, the Q-filter's bandwidth g / (s + g): the estimate follows a step with time constant 1 / g.
         # end of generated keys
     ) -> Self: ...
     def update(
@@ -513,8 +501,6 @@ class KanayamaController:
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
         wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
-        observer.kind: str = "disturbance",  # [controller.observer] (or observer = { .. } inline): "disturbance", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).
-        observer.bandwidth: float = 50.0,  # [rad/s] g, the Q-filter's bandwidth g / (s + g): the estimate follows a step with time constant 1 / g.
         # end of generated keys
     ) -> Self: ...
     def update(
@@ -570,8 +556,6 @@ class BacksteppingController:
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
         wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
-        observer.kind: str = "disturbance",  # [controller.observer] (or observer = { .. } inline): "disturbance", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).
-        observer.bandwidth: float = 50.0,  # [rad/s] g, the Q-filter's bandwidth g / (s + g): the estimate follows a step with time constant 1 / g.
         # end of generated keys
     ) -> Self: ...
     def update(
@@ -639,8 +623,6 @@ class PurePursuitController:
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.
         wheel_speed_max: float = math.inf,  # [rad/s] Per-wheel speed limit (inf: off), on the references with the curvature kept.
         control_dt: float = 0.001,  # [s] Control period: the law, the servos and the sensor tick at this rate.
-        observer.kind: str = "disturbance",  # [controller.observer] (or observer = { .. } inline): "disturbance", a disturbance observer on the wheels whose estimate is subtracted from the commands (any law; no table: off).
-        observer.bandwidth: float = 50.0,  # [rad/s] g, the Q-filter's bandwidth g / (s + g): the estimate follows a step with time constant 1 / g.
         # end of generated keys
     ) -> Self: ...
     def update(
