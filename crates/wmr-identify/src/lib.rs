@@ -2,7 +2,7 @@
 //! and a DC motor's constants, by linear least squares on the model's own equations (15).
 //!
 //! A log is a [`Table`] of named, time-stamped columns (read from CSV, or from a ROS 2
-//! MCAP by [`ros2::log`]), checked into a [`Log`], and fitted by [`fit()`]. [`file`] is
+//! MCAP by [`ros2::log`]), checked into a [`Log`], and fitted by [`fit()`]. [`file`](mod@file) is
 //! the whole of `wmr-cli identify` short of its arguments: a log file in, a robot file
 //! (and a C header) out, in a library so that a Python `identify` can give the same file
 //! bit for bit.
