@@ -326,12 +326,16 @@ impl<T: Lane> WheelStage<T> {
             // The command moves by the command of -d_hat less the command of 0 (the
             // drive's command is affine in the wheel torque; the torque drive: -d_hat).
             Some(obs) => {
+                // Written out, not a closure: the lanes' kernel must hold no out-of-line
+                // call at every step (scripts/check-kernel), and a closure may not inline.
                 let d = obs.update(w);
                 let zero = T::default();
-                let shift = |c: T, d: T, w: T| {
-                    c + (drive.command_for_wheel_torque(-d, w) - drive.command_for_wheel_torque(zero, w))
-                };
-                Wheels::new(shift(command.right, d.right, w.right), shift(command.left, d.left, w.left))
+                let right = command.right
+                    + (drive.command_for_wheel_torque(-d.right, w.right)
+                        - drive.command_for_wheel_torque(zero, w.right));
+                let left = command.left
+                    + (drive.command_for_wheel_torque(-d.left, w.left) - drive.command_for_wheel_torque(zero, w.left));
+                Wheels::new(right, left)
             }
             None => command,
         };
