@@ -64,7 +64,7 @@ pub fn c_type(ty: &'static str) -> (&'static str, &'static str) {
         "AntiWindup" => ("u32", "`WMR_ANTI_WINDUP_OFF` or `WMR_ANTI_WINDUP_CONDITIONAL`"),
         "PoseSource" => ("u32", "`WMR_POSE_ABSOLUTE` or `WMR_POSE_ODOMETRY`"),
         "TractionKind" => ("u32", "`WMR_TRACTION_ROLLING` or `WMR_TRACTION_SLIP`"),
-        "MotionModel" => ("u32", "`WMR_MOTION_MODEL_KINEMATIC`"),
+        "MotionModel" => ("u32", "`WMR_MOTION_MODEL_KINEMATIC` or `WMR_MOTION_MODEL_DYNAMIC`"),
         other => (other, ""),
     }
 }

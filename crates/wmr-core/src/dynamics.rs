@@ -183,7 +183,7 @@ impl<T: Real> Model<T> {
     /// omega still gives NaN through b_v omega (0 * inf = NaN). Deciding it once per step
     /// rather than per call keeps the four RK4 stages free of branches.
     #[inline(always)]
-    fn friction_torque_with<L: Lane<Scalar = T>, const COULOMB: bool>(&self, omega_wheel: L) -> L {
+    pub(crate) fn friction_torque_with<L: Lane<Scalar = T>, const COULOMB: bool>(&self, omega_wheel: L) -> L {
         let viscous = L::splat(self.b_v) * omega_wheel;
         if COULOMB { viscous + L::splat(self.tau_c) * (omega_wheel / L::splat(self.omega_eps)).tanh() } else { viscous }
     }

@@ -8,6 +8,7 @@
 //! - the optimal sequence's cost falling as iterations are added;
 //! - bad keys refused, naming the key; a goal reached in f32 and f64.
 
+use wmr_core::controller::MotionModel;
 use wmr_core::controller::mppi::kinematic_rollout;
 use wmr_core::{
     ClosedLoop, ControllerParams, DriveParams, FixedGoal, Law, LawParams, Measurement, MppiLaw, MppiParams, Plant,
@@ -278,6 +279,11 @@ fn twist_of(out: WheelDemand<f64>) -> Twist2<f64> {
     }
 }
 
+/// nav2's defaults with nav2's model: what the oracle rolls out.
+fn kinematic() -> MppiParams<f64> {
+    MppiParams { motion_model: MotionModel::Kinematic, ..MppiParams::default() }
+}
+
 /// A measurement at `pose` with the wheels turning for (v, omega) on the paper's robot.
 fn measurement(t: f64, pose: (f64, f64, f64), v: f64, omega: f64) -> Measurement<f64> {
     let rp = RobotParams::<f64>::paper();
@@ -293,7 +299,9 @@ fn measurement(t: f64, pose: (f64, f64, f64), v: f64, omega: f64) -> Measurement
 /// The law and the oracle over several cycles fed the same measurements (an open loop
 /// along a made-up path, so that every critic is on at some cycle): the same commands.
 fn law_matches_the_oracle(p: MppiParams<f64>) {
-    let mut law = MppiLaw::<f64>::for_lanes(p, &RobotParams::paper(), p.model_dt).unwrap();
+    let mut law =
+        MppiLaw::<f64>::for_lanes(p, &RobotParams::paper(), &DriveParams::default(), f64::INFINITY, p.model_dt)
+            .unwrap();
     let mut oracle = nav2::Optimizer::new(settings_of(&p));
     let goal = (0.9, 0.4, 1.0);
     let r = ReferenceState::at_rest(Pose2::new(goal.0, goal.1, goal.2));
@@ -319,7 +327,7 @@ fn law_matches_the_oracle(p: MppiParams<f64>) {
 
 #[test]
 fn the_law_is_nav2s_mppi_with_a_streamed_softmax() {
-    let small = MppiParams::<f64> { batch_size: 300, time_steps: 20, ..MppiParams::default() };
+    let small = MppiParams::<f64> { batch_size: 300, time_steps: 20, ..kinematic() };
     law_matches_the_oracle(small);
     // Two iterations, every critic on with powers above 1, a low temperature (the
     // running minimum changes often: the streamed softmax rescales).
@@ -338,7 +346,7 @@ fn the_law_is_nav2s_mppi_with_a_streamed_softmax() {
         ..small
     });
     // nav2's defaults.
-    law_matches_the_oracle(MppiParams::default());
+    law_matches_the_oracle(kinematic());
 }
 
 /// Constant (v, omega) within the accelerations: the rollout is the forward-Euler arc,
@@ -422,8 +430,10 @@ fn more_iterations_lower_the_optimal_cost() {
     let goal = (1.0, 0.5, 0.5);
     let mut costs = Vec::new();
     for iterations in [1, 2, 4, 8] {
-        let p = MppiParams::<f64> { iteration_count: iterations, ..MppiParams::default() };
-        let mut law = MppiLaw::<f64>::for_lanes(p, &RobotParams::paper(), p.model_dt).unwrap();
+        let p = MppiParams::<f64> { iteration_count: iterations, ..kinematic() };
+        let mut law =
+            MppiLaw::<f64>::for_lanes(p, &RobotParams::paper(), &DriveParams::default(), f64::INFINITY, p.model_dt)
+                .unwrap();
         let r = ReferenceState::at_rest(Pose2::new(goal.0, goal.1, goal.2));
         let _ = law.update(0.0, &measurement(0.0, (0.0, 0.0, 0.0), 0.0, 0.0), &r);
         let n = p.time_steps as usize;
@@ -436,7 +446,7 @@ fn more_iterations_lower_the_optimal_cost() {
         wz.truncate(n);
         costs.push(plan_cost(&p, &vx, &wz, goal));
     }
-    let idle = plan_cost(&MppiParams::default(), &vec![0.0; 56], &vec![0.0; 56], goal);
+    let idle = plan_cost(&kinematic(), &vec![0.0; 56], &vec![0.0; 56], goal);
     assert!(costs[0] < idle, "one iteration {} not below standing still {idle}", costs[0]);
     for k in 1..costs.len() {
         assert!(costs[k] < costs[k - 1], "costs by iterations 1, 2, 4, 8: {costs:?}");

@@ -11,7 +11,7 @@
 #include <stddef.h>
 
 // Version of this C API: changes whenever a struct, a storage size or a signature does.
-#define WMR_ABI_VERSION 6
+#define WMR_ABI_VERSION 7
 
 // Alignment, bytes, of every storage struct (they are arrays of `uint64_t`).
 #define WMR_STORAGE_ALIGN 8
@@ -71,6 +71,10 @@
 // `wmr_mppi_params_*.motion_model`: nav2's DiffDrive, the sampled twists within the
 // acceleration limits.
 #define WMR_MOTION_MODEL_KINEMATIC 0
+
+// `wmr_mppi_params_*.motion_model`: the controller's robot and drive (the default), the
+// accelerations what the drive can give.
+#define WMR_MOTION_MODEL_DYNAMIC 1
 
 // Words (8 bytes each) of a validated robot, `wmr_robot_f32`.
 #define WMR_ROBOT_F32_WORDS 12
@@ -140,10 +144,10 @@
 #define WMR_GRACEFUL_CONTROLLER_F64_WORDS 80
 
 // Words (8 bytes each) of `wmr_mppi_controller_f32`: the law `mppi` with its wheel stage.
-#define WMR_MPPI_CONTROLLER_F32_WORDS 120
+#define WMR_MPPI_CONTROLLER_F32_WORDS 160
 
 // Words (8 bytes each) of `wmr_mppi_controller_f64`: the law `mppi` with its wheel stage.
-#define WMR_MPPI_CONTROLLER_F64_WORDS 232
+#define WMR_MPPI_CONTROLLER_F64_WORDS 272
 
 // Words (8 bytes each) of `wmr_kanayama_controller_f32`: the law `kanayama` with its wheel stage.
 #define WMR_KANAYAMA_CONTROLLER_F32_WORDS 40
@@ -397,7 +401,7 @@ typedef struct {
 
 // Model predictive path integral control (nav2's MPPI): sampled twist sequences rolled out on a model, averaged by the softmax of their critics' costs (`[controller] kind = "mppi"`).
 typedef struct {
-  // The model the rollouts predict with: "kinematic" (nav2's DiffDrive) (`WMR_MOTION_MODEL_KINEMATIC`).
+  // The model the rollouts predict with: "dynamic" (the controller's robot and drive) or "kinematic" (nav2's DiffDrive) (`WMR_MOTION_MODEL_KINEMATIC` or `WMR_MOTION_MODEL_DYNAMIC`).
   uint32_t motion_model;
   // Samples (rollouts) per iteration (>= 1; batch_size x time_steps x iteration_count <= 1e7).
   uint32_t batch_size;
@@ -427,6 +431,8 @@ typedef struct {
   float ax_min;
   // Highest yaw acceleration magnitude, rad/s^2 (> 0).
   float az_max;
+  // Sub-steps of a dynamic rollout per model_dt (h = model_dt / rollout_substeps) (>= 1, <= 100).
+  uint32_t rollout_substeps;
   // Seed of the sampling noise: the noise is a function of (seed, cycle, sample, step) (whole number).
   uint32_t seed;
   // goal critic: weight of the mean distance of a rollout to the goal, 1/m (>= 0).
@@ -915,7 +921,7 @@ typedef struct {
 
 // Model predictive path integral control (nav2's MPPI): sampled twist sequences rolled out on a model, averaged by the softmax of their critics' costs (`[controller] kind = "mppi"`).
 typedef struct {
-  // The model the rollouts predict with: "kinematic" (nav2's DiffDrive) (`WMR_MOTION_MODEL_KINEMATIC`).
+  // The model the rollouts predict with: "dynamic" (the controller's robot and drive) or "kinematic" (nav2's DiffDrive) (`WMR_MOTION_MODEL_KINEMATIC` or `WMR_MOTION_MODEL_DYNAMIC`).
   uint32_t motion_model;
   // Samples (rollouts) per iteration (>= 1; batch_size x time_steps x iteration_count <= 1e7).
   uint32_t batch_size;
@@ -945,6 +951,8 @@ typedef struct {
   double ax_min;
   // Highest yaw acceleration magnitude, rad/s^2 (> 0).
   double az_max;
+  // Sub-steps of a dynamic rollout per model_dt (h = model_dt / rollout_substeps) (>= 1, <= 100).
+  uint32_t rollout_substeps;
   // Seed of the sampling noise: the noise is a function of (seed, cycle, sample, step) (whole number).
   uint32_t seed;
   // goal critic: weight of the mean distance of a rollout to the goal, 1/m (>= 0).

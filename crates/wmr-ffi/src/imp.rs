@@ -511,8 +511,8 @@ impl CEnum for TractionKind {
 }
 
 impl CEnum for wmr_core::MotionModel {
-    const ALL: &'static [Self] = &[wmr_core::MotionModel::Kinematic];
-    const REASON: &'static str = "must be WMR_MOTION_MODEL_KINEMATIC (0)";
+    const ALL: &'static [Self] = &[wmr_core::MotionModel::Kinematic, wmr_core::MotionModel::Dynamic];
+    const REASON: &'static str = "must be WMR_MOTION_MODEL_KINEMATIC (0) or WMR_MOTION_MODEL_DYNAMIC (1)";
     fn code(self) -> u32 {
         self as u32
     }

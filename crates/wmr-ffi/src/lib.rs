@@ -76,7 +76,7 @@ pub use laws::*;
 use core::ffi::c_char;
 
 /// Version of this C API: changes whenever a struct, a storage size or a signature does.
-pub const WMR_ABI_VERSION: u32 = 6;
+pub const WMR_ABI_VERSION: u32 = 7;
 
 /// Alignment, bytes, of every storage struct (they are arrays of `uint64_t`).
 pub const WMR_STORAGE_ALIGN: usize = 8;
@@ -129,6 +129,10 @@ pub const WMR_ANTI_WINDUP_CONDITIONAL: u32 = 1;
 /// `wmr_mppi_params_*.motion_model`: nav2's DiffDrive, the sampled twists within the
 /// acceleration limits.
 pub const WMR_MOTION_MODEL_KINEMATIC: u32 = 0;
+
+/// `wmr_mppi_params_*.motion_model`: the controller's robot and drive (the default), the
+/// accelerations what the drive can give.
+pub const WMR_MOTION_MODEL_DYNAMIC: u32 = 1;
 
 /// What a call did. `WMR_OK` is 0; every other value is an error.
 #[repr(i32)]
@@ -322,6 +326,7 @@ const _: () = {
     assert!(wmr_core::TractionKind::Rolling as u32 == WMR_TRACTION_ROLLING);
     assert!(wmr_core::TractionKind::Slip as u32 == WMR_TRACTION_SLIP);
     assert!(wmr_core::MotionModel::Kinematic as u32 == WMR_MOTION_MODEL_KINEMATIC);
+    assert!(wmr_core::MotionModel::Dynamic as u32 == WMR_MOTION_MODEL_DYNAMIC);
 };
 
 /// Drive parameters (the `[drive]` keys). `kind` selects which fields are read.

@@ -4,6 +4,7 @@
 
 use super::law::{Follows, Law, LawOutput, LawSpec};
 use crate::describe::{Described, ParamField};
+use crate::drive::DriveParams;
 use crate::error::ParamError;
 use crate::lane::Lane;
 use crate::reference::{Path, ReferenceState};
@@ -112,6 +113,20 @@ macro_rules! laws {
             /// [`LawParams::build`] for several runs side by side ([`crate::lane`]).
             pub fn build_lanes<L: Lane<Scalar = T>>(&self, model: &RobotParams<T>, control_dt: T) -> Result<AnyLaw<L>, ParamError> {
                 Ok(match self { $( LawParams::$variant(p) => AnyLaw::$variant(p.build::<L>(model, control_dt)?), )+ })
+            }
+
+            /// [`LawParams::build_lanes`] knowing the drive and the wheel stage's speed
+            /// limit (rad/s): what a controller calls ([`LawSpec::build_for_drive`]).
+            pub fn build_lanes_for_drive<L: Lane<Scalar = T>>(
+                &self,
+                model: &RobotParams<T>,
+                drive: &DriveParams<T>,
+                wheel_speed_max: T,
+                control_dt: T,
+            ) -> Result<AnyLaw<L>, ParamError> {
+                Ok(match self {
+                    $( LawParams::$variant(p) => AnyLaw::$variant(p.build_for_drive::<L>(model, drive, wheel_speed_max, control_dt)?), )+
+                })
             }
         }
 

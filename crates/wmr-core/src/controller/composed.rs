@@ -86,7 +86,7 @@ impl<T: Real> ControllerParams<T> {
         drive: &Drive<T>,
     ) -> Result<Controller<L, AnyLaw<L>>, ParamError> {
         let control_dt = check::positive("control_dt", self.control_dt)?;
-        let law = self.law.build_lanes(model, control_dt)?;
+        let law = self.law.build_lanes_for_drive(model, &drive.params(), self.wheels.wheel_speed_max, control_dt)?;
         let mut wheels = WheelStage::for_lanes(&self.wheels, model, drive, control_dt)?;
         if let Some(observer) = &self.observer {
             let named = |e: ParamError| match e.field {

@@ -3,6 +3,7 @@
 //! [`LawSpec`] plus one line in [`super::registry`] (CONTRIBUTING.md).
 
 use crate::describe::Described;
+use crate::drive::DriveParams;
 use crate::error::ParamError;
 use crate::lane::{Lane, Mask};
 use crate::math::{Twist2, Wheels};
@@ -59,6 +60,20 @@ pub trait LawSpec<T: Real>: Described + Copy + Default + PartialEq {
     /// Validates the keys (errors name the key) and builds the law for the controller's
     /// robot model and control period (s).
     fn build<L: Lane<Scalar = T>>(&self, model: &RobotParams<T>, control_dt: T) -> Result<Self::Law<L>, ParamError>;
+
+    /// [`LawSpec::build`] knowing the drive the controller commands and the wheel stage's
+    /// speed limit (rad/s): what a law that predicts with the whole robot needs (MPPI's
+    /// dynamic rollouts). Every other law keeps this default.
+    fn build_for_drive<L: Lane<Scalar = T>>(
+        &self,
+        model: &RobotParams<T>,
+        drive: &DriveParams<T>,
+        wheel_speed_max: T,
+        control_dt: T,
+    ) -> Result<Self::Law<L>, ParamError> {
+        let _ = (drive, wheel_speed_max);
+        self.build(model, control_dt)
+    }
 }
 
 /// What a law asks of the wheel stage.

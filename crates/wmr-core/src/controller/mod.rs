@@ -4,7 +4,8 @@
 //! - [`law`]: the [`Law`] contract and what a law asks of the wheels ([`WheelDemand`]).
 //! - [`paper`], [`paper_bidirectional`], [`polar`], [`lyapunov`], [`graceful`]: the laws; [`polar_frame`]
 //!   the polar laws' shared geometry.
-//! - [`mppi`]: model predictive path integral control (nav2's MPPI) to a goal.
+//! - [`mppi`]: model predictive path integral control (nav2's MPPI) to a goal; [`rollout`]
+//!   the dynamic model its rollouts predict with.
 //! - [`kanayama`], [`backstepping`]: trajectory tracking; [`pure_pursuit`]: path following.
 //! - [`registry`]: the one list of laws; [`any`]: every law behind one enum, chosen by
 //!   name at run time, expanded from it.
@@ -27,6 +28,7 @@ pub mod polar;
 pub mod polar_frame;
 pub mod pure_pursuit;
 pub mod registry;
+pub mod rollout;
 pub mod saturation;
 pub mod servo;
 pub mod wheel_stage;

@@ -65,16 +65,22 @@
 //!   when the minimum falls. The law holds O(T) numbers (the sequence; T at most
 //!   [`MAX_TIME_STEPS`]); one sample's sequence lives on the stack while it is rolled out.
 //!   The result equals the two-pass softmax up to rounding (`tests/mppi.rs`, 1e-12).
+//! - The rollouts' model: by default the controller's robot and drive
+//!   ([`super::rollout`], `motion_model = "dynamic"`), 8 samples at a time in SIMD lanes;
+//!   nav2's DiffDrive with acceleration clamps is `motion_model = "kinematic"`
+//!   ([`kinematic_rollout`]).
 //! - No Savitzky-Golay smoothing of the sequence, no trajectory validator, no fallback.
 //! - The noise: Box-Muller from SplitMix64 hashes, not Eigen's normal distribution.
 //!
 //! Logged errors ([`super::ControlErrors`]), as the polar laws': dl the distance from C to
 //! the goal, e_theta = wrap(theta_d - theta), e_s = (x_d - x) cos(theta) + (y_d - y) sin(theta).
 
-use super::law::{Law, LawOutput, WheelDemand};
+use super::law::{Law, LawOutput, LawSpec, WheelDemand};
 use super::polar_frame::polar_errors;
+use super::rollout::{DynamicModel, ROLLOUT_LANES, Wide};
+use crate::drive::DriveParams;
 use crate::error::{ParamError, check};
-use crate::lane::Lane;
+use crate::lane::{Lane, Lanes};
 use crate::math::{Pose2, Twist2, wrap_angle};
 use crate::reference::ReferenceState;
 use crate::sensor::Measurement;
@@ -99,10 +105,14 @@ pub const MAX_ROLLOUT_STEPS_PER_CYCLE: u64 = 10_000_000;
 pub enum MotionModel {
     /// nav2's `DiffDrive`: the velocities are the sampled commands, clamped by the
     /// acceleration limits (`ax_max`, `ax_min`, `az_max`).
-    #[default]
     Kinematic = 0,
+    /// The controller's robot, drive and wheel speed limit ([`super::rollout`]): the
+    /// accelerations are what the drive can give, the acceleration keys unused in the
+    /// rollouts.
+    #[default]
+    Dynamic = 1,
 }
-crate::word_enum!(MotionModel { Kinematic });
+crate::word_enum!(MotionModel { Kinematic, Dynamic });
 
 crate::params! {
     words;
@@ -112,8 +122,8 @@ crate::params! {
     #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
     #[repr(C)]
     pub struct MppiParams<T> {
-        /// The model the rollouts predict with: "kinematic" (nav2's DiffDrive).
-        pub motion_model: MotionModel [unit = "", rule = "\"kinematic\""],
+        /// The model the rollouts predict with: "dynamic" (the controller's robot and drive) or "kinematic" (nav2's DiffDrive).
+        pub motion_model: MotionModel [unit = "", rule = "\"dynamic\" or \"kinematic\""],
         /// Samples (rollouts) per iteration.
         pub batch_size: u32 [unit = "", rule = ">= 1; batch_size x time_steps x iteration_count <= 1e7"],
         /// Steps of a rollout (the horizon is time_steps * model_dt).
@@ -142,6 +152,8 @@ crate::params! {
         pub ax_min: T [unit = "m/s^2", rule = "< 0"],
         /// Highest yaw acceleration magnitude.
         pub az_max: T [unit = "rad/s^2", rule = "> 0"],
+        /// Sub-steps of a dynamic rollout per model_dt (h = model_dt / rollout_substeps).
+        pub rollout_substeps: u32 [unit = "", rule = ">= 1, <= 100"],
         /// Seed of the sampling noise: the noise is a function of (seed, cycle, sample, step).
         pub seed: u32 [unit = "", rule = "whole number"],
         /// goal critic: weight of the mean distance of a rollout to the goal.
@@ -174,14 +186,15 @@ crate::params! {
 }
 
 impl<T: Real> Default for MppiParams<T> {
-    /// nav2's defaults: 1000 x 56 samples of 0.05 s, one iteration, temperature 0.3,
+    /// nav2's defaults, rolled out on the dynamic model with 2 sub-steps per model_dt
+    /// (`motion_model = "kinematic"` for nav2's own): 1000 x 56 samples of 0.05 s, one iteration, temperature 0.3,
     /// gamma 0.015, vx_std 0.2 m/s, wz_std 0.4 rad/s, vx in [-0.35, 0.5] m/s,
     /// |wz| <= 1.9 rad/s, ax in [-3, 3] m/s^2, |az| <= 3.5 rad/s^2; the critics' weights
     /// goal 5 (within 1.4 m), goal_angle 3 (within 0.5 m), constraint 4,
     /// prefer_forward 5 (beyond 0.5 m), powers 1; twirling off (nav2's weight when on: 10).
     fn default() -> Self {
         Self {
-            motion_model: MotionModel::Kinematic,
+            motion_model: MotionModel::Dynamic,
             batch_size: 1000,
             time_steps: 56,
             model_dt: T::lit(0.05),
@@ -196,6 +209,7 @@ impl<T: Real> Default for MppiParams<T> {
             ax_max: T::lit(3.0),
             ax_min: T::lit(-3.0),
             az_max: T::lit(3.5),
+            rollout_substeps: 2,
             seed: 0,
             goal_cost_weight: T::lit(5.0),
             goal_cost_power: 1,
@@ -214,7 +228,7 @@ impl<T: Real> Default for MppiParams<T> {
     }
 }
 
-impl<T: Real> super::law::LawSpec<T> for MppiParams<T> {
+impl<T: Real> LawSpec<T> for MppiParams<T> {
     type Law<L: Lane<Scalar = T>> = MppiLaw<L>;
 
     /// One cycle at nav2's defaults is 56,000 rollout steps every 0.05 s: a plant step
@@ -236,8 +250,20 @@ impl<T: Real> super::law::LawSpec<T> for MppiParams<T> {
     /// 30 keys: more than the trace's 16 law words.
     const TRACED: bool = false;
 
+    /// Without the drive: the dynamic rollouts assume the default torque drive and no
+    /// wheel speed limit ([`LawSpec::build_for_drive`] is what a controller calls).
     fn build<L: Lane<Scalar = T>>(&self, model: &RobotParams<T>, control_dt: T) -> Result<MppiLaw<L>, ParamError> {
-        MppiLaw::for_lanes(*self, model, control_dt)
+        MppiLaw::for_lanes(*self, model, &DriveParams::default(), T::infinity(), control_dt)
+    }
+
+    fn build_for_drive<L: Lane<Scalar = T>>(
+        &self,
+        model: &RobotParams<T>,
+        drive: &DriveParams<T>,
+        wheel_speed_max: T,
+        control_dt: T,
+    ) -> Result<MppiLaw<L>, ParamError> {
+        MppiLaw::for_lanes(*self, model, drive, wheel_speed_max, control_dt)
     }
 }
 
@@ -263,6 +289,14 @@ impl<T: Real> MppiParams<T> {
             ));
         }
         count_at_least::<T>("iteration_count", self.iteration_count, 1)?;
+        count_at_least::<T>("rollout_substeps", self.rollout_substeps, 1)?;
+        if self.rollout_substeps > 100 {
+            return Err(check::out_of_range(
+                "rollout_substeps",
+                "must be <= 100",
+                T::lit(f64::from(self.rollout_substeps)),
+            ));
+        }
         let per_cycle = u64::from(self.batch_size) * u64::from(self.time_steps) * u64::from(self.iteration_count);
         if per_cycle > MAX_ROLLOUT_STEPS_PER_CYCLE {
             return Err(check::out_of_range(
@@ -410,8 +444,11 @@ pub fn kinematic_rollout<T: Real>(
 struct Cycle<T> {
     pose: Pose2<T>,
     goal: Pose2<T>,
-    /// The speed the rollouts start from (nav2 `state_.speed`).
+    /// The speed the rollouts start from (nav2 `state_.speed`): the last command within
+    /// what the accelerations allow from the measured speed.
     speed: Twist2<T>,
+    /// The speed measured by the wheel encoders: where a dynamic rollout starts.
+    measured: Twist2<T>,
     /// The first draw of this cycle (cycle * iteration_count).
     draw: u64,
 }
@@ -454,10 +491,27 @@ impl<T: Real> Softmax<T> {
     }
 }
 
-/// The sampled costs of MPPI, one sample at a time: what [`MppiLaw`] runs each cycle.
+/// The sums over a rollout's steps the critics read (module docs' table).
+#[derive(Clone, Copy, Debug, Default)]
+struct CriticSums<T> {
+    /// sum_i |(x_i, y_i) - goal|, m.
+    goal: T,
+    /// sum_i |wrap(theta_goal - yaw_i)|, rad.
+    angle: T,
+    /// sum_i (max(vx_i - vx_max, 0) + max(vx_min - vx_i, 0)) dt, m.
+    beyond: T,
+    /// sum_i max(-vx_i, 0) dt, m.
+    backwards: T,
+    /// sum_i |wz_i|, rad/s.
+    twirl: T,
+}
+
+/// The sampled costs of MPPI: what [`MppiLaw`] runs each cycle.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Planner<T> {
     p: MppiParams<T>,
+    /// The dynamic rollouts' model (`motion_model = "dynamic"`), `None` for the kinematic.
+    dynamic: Option<DynamicModel>,
 }
 
 impl<T: Real> Planner<T> {
@@ -466,7 +520,6 @@ impl<T: Real> Planner<T> {
     #[inline(always)]
     fn rollout_cost(&self, c: &Cycle<T>, cvx: &[T], cwz: &[T], path_length: T) -> T {
         let p = &self.p;
-        let n = cvx.len();
         let dt = p.model_dt;
         let (mut goal_sum, mut angle_sum, mut beyond, mut backwards, mut twirl) =
             (T::zero(), T::zero(), T::zero(), T::zero(), T::zero());
@@ -477,6 +530,15 @@ impl<T: Real> Planner<T> {
             backwards = backwards + (-vel.v).max(T::zero()) * dt;
             twirl = twirl + vel.omega.abs();
         });
+        let sums = CriticSums { goal: goal_sum, angle: angle_sum, beyond, backwards, twirl };
+        self.critics(&sums, cvx.len(), path_length)
+    }
+
+    /// The critics' cost of a rollout of `n` steps from its sums.
+    #[inline(always)]
+    fn critics(&self, sums: &CriticSums<T>, n: usize, path_length: T) -> T {
+        let p = &self.p;
+        let CriticSums { goal: goal_sum, angle: angle_sum, beyond, backwards, twirl } = *sums;
         let nt = T::lit(n as f64);
         // nav2's critic order: constraint, goal, goal_angle, prefer_forward, twirling.
         let mut cost = T::zero();
@@ -496,6 +558,52 @@ impl<T: Real> Planner<T> {
             cost = cost + critic_cost(twirl / nt, p.twirling_cost_weight, p.twirling_cost_power);
         }
         cost
+    }
+
+    /// The critics' sums of [`ROLLOUT_LANES`] samples rolled out together on the dynamic
+    /// model from the measured speed: step 0 driven by the held command's speed (as
+    /// nav2's step 0), step i by sample i - 1 (nav2's indexing).
+    #[inline(always)]
+    fn dynamic_sums(
+        &self,
+        model: &DynamicModel,
+        c: &Cycle<T>,
+        cvx: &[[T; MAX_TIME_STEPS]; ROLLOUT_LANES],
+        cwz: &[[T; MAX_TIME_STEPS]; ROLLOUT_LANES],
+        n: usize,
+    ) -> [CriticSums<T>; ROLLOUT_LANES] {
+        let p = &self.p;
+        let f = |x: T| x.to_f64_lossless();
+        let (dt, vx_max, vx_min) = (Wide::splat(f(p.model_dt)), Wide::splat(f(p.vx_max)), Wide::splat(f(p.vx_min)));
+        let goal =
+            Pose2 { x: Wide::splat(f(c.goal.x)), y: Wide::splat(f(c.goal.y)), theta: Wide::splat(f(c.goal.theta)) };
+        let zero = Wide::default();
+        let mut sums = CriticSums { goal: zero, angle: zero, beyond: zero, backwards: zero, twirl: zero };
+        let held = Twist2 { v: Wide::splat(f(c.speed.v)), omega: Wide::splat(f(c.speed.omega)) };
+        let demand = |i: usize| match i.checked_sub(1) {
+            None => held,
+            Some(k) => Twist2 {
+                v: Lanes(core::array::from_fn(|j| cvx.get(j).and_then(|s| s.get(k)).map_or(0.0, |&x| f(x)))),
+                omega: Lanes(core::array::from_fn(|j| cwz.get(j).and_then(|s| s.get(k)).map_or(0.0, |&x| f(x)))),
+            },
+        };
+        let start = Pose2 { x: f(c.pose.x), y: f(c.pose.y), theta: f(c.pose.theta) };
+        let measured = Twist2 { v: f(c.measured.v), omega: f(c.measured.omega) };
+        model.rollout(start, measured, n, demand, |_, pose, vel| {
+            sums.goal = sums.goal + (pose.x - goal.x).hypot(pose.y - goal.y);
+            sums.angle = sums.angle + wrap_angle(goal.theta - pose.theta).abs();
+            sums.beyond = sums.beyond + ((vel.v - vx_max).max(zero) + (vx_min - vel.v).max(zero)) * dt;
+            sums.backwards = sums.backwards + (-vel.v).max(zero) * dt;
+            sums.twirl = sums.twirl + vel.omega.abs();
+        });
+        let at = |x: Wide, j: usize| T::lit(x.lane(j));
+        core::array::from_fn(|j| CriticSums {
+            goal: at(sums.goal, j),
+            angle: at(sums.angle, j),
+            beyond: at(sums.beyond, j),
+            backwards: at(sums.backwards, j),
+            twirl: at(sums.twirl, j),
+        })
     }
 
     /// One cycle: updates `vx`, `wz` (the optimal sequence, `time_steps` long) and returns
@@ -520,25 +628,48 @@ impl<T: Real> Planner<T> {
             }
             let key = draw_key(p.seed, c.draw.wrapping_add(u64::from(iter)));
             let mut soft = Softmax::new();
-            for k in 0..p.batch_size {
+            // nav2 `updateControlSequence`: the control cost, vx then wz.
+            let control_cost = |cvx: &[T], cwz: &[T]| {
+                let (mut ctrl_vx, mut ctrl_wz) = (T::zero(), T::zero());
+                for ((&cv, &cw), (&v, &w)) in cvx.iter().zip(cwz).zip(vx.iter().zip(wz.iter())) {
+                    ctrl_vx = ctrl_vx + (cv - v) * v;
+                    ctrl_wz = ctrl_wz + (cw - w) * w;
+                }
+                let mut cost = gamma_vx * ctrl_vx;
+                if wz_std > T::zero() {
+                    cost = cost + gamma_wz * ctrl_wz;
+                }
+                cost
+            };
+            let sample = |k: u32, cvx: &mut [T], cwz: &mut [T]| {
                 let sampled = cvx.iter_mut().zip(cwz.iter_mut()).zip(vx.iter().zip(wz.iter()));
                 for (t, ((cv, cw), (&v, &w))) in sampled.enumerate() {
                     let (a, b) = noise_pair_keyed(key, k, t as u32);
                     *cv = v + vx_std * T::lit(a);
                     *cw = w + wz_std * T::lit(b);
                 }
-                let mut cost = self.rollout_cost(c, &cvx[..n], &cwz[..n], path_length);
-                // nav2 `updateControlSequence`: the control cost, vx then wz.
-                let (mut ctrl_vx, mut ctrl_wz) = (T::zero(), T::zero());
-                for ((&cv, &cw), (&v, &w)) in cvx.iter().zip(&cwz).zip(vx.iter().zip(wz.iter())) {
-                    ctrl_vx = ctrl_vx + (cv - v) * v;
-                    ctrl_wz = ctrl_wz + (cw - w) * w;
+            };
+            if let Some(model) = &self.dynamic {
+                let mut cvx_w = [[T::zero(); MAX_TIME_STEPS]; ROLLOUT_LANES];
+                let mut cwz_w = [[T::zero(); MAX_TIME_STEPS]; ROLLOUT_LANES];
+                for k0 in (0..p.batch_size).step_by(ROLLOUT_LANES) {
+                    let lanes = ((p.batch_size - k0) as usize).min(ROLLOUT_LANES);
+                    for (j, (cv, cw)) in cvx_w.iter_mut().zip(cwz_w.iter_mut()).enumerate().take(lanes) {
+                        sample(k0 + j as u32, &mut cv[..n], &mut cw[..n]);
+                    }
+                    let sums = self.dynamic_sums(model, c, &cvx_w, &cwz_w, n);
+                    for ((cv, cw), sums) in cvx_w.iter().zip(&cwz_w).zip(&sums).take(lanes) {
+                        let cost = self.critics(sums, n, path_length) + control_cost(&cv[..n], &cw[..n]);
+                        soft.add(cost, inv_temp, &cv[..n], &cw[..n]);
+                    }
                 }
-                cost = cost + gamma_vx * ctrl_vx;
-                if wz_std > T::zero() {
-                    cost = cost + gamma_wz * ctrl_wz;
+            } else {
+                for k in 0..p.batch_size {
+                    sample(k, &mut cvx[..n], &mut cwz[..n]);
+                    let cost =
+                        self.rollout_cost(c, &cvx[..n], &cwz[..n], path_length) + control_cost(&cvx[..n], &cwz[..n]);
+                    soft.add(cost, inv_temp, &cvx[..n], &cwz[..n]);
                 }
-                soft.add(cost, inv_temp, &cvx[..n], &cwz[..n]);
             }
             let inv_sum = soft.sum.recip();
             for ((v, w), (&sv, &sw)) in vx.iter_mut().zip(wz.iter_mut()).zip(soft.vx.iter().zip(&soft.wz)) {
@@ -594,16 +725,26 @@ pub struct MppiLaw<L: Lane> {
 }
 
 impl<L: Lane> MppiLaw<L> {
-    /// Checks the keys (errors name the key) and builds the law for the robot model
-    /// (wheel radius and half track: the speed from the encoders) and `control_dt` (s).
+    /// Checks the keys (errors name the key) and builds the law for the controller's robot
+    /// model (the speed from the encoders; the dynamic rollouts' robot), the drive it
+    /// commands and the wheel stage's `wheel_speed_max` (rad/s; the dynamic rollouts'),
+    /// and `control_dt` (s).
     pub fn for_lanes(
         p: MppiParams<L::Scalar>,
         model: &RobotParams<L::Scalar>,
+        drive: &DriveParams<L::Scalar>,
+        wheel_speed_max: L::Scalar,
         control_dt: L::Scalar,
     ) -> Result<Self, ParamError> {
         let ticks_per_plan = p.validate(control_dt)?;
+        let dynamic = match p.motion_model {
+            MotionModel::Kinematic => None,
+            MotionModel::Dynamic => {
+                Some(DynamicModel::new(model, drive, wheel_speed_max, p.model_dt, p.rollout_substeps)?)
+            }
+        };
         Ok(Self {
-            planner: Planner { p },
+            planner: Planner { p, dynamic },
             ticks_per_plan,
             wheel_radius: model.wheel_radius,
             half_track: model.half_track,
@@ -652,6 +793,7 @@ impl<L: Lane> MppiLaw<L> {
             pose: Pose2 { x: m.pose.x.lane(i), y: m.pose.y.lane(i), theta: m.pose.theta.lane(i) },
             goal: Pose2 { x: r.pose.x.lane(i), y: r.pose.y.lane(i), theta: r.pose.theta.lane(i) },
             speed,
+            measured: Twist2 { v: v_meas, omega: w_meas },
             draw: cycle.wrapping_mul(u64::from(p.iteration_count)),
         };
         let mut vx = [<L::Scalar as num_traits::Zero>::zero(); MAX_TIME_STEPS];
