@@ -1,8 +1,8 @@
 //! Criterion benches of the core's hot paths (issue 6), at both precisions where it matters:
 //! one closed-loop step, the controller update alone, one RK4 step of the model, and a
 //! whole 60 s Fig. 7 run, and one closed-loop step with wheels that roll and that slip
-//! (the cost of the slip model). `cargo bench --bench core`; the C comparison is
-//! `benches/compare`.
+//! (the cost of the slip model), and one MPPI cycle at nav2's defaults on either motion
+//! model. `cargo bench --bench core`; the C comparison is `benches/compare`.
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -11,7 +11,8 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use wmr_core::integrator::rk4_step;
 use wmr_core::{
     ClosedLoop, Controller, DriveParams, FixedGoal, Measurement, PaperLaw, PaperParams, Plant, Pose2, Real,
-    ReferenceState, Robot, State, TractionKind, TractionParams, WheelStage, WheelStageParams, Wheels, World,
+    ReferenceState, Robot, RobotParams, State, TractionKind, TractionParams, WheelStage, WheelStageParams, Wheels,
+    World,
 };
 
 /// Fig. 7: (0, 0, 0) -> (1, 1, 120 deg), every default, dt = control_dt = 1 ms.
@@ -153,6 +154,38 @@ fn traction_step(c: &mut Criterion) {
     group.finish();
 }
 
+/// One MPPI planning cycle at nav2's defaults (1000 samples x 56 steps of 0.05 s, one
+/// iteration) on the paper's robot with a DC motor, moving at 0.3 m/s and 0.4 rad/s 0.8 m
+/// from the goal: `update` with `control_dt` = `model_dt`, so that every call plans.
+fn mppi_cycle(c: &mut Criterion) {
+    use wmr_core::controller::MotionModel;
+    use wmr_core::{DcMotorParams, Law, MppiLaw, MppiParams};
+    let mut group = c.benchmark_group("mppi_cycle");
+    let robot = RobotParams::<f64>::paper();
+    let drive = DriveParams::DcMotor(DcMotorParams::default());
+    let wheel_speed_max = WheelStageParams::for_drive(&drive, &robot).wheel_speed_max;
+    let (v, omega) = (0.3, 0.4);
+    let m = Measurement {
+        t: 0.0,
+        pose: Pose2::new(0.2, 0.1, 0.3),
+        wheel_angles: Wheels::default(),
+        wheel_speeds: Wheels {
+            right: (v + robot.half_track * omega) / robot.wheel_radius,
+            left: (v - robot.half_track * omega) / robot.wheel_radius,
+        },
+    };
+    let r = ReferenceState::at_rest(Pose2::new(1.0, 0.2, 0.2));
+    for (name, model) in [("dynamic", MotionModel::Dynamic), ("kinematic", MotionModel::Kinematic)] {
+        let p = MppiParams::<f64> { motion_model: model, ..MppiParams::default() };
+        let law = MppiLaw::<f64>::for_lanes(p, &robot, &drive, wheel_speed_max, p.model_dt).unwrap();
+        group.bench_function(name, |b| {
+            let mut law = law;
+            b.iter(|| black_box(law.update(0.0, black_box(&m), &r)));
+        });
+    }
+    group.finish();
+}
+
 fn per_step(c: &mut Criterion) {
     closed_loop_step::<f64>(c, "f64");
     closed_loop_step::<f32>(c, "f32");
@@ -164,6 +197,6 @@ fn per_step(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(2));
-    targets = per_step, traction_step, fig7_run
+    targets = per_step, traction_step, fig7_run, mppi_cycle
 }
 criterion_main!(benches);

@@ -45,7 +45,8 @@ pub fn class_keys(keys: &[SchemaKey], table: &str, kind: Option<&str>) -> Vec<Sc
     };
     keys.iter()
         .filter(|k| k.table == table && !matches!(k.key, "kind" | "model") && (k.kind.is_none() || k.kind == kind))
-        .filter(|k| !traction(k) && !k.key.contains('.'))
+        // `footprint_radius` is a scenario's (collisions), not a key of the Robot class.
+        .filter(|k| !(traction(k) || k.key.contains('.') || (k.table == "robot" && k.key == "footprint_radius")))
         .cloned()
         .collect()
 }

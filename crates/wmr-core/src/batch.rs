@@ -27,6 +27,7 @@ use crate::error::{ParamError, check};
 use crate::kinematics::wheel_speeds_lanes;
 use crate::lane::{Lane, LaneMask, Lanes, Mask};
 use crate::math::{Pose2, Twist2, Wheels};
+use crate::obstacle::Obstacles;
 use crate::outcome::{Metrics, Outcome, Termination};
 use crate::plant::{DIVERGENCE_BOX_M, Plant, all_finite};
 use crate::real::Real;
@@ -70,6 +71,8 @@ pub struct LaneBatch<const N: usize, L, R = FixedGoal<f64>> {
     active: LaneMask<N>,
     /// The caller's tag of each lane's run.
     tags: [u64; N],
+    /// What the footprint may not touch ([`crate::obstacle`]); none by default.
+    obstacles: Obstacles<f64>,
 }
 
 impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
@@ -132,7 +135,15 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
             steps: zero,
             active: LaneMask::splat(false),
             tags: [0; N],
+            obstacles: Obstacles::default(),
         })
+    }
+
+    /// With `obstacles` on the ground: a lane whose footprint touches one ends there,
+    /// [`Termination::Collided`], as [`crate::ClosedLoop::with_obstacles`].
+    pub fn with_obstacles(mut self, obstacles: Obstacles<f64>) -> Self {
+        self.obstacles = obstacles;
+        self
     }
 
     /// With `on` (and `stop_when_settled`), a run also stops as soon as it has arrived
@@ -220,6 +231,14 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
                     for i in (0..N).filter(|&i| failed.lane(i)) {
                         let termination = if finite.lane(i) { Termination::LeftBox } else { Termination::NonFinite };
                         self.finish(i, termination, &mut done);
+                    }
+                }
+                if !self.obstacles.is_empty() {
+                    let hit = self.active & self.obstacles.clearance(self.state.x, self.state.y).le(zero);
+                    if hit.any() {
+                        for i in (0..N).filter(|&i| hit.lane(i)) {
+                            self.finish(i, Termination::Collided, &mut done);
+                        }
                     }
                 }
             }

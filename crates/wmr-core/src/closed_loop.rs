@@ -23,6 +23,7 @@ use crate::arrival::ArrivalWatch;
 use crate::clock::StepClock;
 use crate::controller::{ControlOutput, Controller, Law};
 use crate::error::{ParamError, check};
+use crate::obstacle::Obstacles;
 use crate::outcome::{Metrics, Outcome, Termination};
 use crate::plant::Plant;
 use crate::reference::{FixedGoal, Reference, ReferenceState};
@@ -43,12 +44,12 @@ pub struct Tick<T> {
     pub output: ControlOutput<T>,
 }
 
-/// Why a step was refused: the run has diverged.
+/// Why a step was refused: the run has diverged, or its footprint touched an obstacle.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Diverged<T> {
-    /// Time of the last good state, s.
+    /// Time of the last good state (of the contact, for a collision), s.
     pub t: T,
-    /// Non-finite or out of the box.
+    /// Non-finite, out of the box, or collided.
     pub termination: Termination,
 }
 
@@ -72,6 +73,8 @@ pub struct ClosedLoop<T: Real, L, S = PerfectSensor, R = FixedGoal<T>> {
     stop_when_settled: bool,
     /// With `stop_when_settled`, stop it as soon as it has arrived ([`crate::arrival`]).
     early_arrival: bool,
+    /// What the footprint may not touch ([`crate::obstacle`]); none by default.
+    obstacles: Obstacles<T>,
 }
 
 impl<T: Real, L: Law<T>, R: Reference<T>> ClosedLoop<T, L, PerfectSensor, R> {
@@ -110,9 +113,23 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
             diverged: None,
             stop_when_settled: false,
             early_arrival: false,
+            obstacles: Obstacles::default(),
         };
         lp.control_tick();
         Ok(lp)
+    }
+
+    /// With `obstacles` on the ground: a step that brings the footprint into contact with
+    /// one ends the run there, [`Termination::Collided`] ([`crate::obstacle`]). A start
+    /// already in contact collides at the first step.
+    pub fn with_obstacles(mut self, obstacles: Obstacles<T>) -> Self {
+        self.obstacles = obstacles;
+        self
+    }
+
+    /// The obstacles ([`ClosedLoop::with_obstacles`]).
+    pub fn obstacles(&self) -> &Obstacles<T> {
+        &self.obstacles
     }
 
     /// With `on`, [`ClosedLoop::run`] and [`ClosedLoop::try_run`] stop a run once it
@@ -234,6 +251,14 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
             return Err(d);
         }
         self.step_index += 1;
+        if !self.obstacles.is_empty() {
+            let s = self.plant.state();
+            if self.obstacles.clearance(s.x, s.y) <= T::zero() {
+                let d = Diverged { t: self.time(), termination: Termination::Collided };
+                self.diverged = Some(d);
+                return Err(d);
+            }
+        }
         self.steps_to_control -= 1;
         if self.steps_to_control == 0 {
             self.steps_to_control = self.control_every;

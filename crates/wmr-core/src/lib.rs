@@ -58,6 +58,7 @@ pub mod lane;
 pub mod math;
 #[cfg(feature = "nalgebra")]
 pub mod nalgebra_interop;
+pub mod obstacle;
 pub mod outcome;
 pub mod outcome_fields;
 mod params;
@@ -93,6 +94,7 @@ pub use controller::{DisturbanceObserver, DisturbanceObserverParams};
 pub use drive::{DcMotorParams, Drive, DriveParams, TorqueDriveParams};
 pub use error::{ParamError, Reason};
 pub use math::{Pose2, Twist2, Wheels, wrap_angle};
+pub use obstacle::{Obstacle, Obstacles};
 pub use outcome::{ARRIVAL_HEADING_RAD, ARRIVAL_RADIUS_M, Outcome, Status, Termination};
 pub use outcome_fields::{FieldGroup, OUTCOME_FIELDS, OutcomeField};
 pub use params::{Robot, RobotParams};

@@ -28,12 +28,20 @@ pub enum Termination {
     NonFinite,
     /// Point C left the 1 km box around the origin.
     LeftBox,
+    /// The robot's footprint touched an obstacle ([`crate::obstacle`]): the run stopped
+    /// at the contact.
+    Collided,
 }
 
 impl Termination {
     /// Every termination, in the order of their codes ([`Termination::code`]).
-    pub const ALL: [Termination; 4] =
-        [Termination::Completed, Termination::Settled, Termination::NonFinite, Termination::LeftBox];
+    pub const ALL: [Termination; 5] = [
+        Termination::Completed,
+        Termination::Settled,
+        Termination::NonFinite,
+        Termination::LeftBox,
+        Termination::Collided,
+    ];
 
     /// A small number for the termination (its index in [`Termination::ALL`]), for
     /// number-only records (the Python sweep's outcome rows).
@@ -43,6 +51,7 @@ impl Termination {
             Termination::Settled => 1,
             Termination::NonFinite => 2,
             Termination::LeftBox => 3,
+            Termination::Collided => 4,
         }
     }
 
@@ -53,7 +62,7 @@ impl Termination {
 
     /// True for the two divergence cases.
     pub fn diverged(self) -> bool {
-        !matches!(self, Termination::Completed | Termination::Settled)
+        matches!(self, Termination::NonFinite | Termination::LeftBox)
     }
 }
 
@@ -80,20 +89,24 @@ pub enum Status {
     /// end, and the reference asked more than the robot can give (wheel speeds above the
     /// limit, or an error that grew: [`crate::tracking::TrackingOutcome::cannot_follow`]).
     CannotFollow,
+    /// The footprint touched an obstacle: the run stopped there ([`crate::obstacle`]).
+    Collided,
 }
 
 impl Status {
     /// Every status, in report order.
-    pub const ALL: [Status; 4] = [Status::Converged, Status::Diverged, Status::Unsettled, Status::CannotFollow];
+    pub const ALL: [Status; 5] =
+        [Status::Converged, Status::Diverged, Status::Unsettled, Status::CannotFollow, Status::Collided];
 
-    /// `"converged"`, `"diverged"`, `"unsettled"` or `"cannot_follow"`: the word every
-    /// output uses.
+    /// `"converged"`, `"diverged"`, `"unsettled"`, `"cannot_follow"` or `"collided"`: the
+    /// word every output uses.
     pub fn name(self) -> &'static str {
         match self {
             Status::Converged => "converged",
             Status::Diverged => "diverged",
             Status::Unsettled => "unsettled",
             Status::CannotFollow => "cannot_follow",
+            Status::Collided => "collided",
         }
     }
 }
@@ -133,6 +146,8 @@ impl<T: Real> Outcome<T> {
     pub fn status(&self) -> Status {
         if self.termination.diverged() {
             Status::Diverged
+        } else if self.termination == Termination::Collided {
+            Status::Collided
         } else if self.final_dl < T::lit(ARRIVAL_RADIUS_M) && self.final_heading_error.abs() <= self.heading_tolerance {
             Status::Converged
         } else {
@@ -299,7 +314,11 @@ mod tests {
         let paper = Metrics::<f64>::default().judging_heading(false);
         let off = State::at_rest(Pose2::new(0.001, 0.0, 137f64.to_radians()));
         assert_eq!(paper.finish(60.0, &off, Pose2::default(), Termination::Completed).status(), Status::Converged);
-        let names: [&str; 4] = Status::ALL.map(Status::name);
-        assert_eq!(names, ["converged", "diverged", "unsettled", "cannot_follow"]);
+        let names: [&str; 5] = Status::ALL.map(Status::name);
+        assert_eq!(names, ["converged", "diverged", "unsettled", "cannot_follow", "collided"]);
+        // A collision is its own outcome, not a divergence.
+        let hit = paper.finish(3.0, &off, Pose2::default(), Termination::Collided);
+        assert_eq!(hit.status(), Status::Collided);
+        assert!(!Termination::Collided.diverged());
     }
 }

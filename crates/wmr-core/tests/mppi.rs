@@ -10,9 +10,10 @@
 
 use wmr_core::controller::MotionModel;
 use wmr_core::controller::mppi::kinematic_rollout;
+use wmr_core::obstacle::Obstacle;
 use wmr_core::{
-    ClosedLoop, ControllerParams, DriveParams, FixedGoal, Law, LawParams, Measurement, MppiLaw, MppiParams, Plant,
-    Pose2, Real, ReferenceState, Robot, RobotParams, Twist2, WheelDemand, Wheels,
+    ClosedLoop, ControllerParams, DriveParams, FixedGoal, Law, LawParams, Measurement, MppiLaw, MppiParams, Obstacles,
+    Plant, Pose2, Real, ReferenceState, Robot, RobotParams, Twist2, WheelDemand, Wheels,
 };
 
 /// The oracle: nav2's MPPI for a diff-drive robot, as written there, in f64.
@@ -74,6 +75,40 @@ mod nav2 {
         pub constraint: (f64, i32),
         pub prefer_forward: (f64, i32, f64),
         pub twirling: (f64, i32),
+        /// Circle obstacles (x, y, radius) and the robot's radius.
+        pub circles: &'static [(f64, f64, f64)],
+        pub robot_radius: f64,
+        /// ObstaclesCritic: critical_weight, repulsion_weight, collision_cost,
+        /// collision_margin_distance, near_goal_distance, and the inflation layer's radius.
+        pub obstacles: (f64, f64, f64, f64, f64, f64),
+    }
+
+    /// `ObstaclesCritic::score` for one trajectory, with the costmap's cost replaced by the
+    /// exact distances to circles: (raw cost, repulsive cost).
+    pub fn obstacles_critic(s: &Settings, xs: &[f64], ys: &[f64], near_goal: bool) -> (f64, f64) {
+        let (_, _, collision_cost, margin, _, inflation) = s.obstacles;
+        let (mut traj_cost, mut repulsive) = (0.0, 0.0);
+        for (x, y) in xs.iter().zip(ys) {
+            let centre = s
+                .circles
+                .iter()
+                .map(|(cx, cy, r)| ((x - cx).powi(2) + (y - cy).powi(2)).sqrt() - r)
+                .fold(f64::INFINITY, f64::min);
+            if centre >= inflation {
+                continue; // free space: the costmap's cost is below 1
+            }
+            let dist_to_obj = centre - s.robot_radius;
+            if dist_to_obj <= 0.0 {
+                return (collision_cost, repulsive);
+            }
+            if dist_to_obj < margin {
+                traj_cost += margin - dist_to_obj;
+            }
+            if !near_goal {
+                repulsive += inflation - dist_to_obj;
+            }
+        }
+        (traj_cost, repulsive)
     }
 
     fn powed(x: f64, w: f64, p: i32) -> f64 {
@@ -199,15 +234,26 @@ mod nav2 {
                     }
                 }
                 let mut costs = vec![0.0; s.batch];
+                let (mut raw, mut repulsive) = (vec![0.0; s.batch], vec![0.0; s.batch]);
                 for k in 0..s.batch {
                     let (vx, wz, xs, ys, yaws) = rollout(&s, pose, speed, &cvx[k], &cwz[k]);
                     costs[k] = critics(&s, &vx, &wz, &xs, &ys, &yaws, goal, path_length);
+                    if !s.circles.is_empty() {
+                        (raw[k], repulsive[k]) = obstacles_critic(&s, &xs, &ys, path_length < s.obstacles.4);
+                    }
                     let gvx = s.gamma / (s.vx_std * s.vx_std);
                     let gwz = s.gamma / (s.wz_std * s.wz_std);
                     let cv: f64 = (0..n).map(|t| (cvx[k][t] - self.cs_vx[t]) * self.cs_vx[t]).sum();
                     let cw: f64 = (0..n).map(|t| (cwz[k][t] - self.cs_wz[t]) * self.cs_wz[t]).sum();
                     costs[k] += gvx * cv;
                     costs[k] += gwz * cw;
+                }
+                if !s.circles.is_empty() {
+                    // nav2: the repulsion normalized by the batch's lowest and the length.
+                    let low = repulsive.iter().cloned().fold(f64::INFINITY, f64::min);
+                    for k in 0..s.batch {
+                        costs[k] += s.obstacles.0 * raw[k] + s.obstacles.1 * (repulsive[k] - low) / n as f64;
+                    }
                 }
                 // Two passes: the minimum, then the weights.
                 let min = costs.iter().cloned().fold(f64::INFINITY, f64::min);
@@ -269,6 +315,16 @@ fn settings_of(p: &MppiParams<f64>) -> nav2::Settings {
             p.prefer_forward_threshold_to_consider,
         ),
         twirling: (p.twirling_cost_weight, p.twirling_cost_power as i32),
+        circles: &[],
+        robot_radius: 0.0,
+        obstacles: (
+            p.obstacles_critical_weight,
+            p.obstacles_repulsion_weight,
+            p.obstacles_collision_cost,
+            p.obstacles_collision_margin_distance,
+            p.obstacles_near_goal_distance,
+            p.obstacles_inflation_radius,
+        ),
     }
 }
 
@@ -299,10 +355,26 @@ fn measurement(t: f64, pose: (f64, f64, f64), v: f64, omega: f64) -> Measurement
 /// The law and the oracle over several cycles fed the same measurements (an open loop
 /// along a made-up path, so that every critic is on at some cycle): the same commands.
 fn law_matches_the_oracle(p: MppiParams<f64>) {
+    law_matches_the_oracle_among(p, &[], 0.0);
+}
+
+/// [`law_matches_the_oracle`] with circle obstacles (x, y, radius) and a footprint radius.
+fn law_matches_the_oracle_among(p: MppiParams<f64>, circles: &'static [(f64, f64, f64)], footprint: f64) {
+    let list: Vec<Obstacle<'_, f64>> =
+        circles.iter().map(|&(x, y, r)| Obstacle::Circle { center: (x, y), radius: r }).collect();
+    let obstacles = Obstacles::new(&list, footprint).unwrap();
     let mut law =
         MppiLaw::<f64>::for_lanes(p, &RobotParams::paper(), &DriveParams::default(), f64::INFINITY, p.model_dt)
-            .unwrap();
-    let mut oracle = nav2::Optimizer::new(settings_of(&p));
+            .unwrap()
+            .with_obstacles(&obstacles);
+    let mut settings = settings_of(&p);
+    settings.circles = circles;
+    settings.robot_radius = footprint;
+    let mut oracle = nav2::Optimizer::new(settings);
+    // The same commands to rounding: 1e-12 without obstacles; with them, a collision's
+    // cost (2e6) and nav2's shift of the repulsion by the batch's lowest (which the law
+    // leaves out: the softmax does not see a common shift) round differently.
+    let tol = if circles.is_empty() { 1e-12 } else { 1e-10 };
     let goal = (0.9, 0.4, 1.0);
     let r = ReferenceState::at_rest(Pose2::new(goal.0, goal.1, goal.2));
     for cycle in 0..6 {
@@ -313,7 +385,7 @@ fn law_matches_the_oracle(p: MppiParams<f64>) {
         let got = twist_of(law.update(t, &measurement(t, pose, v, omega), &r).demand);
         let want = oracle.eval(pose, (v, omega), goal);
         assert!(
-            (got.v - want.0).abs() <= 1e-12 && (got.omega - want.1).abs() <= 1e-12,
+            (got.v - want.0).abs() <= tol && (got.omega - want.1).abs() <= tol,
             "cycle {cycle}: law ({}, {}) oracle ({}, {}): differ by ({:e}, {:e})",
             got.v,
             got.omega,
@@ -347,6 +419,18 @@ fn the_law_is_nav2s_mppi_with_a_streamed_softmax() {
     });
     // nav2's defaults.
     law_matches_the_oracle(kinematic());
+}
+
+/// The obstacles critic against nav2's `ObstaclesCritic` on exact distances: circles the
+/// made-up path passes near and one it runs into, so that the margin, the repulsion, the
+/// collision cost and near_goal all act over the six cycles.
+#[test]
+fn the_obstacles_critic_is_nav2s() {
+    const CIRCLES: [(f64, f64, f64); 3] = [(0.5, 0.35, 0.12), (0.95, 0.0, 0.1), (0.3, -0.3, 0.2)];
+    let circles = &CIRCLES;
+    let small = MppiParams::<f64> { batch_size: 300, time_steps: 20, ..kinematic() };
+    law_matches_the_oracle_among(small, circles, 0.1);
+    law_matches_the_oracle_among(MppiParams { obstacles_near_goal_distance: 2.0, seed: 3, ..small }, circles, 0.05);
 }
 
 /// Constant (v, omega) within the accelerations: the rollout is the forward-Euler arc,

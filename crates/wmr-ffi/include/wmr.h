@@ -144,10 +144,10 @@
 #define WMR_GRACEFUL_CONTROLLER_F64_WORDS 80
 
 // Words (8 bytes each) of `wmr_mppi_controller_f32`: the law `mppi` with its wheel stage.
-#define WMR_MPPI_CONTROLLER_F32_WORDS 160
+#define WMR_MPPI_CONTROLLER_F32_WORDS 344
 
 // Words (8 bytes each) of `wmr_mppi_controller_f64`: the law `mppi` with its wheel stage.
-#define WMR_MPPI_CONTROLLER_F64_WORDS 272
+#define WMR_MPPI_CONTROLLER_F64_WORDS 512
 
 // Words (8 bytes each) of `wmr_kanayama_controller_f32`: the law `kanayama` with its wheel stage.
 #define WMR_KANAYAMA_CONTROLLER_F32_WORDS 40
@@ -461,6 +461,18 @@ typedef struct {
   float twirling_cost_weight;
   // twirling critic: power of its cost (>= 1).
   uint32_t twirling_cost_power;
+  // obstacles critic: weight of the collision cost and of the clearance inside the margin, 1/m (>= 0).
+  float obstacles_critical_weight;
+  // obstacles critic: weight of the repulsion from obstacles within the inflation radius, 1/m (>= 0).
+  float obstacles_repulsion_weight;
+  // obstacles critic: the cost of a rollout whose footprint touches an obstacle, m (>= 0).
+  float obstacles_collision_cost;
+  // obstacles critic: clearance under which a step costs (margin - clearance), m (>= 0).
+  float obstacles_collision_margin_distance;
+  // obstacles critic: no repulsion while the robot is this close to the goal, m (>= 0).
+  float obstacles_near_goal_distance;
+  // obstacles critic: distance from C to an obstacle beyond which it costs nothing (nav2: the inflation layer's inflation_radius), m (>= 0).
+  float obstacles_inflation_radius;
 } wmr_mppi_params_f32;
 
 // Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)) (`[controller] kind = "kanayama"`).
@@ -981,6 +993,18 @@ typedef struct {
   double twirling_cost_weight;
   // twirling critic: power of its cost (>= 1).
   uint32_t twirling_cost_power;
+  // obstacles critic: weight of the collision cost and of the clearance inside the margin, 1/m (>= 0).
+  double obstacles_critical_weight;
+  // obstacles critic: weight of the repulsion from obstacles within the inflation radius, 1/m (>= 0).
+  double obstacles_repulsion_weight;
+  // obstacles critic: the cost of a rollout whose footprint touches an obstacle, m (>= 0).
+  double obstacles_collision_cost;
+  // obstacles critic: clearance under which a step costs (margin - clearance), m (>= 0).
+  double obstacles_collision_margin_distance;
+  // obstacles critic: no repulsion while the robot is this close to the goal, m (>= 0).
+  double obstacles_near_goal_distance;
+  // obstacles critic: distance from C to an obstacle beyond which it costs nothing (nav2: the inflation layer's inflation_radius), m (>= 0).
+  double obstacles_inflation_radius;
 } wmr_mppi_params_f64;
 
 // Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)) (`[controller] kind = "kanayama"`).

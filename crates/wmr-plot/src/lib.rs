@@ -58,14 +58,15 @@ impl core::fmt::Display for PlotError {
 impl std::error::Error for PlotError {}
 
 /// The colour of an outcome in every figure: bluish green converged, orange unsettled,
-/// reddish purple cannot_follow (Okabe and Ito), black diverged (the worst, and told apart
-/// from the others by anyone).
+/// reddish purple cannot_follow, vermillion collided (Okabe and Ito), black diverged (the
+/// worst, and told apart from the others by anyone).
 pub fn status_color(s: Status) -> &'static str {
     match s {
         Status::Converged => "#009E73",
         Status::Diverged => "#000000",
         Status::Unsettled => "#E69F00",
         Status::CannotFollow => "#CC79A7",
+        Status::Collided => "#D55E00",
         // A status added later: grey until it is given a colour of its own.
         _ => "#999999",
     }

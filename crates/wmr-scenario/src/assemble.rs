@@ -75,6 +75,10 @@ fn assemble(
     let sensor = setup.sensor_for(run).map_err(|e| origin.key_of(&e))?;
     let reference = reference().map_err(|e| origin.key_of(&e))?;
     ClosedLoop::with_sensor(plant, sensor, setup.built, reference, sim.dt())
-        .map(|lp| lp.stop_when_settled(sim.stop_when_settled()).early_arrival(sim.early_arrival()))
+        .map(|lp| {
+            lp.stop_when_settled(sim.stop_when_settled())
+                .early_arrival(sim.early_arrival())
+                .with_obstacles(setup.obstacles)
+        })
         .map_err(|e| origin.key_of(&e))
 }

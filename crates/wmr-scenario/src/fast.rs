@@ -229,10 +229,14 @@ fn lanes(
 ) -> Result<Option<Vec<Outcome<f64>>>, ScenarioError> {
     let plant = setup.plant(goal).map_err(|e| origin.key_of(&e))?;
     let goal = FixedGoal::new(goal).map_err(|e| origin.key_of(&e))?;
-    let controller = setup.controller.build_lanes(setup.model.params(), &setup.drive).map_err(|e| origin.key_of(&e))?;
+    let controller = setup
+        .controller
+        .build_lanes_in(setup.model.params(), &setup.drive, &setup.obstacles)
+        .map_err(|e| origin.key_of(&e))?;
     let mut batch = Batch::new(plant, controller, goal, sim.dt(), sim.n_steps(), sim.stop_when_settled())
         .map_err(|e| origin.key_of(&e))?
-        .early_arrival(sim.early_arrival());
+        .early_arrival(sim.early_arrival())
+        .with_obstacles(setup.obstacles);
     let mut next_start = starts.iter().enumerate();
     let mut outcomes = vec![None; starts.len()];
     let mut stopped = false;

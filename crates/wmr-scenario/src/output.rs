@@ -399,12 +399,44 @@ pub struct RunResult {
     /// its worst ratio ([`wmr_core::rolling_traction`], at the logged samples); empty
     /// when they never did, and for a slipping run.
     pub traction: TractionWatch<f64>,
+    /// For a run that collided, the index of the obstacle it touched (in
+    /// `[[world.obstacle]]` order, circles first: `wmr_core::Obstacles::iter`).
+    pub collided_with: Option<usize>,
 }
 
 impl RunResult {
     /// Wraps a core outcome.
     pub fn new(index: usize, label: String, outcome: Outcome<f64>) -> Self {
-        Self { index, label, outcome, tracking: None, odometry_drift: None, traction: TractionWatch::default() }
+        Self {
+            index,
+            label,
+            outcome,
+            tracking: None,
+            odometry_drift: None,
+            traction: TractionWatch::default(),
+            collided_with: None,
+        }
+    }
+
+    /// The same run with the obstacle it touched (a run that collided).
+    pub fn with_collision(mut self, obstacles: &wmr_core::Obstacles<f64>) -> Self {
+        if self.outcome.termination == wmr_core::Termination::Collided {
+            let p = self.outcome.final_pose;
+            self.collided_with = obstacles.nearest(p.x, p.y).map(|(i, _)| i);
+        }
+        self
+    }
+
+    /// ", collided at t = T s with obstacle I" for a run that collided, ", diverged at t = T s" style stop
+    /// otherwise: what follows the status word.
+    fn stop_note(&self) -> String {
+        let t = fixed(self.outcome.t_final, 3);
+        match (self.status(), self.collided_with) {
+            (Status::Diverged, _) => format!(" at t = {t} s"),
+            (Status::Collided, Some(i)) => format!(" at t = {t} s with obstacle {i}"),
+            (Status::Collided, None) => format!(" at t = {t} s"),
+            _ => String::new(),
+        }
     }
 
     /// The same run with what its rolling wheels asked of the ground.
@@ -469,7 +501,7 @@ impl RunResult {
                 Some(t) => format!("within {tol} after {} s", fixed(t, 3)),
                 None => format!("never within {tol}"),
             };
-            let stop = if self.diverged() { format!(" at t = {} s", fixed(o.t_final, 3)) } else { String::new() };
+            let stop = self.stop_note();
             return format!(
                 "run {} [{}]: tracking error over the last half RMS {}, max {}, final {}, {settle}, {}{}",
                 self.index,
@@ -485,7 +517,7 @@ impl RunResult {
             Some(t) => format!("{} s", fixed(t, 3)),
             None => "never".to_owned(),
         };
-        let stop = if self.diverged() { format!(" at t = {} s", fixed(o.t_final, 3)) } else { String::new() };
+        let stop = self.stop_note();
         format!(
             "run {} [{}]: final dl {} m, final heading error {} deg, time to dl < 1 cm {}, {}{}",
             self.index,

@@ -555,7 +555,7 @@ impl Scenario {
         };
         result.map_continue(|r| {
             let drift = OdometryDrift::of(lp, &r.outcome);
-            r.with_odometry_drift(drift).with_traction(traction)
+            r.with_odometry_drift(drift).with_traction(traction).with_collision(&s.obstacles)
         })
     }
 

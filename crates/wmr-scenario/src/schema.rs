@@ -135,6 +135,60 @@ const PUSH_KEYS: [(ParamField, Option<&str>); 4] = [
     ),
 ];
 
+/// `[robot] footprint_radius` (read by the scenario, not a field of `RobotParams`).
+const FOOTPRINT_KEY: ParamField = ParamField {
+    name: "footprint_radius",
+    ty: "T",
+    unit: "m",
+    doc: "The robot's footprint for collisions with [[world.obstacle]]: a circle about C (nav2's robot_radius); by default half_track, the circle through the wheels' contact points.",
+    rule: "finite, >= 0",
+};
+
+/// The keys of one `[[world.obstacle]]` (`wmr_core::obstacle`), written
+/// `obstacle.<key>` in the `[world]` tables.
+const OBSTACLE_KEYS: [(ParamField, Option<&str>); 4] = [
+    (
+        ParamField {
+            name: "obstacle.kind",
+            ty: "string",
+            unit: "",
+            doc: "[[world.obstacle]]: \"circle\" (center, radius) or \"polygon\" (points); a run whose footprint touches one ends collided.",
+            rule: "required, \"circle\" or \"polygon\"",
+        },
+        None,
+    ),
+    (
+        ParamField {
+            name: "obstacle.center",
+            ty: "table",
+            unit: "m",
+            doc: "[[world.obstacle]] circle: its centre, world frame.",
+            rule: "{ x, y }, finite",
+        },
+        None,
+    ),
+    (
+        ParamField {
+            name: "obstacle.radius",
+            ty: "T",
+            unit: "m",
+            doc: "[[world.obstacle]] circle: its radius.",
+            rule: "> 0",
+        },
+        None,
+    ),
+    (
+        ParamField {
+            name: "obstacle.points",
+            ty: "array",
+            unit: "m",
+            doc: "[[world.obstacle]] polygon: its vertices [[x, y], ...] in order, world frame (at most 16 obstacles and 32 polygon vertices in all).",
+            rule: "3 to 32 vertices, finite",
+        },
+        None,
+    ),
+];
+
 /// The `kind` key of a tagged table whose kinds are `kinds` (the first the default).
 fn kind_key(table: &'static str, doc: &'static str, kinds: &[&'static str]) -> SchemaKey {
     let quoted: Vec<String> = kinds.iter().map(|k| format!("\"{k}\"")).collect();
@@ -185,6 +239,7 @@ pub fn schema() -> Vec<SchemaKey> {
     out.extend(plain("", fields_of::<ScenarioFile>()).filter(|k| k.key == "name"));
     out.extend(declared("robot", None, RobotParams::<f64>::FIELDS, &RobotParams::<f64>::paper()));
     out.extend(declared("robot", None, TractionParams::<f64>::FIELDS, &TractionParams::<f64>::default()));
+    out.push(SchemaKey::described("robot", None, &FOOTPRINT_KEY, None));
     let drives = DriveParams::<f64>::defaults();
     out.push(kind_key(
         "drive",
@@ -244,6 +299,10 @@ pub fn schema() -> Vec<SchemaKey> {
             }),
     );
     out.extend(PUSH_KEYS.iter().map(|(f, default)| {
+        let default = default.and_then(|d| toml::from_str::<toml::Table>(&format!("v = {d}")).ok()?.remove("v"));
+        SchemaKey::described("world", None, f, default)
+    }));
+    out.extend(OBSTACLE_KEYS.iter().map(|(f, default)| {
         let default = default.and_then(|d| toml::from_str::<toml::Table>(&format!("v = {d}")).ok()?.remove("v"));
         SchemaKey::described("world", None, f, default)
     }));

@@ -6,9 +6,9 @@
 use toml::{Table, Value};
 use wmr_core::describe::Described;
 use wmr_core::{
-    AnyLaw, AnySensor, Controller, ControllerParams, Drive, DriveParams, OdometryParams, Payload, PayloadParams, Plant,
-    Pose2, PoseSource, PushParams, Pushes, Robot, RobotParams, SensorParams, Traction, TractionParams, World,
-    WorldParams,
+    AnyLaw, AnySensor, Controller, ControllerParams, Drive, DriveParams, Obstacle, Obstacles, OdometryParams, Payload,
+    PayloadParams, Plant, Pose2, PoseSource, PushParams, Pushes, Robot, RobotParams, SensorParams, Traction,
+    TractionParams, World, WorldParams,
 };
 
 use crate::controller;
@@ -102,6 +102,121 @@ pub struct Setup {
     pub truth: Robot<f64>,
     /// The pushes on the plant (`[[world.push]]`; none by default).
     pub pushes: Pushes<f64>,
+    /// The obstacles (`[[world.obstacle]]`; none by default) and the footprint radius
+    /// (`[robot] footprint_radius`) that collides with them.
+    pub obstacles: Obstacles<f64>,
+}
+
+/// One `[[world.obstacle]]` as written: `kind = "circle"` with `center` and `radius`, or
+/// `kind = "polygon"` with `points`.
+#[derive(Clone, Debug, Default, serde::Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+struct ObstacleFile {
+    kind: String,
+    #[serde(default)]
+    center: Option<PointFile>,
+    #[serde(default)]
+    radius: Option<f64>,
+    #[serde(default)]
+    points: Option<Vec<[f64; 2]>>,
+}
+
+/// `center = { x = .., y = .. }`, m, world frame.
+#[derive(Clone, Debug, Default, serde::Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+struct PointFile {
+    x: f64,
+    y: f64,
+}
+
+/// The most vertices one `[[world.obstacle]]` polygon is read with (the world holds
+/// [`wmr_core::obstacle::MAX_POLYGON_POINTS`] in all).
+const MAX_READ_POINTS: usize = wmr_core::obstacle::MAX_POLYGON_POINTS;
+
+/// `[[world.obstacle]]` with the footprint radius (m): each obstacle read and checked;
+/// errors name `world.obstacle[i].<key>`.
+fn resolve_obstacles(given: Option<Value>, footprint_radius: f64) -> Result<Obstacles<f64>, ScenarioError> {
+    use serde::Deserialize;
+    let list = match given {
+        None => Vec::new(),
+        Some(Value::Array(a)) => a,
+        Some(other) => {
+            return Err(ScenarioError::new(
+                "world.obstacle",
+                format!("expected an array of tables ([[world.obstacle]]), got {}", other.type_str()),
+            ));
+        }
+    };
+    if list.len() > wmr_core::obstacle::MAX_OBSTACLES {
+        return Err(ScenarioError::new(
+            "world.obstacle",
+            format!("{} obstacles: at most {} (MAX_OBSTACLES)", list.len(), wmr_core::obstacle::MAX_OBSTACLES),
+        ));
+    }
+    let mut read = Vec::with_capacity(list.len());
+    for (i, v) in list.into_iter().enumerate() {
+        let path = format!("world.obstacle[{i}]");
+        let o: ObstacleFile = read_with(&path, v, |d| ObstacleFile::deserialize(d))?;
+        let need = |key: &str, what: &str| {
+            ScenarioError::new(join(&path, key), format!("is required for kind = \"{}\" ({what})", o.kind))
+        };
+        let refuse = |key: &str, why: &str| ScenarioError::new(join(&path, key), why.to_owned());
+        match o.kind.as_str() {
+            "circle" => {
+                if o.points.is_some() {
+                    return Err(refuse("points", "is for kind = \"polygon\"; a circle has center and radius"));
+                }
+                let c = o.center.as_ref().ok_or_else(|| need("center", "{ x, y }, m"))?;
+                let radius = o.radius.ok_or_else(|| need("radius", "m"))?;
+                if !(c.x.is_finite() && c.y.is_finite()) {
+                    return Err(refuse("center", "must be finite"));
+                }
+                if !(radius.is_finite() && radius > 0.0) {
+                    return Err(refuse("radius", &format!("must be finite and > 0, got {radius}")));
+                }
+                read.push(((c.x, c.y, radius), Vec::new()));
+            }
+            "polygon" => {
+                if o.center.is_some() || o.radius.is_some() {
+                    return Err(refuse(
+                        if o.center.is_some() { "center" } else { "radius" },
+                        "is for kind = \"circle\"; a polygon has points",
+                    ));
+                }
+                let points = o.points.ok_or_else(|| need("points", "[[x, y], ...], m, at least 3"))?;
+                if points.len() < 3 || points.len() > MAX_READ_POINTS {
+                    return Err(refuse(
+                        "points",
+                        &format!("needs 3 to {MAX_READ_POINTS} vertices, got {}", points.len()),
+                    ));
+                }
+                if points.iter().flatten().any(|c| !c.is_finite()) {
+                    return Err(refuse("points", "must be finite"));
+                }
+                read.push(((0.0, 0.0, 0.0), points.iter().map(|p| (p[0], p[1])).collect()));
+            }
+            other => {
+                return Err(ScenarioError::new(
+                    join(&path, "kind"),
+                    format!("unknown kind {other:?}; the kinds are \"circle\", \"polygon\""),
+                ));
+            }
+        }
+    }
+    let list: Vec<Obstacle<'_, f64>> = read
+        .iter()
+        .map(|((x, y, r), points)| {
+            if points.is_empty() {
+                Obstacle::Circle { center: (*x, *y), radius: *r }
+            } else {
+                Obstacle::Polygon(points)
+            }
+        })
+        .collect();
+    Obstacles::new(&list, footprint_radius).map_err(|e| match e.field {
+        "footprint_radius" => ScenarioError::from_param(&e, "robot.footprint_radius"),
+        _ => ScenarioError::from_param(&e, "world.obstacle"),
+    })
 }
 
 /// One `[[world.push]]` as written.
@@ -187,11 +302,15 @@ fn resolve_drive(given: &Table) -> Result<DriveParams<f64>, ScenarioError> {
     read_with("drive", Value::Table(merged), |d| default.deserialize_variant(d))
 }
 
+/// `[robot] footprint_radius`: the robot's footprint about C for collisions, m (nav2's
+/// `robot_radius`); by default R, the circle through the wheels' contact points.
+pub const FOOTPRINT_RADIUS: &str = "footprint_radius";
+
 /// The keys a `[robot]` table holds, sorted: [`RobotParams`]'s and [`TractionParams`]'s,
 /// and `from` when `with_from` (a scenario's, not a preset's).
 pub fn robot_keys(with_from: bool) -> Vec<&'static str> {
     let own = RobotParams::<f64>::FIELDS.iter().chain(TractionParams::<f64>::FIELDS).map(|f| f.name);
-    let mut keys: Vec<&str> = own.chain(with_from.then_some("from")).collect();
+    let mut keys: Vec<&str> = own.chain(with_from.then_some("from")).chain([FOOTPRINT_RADIUS]).collect();
     keys.sort_unstable();
     keys
 }
@@ -212,13 +331,20 @@ impl Setup {
     /// (`controller`, `sweep.controllers[1]`) and its control period must divide into
     /// the sensor's timing.
     pub fn resolve(t: &Tables, controller_path: &str) -> Result<Self, ScenarioError> {
-        let (robot_keys, traction_keys) = split_robot(&t.robot)?;
+        let mut robot_table = t.robot.clone();
+        let footprint = robot_table.remove(FOOTPRINT_RADIUS);
+        let (robot_keys, traction_keys) = split_robot(&robot_table)?;
         let robot_params = overlay(&RobotParams::<f64>::paper(), &robot_keys, "robot")?;
         let robot = robot_params.validate().map_err(param_error("robot"))?;
         let drive_params = resolve_drive(&t.drive)?;
         let drive = drive_params.validate(&robot).map_err(param_error("drive"))?;
         let mut world_keys = t.world.clone();
         let pushes = resolve_pushes(world_keys.remove("push"))?;
+        let footprint_radius = match footprint {
+            None => robot.params().half_track,
+            Some(v) => read_with("robot.footprint_radius", v, |d| <f64 as serde::Deserialize>::deserialize(d))?,
+        };
+        let obstacles = resolve_obstacles(world_keys.remove("obstacle"), footprint_radius)?;
         let payload = match world_keys.remove("payload") {
             None => Payload::none(),
             Some(Value::Table(p)) => overlay(&PayloadParams::<f64>::default(), &p, "world.payload")?
@@ -264,7 +390,8 @@ impl Setup {
             }
         };
         let controller = controller::resolve(&table, controller_path, &drive_params, model.params())?;
-        let built = controller.build(model.params(), &drive).map_err(param_error(controller_path))?;
+        let built =
+            controller.build_lanes_in(model.params(), &drive, &obstacles).map_err(param_error(controller_path))?;
         AnySensor::<f64>::new(sensor, pose, model.params(), controller.control_dt, 0).map_err(param_error("sensor"))?;
         Ok(Self {
             robot,
@@ -281,6 +408,7 @@ impl Setup {
             payload,
             truth,
             pushes,
+            obstacles,
         })
     }
 

@@ -2,9 +2,8 @@
 //! dispatched by `match`, no `dyn`, no alloc. Expanded from the registry
 //! ([`super::registry`]): this file names no law.
 
-use super::law::{Follows, Law, LawOutput, LawSpec};
+use super::law::{Follows, Law, LawContext, LawOutput, LawSpec};
 use crate::describe::{Described, ParamField};
-use crate::drive::DriveParams;
 use crate::error::ParamError;
 use crate::lane::Lane;
 use crate::reference::{Path, ReferenceState};
@@ -115,24 +114,19 @@ macro_rules! laws {
                 Ok(match self { $( LawParams::$variant(p) => AnyLaw::$variant(p.build::<L>(model, control_dt)?), )+ })
             }
 
-            /// [`LawParams::build_lanes`] knowing the drive and the wheel stage's speed
-            /// limit (rad/s): what a controller calls ([`LawSpec::build_for_drive`]).
-            pub fn build_lanes_for_drive<L: Lane<Scalar = T>>(
-                &self,
-                model: &RobotParams<T>,
-                drive: &DriveParams<T>,
-                wheel_speed_max: T,
-                control_dt: T,
-            ) -> Result<AnyLaw<L>, ParamError> {
-                Ok(match self {
-                    $( LawParams::$variant(p) => AnyLaw::$variant(p.build_for_drive::<L>(model, drive, wheel_speed_max, control_dt)?), )+
-                })
+            /// [`LawParams::build_lanes`] knowing all the controller knows: what a
+            /// controller calls ([`LawSpec::build_in`]).
+            pub fn build_lanes_in<L: Lane<Scalar = T>>(&self, ctx: &LawContext<'_, T>) -> Result<AnyLaw<L>, ParamError> {
+                Ok(match self { $( LawParams::$variant(p) => AnyLaw::$variant(p.build_in::<L>(ctx)?), )+ })
             }
         }
 
         /// Any law, dispatched by `match`. Implements [`Law`].
         #[derive(Clone, Copy, Debug, PartialEq)]
         #[non_exhaustive]
+        // MPPI holds its sequence and its obstacles inline (no allocation in the core): the
+        // enum is as large as it is, and every law a plain `Copy` value.
+        #[allow(clippy::large_enum_variant)]
         pub enum AnyLaw<T: Lane> {
             $( $(#[doc = $doc])* $variant($krate::$law<T>), )+
         }

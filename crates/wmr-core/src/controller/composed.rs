@@ -6,13 +6,14 @@
 //! which the plant holds until the next tick.
 
 use super::any::{AnyLaw, LawParams};
-use super::law::{ControlErrors, Law, WheelDemand};
+use super::law::{ControlErrors, Law, LawContext, WheelDemand};
 use super::paper::PaperParams;
 use super::wheel_stage::{WheelStage, WheelStageParams};
 use crate::drive::Drive;
 use crate::error::{ParamError, check};
 use crate::lane::{Lane, Mask};
 use crate::math::{Twist2, Wheels};
+use crate::obstacle::Obstacles;
 use crate::reference::{Path, ReferenceState};
 use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
@@ -85,8 +86,26 @@ impl<T: Real> ControllerParams<T> {
         model: &RobotParams<T>,
         drive: &Drive<T>,
     ) -> Result<Controller<L, AnyLaw<L>>, ParamError> {
+        self.build_lanes_in(model, drive, &Obstacles::default())
+    }
+
+    /// [`ControllerParams::build_lanes`] with the obstacles on the controller's map (MPPI's
+    /// `obstacles` critic reads them; the other laws do not).
+    pub fn build_lanes_in<L: Lane<Scalar = T>>(
+        &self,
+        model: &RobotParams<T>,
+        drive: &Drive<T>,
+        obstacles: &Obstacles<T>,
+    ) -> Result<Controller<L, AnyLaw<L>>, ParamError> {
         let control_dt = check::positive("control_dt", self.control_dt)?;
-        let law = self.law.build_lanes_for_drive(model, &drive.params(), self.wheels.wheel_speed_max, control_dt)?;
+        let ctx = LawContext {
+            model,
+            drive: &drive.params(),
+            wheel_speed_max: self.wheels.wheel_speed_max,
+            obstacles,
+            control_dt,
+        };
+        let law = self.law.build_lanes_in(&ctx)?;
         let mut wheels = WheelStage::for_lanes(&self.wheels, model, drive, control_dt)?;
         if let Some(observer) = &self.observer {
             let named = |e: ParamError| match e.field {

@@ -7,6 +7,7 @@ use crate::drive::DriveParams;
 use crate::error::ParamError;
 use crate::lane::{Lane, Mask};
 use crate::math::{Twist2, Wheels};
+use crate::obstacle::Obstacles;
 use crate::reference::{Path, ReferenceState};
 use crate::sensor::Measurement;
 use crate::{Real, RobotParams};
@@ -61,19 +62,28 @@ pub trait LawSpec<T: Real>: Described + Copy + Default + PartialEq {
     /// robot model and control period (s).
     fn build<L: Lane<Scalar = T>>(&self, model: &RobotParams<T>, control_dt: T) -> Result<Self::Law<L>, ParamError>;
 
-    /// [`LawSpec::build`] knowing the drive the controller commands and the wheel stage's
-    /// speed limit (rad/s): what a law that predicts with the whole robot needs (MPPI's
-    /// dynamic rollouts). Every other law keeps this default.
-    fn build_for_drive<L: Lane<Scalar = T>>(
-        &self,
-        model: &RobotParams<T>,
-        drive: &DriveParams<T>,
-        wheel_speed_max: T,
-        control_dt: T,
-    ) -> Result<Self::Law<L>, ParamError> {
-        let _ = (drive, wheel_speed_max);
-        self.build(model, control_dt)
+    /// [`LawSpec::build`] knowing all the controller knows ([`LawContext`]): what a law
+    /// that predicts with the whole robot and its surroundings needs (MPPI's dynamic
+    /// rollouts and obstacles critic). Every other law keeps this default.
+    fn build_in<L: Lane<Scalar = T>>(&self, ctx: &LawContext<'_, T>) -> Result<Self::Law<L>, ParamError> {
+        self.build(ctx.model, ctx.control_dt)
     }
+}
+
+/// What a controller knows when it builds its law: its model of the robot, the drive it
+/// commands, the wheel stage's speed limit, the obstacles on its map, the control period.
+#[derive(Clone, Copy, Debug)]
+pub struct LawContext<'a, T> {
+    /// The controller's robot (`[controller.model]`).
+    pub model: &'a RobotParams<T>,
+    /// The drive it commands.
+    pub drive: &'a DriveParams<T>,
+    /// The wheel stage's per-wheel speed limit, rad/s (infinite: none).
+    pub wheel_speed_max: T,
+    /// The obstacles it knows of, with its footprint ([`crate::obstacle`]).
+    pub obstacles: &'a Obstacles<T>,
+    /// The control period, s.
+    pub control_dt: T,
 }
 
 /// What a law asks of the wheel stage.

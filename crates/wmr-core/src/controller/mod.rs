@@ -35,7 +35,7 @@ pub mod wheel_stage;
 
 pub use any::{AnyLaw, LawParams};
 pub use composed::{ControlOutput, Controller, ControllerParams};
-pub use law::{ControlErrors, Follows, Law, LawOutput, LawSpec, WheelDemand};
+pub use law::{ControlErrors, Follows, Law, LawContext, LawOutput, LawSpec, WheelDemand};
 pub use mppi::MotionModel;
 pub use observer::{DisturbanceObserver, DisturbanceObserverParams};
 pub use paper::{AntiWindup, HoldMode, PaperMode};

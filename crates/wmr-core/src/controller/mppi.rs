@@ -75,13 +75,14 @@
 //! Logged errors ([`super::ControlErrors`]), as the polar laws': dl the distance from C to
 //! the goal, e_theta = wrap(theta_d - theta), e_s = (x_d - x) cos(theta) + (y_d - y) sin(theta).
 
-use super::law::{Law, LawOutput, LawSpec, WheelDemand};
+use super::law::{Law, LawContext, LawOutput, LawSpec, WheelDemand};
 use super::polar_frame::polar_errors;
 use super::rollout::{DynamicModel, ROLLOUT_LANES, Wide};
 use crate::drive::DriveParams;
 use crate::error::{ParamError, check};
-use crate::lane::{Lane, Lanes};
+use crate::lane::{Lane, Lanes, Mask};
 use crate::math::{Pose2, Twist2, wrap_angle};
+use crate::obstacle::Obstacles;
 use crate::reference::ReferenceState;
 use crate::sensor::Measurement;
 use crate::sensor::gaussian::mix64;
@@ -182,6 +183,18 @@ crate::params! {
         pub twirling_cost_weight: T [unit = "s/rad", rule = ">= 0"],
         /// twirling critic: power of its cost.
         pub twirling_cost_power: u32 [unit = "", rule = ">= 1"],
+        /// obstacles critic: weight of the collision cost and of the clearance inside the margin.
+        pub obstacles_critical_weight: T [unit = "1/m", rule = ">= 0"],
+        /// obstacles critic: weight of the repulsion from obstacles within the inflation radius.
+        pub obstacles_repulsion_weight: T [unit = "1/m", rule = ">= 0"],
+        /// obstacles critic: the cost of a rollout whose footprint touches an obstacle.
+        pub obstacles_collision_cost: T [unit = "m", rule = ">= 0"],
+        /// obstacles critic: clearance under which a step costs (margin - clearance).
+        pub obstacles_collision_margin_distance: T [unit = "m", rule = ">= 0"],
+        /// obstacles critic: no repulsion while the robot is this close to the goal.
+        pub obstacles_near_goal_distance: T [unit = "m", rule = ">= 0"],
+        /// obstacles critic: distance from C to an obstacle beyond which it costs nothing (nav2: the inflation layer's inflation_radius).
+        pub obstacles_inflation_radius: T [unit = "m", rule = ">= 0"],
     }
 }
 
@@ -191,7 +204,10 @@ impl<T: Real> Default for MppiParams<T> {
     /// gamma 0.015, vx_std 0.2 m/s, wz_std 0.4 rad/s, vx in [-0.35, 0.5] m/s,
     /// |wz| <= 1.9 rad/s, ax in [-3, 3] m/s^2, |az| <= 3.5 rad/s^2; the critics' weights
     /// goal 5 (within 1.4 m), goal_angle 3 (within 0.5 m), constraint 4,
-    /// prefer_forward 5 (beyond 0.5 m), powers 1; twirling off (nav2's weight when on: 10).
+    /// prefer_forward 5 (beyond 0.5 m), powers 1; twirling off (nav2's weight when on: 10);
+    /// obstacles (on when the world has some): critical weight 20, repulsion weight 1.5,
+    /// collision cost 100000, margin 0.1 m, near the goal 0.5 m, inflation radius 0.55 m
+    /// (nav2's inflation layer's default).
     fn default() -> Self {
         Self {
             motion_model: MotionModel::Dynamic,
@@ -224,6 +240,12 @@ impl<T: Real> Default for MppiParams<T> {
             prefer_forward_threshold_to_consider: T::lit(0.5),
             twirling_cost_weight: T::zero(),
             twirling_cost_power: 1,
+            obstacles_critical_weight: T::lit(20.0),
+            obstacles_repulsion_weight: T::lit(1.5),
+            obstacles_collision_cost: T::lit(100_000.0),
+            obstacles_collision_margin_distance: T::lit(0.1),
+            obstacles_near_goal_distance: T::lit(0.5),
+            obstacles_inflation_radius: T::lit(0.55),
         }
     }
 }
@@ -251,19 +273,14 @@ impl<T: Real> LawSpec<T> for MppiParams<T> {
     const TRACED: bool = false;
 
     /// Without the drive: the dynamic rollouts assume the default torque drive and no
-    /// wheel speed limit ([`LawSpec::build_for_drive`] is what a controller calls).
+    /// wheel speed limit, and no obstacles ([`LawSpec::build_in`] is what a controller calls).
     fn build<L: Lane<Scalar = T>>(&self, model: &RobotParams<T>, control_dt: T) -> Result<MppiLaw<L>, ParamError> {
         MppiLaw::for_lanes(*self, model, &DriveParams::default(), T::infinity(), control_dt)
     }
 
-    fn build_for_drive<L: Lane<Scalar = T>>(
-        &self,
-        model: &RobotParams<T>,
-        drive: &DriveParams<T>,
-        wheel_speed_max: T,
-        control_dt: T,
-    ) -> Result<MppiLaw<L>, ParamError> {
-        MppiLaw::for_lanes(*self, model, drive, wheel_speed_max, control_dt)
+    fn build_in<L: Lane<Scalar = T>>(&self, ctx: &LawContext<'_, T>) -> Result<MppiLaw<L>, ParamError> {
+        MppiLaw::for_lanes(*self, ctx.model, ctx.drive, ctx.wheel_speed_max, ctx.control_dt)
+            .map(|law| law.with_obstacles(ctx.obstacles))
     }
 }
 
@@ -345,6 +362,12 @@ impl<T: Real> MppiParams<T> {
         check::non_negative("prefer_forward_threshold_to_consider", self.prefer_forward_threshold_to_consider)?;
         check::non_negative("twirling_cost_weight", self.twirling_cost_weight)?;
         count_at_least::<T>("twirling_cost_power", self.twirling_cost_power, 1)?;
+        check::non_negative("obstacles_critical_weight", self.obstacles_critical_weight)?;
+        check::non_negative("obstacles_repulsion_weight", self.obstacles_repulsion_weight)?;
+        check::non_negative("obstacles_collision_cost", self.obstacles_collision_cost)?;
+        check::non_negative("obstacles_collision_margin_distance", self.obstacles_collision_margin_distance)?;
+        check::non_negative("obstacles_near_goal_distance", self.obstacles_near_goal_distance)?;
+        check::non_negative("obstacles_inflation_radius", self.obstacles_inflation_radius)?;
         // The ratio is a whole number in [1, 1e6] (checked above).
         Ok(ratio.to_u32().unwrap_or(1))
     }
@@ -504,6 +527,54 @@ struct CriticSums<T> {
     backwards: T,
     /// sum_i |wz_i|, rad/s.
     twirl: T,
+    /// The obstacles critic's raw cost: the collision cost if a step touched an obstacle,
+    /// else sum_i max(margin - clearance_i, 0) over the steps within the inflation radius, m.
+    obstacle: T,
+    /// sum_i (inflation_radius - clearance_i) over the steps within the inflation radius
+    /// before any contact, m.
+    repulsion: T,
+}
+
+/// The obstacles critic's sums over a rollout's steps (nav2 `ObstaclesCritic::score`),
+/// for one sample or several side by side: per step, with c the footprint's clearance
+/// ([`Obstacles::clearance`]) and C's distance to the obstacle c + footprint_radius:
+///
+/// ```text
+/// c <= 0:                        contact: the raw cost is collision_cost, the steps after it do not count
+/// c + footprint >= inflation:    free: nothing
+/// else:                          raw += max(margin - c, 0),  repulsion += inflation - c
+/// ```
+#[derive(Clone, Copy, Debug)]
+struct ObstacleSums<L: Lane> {
+    raw: L,
+    repulsion: L,
+    collided: L::Mask,
+}
+
+impl<L: Lane> ObstacleSums<L> {
+    fn new<T: Real>(_p: &MppiParams<T>) -> Self {
+        Self { raw: L::default(), repulsion: L::default(), collided: <L::Mask as Mask>::splat(false) }
+    }
+
+    #[inline(always)]
+    fn add(&mut self, p: &MppiParams<L::Scalar>, obstacles: &Obstacles<L::Scalar>, x: L, y: L) {
+        let zero = L::default();
+        let clearance = obstacles.clearance(x, y);
+        let contact = clearance.le(zero);
+        let near = (clearance + L::splat(obstacles.footprint_radius())).lt(L::splat(p.obstacles_inflation_radius));
+        let counts = near & !contact & !self.collided;
+        let margin = (L::splat(p.obstacles_collision_margin_distance) - clearance).max(zero);
+        self.raw = L::select(counts, self.raw + margin, self.raw);
+        self.repulsion =
+            L::select(counts, self.repulsion + (L::splat(p.obstacles_inflation_radius) - clearance), self.repulsion);
+        self.collided = self.collided | contact;
+    }
+
+    /// (raw cost, repulsion sum).
+    #[inline(always)]
+    fn finish(self, p: &MppiParams<L::Scalar>) -> (L, L) {
+        (L::select(self.collided, L::splat(p.obstacles_collision_cost), self.raw), self.repulsion)
+    }
 }
 
 /// The sampled costs of MPPI: what [`MppiLaw`] runs each cycle.
@@ -512,6 +583,10 @@ struct Planner<T> {
     p: MppiParams<T>,
     /// The dynamic rollouts' model (`motion_model = "dynamic"`), `None` for the kinematic.
     dynamic: Option<DynamicModel>,
+    /// The obstacles the critic sees (none: the critic is off), and in `f64` for the
+    /// dynamic rollouts.
+    obstacles: Obstacles<T>,
+    obstacles_f64: Obstacles<f64>,
 }
 
 impl<T: Real> Planner<T> {
@@ -523,14 +598,20 @@ impl<T: Real> Planner<T> {
         let dt = p.model_dt;
         let (mut goal_sum, mut angle_sum, mut beyond, mut backwards, mut twirl) =
             (T::zero(), T::zero(), T::zero(), T::zero(), T::zero());
+        let mut obstacle = ObstacleSums::<T>::new(p);
+        let seeing = !self.obstacles.is_empty();
         kinematic_rollout(p, c.pose, c.speed, cvx, cwz, |_, pose, vel| {
             goal_sum = goal_sum + (pose.x - c.goal.x).hypot_libm(pose.y - c.goal.y);
             angle_sum = angle_sum + wrap_angle(c.goal.theta - pose.theta).abs();
             beyond = beyond + ((vel.v - p.vx_max).max(T::zero()) + (p.vx_min - vel.v).max(T::zero())) * dt;
             backwards = backwards + (-vel.v).max(T::zero()) * dt;
             twirl = twirl + vel.omega.abs();
+            if seeing {
+                obstacle.add(p, &self.obstacles, pose.x, pose.y);
+            }
         });
-        let sums = CriticSums { goal: goal_sum, angle: angle_sum, beyond, backwards, twirl };
+        let (obstacle, repulsion) = obstacle.finish(p);
+        let sums = CriticSums { goal: goal_sum, angle: angle_sum, beyond, backwards, twirl, obstacle, repulsion };
         self.critics(&sums, cvx.len(), path_length)
     }
 
@@ -538,7 +619,7 @@ impl<T: Real> Planner<T> {
     #[inline(always)]
     fn critics(&self, sums: &CriticSums<T>, n: usize, path_length: T) -> T {
         let p = &self.p;
-        let CriticSums { goal: goal_sum, angle: angle_sum, beyond, backwards, twirl } = *sums;
+        let CriticSums { goal: goal_sum, angle: angle_sum, beyond, backwards, twirl, obstacle, repulsion } = *sums;
         let nt = T::lit(n as f64);
         // nav2's critic order: constraint, goal, goal_angle, prefer_forward, twirling.
         let mut cost = T::zero();
@@ -556,6 +637,12 @@ impl<T: Real> Planner<T> {
         }
         if p.twirling_cost_weight > T::zero() {
             cost = cost + critic_cost(twirl / nt, p.twirling_cost_weight, p.twirling_cost_power);
+        }
+        if !self.obstacles.is_empty() {
+            // nav2's repulsion is normalized by the batch's lowest, a shift of every
+            // sample's cost by one number: the softmax weights do not see it, so it is left out.
+            let repulsion = if path_length < p.obstacles_near_goal_distance { T::zero() } else { repulsion / nt };
+            cost = cost + p.obstacles_critical_weight * obstacle + p.obstacles_repulsion_weight * repulsion;
         }
         cost
     }
@@ -578,7 +665,18 @@ impl<T: Real> Planner<T> {
         let goal =
             Pose2 { x: Wide::splat(f(c.goal.x)), y: Wide::splat(f(c.goal.y)), theta: Wide::splat(f(c.goal.theta)) };
         let zero = Wide::default();
-        let mut sums = CriticSums { goal: zero, angle: zero, beyond: zero, backwards: zero, twirl: zero };
+        let mut sums = CriticSums {
+            goal: zero,
+            angle: zero,
+            beyond: zero,
+            backwards: zero,
+            twirl: zero,
+            obstacle: zero,
+            repulsion: zero,
+        };
+        let pf = self.p_f64();
+        let mut obstacle = ObstacleSums::<Wide>::new(&pf);
+        let seeing = !self.obstacles_f64.is_empty();
         let held = Twist2 { v: Wide::splat(f(c.speed.v)), omega: Wide::splat(f(c.speed.omega)) };
         let demand = |i: usize| match i.checked_sub(1) {
             None => held,
@@ -595,7 +693,11 @@ impl<T: Real> Planner<T> {
             sums.beyond = sums.beyond + ((vel.v - vx_max).max(zero) + (vx_min - vel.v).max(zero)) * dt;
             sums.backwards = sums.backwards + (-vel.v).max(zero) * dt;
             sums.twirl = sums.twirl + vel.omega.abs();
+            if seeing {
+                obstacle.add(&pf, &self.obstacles_f64, pose.x, pose.y);
+            }
         });
+        (sums.obstacle, sums.repulsion) = obstacle.finish(&pf);
         let at = |x: Wide, j: usize| T::lit(x.lane(j));
         core::array::from_fn(|j| CriticSums {
             goal: at(sums.goal, j),
@@ -603,7 +705,14 @@ impl<T: Real> Planner<T> {
             beyond: at(sums.beyond, j),
             backwards: at(sums.backwards, j),
             twirl: at(sums.twirl, j),
+            obstacle: at(sums.obstacle, j),
+            repulsion: at(sums.repulsion, j),
         })
+    }
+
+    /// The keys in `f64` (the dynamic rollouts' critics).
+    fn p_f64(&self) -> MppiParams<f64> {
+        self.p.cast()
     }
 
     /// One cycle: updates `vx`, `wz` (the optimal sequence, `time_steps` long) and returns
@@ -744,7 +853,7 @@ impl<L: Lane> MppiLaw<L> {
             }
         };
         Ok(Self {
-            planner: Planner { p, dynamic },
+            planner: Planner { p, dynamic, obstacles: Obstacles::default(), obstacles_f64: Obstacles::default() },
             ticks_per_plan,
             wheel_radius: model.wheel_radius,
             half_track: model.half_track,
@@ -754,6 +863,14 @@ impl<L: Lane> MppiLaw<L> {
             tick: L::default(),
             cycle: L::default(),
         })
+    }
+
+    /// The law with the obstacles its `obstacles` critic scores the rollouts against (none
+    /// by default: the critic is off).
+    pub fn with_obstacles(mut self, obstacles: &Obstacles<L::Scalar>) -> Self {
+        self.planner.obstacles = *obstacles;
+        self.planner.obstacles_f64 = obstacles.cast();
+        self
     }
 
     /// The keys.

@@ -443,6 +443,12 @@ class MppiController:
         prefer_forward_threshold_to_consider: float = 0.5,  # [m] prefer_forward critic: on only beyond this distance of the goal.
         twirling_cost_weight: float = 0.0,  # [s/rad] twirling critic: weight of the mean yaw rate magnitude (0: off).
         twirling_cost_power: int = 1,  # twirling critic: power of its cost.
+        obstacles_critical_weight: float = 20.0,  # [1/m] obstacles critic: weight of the collision cost and of the clearance inside the margin.
+        obstacles_repulsion_weight: float = 1.5,  # [1/m] obstacles critic: weight of the repulsion from obstacles within the inflation radius.
+        obstacles_collision_cost: float = 100000.0,  # [m] obstacles critic: the cost of a rollout whose footprint touches an obstacle.
+        obstacles_collision_margin_distance: float = 0.1,  # [m] obstacles critic: clearance under which a step costs (margin - clearance).
+        obstacles_near_goal_distance: float = 0.5,  # [m] obstacles critic: no repulsion while the robot is this close to the goal.
+        obstacles_inflation_radius: float = 0.55,  # [m] obstacles critic: distance from C to an obstacle beyond which it costs nothing (nav2: the inflation layer's inflation_radius).
         servo_kp: float = 14.0,  # [N m/rad or V/rad] Wheel servo Kp (the unit follows the drive: torque or dc_motor).
         servo_kd: float = 1.4,  # [N m s/rad or V s/rad] Wheel servo Kd.
         servo_ki: float = 0.0,  # [N m/(rad s) or V/(rad s)] Wheel servo Ki.

@@ -27,7 +27,8 @@ fn tracking_array_fields() -> impl Iterator<Item = &'static OutcomeField> {
 }
 
 /// The bool outcome arrays, after the float ones: the run's status is this one.
-const BOOL_FIELDS: [(&str, Status); 2] = [("converged", Status::Converged), ("diverged", Status::Diverged)];
+const BOOL_FIELDS: [(&str, Status); 3] =
+    [("converged", Status::Converged), ("diverged", Status::Diverged), ("collided", Status::Collided)];
 
 /// The entry of each run's status word beside the outcome arrays.
 const STATUS: &str = "status";

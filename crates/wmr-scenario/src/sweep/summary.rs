@@ -40,6 +40,8 @@ pub struct LawSummary {
     pub diverged: f64,
     /// Share of runs that are unsettled (0..1): neither converged nor diverged at t_end.
     pub unsettled: f64,
+    /// Share of runs whose footprint touched an obstacle (0..1; `[[world.obstacle]]`).
+    pub collided: f64,
     /// Time to 1 cm, s.
     pub time_to_1cm: Spread,
     /// |final heading error|, deg.
@@ -69,6 +71,7 @@ pub fn summarize(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<LawSummary>
                 converged: ok.len() as f64 / n,
                 diverged: share(Status::Diverged),
                 unsettled: share(Status::Unsettled),
+                collided: share(Status::Collided),
                 time_to_1cm: over(|o| o.time_to_arrival.unwrap_or(f64::NAN)),
                 heading_error_deg: over(|o| o.final_heading_error.to_degrees().abs()),
                 peak_wheel_speed: over(|o| o.peak_wheel_speed),
@@ -99,6 +102,11 @@ pub fn summary_table(rows: &[LawSummary]) -> String {
         "path m",
         "|work| J"
     );
+    // A sweep with obstacles ends each line with the share that collided.
+    let collisions = rows.iter().any(|r| r.collided > 0.0);
+    if collisions {
+        out.insert_str(out.len() - 1, &format!(" {:>9}", "collided"));
+    }
     for r in rows {
         out.push_str(&format!(
             "{:<w$} {:>6} {:>9.1}% {:>8.1}% {:>9.1}% {:>17} {:>15} {:>15} {:>13} {:>15}\n",
@@ -113,6 +121,9 @@ pub fn summary_table(rows: &[LawSummary]) -> String {
             fmt(r.path_length, 2),
             fmt(r.abs_work, 1),
         ));
+        if collisions {
+            out.insert_str(out.len() - 1, &format!(" {:>8.1}%", 100.0 * r.collided));
+        }
     }
     out
 }

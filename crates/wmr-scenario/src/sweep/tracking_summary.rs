@@ -25,6 +25,8 @@ pub struct TrackingSummary {
     pub diverged: f64,
     /// Share of runs that are unsettled (0..1).
     pub unsettled: f64,
+    /// Share of runs whose footprint touched an obstacle (0..1; `[[world.obstacle]]`).
+    pub collided: f64,
     /// Share of runs whose reference asked more than the robot can give (0..1):
     /// [`wmr_core::tracking::TrackingOutcome::cannot_follow`].
     pub cannot_follow: f64,
@@ -58,6 +60,7 @@ pub fn tracking_summary(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<Trac
                 converged: share(Status::Converged),
                 diverged: share(Status::Diverged),
                 unsettled: share(Status::Unsettled),
+                collided: share(Status::Collided),
                 cannot_follow: share(Status::CannotFollow),
                 rms_error: spread(alive.iter().map(|t| t.rms_last_half).collect()),
                 max_error: spread(alive.iter().map(|t| t.max_last_half).collect()),
@@ -96,6 +99,11 @@ pub fn tracking_summary_table(rows: &[TrackingSummary], tolerance_m: f64) -> Str
         "max mm (med/max)",
         tol
     );
+    // A sweep with obstacles ends each line with the share that collided.
+    let collisions = rows.iter().any(|r| r.collided > 0.0);
+    if collisions {
+        out.insert_str(out.len() - 1, &format!(" {:>9}", "collided"));
+    }
     for r in rows {
         out.push_str(&format!(
             "{:<w$} {:<wr$} {:>6} {:>9.1}% {:>8.1}% {:>9.1}% {:>13.1}% {:>19} {:>19} {:>15}\n",
@@ -110,6 +118,9 @@ pub fn tracking_summary_table(rows: &[TrackingSummary], tolerance_m: f64) -> Str
             fmt(r.max_error, 1000.0, 2),
             fmt(r.time_to_tolerance, 1.0, 2),
         ));
+        if collisions {
+            out.insert_str(out.len() - 1, &format!(" {:>8.1}%", 100.0 * r.collided));
+        }
     }
     out
 }
