@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use wmr_core::{Pose2, Reference, Sample};
-use wmr_plot::{Trace, errors_svg, paths_svg, wheel_speeds_svg};
+use wmr_plot::{Trace, errors_svg, paths_among_svg, wheel_speeds_svg};
 use wmr_scenario::{Scenario, executor, shown};
 
 use crate::atomic::{parent_dir, write_text};
@@ -183,7 +183,8 @@ fn plot_runs(scenario: &Scenario, dir: &Path, written: &mut Vec<String>) -> Resu
         written.push(name);
         Ok(())
     };
-    put("paths.svg".into(), paths_svg(&format!("{}: paths of C", scenario.name()), &traces)?)?;
+    let obstacles = &scenario.setup().obstacles;
+    put("paths.svg".into(), paths_among_svg(&format!("{}: paths of C", scenario.name()), &traces, obstacles)?)?;
     for (i, t) in traces.iter().enumerate() {
         put(format!("run{i}-wheel-speeds.svg"), wheel_speeds_svg(&format!("{}: wheel speeds", t.label), t)?)?;
         put(format!("run{i}-errors.svg"), errors_svg(&format!("{}: errors", t.label), t)?)?;
@@ -236,7 +237,7 @@ fn plot_sweep_into(
             round3(start.theta.to_degrees())
         );
         let name = format!("compare-start{k}.svg");
-        write_text(&dir.join(&name), &paths_svg(&title, &traces)?)?;
+        write_text(&dir.join(&name), &paths_among_svg(&title, &traces, &scenario.setup().obstacles)?)?;
         written.push(name);
     }
     Ok(())

@@ -106,6 +106,9 @@ fn config_of(scenario: &Scenario, run: usize) -> Result<ConfigOf<f64>, ScenarioE
             ),
         ));
     }
+    if !setup.obstacles.is_empty() {
+        return Err(ScenarioError::new("world.obstacle", "is not traced: the firmware does not replay obstacles"));
+    }
     if !setup.pushes.is_empty() {
         return Err(ScenarioError::new("world.push", "is not traced: the firmware does not replay pushes"));
     }

@@ -224,6 +224,8 @@ pub(crate) enum Key {
     GoalArrow(&'static str),
     /// A cross (where a run leaves the plot).
     Cross(&'static str),
+    /// A filled square with an outline (an obstacle): fill, outline.
+    Patch(&'static str, &'static str),
 }
 
 /// Width (pt) a legend of `entries` needs.
@@ -259,6 +261,10 @@ pub(crate) fn legend(svg: &mut Svg, x: f64, y: f64, entries: &[Entry]) {
                 svg.polygon(&[(cx + 5.0, yc), (cx - 3.5, yc - 3.5), (cx - 3.5, yc + 3.5)], c, None);
             }
             Key::Cross(c) => cross(svg, (0.5 * (k0 + k1), yc), 3.0, Stroke::solid(c, 1.2)),
+            Key::Patch(fill, ink) => {
+                let cx = 0.5 * (k0 + k1);
+                svg.rect(cx - 5.0, yc - 4.0, 10.0, 8.0, fill, Some(Stroke::solid(ink, 0.8)));
+            }
         }
         let markup = if e.math { math(&e.label) } else { escape(&e.label) };
         svg.text((x + 24.0, yc + 0.35 * FONT), &markup, FONT, Anchor::Start, 0.0, false);

@@ -1,7 +1,7 @@
 //! Path and time-series figures of single runs (the paper's Figs. 4-9) and the path
 //! comparison of several laws from one start.
 
-use wmr_core::{Pose2, Sample, wrap_angle};
+use wmr_core::{Obstacle, Obstacles, Pose2, Sample, wrap_angle};
 
 use crate::chart::{
     BOTTOM, Entry, FONT, GOAL_HEAD, GOAL_LEN, HEADING_HEAD, HEADING_LEN, Ink, Key, LEFT, LINE_W, LINES_MAX_SHARE,
@@ -97,6 +97,33 @@ const REFERENCE_DASH: &str = "7 4";
 /// clipped at the frame and marked with a cross where it leaves (the paper's Figs. 4-7).
 /// Tracking runs ([`Trace::reference`]) have their reference path, dashed, instead of goals.
 pub fn paths_svg(title_text: &str, traces: &[Trace<'_>]) -> Result<String, PlotError> {
+    paths_among_svg(title_text, traces, &Obstacles::default())
+}
+
+/// Fill and outline of an obstacle: light grey, its edge dark grey.
+const OBSTACLE_FILL: &str = "#d9d9d9";
+const OBSTACLE_INK: &str = "#606060";
+
+/// An obstacle's outline in the plane (m): a polygon's vertices, a circle's as 72 of them.
+fn obstacle_outline(o: &Obstacle<'_, f64>) -> Vec<(f64, f64)> {
+    match *o {
+        Obstacle::Circle { center, radius } => (0..72)
+            .map(|k| {
+                let a = std::f64::consts::TAU * f64::from(k) / 72.0;
+                (center.0 + radius * a.cos(), center.1 + radius * a.sin())
+            })
+            .collect(),
+        Obstacle::Polygon(points) => points.to_vec(),
+    }
+}
+
+/// [`paths_svg`] with `obstacles` drawn under the paths, filled grey ([`crate`]'s
+/// figure of a scenario with `[[world.obstacle]]`); the axes fit them too.
+pub fn paths_among_svg(
+    title_text: &str,
+    traces: &[Trace<'_>],
+    obstacles: &Obstacles<f64>,
+) -> Result<String, PlotError> {
     if traces.is_empty() {
         return Err(PlotError::new("no run to plot"));
     }
@@ -106,6 +133,9 @@ pub fn paths_svg(title_text: &str, traces: &[Trace<'_>]) -> Result<String, PlotE
     let reference = traces.iter().map(|t| t.reference).find(|r| !r.is_empty());
     let mut xs: Vec<f64> = reference.iter().flat_map(|r| r.iter().map(|p| p.x)).collect();
     let mut ys: Vec<f64> = reference.iter().flat_map(|r| r.iter().map(|p| p.y)).collect();
+    let outlines: Vec<Vec<(f64, f64)>> = obstacles.iter().map(|o| obstacle_outline(&o)).collect();
+    xs.extend(outlines.iter().flatten().map(|p| p.0));
+    ys.extend(outlines.iter().flatten().map(|p| p.1));
     // The goal arrows' tips too (drawn GOAL_LEN long, about 8 % of the frame's width):
     // 8 % of the starts-to-goals extent, at least 5 cm.
     let reach = 0.08
@@ -154,6 +184,9 @@ pub fn paths_svg(title_text: &str, traces: &[Trace<'_>]) -> Result<String, PlotE
     if far_runs.iter().any(|f| *f) {
         entries.push(Entry::math("leaves the plot", Key::Cross("#404040")));
     }
+    if !outlines.is_empty() {
+        entries.push(Entry::math("obstacle", Key::Patch(OBSTACLE_FILL, OBSTACLE_INK)));
+    }
     // The panel takes the page's width; the legend goes in its emptiest corner.
     let panel = page_wide_panel(xr, yr, (0.55, 1.15));
     let (w, h) = (panel.w, panel.h);
@@ -194,6 +227,10 @@ pub fn paths_svg(title_text: &str, traces: &[Trace<'_>]) -> Result<String, PlotE
     let reference_path: Vec<Point> =
         reference.map(first_lap).unwrap_or_default().into_iter().map(|p| panel.p((p.x, p.y))).collect();
     let mut ink = Ink::default();
+    let shapes: Vec<Vec<Point>> = outlines.iter().map(|o| o.iter().map(|&p| panel.p(p)).collect()).collect();
+    for s in &shapes {
+        ink.line(s);
+    }
     ink.line(&reference_path);
     for (t, path) in traces.iter().zip(&paths) {
         ink.line(path);
@@ -213,6 +250,9 @@ pub fn paths_svg(title_text: &str, traces: &[Trace<'_>]) -> Result<String, PlotE
 
     let clip = panel.clip(&mut svg);
     svg.begin_clip(&clip);
+    for s in &shapes {
+        svg.polygon(s, OBSTACLE_FILL, Some(Stroke::solid(OBSTACLE_INK, 0.8)));
+    }
     for (i, (path, arrows)) in paths.iter().zip(&arrows).enumerate() {
         svg.polyline(path, Stroke { dash: dash(i), ..Stroke::solid(color(i), LINE_W) });
         for &(a, b) in arrows {

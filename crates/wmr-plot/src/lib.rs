@@ -18,7 +18,7 @@ mod region;
 mod share;
 mod svg;
 
-pub use figures::{ReplayRun, errors_svg, paths_svg, replay_svg, wheel_speeds_svg};
+pub use figures::{ReplayRun, errors_svg, paths_among_svg, paths_svg, replay_svg, wheel_speeds_svg};
 pub use region::{BINS, CellOutcome, MAX_MARKERS, SweepCell, region_svg};
 pub use share::{ShareSeries, share_svg};
 
