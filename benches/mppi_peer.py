@@ -4,8 +4,9 @@ kinematic model, batch and horizon (1000 samples x 56 steps of 0.05 s, one itera
 
     python benches/mppi_peer.py [--cycles 200] [--rounds 5]
 
-wmr runs through wmr_py (`MppiController.update` with control_dt = model_dt, so that each
-call plans once; the call's own cost is microseconds against milliseconds). The three are
+wmr runs through wmr_py: `MppiController.update` with control_dt = 0.01 s plans at every
+fifth call (model_dt = 0.05 s), so a cycle is five calls; a call's own cost is
+microseconds against the plan's milliseconds. The three are
 timed in turn, round after round, on the same machine in the same run, and the ratios are
 printed pair by pair: a ratio, not an absolute figure, is what carries to another
 machine. pytorch-mppi missing (it needs torch) is said and counted as skipped.
@@ -40,11 +41,17 @@ def wmr_controller(model):
         robot,
         {"kind": "dc_motor"},
         motion_model=model,
-        control_dt=DT,
+        control_dt=0.01,
     )
     r, big_r = robot.wheel_radius, robot.half_track
     speeds = ((SPEED[0] + big_r * SPEED[1]) / r, (SPEED[0] - big_r * SPEED[1]) / r)
-    return lambda: ctl.update(START, (0.0, 0.0), speeds)
+    ticks = round(DT / 0.01)
+
+    def cycle():
+        for _ in range(ticks):
+            ctl.update(START, (0.0, 0.0), speeds)
+
+    return cycle
 
 
 def torch_controller(threads):
@@ -61,8 +68,7 @@ def torch_controller(threads):
         lo = torch.where(vx > 0, vx + DT * AX_MIN, vx - DT * AX_MAX)
         hi = torch.where(vx > 0, vx + DT * AX_MAX, vx - DT * AX_MIN)
         vx1 = torch.minimum(torch.maximum(action[:, 0], lo), hi)
-        wz1 = torch.clamp(action[:, 1], min=None, max=None)
-        wz1 = torch.minimum(torch.maximum(wz1, wz - DT * AZ_MAX), wz + DT * AZ_MAX)
+        wz1 = torch.minimum(torch.maximum(action[:, 1], wz - DT * AZ_MAX), wz + DT * AZ_MAX)
         yaw1 = yaw + wz1 * DT
         return torch.stack((x + vx1 * torch.cos(yaw) * DT, y + vx1 * torch.sin(yaw) * DT, yaw1, vx1, wz1), 1)
 
