@@ -373,13 +373,15 @@ impl<T: Real> MppiParams<T> {
     }
 }
 
-/// Two standard normal numbers (Box-Muller, in f64 with `libm`) for sample `sample`,
-/// step `step` of draw `draw` (cycle * iteration_count + iteration) under `seed`: a pure
-/// function of its arguments, so the noise is regenerated rather than stored. The first
-/// perturbs vx, the second wz.
+/// Two standard normal numbers (Box-Muller in f64, with the lanes' logarithm, sine and
+/// cosine: [`Lanes::ln`], [`Lane::sin_cos`]) for sample `sample`, step `step` of draw
+/// `draw` (cycle * iteration_count + iteration) under `seed`: a pure function of its
+/// arguments, so the noise is regenerated rather than stored. The first perturbs vx,
+/// the second wz. The law draws 8 samples' at once ([`ROLLOUT_LANES`]), the same numbers.
 #[inline]
 pub fn noise_pair(seed: u32, draw: u64, sample: u32, step: u32) -> (f64, f64) {
-    noise_pair_keyed(draw_key(seed, draw), sample, step)
+    let (a, b) = noise_lanes(draw_key(seed, draw), sample, step);
+    (a.lane(0), b.lane(0))
 }
 
 /// The key of one draw: [`noise_pair`] = `noise_pair_keyed(draw_key(seed, draw), ..)`.
@@ -388,15 +390,21 @@ fn draw_key(seed: u32, draw: u64) -> u64 {
     mix64(mix64(u64::from(seed) ^ 0x4D50_5049_0000_0000) ^ draw)
 }
 
-#[inline]
-fn noise_pair_keyed(key: u64, sample: u32, step: u32) -> (f64, f64) {
-    let h1 = mix64(key ^ ((u64::from(sample) << 32) | u64::from(step)));
-    let h2 = mix64(h1);
-    // (0, 1]: 53 random bits, never 0, so the log is finite.
-    let u1 = ((h1 >> 11) + 1) as f64 * (1.0 / 9_007_199_254_740_992.0);
-    let u2 = ((h2 >> 11) + 1) as f64 * (1.0 / 9_007_199_254_740_992.0);
-    let radius = libm::sqrt(-2.0 * libm::log(u1));
-    let (s, c) = libm::sincos(core::f64::consts::TAU * u2);
+/// The noise pairs of samples `first` .. `first` + 8 at step `step` under the draw's
+/// `key`, one sample per lane: Box-Muller on two SplitMix64 hashes of (sample, step).
+#[inline(always)]
+fn noise_lanes(key: u64, first: u32, step: u32) -> (Wide, Wide) {
+    let (mut u1, mut u2) = ([0.0; ROLLOUT_LANES], [0.0; ROLLOUT_LANES]);
+    for (j, (a, b)) in u1.iter_mut().zip(u2.iter_mut()).enumerate() {
+        let sample = first.wrapping_add(j as u32);
+        let h1 = mix64(key ^ ((u64::from(sample) << 32) | u64::from(step)));
+        let h2 = mix64(h1);
+        // (0, 1]: 53 random bits, never 0, so the log is finite.
+        *a = ((h1 >> 11) + 1) as f64 * (1.0 / 9_007_199_254_740_992.0);
+        *b = ((h2 >> 11) + 1) as f64 * (1.0 / 9_007_199_254_740_992.0);
+    }
+    let radius = (Lanes(u1).ln() * Lanes::splat(-2.0)).sqrt();
+    let (s, c) = (Lanes(u2) * Lanes::splat(core::f64::consts::TAU)).sin_cos();
     (radius * c, radius * s)
 }
 
@@ -432,25 +440,31 @@ fn critic_cost<T: Real>(x: T, weight: T, power: u32) -> T {
 ///
 /// (dt = `model_dt`; yaw_(-1), x_(-1), y_(-1) the start pose): the heading first, the
 /// position on the heading of the step before, as nav2 integrates.
+///
+/// For one sample (`L` = `T`, `libm`'s sine and cosine) or several side by side
+/// ([`Lanes`], the lanes' own): the same operations in the same order.
 #[inline(always)]
-pub fn kinematic_rollout<T: Real>(
-    p: &MppiParams<T>,
-    pose: Pose2<T>,
-    speed: Twist2<T>,
-    cvx: &[T],
-    cwz: &[T],
-    mut visit: impl FnMut(usize, Pose2<T>, Twist2<T>),
+pub fn kinematic_rollout<L: Lane>(
+    p: &MppiParams<L::Scalar>,
+    pose: Pose2<L>,
+    speed: Twist2<L>,
+    cvx: &[L],
+    cwz: &[L],
+    mut visit: impl FnMut(usize, Pose2<L>, Twist2<L>),
 ) {
-    let dt = p.model_dt;
-    let (max_dvx, min_dvx, max_dwz) = (dt * p.ax_max, dt * p.ax_min, dt * p.az_max);
+    let dt = L::splat(p.model_dt);
+    let (max_dvx, min_dvx, max_dwz) = (dt * L::splat(p.ax_max), dt * L::splat(p.ax_min), dt * L::splat(p.az_max));
     let (mut vx, mut wz) = (speed.v, speed.omega);
     let (mut x, mut y, mut yaw) = (pose.x, pose.y, pose.theta);
-    let (mut sin_prev, mut cos_prev) = yaw.sin_cos_libm();
+    let (mut sin_prev, mut cos_prev) = yaw.sin_cos();
     // The sampled controls of the step before (iterators, no index: nothing to panic).
-    let (mut cvx_prev, mut cwz_prev) = (T::zero(), T::zero());
+    let (mut cvx_prev, mut cwz_prev) = (L::default(), L::default());
+    let zero = L::default();
     for (i, (&cv, &cw)) in cvx.iter().zip(cwz).enumerate() {
         if i > 0 {
-            let (lo, hi) = if vx > T::zero() { (vx + min_dvx, vx + max_dvx) } else { (vx - max_dvx, vx - min_dvx) };
+            let forward = zero.lt(vx);
+            let lo = L::select(forward, vx + min_dvx, vx - max_dvx);
+            let hi = L::select(forward, vx + max_dvx, vx - min_dvx);
             vx = cvx_prev.max(lo).min(hi);
             wz = cwz_prev.max(wz - max_dwz).min(wz + max_dwz);
         }
@@ -458,7 +472,7 @@ pub fn kinematic_rollout<T: Real>(
         yaw = yaw + wz * dt;
         x = x + vx * cos_prev * dt;
         y = y + vx * sin_prev * dt;
-        (sin_prev, cos_prev) = yaw.sin_cos_libm();
+        (sin_prev, cos_prev) = yaw.sin_cos();
         visit(i, Pose2 { x, y, theta: yaw }, Twist2 { v: vx, omega: wz });
     }
 }
@@ -590,31 +604,6 @@ struct Planner<T> {
 }
 
 impl<T: Real> Planner<T> {
-    /// One sample's rollout from `c` with the sampled sequence `cvx`, `cwz` (T long):
-    /// its critics' cost (without the control cost).
-    #[inline(always)]
-    fn rollout_cost(&self, c: &Cycle<T>, cvx: &[T], cwz: &[T], path_length: T) -> T {
-        let p = &self.p;
-        let dt = p.model_dt;
-        let (mut goal_sum, mut angle_sum, mut beyond, mut backwards, mut twirl) =
-            (T::zero(), T::zero(), T::zero(), T::zero(), T::zero());
-        let mut obstacle = ObstacleSums::<T>::new(p);
-        let seeing = !self.obstacles.is_empty();
-        kinematic_rollout(p, c.pose, c.speed, cvx, cwz, |_, pose, vel| {
-            goal_sum = goal_sum + (pose.x - c.goal.x).hypot_libm(pose.y - c.goal.y);
-            angle_sum = angle_sum + wrap_angle(c.goal.theta - pose.theta).abs();
-            beyond = beyond + ((vel.v - p.vx_max).max(T::zero()) + (p.vx_min - vel.v).max(T::zero())) * dt;
-            backwards = backwards + (-vel.v).max(T::zero()) * dt;
-            twirl = twirl + vel.omega.abs();
-            if seeing {
-                obstacle.add(p, &self.obstacles, pose.x, pose.y);
-            }
-        });
-        let (obstacle, repulsion) = obstacle.finish(p);
-        let sums = CriticSums { goal: goal_sum, angle: angle_sum, beyond, backwards, twirl, obstacle, repulsion };
-        self.critics(&sums, cvx.len(), path_length)
-    }
-
     /// The critics' cost of a rollout of `n` steps from its sums.
     #[inline(always)]
     fn critics(&self, sums: &CriticSums<T>, n: usize, path_length: T) -> T {
@@ -647,13 +636,13 @@ impl<T: Real> Planner<T> {
         cost
     }
 
-    /// The critics' sums of [`ROLLOUT_LANES`] samples rolled out together on the dynamic
-    /// model from the measured speed: step 0 driven by the held command's speed (as
-    /// nav2's step 0), step i by sample i - 1 (nav2's indexing).
+    /// The critics' sums of [`ROLLOUT_LANES`] samples rolled out together in lanes: on the
+    /// dynamic model from the measured speed, step 0 driven by the held command's speed (as
+    /// nav2's step 0), step i by sample i - 1 (nav2's indexing); or on the kinematic model
+    /// from that speed ([`kinematic_rollout`]).
     #[inline(always)]
-    fn dynamic_sums(
+    fn lane_sums(
         &self,
-        model: &DynamicModel,
         c: &Cycle<T>,
         cvx: &[[T; MAX_TIME_STEPS]; ROLLOUT_LANES],
         cwz: &[[T; MAX_TIME_STEPS]; ROLLOUT_LANES],
@@ -686,8 +675,7 @@ impl<T: Real> Planner<T> {
             },
         };
         let start = Pose2 { x: f(c.pose.x), y: f(c.pose.y), theta: f(c.pose.theta) };
-        let measured = Twist2 { v: f(c.measured.v), omega: f(c.measured.omega) };
-        model.rollout(start, measured, n, demand, |_, pose, vel| {
+        let mut visit = |_: usize, pose: Pose2<Wide>, vel: Twist2<Wide>| {
             sums.goal = sums.goal + (pose.x - goal.x).hypot(pose.y - goal.y);
             sums.angle = sums.angle + wrap_angle(goal.theta - pose.theta).abs();
             sums.beyond = sums.beyond + ((vel.v - vx_max).max(zero) + (vx_min - vel.v).max(zero)) * dt;
@@ -696,7 +684,23 @@ impl<T: Real> Planner<T> {
             if seeing {
                 obstacle.add(&pf, &self.obstacles_f64, pose.x, pose.y);
             }
-        });
+        };
+        match &self.dynamic {
+            Some(model) => {
+                let measured = Twist2 { v: f(c.measured.v), omega: f(c.measured.omega) };
+                model.rollout(start, measured, n, demand, &mut visit);
+            }
+            None => {
+                let step = |s: &[[T; MAX_TIME_STEPS]; ROLLOUT_LANES], t: usize| {
+                    Lanes(core::array::from_fn(|j| s.get(j).and_then(|s| s.get(t)).map_or(0.0, |&x| f(x))))
+                };
+                let cv: [Wide; MAX_TIME_STEPS] = core::array::from_fn(|t| step(cvx, t));
+                let cw: [Wide; MAX_TIME_STEPS] = core::array::from_fn(|t| step(cwz, t));
+                let m = n.min(MAX_TIME_STEPS);
+                let pose = Pose2 { x: Wide::splat(start.x), y: Wide::splat(start.y), theta: Wide::splat(start.theta) };
+                kinematic_rollout(&pf, pose, held, &cv[..m], &cw[..m], &mut visit);
+            }
+        }
         (sums.obstacle, sums.repulsion) = obstacle.finish(&pf);
         let at = |x: Wide, j: usize| T::lit(x.lane(j));
         core::array::from_fn(|j| CriticSums {
@@ -728,8 +732,6 @@ impl<T: Real> Planner<T> {
         let (vx_std, wz_std) = (p.vx_std, p.wz_std);
         let gamma_vx = if vx_std > T::zero() { p.gamma / (vx_std * vx_std) } else { T::zero() };
         let gamma_wz = if wz_std > T::zero() { p.gamma / (wz_std * wz_std) } else { T::zero() };
-        let mut cvx = [T::zero(); MAX_TIME_STEPS];
-        let mut cwz = [T::zero(); MAX_TIME_STEPS];
         for iter in 0..p.iteration_count {
             // nav2 `applyControlSequenceInterIterationConstraints` (shifting): u_0 = speed.
             if let (Some(v0), Some(w0)) = (vx.first_mut(), wz.first_mut()) {
@@ -750,34 +752,25 @@ impl<T: Real> Planner<T> {
                 }
                 cost
             };
-            let sample = |k: u32, cvx: &mut [T], cwz: &mut [T]| {
-                let sampled = cvx.iter_mut().zip(cwz.iter_mut()).zip(vx.iter().zip(wz.iter()));
-                for (t, ((cv, cw), (&v, &w))) in sampled.enumerate() {
-                    let (a, b) = noise_pair_keyed(key, k, t as u32);
-                    *cv = v + vx_std * T::lit(a);
-                    *cw = w + wz_std * T::lit(b);
-                }
-            };
-            if let Some(model) = &self.dynamic {
-                let mut cvx_w = [[T::zero(); MAX_TIME_STEPS]; ROLLOUT_LANES];
-                let mut cwz_w = [[T::zero(); MAX_TIME_STEPS]; ROLLOUT_LANES];
-                for k0 in (0..p.batch_size).step_by(ROLLOUT_LANES) {
-                    let lanes = ((p.batch_size - k0) as usize).min(ROLLOUT_LANES);
-                    for (j, (cv, cw)) in cvx_w.iter_mut().zip(cwz_w.iter_mut()).enumerate().take(lanes) {
-                        sample(k0 + j as u32, &mut cv[..n], &mut cw[..n]);
-                    }
-                    let sums = self.dynamic_sums(model, c, &cvx_w, &cwz_w, n);
-                    for ((cv, cw), sums) in cvx_w.iter().zip(&cwz_w).zip(&sums).take(lanes) {
-                        let cost = self.critics(sums, n, path_length) + control_cost(&cv[..n], &cw[..n]);
-                        soft.add(cost, inv_temp, &cv[..n], &cw[..n]);
+            // The samples, ROLLOUT_LANES at a time: their noise drawn in lanes, then rolled
+            // out in lanes (dynamic) or one by one (kinematic), added in sample order.
+            let mut cvx_w = [[T::zero(); MAX_TIME_STEPS]; ROLLOUT_LANES];
+            let mut cwz_w = [[T::zero(); MAX_TIME_STEPS]; ROLLOUT_LANES];
+            for k0 in (0..p.batch_size).step_by(ROLLOUT_LANES) {
+                let lanes = ((p.batch_size - k0) as usize).min(ROLLOUT_LANES);
+                for (t, (&v, &w)) in vx.iter().zip(wz.iter()).enumerate() {
+                    let (a, b) = noise_lanes(key, k0, t as u32);
+                    for (j, (cv, cw)) in cvx_w.iter_mut().zip(cwz_w.iter_mut()).enumerate() {
+                        if let (Some(cv), Some(cw)) = (cv.get_mut(t), cw.get_mut(t)) {
+                            *cv = v + vx_std * T::lit(a.lane(j));
+                            *cw = w + wz_std * T::lit(b.lane(j));
+                        }
                     }
                 }
-            } else {
-                for k in 0..p.batch_size {
-                    sample(k, &mut cvx[..n], &mut cwz[..n]);
-                    let cost =
-                        self.rollout_cost(c, &cvx[..n], &cwz[..n], path_length) + control_cost(&cvx[..n], &cwz[..n]);
-                    soft.add(cost, inv_temp, &cvx[..n], &cwz[..n]);
+                let sums = self.lane_sums(c, &cvx_w, &cwz_w, n);
+                for ((cv, cw), sums) in cvx_w.iter().zip(&cwz_w).zip(&sums).take(lanes) {
+                    let cost = self.critics(sums, n, path_length) + control_cost(&cv[..n], &cw[..n]);
+                    soft.add(cost, inv_temp, &cv[..n], &cw[..n]);
                 }
             }
             let inv_sum = soft.sum.recip();
