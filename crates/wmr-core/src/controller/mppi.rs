@@ -392,7 +392,9 @@ fn draw_key(seed: u32, draw: u64) -> u64 {
 
 /// The noise pairs of samples `first` .. `first` + 8 at step `step` under the draw's
 /// `key`, one sample per lane: Box-Muller on two SplitMix64 hashes of (sample, step).
-#[inline(always)]
+// One copy on the firmware (soft doubles: eight lanes of calls), inlined on hosts.
+#[cfg_attr(target_os = "none", inline(never))]
+#[cfg_attr(not(target_os = "none"), inline(always))]
 fn noise_lanes(key: u64, first: u32, step: u32) -> (Wide, Wide) {
     let (mut u1, mut u2) = ([0.0; ROLLOUT_LANES], [0.0; ROLLOUT_LANES]);
     for (j, (a, b)) in u1.iter_mut().zip(u2.iter_mut()).enumerate() {
@@ -443,7 +445,9 @@ fn critic_cost<T: Real>(x: T, weight: T, power: u32) -> T {
 ///
 /// For one sample (`L` = `T`, `libm`'s sine and cosine) or several side by side
 /// ([`Lanes`], the lanes' own): the same operations in the same order.
-#[inline(always)]
+// One copy on the firmware (soft doubles: eight lanes of calls), inlined on hosts.
+#[cfg_attr(target_os = "none", inline(never))]
+#[cfg_attr(not(target_os = "none"), inline(always))]
 pub fn kinematic_rollout<L: Lane>(
     p: &MppiParams<L::Scalar>,
     pose: Pose2<L>,

@@ -46,8 +46,14 @@ use crate::lane::{Lane, Lanes};
 use crate::math::{Pose2, Twist2, Wheels};
 use crate::state::State;
 
-/// Samples a dynamic rollout steps at once: 8 `f64`, one AVX-512 register or two AVX2.
+/// Samples a rollout steps at once: 8 `f64`, one AVX-512 register or two AVX2. On a
+/// microcontroller (`target_os = "none"`: no vector unit, and doubles in software) one, so
+/// the code is an eighth; every lane computes alone, so the results are the same bits.
+#[cfg(not(target_os = "none"))]
 pub const ROLLOUT_LANES: usize = 8;
+/// Samples a rollout steps at once (see the host's definition): one on a microcontroller.
+#[cfg(target_os = "none")]
+pub const ROLLOUT_LANES: usize = 1;
 
 /// [`ROLLOUT_LANES`] numbers of `f64`, one per sample.
 pub type Wide = Lanes<ROLLOUT_LANES>;
@@ -134,7 +140,9 @@ impl DynamicModel {
         }
     }
 
-    #[inline(always)]
+    // One copy on the firmware (soft doubles: eight lanes of calls), inlined on hosts.
+    #[cfg_attr(target_os = "none", inline(never))]
+    #[cfg_attr(not(target_os = "none"), inline(always))]
     fn rollout_with<const COULOMB: bool>(
         &self,
         pose: Pose2<f64>,
