@@ -292,6 +292,16 @@ typedef struct {
   float wheel_speed_max;
 } wmr_wheel_stage_params_f32;
 
+// The disturbance observer's keys (`[controller.observer] kind = "disturbance"`,
+// `wmr_core::DisturbanceObserverParams` member for member: a test checks): a DOB on the
+// wheel dynamics whose estimate of the disturbance torque at each wheel the wheel stage
+// subtracts from its command, for any law (`wmr_<law>_controller_*_init_observer`).
+typedef struct {
+  // g, rad/s (> 0, finite): the bandwidth of the Q-filter g / (s + g); the estimate
+  // follows a step of the disturbance with time constant 1 / g.
+  float bandwidth;
+} wmr_disturbance_observer_params_f32;
+
 // The paper's law: two PI loops on a moving false target feeding the wheel angle servos (`[controller] kind = "paper"`).
 typedef struct {
   // Pose mode (reach x, y, theta: theta_R = 2 alpha - theta_d) or position mode (heading free: theta_R = alpha) (`WMR_PAPER_MODE_POSE` or `WMR_PAPER_MODE_POSITION`).
@@ -810,6 +820,16 @@ typedef struct {
   double wheel_speed_max;
 } wmr_wheel_stage_params_f64;
 
+// The disturbance observer's keys (`[controller.observer] kind = "disturbance"`,
+// `wmr_core::DisturbanceObserverParams` member for member: a test checks): a DOB on the
+// wheel dynamics whose estimate of the disturbance torque at each wheel the wheel stage
+// subtracts from its command, for any law (`wmr_<law>_controller_*_init_observer`).
+typedef struct {
+  // g, rad/s (> 0, finite): the bandwidth of the Q-filter g / (s + g); the estimate
+  // follows a step of the disturbance with time constant 1 / g.
+  double bandwidth;
+} wmr_disturbance_observer_params_f64;
+
 // The paper's law: two PI loops on a moving false target feeding the wheel angle servos (`[controller] kind = "paper"`).
 typedef struct {
   // Pose mode (reach x, y, theta: theta_R = 2 alpha - theta_d) or position mode (heading free: theta_R = alpha) (`WMR_PAPER_MODE_POSE` or `WMR_PAPER_MODE_POSITION`).
@@ -1295,6 +1315,10 @@ wmr_status wmr_wheel_stage_params_f32_default(const wmr_drive_params_f32 *drive,
                                               const wmr_robot_f32 *model,
                                               wmr_wheel_stage_params_f32 *out);
 
+// Fills `out` with the disturbance observer's defaults (the keys of
+// `[controller.observer] kind = "disturbance"`: bandwidth 50 rad/s).
+wmr_status wmr_disturbance_observer_params_f32_default(wmr_disturbance_observer_params_f32 *out);
+
 // Fills `out` with the default keys of `[controller] kind = "paper"`
 // (docs/scenario.md).
 wmr_status wmr_paper_params_f32_default(wmr_paper_params_f32 *out);
@@ -1505,6 +1529,26 @@ wmr_status wmr_paper_controller_f32_init(wmr_paper_controller_f32 *out,
                                          float control_dt,
                                          wmr_error *err);
 
+// As `_init`, with the disturbance observer `observer` on the wheel stage
+// (`[controller.observer] kind = "disturbance"`): each tick it estimates the
+// disturbance torque at each wheel from the commanded torques and the measured wheel
+// speeds and subtracts it from the command; `_disturbance` reads the estimate. `err`
+// names `observer.bandwidth` for a bad bandwidth.
+wmr_status wmr_paper_controller_f32_init_observer(wmr_paper_controller_f32 *out,
+                                                  const wmr_paper_params_f32 *params,
+                                                  const wmr_wheel_stage_params_f32 *wheels,
+                                                  const wmr_disturbance_observer_params_f32 *observer,
+                                                  const wmr_robot_f32 *model,
+                                                  const wmr_drive_f32 *drive,
+                                                  float control_dt,
+                                                  wmr_error *err);
+
+// The disturbance observer's estimate of the disturbance torque at each wheel at the
+// last tick, N m (0 before the second tick); `WMR_OUT_OF_RANGE` for a controller
+// initialised without an observer.
+wmr_status wmr_paper_controller_f32_disturbance(const wmr_paper_controller_f32 *ctrl,
+                                                wmr_wheels_f32 *out);
+
 // One control tick at time `t` (s): drive commands and errors from the measurement and
 // the goal pose (m, m, rad), the reference at rest there (as `_update_reference` with
 // zero twist and acceleration). Non-finite inputs, a measured pose or goal outside the
@@ -1563,6 +1607,22 @@ wmr_status wmr_paper_bidirectional_controller_f32_init(wmr_paper_bidirectional_c
                                                        float control_dt,
                                                        wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f32_init_observer`).
+wmr_status wmr_paper_bidirectional_controller_f32_init_observer(wmr_paper_bidirectional_controller_f32 *out,
+                                                                const wmr_paper_bidirectional_params_f32 *params,
+                                                                const wmr_wheel_stage_params_f32 *wheels,
+                                                                const wmr_disturbance_observer_params_f32 *observer,
+                                                                const wmr_robot_f32 *model,
+                                                                const wmr_drive_f32 *drive,
+                                                                float control_dt,
+                                                                wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f32_disturbance`).
+wmr_status wmr_paper_bidirectional_controller_f32_disturbance(const wmr_paper_bidirectional_controller_f32 *ctrl,
+                                                              wmr_wheels_f32 *out);
+
 // One control tick (see `wmr_paper_controller_f32_update`).
 wmr_status wmr_paper_bidirectional_controller_f32_update(wmr_paper_bidirectional_controller_f32 *ctrl,
                                                          float t,
@@ -1605,6 +1665,22 @@ wmr_status wmr_polar_controller_f32_init(wmr_polar_controller_f32 *out,
                                          float control_dt,
                                          wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f32_init_observer`).
+wmr_status wmr_polar_controller_f32_init_observer(wmr_polar_controller_f32 *out,
+                                                  const wmr_polar_params_f32 *params,
+                                                  const wmr_wheel_stage_params_f32 *wheels,
+                                                  const wmr_disturbance_observer_params_f32 *observer,
+                                                  const wmr_robot_f32 *model,
+                                                  const wmr_drive_f32 *drive,
+                                                  float control_dt,
+                                                  wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f32_disturbance`).
+wmr_status wmr_polar_controller_f32_disturbance(const wmr_polar_controller_f32 *ctrl,
+                                                wmr_wheels_f32 *out);
+
 // One control tick (see `wmr_paper_controller_f32_update`).
 wmr_status wmr_polar_controller_f32_update(wmr_polar_controller_f32 *ctrl,
                                            float t,
@@ -1646,6 +1722,22 @@ wmr_status wmr_lyapunov_controller_f32_init(wmr_lyapunov_controller_f32 *out,
                                             const wmr_drive_f32 *drive,
                                             float control_dt,
                                             wmr_error *err);
+
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f32_init_observer`).
+wmr_status wmr_lyapunov_controller_f32_init_observer(wmr_lyapunov_controller_f32 *out,
+                                                     const wmr_lyapunov_params_f32 *params,
+                                                     const wmr_wheel_stage_params_f32 *wheels,
+                                                     const wmr_disturbance_observer_params_f32 *observer,
+                                                     const wmr_robot_f32 *model,
+                                                     const wmr_drive_f32 *drive,
+                                                     float control_dt,
+                                                     wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f32_disturbance`).
+wmr_status wmr_lyapunov_controller_f32_disturbance(const wmr_lyapunov_controller_f32 *ctrl,
+                                                   wmr_wheels_f32 *out);
 
 // One control tick (see `wmr_paper_controller_f32_update`).
 wmr_status wmr_lyapunov_controller_f32_update(wmr_lyapunov_controller_f32 *ctrl,
@@ -1690,6 +1782,22 @@ wmr_status wmr_graceful_controller_f32_init(wmr_graceful_controller_f32 *out,
                                             float control_dt,
                                             wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f32_init_observer`).
+wmr_status wmr_graceful_controller_f32_init_observer(wmr_graceful_controller_f32 *out,
+                                                     const wmr_graceful_params_f32 *params,
+                                                     const wmr_wheel_stage_params_f32 *wheels,
+                                                     const wmr_disturbance_observer_params_f32 *observer,
+                                                     const wmr_robot_f32 *model,
+                                                     const wmr_drive_f32 *drive,
+                                                     float control_dt,
+                                                     wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f32_disturbance`).
+wmr_status wmr_graceful_controller_f32_disturbance(const wmr_graceful_controller_f32 *ctrl,
+                                                   wmr_wheels_f32 *out);
+
 // One control tick (see `wmr_paper_controller_f32_update`).
 wmr_status wmr_graceful_controller_f32_update(wmr_graceful_controller_f32 *ctrl,
                                               float t,
@@ -1732,6 +1840,22 @@ wmr_status wmr_mppi_controller_f32_init(wmr_mppi_controller_f32 *out,
                                         const wmr_drive_f32 *drive,
                                         float control_dt,
                                         wmr_error *err);
+
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f32_init_observer`).
+wmr_status wmr_mppi_controller_f32_init_observer(wmr_mppi_controller_f32 *out,
+                                                 const wmr_mppi_params_f32 *params,
+                                                 const wmr_wheel_stage_params_f32 *wheels,
+                                                 const wmr_disturbance_observer_params_f32 *observer,
+                                                 const wmr_robot_f32 *model,
+                                                 const wmr_drive_f32 *drive,
+                                                 float control_dt,
+                                                 wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f32_disturbance`).
+wmr_status wmr_mppi_controller_f32_disturbance(const wmr_mppi_controller_f32 *ctrl,
+                                               wmr_wheels_f32 *out);
 
 // One control tick (see `wmr_paper_controller_f32_update`).
 wmr_status wmr_mppi_controller_f32_update(wmr_mppi_controller_f32 *ctrl,
@@ -1776,6 +1900,22 @@ wmr_status wmr_kanayama_controller_f32_init(wmr_kanayama_controller_f32 *out,
                                             float control_dt,
                                             wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f32_init_observer`).
+wmr_status wmr_kanayama_controller_f32_init_observer(wmr_kanayama_controller_f32 *out,
+                                                     const wmr_kanayama_params_f32 *params,
+                                                     const wmr_wheel_stage_params_f32 *wheels,
+                                                     const wmr_disturbance_observer_params_f32 *observer,
+                                                     const wmr_robot_f32 *model,
+                                                     const wmr_drive_f32 *drive,
+                                                     float control_dt,
+                                                     wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f32_disturbance`).
+wmr_status wmr_kanayama_controller_f32_disturbance(const wmr_kanayama_controller_f32 *ctrl,
+                                                   wmr_wheels_f32 *out);
+
 // One control tick (see `wmr_paper_controller_f32_update`).
 wmr_status wmr_kanayama_controller_f32_update(wmr_kanayama_controller_f32 *ctrl,
                                               float t,
@@ -1818,6 +1958,22 @@ wmr_status wmr_backstepping_controller_f32_init(wmr_backstepping_controller_f32 
                                                 float control_dt,
                                                 wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f32_init_observer`).
+wmr_status wmr_backstepping_controller_f32_init_observer(wmr_backstepping_controller_f32 *out,
+                                                         const wmr_backstepping_params_f32 *params,
+                                                         const wmr_wheel_stage_params_f32 *wheels,
+                                                         const wmr_disturbance_observer_params_f32 *observer,
+                                                         const wmr_robot_f32 *model,
+                                                         const wmr_drive_f32 *drive,
+                                                         float control_dt,
+                                                         wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f32_disturbance`).
+wmr_status wmr_backstepping_controller_f32_disturbance(const wmr_backstepping_controller_f32 *ctrl,
+                                                       wmr_wheels_f32 *out);
+
 // One control tick (see `wmr_paper_controller_f32_update`).
 wmr_status wmr_backstepping_controller_f32_update(wmr_backstepping_controller_f32 *ctrl,
                                                   float t,
@@ -1859,6 +2015,22 @@ wmr_status wmr_pure_pursuit_controller_f32_init(wmr_pure_pursuit_controller_f32 
                                                 const wmr_drive_f32 *drive,
                                                 float control_dt,
                                                 wmr_error *err);
+
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f32_init_observer`).
+wmr_status wmr_pure_pursuit_controller_f32_init_observer(wmr_pure_pursuit_controller_f32 *out,
+                                                         const wmr_pure_pursuit_params_f32 *params,
+                                                         const wmr_wheel_stage_params_f32 *wheels,
+                                                         const wmr_disturbance_observer_params_f32 *observer,
+                                                         const wmr_robot_f32 *model,
+                                                         const wmr_drive_f32 *drive,
+                                                         float control_dt,
+                                                         wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f32_disturbance`).
+wmr_status wmr_pure_pursuit_controller_f32_disturbance(const wmr_pure_pursuit_controller_f32 *ctrl,
+                                                       wmr_wheels_f32 *out);
 
 // One control tick (see `wmr_paper_controller_f32_update`).
 wmr_status wmr_pure_pursuit_controller_f32_update(wmr_pure_pursuit_controller_f32 *ctrl,
@@ -1916,6 +2088,10 @@ wmr_status wmr_drive_f64_init(wmr_drive_f64 *out,
 wmr_status wmr_wheel_stage_params_f64_default(const wmr_drive_params_f64 *drive,
                                               const wmr_robot_f64 *model,
                                               wmr_wheel_stage_params_f64 *out);
+
+// Fills `out` with the disturbance observer's defaults (the keys of
+// `[controller.observer] kind = "disturbance"`: bandwidth 50 rad/s).
+wmr_status wmr_disturbance_observer_params_f64_default(wmr_disturbance_observer_params_f64 *out);
 
 // Fills `out` with the default keys of `[controller] kind = "paper"`
 // (docs/scenario.md).
@@ -2127,6 +2303,26 @@ wmr_status wmr_paper_controller_f64_init(wmr_paper_controller_f64 *out,
                                          double control_dt,
                                          wmr_error *err);
 
+// As `_init`, with the disturbance observer `observer` on the wheel stage
+// (`[controller.observer] kind = "disturbance"`): each tick it estimates the
+// disturbance torque at each wheel from the commanded torques and the measured wheel
+// speeds and subtracts it from the command; `_disturbance` reads the estimate. `err`
+// names `observer.bandwidth` for a bad bandwidth.
+wmr_status wmr_paper_controller_f64_init_observer(wmr_paper_controller_f64 *out,
+                                                  const wmr_paper_params_f64 *params,
+                                                  const wmr_wheel_stage_params_f64 *wheels,
+                                                  const wmr_disturbance_observer_params_f64 *observer,
+                                                  const wmr_robot_f64 *model,
+                                                  const wmr_drive_f64 *drive,
+                                                  double control_dt,
+                                                  wmr_error *err);
+
+// The disturbance observer's estimate of the disturbance torque at each wheel at the
+// last tick, N m (0 before the second tick); `WMR_OUT_OF_RANGE` for a controller
+// initialised without an observer.
+wmr_status wmr_paper_controller_f64_disturbance(const wmr_paper_controller_f64 *ctrl,
+                                                wmr_wheels_f64 *out);
+
 // One control tick at time `t` (s): drive commands and errors from the measurement and
 // the goal pose (m, m, rad), the reference at rest there (as `_update_reference` with
 // zero twist and acceleration). Non-finite inputs, a measured pose or goal outside the
@@ -2185,6 +2381,22 @@ wmr_status wmr_paper_bidirectional_controller_f64_init(wmr_paper_bidirectional_c
                                                        double control_dt,
                                                        wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f64_init_observer`).
+wmr_status wmr_paper_bidirectional_controller_f64_init_observer(wmr_paper_bidirectional_controller_f64 *out,
+                                                                const wmr_paper_bidirectional_params_f64 *params,
+                                                                const wmr_wheel_stage_params_f64 *wheels,
+                                                                const wmr_disturbance_observer_params_f64 *observer,
+                                                                const wmr_robot_f64 *model,
+                                                                const wmr_drive_f64 *drive,
+                                                                double control_dt,
+                                                                wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f64_disturbance`).
+wmr_status wmr_paper_bidirectional_controller_f64_disturbance(const wmr_paper_bidirectional_controller_f64 *ctrl,
+                                                              wmr_wheels_f64 *out);
+
 // One control tick (see `wmr_paper_controller_f64_update`).
 wmr_status wmr_paper_bidirectional_controller_f64_update(wmr_paper_bidirectional_controller_f64 *ctrl,
                                                          double t,
@@ -2227,6 +2439,22 @@ wmr_status wmr_polar_controller_f64_init(wmr_polar_controller_f64 *out,
                                          double control_dt,
                                          wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f64_init_observer`).
+wmr_status wmr_polar_controller_f64_init_observer(wmr_polar_controller_f64 *out,
+                                                  const wmr_polar_params_f64 *params,
+                                                  const wmr_wheel_stage_params_f64 *wheels,
+                                                  const wmr_disturbance_observer_params_f64 *observer,
+                                                  const wmr_robot_f64 *model,
+                                                  const wmr_drive_f64 *drive,
+                                                  double control_dt,
+                                                  wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f64_disturbance`).
+wmr_status wmr_polar_controller_f64_disturbance(const wmr_polar_controller_f64 *ctrl,
+                                                wmr_wheels_f64 *out);
+
 // One control tick (see `wmr_paper_controller_f64_update`).
 wmr_status wmr_polar_controller_f64_update(wmr_polar_controller_f64 *ctrl,
                                            double t,
@@ -2268,6 +2496,22 @@ wmr_status wmr_lyapunov_controller_f64_init(wmr_lyapunov_controller_f64 *out,
                                             const wmr_drive_f64 *drive,
                                             double control_dt,
                                             wmr_error *err);
+
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f64_init_observer`).
+wmr_status wmr_lyapunov_controller_f64_init_observer(wmr_lyapunov_controller_f64 *out,
+                                                     const wmr_lyapunov_params_f64 *params,
+                                                     const wmr_wheel_stage_params_f64 *wheels,
+                                                     const wmr_disturbance_observer_params_f64 *observer,
+                                                     const wmr_robot_f64 *model,
+                                                     const wmr_drive_f64 *drive,
+                                                     double control_dt,
+                                                     wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f64_disturbance`).
+wmr_status wmr_lyapunov_controller_f64_disturbance(const wmr_lyapunov_controller_f64 *ctrl,
+                                                   wmr_wheels_f64 *out);
 
 // One control tick (see `wmr_paper_controller_f64_update`).
 wmr_status wmr_lyapunov_controller_f64_update(wmr_lyapunov_controller_f64 *ctrl,
@@ -2312,6 +2556,22 @@ wmr_status wmr_graceful_controller_f64_init(wmr_graceful_controller_f64 *out,
                                             double control_dt,
                                             wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f64_init_observer`).
+wmr_status wmr_graceful_controller_f64_init_observer(wmr_graceful_controller_f64 *out,
+                                                     const wmr_graceful_params_f64 *params,
+                                                     const wmr_wheel_stage_params_f64 *wheels,
+                                                     const wmr_disturbance_observer_params_f64 *observer,
+                                                     const wmr_robot_f64 *model,
+                                                     const wmr_drive_f64 *drive,
+                                                     double control_dt,
+                                                     wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f64_disturbance`).
+wmr_status wmr_graceful_controller_f64_disturbance(const wmr_graceful_controller_f64 *ctrl,
+                                                   wmr_wheels_f64 *out);
+
 // One control tick (see `wmr_paper_controller_f64_update`).
 wmr_status wmr_graceful_controller_f64_update(wmr_graceful_controller_f64 *ctrl,
                                               double t,
@@ -2354,6 +2614,22 @@ wmr_status wmr_mppi_controller_f64_init(wmr_mppi_controller_f64 *out,
                                         const wmr_drive_f64 *drive,
                                         double control_dt,
                                         wmr_error *err);
+
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f64_init_observer`).
+wmr_status wmr_mppi_controller_f64_init_observer(wmr_mppi_controller_f64 *out,
+                                                 const wmr_mppi_params_f64 *params,
+                                                 const wmr_wheel_stage_params_f64 *wheels,
+                                                 const wmr_disturbance_observer_params_f64 *observer,
+                                                 const wmr_robot_f64 *model,
+                                                 const wmr_drive_f64 *drive,
+                                                 double control_dt,
+                                                 wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f64_disturbance`).
+wmr_status wmr_mppi_controller_f64_disturbance(const wmr_mppi_controller_f64 *ctrl,
+                                               wmr_wheels_f64 *out);
 
 // One control tick (see `wmr_paper_controller_f64_update`).
 wmr_status wmr_mppi_controller_f64_update(wmr_mppi_controller_f64 *ctrl,
@@ -2398,6 +2674,22 @@ wmr_status wmr_kanayama_controller_f64_init(wmr_kanayama_controller_f64 *out,
                                             double control_dt,
                                             wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f64_init_observer`).
+wmr_status wmr_kanayama_controller_f64_init_observer(wmr_kanayama_controller_f64 *out,
+                                                     const wmr_kanayama_params_f64 *params,
+                                                     const wmr_wheel_stage_params_f64 *wheels,
+                                                     const wmr_disturbance_observer_params_f64 *observer,
+                                                     const wmr_robot_f64 *model,
+                                                     const wmr_drive_f64 *drive,
+                                                     double control_dt,
+                                                     wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f64_disturbance`).
+wmr_status wmr_kanayama_controller_f64_disturbance(const wmr_kanayama_controller_f64 *ctrl,
+                                                   wmr_wheels_f64 *out);
+
 // One control tick (see `wmr_paper_controller_f64_update`).
 wmr_status wmr_kanayama_controller_f64_update(wmr_kanayama_controller_f64 *ctrl,
                                               double t,
@@ -2440,6 +2732,22 @@ wmr_status wmr_backstepping_controller_f64_init(wmr_backstepping_controller_f64 
                                                 double control_dt,
                                                 wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f64_init_observer`).
+wmr_status wmr_backstepping_controller_f64_init_observer(wmr_backstepping_controller_f64 *out,
+                                                         const wmr_backstepping_params_f64 *params,
+                                                         const wmr_wheel_stage_params_f64 *wheels,
+                                                         const wmr_disturbance_observer_params_f64 *observer,
+                                                         const wmr_robot_f64 *model,
+                                                         const wmr_drive_f64 *drive,
+                                                         double control_dt,
+                                                         wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f64_disturbance`).
+wmr_status wmr_backstepping_controller_f64_disturbance(const wmr_backstepping_controller_f64 *ctrl,
+                                                       wmr_wheels_f64 *out);
+
 // One control tick (see `wmr_paper_controller_f64_update`).
 wmr_status wmr_backstepping_controller_f64_update(wmr_backstepping_controller_f64 *ctrl,
                                                   double t,
@@ -2481,6 +2789,22 @@ wmr_status wmr_pure_pursuit_controller_f64_init(wmr_pure_pursuit_controller_f64 
                                                 const wmr_drive_f64 *drive,
                                                 double control_dt,
                                                 wmr_error *err);
+
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f64_init_observer`).
+wmr_status wmr_pure_pursuit_controller_f64_init_observer(wmr_pure_pursuit_controller_f64 *out,
+                                                         const wmr_pure_pursuit_params_f64 *params,
+                                                         const wmr_wheel_stage_params_f64 *wheels,
+                                                         const wmr_disturbance_observer_params_f64 *observer,
+                                                         const wmr_robot_f64 *model,
+                                                         const wmr_drive_f64 *drive,
+                                                         double control_dt,
+                                                         wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f64_disturbance`).
+wmr_status wmr_pure_pursuit_controller_f64_disturbance(const wmr_pure_pursuit_controller_f64 *ctrl,
+                                                       wmr_wheels_f64 *out);
 
 // One control tick (see `wmr_paper_controller_f64_update`).
 wmr_status wmr_pure_pursuit_controller_f64_update(wmr_pure_pursuit_controller_f64 *ctrl,
