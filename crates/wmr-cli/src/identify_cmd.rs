@@ -162,19 +162,12 @@ struct Plan {
 impl ProfileOut<'_> {
     /// Checks the flags (each refusal names its flag, exit 2), before anything is written.
     fn plan(&self, dt_s: f64) -> Result<Plan> {
-        let format = match self.format {
-            Some(f) => f,
-            None => match self.path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
-                Some("mcap") => ProfileFormat::Mcap,
-                Some("csv") => ProfileFormat::Csv,
-                _ => {
-                    return Err(bad_input(format!(
-                        "cannot tell the format of {} from its extension: name it .csv or .mcap, or pass --format",
-                        wmr_scenario::shown(self.path)
-                    )));
-                }
-            },
-        };
+        // By OUT's extension: .mcap, else a CSV (as `excite` has always written, whatever
+        // the name).
+        let format = self.format.unwrap_or_else(|| {
+            let ext = self.path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+            if ext.as_deref() == Some("mcap") { ProfileFormat::Mcap } else { ProfileFormat::Csv }
+        });
         if let Some(v) = self.speed_max
             && !(v > 0.0 && v.is_finite())
         {
@@ -254,11 +247,11 @@ fn cmd_vel_mcap(tests: &[(Vec<f64>, [Vec<f64>; 2])], dt_ns: u64, pause_ns: u64, 
     let mut base = start_ns;
     let mut sequence = 0u32;
     for (t, tw) in tests {
-        for i in 0..t.len() {
+        for (i, (&v, &omega)) in tw[0].iter().zip(&tw[1]).enumerate() {
             let mut cdr = ros2::cdr::CdrWriter::new(&mut buf);
             // geometry_msgs/Twist: Vector3 linear, Vector3 angular (base_link, REP 103).
-            cdr.f64_array(&[tw[0][i], 0.0, 0.0]);
-            cdr.f64_array(&[0.0, 0.0, tw[1][i]]);
+            cdr.f64_array(&[v, 0.0, 0.0]);
+            cdr.f64_array(&[0.0, 0.0, omega]);
             let ns = base + i as u64 * dt_ns;
             sequence += 1;
             let header = MessageHeader { channel_id: channel, sequence, log_time: ns, publish_time: ns };

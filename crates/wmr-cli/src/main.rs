@@ -218,7 +218,7 @@ enum Command {
         /// CSV or (OUT.mcap) a ROS 2 MCAP of /cmd_vel (geometry_msgs/msg/Twist).
         #[arg(short, long, value_name = "OUT")]
         output: PathBuf,
-        /// OUT's format [default: by its extension, .csv or .mcap].
+        /// OUT's format [default: mcap for a .mcap OUT, else csv].
         #[arg(long, value_enum)]
         format: Option<identify_cmd::ProfileFormat>,
         /// The profile as body twists for a base driven by /cmd_vel: each wheel's rim speed

@@ -144,7 +144,6 @@ fn issue_44_bad_excite_flags_are_refused_naming_the_flag() {
             "--start-ns 18446744073709551615",
         ),
         (&["-o", "p.csv", "--speed-max", "1", "--log", "l.csv"], "--log simulates ROBOT on the wheel commands"),
-        (&["-o", "p.txt"], "cannot tell the format of p.txt"),
         (
             &["-o", "-", "--format", "mcap", "--speed-max", "1", "--rosbag2"],
             "--rosbag2 writes metadata.yaml beside OUT",
