@@ -211,7 +211,9 @@ enum Command {
         c_header: Option<PathBuf>,
     },
     /// Write the command profiles to play on a robot for `identify` (SysId's quasistatic
-    /// ramps and dynamic steps; straight, turning and arcs) as CSV, with the room each needs.
+    /// ramps and dynamic steps; straight, turning and arcs) as CSV, or as body twists for a
+    /// base driven by /cmd_vel (--speed-max; a ROS 2 MCAP to `ros2 bag play`), with the room
+    /// each needs.
     Excite {
         /// The profile: a CSV of run, t, and tau_r, tau_l (N m) or u_r, u_l (V) by ROBOT's
         /// drive; with --speed-max the twists, run, t, v_cmd (m/s), omega_cmd (rad/s), as a
