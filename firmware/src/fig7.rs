@@ -9,7 +9,7 @@ use wmr_core::controller::Law;
 use wmr_core::reference::{FigureEight, Reference};
 use wmr_core::sensor::Sensor as _;
 use wmr_core::{
-    ControlOutput, Controller, DriveParams, FixedGoal, LawSpec as _, Measurement, PerfectSensor, Plant, Pose2, Robot,
+    ControlOutput, Controller, DisturbanceObserverParams, DriveParams, FixedGoal, LawSpec as _, Measurement, PerfectSensor, Plant, Pose2, Robot,
     Termination, WheelStage, WheelStageParams, Wheels,
 };
 
@@ -106,12 +106,23 @@ pub struct Ran {
 /// the reference's pose at t = 0 (Fig. 7's start for its goal). `None` when a parameter
 /// is refused (they are the defaults, so never in practice).
 pub fn run<L: FirmwareLaw>(meter: &mut impl Meter) -> Option<Ran> {
+    run_with::<L, false>(meter)
+}
+
+/// [`run`], with the disturbance observer on the wheel stage (`[controller.observer]
+/// kind = "disturbance"`, its default bandwidth) when `OBSERVER`: what the observer adds
+/// to a control update (the `cost-observer` program). A constant, so the programs
+/// without it link none of it.
+pub fn run_with<L: FirmwareLaw, const OBSERVER: bool>(meter: &mut impl Meter) -> Option<Ran> {
     let robot = Robot::<f32>::paper();
     let drive_params = DriveParams::default();
     let drive = drive_params.validate(&robot).ok()?;
-    let wheels =
+    let mut wheels =
         WheelStage::new(&WheelStageParams::for_drive(&drive_params, robot.params()), robot.params(), &drive, DT)
             .ok()?;
+    if OBSERVER {
+        wheels = wheels.with_observer(DisturbanceObserverParams::default().validate(robot.params(), DT).ok()?);
+    }
     let mut ctrl = Controller::new(L::build()?, wheels);
     let reference = L::reference()?;
     let start = if reference.fixed() { Pose2::default() } else { reference.pose_at(0.0) };

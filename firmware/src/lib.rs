@@ -36,6 +36,22 @@ pub fn cost_main<L: fig7::FirmwareLaw>() -> ! {
     }
 }
 
+/// The body of the observer's cost program: the Fig. 7 loop of law `L` with the
+/// disturbance observer on its wheel stage, reported as `<kind>+observer`.
+pub fn cost_observer_main<L: fig7::FirmwareLaw>() -> ! {
+    #[cfg(not(feature = "qemu"))]
+    {
+        core::hint::black_box(fig7::run_with::<L, true>(&mut fig7::Plain).map(|r| (r.pose, r.steps)));
+        halt()
+    }
+    #[cfg(feature = "qemu")]
+    {
+        let mut m = meter::Meter::calibrate();
+        let ran = fig7::run_with::<L, true>(&mut m);
+        meter::report("observer", &m, ran.as_ref())
+    }
+}
+
 /// The body of the plant-only cost program.
 pub fn cost_plant_main() -> ! {
     #[cfg(not(feature = "qemu"))]

@@ -79,6 +79,15 @@ pub unsafe extern "C" fn wmr_wheel_stage_params_f32_default(
 ) -> wmr_status {
     imp::wheel_stage_params_default(drive, model, out)
 }
+
+/// Fills `out` with the disturbance observer's defaults (the keys of
+/// `[controller.observer] kind = "disturbance"`: bandwidth 50 rad/s).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_disturbance_observer_params_f32_default(
+    out: *mut wmr_disturbance_observer_params<f32>,
+) -> wmr_status {
+    imp::disturbance_observer_params_default(out)
+}
 "#;
 
 /// The entry points between the laws' parameter defaults and their controllers: plant
@@ -438,6 +447,47 @@ pub fn api_f32() -> String {
                 "err: *mut wmr_error".into(),
             ],
             &format!("imp::controller_init::<f32, {m}>(out, params, wheels, model, drive, control_dt, err)"),
+        ));
+        out.push('\n');
+        out.push_str(&entry_point(
+            &if i == 0 {
+                "As `_init`, with the disturbance observer `observer` on the wheel stage \
+                 (`[controller.observer] kind = \"disturbance\"`): each tick it estimates the \
+                 disturbance torque at each wheel from the commanded torques and the measured wheel \
+                 speeds and subtracts it from the command; `_disturbance` reads the estimate. `err` \
+                 names `observer.bandwidth` for a bad bandwidth."
+                    .to_owned()
+            } else {
+                format!("As `_init`, with a disturbance observer on the wheel stage {}.", see("init_observer"))
+            },
+            &format!("wmr_{c}_controller_f32_init_observer"),
+            &[
+                format!("out: *mut wmr_{c}_controller_f32"),
+                format!("params: *const wmr_{c}_params<f32>"),
+                "wheels: *const wmr_wheel_stage_params<f32>".into(),
+                "observer: *const wmr_disturbance_observer_params<f32>".into(),
+                "model: *const wmr_robot_f32".into(),
+                "drive: *const wmr_drive_f32".into(),
+                "control_dt: f32".into(),
+                "err: *mut wmr_error".into(),
+            ],
+            &format!(
+                "imp::controller_init_observer::<f32, {m}>(out, params, wheels, observer, model, drive, control_dt, err)"
+            ),
+        ));
+        out.push('\n');
+        out.push_str(&entry_point(
+            &if i == 0 {
+                "The disturbance observer's estimate of the disturbance torque at each wheel at the \
+                 last tick, N m (0 before the second tick); `WMR_OUT_OF_RANGE` for a controller \
+                 initialised without an observer."
+                    .to_owned()
+            } else {
+                format!("The disturbance observer's estimate, N m per wheel {}.", see("disturbance"))
+            },
+            &format!("wmr_{c}_controller_f32_disturbance"),
+            &[format!("ctrl: *const wmr_{c}_controller_f32"), "out: *mut wmr_wheels<f32>".into()],
+            &format!("imp::controller_disturbance::<f32, {m}>(ctrl, out)"),
         ));
         out.push('\n');
         out.push_str(&entry_point(

@@ -33,15 +33,20 @@ pub fn generate() -> Vec<Generated> {
         .collect()
 }
 
-/// Cost programs of laws no longer in the registry (`cost-plant.rs` and `cost-none.rs`
-/// are written by hand: they measure no law).
+/// Cost programs of laws no longer in the registry (`cost-plant.rs`, `cost-none.rs` and
+/// `cost-observer.rs` are written by hand: they measure no law of their own).
 pub fn stale(generated: &[Generated]) -> Vec<String> {
     let dir = repo_root().join("firmware/src/bin");
     let Ok(entries) = std::fs::read_dir(&dir) else { return Vec::new() };
     let mut out: Vec<String> = entries
         .filter_map(|e| e.ok())
         .map(|e| format!("firmware/src/bin/{}", e.file_name().to_string_lossy()))
-        .filter(|p| p.contains("/cost-") && !p.ends_with("cost-plant.rs") && !p.ends_with("cost-none.rs"))
+        .filter(|p| {
+            p.contains("/cost-")
+                && !p.ends_with("cost-plant.rs")
+                && !p.ends_with("cost-none.rs")
+                && !p.ends_with("cost-observer.rs")
+        })
         .filter(|p| !generated.iter().any(|g| &g.path == p))
         .collect();
     out.sort();

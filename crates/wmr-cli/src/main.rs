@@ -211,11 +211,35 @@ enum Command {
         c_header: Option<PathBuf>,
     },
     /// Write the command profiles to play on a robot for `identify` (SysId's quasistatic
-    /// ramps and dynamic steps; straight, turning and arcs) as CSV, with the room each needs.
+    /// ramps and dynamic steps; straight, turning and arcs) as CSV, or as body twists for a
+    /// base driven by /cmd_vel (--speed-max; a ROS 2 MCAP to `ros2 bag play`), with the room
+    /// each needs.
     Excite {
-        /// The profile CSV: run, t, and tau_r, tau_l (N m) or u_r, u_l (V) by ROBOT's drive.
+        /// The profile: a CSV of run, t, and tau_r, tau_l (N m) or u_r, u_l (V) by ROBOT's
+        /// drive; with --speed-max the twists, run, t, v_cmd (m/s), omega_cmd (rad/s), as a
+        /// CSV or (OUT.mcap) a ROS 2 MCAP of /cmd_vel (geometry_msgs/msg/Twist).
         #[arg(short, long, value_name = "OUT")]
         output: PathBuf,
+        /// OUT's format [default: mcap for a .mcap OUT, else csv].
+        #[arg(long, value_enum)]
+        format: Option<identify_cmd::ProfileFormat>,
+        /// The profile as body twists for a base driven by /cmd_vel: each wheel's rim speed
+        /// at the largest command, m/s (the others in proportion to their command).
+        #[arg(long, value_name = "M_PER_S")]
+        speed_max: Option<f64>,
+        /// With OUT.mcap: the log time of the first message, ns since the Unix epoch
+        /// [default: 0].
+        #[arg(long, value_name = "NS")]
+        start_ns: Option<u64>,
+        /// With OUT.mcap: the time between one test's stop message and the next test's
+        /// first, s (room to bring the robot back; `ros2 bag play` pauses on space)
+        /// [default: 5].
+        #[arg(long, value_name = "S")]
+        pause: Option<f64>,
+        /// With OUT.mcap: also write metadata.yaml beside OUT, so that OUT's folder is a
+        /// rosbag2 bag (`ros2 bag play DIR`), as `run --rosbag2` does.
+        #[arg(long)]
+        rosbag2: bool,
         #[command(flatten)]
         files: Files,
         /// The robot file (its drive and its limits; the safe distances are simulated on it)
@@ -406,9 +430,24 @@ fn run(cli: Cli) -> Result<()> {
             c_header.as_deref(),
             &files.access()?,
         ),
-        Command::Excite { output, files, robot, command_max, log, encoder_noise, jitter, seed } => {
+        Command::Excite {
+            output,
+            format,
+            speed_max,
+            start_ns,
+            pause,
+            rosbag2,
+            files,
+            robot,
+            command_max,
+            log,
+            encoder_noise,
+            jitter,
+            seed,
+        } => {
+            let out = identify_cmd::ProfileOut { path: &output, format, speed_max, start_ns, pause, rosbag2 };
             identify_cmd::excite(
-                &output,
+                &out,
                 robot.as_deref(),
                 command_max,
                 log.as_deref(),

@@ -296,6 +296,16 @@ typedef struct {
   float wheel_speed_max;
 } wmr_wheel_stage_params_f32;
 
+// The disturbance observer's keys (`[controller.observer] kind = "disturbance"`,
+// `wmr_core::DisturbanceObserverParams` member for member: a test checks): a DOB on the
+// wheel dynamics whose estimate of the disturbance torque at each wheel the wheel stage
+// subtracts from its command, for any law (`wmr_<law>_controller_*_init_observer`).
+typedef struct {
+  // g, rad/s (> 0, finite): the bandwidth of the Q-filter g / (s + g); the estimate
+  // follows a step of the disturbance with time constant 1 / g.
+  float bandwidth;
+} wmr_disturbance_observer_params_f32;
+
 // The paper's law: two PI loops on a moving false target feeding the wheel angle servos (`[controller] kind = "paper"`).
 typedef struct {
   // Pose mode (reach x, y, theta: theta_R = 2 alpha - theta_d) or position mode (heading free: theta_R = alpha) (`WMR_PAPER_MODE_POSE` or `WMR_PAPER_MODE_POSITION`).
@@ -828,6 +838,16 @@ typedef struct {
   double wheel_speed_max;
 } wmr_wheel_stage_params_f64;
 
+// The disturbance observer's keys (`[controller.observer] kind = "disturbance"`,
+// `wmr_core::DisturbanceObserverParams` member for member: a test checks): a DOB on the
+// wheel dynamics whose estimate of the disturbance torque at each wheel the wheel stage
+// subtracts from its command, for any law (`wmr_<law>_controller_*_init_observer`).
+typedef struct {
+  // g, rad/s (> 0, finite): the bandwidth of the Q-filter g / (s + g); the estimate
+  // follows a step of the disturbance with time constant 1 / g.
+  double bandwidth;
+} wmr_disturbance_observer_params_f64;
+
 // The paper's law: two PI loops on a moving false target feeding the wheel angle servos (`[controller] kind = "paper"`).
 typedef struct {
   // Pose mode (reach x, y, theta: theta_R = 2 alpha - theta_d) or position mode (heading free: theta_R = alpha) (`WMR_PAPER_MODE_POSE` or `WMR_PAPER_MODE_POSITION`).
@@ -1327,6 +1347,10 @@ wmr_status wmr_wheel_stage_params_f32_default(const wmr_drive_params_f32 *drive,
                                               const wmr_robot_f32 *model,
                                               wmr_wheel_stage_params_f32 *out);
 
+// Fills `out` with the disturbance observer's defaults (the keys of
+// `[controller.observer] kind = "disturbance"`: bandwidth 50 rad/s).
+wmr_status wmr_disturbance_observer_params_f32_default(wmr_disturbance_observer_params_f32 *out);
+
 // Fills `out` with the default keys of `[controller] kind = "paper"`
 // (docs/scenario.md).
 wmr_status wmr_paper_params_f32_default(wmr_paper_params_f32 *out);
@@ -1537,6 +1561,26 @@ wmr_status wmr_paper_controller_f32_init(wmr_paper_controller_f32 *out,
                                          float control_dt,
                                          wmr_error *err);
 
+// As `_init`, with the disturbance observer `observer` on the wheel stage
+// (`[controller.observer] kind = "disturbance"`): each tick it estimates the
+// disturbance torque at each wheel from the commanded torques and the measured wheel
+// speeds and subtracts it from the command; `_disturbance` reads the estimate. `err`
+// names `observer.bandwidth` for a bad bandwidth.
+wmr_status wmr_paper_controller_f32_init_observer(wmr_paper_controller_f32 *out,
+                                                  const wmr_paper_params_f32 *params,
+                                                  const wmr_wheel_stage_params_f32 *wheels,
+                                                  const wmr_disturbance_observer_params_f32 *observer,
+                                                  const wmr_robot_f32 *model,
+                                                  const wmr_drive_f32 *drive,
+                                                  float control_dt,
+                                                  wmr_error *err);
+
+// The disturbance observer's estimate of the disturbance torque at each wheel at the
+// last tick, N m (0 before the second tick); `WMR_OUT_OF_RANGE` for a controller
+// initialised without an observer.
+wmr_status wmr_paper_controller_f32_disturbance(const wmr_paper_controller_f32 *ctrl,
+                                                wmr_wheels_f32 *out);
+
 // One control tick at time `t` (s): drive commands and errors from the measurement and
 // the goal pose (m, m, rad), the reference at rest there (as `_update_reference` with
 // zero twist and acceleration). Non-finite inputs, a measured pose or goal outside the
@@ -1595,6 +1639,22 @@ wmr_status wmr_paper_bidirectional_controller_f32_init(wmr_paper_bidirectional_c
                                                        float control_dt,
                                                        wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f32_init_observer`).
+wmr_status wmr_paper_bidirectional_controller_f32_init_observer(wmr_paper_bidirectional_controller_f32 *out,
+                                                                const wmr_paper_bidirectional_params_f32 *params,
+                                                                const wmr_wheel_stage_params_f32 *wheels,
+                                                                const wmr_disturbance_observer_params_f32 *observer,
+                                                                const wmr_robot_f32 *model,
+                                                                const wmr_drive_f32 *drive,
+                                                                float control_dt,
+                                                                wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f32_disturbance`).
+wmr_status wmr_paper_bidirectional_controller_f32_disturbance(const wmr_paper_bidirectional_controller_f32 *ctrl,
+                                                              wmr_wheels_f32 *out);
+
 // One control tick (see `wmr_paper_controller_f32_update`).
 wmr_status wmr_paper_bidirectional_controller_f32_update(wmr_paper_bidirectional_controller_f32 *ctrl,
                                                          float t,
@@ -1637,6 +1697,22 @@ wmr_status wmr_polar_controller_f32_init(wmr_polar_controller_f32 *out,
                                          float control_dt,
                                          wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f32_init_observer`).
+wmr_status wmr_polar_controller_f32_init_observer(wmr_polar_controller_f32 *out,
+                                                  const wmr_polar_params_f32 *params,
+                                                  const wmr_wheel_stage_params_f32 *wheels,
+                                                  const wmr_disturbance_observer_params_f32 *observer,
+                                                  const wmr_robot_f32 *model,
+                                                  const wmr_drive_f32 *drive,
+                                                  float control_dt,
+                                                  wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f32_disturbance`).
+wmr_status wmr_polar_controller_f32_disturbance(const wmr_polar_controller_f32 *ctrl,
+                                                wmr_wheels_f32 *out);
+
 // One control tick (see `wmr_paper_controller_f32_update`).
 wmr_status wmr_polar_controller_f32_update(wmr_polar_controller_f32 *ctrl,
                                            float t,
@@ -1678,6 +1754,22 @@ wmr_status wmr_lyapunov_controller_f32_init(wmr_lyapunov_controller_f32 *out,
                                             const wmr_drive_f32 *drive,
                                             float control_dt,
                                             wmr_error *err);
+
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f32_init_observer`).
+wmr_status wmr_lyapunov_controller_f32_init_observer(wmr_lyapunov_controller_f32 *out,
+                                                     const wmr_lyapunov_params_f32 *params,
+                                                     const wmr_wheel_stage_params_f32 *wheels,
+                                                     const wmr_disturbance_observer_params_f32 *observer,
+                                                     const wmr_robot_f32 *model,
+                                                     const wmr_drive_f32 *drive,
+                                                     float control_dt,
+                                                     wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f32_disturbance`).
+wmr_status wmr_lyapunov_controller_f32_disturbance(const wmr_lyapunov_controller_f32 *ctrl,
+                                                   wmr_wheels_f32 *out);
 
 // One control tick (see `wmr_paper_controller_f32_update`).
 wmr_status wmr_lyapunov_controller_f32_update(wmr_lyapunov_controller_f32 *ctrl,
@@ -1722,6 +1814,22 @@ wmr_status wmr_graceful_controller_f32_init(wmr_graceful_controller_f32 *out,
                                             float control_dt,
                                             wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f32_init_observer`).
+wmr_status wmr_graceful_controller_f32_init_observer(wmr_graceful_controller_f32 *out,
+                                                     const wmr_graceful_params_f32 *params,
+                                                     const wmr_wheel_stage_params_f32 *wheels,
+                                                     const wmr_disturbance_observer_params_f32 *observer,
+                                                     const wmr_robot_f32 *model,
+                                                     const wmr_drive_f32 *drive,
+                                                     float control_dt,
+                                                     wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f32_disturbance`).
+wmr_status wmr_graceful_controller_f32_disturbance(const wmr_graceful_controller_f32 *ctrl,
+                                                   wmr_wheels_f32 *out);
+
 // One control tick (see `wmr_paper_controller_f32_update`).
 wmr_status wmr_graceful_controller_f32_update(wmr_graceful_controller_f32 *ctrl,
                                               float t,
@@ -1764,6 +1872,22 @@ wmr_status wmr_mppi_controller_f32_init(wmr_mppi_controller_f32 *out,
                                         const wmr_drive_f32 *drive,
                                         float control_dt,
                                         wmr_error *err);
+
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f32_init_observer`).
+wmr_status wmr_mppi_controller_f32_init_observer(wmr_mppi_controller_f32 *out,
+                                                 const wmr_mppi_params_f32 *params,
+                                                 const wmr_wheel_stage_params_f32 *wheels,
+                                                 const wmr_disturbance_observer_params_f32 *observer,
+                                                 const wmr_robot_f32 *model,
+                                                 const wmr_drive_f32 *drive,
+                                                 float control_dt,
+                                                 wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f32_disturbance`).
+wmr_status wmr_mppi_controller_f32_disturbance(const wmr_mppi_controller_f32 *ctrl,
+                                               wmr_wheels_f32 *out);
 
 // One control tick (see `wmr_paper_controller_f32_update`).
 wmr_status wmr_mppi_controller_f32_update(wmr_mppi_controller_f32 *ctrl,
@@ -1808,6 +1932,22 @@ wmr_status wmr_kanayama_controller_f32_init(wmr_kanayama_controller_f32 *out,
                                             float control_dt,
                                             wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f32_init_observer`).
+wmr_status wmr_kanayama_controller_f32_init_observer(wmr_kanayama_controller_f32 *out,
+                                                     const wmr_kanayama_params_f32 *params,
+                                                     const wmr_wheel_stage_params_f32 *wheels,
+                                                     const wmr_disturbance_observer_params_f32 *observer,
+                                                     const wmr_robot_f32 *model,
+                                                     const wmr_drive_f32 *drive,
+                                                     float control_dt,
+                                                     wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f32_disturbance`).
+wmr_status wmr_kanayama_controller_f32_disturbance(const wmr_kanayama_controller_f32 *ctrl,
+                                                   wmr_wheels_f32 *out);
+
 // One control tick (see `wmr_paper_controller_f32_update`).
 wmr_status wmr_kanayama_controller_f32_update(wmr_kanayama_controller_f32 *ctrl,
                                               float t,
@@ -1850,6 +1990,22 @@ wmr_status wmr_backstepping_controller_f32_init(wmr_backstepping_controller_f32 
                                                 float control_dt,
                                                 wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f32_init_observer`).
+wmr_status wmr_backstepping_controller_f32_init_observer(wmr_backstepping_controller_f32 *out,
+                                                         const wmr_backstepping_params_f32 *params,
+                                                         const wmr_wheel_stage_params_f32 *wheels,
+                                                         const wmr_disturbance_observer_params_f32 *observer,
+                                                         const wmr_robot_f32 *model,
+                                                         const wmr_drive_f32 *drive,
+                                                         float control_dt,
+                                                         wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f32_disturbance`).
+wmr_status wmr_backstepping_controller_f32_disturbance(const wmr_backstepping_controller_f32 *ctrl,
+                                                       wmr_wheels_f32 *out);
+
 // One control tick (see `wmr_paper_controller_f32_update`).
 wmr_status wmr_backstepping_controller_f32_update(wmr_backstepping_controller_f32 *ctrl,
                                                   float t,
@@ -1891,6 +2047,22 @@ wmr_status wmr_pure_pursuit_controller_f32_init(wmr_pure_pursuit_controller_f32 
                                                 const wmr_drive_f32 *drive,
                                                 float control_dt,
                                                 wmr_error *err);
+
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f32_init_observer`).
+wmr_status wmr_pure_pursuit_controller_f32_init_observer(wmr_pure_pursuit_controller_f32 *out,
+                                                         const wmr_pure_pursuit_params_f32 *params,
+                                                         const wmr_wheel_stage_params_f32 *wheels,
+                                                         const wmr_disturbance_observer_params_f32 *observer,
+                                                         const wmr_robot_f32 *model,
+                                                         const wmr_drive_f32 *drive,
+                                                         float control_dt,
+                                                         wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f32_disturbance`).
+wmr_status wmr_pure_pursuit_controller_f32_disturbance(const wmr_pure_pursuit_controller_f32 *ctrl,
+                                                       wmr_wheels_f32 *out);
 
 // One control tick (see `wmr_paper_controller_f32_update`).
 wmr_status wmr_pure_pursuit_controller_f32_update(wmr_pure_pursuit_controller_f32 *ctrl,
@@ -1948,6 +2120,10 @@ wmr_status wmr_drive_f64_init(wmr_drive_f64 *out,
 wmr_status wmr_wheel_stage_params_f64_default(const wmr_drive_params_f64 *drive,
                                               const wmr_robot_f64 *model,
                                               wmr_wheel_stage_params_f64 *out);
+
+// Fills `out` with the disturbance observer's defaults (the keys of
+// `[controller.observer] kind = "disturbance"`: bandwidth 50 rad/s).
+wmr_status wmr_disturbance_observer_params_f64_default(wmr_disturbance_observer_params_f64 *out);
 
 // Fills `out` with the default keys of `[controller] kind = "paper"`
 // (docs/scenario.md).
@@ -2159,6 +2335,26 @@ wmr_status wmr_paper_controller_f64_init(wmr_paper_controller_f64 *out,
                                          double control_dt,
                                          wmr_error *err);
 
+// As `_init`, with the disturbance observer `observer` on the wheel stage
+// (`[controller.observer] kind = "disturbance"`): each tick it estimates the
+// disturbance torque at each wheel from the commanded torques and the measured wheel
+// speeds and subtracts it from the command; `_disturbance` reads the estimate. `err`
+// names `observer.bandwidth` for a bad bandwidth.
+wmr_status wmr_paper_controller_f64_init_observer(wmr_paper_controller_f64 *out,
+                                                  const wmr_paper_params_f64 *params,
+                                                  const wmr_wheel_stage_params_f64 *wheels,
+                                                  const wmr_disturbance_observer_params_f64 *observer,
+                                                  const wmr_robot_f64 *model,
+                                                  const wmr_drive_f64 *drive,
+                                                  double control_dt,
+                                                  wmr_error *err);
+
+// The disturbance observer's estimate of the disturbance torque at each wheel at the
+// last tick, N m (0 before the second tick); `WMR_OUT_OF_RANGE` for a controller
+// initialised without an observer.
+wmr_status wmr_paper_controller_f64_disturbance(const wmr_paper_controller_f64 *ctrl,
+                                                wmr_wheels_f64 *out);
+
 // One control tick at time `t` (s): drive commands and errors from the measurement and
 // the goal pose (m, m, rad), the reference at rest there (as `_update_reference` with
 // zero twist and acceleration). Non-finite inputs, a measured pose or goal outside the
@@ -2217,6 +2413,22 @@ wmr_status wmr_paper_bidirectional_controller_f64_init(wmr_paper_bidirectional_c
                                                        double control_dt,
                                                        wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f64_init_observer`).
+wmr_status wmr_paper_bidirectional_controller_f64_init_observer(wmr_paper_bidirectional_controller_f64 *out,
+                                                                const wmr_paper_bidirectional_params_f64 *params,
+                                                                const wmr_wheel_stage_params_f64 *wheels,
+                                                                const wmr_disturbance_observer_params_f64 *observer,
+                                                                const wmr_robot_f64 *model,
+                                                                const wmr_drive_f64 *drive,
+                                                                double control_dt,
+                                                                wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f64_disturbance`).
+wmr_status wmr_paper_bidirectional_controller_f64_disturbance(const wmr_paper_bidirectional_controller_f64 *ctrl,
+                                                              wmr_wheels_f64 *out);
+
 // One control tick (see `wmr_paper_controller_f64_update`).
 wmr_status wmr_paper_bidirectional_controller_f64_update(wmr_paper_bidirectional_controller_f64 *ctrl,
                                                          double t,
@@ -2259,6 +2471,22 @@ wmr_status wmr_polar_controller_f64_init(wmr_polar_controller_f64 *out,
                                          double control_dt,
                                          wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f64_init_observer`).
+wmr_status wmr_polar_controller_f64_init_observer(wmr_polar_controller_f64 *out,
+                                                  const wmr_polar_params_f64 *params,
+                                                  const wmr_wheel_stage_params_f64 *wheels,
+                                                  const wmr_disturbance_observer_params_f64 *observer,
+                                                  const wmr_robot_f64 *model,
+                                                  const wmr_drive_f64 *drive,
+                                                  double control_dt,
+                                                  wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f64_disturbance`).
+wmr_status wmr_polar_controller_f64_disturbance(const wmr_polar_controller_f64 *ctrl,
+                                                wmr_wheels_f64 *out);
+
 // One control tick (see `wmr_paper_controller_f64_update`).
 wmr_status wmr_polar_controller_f64_update(wmr_polar_controller_f64 *ctrl,
                                            double t,
@@ -2300,6 +2528,22 @@ wmr_status wmr_lyapunov_controller_f64_init(wmr_lyapunov_controller_f64 *out,
                                             const wmr_drive_f64 *drive,
                                             double control_dt,
                                             wmr_error *err);
+
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f64_init_observer`).
+wmr_status wmr_lyapunov_controller_f64_init_observer(wmr_lyapunov_controller_f64 *out,
+                                                     const wmr_lyapunov_params_f64 *params,
+                                                     const wmr_wheel_stage_params_f64 *wheels,
+                                                     const wmr_disturbance_observer_params_f64 *observer,
+                                                     const wmr_robot_f64 *model,
+                                                     const wmr_drive_f64 *drive,
+                                                     double control_dt,
+                                                     wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f64_disturbance`).
+wmr_status wmr_lyapunov_controller_f64_disturbance(const wmr_lyapunov_controller_f64 *ctrl,
+                                                   wmr_wheels_f64 *out);
 
 // One control tick (see `wmr_paper_controller_f64_update`).
 wmr_status wmr_lyapunov_controller_f64_update(wmr_lyapunov_controller_f64 *ctrl,
@@ -2344,6 +2588,22 @@ wmr_status wmr_graceful_controller_f64_init(wmr_graceful_controller_f64 *out,
                                             double control_dt,
                                             wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f64_init_observer`).
+wmr_status wmr_graceful_controller_f64_init_observer(wmr_graceful_controller_f64 *out,
+                                                     const wmr_graceful_params_f64 *params,
+                                                     const wmr_wheel_stage_params_f64 *wheels,
+                                                     const wmr_disturbance_observer_params_f64 *observer,
+                                                     const wmr_robot_f64 *model,
+                                                     const wmr_drive_f64 *drive,
+                                                     double control_dt,
+                                                     wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f64_disturbance`).
+wmr_status wmr_graceful_controller_f64_disturbance(const wmr_graceful_controller_f64 *ctrl,
+                                                   wmr_wheels_f64 *out);
+
 // One control tick (see `wmr_paper_controller_f64_update`).
 wmr_status wmr_graceful_controller_f64_update(wmr_graceful_controller_f64 *ctrl,
                                               double t,
@@ -2386,6 +2646,22 @@ wmr_status wmr_mppi_controller_f64_init(wmr_mppi_controller_f64 *out,
                                         const wmr_drive_f64 *drive,
                                         double control_dt,
                                         wmr_error *err);
+
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f64_init_observer`).
+wmr_status wmr_mppi_controller_f64_init_observer(wmr_mppi_controller_f64 *out,
+                                                 const wmr_mppi_params_f64 *params,
+                                                 const wmr_wheel_stage_params_f64 *wheels,
+                                                 const wmr_disturbance_observer_params_f64 *observer,
+                                                 const wmr_robot_f64 *model,
+                                                 const wmr_drive_f64 *drive,
+                                                 double control_dt,
+                                                 wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f64_disturbance`).
+wmr_status wmr_mppi_controller_f64_disturbance(const wmr_mppi_controller_f64 *ctrl,
+                                               wmr_wheels_f64 *out);
 
 // One control tick (see `wmr_paper_controller_f64_update`).
 wmr_status wmr_mppi_controller_f64_update(wmr_mppi_controller_f64 *ctrl,
@@ -2430,6 +2706,22 @@ wmr_status wmr_kanayama_controller_f64_init(wmr_kanayama_controller_f64 *out,
                                             double control_dt,
                                             wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f64_init_observer`).
+wmr_status wmr_kanayama_controller_f64_init_observer(wmr_kanayama_controller_f64 *out,
+                                                     const wmr_kanayama_params_f64 *params,
+                                                     const wmr_wheel_stage_params_f64 *wheels,
+                                                     const wmr_disturbance_observer_params_f64 *observer,
+                                                     const wmr_robot_f64 *model,
+                                                     const wmr_drive_f64 *drive,
+                                                     double control_dt,
+                                                     wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f64_disturbance`).
+wmr_status wmr_kanayama_controller_f64_disturbance(const wmr_kanayama_controller_f64 *ctrl,
+                                                   wmr_wheels_f64 *out);
+
 // One control tick (see `wmr_paper_controller_f64_update`).
 wmr_status wmr_kanayama_controller_f64_update(wmr_kanayama_controller_f64 *ctrl,
                                               double t,
@@ -2472,6 +2764,22 @@ wmr_status wmr_backstepping_controller_f64_init(wmr_backstepping_controller_f64 
                                                 double control_dt,
                                                 wmr_error *err);
 
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f64_init_observer`).
+wmr_status wmr_backstepping_controller_f64_init_observer(wmr_backstepping_controller_f64 *out,
+                                                         const wmr_backstepping_params_f64 *params,
+                                                         const wmr_wheel_stage_params_f64 *wheels,
+                                                         const wmr_disturbance_observer_params_f64 *observer,
+                                                         const wmr_robot_f64 *model,
+                                                         const wmr_drive_f64 *drive,
+                                                         double control_dt,
+                                                         wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f64_disturbance`).
+wmr_status wmr_backstepping_controller_f64_disturbance(const wmr_backstepping_controller_f64 *ctrl,
+                                                       wmr_wheels_f64 *out);
+
 // One control tick (see `wmr_paper_controller_f64_update`).
 wmr_status wmr_backstepping_controller_f64_update(wmr_backstepping_controller_f64 *ctrl,
                                                   double t,
@@ -2513,6 +2821,22 @@ wmr_status wmr_pure_pursuit_controller_f64_init(wmr_pure_pursuit_controller_f64 
                                                 const wmr_drive_f64 *drive,
                                                 double control_dt,
                                                 wmr_error *err);
+
+// As `_init`, with a disturbance observer on the wheel stage (see
+// `wmr_paper_controller_f64_init_observer`).
+wmr_status wmr_pure_pursuit_controller_f64_init_observer(wmr_pure_pursuit_controller_f64 *out,
+                                                         const wmr_pure_pursuit_params_f64 *params,
+                                                         const wmr_wheel_stage_params_f64 *wheels,
+                                                         const wmr_disturbance_observer_params_f64 *observer,
+                                                         const wmr_robot_f64 *model,
+                                                         const wmr_drive_f64 *drive,
+                                                         double control_dt,
+                                                         wmr_error *err);
+
+// The disturbance observer's estimate, N m per wheel (see
+// `wmr_paper_controller_f64_disturbance`).
+wmr_status wmr_pure_pursuit_controller_f64_disturbance(const wmr_pure_pursuit_controller_f64 *ctrl,
+                                                       wmr_wheels_f64 *out);
 
 // One control tick (see `wmr_paper_controller_f64_update`).
 wmr_status wmr_pure_pursuit_controller_f64_update(wmr_pure_pursuit_controller_f64 *ctrl,

@@ -50,6 +50,15 @@ pub unsafe extern "C" fn wmr_wheel_stage_params_f32_default(
     imp::wheel_stage_params_default(drive, model, out)
 }
 
+/// Fills `out` with the disturbance observer's defaults (the keys of
+/// `[controller.observer] kind = "disturbance"`: bandwidth 50 rad/s).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_disturbance_observer_params_f32_default(
+    out: *mut wmr_disturbance_observer_params<f32>,
+) -> wmr_status {
+    imp::disturbance_observer_params_default(out)
+}
+
 /// Fills `out` with the default keys of `[controller] kind = "paper"`
 /// (docs/scenario.md).
 #[unsafe(no_mangle)]
@@ -392,6 +401,36 @@ pub unsafe extern "C" fn wmr_paper_controller_f32_init(
     imp::controller_init::<f32, Paper>(out, params, wheels, model, drive, control_dt, err)
 }
 
+/// As `_init`, with the disturbance observer `observer` on the wheel stage
+/// (`[controller.observer] kind = "disturbance"`): each tick it estimates the
+/// disturbance torque at each wheel from the commanded torques and the measured wheel
+/// speeds and subtracts it from the command; `_disturbance` reads the estimate. `err`
+/// names `observer.bandwidth` for a bad bandwidth.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_controller_f32_init_observer(
+    out: *mut wmr_paper_controller_f32,
+    params: *const wmr_paper_params<f32>,
+    wheels: *const wmr_wheel_stage_params<f32>,
+    observer: *const wmr_disturbance_observer_params<f32>,
+    model: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    control_dt: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init_observer::<f32, Paper>(out, params, wheels, observer, model, drive, control_dt, err)
+}
+
+/// The disturbance observer's estimate of the disturbance torque at each wheel at the
+/// last tick, N m (0 before the second tick); `WMR_OUT_OF_RANGE` for a controller
+/// initialised without an observer.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_controller_f32_disturbance(
+    ctrl: *const wmr_paper_controller_f32,
+    out: *mut wmr_wheels<f32>,
+) -> wmr_status {
+    imp::controller_disturbance::<f32, Paper>(ctrl, out)
+}
+
 /// One control tick at time `t` (s): drive commands and errors from the measurement and
 /// the goal pose (m, m, rad), the reference at rest there (as `_update_reference` with
 /// zero twist and acceleration). Non-finite inputs, a measured pose or goal outside the
@@ -480,6 +519,32 @@ pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f32_init(
     imp::controller_init::<f32, PaperBidirectional>(out, params, wheels, model, drive, control_dt, err)
 }
 
+/// As `_init`, with a disturbance observer on the wheel stage (see
+/// `wmr_paper_controller_f32_init_observer`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f32_init_observer(
+    out: *mut wmr_paper_bidirectional_controller_f32,
+    params: *const wmr_paper_bidirectional_params<f32>,
+    wheels: *const wmr_wheel_stage_params<f32>,
+    observer: *const wmr_disturbance_observer_params<f32>,
+    model: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    control_dt: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init_observer::<f32, PaperBidirectional>(out, params, wheels, observer, model, drive, control_dt, err)
+}
+
+/// The disturbance observer's estimate, N m per wheel (see
+/// `wmr_paper_controller_f32_disturbance`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f32_disturbance(
+    ctrl: *const wmr_paper_bidirectional_controller_f32,
+    out: *mut wmr_wheels<f32>,
+) -> wmr_status {
+    imp::controller_disturbance::<f32, PaperBidirectional>(ctrl, out)
+}
+
 /// One control tick (see `wmr_paper_controller_f32_update`).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_paper_bidirectional_controller_f32_update(
@@ -552,6 +617,32 @@ pub unsafe extern "C" fn wmr_polar_controller_f32_init(
     imp::controller_init::<f32, Polar>(out, params, wheels, model, drive, control_dt, err)
 }
 
+/// As `_init`, with a disturbance observer on the wheel stage (see
+/// `wmr_paper_controller_f32_init_observer`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_polar_controller_f32_init_observer(
+    out: *mut wmr_polar_controller_f32,
+    params: *const wmr_polar_params<f32>,
+    wheels: *const wmr_wheel_stage_params<f32>,
+    observer: *const wmr_disturbance_observer_params<f32>,
+    model: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    control_dt: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init_observer::<f32, Polar>(out, params, wheels, observer, model, drive, control_dt, err)
+}
+
+/// The disturbance observer's estimate, N m per wheel (see
+/// `wmr_paper_controller_f32_disturbance`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_polar_controller_f32_disturbance(
+    ctrl: *const wmr_polar_controller_f32,
+    out: *mut wmr_wheels<f32>,
+) -> wmr_status {
+    imp::controller_disturbance::<f32, Polar>(ctrl, out)
+}
+
 /// One control tick (see `wmr_paper_controller_f32_update`).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_polar_controller_f32_update(
@@ -622,6 +713,32 @@ pub unsafe extern "C" fn wmr_lyapunov_controller_f32_init(
     err: *mut wmr_error,
 ) -> wmr_status {
     imp::controller_init::<f32, Lyapunov>(out, params, wheels, model, drive, control_dt, err)
+}
+
+/// As `_init`, with a disturbance observer on the wheel stage (see
+/// `wmr_paper_controller_f32_init_observer`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_lyapunov_controller_f32_init_observer(
+    out: *mut wmr_lyapunov_controller_f32,
+    params: *const wmr_lyapunov_params<f32>,
+    wheels: *const wmr_wheel_stage_params<f32>,
+    observer: *const wmr_disturbance_observer_params<f32>,
+    model: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    control_dt: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init_observer::<f32, Lyapunov>(out, params, wheels, observer, model, drive, control_dt, err)
+}
+
+/// The disturbance observer's estimate, N m per wheel (see
+/// `wmr_paper_controller_f32_disturbance`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_lyapunov_controller_f32_disturbance(
+    ctrl: *const wmr_lyapunov_controller_f32,
+    out: *mut wmr_wheels<f32>,
+) -> wmr_status {
+    imp::controller_disturbance::<f32, Lyapunov>(ctrl, out)
 }
 
 /// One control tick (see `wmr_paper_controller_f32_update`).
@@ -697,6 +814,32 @@ pub unsafe extern "C" fn wmr_graceful_controller_f32_init(
     imp::controller_init::<f32, Graceful>(out, params, wheels, model, drive, control_dt, err)
 }
 
+/// As `_init`, with a disturbance observer on the wheel stage (see
+/// `wmr_paper_controller_f32_init_observer`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_graceful_controller_f32_init_observer(
+    out: *mut wmr_graceful_controller_f32,
+    params: *const wmr_graceful_params<f32>,
+    wheels: *const wmr_wheel_stage_params<f32>,
+    observer: *const wmr_disturbance_observer_params<f32>,
+    model: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    control_dt: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init_observer::<f32, Graceful>(out, params, wheels, observer, model, drive, control_dt, err)
+}
+
+/// The disturbance observer's estimate, N m per wheel (see
+/// `wmr_paper_controller_f32_disturbance`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_graceful_controller_f32_disturbance(
+    ctrl: *const wmr_graceful_controller_f32,
+    out: *mut wmr_wheels<f32>,
+) -> wmr_status {
+    imp::controller_disturbance::<f32, Graceful>(ctrl, out)
+}
+
 /// One control tick (see `wmr_paper_controller_f32_update`).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_graceful_controller_f32_update(
@@ -768,6 +911,32 @@ pub unsafe extern "C" fn wmr_mppi_controller_f32_init(
     err: *mut wmr_error,
 ) -> wmr_status {
     imp::controller_init::<f32, Mppi>(out, params, wheels, model, drive, control_dt, err)
+}
+
+/// As `_init`, with a disturbance observer on the wheel stage (see
+/// `wmr_paper_controller_f32_init_observer`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_mppi_controller_f32_init_observer(
+    out: *mut wmr_mppi_controller_f32,
+    params: *const wmr_mppi_params<f32>,
+    wheels: *const wmr_wheel_stage_params<f32>,
+    observer: *const wmr_disturbance_observer_params<f32>,
+    model: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    control_dt: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init_observer::<f32, Mppi>(out, params, wheels, observer, model, drive, control_dt, err)
+}
+
+/// The disturbance observer's estimate, N m per wheel (see
+/// `wmr_paper_controller_f32_disturbance`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_mppi_controller_f32_disturbance(
+    ctrl: *const wmr_mppi_controller_f32,
+    out: *mut wmr_wheels<f32>,
+) -> wmr_status {
+    imp::controller_disturbance::<f32, Mppi>(ctrl, out)
 }
 
 /// One control tick (see `wmr_paper_controller_f32_update`).
@@ -843,6 +1012,32 @@ pub unsafe extern "C" fn wmr_kanayama_controller_f32_init(
     imp::controller_init::<f32, Kanayama>(out, params, wheels, model, drive, control_dt, err)
 }
 
+/// As `_init`, with a disturbance observer on the wheel stage (see
+/// `wmr_paper_controller_f32_init_observer`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_kanayama_controller_f32_init_observer(
+    out: *mut wmr_kanayama_controller_f32,
+    params: *const wmr_kanayama_params<f32>,
+    wheels: *const wmr_wheel_stage_params<f32>,
+    observer: *const wmr_disturbance_observer_params<f32>,
+    model: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    control_dt: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init_observer::<f32, Kanayama>(out, params, wheels, observer, model, drive, control_dt, err)
+}
+
+/// The disturbance observer's estimate, N m per wheel (see
+/// `wmr_paper_controller_f32_disturbance`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_kanayama_controller_f32_disturbance(
+    ctrl: *const wmr_kanayama_controller_f32,
+    out: *mut wmr_wheels<f32>,
+) -> wmr_status {
+    imp::controller_disturbance::<f32, Kanayama>(ctrl, out)
+}
+
 /// One control tick (see `wmr_paper_controller_f32_update`).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_kanayama_controller_f32_update(
@@ -915,6 +1110,32 @@ pub unsafe extern "C" fn wmr_backstepping_controller_f32_init(
     imp::controller_init::<f32, Backstepping>(out, params, wheels, model, drive, control_dt, err)
 }
 
+/// As `_init`, with a disturbance observer on the wheel stage (see
+/// `wmr_paper_controller_f32_init_observer`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_backstepping_controller_f32_init_observer(
+    out: *mut wmr_backstepping_controller_f32,
+    params: *const wmr_backstepping_params<f32>,
+    wheels: *const wmr_wheel_stage_params<f32>,
+    observer: *const wmr_disturbance_observer_params<f32>,
+    model: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    control_dt: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init_observer::<f32, Backstepping>(out, params, wheels, observer, model, drive, control_dt, err)
+}
+
+/// The disturbance observer's estimate, N m per wheel (see
+/// `wmr_paper_controller_f32_disturbance`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_backstepping_controller_f32_disturbance(
+    ctrl: *const wmr_backstepping_controller_f32,
+    out: *mut wmr_wheels<f32>,
+) -> wmr_status {
+    imp::controller_disturbance::<f32, Backstepping>(ctrl, out)
+}
+
 /// One control tick (see `wmr_paper_controller_f32_update`).
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn wmr_backstepping_controller_f32_update(
@@ -985,6 +1206,32 @@ pub unsafe extern "C" fn wmr_pure_pursuit_controller_f32_init(
     err: *mut wmr_error,
 ) -> wmr_status {
     imp::controller_init::<f32, PurePursuit>(out, params, wheels, model, drive, control_dt, err)
+}
+
+/// As `_init`, with a disturbance observer on the wheel stage (see
+/// `wmr_paper_controller_f32_init_observer`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_pure_pursuit_controller_f32_init_observer(
+    out: *mut wmr_pure_pursuit_controller_f32,
+    params: *const wmr_pure_pursuit_params<f32>,
+    wheels: *const wmr_wheel_stage_params<f32>,
+    observer: *const wmr_disturbance_observer_params<f32>,
+    model: *const wmr_robot_f32,
+    drive: *const wmr_drive_f32,
+    control_dt: f32,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init_observer::<f32, PurePursuit>(out, params, wheels, observer, model, drive, control_dt, err)
+}
+
+/// The disturbance observer's estimate, N m per wheel (see
+/// `wmr_paper_controller_f32_disturbance`).
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_pure_pursuit_controller_f32_disturbance(
+    ctrl: *const wmr_pure_pursuit_controller_f32,
+    out: *mut wmr_wheels<f32>,
+) -> wmr_status {
+    imp::controller_disturbance::<f32, PurePursuit>(ctrl, out)
 }
 
 /// One control tick (see `wmr_paper_controller_f32_update`).

@@ -10,10 +10,10 @@ use wmr_core::controller::Law;
 use wmr_core::reference::waypoints::{FIXED_WORDS, SUBSTEPS};
 use wmr_core::reference::{Circle, FigureEight, Line, Waypoints};
 use wmr_core::{
-    AntiWindup, AnyReference, Controller, DcMotorParams, Drive, DriveParams, HoldMode, Measurement, OdometryParams,
-    OdometrySensor, PaperMode, ParamError, PerfectSensor, Plant, Pose2, PoseSensor, PoseSource, Real, Reason,
-    Reference, ReferenceState, Robot, RobotParams, Sensor, SensorParams, State, Termination, TorqueDriveParams,
-    TractionKind, TractionParams, Twist2, WheelStage, WheelStageParams, Wheels,
+    AntiWindup, AnyReference, Controller, DcMotorParams, DisturbanceObserverParams, Drive, DriveParams, HoldMode,
+    Measurement, OdometryParams, OdometrySensor, PaperMode, ParamError, PerfectSensor, Plant, Pose2, PoseSensor,
+    PoseSource, Real, Reason, Reference, ReferenceState, Robot, RobotParams, Sensor, SensorParams, State, Termination,
+    TorqueDriveParams, TractionKind, TractionParams, Twist2, WheelStage, WheelStageParams, Wheels,
 };
 
 use crate::*;
@@ -965,23 +965,88 @@ pub fn controller_init<T: Prec, L: CLaw<T>>(
     control_dt: T,
     err: *mut wmr_error,
 ) -> wmr_status {
-    guard(err, || {
-        if params.is_null() {
-            return Err(Fail::null("params"));
-        }
-        if !params.is_aligned() {
-            return Err(Fail::misaligned("params"));
-        }
-        let wheels = *read(wheels, "wheels")?;
-        let model = get(model, "model")?.params();
-        let drive = get(drive, "drive")?;
-        // SAFETY: not NULL, aligned (checked), and valid for reads of the C struct (caller
-        // contract).
-        let params = unsafe { L::Params::read_core(params) }?;
-        let law = L::build(params, model, control_dt)?;
-        let stage = WheelStage::new(&wheels, model, drive, control_dt)?;
-        put(out, "out", Controller::new(law, stage))
+    guard(err, || init_controller::<T, L>(out, params, wheels, None, model, drive, control_dt))
+}
+
+pub fn disturbance_observer_params_default<T: Prec>(out: *mut wmr_disturbance_observer_params<T>) -> wmr_status {
+    guard(core::ptr::null_mut(), || {
+        let DisturbanceObserverParams { bandwidth } = DisturbanceObserverParams::<T>::default();
+        write(out, "out", wmr_disturbance_observer_params { bandwidth })
     })
+}
+
+/// [`controller_init`] with the disturbance observer `observer` on the wheel stage, as
+/// `wmr_core::ControllerParams::build` puts it (its errors named `observer.bandwidth`).
+#[allow(clippy::too_many_arguments)]
+pub fn controller_init_observer<T: Prec, L: CLaw<T>>(
+    out: *mut L::Storage,
+    params: *const L::Params,
+    wheels: *const wmr_wheel_stage_params<T>,
+    observer: *const wmr_disturbance_observer_params<T>,
+    model: *const T::Robot,
+    drive: *const T::Drive,
+    control_dt: T,
+    err: *mut wmr_error,
+) -> wmr_status {
+    guard(err, || {
+        let observer = read(observer, "observer")?;
+        init_controller::<T, L>(out, params, wheels, Some(observer), model, drive, control_dt)
+    })
+}
+
+/// The observer's estimate of the disturbance torque at each wheel at the last tick
+/// (N m); `WMR_OUT_OF_RANGE` naming `ctrl` for a controller without an observer.
+pub fn controller_disturbance<T: Prec, L: CLaw<T>>(ctrl: *const L::Storage, out: *mut wmr_wheels<T>) -> wmr_status {
+    guard(core::ptr::null_mut(), || {
+        let ctrl = get(ctrl, "ctrl")?;
+        let Some(d) = ctrl.wheels().disturbance_estimate() else {
+            return Err(Fail::out_of_range(
+                "ctrl",
+                "has no disturbance observer (init it with _init_observer)",
+                f64::NAN,
+            ));
+        };
+        write(out, "out", c_wheels(d))
+    })
+}
+
+/// The body of the controller inits: the law, its wheel stage and, if given, the
+/// disturbance observer on it.
+fn init_controller<T: Prec, L: CLaw<T>>(
+    out: *mut L::Storage,
+    params: *const L::Params,
+    wheels: *const wmr_wheel_stage_params<T>,
+    observer: Option<&wmr_disturbance_observer_params<T>>,
+    model: *const T::Robot,
+    drive: *const T::Drive,
+    control_dt: T,
+) -> Result<(), Fail> {
+    if params.is_null() {
+        return Err(Fail::null("params"));
+    }
+    if !params.is_aligned() {
+        return Err(Fail::misaligned("params"));
+    }
+    let wheels = *read(wheels, "wheels")?;
+    let model = get(model, "model")?.params();
+    let drive = get(drive, "drive")?;
+    // SAFETY: not NULL, aligned (checked), and valid for reads of the C struct (caller
+    // contract).
+    let params = unsafe { L::Params::read_core(params) }?;
+    let law = L::build(params, model, control_dt)?;
+    let mut stage = WheelStage::new(&wheels, model, drive, control_dt)?;
+    if let Some(o) = observer {
+        // As the scenario names it (`wmr_core::ControllerParams::build`).
+        let named = |mut e: ParamError| {
+            if e.field == "bandwidth" {
+                e.field = "observer.bandwidth";
+            }
+            e
+        };
+        let params = DisturbanceObserverParams { bandwidth: o.bandwidth };
+        stage = stage.with_observer(params.validate(model, control_dt).map_err(named)?);
+    }
+    put(out, "out", Controller::new(law, stage))
 }
 
 fn finite<T: Real>(field: &'static str, v: T) -> Result<(), Fail> {

@@ -234,6 +234,18 @@ pub struct wmr_reference_state<T> {
     pub accel: wmr_accel<T>,
 }
 
+/// The disturbance observer's keys (`[controller.observer] kind = "disturbance"`,
+/// `wmr_core::DisturbanceObserverParams` member for member: a test checks): a DOB on the
+/// wheel dynamics whose estimate of the disturbance torque at each wheel the wheel stage
+/// subtracts from its command, for any law (`wmr_<law>_controller_*_init_observer`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct wmr_disturbance_observer_params<T> {
+    /// g, rad/s (> 0, finite): the bandwidth of the Q-filter g / (s + g); the estimate
+    /// follows a step of the disturbance with time constant 1 / g.
+    pub bandwidth: T,
+}
+
 /// One value per driven wheel (angles, speeds, torques, commands).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

@@ -778,3 +778,71 @@ reference_at_rest!(
     wmr_sensor_f32_init_perfect,
     wmr_sensor_f32_measure
 );
+
+/// Issue 42: the observer's C defaults are the core's, and `_init_observer`'s verdict on
+/// any bandwidth is the core's validation's (same code), named `observer.bandwidth` as the
+/// scenario names it; a valid one gives a controller whose estimate is readable (0 before
+/// a tick), a controller without one refuses `_disturbance`.
+#[test]
+fn issue_42_the_observer_bandwidth_is_checked_by_the_core() {
+    let robot_c = valid_robot();
+    let (dp, drive_c) = valid_drive(&robot_c, WMR_DRIVE_TORQUE);
+    let mut op = MaybeUninit::<wmr_disturbance_observer_params<f64>>::uninit();
+    // SAFETY: a valid out-pointer.
+    assert_eq!(unsafe { wmr_disturbance_observer_params_f64_default(op.as_mut_ptr()) }, wmr_status::WMR_OK);
+    // SAFETY: filled on WMR_OK.
+    let op = unsafe { op.assume_init() };
+    assert_eq!(op.bandwidth, wmr_core::DisturbanceObserverParams::<f64>::default().bandwidth);
+    let model = Robot::<f64>::paper();
+    for bandwidth in [op.bandwidth, 1e-3, 1e6, 0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let core = wmr_core::DisturbanceObserverParams { bandwidth }.validate::<f64>(model.params(), 1e-3).map(|_| ());
+        let (mut wp, mut lp) = (MaybeUninit::uninit(), MaybeUninit::uninit());
+        let mut ctrl = MaybeUninit::<wmr_paper_controller_f64>::uninit();
+        let mut err = new_err();
+        let mut d = wmr_wheels { right: 7.0, left: 7.0 };
+        // SAFETY: valid pointers; `ctrl` is read only after WMR_OK.
+        let (c, got) = unsafe {
+            wmr_wheel_stage_params_f64_default(&dp, &robot_c, wp.as_mut_ptr());
+            wmr_paper_params_f64_default(lp.as_mut_ptr());
+            let p = wmr_disturbance_observer_params { bandwidth };
+            let c = wmr_paper_controller_f64_init_observer(
+                ctrl.as_mut_ptr(),
+                lp.as_ptr(),
+                wp.as_ptr(),
+                &p,
+                &robot_c,
+                &drive_c,
+                1e-3,
+                &mut err,
+            );
+            let got =
+                if c == wmr_status::WMR_OK { wmr_paper_controller_f64_disturbance(ctrl.as_ptr(), &mut d) } else { c };
+            (c, got)
+        };
+        match core {
+            Ok(()) => {
+                assert_eq!((c, got), (wmr_status::WMR_OK, wmr_status::WMR_OK), "{bandwidth}");
+                assert_eq!((d.right, d.left), (0.0, 0.0));
+            }
+            Err(e) => {
+                assert_eq!(c, code_of(&e), "{bandwidth}");
+                assert_eq!(field(&err), "observer.bandwidth");
+            }
+        }
+    }
+    let (mut wp, mut lp) = (MaybeUninit::uninit(), MaybeUninit::uninit());
+    let mut ctrl = MaybeUninit::<wmr_paper_controller_f64>::uninit();
+    let mut d = wmr_wheels { right: 7.0, left: 7.0 };
+    // SAFETY: valid pointers.
+    unsafe {
+        wmr_wheel_stage_params_f64_default(&dp, &robot_c, wp.as_mut_ptr());
+        wmr_paper_params_f64_default(lp.as_mut_ptr());
+        let null = std::ptr::null_mut();
+        assert_eq!(
+            wmr_paper_controller_f64_init(ctrl.as_mut_ptr(), lp.as_ptr(), wp.as_ptr(), &robot_c, &drive_c, 1e-3, null),
+            wmr_status::WMR_OK
+        );
+        assert_eq!(wmr_paper_controller_f64_disturbance(ctrl.as_ptr(), &mut d), wmr_status::WMR_OUT_OF_RANGE);
+    }
+    assert_eq!((d.right, d.left), (7.0, 7.0), "out untouched");
+}

@@ -239,3 +239,64 @@ fn odometry_slip_c_example_matches_the_cli_in_double_and_the_core_in_float() {
     let var_x = f64::from_bits(u64::from_str_radix(field(&out, "c-f64", "var_x_bits"), 16).unwrap());
     assert!(var_x > 0.0 && var_x < 0.01, "{var_x}: {out}");
 }
+
+/// The last sample of tests/c/observer.toml through the scenario runner the CLI uses:
+/// true pose and the observer's estimate (N m per wheel).
+fn cli_observer_final() -> ([f64; 3], [f64; 2]) {
+    let path = crate_dir().join("tests/c/observer.toml");
+    let scenario = wmr_scenario::Scenario::from_path(path).expect("observer.toml");
+    assert!(scenario.controller().observer.is_some(), "the scenario has the observer");
+    let mut last = None;
+    scenario.run(0, |s| last = Some(*s)).expect("the run");
+    let s = last.expect("samples");
+    let d = s.disturbance.expect("an estimate");
+    ([s.state.x, s.state.y, s.state.theta], [d.right, d.left])
+}
+
+/// The same run in f32 through the Rust core's own closed loop: the paper's law, its
+/// wheel stage carrying the observer, the plant on the slope with Coulomb friction.
+fn rust_f32_observer_final() -> ([f32; 3], [f32; 2]) {
+    use wmr_core::{DisturbanceObserverParams, RobotParams, WorldParams};
+    let robot = RobotParams::<f32> { coulomb_friction: 0.05, ..RobotParams::paper() }.validate().unwrap();
+    let dt = 1e-3;
+    let drive_params = DriveParams::default();
+    let drive = drive_params.validate(&robot).unwrap();
+    let world = WorldParams { slope_deg: 3.0, slope_direction_deg: 30.0 }.validate().unwrap();
+    let plant = Plant::on(robot, drive, world, Pose2::default()).unwrap();
+    let goal = FixedGoal::new(Pose2::new(1.0, 1.0, 120f64.to_radians() as f32)).unwrap();
+    let law = PaperLaw::new(PaperParams::paper(), robot.params(), dt).unwrap();
+    let observer = DisturbanceObserverParams::default().validate(robot.params(), dt).unwrap();
+    let wheels =
+        WheelStage::new(&WheelStageParams::for_drive(&drive_params, robot.params()), robot.params(), &drive, dt)
+            .unwrap()
+            .with_observer(observer);
+    let mut sim = ClosedLoop::new(plant, Controller::new(law, wheels), goal, dt).unwrap();
+    for _ in 0..20_000 {
+        sim.step().unwrap();
+    }
+    let p = sim.state().pose();
+    let d = sim.sample().disturbance.expect("an estimate");
+    ([p.x, p.y, p.theta], [d.right, d.left])
+}
+
+/// Issue 42: the disturbance observer from C (`_init_observer`, `_disturbance`) runs the
+/// CLI's path bit for bit in double and the Rust core's in float: final pose and the
+/// observer's last estimate.
+#[test]
+fn issue_42_the_observer_in_c_matches_the_cli_in_double_and_the_core_in_float() {
+    let out = build_and_run("observer", &[crate_dir().join("tests/c/observer.c")]);
+    assert!(out.contains("pass f64: refusals") && out.contains("pass f32: refusals"), "{out}");
+    assert!(out.ends_with("ok\n") && !out.contains("FAIL"), "{out}");
+    let keys = ["x", "y", "theta", "tau_dist_r", "tau_dist_l"];
+    let (pose, d) = cli_observer_final();
+    for (key, v) in keys.iter().zip(pose.into_iter().chain(d)) {
+        assert_eq!(field(&out, "c-f64", &format!("{key}_bits")), format!("{:016x}", v.to_bits()), "{key}: {out}");
+    }
+    assert_eq!(field(&out, "c-f64", "steps"), "20000");
+    // The estimate holds the slope and the friction: not zero.
+    assert!(d[0].abs() > 1e-3 && d[1].abs() > 1e-3, "{d:?}");
+    let (pose, d) = rust_f32_observer_final();
+    for (key, v) in keys.iter().zip(pose.into_iter().chain(d)) {
+        assert_eq!(field(&out, "c-f32", &format!("{key}_bits")), format!("{:08x}", v.to_bits()), "{key}: {out}");
+    }
+}

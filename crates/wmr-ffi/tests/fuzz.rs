@@ -151,7 +151,7 @@ macro_rules! fuzz {
      $drive:ty, $wheels_default:ident, $plant_init:ident, $apply:ident, $step:ident, $state:ident, $plant:ty,
      $sensor_perfect:ident, $sensor_defaults:ident, $sensor_pose:ident, $measure:ident, $sensor_reset:ident,
      $sensor:ty, $law_default:ident, $law_params:ty, $init:ident, $update:ident, $update_ref:ident,
-     $reset:ident, $ctrl:ty) => {
+     $reset:ident, $init_observer:ident, $disturbance:ident, $ctrl:ty) => {
         #[test]
         fn $name() {
             let started = std::time::Instant::now();
@@ -247,6 +247,45 @@ macro_rules! fuzz {
                     ]
                 );
                 assert_eq!($init(ctrl.as_mut_ptr(), l, w, r, d, dt, std::ptr::null_mut()), wmr_status::WMR_OK);
+                // The observer's init and estimate (issue 42): every pointer refused when
+                // NULL or misaligned; a random bandwidth is taken or refused by its name.
+                let op = wmr_disturbance_observer_params::<$t> { bandwidth: 50.0 };
+                let mut octrl = MaybeUninit::<$ctrl>::uninit();
+                each_refused!(
+                    e,
+                    name,
+                    [
+                        $init_observer(std::ptr::null_mut(), l, w, &op, r, d, dt, &mut e),
+                        $init_observer(octrl.as_mut_ptr(), l, w, std::ptr::null(), r, d, dt, &mut e),
+                        $init_observer(scratch.ptr(), l, w, &op, r, d, dt, &mut e),
+                        $init_observer(octrl.as_mut_ptr(), l, w, scratch.ptr(), r, d, dt, &mut e),
+                        $init_observer(octrl.as_mut_ptr(), std::ptr::null(), w, &op, r, d, dt, &mut e),
+                    ]
+                );
+                let random = wmr_disturbance_observer_params::<$t> { bandwidth: to_t(rng.value(50.0, max)) };
+                let mut e = new_err();
+                let c = $init_observer(octrl.as_mut_ptr(), l, w, &random, r, d, dt, &mut e);
+                if c != wmr_status::WMR_OK {
+                    refused(c, Some(&e), name);
+                }
+                assert_eq!(
+                    $init_observer(octrl.as_mut_ptr(), l, w, &op, r, d, dt, std::ptr::null_mut()),
+                    wmr_status::WMR_OK
+                );
+                let mut dist = wmr_wheels::<$t>::default();
+                each_refused!(
+                    none,
+                    name,
+                    [
+                        $disturbance(std::ptr::null(), &mut dist),
+                        $disturbance(octrl.as_ptr(), std::ptr::null_mut()),
+                        $disturbance(scratch.ptr(), &mut dist),
+                        $disturbance(octrl.as_ptr(), scratch.ptr()),
+                        $disturbance(ctrl.as_ptr(), &mut dist),
+                    ]
+                );
+                assert_eq!($disturbance(octrl.as_ptr(), &mut dist), wmr_status::WMR_OK);
+                assert!(all_finite!(dist.right, dist.left));
                 let mut plant = MaybeUninit::<$plant>::uninit();
                 let start = wmr_pose::<$t>::default();
                 each_refused!(
@@ -553,6 +592,8 @@ fuzz!(
     wmr_paper_controller_f32_update,
     wmr_paper_controller_f32_update_reference,
     wmr_paper_controller_f32_reset,
+    wmr_paper_controller_f32_init_observer,
+    wmr_paper_controller_f32_disturbance,
     wmr_paper_controller_f32
 );
 fuzz!(
@@ -582,6 +623,8 @@ fuzz!(
     wmr_paper_controller_f64_update,
     wmr_paper_controller_f64_update_reference,
     wmr_paper_controller_f64_reset,
+    wmr_paper_controller_f64_init_observer,
+    wmr_paper_controller_f64_disturbance,
     wmr_paper_controller_f64
 );
 fuzz!(
@@ -611,6 +654,8 @@ fuzz!(
     wmr_paper_bidirectional_controller_f32_update,
     wmr_paper_bidirectional_controller_f32_update_reference,
     wmr_paper_bidirectional_controller_f32_reset,
+    wmr_paper_bidirectional_controller_f32_init_observer,
+    wmr_paper_bidirectional_controller_f32_disturbance,
     wmr_paper_bidirectional_controller_f32
 );
 fuzz!(
@@ -640,6 +685,8 @@ fuzz!(
     wmr_paper_bidirectional_controller_f64_update,
     wmr_paper_bidirectional_controller_f64_update_reference,
     wmr_paper_bidirectional_controller_f64_reset,
+    wmr_paper_bidirectional_controller_f64_init_observer,
+    wmr_paper_bidirectional_controller_f64_disturbance,
     wmr_paper_bidirectional_controller_f64
 );
 fuzz!(
@@ -669,6 +716,8 @@ fuzz!(
     wmr_polar_controller_f32_update,
     wmr_polar_controller_f32_update_reference,
     wmr_polar_controller_f32_reset,
+    wmr_polar_controller_f32_init_observer,
+    wmr_polar_controller_f32_disturbance,
     wmr_polar_controller_f32
 );
 fuzz!(
@@ -698,6 +747,8 @@ fuzz!(
     wmr_polar_controller_f64_update,
     wmr_polar_controller_f64_update_reference,
     wmr_polar_controller_f64_reset,
+    wmr_polar_controller_f64_init_observer,
+    wmr_polar_controller_f64_disturbance,
     wmr_polar_controller_f64
 );
 fuzz!(
@@ -727,6 +778,8 @@ fuzz!(
     wmr_lyapunov_controller_f32_update,
     wmr_lyapunov_controller_f32_update_reference,
     wmr_lyapunov_controller_f32_reset,
+    wmr_lyapunov_controller_f32_init_observer,
+    wmr_lyapunov_controller_f32_disturbance,
     wmr_lyapunov_controller_f32
 );
 fuzz!(
@@ -756,5 +809,7 @@ fuzz!(
     wmr_lyapunov_controller_f64_update,
     wmr_lyapunov_controller_f64_update_reference,
     wmr_lyapunov_controller_f64_reset,
+    wmr_lyapunov_controller_f64_init_observer,
+    wmr_lyapunov_controller_f64_disturbance,
     wmr_lyapunov_controller_f64
 );

@@ -86,3 +86,17 @@ fn every_law_struct_has_the_core_fields_in_order() {
         assert_eq!(c_members(&header, name), core, "{name}");
     }
 }
+
+/// Issue 42: the observer's C struct (written out in src/lib.rs: the core's
+/// `DisturbanceObserverParams` is not `#[repr(C)]`) has the core's fields, in order, and
+/// nothing else; a key the core gains fails here until C has it too.
+#[test]
+fn the_observer_struct_has_the_core_fields_in_order() {
+    let header = header();
+    let core: Vec<&str> = wmr_core::DisturbanceObserverParams::<f64>::FIELDS.iter().map(|f| f.name).collect();
+    for name in ["wmr_disturbance_observer_params_f32", "wmr_disturbance_observer_params_f64"] {
+        assert_eq!(c_members(&header, name), core, "{name}");
+    }
+    assert_eq!(std::mem::size_of::<wmr_ffi::wmr_disturbance_observer_params<f32>>(), core.len() * 4);
+    assert_eq!(std::mem::size_of::<wmr_ffi::wmr_disturbance_observer_params<f64>>(), core.len() * 8);
+}

@@ -176,3 +176,129 @@ impl Test {
         Ok(far + robot.params().half_track)
     }
 }
+
+/// The body twist that stands for the test on a base driven by `/cmd_vel` (its own wheel
+/// speed loop) instead of by wheel commands: each wheel's rim speed, m/s, is
+/// `speed_max_m_s` times its command over `command_max` (a quasistatic ramp becomes a slow
+/// speed ramp, a dynamic step a speed step the base accelerates to as hard as it can),
+/// and the twist is the differential drive's of those rim speeds:
+/// `v = (w_r + w_l) / 2` (m/s, along base_link's x) and `omega = (w_r - w_l) / (2 R)`
+/// (rad/s, about z, counter-clockwise; REP 103), R = `half_track_m`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TwistProfile {
+    /// The rim speed a wheel gets at the largest command, m/s.
+    pub speed_max_m_s: f64,
+    /// Half the distance between the wheels, m.
+    pub half_track_m: f64,
+}
+
+impl TwistProfile {
+    /// Refuses a speed that is not finite and positive, naming it (`speed_max`).
+    pub fn check(&self) -> Result<(), IdentifyError> {
+        for (key, v) in [("speed_max", self.speed_max_m_s), ("half_track", self.half_track_m)] {
+            if !(v > 0.0 && v.is_finite()) {
+                return Err(IdentifyError::BadSetting {
+                    key: key.to_owned(),
+                    detail: format!("must be > 0 and finite, got {v}"),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// (v m/s, omega rad/s) for the right, left commands `c` (N m or V) of settings `s`.
+    pub fn twist(&self, c: [f64; 2], s: &ExciteSettings) -> [f64; 2] {
+        let w_r = self.speed_max_m_s * c[0] / s.command_max;
+        let w_l = self.speed_max_m_s * c[1] / s.command_max;
+        [0.5 * (w_r + w_l), (w_r - w_l) / (2.0 * self.half_track_m)]
+    }
+
+    /// The test's stamps (every `dt_s` from 0) and twists (v, omega), then one zero twist
+    /// `dt_s` after the last, so the base is told to stop rather than left to its
+    /// command timeout.
+    pub fn profile(&self, test: &Test, s: &ExciteSettings) -> (Vec<f64>, [Vec<f64>; 2]) {
+        let (mut t, c) = test.profile(s);
+        let n = t.len();
+        let mut out = [Vec::with_capacity(n + 1), Vec::with_capacity(n + 1)];
+        for i in 0..n {
+            let [v, omega] = self.twist([c[0][i], c[1][i]], s);
+            out[0].push(v);
+            out[1].push(omega);
+        }
+        t.push(n as f64 * s.dt_s);
+        out[0].push(0.0);
+        out[1].push(0.0);
+        (t, out)
+    }
+
+    /// The room the test needs on a base that follows the twists exactly (each held for
+    /// one step, integrated in closed form on its arc): the farthest C gets from its
+    /// start at a sample, m, plus the wheel's reach beyond C (`half_track_m`).
+    pub fn safe_distance_m(&self, test: &Test, s: &ExciteSettings) -> f64 {
+        let (t, tw) = self.profile(test, s);
+        let (mut x, mut y, mut theta) = (0.0f64, 0.0f64, 0.0f64);
+        let mut far = 0.0f64;
+        for i in 0..t.len().saturating_sub(1) {
+            let dt = t[i + 1] - t[i];
+            let (v, omega) = (tw[0][i], tw[1][i]);
+            let dtheta = omega * dt;
+            if dtheta.abs() > 1e-12 {
+                // On the arc of radius v / omega: exact.
+                x += v / omega * ((theta + dtheta).sin() - theta.sin());
+                y -= v / omega * ((theta + dtheta).cos() - theta.cos());
+            } else {
+                x += v * dt * theta.cos();
+                y += v * dt * theta.sin();
+            }
+            theta += dtheta;
+            far = far.max(x.hypot(y));
+        }
+        far + self.half_track_m
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The twists against the differential drive's kinematics by hand: straight tests
+    /// have no omega, turning ones no v, arcs (left a third of the right) v = 2/3 w_r and
+    /// omega = w_r / (3 R), a circle of radius 2 R.
+    #[test]
+    fn twists_are_the_rim_speeds_kinematics() {
+        let s = ExciteSettings::new(12.0);
+        let p = TwistProfile { speed_max_m_s: 0.6, half_track_m: 0.2 };
+        let step = 0.6 * 7.0 / 12.0;
+        let at = |motion, direction| {
+            let test = Test { shape: Shape::Dynamic, motion, direction };
+            p.twist(test.command(1.0, &s), &s)
+        };
+        let close = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).abs() < 1e-15 && (a[1] - b[1]).abs() < 1e-15;
+        assert!(close(at(Motion::Linear, -1.0), [-step, 0.0]));
+        assert!(close(at(Motion::Turning, 1.0), [0.0, step / 0.2]));
+        assert!(close(at(Motion::Arc, 1.0), [2.0 / 3.0 * step, step / 0.6]));
+    }
+
+    /// A straight ramp's room: the sum of v dt over the held steps, v_k = speed_max *
+    /// ramp_per_s * k dt (a closed form: speed_max * ramp * dt^2 * n (n - 1) / 2 for n
+    /// samples), plus half the track; the profile ends on a zero twist.
+    #[test]
+    fn a_straight_ramps_room_is_its_travel() {
+        let s = ExciteSettings::new(5.0);
+        let p = TwistProfile { speed_max_m_s: 0.5, half_track_m: 0.15 };
+        let test = Test { shape: Shape::Quasistatic, motion: Motion::Linear, direction: 1.0 };
+        let (t, tw) = p.profile(&test, &s);
+        let n = (s.quasistatic_s / s.dt_s).round() + 1.0;
+        assert_eq!(t.len() as f64, n + 1.0);
+        assert_eq!((tw[0][t.len() - 1], tw[1][t.len() - 1]), (0.0, 0.0));
+        let travel = 0.5 * s.ramp_per_s * s.dt_s * s.dt_s * n * (n - 1.0) / 2.0;
+        let d = p.safe_distance_m(&test, &s);
+        assert!((d - (travel + 0.15)).abs() < 1e-12, "{d} against {}", travel + 0.15);
+        // An arc turning past half a circle (here 6.7 rad) reaches the far side of its
+        // circle: 2 x 2 R, plus R.
+        let fast = TwistProfile { speed_max_m_s: 2.0, ..p };
+        let arc = Test { shape: Shape::Quasistatic, motion: Motion::Arc, direction: 1.0 };
+        let d = fast.safe_distance_m(&arc, &s);
+        assert!((d - 5.0 * 0.15).abs() < 1e-3, "{d}");
+    }
+}
