@@ -75,6 +75,10 @@ fn assemble(
     let sensor = setup.sensor_for(run).map_err(|e| origin.key_of(&e))?;
     let reference = reference().map_err(|e| origin.key_of(&e))?;
     ClosedLoop::with_sensor(plant, sensor, setup.built, reference, sim.dt())
-        .map(|lp| lp.stop_when_settled(sim.stop_when_settled()).early_arrival(sim.early_arrival()))
+        .map(|lp| {
+            lp.stop_when_settled(sim.stop_when_settled())
+                .early_arrival(sim.early_arrival())
+                .goal_tolerance(sim.xy_goal_tolerance(), sim.yaw_goal_tolerance_deg().to_radians())
+        })
         .map_err(|e| origin.key_of(&e))
 }
