@@ -54,6 +54,8 @@ const SIM: &str = r#"[sim]
   stop_when_settled = false    stop a run once settled: law holding, at rest within 1 cm
   early_arrival = false        with stop_when_settled: stop after 0.1 s of dying motion, not 1 s
   tracking_tolerance = 0.01    m; a tracking run converges when its error stays below this over the last 10 % of t_end
+  xy_goal_tolerance = 0.01     m; a run towards a goal is docked when it ends with C within this of the goal (nav2's name)
+  yaw_goal_tolerance_deg = 1.0 deg; ... and its heading within this of the goal's
 "#;
 
 const RUN: &str = r#"[[run]]                        one or more

@@ -10,8 +10,8 @@ use wmr_scenario::robustness::{
     ShareCurve, drift_curves, drift_table, share_curves, share_table, varied_columns, varied_row,
 };
 use wmr_scenario::{
-    Scenario, SweepOutcome, SweepSpec, shown, summarize, summary_table, sweep_columns, sweep_row, tracking_summary,
-    tracking_summary_table, tracking_sweep_columns, tracking_sweep_row,
+    Scenario, SweepOutcome, SweepSpec, docking_summary, docking_table, shown, summarize, summary_table, sweep_columns,
+    sweep_row, tracking_summary, tracking_summary_table, tracking_sweep_columns, tracking_sweep_row,
 };
 
 use crate::atomic::{Output, write_text};
@@ -141,7 +141,13 @@ pub fn sweep(
     };
     // A sweep on odometry also shows how far the odometry drifted (nothing otherwise).
     let drift = drift_table(&drift_curves(spec, &outcomes));
-    let table = format!("{summary}{}{drift}", share_table(&curves));
+    // A sweep towards a goal also shows how each law docked (nothing over references).
+    let docking = docking_table(
+        &docking_summary(spec, &outcomes),
+        scenario.sim().xy_goal_tolerance(),
+        scenario.sim().yaw_goal_tolerance_deg(),
+    );
+    let table = format!("{summary}{}{drift}{docking}", share_table(&curves));
     // With the CSV on stdout, the tables go to stderr.
     if to_stdout {
         table.lines().for_each(note);

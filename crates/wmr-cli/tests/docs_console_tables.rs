@@ -23,9 +23,11 @@ const LAWS_BEGIN: &str = "<!-- laws-table begin -->\n";
 const LAWS_END: &str = "<!-- laws-table end -->";
 const TRACKING_BEGIN: &str = "<!-- tracking-table begin -->\n";
 const TRACKING_END: &str = "<!-- tracking-table end -->";
+const DOCKING_BEGIN: &str = "<!-- docking-table begin -->\n";
+const DOCKING_END: &str = "<!-- docking-table end -->";
 
 /// The documents that hold such tables.
-const DOCS: [&str; 2] = ["README.md", "docs/model.md"];
+const DOCS: [&str; 3] = ["README.md", "docs/model.md", "examples/docking/README.md"];
 
 fn path(doc: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..").join(doc)
@@ -178,6 +180,38 @@ fn tracking_table(block: &str) -> String {
     out
 }
 
+/// The Markdown table of a sweep's docking section in `block` (issue 42: `docked within
+/// X m and Y deg at the end ...`, then `law  runs  docked  final dl mm  |e_th| deg` and
+/// one row per law: runs, the share docked, p50 / p95 / p99 / max of each error).
+fn docking_table(block: &str) -> String {
+    let mut lines = block.lines().skip_while(|l| !l.starts_with("docked within "));
+    let title = lines.next().expect("no docking section (`docked within ...`) in the console block");
+    let within = title.trim_start_matches("docked within ").split(" at the end").next().unwrap();
+    assert!(lines.next().is_some_and(|h| h.starts_with("law ")), "the docking section's header");
+    let mut out = format!(
+        "| law | runs | docked within {within} | final distance mm, p50 / p95 / p99 / max | abs. final heading \
+         error deg, p50 / p95 / p99 / max |\n|---|---|---|---|---|\n"
+    );
+    let mut rows = 0;
+    for line in lines {
+        let c: Vec<&str> = line.split_whitespace().filter(|c| *c != "/").collect();
+        if c.len() != 11 || !c[2].ends_with('%') {
+            break;
+        }
+        out.push_str(&format!(
+            "| {} | {} | {} % | {} | {} |\n",
+            c[0],
+            c[1],
+            c[2].trim_end_matches('%'),
+            c[3..7].join(" / "),
+            c[7..11].join(" / ")
+        ));
+        rows += 1;
+    }
+    assert!(rows > 0, "the docking section has no rows");
+    out
+}
+
 /// The first console block of `text`.
 fn console_after(text: &str) -> &str {
     let open = text.find("```console\n").expect("a console block after the table") + "```console\n".len();
@@ -206,7 +240,8 @@ fn regenerate(doc: &str) -> (String, usize) {
     let (doc, n) = regenerate_with(doc, BEGIN, END, table);
     let (doc, m) = regenerate_with(&doc, LAWS_BEGIN, LAWS_END, laws_table);
     let (doc, k) = regenerate_with(&doc, TRACKING_BEGIN, TRACKING_END, tracking_table);
-    (doc, n + m + k)
+    let (doc, d) = regenerate_with(&doc, DOCKING_BEGIN, DOCKING_END, docking_table);
+    (doc, n + m + k + d)
 }
 
 #[test]
@@ -239,6 +274,23 @@ fn a_table_follows_its_block() {
     let (fresh, n) = regenerate(&doc);
     assert_eq!(n, 1);
     assert!(fresh.contains("| `sensor.latency` = 0 / 0.1 | 70 / 0 % | 100 % throughout |\n"), "{fresh}");
+    assert!(!fresh.contains("stale"));
+}
+
+#[test]
+fn a_docking_table_follows_its_block() {
+    let block = "$ wmr-cli sweep s.toml\n...\n\ndocked within 0.01 m and 1 deg at the end (final errors over all runs: \
+                 p50 / p95 / p99 / max)\nlaw                     runs    docked                final dl mm     \
+                 |e_th| deg\ngraceful                  40    97.50%  0.68 / 0.73 / 0.74 / 0.74    0.002 / 0.035 / \
+                 1.979 / 1.979\nwmr-cli: 40 runs\n";
+    let doc = format!("x\n{DOCKING_BEGIN}| stale |\n{DOCKING_END}\n\n```console\n{block}```\n");
+    let (fresh, n) = regenerate(&doc);
+    assert_eq!(n, 1);
+    assert!(fresh.contains("docked within 0.01 m and 1 deg |"), "{fresh}");
+    assert!(
+        fresh.contains("| graceful | 40 | 97.50 % | 0.68 / 0.73 / 0.74 / 0.74 | 0.002 / 0.035 / 1.979 / 1.979 |\n"),
+        "{fresh}"
+    );
     assert!(!fresh.contains("stale"));
 }
 

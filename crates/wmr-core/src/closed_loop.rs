@@ -75,6 +75,9 @@ pub struct ClosedLoop<T: Real, L, S = PerfectSensor, R = FixedGoal<T>> {
     early_arrival: bool,
     /// What the footprint may not touch ([`crate::obstacle`]); none by default.
     obstacles: Obstacles<T>,
+    /// The goal tolerances a run's outcome is judged docked with, m and rad
+    /// ([`Outcome::docked`]).
+    goal_tolerance: (T, T),
 }
 
 impl<T: Real, L: Law<T>, R: Reference<T>> ClosedLoop<T, L, PerfectSensor, R> {
@@ -114,6 +117,10 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
             stop_when_settled: false,
             early_arrival: false,
             obstacles: Obstacles::default(),
+            goal_tolerance: (
+                T::lit(crate::outcome::XY_GOAL_TOLERANCE_M),
+                T::lit(crate::outcome::YAW_GOAL_TOLERANCE_DEG * core::f64::consts::PI / 180.0),
+            ),
         };
         lp.control_tick();
         Ok(lp)
@@ -145,6 +152,15 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
     /// [`Termination::Settled`].
     pub fn early_arrival(mut self, on: bool) -> Self {
         self.early_arrival = on;
+        self
+    }
+
+    /// The goal tolerances the outcome of a run is judged docked with: `xy` (m) on the
+    /// final distance to the goal position, `yaw` (rad) on the final |heading error|
+    /// ([`Outcome::docked`]; by default [`crate::XY_GOAL_TOLERANCE_M`] and
+    /// [`crate::YAW_GOAL_TOLERANCE_DEG`]). Nothing else of the run changes.
+    pub fn goal_tolerance(mut self, xy: T, yaw: T) -> Self {
+        self.goal_tolerance = (xy, yaw);
         self
     }
 
@@ -339,7 +355,8 @@ impl<T: Real, L: Law<T>, S: Sensor<T>, R: Reference<T>> ClosedLoop<T, L, S, R> {
         if last_logged != Some(self.step_index) {
             sink(&last)?;
         }
-        ControlFlow::Continue(metrics.finish(last.t, &last.state, goal, termination))
+        let (xy, yaw) = self.goal_tolerance;
+        ControlFlow::Continue(metrics.finish(last.t, &last.state, goal, termination).with_goal_tolerance(xy, yaw))
     }
 }
 

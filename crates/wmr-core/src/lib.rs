@@ -95,7 +95,9 @@ pub use drive::{DcMotorParams, Drive, DriveParams, TorqueDriveParams};
 pub use error::{ParamError, Reason};
 pub use math::{Pose2, Twist2, Wheels, wrap_angle};
 pub use obstacle::{Obstacle, Obstacles};
-pub use outcome::{ARRIVAL_HEADING_RAD, ARRIVAL_RADIUS_M, Outcome, Status, Termination};
+pub use outcome::{
+    ARRIVAL_HEADING_RAD, ARRIVAL_RADIUS_M, Outcome, Status, Termination, XY_GOAL_TOLERANCE_M, YAW_GOAL_TOLERANCE_DEG,
+};
 pub use outcome_fields::{FieldGroup, OUTCOME_FIELDS, OutcomeField};
 pub use params::{Robot, RobotParams};
 pub use payload::{Payload, PayloadParams};

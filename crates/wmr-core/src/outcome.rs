@@ -15,6 +15,14 @@ pub const ARRIVAL_RADIUS_M: f64 = 0.01;
 /// hold them; a run that stops within 1 cm but 40 deg off has not done what the law is for.
 pub const ARRIVAL_HEADING_RAD: f64 = 5.0 * core::f64::consts::PI / 180.0;
 
+/// Default `[sim] xy_goal_tolerance`, m: a run is docked when it ends with C within this
+/// distance of the goal position ([`Outcome::docked`]; nav2's `xy_goal_tolerance`).
+pub const XY_GOAL_TOLERANCE_M: f64 = 0.01;
+
+/// Default `[sim] yaw_goal_tolerance_deg`, deg: a run is docked when it ends with
+/// |heading error| within this ([`Outcome::docked`]; nav2's `yaw_goal_tolerance`, in deg).
+pub const YAW_GOAL_TOLERANCE_DEG: f64 = 1.0;
+
 /// How a run ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
@@ -134,6 +142,13 @@ pub struct Outcome<T> {
     pub time_to_arrival: Option<T>,
     /// Largest |wheel speed| seen, rad/s.
     pub peak_wheel_speed: T,
+    /// Largest final distance to the goal position of a docked run, m (`[sim]
+    /// xy_goal_tolerance`; [`XY_GOAL_TOLERANCE_M`] unless set with
+    /// [`Outcome::with_goal_tolerance`]).
+    pub xy_goal_tolerance: T,
+    /// Largest |final heading error| of a docked run, rad (`[sim] yaw_goal_tolerance_deg`;
+    /// [`YAW_GOAL_TOLERANCE_DEG`] unless set with [`Outcome::with_goal_tolerance`]).
+    pub yaw_goal_tolerance: T,
     /// Path length of C, m: int |v| dt.
     pub path_length: T,
     /// Work of both drives on their wheels, J: int (|tau_r omega_r| + |tau_l omega_l|) dt.
@@ -153,6 +168,26 @@ impl<T: Real> Outcome<T> {
         } else {
             Status::Unsettled
         }
+    }
+
+    /// Whether the run ended docked: neither diverged nor collided, its final state (after settling, as
+    /// `final_dl` and `final_heading_error`) within [`Outcome::xy_goal_tolerance`] of the
+    /// goal position and [`Outcome::yaw_goal_tolerance`] of the goal heading, both bounds
+    /// included (nav2's `SimpleGoalChecker`: `dx^2 + dy^2 <= xy^2`, `|dyaw| <= yaw`).
+    /// Every law is judged on both, the paper's too: docking needs the heading.
+    pub fn docked(&self) -> bool {
+        !self.termination.diverged()
+            && self.termination != Termination::Collided
+            && self.final_dl <= self.xy_goal_tolerance
+            && self.final_heading_error.abs() <= self.yaw_goal_tolerance
+    }
+
+    /// The outcome judged with the goal tolerances `xy` (m) and `yaw` (rad) of
+    /// [`Outcome::docked`] (`[sim] xy_goal_tolerance`, `yaw_goal_tolerance_deg`).
+    pub fn with_goal_tolerance(mut self, xy: T, yaw: T) -> Self {
+        self.xy_goal_tolerance = xy;
+        self.yaw_goal_tolerance = yaw;
+        self
     }
 }
 
@@ -266,6 +301,8 @@ impl<T: Real> Metrics<T> {
             heading_tolerance: self.heading_tolerance,
             time_to_arrival: self.arrived.then_some(self.arrived_since),
             peak_wheel_speed: self.peak_wheel_speed,
+            xy_goal_tolerance: T::lit(XY_GOAL_TOLERANCE_M),
+            yaw_goal_tolerance: T::lit(YAW_GOAL_TOLERANCE_DEG * core::f64::consts::PI / 180.0),
             path_length: self.path_length,
             abs_work: self.abs_work,
         }
@@ -320,5 +357,51 @@ mod tests {
         let hit = paper.finish(3.0, &off, Pose2::default(), Termination::Collided);
         assert_eq!(hit.status(), Status::Collided);
         assert!(!Termination::Collided.diverged());
+    }
+
+    /// Issue 42: a run is docked when its final state is within both goal tolerances
+    /// (nav2's bounds included), whatever the law; a diverged run never is.
+    #[test]
+    fn docked_just_inside_and_just_outside_each_tolerance() {
+        fn docked<T: Real>(x: f64, heading_deg: f64, tolerance: Option<(f64, f64)>, termination: Termination) -> bool {
+            let state = State::at_rest(Pose2::new(T::lit(x), T::lit(0.0), T::lit(heading_deg.to_radians())));
+            let o = Metrics::<T>::default().finish(T::lit(60.0), &state, Pose2::default(), termination);
+            match tolerance {
+                None => o.docked(),
+                Some((xy, yaw_deg)) => o.with_goal_tolerance(T::lit(xy), T::lit(yaw_deg.to_radians())).docked(),
+            }
+        }
+        fn check<T: Real>() {
+            let done = Termination::Completed;
+            // The defaults, 1 cm and 1 deg (a hand-made final state 1 % inside, 1 % outside).
+            assert!(docked::<T>(0.0099, 0.0, None, done));
+            assert!(!docked::<T>(0.0101, 0.0, None, done));
+            assert!(docked::<T>(0.0, 0.99, None, done));
+            assert!(!docked::<T>(0.0, 1.01, None, done));
+            assert!(docked::<T>(0.0, -0.99, None, done), "|heading error|");
+            assert!(!docked::<T>(0.0, -1.01, None, done));
+            assert!(!docked::<T>(0.0101, 1.01, None, done));
+            // Other tolerances: 5 cm and 0.2 deg.
+            let t = Some((0.05, 0.2));
+            assert!(docked::<T>(0.0499, 0.199, t, done));
+            assert!(!docked::<T>(0.0501, 0.0, t, done));
+            assert!(!docked::<T>(0.0, 0.201, t, done));
+            // A run stopped once settled is judged alike; a diverged one never docks.
+            assert!(docked::<T>(0.0099, 0.99, None, Termination::Settled));
+            assert!(!docked::<T>(0.0, 0.0, None, Termination::NonFinite));
+            assert!(!docked::<T>(0.0, 0.0, None, Termination::LeftBox));
+        }
+        check::<f32>();
+        check::<f64>();
+        // The paper's law, judged on the distance alone for `converged`, still needs the
+        // heading to dock: 0.001 m and 3 deg is converged, not docked.
+        let state = State::at_rest(Pose2::new(0.001, 0.0, 3f64.to_radians()));
+        let o = Metrics::<f64>::default().judging_heading(false).finish(
+            60.0,
+            &state,
+            Pose2::default(),
+            Termination::Completed,
+        );
+        assert_eq!((o.status(), o.docked()), (Status::Converged, false));
     }
 }

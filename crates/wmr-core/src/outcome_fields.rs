@@ -76,7 +76,7 @@ impl OutcomeField {
 
 /// Every figure of an outcome, in the order of every output (the sweep CSVs take theirs
 /// in this order, [`OutcomeField::in_sweep_csv`]).
-pub const OUTCOME_FIELDS: [OutcomeField; 15] = [
+pub const OUTCOME_FIELDS: [OutcomeField; 16] = [
     OutcomeField {
         name: "final_x_m",
         unit: "m",
@@ -132,6 +132,14 @@ pub const OUTCOME_FIELDS: [OutcomeField; 15] = [
         group: FieldGroup::Goal,
         may_be_none: false,
         read: Read::Run(|o| Some(o.final_heading_error.to_degrees())),
+    },
+    OutcomeField {
+        name: "docked",
+        unit: "",
+        doc: "1 if the run ended within sim.xy_goal_tolerance of the goal position and sim.yaw_goal_tolerance_deg of its heading (final state, not diverged), else 0",
+        group: FieldGroup::Goal,
+        may_be_none: false,
+        read: Read::Run(|o| Some(if o.docked() { 1.0 } else { 0.0 })),
     },
     OutcomeField {
         name: "time_to_tolerance_s",
@@ -224,6 +232,8 @@ mod tests {
                 "deg" => "_deg",
                 "rad/s" => "_rad_s",
                 "J" => "_j",
+                // A flag (1 or 0) has no unit and no suffix.
+                "" => "",
                 u => panic!("{}: unit {u} has no suffix rule", f.name),
             };
             assert!(f.name.ends_with(suffix), "{} does not end in {suffix}", f.name);

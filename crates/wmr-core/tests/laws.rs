@@ -535,6 +535,8 @@ fn paper_default_is_unchanged() {
         heading_tolerance: f64::INFINITY,
         time_to_arrival: arrived,
         peak_wheel_speed: peak,
+        xy_goal_tolerance: 0.01,
+        yaw_goal_tolerance: 1f64.to_radians(),
         path_length: path,
         abs_work,
     };

@@ -79,6 +79,7 @@ fn assemble(
             lp.stop_when_settled(sim.stop_when_settled())
                 .early_arrival(sim.early_arrival())
                 .with_obstacles(setup.obstacles)
+                .goal_tolerance(sim.xy_goal_tolerance(), sim.yaw_goal_tolerance_deg().to_radians())
         })
         .map_err(|e| origin.key_of(&e))
 }

@@ -249,7 +249,7 @@ fn lanes(
     };
     let mut finished = |tag: u64, outcome| {
         done();
-        outcomes[tag as usize] = Some(outcome);
+        outcomes[tag as usize] = Some(sim.judged(outcome));
     };
     run_batch(kernel, &mut batch, &mut next, &mut finished);
     if stopped {

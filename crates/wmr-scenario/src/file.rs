@@ -56,6 +56,12 @@ pub struct SimFile {
     /// A tracking run converges when its error stays below this over the last 10 % of
     /// t_end, m. Default 0.01.
     pub tracking_tolerance: Option<f64>,
+    /// A run towards a goal is docked when it ends with C within this of the goal
+    /// position, m (nav2's `xy_goal_tolerance`). Default 0.01.
+    pub xy_goal_tolerance: Option<f64>,
+    /// ... and its |heading error| within this, deg (nav2's `yaw_goal_tolerance`, in
+    /// deg). Default 1.
+    pub yaw_goal_tolerance_deg: Option<f64>,
 }
 
 /// One `[[run]]`.

@@ -82,8 +82,8 @@ pub use schema::{SchemaKey, schema};
 pub use setup::{BuiltController, Setup, Tables};
 pub use sim::{DEFAULT_LOG_DT_S, DEFAULT_T_END_S, MAX_STEPS, MAX_T_END_S, SimSpec};
 pub use sweep::{
-    LawSummary, Spread, StartsSource, SweepOutcome, SweepSpec, SweepTracking, TrackingSummary, summarize,
-    summary_table, sweep_columns, sweep_row, tracking_summary, tracking_summary_table, tracking_sweep_columns,
-    tracking_sweep_row,
+    DockingSummary, LawSummary, Percentiles, Spread, StartsSource, SweepOutcome, SweepSpec, SweepTracking,
+    TrackingSummary, docking_summary, docking_table, percentile, summarize, summary_table, sweep_columns, sweep_row,
+    tracking_summary, tracking_summary_table, tracking_sweep_columns, tracking_sweep_row,
 };
 pub use warnings::{Writer, warnings, warnings_for};

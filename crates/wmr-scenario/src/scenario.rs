@@ -239,8 +239,16 @@ impl ScenarioFile {
         };
         let setup = Setup::resolve(&tables, "controller")?;
 
-        let SimFile { t_end, dt, log_dt, stop_when_settled, early_arrival, tracking_tolerance: _ } =
-            self.sim.unwrap_or_default();
+        let SimFile {
+            t_end,
+            dt,
+            log_dt,
+            stop_when_settled,
+            early_arrival,
+            tracking_tolerance: _,
+            xy_goal_tolerance,
+            yaw_goal_tolerance_deg,
+        } = self.sim.unwrap_or_default();
         if early_arrival == Some(true) && stop_when_settled != Some(true) {
             return Err(ScenarioError::new(
                 "sim.early_arrival",
@@ -249,7 +257,8 @@ impl ScenarioFile {
         }
         let sim = SimSpec::resolve(t_end, dt, log_dt, setup.controller.control_dt)?
             .with_stop_when_settled(stop_when_settled.unwrap_or(false))
-            .with_early_arrival(early_arrival.unwrap_or(false));
+            .with_early_arrival(early_arrival.unwrap_or(false))
+            .with_goal_tolerance(xy_goal_tolerance, yaw_goal_tolerance_deg)?;
         setup.check_step(sim.dt())?;
 
         let sweep = match &self.sweep {
@@ -685,6 +694,12 @@ impl Scenario {
         );
         if s.early_arrival() {
             let _ = writeln!(o, "early_arrival = true");
+        }
+        if s.xy_goal_tolerance() != wmr_core::XY_GOAL_TOLERANCE_M {
+            let _ = writeln!(o, "xy_goal_tolerance = {}", f(s.xy_goal_tolerance()));
+        }
+        if s.yaw_goal_tolerance_deg() != wmr_core::YAW_GOAL_TOLERANCE_DEG {
+            let _ = writeln!(o, "yaw_goal_tolerance_deg = {}", f(s.yaw_goal_tolerance_deg()));
         }
         let tolerance = self
             .tracking

@@ -1,5 +1,7 @@
 //! `[sim]`, checked: run length, plant step and log period, whole multiples of each other.
 
+use wmr_core::{Outcome, XY_GOAL_TOLERANCE_M, YAW_GOAL_TOLERANCE_DEG};
+
 use crate::error::{ScenarioError, num};
 
 /// Largest `sim.t_end` accepted, s (about 11.6 days of simulated time).
@@ -23,6 +25,10 @@ pub struct SimSpec {
     stop_when_settled: bool,
     /// With `stop_when_settled`: stop a run as soon as it has arrived (`wmr_core::arrival`).
     early_arrival: bool,
+    /// `sim.xy_goal_tolerance`, m.
+    xy_goal_tolerance: f64,
+    /// `sim.yaw_goal_tolerance_deg`, deg.
+    yaw_goal_tolerance_deg: f64,
 }
 
 /// How many `dt` fit in `period` if it is a whole multiple (relative tolerance 1e-9, as
@@ -105,7 +111,53 @@ impl SimSpec {
         let log_every = whole_multiple(log_dt, dt)
             .and_then(|n| u32::try_from(n).ok())
             .ok_or_else(|| blame(log_dt_given, "sim.log_dt", log_dt))?;
-        Ok(Self { t_end, dt, log_dt, n_steps, log_every, stop_when_settled: false, early_arrival: false })
+        Ok(Self {
+            t_end,
+            dt,
+            log_dt,
+            n_steps,
+            log_every,
+            stop_when_settled: false,
+            early_arrival: false,
+            xy_goal_tolerance: XY_GOAL_TOLERANCE_M,
+            yaw_goal_tolerance_deg: YAW_GOAL_TOLERANCE_DEG,
+        })
+    }
+
+    /// With the goal tolerances a run towards a goal is judged docked with
+    /// (`wmr_core::Outcome::docked`), as written (`None`: the default):
+    /// `sim.xy_goal_tolerance` (m, finite, > 0) and `sim.yaw_goal_tolerance_deg` (deg,
+    /// finite, > 0 and <= 180); errors name the key.
+    pub fn with_goal_tolerance(mut self, xy: Option<f64>, yaw_deg: Option<f64>) -> Result<Self, ScenarioError> {
+        if let Some(v) = xy {
+            self.xy_goal_tolerance = positive("sim.xy_goal_tolerance", v)?;
+        }
+        if let Some(v) = yaw_deg {
+            let v = positive("sim.yaw_goal_tolerance_deg", v)?;
+            if v > 180.0 {
+                return Err(ScenarioError::new(
+                    "sim.yaw_goal_tolerance_deg",
+                    format!("must be <= 180 deg, the largest heading error (got {})", num(v)),
+                ));
+            }
+            self.yaw_goal_tolerance_deg = v;
+        }
+        Ok(self)
+    }
+
+    /// `sim.xy_goal_tolerance`, m.
+    pub fn xy_goal_tolerance(&self) -> f64 {
+        self.xy_goal_tolerance
+    }
+
+    /// `sim.yaw_goal_tolerance_deg`, deg.
+    pub fn yaw_goal_tolerance_deg(&self) -> f64 {
+        self.yaw_goal_tolerance_deg
+    }
+
+    /// `outcome` judged with these goal tolerances (`wmr_core::Outcome::docked`).
+    pub fn judged(&self, outcome: Outcome<f64>) -> Outcome<f64> {
+        outcome.with_goal_tolerance(self.xy_goal_tolerance, self.yaw_goal_tolerance_deg.to_radians())
     }
 
     /// With `on`, each run stops once it has settled (`[sim] stop_when_settled`, the

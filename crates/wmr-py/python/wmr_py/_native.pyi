@@ -703,6 +703,9 @@ class RunResult:
     def final_heading_error_deg(self) -> float:
         """Final heading error, wrap(theta_goal - theta), deg."""
     @property
+    def docked(self) -> float:
+        """1 if the run ended within sim.xy_goal_tolerance of the goal position and sim.yaw_goal_tolerance_deg of its heading (final state, not diverged), else 0, ."""
+    @property
     def time_to_tolerance_s(self) -> Optional[float]:
         """Time after which the tracking error stays below sim.tracking_tolerance (none: above at the end), s. A tracking run's; None for a run towards a goal."""
     @property

@@ -35,7 +35,7 @@ pub fn sweep_plan(
 }
 
 /// Values per run in the rows of `_sweep_part` (see `outcome_row`).
-pub const SWEEP_ROW_LEN: usize = 36;
+pub const SWEEP_ROW_LEN: usize = 38;
 const ROW_LEN: usize = SWEEP_ROW_LEN;
 
 /// One sweep outcome as floats (exact: indices below 2^53, f64 values as they are):
@@ -47,7 +47,8 @@ const ROW_LEN: usize = SWEEP_ROW_LEN;
 /// tolerance; then the outcome's heading tolerance (inf: the law is judged on the
 /// distance alone); last the tracking outcome's mean error over the first and the last
 /// tenth, the reference's peak wheel speed, the wheel speed limit and the time it was
-/// first passed (NaN: never; all NaN without a tracking outcome).
+/// first passed (NaN: never; all NaN without a tracking outcome); then the goal
+/// tolerances the outcome is judged docked with (m, rad).
 fn outcome_row(o: &SweepOutcome) -> [f64; ROW_LEN] {
     let u = &o.outcome;
     let termination = f64::from(u.termination.code());
@@ -90,6 +91,8 @@ fn outcome_row(o: &SweepOutcome) -> [f64; ROW_LEN] {
         tr(|t| t.reference_wheel_speed),
         tr(|t| t.wheel_speed_limit),
         tr(|t| t.over_limit_at.unwrap_or(f64::NAN)),
+        u.xy_goal_tolerance,
+        u.yaw_goal_tolerance,
     ]
 }
 
@@ -114,6 +117,8 @@ fn row_outcome(r: &[f64]) -> Option<SweepOutcome> {
             heading_tolerance: r[30],
             time_to_arrival: (!r[18].is_nan()).then_some(r[18]),
             peak_wheel_speed: r[19],
+            xy_goal_tolerance: r[36],
+            yaw_goal_tolerance: r[37],
             path_length: r[20],
             abs_work: r[21],
         },

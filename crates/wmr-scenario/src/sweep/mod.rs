@@ -40,5 +40,8 @@ pub use row::{csv_num, sweep_columns, sweep_row, tracking_sweep_columns, trackin
 pub(crate) use spec::check_reference_count;
 pub use spec::{SweepSpec, SweepTracking};
 pub use starts::StartsSource;
-pub use summary::{LawSummary, Spread, summarize, summary_table};
+pub use summary::{
+    DockingSummary, LawSummary, Percentiles, Spread, docking_summary, docking_table, percentile, summarize,
+    summary_table,
+};
 pub use tracking_summary::{TrackingSummary, tracking_summary, tracking_summary_table};

@@ -127,3 +127,124 @@ pub fn summary_table(rows: &[LawSummary]) -> String {
     }
     out
 }
+
+/// The `p`-th percentile (0 < p <= 100) of `sorted` (ascending, finite) by nearest rank:
+/// the smallest value with at least p % of the values at or below it; NaN when empty.
+pub fn percentile(sorted: &[f64], p: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    let rank = (p / 100.0 * sorted.len() as f64).ceil() as usize;
+    sorted[rank.clamp(1, sorted.len()) - 1]
+}
+
+/// p50, p95, p99 and max of one figure over a law's runs (nearest rank, [`percentile`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Percentiles {
+    /// Median.
+    pub p50: f64,
+    /// 95th percentile.
+    pub p95: f64,
+    /// 99th percentile.
+    pub p99: f64,
+    /// Largest.
+    pub max: f64,
+}
+
+impl Percentiles {
+    /// The percentiles of the finite values of `v` (NaN when none).
+    pub fn of(mut v: Vec<f64>) -> Self {
+        v.retain(|x| x.is_finite());
+        v.sort_by(f64::total_cmp);
+        Self {
+            p50: percentile(&v, 50.0),
+            p95: percentile(&v, 95.0),
+            p99: percentile(&v, 99.0),
+            max: percentile(&v, 100.0),
+        }
+    }
+}
+
+/// How one law of a sweep towards a goal docked: the share of its runs that ended within
+/// `sim.xy_goal_tolerance` and `sim.yaw_goal_tolerance_deg` (`wmr_core::Outcome::docked`,
+/// the CSV's `docked`) and the distribution of its final errors over all its runs (the
+/// final state, after settling; a diverged run's last finite state).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DockingSummary {
+    /// The law's name.
+    pub name: String,
+    /// Runs.
+    pub n: usize,
+    /// Share of runs docked (0..1).
+    pub docked: f64,
+    /// Final distance from C to the goal position, m (`final_dl_m`).
+    pub final_dl_m: Percentiles,
+    /// |final heading error|, deg (`|final_heading_error_deg|`).
+    pub final_heading_error_deg: Percentiles,
+}
+
+/// Per-law docking of a sweep towards a goal, in law order (empty for a sweep over
+/// references, whose runs have no goal to dock at).
+pub fn docking_summary(spec: &SweepSpec, outcomes: &[SweepOutcome]) -> Vec<DockingSummary> {
+    if spec.tracking.is_some() {
+        return Vec::new();
+    }
+    spec.laws
+        .iter()
+        .enumerate()
+        .map(|(i, (name, _))| {
+            let runs: Vec<&Outcome<f64>> = outcomes.iter().filter(|o| o.law == i).map(|o| &o.outcome).collect();
+            let docked = runs.iter().filter(|o| o.docked()).count();
+            DockingSummary {
+                name: name.clone(),
+                n: runs.len(),
+                docked: docked as f64 / runs.len().max(1) as f64,
+                final_dl_m: Percentiles::of(runs.iter().map(|o| o.final_dl).collect()),
+                final_heading_error_deg: Percentiles::of(
+                    runs.iter().map(|o| o.final_heading_error.to_degrees().abs()).collect(),
+                ),
+            }
+        })
+        .collect()
+}
+
+/// The docking table as aligned text under a title naming the tolerances (m, deg): per
+/// law its runs, the share docked and p50 / p95 / p99 / max of the final distance (mm)
+/// and |heading error| (deg). Empty for no rows.
+pub fn docking_table(rows: &[DockingSummary], xy_goal_tolerance_m: f64, yaw_goal_tolerance_deg: f64) -> String {
+    if rows.is_empty() {
+        return String::new();
+    }
+    let fmt = |p: Percentiles, scale: f64, prec: usize| {
+        if p.p50.is_nan() {
+            "-".to_owned()
+        } else {
+            format!(
+                "{:.q$} / {:.q$} / {:.q$} / {:.q$}",
+                scale * p.p50,
+                scale * p.p95,
+                scale * p.p99,
+                scale * p.max,
+                q = prec
+            )
+        }
+    };
+    let w = rows.iter().map(|r| r.name.len()).max().unwrap_or(0).max(3);
+    let mut out = format!(
+        "\ndocked within {} m and {} deg at the end (final errors over all runs: p50 / p95 / p99 / max)\n",
+        crate::sweep::csv_num(xy_goal_tolerance_m),
+        crate::sweep::csv_num(yaw_goal_tolerance_deg)
+    );
+    let cells: Vec<(String, String)> =
+        rows.iter().map(|r| (fmt(r.final_dl_m, 1000.0, 2), fmt(r.final_heading_error_deg, 1.0, 3))).collect();
+    let wd = cells.iter().map(|c| c.0.len()).max().unwrap_or(0).max(14);
+    let wh = cells.iter().map(|c| c.1.len()).max().unwrap_or(0).max(14);
+    out.push_str(&format!(
+        "{:<w$} {:>6} {:>9}  {:>wd$}  {:>wh$}\n",
+        "law", "runs", "docked", "final dl mm", "|e_th| deg"
+    ));
+    for (r, (dl, th)) in rows.iter().zip(cells) {
+        out.push_str(&format!("{:<w$} {:>6} {:>8.2}%  {dl:>wd$}  {th:>wh$}\n", r.name, r.n, 100.0 * r.docked));
+    }
+    out
+}
