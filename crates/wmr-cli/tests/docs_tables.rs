@@ -21,21 +21,24 @@ fn help_robot_lines() -> Vec<(String, String)> {
     let section = &help[help.find("\n[robot]").unwrap()..help.find("\n[drive]").unwrap()];
     let mut lines: Vec<(String, String)> = Vec::new();
     for line in section.lines().skip(2) {
-        match line.strip_prefix("  ").and_then(|l| l.split_once(" = ")) {
-            Some((key, rest)) if !key.starts_with(' ') => lines.push((key.to_owned(), rest.to_owned())),
-            _ => lines.last_mut().expect("a key line first").1.push_str(&format!(" {}", line.trim())),
+        // A key line: `  key = default  doc`, or `  key  doc` for a key without a default.
+        let key_line = line.strip_prefix("  ").filter(|l| !l.starts_with(' '));
+        match key_line.map(|l| l.split_once(" = ").unwrap_or_else(|| l.split_once(' ').unwrap_or((l, "")))) {
+            Some((key, rest)) => lines.push((key.to_owned(), rest.to_owned())),
+            None => lines.last_mut().expect("a key line first").1.push_str(&format!(" {}", line.trim())),
         }
     }
     lines
 }
 
 /// A robot key is declared once (`RobotParams`, then the traction keys of
-/// `TractionParams`, in wmr-core) and appears, in declaration order, in the schema, in
-/// `--help` and in the docs table, with its unit, rule and doc.
+/// `TractionParams`, in wmr-core, then the scenario's own `footprint_radius`) and appears,
+/// in declaration order, in the schema, in `--help` and in the docs table, with its unit,
+/// rule and doc.
 #[test]
 fn every_robot_field_is_in_the_schema_the_help_and_the_docs_in_order() {
     let fields: Vec<_> = RobotParams::<f64>::FIELDS.iter().chain(TractionParams::<f64>::FIELDS).collect();
-    let declared: Vec<&str> = fields.iter().map(|f| f.name).collect();
+    let declared: Vec<&str> = fields.iter().map(|f| f.name).chain([wmr_scenario::FOOTPRINT_RADIUS]).collect();
     let keys = schema();
 
     let in_schema: Vec<&str> = keys.iter().filter(|k| k.table == "robot").map(|k| k.key).collect();

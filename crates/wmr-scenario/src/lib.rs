@@ -79,7 +79,7 @@ pub use read::{MAX_FILE_BYTES, default_name, read_text};
 pub use run::RunSpec;
 pub use scenario::{DEFAULT_TRACKING_TOLERANCE_M, InputFile, Scenario, Tracking, total_steps};
 pub use schema::{SchemaKey, schema};
-pub use setup::{BuiltController, Setup, Tables};
+pub use setup::{BuiltController, FOOTPRINT_RADIUS, Setup, Tables};
 pub use sim::{DEFAULT_LOG_DT_S, DEFAULT_T_END_S, MAX_STEPS, MAX_T_END_S, SimSpec};
 pub use sweep::{
     DockingSummary, LawSummary, Percentiles, Spread, StartsSource, SweepOutcome, SweepSpec, SweepTracking,
