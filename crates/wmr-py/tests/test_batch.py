@@ -45,7 +45,8 @@ def test_batch_equals_simulate_per_start() -> None:
 def test_outcome_fields_carry_their_unit() -> None:
     """One spelling, with the unit as suffix: the names the CSV, help and docs use."""
     units = ("_m", "_s", "_deg", "_rad_s", "_j")
-    floats = [n for n in wmr_py.OUTCOME_FIELDS if n not in ("converged", "diverged")]
+    # The flags (1/0 or bool) have no unit.
+    floats = [n for n in wmr_py.OUTCOME_FIELDS if n not in ("docked", "converged", "diverged", "collided")]
     assert floats and all(n.endswith(units) for n in (*floats, *wmr_py.TRACKING_FIELDS))
     assert "abs_work_j" in floats and "energy" not in wmr_py.OUTCOME_FIELDS
     r = wmr_py.simulate((1.0, 0.5, 0.0), GOAL, t_end=1.0)

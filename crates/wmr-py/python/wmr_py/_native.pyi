@@ -676,6 +676,7 @@ class RunResult:
     status: str
     converged: bool
     diverged: bool
+    collided: bool
     summary: str
     @property
     def tracking(self) -> bool:

@@ -99,8 +99,9 @@ pub struct PyRunResult {
     #[pyo3(get)]
     label: String,
     /// `"converged"` (final dl < 1 cm, not diverged; within 5 deg of the goal heading for a
-    /// law built to reach it), `"diverged"`, `"unsettled"` (neither) or, for a tracking run
-    /// whose reference asks more than the robot can give, `"cannot_follow"`.
+    /// law built to reach it), `"diverged"`, `"unsettled"` (neither), `"collided"` (its
+    /// footprint touched an obstacle) or, for a tracking run whose reference asks more than
+    /// the robot can give, `"cannot_follow"`.
     #[pyo3(get)]
     status: &'static str,
     /// True when not diverged and the final dl < 1 cm.
@@ -109,6 +110,10 @@ pub struct PyRunResult {
     /// True when the state stopped being finite or C left the 1 km box.
     #[pyo3(get)]
     diverged: bool,
+    /// True when the robot's footprint touched an obstacle (`[[world.obstacle]]`): the run
+    /// stopped there.
+    #[pyo3(get)]
+    collided: bool,
     /// The summary line the CLI prints.
     #[pyo3(get)]
     summary: String,
@@ -144,6 +149,7 @@ impl PyRunResult {
             status: r.status().name(),
             converged: r.converged(),
             diverged: r.diverged(),
+            collided: r.status() == wmr_core::Status::Collided,
             summary: r.summary_line(),
             label: r.label,
             cols,
@@ -444,6 +450,8 @@ pub fn run_result_from_state(state: &Bound<'_, PyDict>) -> PyResult<PyRunResult>
         status,
         converged: get("converged")?.extract()?,
         diverged: get("diverged")?.extract()?,
+        // Derived from the status (a pickle from before it had no such entry).
+        collided: status == wmr_core::Status::Collided.name(),
         summary: get("summary")?.extract()?,
         fields: {
             let mut values = [None; OUTCOME_FIELDS.len()];
