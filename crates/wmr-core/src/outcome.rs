@@ -319,7 +319,7 @@ mod tests {
             assert_eq!(usize::from(t.code()), i);
             assert_eq!(Termination::of_code(t.code()), Some(t));
         }
-        assert_eq!(Termination::of_code(4), None);
+        assert_eq!(Termination::of_code(5), None);
     }
 
     fn outcome_at(x: f64, termination: Termination) -> Outcome<f64> {

@@ -43,11 +43,11 @@ pub fn region_svg(title_text: &str, cells: &[SweepCell], goal: Pose2<f64>) -> Re
     let count = |s: Status| cells.iter().filter(|c| c.outcome == s).count();
     let mut order = Status::ALL;
     order.sort_by_key(|s| std::cmp::Reverse(count(*s)));
-    // cannot_follow (a tracking run's) is listed only where a start has it: a map of runs
-    // towards a goal keeps its three entries.
+    // cannot_follow (a tracking run's) and collided (a world with obstacles) are listed
+    // only where a start has them: a map of runs towards a goal keeps its three entries.
     let mut entries: Vec<Entry> = Status::ALL
         .iter()
-        .filter(|s| **s != Status::CannotFollow || count(**s) > 0)
+        .filter(|s| !matches!(s, Status::CannotFollow | Status::Collided) || count(**s) > 0)
         .map(|s| Entry::math(format!("{} ({})", s.name(), count(*s)), Key::Triangle(status_color(*s))))
         .collect();
     entries.push(Entry::math("goal and its heading", Key::GoalArrow("#000000")));
