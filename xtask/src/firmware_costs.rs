@@ -13,7 +13,7 @@ pub fn generate() -> Vec<Generated> {
     laws()
         .into_iter()
         .map(|law| {
-            let what = if law.follows == wmr_core::Follows::Goal {
+            let what = if !law.follows.needs_reference() {
                 "Fig. 7 (start (0, 0, 0), goal (1, 1, 120 deg))"
             } else {
                 "the figure-eight of examples/tracking"

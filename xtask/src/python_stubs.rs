@@ -83,9 +83,9 @@ fn keyword_block(keys: &[SchemaKey], indent: &str) -> String {
 
 /// The stub class of one law.
 fn law_class(law: &LawRow, keys: &[SchemaKey]) -> String {
-    let goal = law.follows == Follows::Goal;
+    let goal = matches!(law.follows, Follows::Goal | Follows::GoalOrPath);
     let what = match law.follows {
-        Follows::Goal => "",
+        Follows::Goal | Follows::GoalOrPath => "",
         Follows::Trajectory => ", following a Reference",
         _ => ", following a Reference's path",
     };

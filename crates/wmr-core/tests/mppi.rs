@@ -560,12 +560,23 @@ fn bad_keys_are_refused_naming_the_key() {
         (MppiParams { ax_min: 1.0, ..ok }, 1e-3, "ax_min"),
         (MppiParams { goal_cost_power: 0, ..ok }, 1e-3, "goal_cost_power"),
         (MppiParams { twirling_cost_weight: -1.0, ..ok }, 1e-3, "twirling_cost_weight"),
+        // 3.2 m / 0.05 m = 64 gaps: one more point than the local plan holds.
+        (MppiParams { prune_distance: 3.2, ..ok }, 1e-3, "prune_distance"),
+        (MppiParams { path_resolution: 0.0, ..ok }, 1e-3, "path_resolution"),
+        (MppiParams { max_robot_pose_search_dist: f64::INFINITY, ..ok }, 1e-3, "max_robot_pose_search_dist"),
+        (MppiParams { path_align_max_path_occupancy_ratio: 1.5, ..ok }, 1e-3, "path_align_max_path_occupancy_ratio"),
+        (MppiParams { path_align_trajectory_point_step: 0, ..ok }, 1e-3, "path_align_trajectory_point_step"),
+        (MppiParams { path_follow_cost_weight: -5.0, ..ok }, 1e-3, "path_follow_cost_weight"),
+        (MppiParams { path_angle_mode: 3, ..ok }, 1e-3, "path_angle_mode"),
     ];
     for (p, control_dt, key) in cases {
         let e = LawParams::Mppi(p).build(&model, control_dt).unwrap_err();
         assert_eq!(e.field, key, "{e}");
     }
     assert!(LawParams::Mppi(ok).build(&model, 1e-3).is_ok());
+    // The plan is made every model_dt / control_dt ticks (0.05 s / 1 ms).
+    assert_eq!(ok.validate(1e-3), Ok(50));
+    assert_eq!(MppiParams { prune_distance: 3.15, ..ok }.validate(1e-3), Ok(50));
     assert!(LawParams::Mppi(MppiParams { batch_size: 178_571, ..ok }).build(&model, 1e-3).is_ok());
 }
 
@@ -610,4 +621,39 @@ fn it_reaches_a_goal_in_f32_and_f64() {
     let a = reaches::<f64>();
     let b = reaches::<f32>();
     eprintln!("final distance: f64 {a:.4} m, f32 {b:.4} m");
+}
+
+/// On a path (a line), MPPI drives onto it and along it: from 0.3 m beside it, the true
+/// distance to the line (computed here from its equation) falls below 2 cm and stays there,
+/// and the robot moves along the line's direction. Without the path critics (weights 0)
+/// nothing pulls it onto the line: the same run ends farther off.
+fn line_run(p: MppiParams<f64>) -> (f64, f64) {
+    use wmr_core::reference::Line;
+    let robot = Robot::<f64>::paper();
+    let drive = DriveParams::default().validate(&robot).unwrap();
+    let plant = Plant::new(robot, drive, Pose2::new(0.0, 0.3, 0.0)).unwrap();
+    let controller = ControllerParams::with_law(LawParams::Mppi(p)).build(robot.params(), &drive).unwrap();
+    // The line y = 0 from the origin along +x, s = arc length.
+    let line = Line::new(Pose2::new(0.0, 0.0, 0.0), 0.3).unwrap();
+    let mut lp = ClosedLoop::new(plant, controller, line, 1e-3).unwrap();
+    let mut worst_late: f64 = 0.0;
+    let _ = lp.run(20_000, 1, |s| {
+        if s.t >= 12.0 {
+            worst_late = worst_late.max(s.state.pose().y.abs());
+        }
+    });
+    (worst_late, lp.state().pose().x)
+}
+
+#[test]
+fn on_a_path_it_drives_onto_it_and_along_it() {
+    let p = MppiParams::<f64> { batch_size: 300, path_align_offset_from_furthest: 5, ..MppiParams::default() };
+    let (off, x) = line_run(p);
+    eprintln!("path critics: worst |y| after 12 s {off:.4} m, x at 20 s {x:.3} m");
+    assert!(off < 0.02 && x > 3.0, "{off} m off the line, {x} m along it");
+    let none =
+        MppiParams { path_align_cost_weight: 0.0, path_follow_cost_weight: 0.0, path_angle_cost_weight: 0.0, ..p };
+    let (off_none, x_none) = line_run(none);
+    eprintln!("no path critics: worst |y| after 12 s {off_none:.4} m, x at 20 s {x_none:.3} m");
+    assert!(off_none > 0.1 || x_none < 1.0, "{off_none} m off, {x_none} m along without the path critics");
 }

@@ -11,7 +11,7 @@
 #include <stddef.h>
 
 // Version of this C API: changes whenever a struct, a storage size or a signature does.
-#define WMR_ABI_VERSION 7
+#define WMR_ABI_VERSION 8
 
 // Alignment, bytes, of every storage struct (they are arrays of `uint64_t`).
 #define WMR_STORAGE_ALIGN 8
@@ -144,10 +144,10 @@
 #define WMR_GRACEFUL_CONTROLLER_F64_WORDS 80
 
 // Words (8 bytes each) of `wmr_mppi_controller_f32`: the law `mppi` with its wheel stage.
-#define WMR_MPPI_CONTROLLER_F32_WORDS 344
+#define WMR_MPPI_CONTROLLER_F32_WORDS 352
 
 // Words (8 bytes each) of `wmr_mppi_controller_f64`: the law `mppi` with its wheel stage.
-#define WMR_MPPI_CONTROLLER_F64_WORDS 512
+#define WMR_MPPI_CONTROLLER_F64_WORDS 536
 
 // Words (8 bytes each) of `wmr_kanayama_controller_f32`: the law `kanayama` with its wheel stage.
 #define WMR_KANAYAMA_CONTROLLER_F32_WORDS 40
@@ -483,6 +483,44 @@ typedef struct {
   float obstacles_near_goal_distance;
   // obstacles critic: distance from C to an obstacle beyond which it costs nothing (nav2: the inflation layer's inflation_radius), m (>= 0).
   float obstacles_inflation_radius;
+  // On a path: the local plan covers this much path from the point closest to C (nav2's path handler), m (> 0; prune_distance / path_resolution <= 63).
+  float prune_distance;
+  // On a path: the spacing of the local plan's points (nav2: the global plan's, the costmap resolution), m (> 0).
+  float path_resolution;
+  // On a path: each search for the closest point covers this much path forward of the last one, m (> 0).
+  float max_robot_pose_search_dist;
+  // path_align critic: weight of the mean distance of a rollout to the plan point as far along, 1/m (>= 0).
+  float path_align_cost_weight;
+  // path_align critic: power of its cost (>= 1).
+  uint32_t path_align_cost_power;
+  // path_align critic: on only while the local plan is at least this long, m (>= 0).
+  float path_align_threshold_to_consider;
+  // path_align critic: on only once the furthest reached plan point is this many points in (whole number).
+  uint32_t path_align_offset_from_furthest;
+  // path_align critic: scores every this many steps of a rollout (>= 1).
+  uint32_t path_align_trajectory_point_step;
+  // path_align critic: off while more than this share of the plan up to the furthest point is blocked (in [0, 1]).
+  float path_align_max_path_occupancy_ratio;
+  // path_follow critic: weight of the distance of a rollout's end to the plan point offset_from_furthest beyond the furthest reached, 1/m (>= 0).
+  float path_follow_cost_weight;
+  // path_follow critic: power of its cost (>= 1).
+  uint32_t path_follow_cost_power;
+  // path_follow critic: on only while the local plan is at least this long, m (>= 0).
+  float path_follow_threshold_to_consider;
+  // path_follow critic: plan points beyond the furthest reached it aims at (whole number).
+  uint32_t path_follow_offset_from_furthest;
+  // path_angle critic: weight of the angle between a rollout's end heading and the plan point offset_from_furthest beyond the furthest reached, 1/rad (>= 0).
+  float path_angle_cost_weight;
+  // path_angle critic: power of its cost (>= 1).
+  uint32_t path_angle_cost_power;
+  // path_angle critic: on only while the local plan is at least this long, m (>= 0).
+  float path_angle_threshold_to_consider;
+  // path_angle critic: plan points beyond the furthest reached it aims at (whole number).
+  uint32_t path_angle_offset_from_furthest;
+  // path_angle critic: on only while C's bearing to that point is more than this off its heading, rad (>= 0).
+  float path_angle_max_angle_to_furthest;
+  // path_angle critic: 0 forward preference, 1 no directional preference (needs vx_min < 0), 2 the direction the path's heading allows (nav2's mode) (0, 1 or 2).
+  uint32_t path_angle_mode;
 } wmr_mppi_params_f32;
 
 // Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)) (`[controller] kind = "kanayama"`).
@@ -1025,6 +1063,44 @@ typedef struct {
   double obstacles_near_goal_distance;
   // obstacles critic: distance from C to an obstacle beyond which it costs nothing (nav2: the inflation layer's inflation_radius), m (>= 0).
   double obstacles_inflation_radius;
+  // On a path: the local plan covers this much path from the point closest to C (nav2's path handler), m (> 0; prune_distance / path_resolution <= 63).
+  double prune_distance;
+  // On a path: the spacing of the local plan's points (nav2: the global plan's, the costmap resolution), m (> 0).
+  double path_resolution;
+  // On a path: each search for the closest point covers this much path forward of the last one, m (> 0).
+  double max_robot_pose_search_dist;
+  // path_align critic: weight of the mean distance of a rollout to the plan point as far along, 1/m (>= 0).
+  double path_align_cost_weight;
+  // path_align critic: power of its cost (>= 1).
+  uint32_t path_align_cost_power;
+  // path_align critic: on only while the local plan is at least this long, m (>= 0).
+  double path_align_threshold_to_consider;
+  // path_align critic: on only once the furthest reached plan point is this many points in (whole number).
+  uint32_t path_align_offset_from_furthest;
+  // path_align critic: scores every this many steps of a rollout (>= 1).
+  uint32_t path_align_trajectory_point_step;
+  // path_align critic: off while more than this share of the plan up to the furthest point is blocked (in [0, 1]).
+  double path_align_max_path_occupancy_ratio;
+  // path_follow critic: weight of the distance of a rollout's end to the plan point offset_from_furthest beyond the furthest reached, 1/m (>= 0).
+  double path_follow_cost_weight;
+  // path_follow critic: power of its cost (>= 1).
+  uint32_t path_follow_cost_power;
+  // path_follow critic: on only while the local plan is at least this long, m (>= 0).
+  double path_follow_threshold_to_consider;
+  // path_follow critic: plan points beyond the furthest reached it aims at (whole number).
+  uint32_t path_follow_offset_from_furthest;
+  // path_angle critic: weight of the angle between a rollout's end heading and the plan point offset_from_furthest beyond the furthest reached, 1/rad (>= 0).
+  double path_angle_cost_weight;
+  // path_angle critic: power of its cost (>= 1).
+  uint32_t path_angle_cost_power;
+  // path_angle critic: on only while the local plan is at least this long, m (>= 0).
+  double path_angle_threshold_to_consider;
+  // path_angle critic: plan points beyond the furthest reached it aims at (whole number).
+  uint32_t path_angle_offset_from_furthest;
+  // path_angle critic: on only while C's bearing to that point is more than this off its heading, rad (>= 0).
+  double path_angle_max_angle_to_furthest;
+  // path_angle critic: 0 forward preference, 1 no directional preference (needs vx_min < 0), 2 the direction the path's heading allows (nav2's mode) (0, 1 or 2).
+  uint32_t path_angle_mode;
 } wmr_mppi_params_f64;
 
 // Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)) (`[controller] kind = "kanayama"`).

@@ -169,9 +169,9 @@ pub struct wmr_graceful_controller_f64 {
 /// cbindgen:ignore
 pub type wmr_mppi_params<T> = wmr_core::MppiParams<T>;
 /// Words (8 bytes each) of `wmr_mppi_controller_f32`: the law `mppi` with its wheel stage.
-pub const WMR_MPPI_CONTROLLER_F32_WORDS: usize = 344;
+pub const WMR_MPPI_CONTROLLER_F32_WORDS: usize = 352;
 /// Words (8 bytes each) of `wmr_mppi_controller_f64`: the law `mppi` with its wheel stage.
-pub const WMR_MPPI_CONTROLLER_F64_WORDS: usize = 512;
+pub const WMR_MPPI_CONTROLLER_F64_WORDS: usize = 536;
 /// The law `mppi` with its wheel stage (f32): Model predictive path integral control (nav2's MPPI): sampled twist sequences rolled out on a model, averaged by the softmax of their critics' costs.
 #[repr(C)]
 pub struct wmr_mppi_controller_f32 {

@@ -76,7 +76,7 @@ pub use laws::*;
 use core::ffi::c_char;
 
 /// Version of this C API: changes whenever a struct, a storage size or a signature does.
-pub const WMR_ABI_VERSION: u32 = 7;
+pub const WMR_ABI_VERSION: u32 = 8;
 
 /// Alignment, bytes, of every storage struct (they are arrays of `uint64_t`).
 pub const WMR_STORAGE_ALIGN: usize = 8;

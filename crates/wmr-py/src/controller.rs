@@ -520,6 +520,9 @@ macro_rules! law_class {
 /// One class per law of the registry (`wmr_core::for_each_law!`): its doc is the
 /// registry line's, then how to call it, by what the law follows.
 macro_rules! law_classes {
+    (@doc GoalOrPath) => {
+        law_classes!(@doc Goal)
+    };
     (@doc Goal) => {
         "\n\n(goal, robot=None, drive=None, **gains)\n\n\
 goal: the goal pose of C, (x_m, y_m, theta_rad) or a dict with x, y and theta (rad) or \
@@ -538,6 +541,11 @@ without `reference=` the law follows its state at the tick's time (tick k at k c
 the scenario loop's clock). robot, drive, gains: as for PaperController."
     };
     (@class Goal, $(#[$m:meta])* $rust:ident, $kind:expr) => {
+        law_class!($(#[$m])* $rust, $kind, goal => Goal);
+    };
+    // A law that follows a goal or a path is stepped by hand towards a goal (the scenario
+    // gives it a path: `simulate` with a `[reference]`).
+    (@class GoalOrPath, $(#[$m:meta])* $rust:ident, $kind:expr) => {
         law_class!($(#[$m])* $rust, $kind, goal => Goal);
     };
     (@class $other:ident, $(#[$m:meta])* $rust:ident, $kind:expr) => {

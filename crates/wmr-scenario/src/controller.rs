@@ -24,6 +24,12 @@ pub fn stabilization_law_kinds() -> Vec<&'static str> {
     LawParams::<f64>::defaults().iter().filter(|l| !l.follows().needs_reference()).map(LawParams::kind).collect()
 }
 
+/// The laws that may follow a `[reference]` (the tracking and path-following laws, and
+/// MPPI, which follows a goal or a path).
+pub fn reference_law_kinds() -> Vec<&'static str> {
+    LawParams::<f64>::defaults().iter().filter(|l| l.follows().accepts_reference()).map(LawParams::kind).collect()
+}
+
 /// The tracking and path-following laws' `kind` names (they need a `[reference]`).
 pub fn tracking_law_kinds() -> Vec<&'static str> {
     LawParams::<f64>::defaults().iter().filter(|l| l.follows().needs_reference()).map(LawParams::kind).collect()

@@ -449,21 +449,21 @@ pub fn check_law(
     controller: &str,
 ) -> Result<(), ScenarioError> {
     let k = format!("{controller}.kind");
-    match (law.follows().needs_reference(), reference) {
-        (true, None) => Err(ScenarioError::new(
+    match (law.follows(), reference) {
+        (f, None) if f.needs_reference() => Err(ScenarioError::new(
             k,
             format!(
                 "{:?} follows a moving reference: add a [reference] table (circle, figure_eight, line, waypoints, file)",
                 law.kind()
             ),
         )),
-        (false, Some(r)) => Err(ScenarioError::new(
+        (f, Some(r)) if !f.accepts_reference() => Err(ScenarioError::new(
             k,
             format!(
                 "{:?} is a point-stabilization law and the [reference] ({}) moves: use {}",
                 law.kind(),
                 r.built.kind(),
-                one_of(&crate::controller::tracking_law_kinds())
+                one_of(&crate::controller::reference_law_kinds())
             ),
         )),
         _ => Ok(()),

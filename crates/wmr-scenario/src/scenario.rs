@@ -557,7 +557,7 @@ impl Scenario {
                 lp.try_run(sim.n_steps(), sim.log_every(), sink, poll).map_continue(|o| RunResult::new(index, label, o))
             }
             Some(tr) => {
-                let path = self.setup.controller.law.follows() == wmr_core::Follows::Path;
+                let path = self.setup.controller.law.follows().follows_path();
                 crate::tracking_run::run(lp, sim, tr.tolerance, path, sink, poll)
                     .map_continue(|(o, t)| RunResult::new(index, label, o).with_tracking(t))
             }

@@ -257,3 +257,28 @@ fn check_fills_in_and_marks_the_defaults_of_every_table() {
     assert_eq!(again.setup(), sc.setup());
     assert_eq!(again.tracking().unwrap().reference.built, sc.tracking().unwrap().reference.built);
 }
+
+/// MPPI follows a goal or a `[reference]`'s path (issue 41): with a circle it runs, is
+/// judged on the distance to the path (the tracking outcome replayed here from the
+/// samples against the circle's equation: the distance to a circle is | |C - c| - r |),
+/// and a point-stabilization law's refusal names it among the laws that follow one.
+#[test]
+fn mppi_follows_a_references_path_and_is_judged_on_the_distance_to_it() {
+    let text = CIRCLE
+        .replace(
+            "kind = \"kanayama\"",
+            "kind = \"mppi\"\nbatch_size = 200\npath_align_offset_from_furthest = 5\npath_align_cost_weight = 30.0",
+        )
+        .replace("t_end = 20.0", "t_end = 12.0\ndt = 0.001\nlog_dt = 0.001\ntracking_tolerance = 0.05");
+    let sc = Scenario::from_toml_str(&text, "c").unwrap();
+    let mut errs = Vec::new();
+    let result = sc.run(0, |s| errs.push((s.t, ((s.state.x - 0.5).hypot(s.state.y + 0.25) - 0.8).abs()))).unwrap();
+    let tr = result.tracking.unwrap();
+    let half: Vec<f64> = errs.iter().filter(|(t, _)| *t >= 6.0).map(|(_, e)| *e).collect();
+    let max = half.iter().cloned().fold(0.0, f64::max);
+    // The watch finds the closest point by search (to 1e-5 of a step): close, not equal.
+    assert!((tr.max_last_half - max).abs() < 1e-6, "{} vs {max}", tr.max_last_half);
+    assert!(max < 0.05 && result.converged(), "{max} m off the circle");
+    let e = err_of(&CIRCLE.replace("kind = \"kanayama\"", "kind = \"polar\""));
+    assert!(e.message.contains("mppi"), "{e}");
+}

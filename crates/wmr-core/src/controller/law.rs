@@ -24,12 +24,27 @@ pub enum Follows {
     Trajectory,
     /// The geometric path of a reference, its timing ignored: path following.
     Path,
+    /// A goal at rest, or the path of a moving reference when the scenario has one (nav2's
+    /// MPPI: its goal critics at a goal, its path critics on a path).
+    GoalOrPath,
 }
 
 impl Follows {
     /// True for a law that needs a moving reference (a trajectory or its path).
     pub fn needs_reference(self) -> bool {
+        matches!(self, Follows::Trajectory | Follows::Path)
+    }
+
+    /// True for a law that may be given a moving reference.
+    pub fn accepts_reference(self) -> bool {
         self != Follows::Goal
+    }
+
+    /// True for a law that, given a moving reference, follows its path (its timing
+    /// ignored): the law receives the path ([`Law::update_on_path`]) and a run is judged
+    /// on its distance to the path.
+    pub fn follows_path(self) -> bool {
+        matches!(self, Follows::Path | Follows::GoalOrPath)
     }
 }
 

@@ -4,8 +4,9 @@
 //! - [`law`]: the [`Law`] contract and what a law asks of the wheels ([`WheelDemand`]).
 //! - [`paper`], [`paper_bidirectional`], [`polar`], [`lyapunov`], [`graceful`]: the laws; [`polar_frame`]
 //!   the polar laws' shared geometry.
-//! - [`mppi`]: model predictive path integral control (nav2's MPPI) to a goal; [`rollout`]
-//!   the dynamic model its rollouts predict with.
+//! - [`mppi`]: model predictive path integral control (nav2's MPPI) to a goal or along a
+//!   path; [`rollout`] the dynamic model its rollouts predict with; [`mppi_path`] its
+//!   local plan and path critics.
 //! - [`kanayama`], [`backstepping`]: trajectory tracking; [`pure_pursuit`]: path following.
 //! - [`registry`]: the one list of laws; [`any`]: every law behind one enum, chosen by
 //!   name at run time, expanded from it.
@@ -21,6 +22,7 @@ pub mod kanayama;
 pub mod law;
 pub mod lyapunov;
 pub mod mppi;
+pub mod mppi_path;
 pub mod observer;
 pub mod paper;
 pub mod paper_bidirectional;

@@ -53,7 +53,10 @@
 //! | `twirling` | mean_i |wz_i| | always (nav2: beyond the goal checker's tolerance) |
 //!
 //! A weight of 0 turns a critic off (nav2: leave it out of `critics`); twirling is off by
-//! default, as in nav2's example configuration.
+//! default, as in nav2's example configuration. On a path (the law called with
+//! [`Law::update_on_path`]) L is the local plan's length, the goal is the path's end, and
+//! the path critics (`path_align`, `path_follow`, `path_angle`) follow goal_angle
+//! ([`super::mppi_path`]: the local plan, the critics, where wmr differs).
 //!
 //! # Where wmr differs from nav2
 //!
@@ -76,6 +79,7 @@
 //! the goal, e_theta = wrap(theta_d - theta), e_s = (x_d - x) cos(theta) + (y_d - y) sin(theta).
 
 use super::law::{Law, LawContext, LawOutput, LawSpec, WheelDemand};
+use super::mppi_path::{LocalPlan, MAX_PLAN_POINTS, PathCosts, PathSums, PathTargets};
 use super::polar_frame::polar_errors;
 use super::rollout::{DynamicModel, ROLLOUT_LANES, Wide};
 use crate::drive::DriveParams;
@@ -83,7 +87,7 @@ use crate::error::{ParamError, check};
 use crate::lane::{Lane, Lanes, Mask};
 use crate::math::{Pose2, Twist2, wrap_angle};
 use crate::obstacle::Obstacles;
-use crate::reference::ReferenceState;
+use crate::reference::{Path, PathCursor, ReferenceState};
 use crate::sensor::Measurement;
 use crate::sensor::gaussian::mix64;
 use crate::{Real, RobotParams};
@@ -195,6 +199,44 @@ crate::params! {
         pub obstacles_near_goal_distance: T [unit = "m", rule = ">= 0"],
         /// obstacles critic: distance from C to an obstacle beyond which it costs nothing (nav2: the inflation layer's inflation_radius).
         pub obstacles_inflation_radius: T [unit = "m", rule = ">= 0"],
+        /// On a path: the local plan covers this much path from the point closest to C (nav2's path handler).
+        pub prune_distance: T [unit = "m", rule = "> 0; prune_distance / path_resolution <= 63"],
+        /// On a path: the spacing of the local plan's points (nav2: the global plan's, the costmap resolution).
+        pub path_resolution: T [unit = "m", rule = "> 0"],
+        /// On a path: each search for the closest point covers this much path forward of the last one.
+        pub max_robot_pose_search_dist: T [unit = "m", rule = "> 0"],
+        /// path_align critic: weight of the mean distance of a rollout to the plan point as far along.
+        pub path_align_cost_weight: T [unit = "1/m", rule = ">= 0"],
+        /// path_align critic: power of its cost.
+        pub path_align_cost_power: u32 [unit = "", rule = ">= 1"],
+        /// path_align critic: on only while the local plan is at least this long.
+        pub path_align_threshold_to_consider: T [unit = "m", rule = ">= 0"],
+        /// path_align critic: on only once the furthest reached plan point is this many points in.
+        pub path_align_offset_from_furthest: u32 [unit = "", rule = "whole number"],
+        /// path_align critic: scores every this many steps of a rollout.
+        pub path_align_trajectory_point_step: u32 [unit = "", rule = ">= 1"],
+        /// path_align critic: off while more than this share of the plan up to the furthest point is blocked.
+        pub path_align_max_path_occupancy_ratio: T [unit = "", rule = "in [0, 1]"],
+        /// path_follow critic: weight of the distance of a rollout's end to the plan point offset_from_furthest beyond the furthest reached.
+        pub path_follow_cost_weight: T [unit = "1/m", rule = ">= 0"],
+        /// path_follow critic: power of its cost.
+        pub path_follow_cost_power: u32 [unit = "", rule = ">= 1"],
+        /// path_follow critic: on only while the local plan is at least this long.
+        pub path_follow_threshold_to_consider: T [unit = "m", rule = ">= 0"],
+        /// path_follow critic: plan points beyond the furthest reached it aims at.
+        pub path_follow_offset_from_furthest: u32 [unit = "", rule = "whole number"],
+        /// path_angle critic: weight of the angle between a rollout's end heading and the plan point offset_from_furthest beyond the furthest reached.
+        pub path_angle_cost_weight: T [unit = "1/rad", rule = ">= 0"],
+        /// path_angle critic: power of its cost.
+        pub path_angle_cost_power: u32 [unit = "", rule = ">= 1"],
+        /// path_angle critic: on only while the local plan is at least this long.
+        pub path_angle_threshold_to_consider: T [unit = "m", rule = ">= 0"],
+        /// path_angle critic: plan points beyond the furthest reached it aims at.
+        pub path_angle_offset_from_furthest: u32 [unit = "", rule = "whole number"],
+        /// path_angle critic: on only while C's bearing to that point is more than this off its heading.
+        pub path_angle_max_angle_to_furthest: T [unit = "rad", rule = ">= 0"],
+        /// path_angle critic: 0 forward preference, 1 no directional preference (needs vx_min < 0), 2 the direction the path's heading allows (nav2's mode).
+        pub path_angle_mode: u32 [unit = "", rule = "0, 1 or 2"],
     }
 }
 
@@ -207,7 +249,11 @@ impl<T: Real> Default for MppiParams<T> {
     /// prefer_forward 5 (beyond 0.5 m), powers 1; twirling off (nav2's weight when on: 10);
     /// obstacles (on when the world has some): critical weight 20, repulsion weight 1.5,
     /// collision cost 100000, margin 0.1 m, near the goal 0.5 m, inflation radius 0.55 m
-    /// (nav2's inflation layer's default).
+    /// (nav2's inflation layer's default); on a path ([`super::mppi_path`]): a local plan of
+    /// 2 m (nav2's prune_distance) at 0.05 m, searched within 1.5 m, path_align 10 (from
+    /// 20 points in, every 4 steps, within 0.5 m, occupancy 0.07), path_follow 5 (6 points
+    /// on, within 1.4 m), path_angle 2.2 (4 points on, within 0.5 m, beyond pi/4 rad,
+    /// forward preference): nav2's critics' own defaults.
     fn default() -> Self {
         Self {
             motion_model: MotionModel::Dynamic,
@@ -246,6 +292,25 @@ impl<T: Real> Default for MppiParams<T> {
             obstacles_collision_margin_distance: T::lit(0.1),
             obstacles_near_goal_distance: T::lit(0.5),
             obstacles_inflation_radius: T::lit(0.55),
+            prune_distance: T::lit(2.0),
+            path_resolution: T::lit(0.05),
+            max_robot_pose_search_dist: T::lit(1.5),
+            path_align_cost_weight: T::lit(10.0),
+            path_align_cost_power: 1,
+            path_align_threshold_to_consider: T::lit(0.5),
+            path_align_offset_from_furthest: 20,
+            path_align_trajectory_point_step: 4,
+            path_align_max_path_occupancy_ratio: T::lit(0.07),
+            path_follow_cost_weight: T::lit(5.0),
+            path_follow_cost_power: 1,
+            path_follow_threshold_to_consider: T::lit(1.4),
+            path_follow_offset_from_furthest: 6,
+            path_angle_cost_weight: T::lit(2.2),
+            path_angle_cost_power: 1,
+            path_angle_threshold_to_consider: T::lit(0.5),
+            path_angle_offset_from_furthest: 4,
+            path_angle_max_angle_to_furthest: T::lit(core::f64::consts::FRAC_PI_4),
+            path_angle_mode: 0,
         }
     }
 }
@@ -324,9 +389,9 @@ impl<T: Real> MppiParams<T> {
             ));
         }
         let model_dt = check::positive("model_dt", self.model_dt)?;
-        let ratio = (model_dt / control_dt).round();
+        let ticks = (model_dt / control_dt).round();
         let tol = T::lit(1e-9) * model_dt;
-        if ratio < T::one() || (ratio * control_dt - model_dt).abs() > tol || ratio > T::lit(1e6) {
+        if ticks < T::one() || (ticks * control_dt - model_dt).abs() > tol || ticks > T::lit(1e6) {
             return Err(check::out_of_range(
                 "model_dt",
                 "must be a whole multiple of control_dt (at least control_dt)",
@@ -368,8 +433,41 @@ impl<T: Real> MppiParams<T> {
         check::non_negative("obstacles_collision_margin_distance", self.obstacles_collision_margin_distance)?;
         check::non_negative("obstacles_near_goal_distance", self.obstacles_near_goal_distance)?;
         check::non_negative("obstacles_inflation_radius", self.obstacles_inflation_radius)?;
-        // The ratio is a whole number in [1, 1e6] (checked above).
-        Ok(ratio.to_u32().unwrap_or(1))
+        let prune = check::positive("prune_distance", self.prune_distance)?;
+        let resolution = check::positive("path_resolution", self.path_resolution)?;
+        if prune / resolution > T::lit((MAX_PLAN_POINTS - 1) as f64) {
+            return Err(check::out_of_range(
+                "prune_distance",
+                "prune_distance / path_resolution must be <= 63 (the local plan has a fixed capacity, MAX_PLAN_POINTS)",
+                prune,
+            ));
+        }
+        check::positive("max_robot_pose_search_dist", self.max_robot_pose_search_dist)?;
+        check::non_negative("path_align_cost_weight", self.path_align_cost_weight)?;
+        count_at_least::<T>("path_align_cost_power", self.path_align_cost_power, 1)?;
+        check::non_negative("path_align_threshold_to_consider", self.path_align_threshold_to_consider)?;
+        count_at_least::<T>("path_align_trajectory_point_step", self.path_align_trajectory_point_step, 1)?;
+        let occupancy =
+            check::non_negative("path_align_max_path_occupancy_ratio", self.path_align_max_path_occupancy_ratio)?;
+        if occupancy > T::one() {
+            return Err(check::out_of_range("path_align_max_path_occupancy_ratio", "must be in [0, 1]", occupancy));
+        }
+        check::non_negative("path_follow_cost_weight", self.path_follow_cost_weight)?;
+        count_at_least::<T>("path_follow_cost_power", self.path_follow_cost_power, 1)?;
+        check::non_negative("path_follow_threshold_to_consider", self.path_follow_threshold_to_consider)?;
+        check::non_negative("path_angle_cost_weight", self.path_angle_cost_weight)?;
+        count_at_least::<T>("path_angle_cost_power", self.path_angle_cost_power, 1)?;
+        check::non_negative("path_angle_threshold_to_consider", self.path_angle_threshold_to_consider)?;
+        check::non_negative("path_angle_max_angle_to_furthest", self.path_angle_max_angle_to_furthest)?;
+        if self.path_angle_mode > 2 {
+            return Err(check::out_of_range(
+                "path_angle_mode",
+                "must be 0 (forward preference), 1 (no directional preference) or 2 (consider feasible path orientations)",
+                T::lit(f64::from(self.path_angle_mode)),
+            ));
+        }
+        // A whole number in [1, 1e6] (checked above).
+        Ok(ticks.to_u32().unwrap_or(1))
     }
 }
 
@@ -482,9 +580,15 @@ pub fn kinematic_rollout<L: Lane>(
 }
 
 /// One run's planning state and its inputs at a cycle, in scalars.
-struct Cycle<T> {
+struct Cycle<'a, T> {
     pose: Pose2<T>,
+    /// The goal of the goal critics: the reference's pose at rest, or the path's end (the
+    /// local plan's last point).
     goal: Pose2<T>,
+    /// L, m: the local plan's length on a path, the distance to the goal at rest.
+    path_length: T,
+    /// On a path: the path critics' targets.
+    path: Option<PathTargets<'a>>,
     /// The speed the rollouts start from (nav2 `state_.speed`): the last command within
     /// what the accelerations allow from the measured speed.
     speed: Twist2<T>,
@@ -551,6 +655,8 @@ struct CriticSums<T> {
     /// sum_i (inflation_radius - clearance_i) over the steps within the inflation radius
     /// before any contact, m.
     repulsion: T,
+    /// On a path: the path critics' raw costs and the plan point reached.
+    path: PathCosts,
 }
 
 /// The obstacles critic's sums over a rollout's steps (nav2 `ObstaclesCritic::score`),
@@ -612,9 +718,11 @@ impl<T: Real> Planner<T> {
     #[inline(always)]
     fn critics(&self, sums: &CriticSums<T>, n: usize, path_length: T) -> T {
         let p = &self.p;
-        let CriticSums { goal: goal_sum, angle: angle_sum, beyond, backwards, twirl, obstacle, repulsion } = *sums;
+        let CriticSums { goal: goal_sum, angle: angle_sum, beyond, backwards, twirl, obstacle, repulsion, path } =
+            *sums;
         let nt = T::lit(n as f64);
-        // nav2's critic order: constraint, goal, goal_angle, prefer_forward, twirling.
+        // nav2's critic order: constraint, goal, goal_angle, path_align, path_follow,
+        // path_angle, prefer_forward, twirling (the path critics only on a path).
         let mut cost = T::zero();
         if p.constraint_cost_weight > T::zero() {
             cost = cost + critic_cost(beyond, p.constraint_cost_weight, p.constraint_cost_power);
@@ -624,6 +732,15 @@ impl<T: Real> Planner<T> {
         }
         if p.goal_angle_cost_weight > T::zero() && path_length <= p.goal_angle_threshold_to_consider {
             cost = cost + critic_cost(angle_sum / nt, p.goal_angle_cost_weight, p.goal_angle_cost_power);
+        }
+        if let Some(x) = path.align {
+            cost = cost + critic_cost(T::lit(x), p.path_align_cost_weight, p.path_align_cost_power);
+        }
+        if let Some(x) = path.follow {
+            cost = cost + critic_cost(T::lit(x), p.path_follow_cost_weight, p.path_follow_cost_power);
+        }
+        if let Some(x) = path.angle {
+            cost = cost + critic_cost(T::lit(x), p.path_angle_cost_weight, p.path_angle_cost_power);
         }
         if p.prefer_forward_cost_weight > T::zero() && path_length >= p.prefer_forward_threshold_to_consider {
             cost = cost + critic_cost(backwards, p.prefer_forward_cost_weight, p.prefer_forward_cost_power);
@@ -647,7 +764,7 @@ impl<T: Real> Planner<T> {
     #[inline(always)]
     fn lane_sums(
         &self,
-        c: &Cycle<T>,
+        c: &Cycle<'_, T>,
         cvx: &[[T; MAX_TIME_STEPS]; ROLLOUT_LANES],
         cwz: &[[T; MAX_TIME_STEPS]; ROLLOUT_LANES],
         n: usize,
@@ -666,10 +783,12 @@ impl<T: Real> Planner<T> {
             twirl: zero,
             obstacle: zero,
             repulsion: zero,
+            path: PathCosts::default(),
         };
         let pf = self.p_f64();
         let mut obstacle = ObstacleSums::<Wide>::new(&pf);
         let seeing = !self.obstacles_f64.is_empty();
+        let mut on_path = c.path.as_ref().map(|t| (t, PathSums::new()));
         let held = Twist2 { v: Wide::splat(f(c.speed.v)), omega: Wide::splat(f(c.speed.omega)) };
         let demand = |i: usize| match i.checked_sub(1) {
             None => held,
@@ -679,7 +798,7 @@ impl<T: Real> Planner<T> {
             },
         };
         let start = Pose2 { x: f(c.pose.x), y: f(c.pose.y), theta: f(c.pose.theta) };
-        let mut visit = |_: usize, pose: Pose2<Wide>, vel: Twist2<Wide>| {
+        let mut visit = |i: usize, pose: Pose2<Wide>, vel: Twist2<Wide>| {
             sums.goal = sums.goal + (pose.x - goal.x).hypot(pose.y - goal.y);
             sums.angle = sums.angle + wrap_angle(goal.theta - pose.theta).abs();
             sums.beyond = sums.beyond + ((vel.v - vx_max).max(zero) + (vx_min - vel.v).max(zero)) * dt;
@@ -687,6 +806,9 @@ impl<T: Real> Planner<T> {
             sums.twirl = sums.twirl + vel.omega.abs();
             if seeing {
                 obstacle.add(&pf, &self.obstacles_f64, pose.x, pose.y);
+            }
+            if let Some((t, sums)) = on_path.as_mut() {
+                sums.add(t, i, pose);
             }
         };
         match &self.dynamic {
@@ -706,6 +828,7 @@ impl<T: Real> Planner<T> {
             }
         }
         (sums.obstacle, sums.repulsion) = obstacle.finish(&pf);
+        let path = on_path.map(|(t, sums)| sums.finish(t));
         let at = |x: Wide, j: usize| T::lit(x.lane(j));
         core::array::from_fn(|j| CriticSums {
             goal: at(sums.goal, j),
@@ -715,6 +838,7 @@ impl<T: Real> Planner<T> {
             twirl: at(sums.twirl, j),
             obstacle: at(sums.obstacle, j),
             repulsion: at(sums.repulsion, j),
+            path: path.and_then(|p| p.get(j).copied()).unwrap_or_default(),
         })
     }
 
@@ -724,14 +848,16 @@ impl<T: Real> Planner<T> {
     }
 
     /// One cycle: updates `vx`, `wz` (the optimal sequence, `time_steps` long) and returns
-    /// the command (u_1), before the shift.
-    fn plan(&self, c: &Cycle<T>, vx: &mut [T], wz: &mut [T]) -> Twist2<T> {
+    /// the command (u_1), before the shift, and on a path the furthest plan point the last
+    /// iteration's rollouts reached (F, for the next cycle).
+    fn plan(&self, c: &Cycle<'_, T>, vx: &mut [T], wz: &mut [T]) -> (Twist2<T>, usize) {
         let p = &self.p;
         // Bounded by the arrays below, so that no index can panic (the firmware's C
         // library is checked for panic paths): `time_steps` is validated within it.
         let n = vx.len().min(wz.len()).min(MAX_TIME_STEPS);
         let (vx, wz) = (&mut vx[..n], &mut wz[..n]);
-        let path_length = (c.goal.x - c.pose.x).hypot_libm(c.goal.y - c.pose.y);
+        let path_length = c.path_length;
+        let mut furthest = 0;
         let inv_temp = p.temperature.recip();
         let (vx_std, wz_std) = (p.vx_std, p.wz_std);
         let gamma_vx = if vx_std > T::zero() { p.gamma / (vx_std * vx_std) } else { T::zero() };
@@ -743,6 +869,7 @@ impl<T: Real> Planner<T> {
             }
             let key = draw_key(p.seed, c.draw.wrapping_add(u64::from(iter)));
             let mut soft = Softmax::new();
+            furthest = 0;
             // nav2 `updateControlSequence`: the control cost, vx then wz.
             let control_cost = |cvx: &[T], cwz: &[T]| {
                 let (mut ctrl_vx, mut ctrl_wz) = (T::zero(), T::zero());
@@ -775,6 +902,7 @@ impl<T: Real> Planner<T> {
                 for ((cv, cw), sums) in cvx_w.iter().zip(&cwz_w).zip(&sums).take(lanes) {
                     let cost = self.critics(sums, n, path_length) + control_cost(&cv[..n], &cw[..n]);
                     soft.add(cost, inv_temp, &cv[..n], &cw[..n]);
+                    furthest = furthest.max(sums.path.reached);
                 }
             }
             let inv_sum = soft.sum.recip();
@@ -785,12 +913,14 @@ impl<T: Real> Planner<T> {
             self.constrain(c, vx, wz);
         }
         // u_1 (`time_steps` >= 2 is validated; the speed itself otherwise).
-        Twist2 { v: vx.get(1).copied().unwrap_or(c.speed.v), omega: wz.get(1).copied().unwrap_or(c.speed.omega) }
+        let command =
+            Twist2 { v: vx.get(1).copied().unwrap_or(c.speed.v), omega: wz.get(1).copied().unwrap_or(c.speed.omega) };
+        (command, furthest)
     }
 
     /// nav2 `applyControlSequenceConstraints` (shifting, DiffDrive): u_0 = speed, every
     /// element within the bounds and the accelerations from the one before.
-    fn constrain(&self, c: &Cycle<T>, vx: &mut [T], wz: &mut [T]) {
+    fn constrain(&self, c: &Cycle<'_, T>, vx: &mut [T], wz: &mut [T]) {
         let p = &self.p;
         let dt = p.model_dt;
         let (max_dvx, min_dvx, max_dwz) = (dt * p.ax_max, dt * p.ax_min, dt * p.az_max);
@@ -828,6 +958,11 @@ pub struct MppiLaw<L: Lane> {
     tick: L,
     /// Planning cycles since the start: the noise's draw counter.
     cycle: L,
+    /// On a path: the point closest to C, followed from tick to tick.
+    cursor: PathCursor<L>,
+    /// On a path: the path parameter of the furthest plan point the last cycle's rollouts
+    /// reached (F, [`super::mppi_path`]); 0 before the first.
+    furthest: L,
 }
 
 impl<L: Lane> MppiLaw<L> {
@@ -859,6 +994,8 @@ impl<L: Lane> MppiLaw<L> {
             command: Twist2::default(),
             tick: L::default(),
             cycle: L::default(),
+            cursor: PathCursor::default(),
+            furthest: L::default(),
         })
     }
 
@@ -885,7 +1022,9 @@ impl<L: Lane> MppiLaw<L> {
         }
     }
 
-    fn plan_lane(&mut self, i: usize, m: &Measurement<L>, r: &ReferenceState<L>) {
+    /// Plans lane `i` from measurement `m` to the reference `r` (at rest: its pose is the
+    /// goal) or, given, along `path` from the cursor's closest point.
+    fn plan_lane(&mut self, i: usize, m: &Measurement<L>, r: &ReferenceState<L>, path: Option<&dyn Path<L>>) {
         let p = self.planner.p;
         // Within the arrays (validated so), so that no index can panic.
         let n = (p.time_steps as usize).min(MAX_TIME_STEPS);
@@ -903,9 +1042,34 @@ impl<L: Lane> MppiLaw<L> {
             omega: c_w.max(w_meas - dt * p.az_max).min(w_meas + dt * p.az_max),
         };
         let cycle = self.cycle.lane(i).to_f64_lossless() as u64;
+        let pose = Pose2 { x: m.pose.x.lane(i), y: m.pose.y.lane(i), theta: m.pose.theta.lane(i) };
+        let plan = path.map(|path| {
+            let prune = p.prune_distance.to_f64_lossless();
+            LocalPlan::along(path, i, self.cursor.s.lane(i), p.path_resolution, prune, &self.planner.obstacles_f64)
+        });
+        let lit = <L::Scalar as Real>::lit;
+        let (goal, path_length, targets) = match &plan {
+            Some(plan) => {
+                let end = plan.last();
+                let goal = Pose2 { x: lit(end.x), y: lit(end.y), theta: lit(end.theta) };
+                let furthest = plan.index_at(self.furthest.lane(i).to_f64_lossless());
+                let at = Pose2 {
+                    x: pose.x.to_f64_lossless(),
+                    y: pose.y.to_f64_lossless(),
+                    theta: pose.theta.to_f64_lossless(),
+                };
+                (goal, lit(plan.length()), Some(PathTargets::new(&p, plan, furthest, at)))
+            }
+            None => {
+                let goal = Pose2 { x: r.pose.x.lane(i), y: r.pose.y.lane(i), theta: r.pose.theta.lane(i) };
+                (goal, (goal.x - pose.x).hypot_libm(goal.y - pose.y), None)
+            }
+        };
         let c = Cycle {
-            pose: Pose2 { x: m.pose.x.lane(i), y: m.pose.y.lane(i), theta: m.pose.theta.lane(i) },
-            goal: Pose2 { x: r.pose.x.lane(i), y: r.pose.y.lane(i), theta: r.pose.theta.lane(i) },
+            pose,
+            goal,
+            path_length,
+            path: targets,
             speed,
             measured: Twist2 { v: v_meas, omega: w_meas },
             draw: cycle.wrapping_mul(u64::from(p.iteration_count)),
@@ -916,7 +1080,10 @@ impl<L: Lane> MppiLaw<L> {
             *v = sv.lane(i);
             *w = sw.lane(i);
         }
-        let cmd = self.planner.plan(&c, &mut vx[..n], &mut wz[..n]);
+        let (cmd, reached) = self.planner.plan(&c, &mut vx[..n], &mut wz[..n]);
+        if let Some(plan) = &plan {
+            self.furthest.set_lane(i, lit(plan.s(reached)));
+        }
         // nav2 `shiftControlSequence`: one step on, the last element repeated.
         let on = vx.iter().zip(&wz).take(n).skip(1);
         for ((sv, sw), (&v, &w)) in self.vx.iter_mut().zip(self.wz.iter_mut()).zip(on) {
@@ -936,12 +1103,13 @@ impl<L: Lane> MppiLaw<L> {
     }
 }
 
-impl<L: Lane> Law<L> for MppiLaw<L> {
-    fn update(&mut self, _t: L, m: &Measurement<L>, r: &ReferenceState<L>) -> LawOutput<L> {
+impl<L: Lane> MppiLaw<L> {
+    /// One control tick: plans the lanes whose cycle starts now, holds the command.
+    fn control_tick(&mut self, m: &Measurement<L>, r: &ReferenceState<L>, path: Option<&dyn Path<L>>) -> LawOutput<L> {
         for i in 0..L::WIDTH {
             let tick = self.tick.lane(i);
             if tick == <L::Scalar as num_traits::Zero>::zero() {
-                self.plan_lane(i, m, r);
+                self.plan_lane(i, m, r, path);
             }
             let next = tick + <L::Scalar as num_traits::One>::one();
             let next = if next >= <L::Scalar as Real>::lit(f64::from(self.ticks_per_plan)) {
@@ -952,6 +1120,22 @@ impl<L: Lane> Law<L> for MppiLaw<L> {
             self.tick.set_lane(i, next);
         }
         LawOutput { demand: WheelDemand::Twist(self.command), errors: polar_errors(m.pose, r.pose) }
+    }
+}
+
+impl<L: Lane> Law<L> for MppiLaw<L> {
+    /// To the reference's pose as a goal (at rest: nav2's goal critics).
+    fn update(&mut self, _t: L, m: &Measurement<L>, r: &ReferenceState<L>) -> LawOutput<L> {
+        self.control_tick(m, r, None)
+    }
+
+    /// Along the reference's path, its timing ignored (nav2's path critics,
+    /// [`super::mppi_path`]): the cursor follows the point closest to C every tick.
+    fn update_on_path(&mut self, _t: L, m: &Measurement<L>, r: &ReferenceState<L>, path: &dyn Path<L>) -> LawOutput<L> {
+        let p = &self.planner.p;
+        let ds = p.path_resolution * <L::Scalar as Real>::lit(0.25);
+        self.cursor.advance(path, m.pose.x, m.pose.y, p.max_robot_pose_search_dist, ds);
+        self.control_tick(m, r, Some(path))
     }
 
     fn reset_lanes(&mut self, lanes: L::Mask) {
@@ -964,5 +1148,7 @@ impl<L: Lane> Law<L> for MppiLaw<L> {
         self.command.omega = L::select(lanes, zero, self.command.omega);
         self.tick = L::select(lanes, zero, self.tick);
         self.cycle = L::select(lanes, zero, self.cycle);
+        self.cursor.reset_lanes(lanes);
+        self.furthest = L::select(lanes, zero, self.furthest);
     }
 }

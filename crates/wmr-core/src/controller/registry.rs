@@ -12,7 +12,7 @@
 //! - `kind`: the `[controller] kind` of a scenario and the C names (`wmr_<kind>_...`);
 //! - `code N`: its number in a trace file and in the C storage tags: never reused, never
 //!   changed (a trace written today must read the same tomorrow);
-//! - `follows F`: [`Follows::Goal`](super::Follows), `Trajectory` or `Path`.
+//! - `follows F`: [`Follows::Goal`](super::Follows), `Trajectory`, `Path` or `GoalOrPath`.
 //!
 //! The lines are in documentation order (the order of `--help`, the docs and the C
 //! header). A new law is its file plus one line here (CONTRIBUTING.md).
@@ -45,7 +45,7 @@ macro_rules! for_each_law {
             /// Park and Kuipers' graceful law as nav2's docking server drives it: curvature from egocentric polar coordinates, speed falling with it, forward or backwards.
             Graceful(GracefulParams, GracefulLaw) = graceful, code 7, follows Goal;
             /// Model predictive path integral control (nav2's MPPI): sampled twist sequences rolled out on a model, averaged by the softmax of their critics' costs.
-            Mppi(MppiParams, MppiLaw) = mppi, code 8, follows Goal;
+            Mppi(MppiParams, MppiLaw) = mppi, code 8, follows GoalOrPath;
             /// Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)).
             Kanayama(KanayamaParams, KanayamaLaw) = kanayama, code 4, follows Trajectory;
             /// Kanayama's twist back-stepped into the dynamics: wheel torques from the controller's model.

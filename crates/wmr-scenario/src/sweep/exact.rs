@@ -4,7 +4,7 @@
 
 use std::ops::{ControlFlow, Range};
 
-use wmr_core::{Follows, Outcome};
+use wmr_core::Outcome;
 
 use super::outcome::SweepOutcome;
 use super::spec::{SweepSpec, with_settings};
@@ -98,7 +98,7 @@ impl SweepSpec {
             Some(tr) => {
                 let reference = tr.references[i.reference].1.built.clone();
                 let mut lp = assemble::closed_loop_to(setup, k as u64, start, reference, sim, origin)?;
-                let path_following = setup.controller.law.follows() == Follows::Path;
+                let path_following = setup.controller.law.follows().follows_path();
                 // Only the outcome counts: the samples go nowhere (every plant step is watched).
                 let run =
                     tracking_run::run(&mut lp, sim, tr.tolerance, path_following, |_| ControlFlow::Continue(()), poll);
