@@ -465,6 +465,7 @@ mod tests {
 
         fn closest_pt(vec: &[f64], dist: f64, init: usize) -> usize {
             let mut distim1 = if init != 0 { vec[init] } else { 0.0 };
+            #[allow(clippy::needless_range_loop)] // nav2's loop, as written there
             for i in init + 1..vec.len() {
                 let disti = vec[i];
                 if disti > dist {
@@ -516,8 +517,7 @@ mod tests {
             yaw: plan.yaw[..plan.len()].to_vec(),
             valid: plan.valid[..plan.len()].to_vec(),
         };
-        let mut p = MppiParams::<f64>::default();
-        p.path_align_offset_from_furthest = 5;
+        let p = MppiParams::<f64> { path_align_offset_from_furthest: 5, ..MppiParams::default() };
         let pose = Pose2 { x: 1.0, y: 0.05, theta: 2.5 };
         // Random rollouts around the circle: 8 lanes x 3 groups, 56 steps.
         let mut h = 7u64;
@@ -543,6 +543,7 @@ mod tests {
         let mut reached = 0;
         for (g, group) in rollouts.chunks(ROLLOUT_LANES).enumerate() {
             let mut sums = PathSums::new();
+            #[allow(clippy::needless_range_loop)] // step i of every rollout of the group
             for i in 0..56 {
                 let pick = |f: fn(&Pose2<f64>) -> f64| Lanes(core::array::from_fn(|j| f(&group[j % group.len()][i])));
                 sums.add(&t, i, Pose2 { x: pick(|q| q.x), y: pick(|q| q.y), theta: pick(|q| q.theta) });
