@@ -6,7 +6,7 @@
 //!   the polar laws' shared geometry.
 //! - [`mppi`]: model predictive path integral control (nav2's MPPI) to a goal or along a
 //!   path; [`rollout`] the dynamic model its rollouts predict with; [`mppi_path`] its
-//!   local plan and path critics.
+//!   local plan and path critics; [`vector_unit`] whether its planner's AVX2 build may run.
 //! - [`kanayama`], [`backstepping`]: trajectory tracking; [`pure_pursuit`]: path following.
 //! - [`registry`]: the one list of laws; [`any`]: every law behind one enum, chosen by
 //!   name at run time, expanded from it.
@@ -33,6 +33,7 @@ pub mod registry;
 pub mod rollout;
 pub mod saturation;
 pub mod servo;
+pub mod vector_unit;
 pub mod wheel_stage;
 
 pub use any::{AnyLaw, LawParams};
