@@ -1,6 +1,7 @@
 //! Whether the processor has AVX2, found once without `std`: MPPI's planner, compiled a
-//! second time for AVX2, runs there 1.5 to 1.7 times as fast (AMD EPYC Zen 4, 2026-12-07:
-//! `benches/core.rs`, `mppi_cycle`) and gives the same bits, as the lanes of
+//! second time for AVX2, runs there 1.3 (kinematic) to 1.6 (dynamic) times as fast (one
+//! cycle at nav2's defaults, 1.21 -> 0.93 ms and 2.25 -> 1.44 ms, best of 5 x 100 cycles,
+//! AMD EPYC Zen 4, load average 6.5, 2026-12-07) and gives the same bits, as the lanes of
 //! `wmr-cli sweep --fast` do (no FMA contraction, the same operations in the same order).
 //! On other processors and targets the baseline build runs.
 
