@@ -244,6 +244,16 @@ pub struct wmr_disturbance_observer_params<T> {
     /// g, rad/s (> 0, finite): the bandwidth of the Q-filter g / (s + g); the estimate
     /// follows a step of the disturbance with time constant 1 / g.
     pub bandwidth: T,
+    /// The driver deadband the controller believes, a fraction of the drive's largest
+    /// command (in [0, 1); > 0 only with a finite drive limit; 0: off): a command that
+    /// asks for motion is lifted to it (docs/model.md, "Disturbance observer").
+    pub deadband: T,
+    /// The breakaway torque at each wheel the controller believes, N m (>= 0, finite;
+    /// 0: off): a command that asks for motion is lifted to the one giving it at rest.
+    pub static_friction: T,
+    /// b / c_min, in [0, 1] (default 0.5): commands within this fraction of the lift of
+    /// zero pass unlifted, so a holding robot does not chatter.
+    pub precompensation_band: T,
 }
 
 /// One value per driven wheel (angles, speeds, torques, commands).
