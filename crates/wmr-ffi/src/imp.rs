@@ -972,7 +972,11 @@ pub fn disturbance_observer_params_default<T: Prec>(out: *mut wmr_disturbance_ob
     guard(core::ptr::null_mut(), || {
         let DisturbanceObserverParams { bandwidth, deadband, static_friction, precompensation_band } =
             DisturbanceObserverParams::<T>::default();
-        write(out, "out", wmr_disturbance_observer_params { bandwidth, deadband, static_friction, precompensation_band })
+        write(
+            out,
+            "out",
+            wmr_disturbance_observer_params { bandwidth, deadband, static_friction, precompensation_band },
+        )
     })
 }
 

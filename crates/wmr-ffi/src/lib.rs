@@ -76,7 +76,7 @@ pub use laws::*;
 use core::ffi::c_char;
 
 /// Version of this C API: changes whenever a struct, a storage size or a signature does.
-pub const WMR_ABI_VERSION: u32 = 7;
+pub const WMR_ABI_VERSION: u32 = 8;
 
 /// Alignment, bytes, of every storage struct (they are arrays of `uint64_t`).
 pub const WMR_STORAGE_ALIGN: usize = 8;
@@ -386,9 +386,9 @@ pub const WMR_DRIVE_F32_WORDS: usize = 8;
 /// Words of a validated drive, `wmr_drive_f64`.
 pub const WMR_DRIVE_F64_WORDS: usize = 12;
 /// Words of a plant, `wmr_plant_f32`.
-pub const WMR_PLANT_F32_WORDS: usize = 104;
+pub const WMR_PLANT_F32_WORDS: usize = 144;
 /// Words of a plant, `wmr_plant_f64`.
-pub const WMR_PLANT_F64_WORDS: usize = 192;
+pub const WMR_PLANT_F64_WORDS: usize = 256;
 /// Words of a sensor, `wmr_sensor_f32` (perfect, pose or odometry sensor).
 pub const WMR_SENSOR_F32_WORDS: usize = 144;
 /// Words of a sensor, `wmr_sensor_f64` (perfect, pose or odometry sensor).

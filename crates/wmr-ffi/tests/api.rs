@@ -800,10 +800,13 @@ fn issue_42_the_observer_bandwidth_is_checked_by_the_core() {
     let model = Robot::<f64>::paper();
     let drive = wmr_core::DriveParams::default().validate(&model).unwrap();
     let bad = [0.0, -1.0, f64::NAN, f64::INFINITY];
-    let cases = [op.bandwidth, 1e-3, 1e6].into_iter().chain(bad).map(|b| ("observer.bandwidth", Some(b), None, None, None));
+    let cases =
+        [op.bandwidth, 1e-3, 1e6].into_iter().chain(bad).map(|b| ("observer.bandwidth", Some(b), None, None, None));
     let cases = cases
         .chain([0.05, 0.5, -0.1, 1.0, f64::NAN].map(|x| ("observer.deadband", None, Some(x), None, None)))
-        .chain([0.04, 3.0, -0.1, f64::NAN, f64::INFINITY].map(|x| ("observer.static_friction", None, None, Some(x), None)))
+        .chain(
+            [0.04, 3.0, -0.1, f64::NAN, f64::INFINITY].map(|x| ("observer.static_friction", None, None, Some(x), None)),
+        )
         .chain([0.0, 1.0, -0.1, 1.5, f64::NAN].map(|x| ("observer.precompensation_band", None, None, None, Some(x))));
     for (name, b, dead, stat, band) in cases {
         let p = wmr_disturbance_observer_params {

@@ -132,11 +132,8 @@ pub fn write(params: &ControllerParams<f64>, out: &mut String, note: impl Fn(&st
         } else {
             String::new()
         };
-        let line = format!(
-            "observer = {{ kind = \"{}\", bandwidth = {}{pre} }}",
-            OBSERVER_KINDS[0],
-            toml_f64(o.bandwidth)
-        );
+        let line =
+            format!("observer = {{ kind = \"{}\", bandwidth = {}{pre} }}", OBSERVER_KINDS[0], toml_f64(o.bandwidth));
         match note("observer") {
             Some(n) => out.push_str(&format!("{line:<32}# {n}\n")),
             None => out.push_str(&format!("{line}\n")),

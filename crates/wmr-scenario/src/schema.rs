@@ -293,7 +293,8 @@ pub fn schema() -> Vec<SchemaKey> {
                 k.key = match k.key {
                     "mass" => "payload.mass",
                     "x" => "payload.x",
-                    _ => "payload.y",
+                    "y" => "payload.y",
+                    _ => "payload.t",
                 };
                 k
             }),

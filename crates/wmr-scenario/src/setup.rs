@@ -424,7 +424,10 @@ impl Setup {
         if self.payload.appears_later() {
             // The robot alone until the payload appears, then `truth` ([`Plant::with_payload_at`]).
             let plant = Plant::on(self.robot, self.drive, self.world, start)?;
-            return plant.with_traction(self.traction).with_pushes(self.pushes).with_payload_at(self.payload.t(), self.truth);
+            return plant
+                .with_traction(self.traction)
+                .with_pushes(self.pushes)
+                .with_payload_at(self.payload.t(), self.truth);
         }
         Ok(Plant::on(self.truth, self.drive, self.world, start)?.with_traction(self.traction).with_pushes(self.pushes))
     }
