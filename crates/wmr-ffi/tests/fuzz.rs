@@ -94,7 +94,7 @@ struct Scratch(Vec<u64>);
 
 impl Scratch {
     fn new() -> Self {
-        Scratch(vec![0; 256])
+        Scratch(vec![0; 512])
     }
     fn ptr<X>(&mut self) -> *mut X {
         assert!(size_of::<X>() + 8 <= self.0.len() * 8);
