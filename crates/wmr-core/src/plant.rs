@@ -96,7 +96,6 @@ impl<T: Real> Plant<T> {
             pushes: Pushes::default(),
             payload_step: None,
         })
-
     }
 
     /// The same plant whose robot becomes `carrying` at time `t` (s): a payload put on

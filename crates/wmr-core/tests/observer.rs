@@ -34,8 +34,7 @@ const J_X: f64 = -0.007343750;
 /// Q-filter's step response, whatever the torques; within 1 % of d after 5 / g.
 fn constant_disturbance_is_the_first_order_response<T: Real>(tol: f64) {
     let (g, h) = (40.0, 1e-3);
-    let mut obs =
-        DisturbanceObserverParams { bandwidth: T::lit(g), ..Default::default() }
+    let mut obs = DisturbanceObserverParams { bandwidth: T::lit(g), ..Default::default() }
         .validate::<T>(&RobotParams::paper(), &paper_drive(), T::lit(h))
         .unwrap();
     let (js, jx) = obs.wheel_inertia();
@@ -199,6 +198,9 @@ fn bad_bandwidths_name_the_key() {
 /// A DC motor (12 V; k_tau / (R_a k_t) = 0.03744 / (2.18 * 0.1) = 0.171743 N m/V at the
 /// wheel): 5 % is 0.6 V, a breakaway torque of 0.2 N m needs 0.2 / 0.171743 = 1.164531 V,
 /// so c_min = 1.164531 V and b = 0.582266 V.
+/// (drive, deadband, static_friction, c_min, [(demand N m, command out)]).
+type Case<'a, T> = (DriveParams<T>, f64, f64, f64, &'a [(f64, f64)]);
+
 fn precompensation_lifts_by_hand<T: Real>(tol: f64) {
     use wmr_core::{DcMotorParams, Measurement, Robot, WheelDemand, WheelStage, WheelStageParams};
     let robot = Robot::<T>::paper();
@@ -209,11 +211,10 @@ fn precompensation_lifts_by_hand<T: Real>(tol: f64) {
         wheel_speeds: Wheels::new(T::zero(), T::zero()),
     };
     let lit = |x: f64| T::lit(x);
-    // (drive, deadband, static_friction, [(demand N m, command out)]).
     let torque = DriveParams::default();
     let dc = DriveParams::DcMotor(DcMotorParams::default());
     let volts = 1.0 / 0.171743119266055;
-    let cases: [(DriveParams<T>, f64, f64, f64, &[(f64, f64)]); 5] = [
+    let cases: [Case<'_, T>; 5] = [
         // Off (the default): every demand passes as it is.
         (torque, 0.0, 0.0, 0.0, &[(0.07, 0.07), (-0.03, -0.03), (0.0, 0.0), (1e-6, 1e-6)]),
         // Deadband 5 %, breakaway 0.04 N m: c_min = 0.1, b = 0.05 N m.
@@ -264,7 +265,8 @@ fn precompensation_lifts_by_hand<T: Real>(tol: f64) {
         for &(demand, out) in io {
             let mut s = stage;
             let c = s.command(WheelDemand::Torques(Wheels::new(lit(demand), lit(-demand))), &at_rest);
-            let what = format!("{} deadband {deadband} static_friction {static_friction} demand {demand}", params.kind());
+            let what =
+                format!("{} deadband {deadband} static_friction {static_friction} demand {demand}", params.kind());
             assert_close(&format!("{what}: right"), f(c.right), out, tol, tol * 1e-3);
             assert_close(&format!("{what}: left"), f(c.left), -out, tol, tol * 1e-3);
             assert_eq!(f(c.right) == 0.0, demand == 0.0, "{what}: zero in, zero out");

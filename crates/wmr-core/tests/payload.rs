@@ -17,7 +17,9 @@ const R_WHEEL: f64 = 0.1;
 const R_HALF: f64 = 0.2;
 
 fn loaded<T: Real>(mass: f64, x: f64, y: f64) -> Result<Robot<T>, ParamError> {
-    PayloadParams { mass: T::lit(mass), x: T::lit(x), y: T::lit(y), t: T::zero() }.validate()?.carried_by(&Robot::paper())
+    PayloadParams { mass: T::lit(mass), x: T::lit(x), y: T::lit(y), t: T::zero() }
+        .validate()?
+        .carried_by(&Robot::paper())
 }
 
 fn f(v: impl Real) -> f64 {
@@ -312,7 +314,8 @@ fn payload_switches_at_its_time<T: Real>(tol: f64) {
     let dt = 1.0 / 1024.0;
     let t_s = 256.0 * dt;
     let alone = Robot::<T>::paper();
-    let payload = PayloadParams { mass: T::lit(big_m), x: T::lit(xp), y: T::lit(yp), t: T::lit(t_s) }.validate().unwrap();
+    let payload =
+        PayloadParams { mass: T::lit(big_m), x: T::lit(xp), y: T::lit(yp), t: T::lit(t_s) }.validate().unwrap();
     assert!(payload.appears_later());
     let carrying = payload.carried_by(&alone).unwrap();
     let drive = DriveParams::default().validate(&alone).unwrap();
@@ -327,7 +330,8 @@ fn payload_switches_at_its_time<T: Real>(tol: f64) {
     };
     let before = (M, D, 0.0, I_P + M * D * D);
     let total = M + big_m;
-    let after = (total, (M * D + big_m * xp) / total, big_m * yp / total, I_P + M * D * D + big_m * (xp * xp + yp * yp));
+    let after =
+        (total, (M * D + big_m * xp) / total, big_m * yp / total, I_P + M * D * D + big_m * (xp * xp + yp * yp));
     let m11 = |m: f64| m + 2.0 * I_M / (R_WHEEL * R_WHEEL);
     let mut v = 0.0;
     for k in 0..512 {
@@ -335,12 +339,17 @@ fn payload_switches_at_its_time<T: Real>(tol: f64) {
         plant.step(T::lit(t), T::lit(dt)).unwrap();
         let expect = if t >= t_s { after } else { before };
         let got = about_c(plant.robot());
-        for (name, g, e) in [("mass", got.0, expect.0), ("a", got.1, expect.1), ("b", got.2, expect.2), ("I_C", got.3, expect.3)]
+        for (name, g, e) in
+            [("mass", got.0, expect.0), ("a", got.1, expect.1), ("b", got.2, expect.2), ("I_C", got.3, expect.3)]
         {
             assert!((g - e).abs() <= tol * e.abs().max(1.0), "step from t = {t}: {name} {g} vs {e}");
         }
         v += dt * 2.0 * tau / (R_WHEEL * m11(expect.0));
-        assert!((f(plant.state().v) - v).abs() <= tol * v.max(1.0), "step from t = {t}: v {} vs {v}", f(plant.state().v));
+        assert!(
+            (f(plant.state().v) - v).abs() <= tol * v.max(1.0),
+            "step from t = {t}: v {} vs {v}",
+            f(plant.state().v)
+        );
         assert!(f(plant.state().omega).abs() <= tol, "straight");
     }
     // The switch is by the step's time: a plant rewound before t is the robot alone again.

@@ -154,7 +154,8 @@ fn a_payload_put_on_at_a_time_reaches_the_plant_then() {
         "x",
     )
     .unwrap();
-    let (a, b, c) = (on_at(0.0).run(0, |_| {}).unwrap(), from_start.run(0, |_| {}).unwrap(), later.run(0, |_| {}).unwrap());
+    let (a, b, c) =
+        (on_at(0.0).run(0, |_| {}).unwrap(), from_start.run(0, |_| {}).unwrap(), later.run(0, |_| {}).unwrap());
     assert_eq!(a.outcome.final_dl.to_bits(), b.outcome.final_dl.to_bits(), "t = 0 is the default");
     assert_ne!(a.outcome.final_dl, c.outcome.final_dl, "a payload at 1 s is another run");
 }

@@ -99,9 +99,9 @@
 //! (c_min - tau_c)(c_min - b) <= 2 b tau_c. The default beta = 0.5 is the middle of the
 //! lift; it is chosen by measurement (examples/docking/README.md, "Pre-compensation").
 
+use crate::drive::Drive;
 use crate::error::{ParamError, check};
 use crate::lane::{Lane, Mask};
-use crate::drive::Drive;
 use crate::math::Wheels;
 use crate::{Real, RobotParams};
 use num_traits::Zero;
@@ -312,10 +312,7 @@ impl<L: Lane> DisturbanceObserver<L> {
             return c;
         }
         let (dead, zero) = (L::splat(self.dead), L::default());
-        Wheels::new(
-            L::select(c.right.abs().lt(dead), zero, c.right),
-            L::select(c.left.abs().lt(dead), zero, c.left),
-        )
+        Wheels::new(L::select(c.right.abs().lt(dead), zero, c.right), L::select(c.left.abs().lt(dead), zero, c.left))
     }
 
     /// Forgets the runs in `lanes`, as at t = 0 (estimate 0, no previous speed).

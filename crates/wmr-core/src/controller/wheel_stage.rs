@@ -357,10 +357,7 @@ impl<T: Lane> WheelStage<T> {
         if let Some(obs) = &mut self.observer {
             // The torques the drive gives as the controller believes it (its deadband).
             let passed = obs.believed_passed(command);
-            obs.record(Wheels::new(
-                drive.wheel_torque(passed.right, w.right),
-                drive.wheel_torque(passed.left, w.left),
-            ));
+            obs.record(Wheels::new(drive.wheel_torque(passed.right, w.right), drive.wheel_torque(passed.left, w.left)));
         }
         command
     }
