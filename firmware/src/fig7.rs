@@ -121,7 +121,7 @@ pub fn run_with<L: FirmwareLaw, const OBSERVER: bool>(meter: &mut impl Meter) ->
         WheelStage::new(&WheelStageParams::for_drive(&drive_params, robot.params()), robot.params(), &drive, DT)
             .ok()?;
     if OBSERVER {
-        wheels = wheels.with_observer(DisturbanceObserverParams::default().validate(robot.params(), DT).ok()?);
+        wheels = wheels.with_observer(DisturbanceObserverParams::default().validate(robot.params(), &drive, DT).ok()?);
     }
     let mut ctrl = Controller::new(L::build()?, wheels);
     let reference = L::reference()?;

@@ -105,6 +105,14 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
                 plant.pushes().as_slice().len() as f64,
             ));
         }
+        // The lanes step one robot; a payload that appears swaps it per run (crate::Plant).
+        if let Some(t) = plant.payload_time() {
+            return Err(check::out_of_range(
+                "payload.t",
+                "the lanes do not step a payload that appears at a time (run such a plant on the exact path)",
+                t,
+            ));
+        }
         // Each lane counts its steps in an f64, exact up to 2^53 (a scenario allows 1e9).
         if n_steps > 1 << 53 {
             return Err(check::out_of_range("t_end", "more than 2^53 plant steps", n_steps as f64));

@@ -78,22 +78,26 @@ crate::params! {
         pub x: T [unit = "m", rule = "finite"],
         /// y_p, the payload's position left of C (body frame); != 0 couples the forward and yaw equations.
         pub y: T [unit = "m", rule = "finite"],
+        /// When the payload is put on the robot (0: from the start); the plant's mass, centre of mass and inertia switch at the first step from t on.
+        pub t: T [unit = "s", rule = ">= 0, finite"],
     }
 }
 
 impl<T: Real> Default for PayloadParams<T> {
     /// No payload.
     fn default() -> Self {
-        Self { mass: T::zero(), x: T::zero(), y: T::zero() }
+        Self { mass: T::zero(), x: T::zero(), y: T::zero(), t: T::zero() }
     }
 }
 
 impl<T: Real> PayloadParams<T> {
-    /// Checks the keys; errors name `payload.mass`, `payload.x` or `payload.y`.
+    /// Checks the keys; errors name `payload.mass`, `payload.x`, `payload.y` or `payload.t`.
     pub fn validate(self) -> Result<Payload<T>, ParamError> {
         check::non_negative("payload.mass", self.mass)?;
         check::finite("payload.x", self.x)?;
         check::finite("payload.y", self.y)?;
+        check::non_negative("payload.t", self.t)?;
+        check::finite("payload.t", self.t)?;
         Ok(Payload { params: self })
     }
 }
@@ -120,6 +124,17 @@ impl<T: Real> Payload<T> {
         self.params.mass > T::zero()
     }
 
+    /// When the payload is put on the robot, s (0: from the start; the plant swaps the
+    /// robot for [`Payload::carried_by`] then, [`crate::Plant::with_payload_at`]).
+    pub fn t(&self) -> T {
+        self.params.t
+    }
+
+    /// True when the payload has mass and appears after the start (`t` > 0).
+    pub fn appears_later(&self) -> bool {
+        self.is_some() && self.params.t > T::zero()
+    }
+
     /// The composite robot: `robot` carrying this payload (the module's derivation). With
     /// no payload, `robot` itself (the same bits). The result's `mass`, `com_offset` and
     /// `platform_inertia` are m', a and I'; its lateral offset b is
@@ -131,7 +146,7 @@ impl<T: Real> Payload<T> {
         }
         let p = robot.params();
         let (m, d, i_p) = (p.mass, p.com_offset, p.platform_inertia);
-        let PayloadParams { mass: big_m, x, y } = self.params;
+        let PayloadParams { mass: big_m, x, y, .. } = self.params;
         let total = m + big_m;
         let a = (m * d + big_m * x) / total;
         let b = big_m * y / total;

@@ -44,6 +44,8 @@ pub struct Plant<T> {
     held_torque: Wheels<T>,
     /// How the wheels hold the ground ([`crate::traction`]); rolling by default.
     traction: Traction<T>,
+    /// The ground (a payload step rebuilds the model on it).
+    world: World<T>,
     /// The slip plant's speeds beyond [`State`] (zero and unused when rolling).
     extra: SlipExtra<T>,
     /// A slip plant's [`Plant::stiffness`], 1/s, computed once for its sub-steps (zero
@@ -51,6 +53,21 @@ pub struct Plant<T> {
     slip_stiffness: T,
     /// The pushes ([`crate::push`]); none by default.
     pushes: Pushes<T>,
+    /// A payload that appears at a time ([`Plant::with_payload_at`]); none by default.
+    payload_step: Option<PayloadStep<T>>,
+}
+
+/// The robot the plant swaps in at `t` (a payload put on it), and back before `t`.
+#[derive(Clone, Copy, Debug)]
+struct PayloadStep<T> {
+    /// When the payload appears, s.
+    t: T,
+    /// The robot and its model not in use now: the one carrying the payload before `t`,
+    /// the one without it from `t` on.
+    other: Robot<T>,
+    other_model: Model<T>,
+    /// True from `t` on (the payload carried).
+    carried: bool,
 }
 
 impl<T: Real> Plant<T> {
@@ -73,10 +90,48 @@ impl<T: Real> Plant<T> {
             command: Wheels::default(),
             held_torque: Wheels::default(),
             traction: Traction::Rolling,
+            world,
             extra: SlipExtra::default(),
             slip_stiffness: T::zero(),
             pushes: Pushes::default(),
+            payload_step: None,
         })
+    }
+
+    /// The same plant whose robot becomes `carrying` at time `t` (s): a payload put on
+    /// it then (`[world.payload] t`, [`crate::Payload::carried_by`] of this plant's robot).
+    /// Each step that starts at or after `t` uses the composite's mass, centre of mass and
+    /// inertia (a step before `t`, the robot's own); the state is kept as it is (the
+    /// payload arrives moving with the platform). Errors name `payload.t`: `t` negative or
+    /// not finite, or a slip plant (its contact model is built for one robot).
+    pub fn with_payload_at(mut self, t: T, carrying: Robot<T>) -> Result<Self, ParamError> {
+        check::non_negative("payload.t", t)?;
+        check::finite("payload.t", t)?;
+        if self.slips() {
+            return Err(check::out_of_range("payload.t", "the slip plant does not step a payload that appears", t));
+        }
+        let other_model = Model::on(&carrying, &self.world);
+        self.payload_step = Some(PayloadStep { t, other: carrying, other_model, carried: false });
+        Ok(self)
+    }
+
+    /// When a payload appears ([`Plant::with_payload_at`]), s; `None` without one.
+    pub fn payload_time(&self) -> Option<T> {
+        self.payload_step.map(|p| p.t)
+    }
+
+    /// The robot the step from `t` (s) uses: swapped for the other of a payload step
+    /// when `t` crossed its time.
+    #[inline(always)]
+    fn carry_at(&mut self, t: T) {
+        if let Some(p) = &mut self.payload_step {
+            let carried = t >= p.t;
+            if carried != p.carried {
+                core::mem::swap(&mut self.robot, &mut p.other);
+                core::mem::swap(&mut self.model, &mut p.other_model);
+                p.carried = carried;
+            }
+        }
     }
 
     /// The same plant with `pushes` acting on it ([`crate::push`]).
@@ -361,6 +416,7 @@ impl<T: Real> Plant<T> {
             }
             return self.step_slip(&slip, t, dt);
         }
+        self.carry_at(t);
         if !self.pushes.is_empty() {
             self.model.set_load(self.pushes.mean_over(t, dt));
         }

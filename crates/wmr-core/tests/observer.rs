@@ -15,6 +15,11 @@ fn f(v: impl Real) -> f64 {
     v.to_f64_lossless()
 }
 
+/// The default torque drive on the paper's robot.
+fn paper_drive<T: Real>() -> wmr_core::Drive<T> {
+    DriveParams::default().validate(&wmr_core::Robot::paper()).unwrap()
+}
+
 /// The paper's robot's wheel-space inertia matrix by hand (r = 0.1 m, R = 0.2 m,
 /// m = 5 kg, d = 0.25 m, I_p = 0.005, I_m = 0.002 kg m^2):
 /// M_11 = 5 + 2 * 0.002 / 0.01 = 5.4 kg, M_22 = 0.005 + 5 * 0.0625 + 2 * 0.04 * 0.002 / 0.01
@@ -29,8 +34,9 @@ const J_X: f64 = -0.007343750;
 /// Q-filter's step response, whatever the torques; within 1 % of d after 5 / g.
 fn constant_disturbance_is_the_first_order_response<T: Real>(tol: f64) {
     let (g, h) = (40.0, 1e-3);
-    let mut obs =
-        DisturbanceObserverParams { bandwidth: T::lit(g) }.validate::<T>(&RobotParams::paper(), T::lit(h)).unwrap();
+    let mut obs = DisturbanceObserverParams { bandwidth: T::lit(g), ..Default::default() }
+        .validate::<T>(&RobotParams::paper(), &paper_drive(), T::lit(h))
+        .unwrap();
     let (js, jx) = obs.wheel_inertia();
     assert_close("J_s", f(js), J_S, tol, 0.0);
     assert_close("J_x", f(jx), J_X, tol, 0.0);
@@ -85,7 +91,7 @@ fn a_pushs_step_is_estimated_with_the_closed_form_response<T: Real>(tol: f64) {
         torque: T::lit(tau),
     };
     let params = ControllerParams {
-        observer: Some(DisturbanceObserverParams { bandwidth: T::lit(g) }),
+        observer: Some(DisturbanceObserverParams { bandwidth: T::lit(g), ..Default::default() }),
         ..ControllerParams::paper()
     };
     let ctrl = params.build(robot.params(), &drive).unwrap();
@@ -175,11 +181,171 @@ fn bad_bandwidths_name_the_key() {
     let drive = DriveParams::default().validate(&robot).unwrap();
     for g in [0.0, -3.0, f64::NAN, f64::INFINITY] {
         let params = ControllerParams {
-            observer: Some(DisturbanceObserverParams { bandwidth: g }),
+            observer: Some(DisturbanceObserverParams { bandwidth: g, ..Default::default() }),
             ..ControllerParams::paper()
         };
         let e = params.build(robot.params(), &drive).unwrap_err();
         assert_eq!(e.field, "observer.bandwidth", "{g}: {e}");
     }
     assert!(ControllerParams::<f64>::paper().observer.is_none(), "off by default");
+}
+
+/// The deadband and stiction pre-compensation by hand (docs/model.md, "Disturbance
+/// observer"): torque demands in, drive commands out of the wheel stage at its first tick
+/// (the estimate still 0), the wheels at rest. The torque drive on the paper's robot gives
+/// at most c_max = 0.2 / 0.1 = 2 N m at the wheel: a believed deadband of 5 % is 0.1 N m,
+/// a breakaway torque of 0.04 N m is less, so c_min = 0.1 N m and the band b = 0.05 N m.
+/// A DC motor (12 V; k_tau / (R_a k_t) = 0.03744 / (2.18 * 0.1) = 0.171743 N m/V at the
+/// wheel): 5 % is 0.6 V, a breakaway torque of 0.2 N m needs 0.2 / 0.171743 = 1.164531 V,
+/// so c_min = 1.164531 V and b = 0.582266 V.
+/// (drive, deadband, static_friction, c_min, [(demand N m, command out)]).
+type Case<'a, T> = (DriveParams<T>, f64, f64, f64, &'a [(f64, f64)]);
+
+fn precompensation_lifts_by_hand<T: Real>(tol: f64) {
+    use wmr_core::{DcMotorParams, Measurement, Robot, WheelDemand, WheelStage, WheelStageParams};
+    let robot = Robot::<T>::paper();
+    let at_rest = Measurement {
+        t: T::zero(),
+        pose: Pose2::default(),
+        wheel_angles: Wheels::new(T::zero(), T::zero()),
+        wheel_speeds: Wheels::new(T::zero(), T::zero()),
+    };
+    let lit = |x: f64| T::lit(x);
+    let torque = DriveParams::default();
+    let dc = DriveParams::DcMotor(DcMotorParams::default());
+    let volts = 1.0 / 0.171743119266055;
+    let cases: [Case<'_, T>; 5] = [
+        // Off (the default): every demand passes as it is.
+        (torque, 0.0, 0.0, 0.0, &[(0.07, 0.07), (-0.03, -0.03), (0.0, 0.0), (1e-6, 1e-6)]),
+        // Deadband 5 %, breakaway 0.04 N m: c_min = 0.1, b = 0.05 N m.
+        (
+            torque,
+            0.05,
+            0.04,
+            0.1,
+            &[
+                (0.07, 0.1),
+                (-0.07, -0.1),
+                (0.0501, 0.1),
+                (0.05, 0.05),
+                (0.03, 0.03),
+                (-0.03, -0.03),
+                (0.0, 0.0),
+                (0.1, 0.1),
+                (0.3, 0.3),
+                (-1.2, -1.2),
+            ],
+        ),
+        // Stiction alone, 0.15 N m: c_min = 0.15, b = 0.075 N m.
+        (torque, 0.0, 0.15, 0.15, &[(0.1, 0.15), (-0.08, -0.15), (0.07, 0.07), (-0.07, -0.07), (0.2, 0.2)]),
+        // The DC motor: c_min = 1.164531 V (the breakaway torque), b = 0.582266 V.
+        (
+            dc,
+            0.05,
+            0.2,
+            0.2 * volts,
+            &[(0.12, 0.2 * volts), (-0.15, -0.2 * volts), (0.05, 0.05 * volts), (0.3, 0.3 * volts), (0.0, 0.0)],
+        ),
+        // The DC motor, the deadband larger: c_min = 0.6 V, b = 0.3 V.
+        (dc, 0.05, 0.04, 0.6, &[(0.07, 0.6), (-0.07, -0.6), (0.04, 0.04 * volts), (0.2, 0.2 * volts)]),
+    ];
+    for (params, deadband, static_friction, lift, io) in cases {
+        let drive = params.validate(&robot).unwrap();
+        let observer = DisturbanceObserverParams {
+            deadband: lit(deadband),
+            static_friction: lit(static_friction),
+            ..Default::default()
+        };
+        let obs = observer.validate::<T>(robot.params(), &drive, lit(1e-3)).unwrap();
+        assert_close("c_min", f(obs.lift().0), lift, tol, 0.0);
+        assert_close("b", f(obs.lift().1), 0.5 * lift, tol, 0.0);
+        assert_eq!(obs.precompensates(), lift > 0.0);
+        let wheels = WheelStageParams::for_drive(&params, robot.params());
+        let stage = WheelStage::new(&wheels, robot.params(), &drive, lit(1e-3)).unwrap().with_observer(obs);
+        for &(demand, out) in io {
+            let mut s = stage;
+            let c = s.command(WheelDemand::Torques(Wheels::new(lit(demand), lit(-demand))), &at_rest);
+            let what =
+                format!("{} deadband {deadband} static_friction {static_friction} demand {demand}", params.kind());
+            assert_close(&format!("{what}: right"), f(c.right), out, tol, tol * 1e-3);
+            assert_close(&format!("{what}: left"), f(c.left), -out, tol, tol * 1e-3);
+            assert_eq!(f(c.right) == 0.0, demand == 0.0, "{what}: zero in, zero out");
+        }
+    }
+}
+
+#[test]
+fn precompensation_lifts_by_hand_f64() {
+    precompensation_lifts_by_hand::<f64>(1e-12);
+}
+
+#[test]
+fn precompensation_lifts_by_hand_f32() {
+    precompensation_lifts_by_hand::<f32>(1e-5);
+}
+
+/// With a believed deadband the observer records the torque the believed drive gives: a
+/// command within the band, below the deadband, gives 0, so a wheel that stays at rest
+/// under it shows no disturbance (the estimate stays 0); believing stiction alone the
+/// same command is recorded as given, and the wheel at rest shows its loss: the estimate
+/// at the second tick is (1 - exp(-g h)) (0 - 0.03) N m.
+#[test]
+fn the_observer_records_the_believed_drive() {
+    use wmr_core::{Measurement, Robot, WheelDemand, WheelStage, WheelStageParams};
+    let robot = Robot::<f64>::paper();
+    let drive = DriveParams::default().validate(&robot).unwrap();
+    let at_rest = Measurement {
+        t: 0.0,
+        pose: Pose2::default(),
+        wheel_angles: Wheels::new(0.0, 0.0),
+        wheel_speeds: Wheels::new(0.0, 0.0),
+    };
+    let gain = 1.0 - (-50.0f64 * 1e-3).exp();
+    for (deadband, static_friction, expected) in [(0.05, 0.04, 0.0), (0.0, 0.15, -gain * 0.03)] {
+        let observer = DisturbanceObserverParams { deadband, static_friction, ..Default::default() };
+        let obs = observer.validate::<f64>(robot.params(), &drive, 1e-3).unwrap();
+        let wheels = WheelStageParams::for_drive(&DriveParams::default(), robot.params());
+        let mut stage = WheelStage::new(&wheels, robot.params(), &drive, 1e-3).unwrap().with_observer(obs);
+        let demand = WheelDemand::Torques(Wheels::new(0.03, 0.03));
+        assert_eq!(stage.command(demand, &at_rest).right, 0.03, "within the band: unlifted");
+        stage.command(demand, &at_rest);
+        let d = stage.disturbance_estimate().unwrap();
+        assert_close("estimate", d.right, expected, 1e-12, 1e-15);
+    }
+}
+
+/// The pre-compensation's keys are refused naming them as the scenario writes them.
+#[test]
+fn bad_precompensation_keys_name_the_key() {
+    let robot = RobotParams::<f64>::paper().validate().unwrap();
+    let drive = DriveParams::default().validate(&robot).unwrap();
+    let base = DisturbanceObserverParams::<f64>::default();
+    let cases = [
+        ("observer.deadband", DisturbanceObserverParams { deadband: -0.1, ..base }),
+        ("observer.deadband", DisturbanceObserverParams { deadband: 1.0, ..base }),
+        ("observer.deadband", DisturbanceObserverParams { deadband: f64::NAN, ..base }),
+        ("observer.static_friction", DisturbanceObserverParams { static_friction: -0.1, ..base }),
+        ("observer.static_friction", DisturbanceObserverParams { static_friction: f64::INFINITY, ..base }),
+        ("observer.precompensation_band", DisturbanceObserverParams { precompensation_band: 1.5, ..base }),
+        ("observer.precompensation_band", DisturbanceObserverParams { precompensation_band: -0.5, ..base }),
+    ];
+    for (name, observer) in cases {
+        let params = ControllerParams { observer: Some(observer), ..ControllerParams::paper() };
+        let e = params.build(robot.params(), &drive).unwrap_err();
+        assert_eq!(e.field, name, "{observer:?}: {e}");
+    }
+    // A deadband is a fraction of the drive's largest command: none without a limit.
+    let unlimited = DriveParams::Torque(wmr_core::TorqueDriveParams { motor_torque_max: f64::INFINITY, deadband: 0.0 })
+        .validate(&robot)
+        .unwrap();
+    let params = ControllerParams {
+        observer: Some(DisturbanceObserverParams { deadband: 0.05, ..base }),
+        ..ControllerParams::paper()
+    };
+    assert_eq!(params.build(robot.params(), &unlimited).unwrap_err().field, "observer.deadband");
+    let params = ControllerParams {
+        observer: Some(DisturbanceObserverParams { static_friction: 0.05, ..base }),
+        ..ControllerParams::paper()
+    };
+    assert!(params.build(robot.params(), &unlimited).is_ok(), "stiction alone needs no limit");
 }

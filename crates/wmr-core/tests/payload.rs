@@ -17,7 +17,9 @@ const R_WHEEL: f64 = 0.1;
 const R_HALF: f64 = 0.2;
 
 fn loaded<T: Real>(mass: f64, x: f64, y: f64) -> Result<Robot<T>, ParamError> {
-    PayloadParams { mass: T::lit(mass), x: T::lit(x), y: T::lit(y) }.validate()?.carried_by(&Robot::paper())
+    PayloadParams { mass: T::lit(mass), x: T::lit(x), y: T::lit(y), t: T::zero() }
+        .validate()?
+        .carried_by(&Robot::paper())
 }
 
 fn f(v: impl Real) -> f64 {
@@ -87,7 +89,7 @@ fn payload_at_c_is_a_heavier_robot<T: Real>(tol: f64) {
     .validate()
     .unwrap();
     let base = RobotParams::<T> { viscous_friction: T::lit(0.02), ..RobotParams::paper() }.validate().unwrap();
-    let carried = PayloadParams { mass: T::lit(big_m), x: T::zero(), y: T::zero() }
+    let carried = PayloadParams { mass: T::lit(big_m), x: T::zero(), y: T::zero(), t: T::zero() }
         .validate()
         .unwrap()
         .carried_by(&base)
@@ -288,7 +290,7 @@ fn bad_payloads_are_refused_naming_the_key() {
         (1.0, 0.0, f64::INFINITY, "payload.y"),
     ];
     for (m, x, y, key) in cases {
-        let e = PayloadParams { mass: m, x, y }.validate().unwrap_err();
+        let e = PayloadParams { mass: m, x, y, t: 0.0 }.validate().unwrap_err();
         assert_eq!(e.field, key, "{m} {x} {y}: {e}");
     }
     // The slip plant keeps G on the centreline: a payload off it is refused there.
@@ -298,4 +300,92 @@ fn bad_payloads_are_refused_naming_the_key() {
     assert_eq!(e.field, "payload.y");
     // No payload: the robot itself, bit for bit.
     assert_eq!(PayloadParams::default().validate().unwrap().carried_by(&Robot::<f64>::paper()), Ok(Robot::paper()));
+}
+
+/// A payload that appears at a time (`[world.payload] t`): the plant is the robot alone
+/// until the step that starts at t, then the composite, whose mass, centre of mass and
+/// inertia about C are the rigid-body sums by hand: m' = m + M, a = (m d + M x_p) / m',
+/// b = M y_p / m', I_C = I_p + m d^2 + M (x_p^2 + y_p^2). Its dynamics switch with it:
+/// equal wheel torques tau from rest on flat ground (omega stays 0 with y_p = 0) give
+/// v' = 2 tau / (r M_11), M_11 = m + 2 I_m / r^2 before and m' + 2 I_m / r^2 after, so
+/// v gains dt v' per step (RK4 exact for a constant acceleration).
+fn payload_switches_at_its_time<T: Real>(tol: f64) {
+    let (big_m, xp, yp) = (1.5, 0.252, 0.0);
+    let dt = 1.0 / 1024.0;
+    let t_s = 256.0 * dt;
+    let alone = Robot::<T>::paper();
+    let payload =
+        PayloadParams { mass: T::lit(big_m), x: T::lit(xp), y: T::lit(yp), t: T::lit(t_s) }.validate().unwrap();
+    assert!(payload.appears_later());
+    let carrying = payload.carried_by(&alone).unwrap();
+    let drive = DriveParams::default().validate(&alone).unwrap();
+    let mut plant = Plant::new(alone, drive, Pose2::default()).unwrap().with_payload_at(payload.t(), carrying).unwrap();
+    assert_eq!(plant.payload_time().map(f), Some(t_s));
+    let tau = 0.3;
+    plant.apply(Wheels::new(T::lit(tau), T::lit(tau)));
+    let about_c = |r: &Robot<T>| {
+        let p = r.params();
+        let (a, b) = (f(p.com_offset), f(r.com_lateral()));
+        (f(p.mass), a, b, f(p.platform_inertia) + f(p.mass) * (a * a + b * b))
+    };
+    let before = (M, D, 0.0, I_P + M * D * D);
+    let total = M + big_m;
+    let after =
+        (total, (M * D + big_m * xp) / total, big_m * yp / total, I_P + M * D * D + big_m * (xp * xp + yp * yp));
+    let m11 = |m: f64| m + 2.0 * I_M / (R_WHEEL * R_WHEEL);
+    let mut v = 0.0;
+    for k in 0..512 {
+        let t = k as f64 * dt;
+        plant.step(T::lit(t), T::lit(dt)).unwrap();
+        let expect = if t >= t_s { after } else { before };
+        let got = about_c(plant.robot());
+        for (name, g, e) in
+            [("mass", got.0, expect.0), ("a", got.1, expect.1), ("b", got.2, expect.2), ("I_C", got.3, expect.3)]
+        {
+            assert!((g - e).abs() <= tol * e.abs().max(1.0), "step from t = {t}: {name} {g} vs {e}");
+        }
+        v += dt * 2.0 * tau / (R_WHEEL * m11(expect.0));
+        assert!(
+            (f(plant.state().v) - v).abs() <= tol * v.max(1.0),
+            "step from t = {t}: v {} vs {v}",
+            f(plant.state().v)
+        );
+        assert!(f(plant.state().omega).abs() <= tol, "straight");
+    }
+    // The switch is by the step's time: a plant rewound before t is the robot alone again.
+    plant.step(T::lit(0.0), T::lit(dt)).unwrap();
+    assert_eq!(f(plant.robot().params().mass), M);
+}
+
+#[test]
+fn payload_switches_at_its_time_f64() {
+    payload_switches_at_its_time::<f64>(1e-12);
+}
+
+#[test]
+fn payload_switches_at_its_time_f32() {
+    payload_switches_at_its_time::<f32>(1e-4);
+}
+
+/// `t` is checked naming `payload.t`; the lanes refuse a plant whose payload appears
+/// later (they step one robot), as they refuse pushes; a slip plant refuses it too.
+#[test]
+fn a_payload_that_appears_is_refused_where_it_cannot_be_stepped() {
+    for t in [-1.0, f64::NAN, f64::INFINITY] {
+        let e = PayloadParams { mass: 1.0, x: 0.0, y: 0.0, t }.validate().unwrap_err();
+        assert_eq!(e.field, "payload.t", "{t}: {e}");
+    }
+    let robot = Robot::<f64>::paper();
+    let carrying = loaded::<f64>(1.0, 0.1, 0.0).unwrap();
+    let drive = DriveParams::default().validate(&robot).unwrap();
+    let plant = Plant::new(robot, drive, Pose2::default()).unwrap().with_payload_at(2.0, carrying).unwrap();
+    let controller =
+        wmr_core::ControllerParams::paper().build_lanes::<wmr_core::lane::Lanes<4>>(robot.params(), &drive).unwrap();
+    let goal = wmr_core::FixedGoal::new(Pose2::default()).unwrap();
+    let e = wmr_core::batch::LaneBatch::<4, _, _>::new(plant, controller, goal, 1e-3, 100, true).err().unwrap();
+    assert_eq!(e.field, "payload.t", "{e}");
+    let world = WorldParams::default().validate().unwrap();
+    let slip = TractionParams { traction: TractionKind::Slip, ..Default::default() }.validate(&robot, &world).unwrap();
+    let e = Plant::new(robot, drive, Pose2::default()).unwrap().with_traction(slip).with_payload_at(2.0, carrying);
+    assert_eq!(e.unwrap_err().field, "payload.t");
 }

@@ -89,10 +89,10 @@
 #define WMR_DRIVE_F64_WORDS 12
 
 // Words of a plant, `wmr_plant_f32`.
-#define WMR_PLANT_F32_WORDS 104
+#define WMR_PLANT_F32_WORDS 144
 
 // Words of a plant, `wmr_plant_f64`.
-#define WMR_PLANT_F64_WORDS 192
+#define WMR_PLANT_F64_WORDS 256
 
 // Words of a sensor, `wmr_sensor_f32` (perfect, pose or odometry sensor).
 #define WMR_SENSOR_F32_WORDS 144
@@ -117,7 +117,7 @@
 #define WMR_PAPER_CONTROLLER_F32_WORDS 48
 
 // Words (8 bytes each) of `wmr_paper_controller_f64`: the law `paper` with its wheel stage.
-#define WMR_PAPER_CONTROLLER_F64_WORDS 88
+#define WMR_PAPER_CONTROLLER_F64_WORDS 96
 
 // Words (8 bytes each) of `wmr_paper_bidirectional_controller_f32`: the law `paper_bidirectional` with its wheel stage.
 #define WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F32_WORDS 48
@@ -126,34 +126,34 @@
 #define WMR_PAPER_BIDIRECTIONAL_CONTROLLER_F64_WORDS 88
 
 // Words (8 bytes each) of `wmr_polar_controller_f32`: the law `polar` with its wheel stage.
-#define WMR_POLAR_CONTROLLER_F32_WORDS 40
+#define WMR_POLAR_CONTROLLER_F32_WORDS 48
 
 // Words (8 bytes each) of `wmr_polar_controller_f64`: the law `polar` with its wheel stage.
 #define WMR_POLAR_CONTROLLER_F64_WORDS 80
 
 // Words (8 bytes each) of `wmr_lyapunov_controller_f32`: the law `lyapunov` with its wheel stage.
-#define WMR_LYAPUNOV_CONTROLLER_F32_WORDS 40
+#define WMR_LYAPUNOV_CONTROLLER_F32_WORDS 48
 
 // Words (8 bytes each) of `wmr_lyapunov_controller_f64`: the law `lyapunov` with its wheel stage.
 #define WMR_LYAPUNOV_CONTROLLER_F64_WORDS 80
 
 // Words (8 bytes each) of `wmr_graceful_controller_f32`: the law `graceful` with its wheel stage.
-#define WMR_GRACEFUL_CONTROLLER_F32_WORDS 40
+#define WMR_GRACEFUL_CONTROLLER_F32_WORDS 48
 
 // Words (8 bytes each) of `wmr_graceful_controller_f64`: the law `graceful` with its wheel stage.
-#define WMR_GRACEFUL_CONTROLLER_F64_WORDS 80
+#define WMR_GRACEFUL_CONTROLLER_F64_WORDS 88
 
 // Words (8 bytes each) of `wmr_mppi_controller_f32`: the law `mppi` with its wheel stage.
-#define WMR_MPPI_CONTROLLER_F32_WORDS 352
+#define WMR_MPPI_CONTROLLER_F32_WORDS 360
 
 // Words (8 bytes each) of `wmr_mppi_controller_f64`: the law `mppi` with its wheel stage.
-#define WMR_MPPI_CONTROLLER_F64_WORDS 536
+#define WMR_MPPI_CONTROLLER_F64_WORDS 544
 
 // Words (8 bytes each) of `wmr_kanayama_controller_f32`: the law `kanayama` with its wheel stage.
 #define WMR_KANAYAMA_CONTROLLER_F32_WORDS 40
 
 // Words (8 bytes each) of `wmr_kanayama_controller_f64`: the law `kanayama` with its wheel stage.
-#define WMR_KANAYAMA_CONTROLLER_F64_WORDS 72
+#define WMR_KANAYAMA_CONTROLLER_F64_WORDS 80
 
 // Words (8 bytes each) of `wmr_backstepping_controller_f32`: the law `backstepping` with its wheel stage.
 #define WMR_BACKSTEPPING_CONTROLLER_F32_WORDS 48
@@ -165,7 +165,7 @@
 #define WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS 48
 
 // Words (8 bytes each) of `wmr_pure_pursuit_controller_f64`: the law `pure_pursuit` with its wheel stage.
-#define WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS 88
+#define WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS 96
 
 // What a call did. `WMR_OK` is 0; every other value is an error.
 enum wmr_status
@@ -304,6 +304,16 @@ typedef struct {
   // g, rad/s (> 0, finite): the bandwidth of the Q-filter g / (s + g); the estimate
   // follows a step of the disturbance with time constant 1 / g.
   float bandwidth;
+  // The driver deadband the controller believes, a fraction of the drive's largest
+  // command (in [0, 1); > 0 only with a finite drive limit; 0: off): a command that
+  // asks for motion is lifted to it (docs/model.md, "Disturbance observer").
+  float deadband;
+  // The breakaway torque at each wheel the controller believes, N m (>= 0, finite;
+  // 0: off): a command that asks for motion is lifted to the one giving it at rest.
+  float static_friction;
+  // b / c_min, in [0, 1] (default 0.5): commands within this fraction of the lift of
+  // zero pass unlifted, so a holding robot does not chatter.
+  float precompensation_band;
 } wmr_disturbance_observer_params_f32;
 
 // The paper's law: two PI loops on a moving false target feeding the wheel angle servos (`[controller] kind = "paper"`).
@@ -884,6 +894,16 @@ typedef struct {
   // g, rad/s (> 0, finite): the bandwidth of the Q-filter g / (s + g); the estimate
   // follows a step of the disturbance with time constant 1 / g.
   double bandwidth;
+  // The driver deadband the controller believes, a fraction of the drive's largest
+  // command (in [0, 1); > 0 only with a finite drive limit; 0: off): a command that
+  // asks for motion is lifted to it (docs/model.md, "Disturbance observer").
+  double deadband;
+  // The breakaway torque at each wheel the controller believes, N m (>= 0, finite;
+  // 0: off): a command that asks for motion is lifted to the one giving it at rest.
+  double static_friction;
+  // b / c_min, in [0, 1] (default 0.5): commands within this fraction of the lift of
+  // zero pass unlifted, so a holding robot does not chatter.
+  double precompensation_band;
 } wmr_disturbance_observer_params_f64;
 
 // The paper's law: two PI loops on a moving false target feeding the wheel angle servos (`[controller] kind = "paper"`).

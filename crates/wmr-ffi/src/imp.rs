@@ -970,13 +970,18 @@ pub fn controller_init<T: Prec, L: CLaw<T>>(
 
 pub fn disturbance_observer_params_default<T: Prec>(out: *mut wmr_disturbance_observer_params<T>) -> wmr_status {
     guard(core::ptr::null_mut(), || {
-        let DisturbanceObserverParams { bandwidth } = DisturbanceObserverParams::<T>::default();
-        write(out, "out", wmr_disturbance_observer_params { bandwidth })
+        let DisturbanceObserverParams { bandwidth, deadband, static_friction, precompensation_band } =
+            DisturbanceObserverParams::<T>::default();
+        write(
+            out,
+            "out",
+            wmr_disturbance_observer_params { bandwidth, deadband, static_friction, precompensation_band },
+        )
     })
 }
 
 /// [`controller_init`] with the disturbance observer `observer` on the wheel stage, as
-/// `wmr_core::ControllerParams::build` puts it (its errors named `observer.bandwidth`).
+/// `wmr_core::ControllerParams::build` puts it (its errors named `observer.bandwidth`, ...).
 #[allow(clippy::too_many_arguments)]
 pub fn controller_init_observer<T: Prec, L: CLaw<T>>(
     out: *mut L::Storage,
@@ -1036,15 +1041,14 @@ fn init_controller<T: Prec, L: CLaw<T>>(
     let law = L::build(params, model, control_dt)?;
     let mut stage = WheelStage::new(&wheels, model, drive, control_dt)?;
     if let Some(o) = observer {
-        // As the scenario names it (`wmr_core::ControllerParams::build`).
-        let named = |mut e: ParamError| {
-            if e.field == "bandwidth" {
-                e.field = "observer.bandwidth";
-            }
-            e
+        // Its errors name the keys as the scenario does (`observer.bandwidth`, ...).
+        let params = DisturbanceObserverParams {
+            bandwidth: o.bandwidth,
+            deadband: o.deadband,
+            static_friction: o.static_friction,
+            precompensation_band: o.precompensation_band,
         };
-        let params = DisturbanceObserverParams { bandwidth: o.bandwidth };
-        stage = stage.with_observer(params.validate(model, control_dt).map_err(named)?);
+        stage = stage.with_observer(params.validate(model, drive, control_dt)?);
     }
     put(out, "out", Controller::new(law, stage))
 }

@@ -12,7 +12,7 @@ pub type wmr_paper_params<T> = wmr_core::PaperParams<T>;
 /// Words (8 bytes each) of `wmr_paper_controller_f32`: the law `paper` with its wheel stage.
 pub const WMR_PAPER_CONTROLLER_F32_WORDS: usize = 48;
 /// Words (8 bytes each) of `wmr_paper_controller_f64`: the law `paper` with its wheel stage.
-pub const WMR_PAPER_CONTROLLER_F64_WORDS: usize = 88;
+pub const WMR_PAPER_CONTROLLER_F64_WORDS: usize = 96;
 /// The law `paper` with its wheel stage (f32): The paper's law: two PI loops on a moving false target feeding the wheel angle servos.
 #[repr(C)]
 pub struct wmr_paper_controller_f32 {
@@ -66,7 +66,7 @@ pub struct wmr_polar_params<T> {
     pub goal_radius: T,
 }
 /// Words (8 bytes each) of `wmr_polar_controller_f32`: the law `polar` with its wheel stage.
-pub const WMR_POLAR_CONTROLLER_F32_WORDS: usize = 40;
+pub const WMR_POLAR_CONTROLLER_F32_WORDS: usize = 48;
 /// Words (8 bytes each) of `wmr_polar_controller_f64`: the law `polar` with its wheel stage.
 pub const WMR_POLAR_CONTROLLER_F64_WORDS: usize = 80;
 /// The law `polar` with its wheel stage (f32): Astolfi's polar law: v = k_rho rho, omega = k_alpha alpha + k_beta beta.
@@ -101,7 +101,7 @@ pub struct wmr_lyapunov_params<T> {
     pub goal_radius: T,
 }
 /// Words (8 bytes each) of `wmr_lyapunov_controller_f32`: the law `lyapunov` with its wheel stage.
-pub const WMR_LYAPUNOV_CONTROLLER_F32_WORDS: usize = 40;
+pub const WMR_LYAPUNOV_CONTROLLER_F32_WORDS: usize = 48;
 /// Words (8 bytes each) of `wmr_lyapunov_controller_f64`: the law `lyapunov` with its wheel stage.
 pub const WMR_LYAPUNOV_CONTROLLER_F64_WORDS: usize = 80;
 /// The law `lyapunov` with its wheel stage (f32): Aicardi et al.'s Lyapunov law in polar coordinates.
@@ -148,9 +148,9 @@ pub struct wmr_graceful_params<T> {
     pub goal_radius: T,
 }
 /// Words (8 bytes each) of `wmr_graceful_controller_f32`: the law `graceful` with its wheel stage.
-pub const WMR_GRACEFUL_CONTROLLER_F32_WORDS: usize = 40;
+pub const WMR_GRACEFUL_CONTROLLER_F32_WORDS: usize = 48;
 /// Words (8 bytes each) of `wmr_graceful_controller_f64`: the law `graceful` with its wheel stage.
-pub const WMR_GRACEFUL_CONTROLLER_F64_WORDS: usize = 80;
+pub const WMR_GRACEFUL_CONTROLLER_F64_WORDS: usize = 88;
 /// The law `graceful` with its wheel stage (f32): Park and Kuipers' graceful law as nav2's docking server drives it: curvature from egocentric polar coordinates, speed falling with it, forward or backwards.
 #[repr(C)]
 pub struct wmr_graceful_controller_f32 {
@@ -169,9 +169,9 @@ pub struct wmr_graceful_controller_f64 {
 /// cbindgen:ignore
 pub type wmr_mppi_params<T> = wmr_core::MppiParams<T>;
 /// Words (8 bytes each) of `wmr_mppi_controller_f32`: the law `mppi` with its wheel stage.
-pub const WMR_MPPI_CONTROLLER_F32_WORDS: usize = 352;
+pub const WMR_MPPI_CONTROLLER_F32_WORDS: usize = 360;
 /// Words (8 bytes each) of `wmr_mppi_controller_f64`: the law `mppi` with its wheel stage.
-pub const WMR_MPPI_CONTROLLER_F64_WORDS: usize = 536;
+pub const WMR_MPPI_CONTROLLER_F64_WORDS: usize = 544;
 /// The law `mppi` with its wheel stage (f32): Model predictive path integral control (nav2's MPPI): sampled twist sequences rolled out on a model, averaged by the softmax of their critics' costs.
 #[repr(C)]
 pub struct wmr_mppi_controller_f32 {
@@ -191,7 +191,7 @@ pub type wmr_kanayama_params<T> = wmr_core::KanayamaParams<T>;
 /// Words (8 bytes each) of `wmr_kanayama_controller_f32`: the law `kanayama` with its wheel stage.
 pub const WMR_KANAYAMA_CONTROLLER_F32_WORDS: usize = 40;
 /// Words (8 bytes each) of `wmr_kanayama_controller_f64`: the law `kanayama` with its wheel stage.
-pub const WMR_KANAYAMA_CONTROLLER_F64_WORDS: usize = 72;
+pub const WMR_KANAYAMA_CONTROLLER_F64_WORDS: usize = 80;
 /// The law `kanayama` with its wheel stage (f32): Kanayama et al.'s trajectory tracking law: v = v_ref cos(theta_e) + kx x_e, omega = omega_ref + v_ref (ky y_e + sgn(v_ref) ktheta sin(theta_e)).
 #[repr(C)]
 pub struct wmr_kanayama_controller_f32 {
@@ -266,7 +266,7 @@ pub struct wmr_pure_pursuit_params<T> {
 /// Words (8 bytes each) of `wmr_pure_pursuit_controller_f32`: the law `pure_pursuit` with its wheel stage.
 pub const WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS: usize = 48;
 /// Words (8 bytes each) of `wmr_pure_pursuit_controller_f64`: the law `pure_pursuit` with its wheel stage.
-pub const WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS: usize = 88;
+pub const WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS: usize = 96;
 /// The law `pure_pursuit` with its wheel stage (f32): Regulated pure pursuit (nav2's names): path following on the reference's path, its timing ignored.
 #[repr(C)]
 pub struct wmr_pure_pursuit_controller_f32 {

@@ -244,6 +244,16 @@ pub struct wmr_disturbance_observer_params<T> {
     /// g, rad/s (> 0, finite): the bandwidth of the Q-filter g / (s + g); the estimate
     /// follows a step of the disturbance with time constant 1 / g.
     pub bandwidth: T,
+    /// The driver deadband the controller believes, a fraction of the drive's largest
+    /// command (in [0, 1); > 0 only with a finite drive limit; 0: off): a command that
+    /// asks for motion is lifted to it (docs/model.md, "Disturbance observer").
+    pub deadband: T,
+    /// The breakaway torque at each wheel the controller believes, N m (>= 0, finite;
+    /// 0: off): a command that asks for motion is lifted to the one giving it at rest.
+    pub static_friction: T,
+    /// b / c_min, in [0, 1] (default 0.5): commands within this fraction of the lift of
+    /// zero pass unlifted, so a holding robot does not chatter.
+    pub precompensation_band: T,
 }
 
 /// One value per driven wheel (angles, speeds, torques, commands).
@@ -376,9 +386,9 @@ pub const WMR_DRIVE_F32_WORDS: usize = 8;
 /// Words of a validated drive, `wmr_drive_f64`.
 pub const WMR_DRIVE_F64_WORDS: usize = 12;
 /// Words of a plant, `wmr_plant_f32`.
-pub const WMR_PLANT_F32_WORDS: usize = 104;
+pub const WMR_PLANT_F32_WORDS: usize = 144;
 /// Words of a plant, `wmr_plant_f64`.
-pub const WMR_PLANT_F64_WORDS: usize = 192;
+pub const WMR_PLANT_F64_WORDS: usize = 256;
 /// Words of a sensor, `wmr_sensor_f32` (perfect, pose or odometry sensor).
 pub const WMR_SENSOR_F32_WORDS: usize = 144;
 /// Words of a sensor, `wmr_sensor_f64` (perfect, pose or odometry sensor).

@@ -792,10 +792,38 @@ fn issue_42_the_observer_bandwidth_is_checked_by_the_core() {
     assert_eq!(unsafe { wmr_disturbance_observer_params_f64_default(op.as_mut_ptr()) }, wmr_status::WMR_OK);
     // SAFETY: filled on WMR_OK.
     let op = unsafe { op.assume_init() };
-    assert_eq!(op.bandwidth, wmr_core::DisturbanceObserverParams::<f64>::default().bandwidth);
+    let dflt = wmr_core::DisturbanceObserverParams::<f64>::default();
+    assert_eq!(
+        (op.bandwidth, op.deadband, op.static_friction, op.precompensation_band),
+        (dflt.bandwidth, dflt.deadband, dflt.static_friction, dflt.precompensation_band)
+    );
     let model = Robot::<f64>::paper();
-    for bandwidth in [op.bandwidth, 1e-3, 1e6, 0.0, -1.0, f64::NAN, f64::INFINITY] {
-        let core = wmr_core::DisturbanceObserverParams { bandwidth }.validate::<f64>(model.params(), 1e-3).map(|_| ());
+    let drive = wmr_core::DriveParams::default().validate(&model).unwrap();
+    let bad = [0.0, -1.0, f64::NAN, f64::INFINITY];
+    let cases =
+        [op.bandwidth, 1e-3, 1e6].into_iter().chain(bad).map(|b| ("observer.bandwidth", Some(b), None, None, None));
+    let cases = cases
+        .chain([0.05, 0.5, -0.1, 1.0, f64::NAN].map(|x| ("observer.deadband", None, Some(x), None, None)))
+        .chain(
+            [0.04, 3.0, -0.1, f64::NAN, f64::INFINITY].map(|x| ("observer.static_friction", None, None, Some(x), None)),
+        )
+        .chain([0.0, 1.0, -0.1, 1.5, f64::NAN].map(|x| ("observer.precompensation_band", None, None, None, Some(x))));
+    for (name, b, dead, stat, band) in cases {
+        let p = wmr_disturbance_observer_params {
+            bandwidth: b.unwrap_or(op.bandwidth),
+            deadband: dead.unwrap_or(op.deadband),
+            static_friction: stat.unwrap_or(op.static_friction),
+            precompensation_band: band.unwrap_or(op.precompensation_band),
+        };
+        let bandwidth = (b, dead, stat, band);
+        let core = wmr_core::DisturbanceObserverParams {
+            bandwidth: p.bandwidth,
+            deadband: p.deadband,
+            static_friction: p.static_friction,
+            precompensation_band: p.precompensation_band,
+        }
+        .validate::<f64>(model.params(), &drive, 1e-3)
+        .map(|_| ());
         let (mut wp, mut lp) = (MaybeUninit::uninit(), MaybeUninit::uninit());
         let mut ctrl = MaybeUninit::<wmr_paper_controller_f64>::uninit();
         let mut err = new_err();
@@ -804,7 +832,6 @@ fn issue_42_the_observer_bandwidth_is_checked_by_the_core() {
         let (c, got) = unsafe {
             wmr_wheel_stage_params_f64_default(&dp, &robot_c, wp.as_mut_ptr());
             wmr_paper_params_f64_default(lp.as_mut_ptr());
-            let p = wmr_disturbance_observer_params { bandwidth };
             let c = wmr_paper_controller_f64_init_observer(
                 ctrl.as_mut_ptr(),
                 lp.as_ptr(),
@@ -821,12 +848,12 @@ fn issue_42_the_observer_bandwidth_is_checked_by_the_core() {
         };
         match core {
             Ok(()) => {
-                assert_eq!((c, got), (wmr_status::WMR_OK, wmr_status::WMR_OK), "{bandwidth}");
+                assert_eq!((c, got), (wmr_status::WMR_OK, wmr_status::WMR_OK), "{bandwidth:?}");
                 assert_eq!((d.right, d.left), (0.0, 0.0));
             }
             Err(e) => {
-                assert_eq!(c, code_of(&e), "{bandwidth}");
-                assert_eq!(field(&err), "observer.bandwidth");
+                assert_eq!(c, code_of(&e), "{bandwidth:?}");
+                assert_eq!(field(&err), name, "{bandwidth:?}");
             }
         }
     }

@@ -265,7 +265,7 @@ fn rust_f32_observer_final() -> ([f32; 3], [f32; 2]) {
     let plant = Plant::on(robot, drive, world, Pose2::default()).unwrap();
     let goal = FixedGoal::new(Pose2::new(1.0, 1.0, 120f64.to_radians() as f32)).unwrap();
     let law = PaperLaw::new(PaperParams::paper(), robot.params(), dt).unwrap();
-    let observer = DisturbanceObserverParams::default().validate(robot.params(), dt).unwrap();
+    let observer = DisturbanceObserverParams::default().validate(robot.params(), &drive, dt).unwrap();
     let wheels =
         WheelStage::new(&WheelStageParams::for_drive(&drive_params, robot.params()), robot.params(), &drive, dt)
             .unwrap()

@@ -94,7 +94,7 @@ struct Scratch(Vec<u64>);
 
 impl Scratch {
     fn new() -> Self {
-        Scratch(vec![0; 256])
+        Scratch(vec![0; 512])
     }
     fn ptr<X>(&mut self) -> *mut X {
         assert!(size_of::<X>() + 8 <= self.0.len() * 8);
@@ -249,7 +249,12 @@ macro_rules! fuzz {
                 assert_eq!($init(ctrl.as_mut_ptr(), l, w, r, d, dt, std::ptr::null_mut()), wmr_status::WMR_OK);
                 // The observer's init and estimate (issue 42): every pointer refused when
                 // NULL or misaligned; a random bandwidth is taken or refused by its name.
-                let op = wmr_disturbance_observer_params::<$t> { bandwidth: 50.0 };
+                let op = wmr_disturbance_observer_params::<$t> {
+                    bandwidth: 50.0,
+                    deadband: 0.0,
+                    static_friction: 0.0,
+                    precompensation_band: 0.5,
+                };
                 let mut octrl = MaybeUninit::<$ctrl>::uninit();
                 each_refused!(
                     e,
@@ -262,7 +267,12 @@ macro_rules! fuzz {
                         $init_observer(octrl.as_mut_ptr(), std::ptr::null(), w, &op, r, d, dt, &mut e),
                     ]
                 );
-                let random = wmr_disturbance_observer_params::<$t> { bandwidth: to_t(rng.value(50.0, max)) };
+                let random = wmr_disturbance_observer_params::<$t> {
+                    bandwidth: to_t(rng.value(50.0, max)),
+                    deadband: to_t(rng.value(0.05, 1.0)),
+                    static_friction: to_t(rng.value(0.04, 1.0)),
+                    precompensation_band: to_t(rng.value(0.5, 1.0)),
+                };
                 let mut e = new_err();
                 let c = $init_observer(octrl.as_mut_ptr(), l, w, &random, r, d, dt, &mut e);
                 if c != wmr_status::WMR_OK {

@@ -127,7 +127,19 @@ pub fn write(params: &ControllerParams<f64>, out: &mut String, note: impl Fn(&st
     t.insert("control_dt".to_owned(), Value::Float(params.control_dt));
     write_keys_noted(out, &t, &[], &note);
     if let Some(o) = &params.observer {
-        let line = format!("observer = {{ kind = \"{}\", bandwidth = {} }}", OBSERVER_KINDS[0], toml_f64(o.bandwidth));
+        // The pre-compensation's keys only when it is on (the line as before when off).
+        let pre = if o.deadband != 0.0 || o.static_friction != 0.0 {
+            format!(
+                ", deadband = {}, static_friction = {}, precompensation_band = {}",
+                toml_f64(o.deadband),
+                toml_f64(o.static_friction),
+                toml_f64(o.precompensation_band)
+            )
+        } else {
+            String::new()
+        };
+        let line =
+            format!("observer = {{ kind = \"{}\", bandwidth = {}{pre} }}", OBSERVER_KINDS[0], toml_f64(o.bandwidth));
         match note("observer") {
             Some(n) => out.push_str(&format!("{line:<32}# {n}\n")),
             None => out.push_str(&format!("{line}\n")),

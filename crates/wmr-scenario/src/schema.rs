@@ -279,7 +279,7 @@ pub fn schema() -> Vec<SchemaKey> {
     let observer = wmr_core::DisturbanceObserverParams::<f64>::default();
     out.extend(declared("controller", None, wmr_core::DisturbanceObserverParams::<f64>::FIELDS, &observer).map(
         |mut k| {
-            k.key = "observer.bandwidth";
+            k.key = wmr_core::DisturbanceObserverParams::<f64>::scenario_field(k.key);
             k
         },
     ));
@@ -293,7 +293,8 @@ pub fn schema() -> Vec<SchemaKey> {
                 k.key = match k.key {
                     "mass" => "payload.mass",
                     "x" => "payload.x",
-                    _ => "payload.y",
+                    "y" => "payload.y",
+                    _ => "payload.t",
                 };
                 k
             }),

@@ -98,7 +98,8 @@ pub struct Setup {
     /// The payload the plant carries and the controller does not know (`[world.payload]`;
     /// none by default).
     pub payload: Payload<f64>,
-    /// The plant's robot: `robot` carrying `payload` (`robot` itself without one).
+    /// The plant's robot: `robot` carrying `payload` (`robot` itself without one); with
+    /// `[world.payload] t` > 0 the plant is `robot` until then.
     pub truth: Robot<f64>,
     /// The pushes on the plant (`[[world.push]]`; none by default).
     pub pushes: Pushes<f64>,
@@ -362,6 +363,12 @@ impl Setup {
             "payload.y" => ScenarioError::from_param(&e, "world.payload.y"),
             _ => ScenarioError::from_param(&e, &join("robot", e.field)),
         })?;
+        if payload.appears_later() && matches!(traction, wmr_core::Traction::Slip(_)) {
+            return Err(ScenarioError::new(
+                "world.payload.t",
+                "must be 0 with robot.traction = \"slip\" (the slip plant does not step a payload that appears)",
+            ));
+        }
         // `[sensor]` holds the keys of two types: the pose source's, and the sensor's.
         let (sensor, pose) = match &t.sensor {
             Some(s) => {
@@ -414,6 +421,14 @@ impl Setup {
 
     /// The plant at rest at `start` (m, m, rad).
     pub fn plant(&self, start: Pose2<f64>) -> Result<Plant<f64>, wmr_core::ParamError> {
+        if self.payload.appears_later() {
+            // The robot alone until the payload appears, then `truth` ([`Plant::with_payload_at`]).
+            let plant = Plant::on(self.robot, self.drive, self.world, start)?;
+            return plant
+                .with_traction(self.traction)
+                .with_pushes(self.pushes)
+                .with_payload_at(self.payload.t(), self.truth);
+        }
         Ok(Plant::on(self.truth, self.drive, self.world, start)?.with_traction(self.traction).with_pushes(self.pushes))
     }
 

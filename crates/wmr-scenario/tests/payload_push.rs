@@ -57,6 +57,9 @@ fn bad_payloads_and_pushes_name_the_key() {
         ("[[world.push]]\nt = 1.0\nduration = 0.1\ntorque = inf\n", "world.push[0].torque"),
         ("[[world.push]]\nduration = 0.1\n", "world.push[0].t"),
         ("[world]\npush = 1.0\n", "world.push"),
+        ("[world.payload]\nmass = 1.0\nt = -1.0\n", "world.payload.t"),
+        ("[world.payload]\nmass = 1.0\nt = inf\n", "world.payload.t"),
+        ("[robot]\ntraction = \"slip\"\n[world.payload]\nmass = 1.0\nt = 2.0\n", "world.payload.t"),
     ];
     for (text, key) in cases {
         let e = Scenario::from_toml_str(&format!("{text}{BASE}"), "x").unwrap_err();
@@ -130,4 +133,29 @@ fn a_pushs_impulse_is_the_change_of_momentum_of_a_free_robot() {
     assert!((l - tau * dur).abs() < 1e-12, "angular momentum {l} vs angular impulse {}", tau * dur);
     // `wmr-cli check`'s resolved scenario keeps the push.
     assert_eq!(Scenario::from_toml_str(&s.to_toml(), "x").unwrap(), s);
+}
+
+/// `[world.payload] t`: the plant is the robot alone until t, then carries the payload;
+/// t = 0 (the default) is the payload from the start, the same run to the bit.
+#[test]
+fn a_payload_put_on_at_a_time_reaches_the_plant_then() {
+    let on_at = |t: f64| {
+        let text = format!("[world]\nslope_deg = 3.0\n[world.payload]\nmass = 1.5\nx = 0.252\nt = {t}\n{BASE}");
+        Scenario::from_toml_str(&text, "x").unwrap()
+    };
+    let later = on_at(1.0);
+    let mut plant = later.setup().plant(wmr_core::Pose2::default()).unwrap();
+    assert_eq!(plant.payload_time(), Some(1.0));
+    assert_eq!(plant.robot().params().mass, 5.0, "alone before t");
+    plant.step(1.0, 1e-3).unwrap();
+    assert_eq!(plant.robot().params().mass, 6.5, "carrying from t");
+    let from_start = Scenario::from_toml_str(
+        &format!("[world]\nslope_deg = 3.0\n[world.payload]\nmass = 1.5\nx = 0.252\n{BASE}"),
+        "x",
+    )
+    .unwrap();
+    let (a, b, c) =
+        (on_at(0.0).run(0, |_| {}).unwrap(), from_start.run(0, |_| {}).unwrap(), later.run(0, |_| {}).unwrap());
+    assert_eq!(a.outcome.final_dl.to_bits(), b.outcome.final_dl.to_bits(), "t = 0 is the default");
+    assert_ne!(a.outcome.final_dl, c.outcome.final_dl, "a payload at 1 s is another run");
 }

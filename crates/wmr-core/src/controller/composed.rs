@@ -108,11 +108,7 @@ impl<T: Real> ControllerParams<T> {
         let law = self.law.build_lanes_in(&ctx)?;
         let mut wheels = WheelStage::for_lanes(&self.wheels, model, drive, control_dt)?;
         if let Some(observer) = &self.observer {
-            let named = |e: ParamError| match e.field {
-                "bandwidth" => ParamError { field: "observer.bandwidth", ..e },
-                _ => e,
-            };
-            wheels = wheels.with_observer(observer.validate(model, control_dt).map_err(named)?);
+            wheels = wheels.with_observer(observer.validate(model, drive, control_dt)?);
         }
         Ok(Controller::new(law, wheels))
     }

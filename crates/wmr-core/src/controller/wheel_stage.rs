@@ -339,6 +339,12 @@ impl<T: Lane> WheelStage<T> {
             }
             None => command,
         };
+        // The deadband and stiction pre-compensation (observer's module docs; off: the
+        // commands themselves).
+        let command = match &self.observer {
+            Some(obs) => obs.precompensate(command),
+            None => command,
+        };
         let (command, clipped) = if Float::is_finite(self.wheel_speed_max) {
             let guarded = Wheels::new(self.guard(command.right, w.right), self.guard(command.left, w.left));
             (guarded, Wheels::new(!guarded.right.eq(command.right), !guarded.left.eq(command.left)))
@@ -349,10 +355,9 @@ impl<T: Lane> WheelStage<T> {
         self.saturated_right = limited | clipped.right | self.drive.saturates(command.right, w.right);
         self.saturated_left = limited | clipped.left | self.drive.saturates(command.left, w.left);
         if let Some(obs) = &mut self.observer {
-            obs.record(Wheels::new(
-                drive.wheel_torque(command.right, w.right),
-                drive.wheel_torque(command.left, w.left),
-            ));
+            // The torques the drive gives as the controller believes it (its deadband).
+            let passed = obs.believed_passed(command);
+            obs.record(Wheels::new(drive.wheel_torque(passed.right, w.right), drive.wheel_torque(passed.left, w.left)));
         }
         command
     }

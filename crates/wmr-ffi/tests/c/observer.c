@@ -78,6 +78,7 @@ static void print_bits64(const char *name, double v) {
         CHECK(wmr_paper_params_##P##_default(&lp), NULL);                                                  \
         CHECK(wmr_disturbance_observer_params_##P##_default(&op), NULL);                                   \
         EXPECT(op.bandwidth == (S)50);                                                                     \
+        EXPECT(op.deadband == 0 && op.static_friction == 0 && op.precompensation_band == (S)0.5);          \
         CHECK(wmr_paper_controller_##P##_init_observer(&ctrl, &lp, &wp, &op, &robot, &drive, dt, &err),    \
               &err);                                                                                       \
         memset(&world, 0, sizeof world);                                                                   \
@@ -110,6 +111,11 @@ static void print_bits64(const char *name, double v) {
         EXPECT(wmr_paper_controller_##P##_init_observer(&plain, &lp, &wp, &op, &robot, &drive, dt, &err)   \
                == WMR_NOT_POSITIVE);                                                                       \
         EXPECT(strcmp(err.field, "observer.bandwidth") == 0);                                              \
+        op.bandwidth = (S)50;                                                                              \
+        op.deadband = (S)1;                                                                                \
+        EXPECT(wmr_paper_controller_##P##_init_observer(&plain, &lp, &wp, &op, &robot, &drive, dt, &err)   \
+               == WMR_OUT_OF_RANGE);                                                                       \
+        EXPECT(strcmp(err.field, "observer.deadband") == 0);                                               \
         EXPECT(wmr_paper_controller_##P##_init_observer(&plain, &lp, &wp, NULL, &robot, &drive, dt, &err)  \
                == WMR_NULL_POINTER);                                                                       \
         EXPECT(strcmp(err.field, "observer") == 0);                                                        \
