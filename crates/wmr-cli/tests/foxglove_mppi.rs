@@ -214,8 +214,7 @@ fn mppi_writes_its_optimal_trajectory_every_cycle_and_a_sample_of_its_rollouts()
         assert_eq!(m.log_time, k as u64 * MODEL_DT_NS);
         let path = foxglove::messages::PosesInFrame::decode(&m.data[..]).unwrap();
         assert_eq!(path.frame_id, "world");
-        let xy: Vec<(f64, f64)> =
-            path.poses.iter().map(|p| p.position.unwrap()).map(|v| (v.x, v.y)).collect();
+        let xy: Vec<(f64, f64)> = path.poses.iter().map(|p| p.position.unwrap()).map(|v| (v.x, v.y)).collect();
         assert_eq!(xy.len(), TIME_STEPS + 1);
         // The first pose is the measured (here the true) pose at the cycle.
         assert_eq!(xy[0], at[&m.log_time], "cycle {k}");
@@ -233,7 +232,10 @@ fn mppi_writes_its_optimal_trajectory_every_cycle_and_a_sample_of_its_rollouts()
     }
     // The rollouts: every 4th cycle from the 5th, 16 line strips from the measured pose.
     let rollouts: Vec<&Msg> = msgs.iter().filter(|m| m.topic == "/run0/mppi/rollouts").collect();
-    assert_eq!(rollouts.iter().map(|m| m.log_time / MODEL_DT_NS).collect::<Vec<_>>(), (1..=10).map(|k| 4 * k).collect::<Vec<_>>());
+    assert_eq!(
+        rollouts.iter().map(|m| m.log_time / MODEL_DT_NS).collect::<Vec<_>>(),
+        (1..=10).map(|k| 4 * k).collect::<Vec<_>>()
+    );
     for m in &rollouts {
         let update = SceneUpdate::decode(&m.data[..]).unwrap();
         let lines = &update.entities[0].lines;

@@ -15,7 +15,9 @@
 //!
 //! The cost: the law planned twice, the run's and the view's (an MCAP of an MPPI law only).
 
-use foxglove::messages::{LinePrimitive, Point3, Pose, PosesInFrame, SceneEntity, SceneUpdate, Vector3, line_primitive};
+use foxglove::messages::{
+    LinePrimitive, Point3, Pose, PosesInFrame, SceneEntity, SceneUpdate, Vector3, line_primitive,
+};
 use wmr_core::controller::mppi::MppiLaw;
 use wmr_core::{AnyLaw, Pose2};
 use wmr_scenario::{RunLoop, Scenario, SinkError};

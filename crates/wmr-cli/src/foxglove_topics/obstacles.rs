@@ -33,10 +33,7 @@ pub fn obstacle_id(k: usize) -> String {
 pub const FOOTPRINT_ENTITY: &str = "footprint";
 
 fn at(x: f64, y: f64, z: f64) -> Pose {
-    Pose {
-        position: Some(Vector3 { x, y, z }),
-        orientation: Some(Quaternion { x: 0.0, y: 0.0, z: 0.0, w: 1.0 }),
-    }
+    Pose { position: Some(Vector3 { x, y, z }), orientation: Some(Quaternion { x: 0.0, y: 0.0, z: 0.0, w: 1.0 }) }
 }
 
 fn outline(points: Vec<Point3>, color: Color) -> LinePrimitive {

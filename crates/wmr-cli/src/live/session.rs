@@ -155,7 +155,8 @@ impl Live {
         let n = scenario.runs().len();
         let mut file = match mcap {
             Some(f) => {
-                let mut m = McapFile::new(f, n, Columns::of(scenario), Views { mppi: false, ..Views::of(scenario) }).map_err(|e| anyhow!(e))?;
+                let mut m = McapFile::new(f, n, Columns::of(scenario), Views { mppi: false, ..Views::of(scenario) })
+                    .map_err(|e| anyhow!(e))?;
                 let ids =
                     (0..n).map(|i| m.add_run(i)).collect::<Result<Vec<RunChannels>, _>>().map_err(|e| anyhow!(e))?;
                 Some((m, ids))
@@ -244,8 +245,7 @@ fn stream(
             }));
         }
 
-        let mut encoders: Vec<RunEncoder> =
-            runs
+        let mut encoders: Vec<RunEncoder> = runs
             .iter()
             .enumerate()
             .map(|(i, spec)| {
