@@ -7,7 +7,8 @@
 //!   `scene` (body, goal), `path` and `path_tip` topics visible; with a `[sensor]`, its
 //!   `pose_meas` as an arrow, on odometry its `pose_odom` as a darker arrow, and with a
 //!   `[reference]` its `reference` topic (the dashed reference path, the ghost on
-//!   `runN/reference`). Frame settings where Foxglove reads them: axis scale and label
+//!   `runN/reference`); with obstacles its `obstacles`, under MPPI its `mppi/optimal` as a line
+//!   and its `mppi/rollouts`. Frame settings where Foxglove reads them: axis scale and label
 //!   size under `scene.transforms`, one `frame:<id>` entry per frame under `transforms`.
 //! - **Plots**, titled with their units (`foxglovePanelTitle`): dl of every run (with a
 //!   `[reference]` the tracking-error plot, as dl is then), e_theta of every run, the
@@ -27,7 +28,9 @@
 use serde_json::{Value, json};
 use wmr_scenario::{Columns, Scenario};
 
-use crate::foxglove_topics::{Kind, WORLD_FRAME, base_link, log_positions, reference_frame, run_hex, run_rgb, topic};
+use crate::foxglove_topics::{
+    Kind, Views, WORLD_FRAME, base_link, log_positions, reference_frame, run_hex, run_rgb, topic,
+};
 use crate::mcap_sink::Profile;
 use crate::ros2::Topic;
 use crate::ros2::topics::{MAP_FRAME, frame, topic_name};
@@ -140,6 +143,7 @@ pub fn layout(scenario: &Scenario, profile: Profile) -> Value {
     let names = Names { ros2: profile == Profile::Ros2, runs: runs.len() };
     let robot = scenario.robot().params();
     let columns = Columns::of(scenario);
+    let views = Views::of(scenario);
     let tracking = columns.reference.is_some();
 
     // Frame every start and goal (and a reference's path, at the log times, thinned to a
@@ -201,6 +205,23 @@ pub fn layout(scenario: &Scenario, profile: Profile) -> Value {
         if tracking {
             transforms.insert(format!("frame:{}", reference_frame(i)), json!({ "visible": true }));
             topics.insert(topic(i, Kind::Reference), json!({ "visible": true }));
+        }
+        if views.obstacles {
+            topics.insert(topic(i, Kind::Obstacles), json!({ "visible": true }));
+        }
+        if views.mppi {
+            // The optimal trajectory as a line (ThreeDeeRender's PoseArray settings: type
+            // "line", lineWidth, a gradient from its start to its end), the rollouts as sent.
+            topics.insert(
+                topic(i, Kind::MppiOptimal),
+                json!({
+                    "visible": true,
+                    "type": "line",
+                    "lineWidth": r6(0.1 * s),
+                    "gradient": [format!("{}ff", shade(i, 0.0, 0.3)), format!("{}80", shade(i, 1.0, 0.5))]
+                }),
+            );
+            topics.insert(topic(i, Kind::MppiRollouts), json!({ "visible": true }));
         }
     }
 

@@ -13,11 +13,12 @@ use std::io::{self, BufWriter, Seek, Write};
 
 use mcap::records::MessageHeader;
 use mcap::{Compression, WriteOptions, Writer};
+use wmr_core::obstacle::Obstacles;
 use wmr_core::{RobotParams, Sample};
 use wmr_scenario::{Columns, RunSpec, Scenario, SimSpec, Sink, SinkError};
 
 use crate::atomic::OutWriter;
-use crate::foxglove_topics::{Kind, MESSAGE_ENCODING, RunEncoder, Schemas, topic};
+use crate::foxglove_topics::{Kind, MESSAGE_ENCODING, MppiView, RunEncoder, Schemas, Views, topic};
 use crate::ros2::{self, Ros2RunEncoder, Ros2Schema, Topic};
 
 /// Which topics an MCAP file carries (`wmr-cli run --profile`).
@@ -60,11 +61,11 @@ pub const MIN_CHUNK_BYTES: u64 = 64 << 10;
 pub const MAX_CHUNK_BYTES: u64 = 1 << 20;
 
 /// Uncompressed bytes after which a chunk is closed, for `runs` runs carrying `columns`
-/// (which decide the topics, [`Kind::present`]): [`SEEK_BUDGET_BYTES`] over the number of
+/// and `views` (which decide the topics, [`Kind::present`]): [`SEEK_BUDGET_BYTES`] over the number of
 /// topics, within [`MIN_CHUNK_BYTES`]..=[`MAX_CHUNK_BYTES`]. Fig. 7 (5 topics): 1 MiB; 30
 /// runs: 64 KiB.
-pub fn chunk_bytes(runs: usize, columns: &Columns) -> u64 {
-    let topics = (runs.max(1) * Kind::present(columns).count()) as u64;
+pub fn chunk_bytes(runs: usize, columns: &Columns, views: Views) -> u64 {
+    let topics = (runs.max(1) * Kind::present(columns, views).count()) as u64;
     (SEEK_BUDGET_BYTES / topics).clamp(MIN_CHUNK_BYTES, MAX_CHUNK_BYTES)
 }
 
@@ -86,6 +87,7 @@ pub struct McapFile<W: Target = File> {
     /// ROS 2 schema ids by [`Topic`].
     ros2_schema_ids: [u16; Topic::ALL.len()],
     columns: Columns,
+    views: Views,
     profile: Profile,
     runs: usize,
     sequence: u32,
@@ -117,18 +119,25 @@ fn mcap_err(e: mcap::McapError) -> SinkError {
 }
 
 impl<W: Target> McapFile<W> {
-    /// Starts the file on `file` for `runs` runs carrying `columns` (the Foxglove profile).
-    pub fn new(file: W, runs: usize, columns: Columns) -> Result<Self, SinkError> {
-        Self::with_profile(file, runs, columns, Profile::Foxglove)
+    /// Starts the file on `file` for `runs` runs carrying `columns` and `views` (the
+    /// Foxglove profile).
+    pub fn new(file: W, runs: usize, columns: Columns, views: Views) -> Result<Self, SinkError> {
+        Self::with_profile(file, runs, columns, views, Profile::Foxglove)
     }
 
-    /// Starts the file on `file` for `runs` runs carrying `columns`, with the channels of
-    /// `profile`.
-    pub fn with_profile(file: W, runs: usize, columns: Columns, profile: Profile) -> Result<Self, SinkError> {
+    /// Starts the file on `file` for `runs` runs carrying `columns` and `views`, with the
+    /// channels of `profile`.
+    pub fn with_profile(
+        file: W,
+        runs: usize,
+        columns: Columns,
+        views: Views,
+        profile: Profile,
+    ) -> Result<Self, SinkError> {
         let chunk = if profile == Profile::Foxglove {
-            chunk_bytes(runs, &columns)
+            chunk_bytes(runs, &columns, views)
         } else {
-            let fox = if profile.foxglove() { Kind::present(&columns).count() } else { 0 };
+            let fox = if profile.foxglove() { Kind::present(&columns, views).count() } else { 0 };
             let topics = (runs.max(1) * (fox + Topic::present(&columns).count())) as u64;
             (SEEK_BUDGET_BYTES / topics).clamp(MIN_CHUNK_BYTES, MAX_CHUNK_BYTES)
         };
@@ -146,7 +155,7 @@ impl<W: Target> McapFile<W> {
         let mut schema_ids = [0u16; Kind::ALL.len()];
         if profile.foxglove() {
             let schemas = Schemas::new(&columns);
-            for kind in Kind::present(&columns) {
+            for kind in Kind::present(&columns, views) {
                 let s = kind.schema(&schemas);
                 schema_ids[kind as usize] = writer.add_schema(&s.name, &s.encoding, &s.data).map_err(mcap_err)?;
             }
@@ -159,7 +168,7 @@ impl<W: Target> McapFile<W> {
                     writer.add_schema(&s.name, ros2::ROS2MSG, s.data.as_bytes()).map_err(mcap_err)?;
             }
         }
-        Ok(Self { writer, schema_ids, ros2_schema_ids, columns, profile, runs, sequence: 0 })
+        Ok(Self { writer, schema_ids, ros2_schema_ids, columns, views, profile, runs, sequence: 0 })
     }
 
     /// Adds the ROS 2 channels of run `run` (none without the ROS 2 profile).
@@ -224,7 +233,7 @@ impl<W: Target> McapFile<W> {
             return Ok(channels);
         }
         let none = BTreeMap::new();
-        for kind in Kind::present(&self.columns) {
+        for kind in Kind::present(&self.columns, self.views) {
             let id = self.schema_ids[kind as usize];
             channels[kind as usize] = self
                 .writer
@@ -268,6 +277,8 @@ struct RunState {
     ros2: Option<Ros2RunEncoder>,
     ros2_channels: Ros2Channels,
     last_t: f64,
+    /// MPPI's plans (an MPPI law, Foxglove profile).
+    mppi: Option<MppiView>,
 }
 
 /// Writes the runs of `wmr-cli run` to an MCAP file.
@@ -276,6 +287,10 @@ pub struct McapSink {
     robot: RobotParams<f64>,
     sim: SimSpec,
     columns: Columns,
+    /// The world's obstacles (none: no [`Kind::Obstacles`]).
+    obstacles: Obstacles<f64>,
+    /// The scenario, when its law is MPPI: [`MppiView`] steps a copy of each run's loop.
+    mppi: Option<Box<Scenario>>,
     profile: Profile,
     runs: usize,
     /// The scenario's name: the URDF's robot name.
@@ -289,7 +304,7 @@ impl McapSink {
     pub fn new(file: OutWriter, scenario: &Scenario, profile: Profile) -> Result<Self, SinkError> {
         let columns = Columns::of(scenario);
         let runs = scenario.runs().len();
-        let mut mcap = McapFile::with_profile(file, runs, columns.clone(), profile)?;
+        let mut mcap = McapFile::with_profile(file, runs, columns.clone(), Views::of(scenario), profile)?;
         if profile.ros2() {
             mcap.attach_urdf(&wmr_scenario::urdf::urdf(scenario.robot().params(), scenario.name(), ""))?;
         }
@@ -298,6 +313,8 @@ impl McapSink {
             robot: *scenario.robot().params(),
             sim: *scenario.sim(),
             columns,
+            obstacles: scenario.setup().obstacles,
+            mppi: (profile.foxglove() && Views::of(scenario).mppi).then(|| Box::new(scenario.clone())),
             profile,
             runs,
             name: scenario.name().to_owned(),
@@ -326,7 +343,8 @@ impl Sink for McapSink {
         let profile = self.profile;
         self.run = Some(RunState {
             encoder: profile.foxglove().then(|| {
-                let encoder = RunEncoder::new(index, run, &self.robot, self.columns.clone(), &self.sim);
+                let encoder = RunEncoder::new(index, run, &self.robot, self.columns.clone(), &self.sim)
+                    .with_obstacles(&self.obstacles);
                 // Several runs' ROS 2 frames are named as the Foxglove ones (run3/base_link).
                 if profile == Profile::Both && self.runs > 1 { encoder.joined_to_ros2_map() } else { encoder }
             }),
@@ -338,6 +356,10 @@ impl Sink for McapSink {
             }),
             ros2_channels,
             last_t: 0.0,
+            mppi: match &self.mppi {
+                Some(scenario) => MppiView::new(scenario, index)?,
+                None => None,
+            },
         });
         Ok(())
     }
@@ -348,6 +370,9 @@ impl Sink for McapSink {
         };
         run.last_t = s.t;
         let channels = &run.channels;
+        if let Some(view) = &mut run.mppi {
+            view.advance_to(s.t, &mut |kind, ns, data| file.write(channels, kind, ns, data)).map_err(mcap_err)?;
+        }
         if let Some(encoder) = &mut run.encoder {
             encoder.sample(s, &mut |kind, ns, data| file.write(channels, kind, ns, data)).map_err(mcap_err)?;
         }

@@ -8,6 +8,23 @@ use std::process::Command;
 /// Two runs tracking a reference on odometry, so every kind of topic is written.
 const SCENARIO: &str = include_str!("fixtures/two-runs-every-topic.toml");
 
+/// A short MPPI run (a small batch) beside a post: the obstacles and MPPI topics.
+const MPPI_AMONG_OBSTACLES: &str = r#"
+[controller]
+kind = "mppi"
+batch_size = 16
+time_steps = 10
+[[world.obstacle]]
+kind = "circle"
+center = { x = 1.0, y = 1.0 }
+radius = 0.1
+[sim]
+t_end = 0.5
+[[run]]
+start = { x = 0.0, y = 0.0, theta_deg = 0.0 }
+goal = { x = 0.5, y = 0.0, theta_deg = 0.0 }
+"#;
+
 /// `(topic, schema)` of every channel in `bytes`, with the run index replaced by `N`.
 fn file_topics(bytes: &[u8]) -> BTreeSet<(String, String)> {
     let summary = mcap::read::Summary::read(bytes).unwrap().expect("a summary");
@@ -50,8 +67,18 @@ fn help_names_exactly_the_topics_of_an_mcap_with_every_topic() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let in_file = file_topics(&std::fs::read(&mcap).unwrap());
+    let mut in_file = file_topics(&std::fs::read(&mcap).unwrap());
     assert!(in_file.len() >= 9, "{in_file:?}");
+    // And the topics of an MPPI run among obstacles (issue 41).
+    let mppi = dir.path().join("mppi.toml");
+    std::fs::write(&mppi, MPPI_AMONG_OBSTACLES).unwrap();
+    let mcap = dir.path().join("mppi.mcap");
+    let o = Command::new(env!("CARGO_BIN_EXE_wmr-cli"))
+        .args(["run", mppi.to_str().unwrap(), "-o", mcap.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    in_file.extend(file_topics(&std::fs::read(&mcap).unwrap()));
 
     for args in [&["help", "keys"][..], &["help", "keys", "outputs"]] {
         let o = Command::new(env!("CARGO_BIN_EXE_wmr-cli")).args(args).output().unwrap();

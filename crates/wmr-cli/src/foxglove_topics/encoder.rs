@@ -6,11 +6,13 @@ use foxglove::messages::{
     ArrowPrimitive, CubePrimitive, FrameTransform, LinePrimitive, Point3, Pose, PoseInFrame, Quaternion, SceneEntity,
     SceneEntityDeletion, SceneUpdate, Vector3, line_primitive, scene_entity_deletion,
 };
+use wmr_core::obstacle::Obstacles;
 use wmr_core::{Pose2, Reference, RobotParams, Sample};
 use wmr_scenario::{Columns, RunSpec, SimSpec};
 
 use super::clock::{LogClock, stamp};
 use super::colour::run_color;
+use super::obstacles;
 use super::path::{P2, PathPieces, RECENT_VERTICES};
 use super::reference::dashes;
 use super::sample::encode_sample;
@@ -57,6 +59,8 @@ pub struct RunEncoder {
     path: Option<PathPieces>,
     points: Vec<Point3>,
     buf: Vec<u8>,
+    /// The world's obstacles ([`Kind::Obstacles`]), when it has some.
+    obstacles: Option<Obstacles<f64>>,
 }
 
 impl RunEncoder {
@@ -176,7 +180,15 @@ impl RunEncoder {
             path: None,
             points: Vec::with_capacity(RECENT_VERTICES + 2),
             buf: Vec::with_capacity(1024),
+            obstacles: None,
         }
+    }
+
+    /// The encoder drawing `obstacles` on [`Kind::Obstacles`] (nothing when there is none):
+    /// at t = 0, and in red at the end of a run whose footprint touches one.
+    pub fn with_obstacles(mut self, obstacles: &Obstacles<f64>) -> Self {
+        self.obstacles = (!obstacles.is_empty()).then_some(*obstacles);
+        self
     }
 
     /// Encodes sample `s`, handing each message to `out(kind, log time ns, bytes)`.
@@ -193,6 +205,11 @@ impl RunEncoder {
         if first {
             self.path = Some(PathPieces::new(here));
             self.send_scene(ns, out)?;
+            if let Some(o) = &self.obstacles {
+                self.buf.clear();
+                let _ = prost::Message::encode(&obstacles::scene(o, ts), &mut self.buf);
+                out(Kind::Obstacles, ns, &self.buf)?;
+            }
             if let Some(mut update) = self.reference.take() {
                 for e in &mut update.entities {
                     e.timestamp = ts;
@@ -248,8 +265,18 @@ impl RunEncoder {
         Ok(())
     }
 
-    /// After the last sample: sends `path_tip` once more if C moved since it was sent.
+    /// After the last sample: sends `path_tip` once more if C moved since it was sent; and
+    /// when the footprint touches an obstacle there (the run collided), the collision on
+    /// [`Kind::Obstacles`].
     pub fn finish<E>(&mut self, last_t: f64, out: &mut impl FnMut(Kind, u64, &[u8]) -> Result<(), E>) -> Result<(), E> {
+        if let (Some(o), Some(path)) = (&self.obstacles, &self.path) {
+            let ns = self.clock.nanos(last_t);
+            if let Some(update) = obstacles::collision(o, path.end.x, path.end.y, Some(stamp(ns))) {
+                self.buf.clear();
+                let _ = prost::Message::encode(&update, &mut self.buf);
+                out(Kind::Obstacles, ns, &self.buf)?;
+            }
+        }
         match &self.path {
             Some(path) if path.sent_end != Some(path.end) && path.end != path.old[0] => {
                 self.send_path(self.clock.nanos(last_t), out)

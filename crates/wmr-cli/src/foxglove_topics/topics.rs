@@ -9,9 +9,9 @@
 //! [`Kind::schema`] and the messages [`Kind::messages`] says: that list is also what
 //! `wmr-cli help keys` prints (a test reads the topics back from an MCAP file).
 
-use foxglove::messages::{FrameTransform, PoseInFrame, SceneUpdate};
+use foxglove::messages::{FrameTransform, PoseInFrame, PosesInFrame, SceneUpdate};
 use foxglove::{Encode, Schema};
-use wmr_scenario::Columns;
+use wmr_scenario::{Columns, Scenario};
 
 use super::sample::sample_schema;
 
@@ -41,11 +41,46 @@ pub enum Kind {
     /// `foxglove.SceneUpdate`, once: the reference path and the reference robot's ghost
     /// (tracking runs).
     Reference,
+    /// `foxglove.SceneUpdate`: the world's obstacles at t = 0, and the obstacle the run
+    /// collided with, red, at the collision (worlds with `[[world.obstacle]]`).
+    Obstacles,
+    /// `foxglove.PosesInFrame`, every planning cycle: MPPI's optimal trajectory (MCAP of
+    /// an MPPI law).
+    MppiOptimal,
+    /// `foxglove.SceneUpdate`, every [`MPPI_ROLLOUTS_EVERY`] cycles: a sample of MPPI's
+    /// rollouts as lines (MCAP of an MPPI law).
+    MppiRollouts,
+}
+
+/// Planning cycles between two messages of [`Kind::MppiRollouts`].
+pub const MPPI_ROLLOUTS_EVERY: u64 = 4;
+
+/// Rollouts drawn per message of [`Kind::MppiRollouts`]: samples 0 .. this of the cycle.
+pub const MPPI_ROLLOUTS_DRAWN: u32 = 16;
+
+/// What a file shows beside the samples' columns, from the scenario: its obstacles.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Views {
+    /// The world has obstacles (`[[world.obstacle]]`): [`Kind::Obstacles`].
+    pub obstacles: bool,
+    /// The law is MPPI: [`Kind::MppiOptimal`], [`Kind::MppiRollouts`] (written to an
+    /// MCAP file, not served live).
+    pub mppi: bool,
+}
+
+impl Views {
+    /// The views of `scenario`'s runs.
+    pub fn of(scenario: &Scenario) -> Self {
+        Self {
+            obstacles: !scenario.setup().obstacles.is_empty(),
+            mppi: matches!(scenario.controller().law, wmr_core::LawParams::Mppi(_)),
+        }
+    }
 }
 
 impl Kind {
     /// Every kind, in the order channels are created.
-    pub const ALL: [Kind; 9] = [
+    pub const ALL: [Kind; 12] = [
         Kind::Tf,
         Kind::Sample,
         Kind::Scene,
@@ -55,6 +90,9 @@ impl Kind {
         Kind::PoseOdom,
         Kind::TfRef,
         Kind::Reference,
+        Kind::Obstacles,
+        Kind::MppiOptimal,
+        Kind::MppiRollouts,
     ];
 
     /// The last part of the topic name.
@@ -69,6 +107,9 @@ impl Kind {
             Kind::PoseOdom => "pose_odom",
             Kind::TfRef => "tf_ref",
             Kind::Reference => "reference",
+            Kind::Obstacles => "obstacles",
+            Kind::MppiOptimal => "mppi/optimal",
+            Kind::MppiRollouts => "mppi/rollouts",
         }
     }
 
@@ -90,14 +131,28 @@ impl Kind {
             Kind::Reference => {
                 "with a [reference], at t = 0: the reference path (dashed), the reference robot's ghost on runN/reference"
             }
+            Kind::Obstacles => {
+                "with [[world.obstacle]], at t = 0: every obstacle (obstacleK, K in the summary's collided_with order: \
+                 circles as grey discs, polygons as outlines); at a collision: that obstacle red and the footprint"
+            }
+            Kind::MppiOptimal => {
+                "kind = \"mppi\", every planning cycle (model_dt): the measured pose, then the poses of the sequence \
+                 just chosen (u_1, u_2, ...) rolled out on the law's model, one per model_dt"
+            }
+            Kind::MppiRollouts => {
+                "kind = \"mppi\", every 4th planning cycle: samples 0-15 of the cycle rolled out as the plan rolls \
+                 them (lines, entity rollouts)"
+            }
         }
     }
 
-    /// Whether runs with `columns` have this topic: [`Kind::PoseMeas`] with a `[sensor]`,
-    /// [`Kind::PoseOdom`] on odometry, [`Kind::TfRef`] and [`Kind::Reference`] with a
-    /// `[reference]`, the others always.
-    pub fn is_present(self, columns: &Columns) -> bool {
+    /// Whether runs with `columns` and `views` have this topic: [`Kind::PoseMeas`] with a
+    /// `[sensor]`, [`Kind::PoseOdom`] on odometry, [`Kind::TfRef`] and [`Kind::Reference`]
+    /// with a `[reference]`, [`Kind::Obstacles`] with obstacles, the others always.
+    pub fn is_present(self, columns: &Columns, views: Views) -> bool {
         match self {
+            Kind::Obstacles => views.obstacles,
+            Kind::MppiOptimal | Kind::MppiRollouts => views.mppi,
             Kind::PoseMeas => columns.measured,
             Kind::PoseOdom => columns.odometry,
             Kind::TfRef | Kind::Reference => columns.reference.is_some(),
@@ -105,9 +160,9 @@ impl Kind {
         }
     }
 
-    /// The kinds a file of runs with `columns` has, in [`Kind::ALL`] order.
-    pub fn present(columns: &Columns) -> impl Iterator<Item = Kind> + '_ {
-        Kind::ALL.into_iter().filter(move |k| k.is_present(columns))
+    /// The kinds a file of runs with `columns` and `views` has, in [`Kind::ALL`] order.
+    pub fn present(columns: &Columns, views: Views) -> impl Iterator<Item = Kind> + '_ {
+        Kind::ALL.into_iter().filter(move |k| k.is_present(columns, views))
     }
 
     /// The schema of this kind's messages.
@@ -115,8 +170,11 @@ impl Kind {
         match self {
             Kind::Tf | Kind::TfRef => &schemas.frame_transform,
             Kind::Sample => &schemas.sample,
-            Kind::Scene | Kind::Path | Kind::PathTip | Kind::Reference => &schemas.scene_update,
+            Kind::Scene | Kind::Path | Kind::PathTip | Kind::Reference | Kind::Obstacles | Kind::MppiRollouts => {
+                &schemas.scene_update
+            }
             Kind::PoseMeas | Kind::PoseOdom => &schemas.pose_in_frame,
+            Kind::MppiOptimal => &schemas.poses_in_frame,
         }
     }
 }
@@ -147,6 +205,8 @@ pub struct Schemas {
     pub scene_update: Schema,
     /// `foxglove.PoseInFrame`.
     pub pose_in_frame: Schema,
+    /// `foxglove.PosesInFrame`.
+    pub poses_in_frame: Schema,
     /// `wmr.Sample`.
     pub sample: Schema,
 }
@@ -159,6 +219,7 @@ impl Schemas {
             frame_transform: fox(FrameTransform::get_schema(), "foxglove.FrameTransform"),
             scene_update: fox(SceneUpdate::get_schema(), "foxglove.SceneUpdate"),
             pose_in_frame: fox(PoseInFrame::get_schema(), "foxglove.PoseInFrame"),
+            poses_in_frame: fox(PosesInFrame::get_schema(), "foxglove.PosesInFrame"),
             sample: sample_schema(columns),
         }
     }

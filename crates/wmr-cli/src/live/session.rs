@@ -25,7 +25,7 @@ use wmr_scenario::{Columns, RunResult, Scenario};
 use super::protocol::ChannelInfo;
 use super::server::{Limits, Server, Stats};
 use super::stop::{self, POLL};
-use crate::foxglove_topics::{Kind, LogClock, MESSAGE_ENCODING, RunEncoder, Schemas, topic};
+use crate::foxglove_topics::{Kind, LogClock, MESSAGE_ENCODING, RunEncoder, Schemas, Views, topic};
 use crate::mcap_sink::{McapFile, RunChannels};
 
 /// The address `--live` serves on when none is given: loopback only.
@@ -106,10 +106,12 @@ pub fn serve(scenario: &Scenario, addr: SocketAddr) -> Result<Live> {
         )));
     }
     let columns = Columns::of(scenario);
+    // MPPI's plans go to `run -o FILE.mcap` only.
+    let views = Views { mppi: false, ..Views::of(scenario) };
     let schemas = Schemas::new(&columns);
     let mut channels = Vec::new();
     for i in 0..n {
-        for kind in Kind::present(&columns) {
+        for kind in Kind::present(&columns, views) {
             let s = kind.schema(&schemas);
             channels.push(ChannelInfo {
                 id: channel_id(i, kind),
@@ -153,7 +155,8 @@ impl Live {
         let n = scenario.runs().len();
         let mut file = match mcap {
             Some(f) => {
-                let mut m = McapFile::new(f, n, Columns::of(scenario)).map_err(|e| anyhow!(e))?;
+                let mut m = McapFile::new(f, n, Columns::of(scenario), Views { mppi: false, ..Views::of(scenario) })
+                    .map_err(|e| anyhow!(e))?;
                 let ids =
                     (0..n).map(|i| m.add_run(i)).collect::<Result<Vec<RunChannels>, _>>().map_err(|e| anyhow!(e))?;
                 Some((m, ids))
@@ -242,8 +245,13 @@ fn stream(
             }));
         }
 
-        let mut encoders: Vec<RunEncoder> =
-            runs.iter().enumerate().map(|(i, spec)| RunEncoder::new(i, spec, &robot, columns.clone(), sim)).collect();
+        let mut encoders: Vec<RunEncoder> = runs
+            .iter()
+            .enumerate()
+            .map(|(i, spec)| {
+                RunEncoder::new(i, spec, &robot, columns.clone(), sim).with_obstacles(&scenario.setup().obstacles)
+            })
+            .collect();
         let mut heads: Vec<Option<Sample<f64>>> = vec![None; n];
         let mut last_t = vec![0.0; n];
         let mut messages = 0u64;

@@ -1225,3 +1225,112 @@ mod tests {
         }
     }
 }
+
+// What the MCAP shows of a plan (wmr-cli's `/runN/mppi/optimal` and `/runN/mppi/rollouts`,
+// issue 41): read-only views of the law, for one lane, into the caller's buffers. Nothing
+// here runs in `update`.
+impl<L: Lane> MppiLaw<L> {
+    /// Planning cycles lane `lane` has run (one per `model_dt`, the first at t = 0).
+    pub fn cycles(&self, lane: usize) -> u64 {
+        self.cycle.lane(lane).to_f64_lossless() as u64
+    }
+
+    /// The speed (m/s, rad/s) the encoders of measurement `m` give for lane `lane`.
+    fn measured_speed(&self, lane: usize, m: &Measurement<L>) -> Twist2<f64> {
+        let f = |x: L::Scalar| x.to_f64_lossless();
+        let (r, big_r) = (f(self.wheel_radius), f(self.half_track));
+        let (w_r, w_l) = (f(m.wheel_speeds.right.lane(lane)), f(m.wheel_speeds.left.lane(lane)));
+        Twist2 { v: r * (w_r + w_l) * 0.5, omega: r * (w_r - w_l) * 0.5 / big_r }
+    }
+
+    /// Rolls the twist demands `cvx`, `cwz` (m/s, rad/s, `n` steps of `model_dt`) out on
+    /// the law's own model from the pose of `m` (lane `lane`): step i driven by `held`
+    /// for i = 0 and by demand i - 1 after it (as the plan's rollouts are). Writes the
+    /// pose after each step (world frame) into `out`; returns how many.
+    fn roll(
+        &self,
+        lane: usize,
+        m: &Measurement<L>,
+        held: Twist2<f64>,
+        cvx: &[f64; MAX_TIME_STEPS],
+        cwz: &[f64; MAX_TIME_STEPS],
+        out: &mut [Pose2<f64>],
+    ) -> usize {
+        let f = |x: L::Scalar| x.to_f64_lossless();
+        let n = (self.planner.p.time_steps as usize).min(MAX_TIME_STEPS).min(out.len());
+        let start = Pose2 { x: f(m.pose.x.lane(lane)), y: f(m.pose.y.lane(lane)), theta: f(m.pose.theta.lane(lane)) };
+        let mut visit = |i: usize, pose: Pose2<Wide>, _: Twist2<Wide>| {
+            if let Some(o) = out.get_mut(i) {
+                *o = Pose2 { x: pose.x.lane(0), y: pose.y.lane(0), theta: pose.theta.lane(0) };
+            }
+        };
+        match &self.planner.dynamic {
+            Some(model) => {
+                let demand = |i: usize| match i.checked_sub(1) {
+                    None => Twist2 { v: Wide::splat(held.v), omega: Wide::splat(held.omega) },
+                    Some(k) => Twist2 {
+                        v: Wide::splat(cvx.get(k).copied().unwrap_or(0.0)),
+                        omega: Wide::splat(cwz.get(k).copied().unwrap_or(0.0)),
+                    },
+                };
+                model.rollout(start, self.measured_speed(lane, m), n, demand, &mut visit);
+            }
+            None => {
+                let p = self.planner.p.cast::<f64>();
+                let cv: [Wide; MAX_TIME_STEPS] = core::array::from_fn(|t| Wide::splat(cvx[t]));
+                let cw: [Wide; MAX_TIME_STEPS] = core::array::from_fn(|t| Wide::splat(cwz[t]));
+                let pose = Pose2 { x: Wide::splat(start.x), y: Wide::splat(start.y), theta: Wide::splat(start.theta) };
+                let speed = Twist2 { v: Wide::splat(held.v), omega: Wide::splat(held.omega) };
+                kinematic_rollout(&p, pose, speed, &cv[..n], &cw[..n], &mut visit);
+            }
+        }
+        n
+    }
+
+    /// The optimal trajectory of lane `lane` after a plan: the sequence the law holds
+    /// after its shift (the command u_1 first, then u_2, ...), rolled out on the law's own
+    /// model (the dynamic model from the measured speed, or nav2's DiffDrive) from the
+    /// pose of the measurement `m` the plan read, over `time_steps` steps of `model_dt`.
+    /// Writes the pose after each step (world frame) into `out`; returns how many.
+    pub fn predict(&self, lane: usize, m: &Measurement<L>, out: &mut [Pose2<f64>]) -> usize {
+        let last = (self.planner.p.time_steps as usize).clamp(1, MAX_TIME_STEPS) - 1;
+        let at = |t: usize| {
+            let (v, w) = (self.vx.get(t.min(last)), self.wz.get(t.min(last)));
+            v.zip(w).map_or((0.0, 0.0), |(v, w)| (v.lane(lane).to_f64_lossless(), w.lane(lane).to_f64_lossless()))
+        };
+        // Step 0 is driven by element 0 (u_1), step i by demand i - 1 = element i.
+        let (mut cvx, mut cwz) = ([0.0; MAX_TIME_STEPS], [0.0; MAX_TIME_STEPS]);
+        for (t, (v, w)) in cvx.iter_mut().zip(cwz.iter_mut()).enumerate() {
+            (*v, *w) = at(t + 1);
+        }
+        let (v0, w0) = at(0);
+        self.roll(lane, m, Twist2 { v: v0, omega: w0 }, &cvx, &cwz, out)
+    }
+
+    /// Sample `k` of the first iteration of the plan this law (lane `lane`) is about to
+    /// run on measurement `m`, rolled out as the plan rolls it out: call it on a copy of
+    /// the law taken before the `update` that plans. Writes the pose after each step
+    /// (world frame) into `out`; returns how many.
+    pub fn sampled_rollout(&self, lane: usize, k: u32, m: &Measurement<L>, out: &mut [Pose2<f64>]) -> usize {
+        let p = &self.planner.p;
+        let f = |x: L::Scalar| x.to_f64_lossless();
+        let dt = f(p.model_dt);
+        // The speed the rollouts start from (as the plan computes it).
+        let meas = self.measured_speed(lane, m);
+        let (c_v, c_w) = (f(self.command.v.lane(lane)), f(self.command.omega.lane(lane)));
+        let held = Twist2 {
+            v: c_v.max(meas.v + dt * f(p.ax_min)).min(meas.v + dt * f(p.ax_max)),
+            omega: c_w.max(meas.omega - dt * f(p.az_max)).min(meas.omega + dt * f(p.az_max)),
+        };
+        let key = draw_key(p.seed, self.cycles(lane).wrapping_mul(u64::from(p.iteration_count)));
+        let (mut cvx, mut cwz) = ([0.0; MAX_TIME_STEPS], [0.0; MAX_TIME_STEPS]);
+        for (t, (v, w)) in cvx.iter_mut().zip(cwz.iter_mut()).enumerate() {
+            let (a, b) = noise_lanes(key, k, t as u32);
+            let (mean_v, mean_w) =
+                if t == 0 { (held.v, held.omega) } else { (f(self.vx[t].lane(lane)), f(self.wz[t].lane(lane))) };
+            *v = mean_v + f(p.vx_std) * a.lane(0);
+            *w = mean_w + f(p.wz_std) * b.lane(0);
+        }
+        self.roll(lane, m, held, &cvx, &cwz, out)
+    }
+}
