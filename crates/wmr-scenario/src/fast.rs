@@ -10,7 +10,9 @@
 //! sensor (rate, latency, noise, encoders) take the exact path, as do runs whose values
 //! `vary` draws one by one (each has its own plant), runs whose wheels slip (the
 //! lanes step the rolling plant only; `wmr-cli sweep --fast` says so), runs with stiction
-//! (`robot.static_friction`: its stick/slip switch is per run) and the runs of a
+//! (`robot.static_friction`: its stick/slip switch is per run), runs of a law that
+//! draws its own noise per run (MPPI: one controller per run's seed, and its planning,
+//! one lane at a time, is what costs) and the runs of a
 //! sweep over references (the lanes follow a fixed goal; [`SweepSpec::fast_refusal`] says so).
 //!
 //! Not bit-identical to [`SweepSpec::run`]: the lanes' sin and cos are not `libm`'s, and
@@ -103,7 +105,11 @@ impl SweepSpec {
         let mut drawn = None;
         let exact = kernel == Kernel::Exact || self.tracking.is_some() || self.variation.has_draws() || {
             let setup = self.setup_of(sim, first, &mut drawn)?;
-            !setup.sensor_is_perfect() || setup.slips() || setup.robot.has_stiction() || !setup.pushes.is_empty()
+            !setup.sensor_is_perfect()
+                || setup.slips()
+                || setup.robot.has_stiction()
+                || !setup.pushes.is_empty()
+                || setup.samples_noise()
         };
         if !exact {
             return self.run_lanes(sim, kernel, first..end, done, stop);
@@ -196,6 +202,7 @@ impl Scenario {
                 || self.setup().slips()
                 || self.setup().robot.has_stiction()
                 || !self.setup().pushes.is_empty()
+                || self.setup().samples_noise()
             {
                 return one_by_one(first..end, done, stop, |i, poll| {
                     Ok(match self.try_run_as(i, i as u64 + stream_offset, |_| ControlFlow::Continue(()), poll)? {
