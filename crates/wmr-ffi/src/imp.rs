@@ -12,10 +12,9 @@ use wmr_core::reference::waypoints::{FIXED_WORDS, SUBSTEPS};
 use wmr_core::reference::{Circle, FigureEight, Line, Waypoints};
 use wmr_core::{
     AntiWindup, AnyReference, Controller, DcMotorParams, DisturbanceObserverParams, Drive, DriveParams, HoldMode,
-    Measurement, OdometryParams, OdometrySensor, PaperMode, ParamError, PerfectSensor, Plant, Pose2, PoseSensor,
-    PoseSource, Real, Reason, Reference, ReferenceState, Robot, RobotParams, Sensor, SensorParams, State, Termination,
-    TorqueDriveParams, TractionKind, TractionParams, Twist2, WheelStage, WheelStageParams, Wheels,
-    Obstacle, Obstacles,
+    Measurement, Obstacle, Obstacles, OdometryParams, OdometrySensor, PaperMode, ParamError, PerfectSensor, Plant,
+    Pose2, PoseSensor, PoseSource, Real, Reason, Reference, ReferenceState, Robot, RobotParams, Sensor, SensorParams,
+    State, Termination, TorqueDriveParams, TractionKind, TractionParams, Twist2, WheelStage, WheelStageParams, Wheels,
 };
 
 use crate::*;

@@ -115,7 +115,9 @@ impl Lanes {
             if let Some((arg, _)) = given.iter().find(|(_, g)| *g) {
                 return Err(parameter_error(
                     arg,
-                    format_args!("kind = \"{kind}\" does not see obstacles; MppiController does (its obstacles critic)"),
+                    format_args!(
+                        "kind = \"{kind}\" does not see obstacles; MppiController does (its obstacles critic)"
+                    ),
                 ));
             }
             if run != 0 {

@@ -29,8 +29,7 @@ goal = {{ x = 0.8, y = 0.1, theta_deg = 0.0 }}
 
 fn samples(sc: &Scenario, run: usize) -> Vec<[f64; 5]> {
     let mut out = Vec::new();
-    sc.run(run, |s| out.push([s.t, s.state.x, s.state.y, s.state.theta, s.torque.right]))
-        .expect("runs");
+    sc.run(run, |s| out.push([s.t, s.state.x, s.state.y, s.state.theta, s.torque.right])).expect("runs");
     out
 }
 
@@ -98,9 +97,8 @@ fn a_sweeps_trials_differ_in_noise_and_a_rerun_and_fast_are_the_same() {
     assert_eq!(whole.len(), 4);
     // Trials 0 and 1 of each start: same start, other runs, other noise.
     for start in 0..2 {
-        let of = |trial: u32| {
-            whole.iter().find(|o| o.start_index == start && o.trial == trial).expect("the run").outcome
-        };
+        let of =
+            |trial: u32| whole.iter().find(|o| o.start_index == start && o.trial == trial).expect("the run").outcome;
         assert_ne!(of(0), of(1), "start {start}: both trials drew the same noise");
     }
     assert_eq!(spec.run(sc.sim(), &|| {}).expect("runs"), whole);
