@@ -114,6 +114,14 @@ fn law_class(law: &LawRow, keys: &[SchemaKey]) -> String {
     };
     let about = law.about.trim_end_matches('.');
     let keywords = keyword_block(&class_keys(keys, "controller", Some(law.kind)), "        ");
+    // MPPI's map and noise stream (the other classes refuse them).
+    let world = if law.kind == "mppi" {
+        "        obstacles: Optional[Sequence[Mapping[str, Any]]] = None,  # [[world.obstacle]] tables: {\"kind\": \"circle\", \"center\": {\"x\": m, \"y\": m}, \"radius\": m} or {\"kind\": \"polygon\", \"points\": [[x, y], ...]}\n        \
+         footprint_radius: Optional[float] = None,  # [m] [robot] footprint_radius (default: half_track)\n        \
+         run: int = 0,  # the run whose noise stream the law draws (lane i of a batch: run + i)\n"
+    } else {
+        ""
+    };
     format!(
         "@final\n\
          class {variant}Controller:\n    \
@@ -124,7 +132,7 @@ fn law_class(law: &LawRow, keys: &[SchemaKey]) -> String {
                  robot: Union[None, Robot, Mapping[str, float]] = None,\n        \
                  drive: Optional[Mapping[str, Any]] = None,\n        \
                  *,\n\
-         {keywords}    \
+         {world}{keywords}    \
              ) -> Self: ...\n    \
              def update(\n        \
                  self,\n        \
@@ -151,6 +159,9 @@ fn law_class(law: &LawRow, keys: &[SchemaKey]) -> String {
              @property\n    \
              def n(self) -> int:\n        \
                  \"\"\"Robots in the batch (1 for single calls).\"\"\"\n    \
+             @property\n    \
+             def run(self) -> int:\n        \
+                 \"\"\"The run whose noise stream the law draws (MPPI; 0 for the others).\"\"\"\n    \
              @property\n    \
              def scenario_toml(self) -> str: ...\n",
         variant = law.variant,

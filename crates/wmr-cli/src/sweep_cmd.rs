@@ -84,6 +84,12 @@ pub fn sweep(
     if let Some(why) = refusal {
         note(&format!("wmr-cli: --fast: {why}"));
     }
+    if spec.redrawn_starts > 0 {
+        note(&format!(
+            "wmr-cli: sweep.random: {} draws put the footprint on an obstacle and were drawn again",
+            spec.redrawn_starts
+        ));
+    }
     announce_sweep(
         u128::from(scenario.sim().n_steps()) * spec.len() as u128,
         &what,

@@ -113,6 +113,12 @@
 // 64 waypoints and their speed profile take 18.8 kB).
 #define WMR_REFERENCE_F64_WORDS 2432
 
+// Words of a set of obstacles, `wmr_obstacles_f32` (16 obstacles, 32 polygon vertices).
+#define WMR_OBSTACLES_F32_WORDS 72
+
+// Words of a set of obstacles, `wmr_obstacles_f64` (16 obstacles, 32 polygon vertices).
+#define WMR_OBSTACLES_F64_WORDS 128
+
 // Words (8 bytes each) of `wmr_paper_controller_f32`: the law `paper` with its wheel stage.
 #define WMR_PAPER_CONTROLLER_F32_WORDS 48
 
@@ -818,6 +824,15 @@ typedef struct {
   uint64_t opaque[WMR_PURE_PURSUIT_CONTROLLER_F32_WORDS];
 } wmr_pure_pursuit_controller_f32;
 
+// Obstacles on the controller's map and the robot's footprint radius (f32; the core's
+// `wmr_core::Obstacles`, a scenario's `[[world.obstacle]]` and `[robot]
+// footprint_radius`): `wmr_obstacles_f32_init`, then `_add_circle`, `_add_polygon`;
+// MPPI's `_init_in` reads them (its `obstacles` critic).
+typedef struct {
+  // Opaque: only the library reads or writes it.
+  uint64_t opaque[WMR_OBSTACLES_F32_WORDS];
+} wmr_obstacles_f32;
+
 // Physical robot parameters, SI units (the `[robot]` keys of a scenario).
 typedef struct {
   // m, total mass, kg (> 0).
@@ -1405,6 +1420,12 @@ typedef struct {
   // Opaque: only the library reads or writes it.
   uint64_t opaque[WMR_PURE_PURSUIT_CONTROLLER_F64_WORDS];
 } wmr_pure_pursuit_controller_f64;
+
+// Obstacles and the footprint radius (f64), as `wmr_obstacles_f32`.
+typedef struct {
+  // Opaque: only the library reads or writes it.
+  uint64_t opaque[WMR_OBSTACLES_F64_WORDS];
+} wmr_obstacles_f64;
 
 #ifdef __cplusplus
 extern "C" {
@@ -2192,6 +2213,47 @@ wmr_status wmr_pure_pursuit_controller_f32_reset(wmr_pure_pursuit_controller_f32
 wmr_status wmr_pure_pursuit_controller_f32_for_plant(wmr_pure_pursuit_controller_f32 *ctrl,
                                                      const wmr_plant_f32 *plant);
 
+// An empty set of obstacles with the robot's footprint radius `footprint_radius` (m,
+// about C: a scenario's `[robot] footprint_radius`, nav2's `robot_radius`); `err` names
+// `footprint_radius` when it is negative or not finite.
+wmr_status wmr_obstacles_f32_init(wmr_obstacles_f32 *out,
+                                  float footprint_radius,
+                                  wmr_error *err);
+
+// Adds a circle (`[[world.obstacle]] kind = "circle"`): centre (`x`, `y`), m, world
+// frame, and `radius`, m (> 0). Circles come before polygons whatever the order of the
+// calls, as in a scenario (the numbering of its `collided ... with obstacle i`). A bad
+// value is refused naming `obstacle.center` or `obstacle.radius` (the value: the
+// obstacle's index), a 17th obstacle naming `obstacle`; `obstacles` is then unchanged.
+wmr_status wmr_obstacles_f32_add_circle(wmr_obstacles_f32 *obstacles,
+                                        float x,
+                                        float y,
+                                        float radius,
+                                        wmr_error *err);
+
+// Adds a polygon (`kind = "polygon"`): `n` vertices (x, y), m, world frame, in order,
+// at least 3 (32 in all, over every polygon). Refused naming `obstacle.points`, and
+// `obstacles` unchanged, for too few or too many vertices or one not finite.
+wmr_status wmr_obstacles_f32_add_polygon(wmr_obstacles_f32 *obstacles,
+                                         const float (*points)[2],
+                                         size_t n,
+                                         wmr_error *err);
+
+// As `wmr_mppi_controller_f32_init`, knowing the obstacles on the controller's map
+// (`obstacles`, NULL: none; the `obstacles` critic scores the rollouts against them) and
+// drawing the noise of run `run` (0: the `seed` key's; k: the seed a scenario's run k
+// draws under, `wmr_core::LawContext::run`): the controller of a scenario's run `run`
+// with these `[[world.obstacle]]`, bit for bit.
+wmr_status wmr_mppi_controller_f32_init_in(wmr_mppi_controller_f32 *out,
+                                           const wmr_mppi_params_f32 *params,
+                                           const wmr_wheel_stage_params_f32 *wheels,
+                                           const wmr_robot_f32 *model,
+                                           const wmr_drive_f32 *drive,
+                                           float control_dt,
+                                           const wmr_obstacles_f32 *obstacles,
+                                           uint64_t run,
+                                           wmr_error *err);
+
 // Fills `out` with the paper's robot: m = 5 kg, r = 0.1 m, R = 0.2 m, d = 0.25 m,
 // I_m = 0.002 kg m^2, I_p = 0.005 kg m^2, k_t = 0.1, no friction.
 wmr_status wmr_robot_params_f64_paper(wmr_robot_params_f64 *out);
@@ -2965,6 +3027,47 @@ wmr_status wmr_pure_pursuit_controller_f64_reset(wmr_pure_pursuit_controller_f64
 // (see `wmr_paper_controller_f64_for_plant`)
 wmr_status wmr_pure_pursuit_controller_f64_for_plant(wmr_pure_pursuit_controller_f64 *ctrl,
                                                      const wmr_plant_f64 *plant);
+
+// An empty set of obstacles with the robot's footprint radius `footprint_radius` (m,
+// about C: a scenario's `[robot] footprint_radius`, nav2's `robot_radius`); `err` names
+// `footprint_radius` when it is negative or not finite.
+wmr_status wmr_obstacles_f64_init(wmr_obstacles_f64 *out,
+                                  double footprint_radius,
+                                  wmr_error *err);
+
+// Adds a circle (`[[world.obstacle]] kind = "circle"`): centre (`x`, `y`), m, world
+// frame, and `radius`, m (> 0). Circles come before polygons whatever the order of the
+// calls, as in a scenario (the numbering of its `collided ... with obstacle i`). A bad
+// value is refused naming `obstacle.center` or `obstacle.radius` (the value: the
+// obstacle's index), a 17th obstacle naming `obstacle`; `obstacles` is then unchanged.
+wmr_status wmr_obstacles_f64_add_circle(wmr_obstacles_f64 *obstacles,
+                                        double x,
+                                        double y,
+                                        double radius,
+                                        wmr_error *err);
+
+// Adds a polygon (`kind = "polygon"`): `n` vertices (x, y), m, world frame, in order,
+// at least 3 (32 in all, over every polygon). Refused naming `obstacle.points`, and
+// `obstacles` unchanged, for too few or too many vertices or one not finite.
+wmr_status wmr_obstacles_f64_add_polygon(wmr_obstacles_f64 *obstacles,
+                                         const double (*points)[2],
+                                         size_t n,
+                                         wmr_error *err);
+
+// As `wmr_mppi_controller_f64_init`, knowing the obstacles on the controller's map
+// (`obstacles`, NULL: none; the `obstacles` critic scores the rollouts against them) and
+// drawing the noise of run `run` (0: the `seed` key's; k: the seed a scenario's run k
+// draws under, `wmr_core::LawContext::run`): the controller of a scenario's run `run`
+// with these `[[world.obstacle]]`, bit for bit.
+wmr_status wmr_mppi_controller_f64_init_in(wmr_mppi_controller_f64 *out,
+                                           const wmr_mppi_params_f64 *params,
+                                           const wmr_wheel_stage_params_f64 *wheels,
+                                           const wmr_robot_f64 *model,
+                                           const wmr_drive_f64 *drive,
+                                           double control_dt,
+                                           const wmr_obstacles_f64 *obstacles,
+                                           uint64_t run,
+                                           wmr_error *err);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -1290,3 +1290,64 @@ pub unsafe extern "C" fn wmr_pure_pursuit_controller_f64_for_plant(
 ) -> wmr_status {
     imp::controller_for_plant::<f64, PurePursuit>(ctrl, plant)
 }
+
+/// An empty set of obstacles with the robot's footprint radius `footprint_radius` (m,
+/// about C: a scenario's `[robot] footprint_radius`, nav2's `robot_radius`); `err` names
+/// `footprint_radius` when it is negative or not finite.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_obstacles_f64_init(
+    out: *mut wmr_obstacles_f64,
+    footprint_radius: f64,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::obstacles_init::<f64>(out, footprint_radius, err)
+}
+
+/// Adds a circle (`[[world.obstacle]] kind = "circle"`): centre (`x`, `y`), m, world
+/// frame, and `radius`, m (> 0). Circles come before polygons whatever the order of the
+/// calls, as in a scenario (the numbering of its `collided ... with obstacle i`). A bad
+/// value is refused naming `obstacle.center` or `obstacle.radius` (the value: the
+/// obstacle's index), a 17th obstacle naming `obstacle`; `obstacles` is then unchanged.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_obstacles_f64_add_circle(
+    obstacles: *mut wmr_obstacles_f64,
+    x: f64,
+    y: f64,
+    radius: f64,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::obstacles_add_circle::<f64>(obstacles, x, y, radius, err)
+}
+
+/// Adds a polygon (`kind = "polygon"`): `n` vertices (x, y), m, world frame, in order,
+/// at least 3 (32 in all, over every polygon). Refused naming `obstacle.points`, and
+/// `obstacles` unchanged, for too few or too many vertices or one not finite.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_obstacles_f64_add_polygon(
+    obstacles: *mut wmr_obstacles_f64,
+    points: *const [f64; 2],
+    n: usize,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::obstacles_add_polygon::<f64>(obstacles, points, n, err)
+}
+
+/// As `wmr_mppi_controller_f64_init`, knowing the obstacles on the controller's map
+/// (`obstacles`, NULL: none; the `obstacles` critic scores the rollouts against them) and
+/// drawing the noise of run `run` (0: the `seed` key's; k: the seed a scenario's run k
+/// draws under, `wmr_core::LawContext::run`): the controller of a scenario's run `run`
+/// with these `[[world.obstacle]]`, bit for bit.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn wmr_mppi_controller_f64_init_in(
+    out: *mut wmr_mppi_controller_f64,
+    params: *const wmr_mppi_params<f64>,
+    wheels: *const wmr_wheel_stage_params<f64>,
+    model: *const wmr_robot_f64,
+    drive: *const wmr_drive_f64,
+    control_dt: f64,
+    obstacles: *const wmr_obstacles_f64,
+    run: u64,
+    err: *mut wmr_error,
+) -> wmr_status {
+    imp::controller_init_in::<f64, Mppi>(out, params, wheels, model, drive, control_dt, obstacles, run, err)
+}

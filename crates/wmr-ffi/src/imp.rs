@@ -6,14 +6,15 @@ use core::ffi::{CStr, c_char};
 use core::marker::PhantomData;
 use core::mem::{align_of, size_of};
 
-use wmr_core::controller::Law;
+use wmr_core::controller::{Law, LawContext};
+use wmr_core::obstacle::MAX_OBSTACLES;
 use wmr_core::reference::waypoints::{FIXED_WORDS, SUBSTEPS};
 use wmr_core::reference::{Circle, FigureEight, Line, Waypoints};
 use wmr_core::{
     AntiWindup, AnyReference, Controller, DcMotorParams, DisturbanceObserverParams, Drive, DriveParams, HoldMode,
-    Measurement, OdometryParams, OdometrySensor, PaperMode, ParamError, PerfectSensor, Plant, Pose2, PoseSensor,
-    PoseSource, Real, Reason, Reference, ReferenceState, Robot, RobotParams, Sensor, SensorParams, State, Termination,
-    TorqueDriveParams, TractionKind, TractionParams, Twist2, WheelStage, WheelStageParams, Wheels,
+    Measurement, Obstacle, Obstacles, OdometryParams, OdometrySensor, PaperMode, ParamError, PerfectSensor, Plant,
+    Pose2, PoseSensor, PoseSource, Real, Reason, Reference, ReferenceState, Robot, RobotParams, Sensor, SensorParams,
+    State, Termination, TorqueDriveParams, TractionKind, TractionParams, Twist2, WheelStage, WheelStageParams, Wheels,
 };
 
 use crate::*;
@@ -334,6 +335,8 @@ storage_of! {
     wmr_sensor_f64 => AnySensor<f64>, 0x574d_5204_0000_0f64;
     wmr_reference_f32 => CReference<f32>, 0x574d_520c_0000_0f32;
     wmr_reference_f64 => CReference<f64>, 0x574d_520c_0000_0f64;
+    wmr_obstacles_f32 => Obstacles<f32>, 0x574d_520d_0000_0f32;
+    wmr_obstacles_f64 => Obstacles<f64>, 0x574d_520d_0000_0f64;
 }
 
 /// Fills `out` with `value` and its tag.
@@ -613,8 +616,10 @@ pub trait CLaw<T: Prec> {
     const FOLLOWS: wmr_core::Follows;
     /// The default parameters.
     fn defaults() -> Self::Params;
-    /// Validates and builds the law for the controller's robot model and period (s).
-    fn build(p: <Self::Params as CParams>::Core, model: &RobotParams<T>, control_dt: T) -> Result<Self::Law, Fail>;
+    /// Validates and builds the law for what the controller knows ([`LawContext`]: the
+    /// robot model, the drive, the wheel speed limit, the obstacles, the period, the run),
+    /// as the scenario builds it.
+    fn build(p: <Self::Params as CParams>::Core, ctx: &LawContext<'_, T>) -> Result<Self::Law, Fail>;
 }
 
 /// Defines, from the registry (`wmr_core::for_each_law!`): a marker type per law with its
@@ -648,6 +653,8 @@ macro_rules! c_laws {
             type Sensor: Storage<Value = AnySensor<Self>>;
             /// `wmr_reference_*`.
             type Reference: Storage<Value = CReference<Self>>;
+            /// `wmr_obstacles_*`.
+            type Obstacles: Storage<Value = Obstacles<Self>>;
             $(
                 /// The controller storage of this law.
                 type $marker: Storage<Value = Controller<Self, $krate::$law<Self>>>;
@@ -660,6 +667,7 @@ macro_rules! c_laws {
             type Plant = wmr_plant_f32;
             type Sensor = wmr_sensor_f32;
             type Reference = wmr_reference_f32;
+            type Obstacles = wmr_obstacles_f32;
             $( type $marker = [<wmr_ $kind _controller_f32>]; )+
         }
 
@@ -669,6 +677,7 @@ macro_rules! c_laws {
             type Plant = wmr_plant_f64;
             type Sensor = wmr_sensor_f64;
             type Reference = wmr_reference_f64;
+            type Obstacles = wmr_obstacles_f64;
             $( type $marker = [<wmr_ $kind _controller_f64>]; )+
         }
 
@@ -683,8 +692,8 @@ macro_rules! c_laws {
                     CParams::from_core(Default::default())
                 }
 
-                fn build(p: <Self::Params as CParams>::Core, model: &RobotParams<T>, dt: T) -> Result<Self::Law, Fail> {
-                    Ok(wmr_core::LawSpec::build::<T>(&p, model, dt)?)
+                fn build(p: <Self::Params as CParams>::Core, ctx: &LawContext<'_, T>) -> Result<Self::Law, Fail> {
+                    Ok(wmr_core::LawSpec::build_in::<T>(&p, ctx)?)
                 }
             }
         )+
@@ -965,7 +974,101 @@ pub fn controller_init<T: Prec, L: CLaw<T>>(
     control_dt: T,
     err: *mut wmr_error,
 ) -> wmr_status {
-    guard(err, || init_controller::<T, L>(out, params, wheels, None, model, drive, control_dt))
+    guard(err, || init_controller::<T, L>(out, params, wheels, None, model, drive, control_dt, None))
+}
+
+/// [`controller_init`] knowing the obstacles on the controller's map (`obstacles`, NULL:
+/// none) and the run whose noise a sampling law draws (`run`; [`LawContext::run`]), as a
+/// scenario's run `run` builds its controller: MPPI's `_init_in`.
+#[allow(clippy::too_many_arguments)]
+pub fn controller_init_in<T: Prec, L: CLaw<T>>(
+    out: *mut L::Storage,
+    params: *const L::Params,
+    wheels: *const wmr_wheel_stage_params<T>,
+    model: *const T::Robot,
+    drive: *const T::Drive,
+    control_dt: T,
+    obstacles: *const T::Obstacles,
+    run: u64,
+    err: *mut wmr_error,
+) -> wmr_status {
+    guard(err, || {
+        let obstacles = if obstacles.is_null() { Obstacles::default() } else { *get(obstacles, "obstacles")? };
+        init_controller::<T, L>(out, params, wheels, None, model, drive, control_dt, Some((&obstacles, run)))
+    })
+}
+
+/// An empty set of obstacles with the robot's footprint radius (m, about C; nav2's
+/// `robot_radius`): `err` names `footprint_radius` when it is negative or not finite.
+pub fn obstacles_init<T: Prec>(out: *mut T::Obstacles, footprint_radius: T, err: *mut wmr_error) -> wmr_status {
+    guard(err, || put(out, "out", Obstacles::new(&[], footprint_radius)?))
+}
+
+/// `obstacles` with `add` appended (circles stay before polygons: the scenario's order
+/// and numbering). Refused, `obstacles` unchanged, naming `obstacle.center`,
+/// `obstacle.radius`, `obstacle.points` (the obstacle's index as the value) or `obstacle`
+/// (more than 16).
+fn obstacles_add<T: Prec>(obstacles: *mut T::Obstacles, add: Obstacle<'_, T>) -> Result<(), Fail> {
+    let had = get(obstacles.cast_const(), "obstacles")?;
+    let mut list = [Obstacle::Circle { center: (T::zero(), T::zero()), radius: T::one() }; MAX_OBSTACLES + 1];
+    let mut n = 0;
+    for (slot, ob) in list.iter_mut().zip(had.iter()) {
+        *slot = ob;
+        n += 1;
+    }
+    if n >= MAX_OBSTACLES {
+        return Err(Fail::out_of_range("obstacle", "at most 16 obstacles (MAX_OBSTACLES)", (n + 1) as f64));
+    }
+    if let Some(slot) = list.get_mut(n) {
+        *slot = add;
+    }
+    let next = Obstacles::new(list.get(..=n).unwrap_or(&[]), had.footprint_radius())?;
+    *get_mut(obstacles, "obstacles")? = next;
+    Ok(())
+}
+
+/// Appends a circle: centre (`x`, `y`), m, world frame, and `radius`, m (> 0).
+pub fn obstacles_add_circle<T: Prec>(
+    obstacles: *mut T::Obstacles,
+    x: T,
+    y: T,
+    radius: T,
+    err: *mut wmr_error,
+) -> wmr_status {
+    guard(err, || obstacles_add::<T>(obstacles, Obstacle::Circle { center: (x, y), radius }))
+}
+
+/// Appends a polygon of `n` vertices `points` ((x, y), m, world frame, in order, at least
+/// 3; 32 in all).
+pub fn obstacles_add_polygon<T: Prec>(
+    obstacles: *mut T::Obstacles,
+    points: *const [T; 2],
+    n: usize,
+    err: *mut wmr_error,
+) -> wmr_status {
+    guard(err, || {
+        if points.is_null() {
+            return Err(Fail::null("points"));
+        }
+        if !points.is_aligned() {
+            return Err(Fail::misaligned("points"));
+        }
+        if n > wmr_core::obstacle::MAX_POLYGON_POINTS {
+            return Err(Fail::out_of_range(
+                "obstacle.points",
+                "at most 32 polygon vertices in all (MAX_POLYGON_POINTS)",
+                n as f64,
+            ));
+        }
+        let mut xy = [(T::zero(), T::zero()); wmr_core::obstacle::MAX_POLYGON_POINTS];
+        for (i, slot) in xy.iter_mut().enumerate().take(n) {
+            // SAFETY: `points` is valid for reads of `n` pairs (caller contract), not NULL
+            // and aligned (checked); i < n.
+            let [x, y] = unsafe { points.add(i).read() };
+            *slot = (x, y);
+        }
+        obstacles_add::<T>(obstacles, Obstacle::Polygon(xy.get(..n).unwrap_or(&[])))
+    })
 }
 
 pub fn disturbance_observer_params_default<T: Prec>(out: *mut wmr_disturbance_observer_params<T>) -> wmr_status {
@@ -995,7 +1098,7 @@ pub fn controller_init_observer<T: Prec, L: CLaw<T>>(
 ) -> wmr_status {
     guard(err, || {
         let observer = read(observer, "observer")?;
-        init_controller::<T, L>(out, params, wheels, Some(observer), model, drive, control_dt)
+        init_controller::<T, L>(out, params, wheels, Some(observer), model, drive, control_dt, None)
     })
 }
 
@@ -1017,6 +1120,8 @@ pub fn controller_disturbance<T: Prec, L: CLaw<T>>(ctrl: *const L::Storage, out:
 
 /// The body of the controller inits: the law, its wheel stage and, if given, the
 /// disturbance observer on it.
+/// `world`: the obstacles and the run ([`controller_init_in`]); `None`: none, run 0.
+#[allow(clippy::too_many_arguments)]
 fn init_controller<T: Prec, L: CLaw<T>>(
     out: *mut L::Storage,
     params: *const L::Params,
@@ -1025,6 +1130,7 @@ fn init_controller<T: Prec, L: CLaw<T>>(
     model: *const T::Robot,
     drive: *const T::Drive,
     control_dt: T,
+    world: Option<(&Obstacles<T>, u64)>,
 ) -> Result<(), Fail> {
     if params.is_null() {
         return Err(Fail::null("params"));
@@ -1038,7 +1144,17 @@ fn init_controller<T: Prec, L: CLaw<T>>(
     // SAFETY: not NULL, aligned (checked), and valid for reads of the C struct (caller
     // contract).
     let params = unsafe { L::Params::read_core(params) }?;
-    let law = L::build(params, model, control_dt)?;
+    let none = Obstacles::default();
+    let (obstacles, run) = world.unwrap_or((&none, 0));
+    let ctx = LawContext {
+        model,
+        drive: &drive.params(),
+        wheel_speed_max: wheels.wheel_speed_max,
+        obstacles,
+        control_dt,
+        run,
+    };
+    let law = L::build(params, &ctx)?;
     let mut stage = WheelStage::new(&wheels, model, drive, control_dt)?;
     if let Some(o) = observer {
         // Its errors name the keys as the scenario does (`observer.bandwidth`, ...).

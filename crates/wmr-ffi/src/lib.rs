@@ -452,6 +452,27 @@ pub struct wmr_sensor_f64 {
     /// Opaque: only the library reads or writes it.
     pub opaque: [u64; WMR_SENSOR_F64_WORDS],
 }
+/// Words of a set of obstacles, `wmr_obstacles_f32` (16 obstacles, 32 polygon vertices).
+pub const WMR_OBSTACLES_F32_WORDS: usize = 72;
+/// Words of a set of obstacles, `wmr_obstacles_f64` (16 obstacles, 32 polygon vertices).
+pub const WMR_OBSTACLES_F64_WORDS: usize = 128;
+
+/// Obstacles on the controller's map and the robot's footprint radius (f32; the core's
+/// `wmr_core::Obstacles`, a scenario's `[[world.obstacle]]` and `[robot]
+/// footprint_radius`): `wmr_obstacles_f32_init`, then `_add_circle`, `_add_polygon`;
+/// MPPI's `_init_in` reads them (its `obstacles` critic).
+#[repr(C)]
+pub struct wmr_obstacles_f32 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_OBSTACLES_F32_WORDS],
+}
+/// Obstacles and the footprint radius (f64), as `wmr_obstacles_f32`.
+#[repr(C)]
+pub struct wmr_obstacles_f64 {
+    /// Opaque: only the library reads or writes it.
+    pub opaque: [u64; WMR_OBSTACLES_F64_WORDS],
+}
+
 /// A moving reference (f32): a circle, a figure-eight, a line or a spline through
 /// waypoints (the core's `wmr_core::AnyReference`), with its state at any time and its
 /// path for the path-following law.

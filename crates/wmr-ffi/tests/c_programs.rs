@@ -300,3 +300,38 @@ fn issue_42_the_observer_in_c_matches_the_cli_in_double_and_the_core_in_float() 
         assert_eq!(field(&out, "c-f32", &format!("{key}_bits")), format!("{:08x}", v.to_bits()), "{key}: {out}");
     }
 }
+
+/// The last pose of run `run` of tests/c/mppi_obstacles.toml through the scenario runner
+/// the CLI uses, with the plant steps it took.
+fn cli_mppi_final(run: usize) -> ([f64; 3], usize) {
+    let path = crate_dir().join("tests/c/mppi_obstacles.toml");
+    let scenario = wmr_scenario::Scenario::from_path(path).expect("mppi_obstacles.toml");
+    let mut last = None;
+    let result = scenario.run(run, |s| last = Some(*s)).expect("the run");
+    assert_eq!(result.outcome.termination, wmr_core::Termination::Completed, "run {run}: the whole run is compared");
+    let s = last.expect("samples");
+    assert_eq!(s.t, 3.0, "run {run} ended early");
+    ([s.state.x, s.state.y, s.state.theta], 3000)
+}
+
+/// Issue 41: MPPI from C with its obstacles (`wmr_obstacles_*`, `_init_in`) and a run's
+/// own noise (`run`) is the CLI's run of the same scenario bit for bit: run 1 and run 0,
+/// which differ (their noise), and without the obstacles it goes elsewhere (the critic
+/// reads them).
+#[test]
+fn issue_41_mppi_with_obstacles_in_c_matches_the_cli_run_for_run() {
+    let out = build_and_run("mppi_obstacles", &[crate_dir().join("tests/c/mppi_obstacles.c")]);
+    assert!(out.contains("pass f64: refusals") && out.contains("pass f32: refusals"), "{out}");
+    assert!(out.ends_with("ok\n") && !out.contains("FAIL"), "{out}");
+    let keys = ["x", "y", "theta"];
+    for (tag, run) in [("run1", 1), ("run0", 0)] {
+        let (pose, steps) = cli_mppi_final(run);
+        for (key, v) in keys.iter().zip(pose) {
+            let c = field(&out, &format!("{tag}-f64"), &format!("{key}_bits"));
+            assert_eq!(c, format!("{:016x}", v.to_bits()), "{tag} {key}: {out}");
+        }
+        assert_eq!(field(&out, &format!("{tag}-f64"), "steps"), steps.to_string());
+    }
+    assert_ne!(field(&out, "run1-f64", "x_bits"), field(&out, "run0-f64", "x_bits"), "{out}");
+    assert_ne!(field(&out, "run1-f64", "y_bits"), field(&out, "blind-f64", "y_bits"), "{out}");
+}

@@ -44,8 +44,14 @@ enum Follows {
 /// result) happens outside the lock, so a thread never holds it while another runs
 /// Python code, and a thread that finds it taken waits with the GIL released.
 pub struct Lanes {
-    /// The controller at t = 0, as the scenario builds it.
+    /// The controller at t = 0, as the scenario builds it (its run `run`'s).
     proto: BuiltController,
+    /// The run whose noise stream the law draws (MPPI, `run=`); lane i of a batch draws
+    /// run `run + i`'s, as run `run + i` of a scenario does.
+    run: u64,
+    /// The configuration, kept for a law that draws noise per run: a batch's lanes are
+    /// built from it (`None` for every other law: their lanes are copies of `proto`).
+    noisy: Option<Box<wmr_scenario::Setup>>,
     goal: Pose2<f64>,
     /// The moving reference of a tracking law (`None`: the goal at rest).
     reference: Option<PyReference>,
@@ -71,6 +77,15 @@ struct LaneState {
     batched: bool,
 }
 
+/// What a law class's constructor takes beside the law's keys: the obstacles on the
+/// controller's map (a list of `[[world.obstacle]]` dicts), the robot's footprint radius
+/// (m, `[robot] footprint_radius`) and the run whose noise the law draws. MPPI's only.
+struct World<'a, 'py> {
+    obstacles: Option<&'a Bound<'py, PyAny>>,
+    footprint_radius: Option<&'a Bound<'py, PyAny>>,
+    run: u64,
+}
+
 /// The references of an update: as given, or the law's own (the moving reference at the
 /// tick's time, known once the lock is held).
 enum Refs {
@@ -81,15 +96,37 @@ enum Refs {
 impl Lanes {
     /// Builds the controller of law `kind` the way `PaperController(goal, robot, drive,
     /// **gains)` documents it: the keys go through the scenario parser.
+    #[allow(clippy::too_many_arguments)]
     fn new(
         kind: &str,
         follows: Follows,
         target: &Bound<'_, PyAny>,
         robot: Option<&Bound<'_, PyAny>>,
         drive: Option<&Bound<'_, PyAny>>,
+        world: World<'_, '_>,
         gains: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
         let py = target.py();
+        let World { obstacles, footprint_radius, run } = world;
+        // Only MPPI's critic sees obstacles, and only MPPI draws noise: the other laws
+        // refuse what they would ignore.
+        if kind != "mppi" {
+            let given = [("obstacles", obstacles.is_some()), ("footprint_radius", footprint_radius.is_some())];
+            if let Some((arg, _)) = given.iter().find(|(_, g)| *g) {
+                return Err(parameter_error(
+                    arg,
+                    format_args!(
+                        "kind = \"{kind}\" does not see obstacles; MppiController does (its obstacles critic)"
+                    ),
+                ));
+            }
+            if run != 0 {
+                return Err(parameter_error(
+                    "run",
+                    format_args!("kind = \"{kind}\" draws no noise; run selects MppiController's noise stream"),
+                ));
+            }
+        }
         let robot = match robot {
             None => None,
             Some(r) => match r.cast::<PyRobot>() {
@@ -131,16 +168,36 @@ impl Lanes {
                 d
             }
         };
+        // The obstacles and the footprint, as `[[world.obstacle]]` and `[robot]
+        // footprint_radius` of the scenario: the same keys, the same checks, errors naming
+        // them (world.obstacle[0].radius).
+        if let Some(list) = obstacles.filter(|o| !o.is_none()) {
+            let world = PyDict::new(py);
+            world.set_item("obstacle", list)?;
+            sc_dict.set_item("world", world)?;
+        }
+        if let Some(r) = footprint_radius.filter(|r| !r.is_none()) {
+            let robot = match sc_dict.get_item("robot")? {
+                Some(t) => t.cast_into::<PyDict>()?.copy()?,
+                None => PyDict::new(py),
+            };
+            robot.set_item(wmr_scenario::FOOTPRINT_RADIUS, r)?;
+            sc_dict.set_item("robot", robot)?;
+        }
         let sc = scenario_arg(sc_dict.as_any())?;
-        Self::from_scenario(&sc)
+        Self::from_scenario(&sc, run)
     }
 
-    fn from_scenario(sc: &wmr_scenario::Scenario) -> PyResult<Self> {
+    fn from_scenario(sc: &wmr_scenario::Scenario, run: u64) -> PyResult<Self> {
         let goal = sc.runs().first().map(|r| r.goal).unwrap_or_default();
-        let proto = *sc.built_controller();
+        let setup = sc.setup();
+        let noisy = setup.samples_noise().then(|| Box::new(setup.clone()));
+        let proto = Self::built_for(setup, run, "run")?;
         let reference = sc.tracking().map(|t| PyReference::from_spec(t.reference.clone()));
         Ok(Self {
             proto,
+            run,
+            noisy,
             goal,
             reference,
             scenario_toml: sc.to_toml(),
@@ -155,11 +212,18 @@ impl Lanes {
         })
     }
 
-    /// Rebuilds a controller from the resolved scenario its `__reduce__` gave.
-    pub fn from_toml(kind: &str, text: &str) -> PyResult<Self> {
+    /// The controller of run `run` (`arg` names the argument that asked for it).
+    fn built_for(setup: &wmr_scenario::Setup, run: u64, arg: &str) -> PyResult<BuiltController> {
+        setup
+            .controller_for(run)
+            .map_err(|e| parameter_error(arg, format_args!("the controller of run {run}: {} {}", e.field, e.reason)))
+    }
+
+    /// Rebuilds a controller from the resolved scenario and the run its `__reduce__` gave.
+    pub fn from_toml(kind: &str, text: &str, run: u64) -> PyResult<Self> {
         let sc = wmr_scenario::Scenario::from_toml_str(text, "controller")
             .map_err(|e| crate::error::from_scenario(&e, None))?;
-        let lanes = Self::from_scenario(&sc)?;
+        let lanes = Self::from_scenario(&sc, run)?;
         if lanes.proto.law().kind() != kind {
             return Err(parameter_error("controller.kind", format_args!("expected kind = \"{kind}\"")));
         }
@@ -214,7 +278,15 @@ impl Lanes {
         }
         check_alloc(Self::batch_bytes(n), arg, || format!("a batch of {n} robots"))?;
         let mut lanes = vec_with_capacity(n, arg, "the lanes")?;
-        lanes.resize(n, self.proto);
+        match &self.noisy {
+            // Lane i draws run `run + i`'s noise.
+            Some(setup) => {
+                for i in 0..n as u64 {
+                    lanes.push(Self::built_for(setup, self.run.saturating_add(i), arg)?);
+                }
+            }
+            None => lanes.resize(n, self.proto),
+        }
         let mut last = vec_with_capacity(n, arg, "the outputs")?;
         last.resize(n, ControlOutput::default());
         let next = vec_with_capacity(n, arg, "the lanes")?;
@@ -385,7 +457,8 @@ impl Lanes {
             )));
         }
         let restore = py.import("wmr_py")?.getattr("_restore_controller")?;
-        PyTuple::new(py, [restore, PyTuple::new(py, [class, self.scenario_toml.as_str()])?.into_any()])
+        let args = (class, self.scenario_toml.as_str(), self.run).into_pyobject(py)?;
+        PyTuple::new(py, [restore, args.into_any()])
     }
 }
 
@@ -401,23 +474,35 @@ macro_rules! law_class {
         }
 
         impl $rust {
-            /// The controller rebuilt from its resolved one-run scenario (unpickling).
-            pub fn from_toml(text: &str) -> PyResult<Self> {
-                Ok(Self { inner: Lanes::from_toml($kind, text)? })
+            /// The controller rebuilt from its resolved one-run scenario and run (unpickling).
+            pub fn from_toml(text: &str, run: u64) -> PyResult<Self> {
+                Ok(Self { inner: Lanes::from_toml($kind, text, run)? })
             }
         }
 
         #[pymethods]
         impl $rust {
             #[new]
-            #[pyo3(signature = ($arg, robot=None, drive=None, **gains))]
+            #[pyo3(signature = ($arg, robot=None, drive=None, *, obstacles=None, footprint_radius=None, run=0, **gains))]
+            #[allow(clippy::too_many_arguments)]
             fn new(
                 $arg: &Bound<'_, PyAny>,
                 robot: Option<&Bound<'_, PyAny>>,
                 drive: Option<&Bound<'_, PyAny>>,
+                obstacles: Option<&Bound<'_, PyAny>>,
+                footprint_radius: Option<&Bound<'_, PyAny>>,
+                run: u64,
                 gains: Option<&Bound<'_, PyDict>>,
             ) -> PyResult<Self> {
-                Ok(Self { inner: Lanes::new($kind, Follows::$follows, $arg, robot, drive, gains)? })
+                let world = World { obstacles, footprint_radius, run };
+                Ok(Self { inner: Lanes::new($kind, Follows::$follows, $arg, robot, drive, world, gains)? })
+            }
+
+            /// The run whose noise stream the law draws (MPPI; 0 for the others): lane i
+            /// of a batch draws run ``run + i``'s, as a scenario's run ``run + i`` does.
+            #[getter]
+            fn run(&self) -> u64 {
+                self.inner.run
             }
 
             /// One control tick: the wheel commands from the measured pose (x_m, y_m,
@@ -571,10 +656,11 @@ the scenario loop's clock). robot, drive, gains: as for PaperController."
 
         /// Rebuilds a controller of class `class` from its resolved scenario (pickle's restore).
         #[pyfunction(name = "_controller_from_toml")]
-        pub fn controller_from_toml(py: Python<'_>, class_name: &str, text: &str) -> PyResult<Py<PyAny>> {
+        #[pyo3(signature = (class_name, text, run=0))]
+        pub fn controller_from_toml(py: Python<'_>, class_name: &str, text: &str, run: u64) -> PyResult<Py<PyAny>> {
             $(
                 if class_name == stringify!([<$variant Controller>]) {
-                    return Ok(Py::new(py, [<$variant Controller>]::from_toml(text)?)?.into_any());
+                    return Ok(Py::new(py, [<$variant Controller>]::from_toml(text, run)?)?.into_any());
                 }
             )+
             Err(parameter_error("class", format_args!("no controller class {class_name:?}")))

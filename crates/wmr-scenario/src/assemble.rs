@@ -73,8 +73,9 @@ fn assemble(
 ) -> Result<RunLoop, ScenarioError> {
     let plant = setup.plant(start).map_err(|e| origin.key_of(&e))?;
     let sensor = setup.sensor_for(run).map_err(|e| origin.key_of(&e))?;
+    let controller = setup.controller_for(run).map_err(|e| origin.key_of(&e))?;
     let reference = reference().map_err(|e| origin.key_of(&e))?;
-    ClosedLoop::with_sensor(plant, sensor, setup.built, reference, sim.dt())
+    ClosedLoop::with_sensor(plant, sensor, controller, reference, sim.dt())
         .map(|lp| {
             lp.stop_when_settled(sim.stop_when_settled())
                 .early_arrival(sim.early_arrival())

@@ -11,7 +11,9 @@
 //! `vary` draws one by one (each has its own plant), runs whose wheels slip (the
 //! lanes step the rolling plant only; `wmr-cli sweep --fast` says so), runs with stiction
 //! (`robot.static_friction`: its stick/slip switch is per run), runs with pushes or a payload
-//! that appears at a time (`world.payload.t`: the plant swaps its robot then) and the runs of a
+//! that appears at a time (`world.payload.t`: the plant swaps its robot then), runs of a law
+//! that draws its own noise per run (MPPI: one controller per run's seed, and its planning,
+//! one lane at a time, is what costs) and the runs of a
 //! sweep over references (the lanes follow a fixed goal; [`SweepSpec::fast_refusal`] says so).
 //!
 //! Not bit-identical to [`SweepSpec::run`]: the lanes' sin and cos are not `libm`'s, and
@@ -109,6 +111,7 @@ impl SweepSpec {
                 || setup.robot.has_stiction()
                 || !setup.pushes.is_empty()
                 || setup.payload.appears_later()
+                || setup.samples_noise()
         };
         if !exact {
             return self.run_lanes(sim, kernel, first..end, done, stop);
@@ -202,6 +205,7 @@ impl Scenario {
                 || self.setup().robot.has_stiction()
                 || !self.setup().pushes.is_empty()
                 || self.setup().payload.appears_later()
+                || self.setup().samples_noise()
             {
                 return one_by_one(first..end, done, stop, |i, poll| {
                     Ok(match self.try_run_as(i, i as u64 + stream_offset, |_| ControlFlow::Continue(()), poll)? {

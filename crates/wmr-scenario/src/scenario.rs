@@ -605,7 +605,8 @@ impl Scenario {
     /// [`Scenario::try_run`] of run `run_index` with the sensor noise of run `stream`: the
     /// run as it goes when it is run `stream` of a larger batch that was split into parts.
     /// `try_run_as(i, i as u64, ..)` is `try_run(i, ..)`, bit for bit. A run's result depends
-    /// on its index only through the sensor's noise stream, so a part that gives every run
+    /// on its index only through the sensor's noise stream and MPPI's (its seed of run
+    /// `stream`, [`Setup::controller_for`]), so a part that gives every run
     /// its stream in the whole puts together to the whole, bit for bit (tests/chunk.rs).
     pub fn try_run_as<B>(
         &self,
@@ -645,6 +646,9 @@ impl Scenario {
             let order = fields_of::<wmr_core::TractionParams<f64>>();
             write_keys_noted(&mut o, &to_table(&setup.traction_params), order, noted("robot"));
         }
+        if !setup.obstacles.is_empty() {
+            let _ = writeln!(o, "{} = {}", crate::setup::FOOTPRINT_RADIUS, f(setup.obstacles.footprint_radius()));
+        }
         let _ = writeln!(o, "\n[drive]");
         let drive = setup.drive.params();
         let mut order = vec!["kind"];
@@ -677,6 +681,22 @@ impl Scenario {
                 f(p.force_y),
                 f(p.torque)
             );
+        }
+        // Circles first, then polygons: the numbering of `collided ... with obstacle i`.
+        for ob in setup.obstacles.iter() {
+            let _ = match ob {
+                wmr_core::Obstacle::Circle { center: (x, y), radius } => writeln!(
+                    o,
+                    "\n[[world.obstacle]]\nkind = \"circle\"\ncenter = {{ x = {}, y = {} }}\nradius = {}",
+                    f(x),
+                    f(y),
+                    f(radius)
+                ),
+                wmr_core::Obstacle::Polygon(points) => {
+                    let points: Vec<String> = points.iter().map(|&(x, y)| format!("[{}, {}]", f(x), f(y))).collect();
+                    writeln!(o, "\n[[world.obstacle]]\nkind = \"polygon\"\npoints = [{}]", points.join(", "))
+                }
+            };
         }
         if let Some(tr) = &self.tracking {
             let _ = writeln!(o, "\n[reference]");

@@ -568,6 +568,23 @@ impl Setup {
         AnySensor::new(self.sensor, self.pose, self.model.params(), self.controller.control_dt, run)
     }
 
+    /// The controller of run `run`: [`Setup::built`] (run 0's), or for a law that samples
+    /// noise (MPPI) the controller drawing run `run`'s stream
+    /// ([`wmr_core::LawContext::run`], as [`Setup::sensor_for`] selects the sensor's).
+    pub fn controller_for(&self, run: u64) -> Result<BuiltController, wmr_core::ParamError> {
+        if run == 0 || !self.samples_noise() {
+            return Ok(self.built);
+        }
+        self.controller.build_lanes_for_run(self.model.params(), &self.drive, &self.obstacles, run)
+    }
+
+    /// True when the law draws noise of its own, seeded per run (MPPI's samples): each
+    /// run then has its own controller ([`Setup::controller_for`]), and the lanes of the
+    /// fast path, which share one, do not run it.
+    pub fn samples_noise(&self) -> bool {
+        matches!(self.controller.law, wmr_core::LawParams::Mppi(_))
+    }
+
     /// True when the controller's pose is dead reckoning (`[sensor] pose = "odometry"`):
     /// outputs then carry the odometry pose beside the fused one.
     pub fn odometry(&self) -> bool {

@@ -97,6 +97,18 @@ impl<T: Real> ControllerParams<T> {
         drive: &Drive<T>,
         obstacles: &Obstacles<T>,
     ) -> Result<Controller<L, AnyLaw<L>>, ParamError> {
+        self.build_lanes_for_run(model, drive, obstacles, 0)
+    }
+
+    /// [`ControllerParams::build_lanes_in`] for run `run` ([`LawContext::run`]: the noise
+    /// stream of a law that samples; run 0 is `build_lanes_in`'s).
+    pub fn build_lanes_for_run<L: Lane<Scalar = T>>(
+        &self,
+        model: &RobotParams<T>,
+        drive: &Drive<T>,
+        obstacles: &Obstacles<T>,
+        run: u64,
+    ) -> Result<Controller<L, AnyLaw<L>>, ParamError> {
         let control_dt = check::positive("control_dt", self.control_dt)?;
         let ctx = LawContext {
             model,
@@ -104,6 +116,7 @@ impl<T: Real> ControllerParams<T> {
             wheel_speed_max: self.wheels.wheel_speed_max,
             obstacles,
             control_dt,
+            run,
         };
         let law = self.law.build_lanes_in(&ctx)?;
         let mut wheels = WheelStage::for_lanes(&self.wheels, model, drive, control_dt)?;

@@ -99,6 +99,11 @@ pub struct LawContext<'a, T> {
     pub obstacles: &'a Obstacles<T>,
     /// The control period, s.
     pub control_dt: T,
+    /// The run's index, which selects the noise stream of a law that samples (MPPI's
+    /// rollouts), as it selects the sensor's (`[sensor] seed` with the run index): run 0
+    /// draws from the law's own `seed` key, run k > 0 from that key mixed with k. The
+    /// scenario's run index (`[[run]]` k, a sweep's run k), C's `run`, Python's `run`.
+    pub run: u64,
 }
 
 /// What a law asks of the wheel stage.

@@ -343,8 +343,20 @@ impl<T: Real> LawSpec<T> for MppiParams<T> {
         MppiLaw::for_lanes(*self, model, &DriveParams::default(), T::infinity(), control_dt)
     }
 
+    /// The noise of run `ctx.run` ([`LawContext::run`]): run 0 draws under the `seed` key,
+    /// run k > 0 under seed_k = the high 32 bits of mix64(mix64(seed ^ 0x52554E << 40) ^ k)
+    /// (SplitMix64's output function, [`mix64`]), which the law's [`MppiLaw::params`]
+    /// then shows as its `seed`. Like the sensor's noise (`[sensor] seed` and the run
+    /// index), so that every run of a sweep draws its own samples and the same run draws
+    /// the same ones in the CLI, Python (`run=`) and C (`run`). Two runs share a stream
+    /// only when their seed_k collide (32 bits: one pair expected among 93,000 runs).
     fn build_in<L: Lane<Scalar = T>>(&self, ctx: &LawContext<'_, T>) -> Result<MppiLaw<L>, ParamError> {
-        MppiLaw::for_lanes(*self, ctx.model, ctx.drive, ctx.wheel_speed_max, ctx.control_dt)
+        let seed = match ctx.run {
+            0 => self.seed,
+            k => (mix64(mix64(u64::from(self.seed) ^ (0x52_554E << 40)) ^ k) >> 32) as u32,
+        };
+        let p = MppiParams { seed, ..*self };
+        MppiLaw::for_lanes(p, ctx.model, ctx.drive, ctx.wheel_speed_max, ctx.control_dt)
             .map(|law| law.with_obstacles(ctx.obstacles))
     }
 }

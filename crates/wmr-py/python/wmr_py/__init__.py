@@ -492,5 +492,5 @@ def _restore_run_result(state: dict) -> RunResult:
     return _native._run_result_from_state(state)
 
 
-def _restore_controller(class_name: str, scenario_toml: str) -> Any:
-    return _native._controller_from_toml(class_name, scenario_toml)
+def _restore_controller(class_name: str, scenario_toml: str, run: int = 0) -> Any:
+    return _native._controller_from_toml(class_name, scenario_toml, run)

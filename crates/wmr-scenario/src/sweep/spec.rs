@@ -3,7 +3,7 @@
 //! the order of every sweep output.
 
 use toml::{Table, Value};
-use wmr_core::Pose2;
+use wmr_core::{Obstacles, Pose2};
 
 use super::outcome::SweepOutcome;
 use super::starts::{StartsSource, grid_starts, random_starts, start_from};
@@ -44,6 +44,9 @@ pub struct SweepSpec {
     /// For a sweep over references (tracking, path following): the references and the
     /// tolerance the runs are judged with; `None` for a sweep towards `goal`.
     pub tracking: Option<SweepTracking>,
+    /// Random starts whose footprint fell on an obstacle and were drawn again (0 without
+    /// obstacles; `sweep.random`, docs/scenario.md).
+    pub redrawn_starts: usize,
 }
 
 /// The references of a sweep over references and the tolerance its runs are judged with.
@@ -167,12 +170,13 @@ impl SweepSpec {
         let variants = variation.variants();
         // The starts and the number of runs first: a sweep too large is refused before
         // any of its variants is checked (a list of a million values took 47 s and 3.9 GB).
-        let (starts, source) = match (&sw.grid, &sw.random) {
+        let (mut starts, source) = match (&sw.grid, &sw.random) {
             (Some(g), None) => {
                 let g = GridFile { theta_deg: Some(g.theta_deg.clone().unwrap_or_else(|| vec![0.0])), ..g.clone() };
                 (grid_starts(&g)?, StartsSource::Grid(g))
             }
-            (None, Some(r)) => (random_starts(r, goal)?, StartsSource::Random(r.clone())),
+            // Drawn again below, free of the obstacles, once the robot is known.
+            (None, Some(r)) => (random_starts(r, goal, &Obstacles::default())?.0, StartsSource::Random(r.clone())),
             (Some(_), Some(_)) => {
                 return Err(ScenarioError::new("sweep.random", "give either grid or random, not both"));
             }
@@ -217,6 +221,14 @@ impl SweepSpec {
             laws.push((name, setup));
             tables.push(t);
         }
+        // Random starts towards the goal clear of the obstacles, for the nominal robot's
+        // footprint (the first law's setup: the scenario's [robot] and [world]).
+        let mut redrawn_starts = 0;
+        if let (None, StartsSource::Random(r), Some((_, setup))) = (&tracking, &source, laws.first())
+            && !setup.obstacles.is_empty()
+        {
+            (starts, redrawn_starts) = random_starts(r, goal, &setup.obstacles)?;
+        }
         if let Some(tr) = &tracking {
             // Every start inside the box, from every reference.
             let key = match source {
@@ -228,8 +240,18 @@ impl SweepSpec {
                 starts.iter().try_for_each(|o| check_in_box(key, start_from(origin, *o)))?;
             }
         }
-        let mut spec =
-            SweepSpec { goal, laws, tables, variation, variants, setups: Vec::new(), starts, source, tracking };
+        let mut spec = SweepSpec {
+            goal,
+            laws,
+            tables,
+            variation,
+            variants,
+            setups: Vec::new(),
+            starts,
+            source,
+            tracking,
+            redrawn_starts,
+        };
         // Every run's draws before the variants (whose setups hold run 0's draws), so a bad
         // draw is named as one.
         spec.check_draws(sim)?;

@@ -2,15 +2,17 @@
 //! `min_radius <= |C - goal| <= radius` with a uniform heading in [-180, 180) deg
 //! (`[-max_heading_deg, max_heading_deg)` when given), drawn from `fastrand`'s generator
 //! seeded with `seed` (the same file gives the same starts). Every start lies inside the
-//! box a run may not leave.
+//! box a run may not leave. Random starts towards a goal whose footprint would touch an
+//! obstacle (`[[world.obstacle]]`) are drawn again ([`random_starts`]); a grid's starts are
+//! where the grid says (one on an obstacle ends `collided` at t = 0).
 //!
 //! In a sweep over references the same tables give offsets from each reference's pose at
 //! t = 0 ([`start_from`]): x along the reference's heading, y to its left (m), the heading
 //! added (so `random` draws starts around the reference's start, `grid` a grid in its
 //! frame).
 
-use wmr_core::Pose2;
 use wmr_core::plant::DIVERGENCE_BOX_M;
+use wmr_core::{Obstacles, Pose2};
 
 use crate::bounds::check_in_box;
 use crate::budget::MAX_SWEEP_RUNS;
@@ -93,7 +95,14 @@ pub(super) fn grid_starts(g: &GridFile) -> Result<Vec<Pose2<f64>>, ScenarioError
     Ok(starts)
 }
 
-pub(super) fn random_starts(r: &RandomFile, goal: Pose2<f64>) -> Result<Vec<Pose2<f64>>, ScenarioError> {
+/// `r.n` random starts around `goal`, none whose footprint touches one of `obstacles`
+/// (such a draw is drawn again, at most [`MAX_REDRAWS_PER_START`] times per start in
+/// all), and how many were drawn again. Without obstacles: the draws as they always were.
+pub(super) fn random_starts(
+    r: &RandomFile,
+    goal: Pose2<f64>,
+    obstacles: &Obstacles<f64>,
+) -> Result<(Vec<Pose2<f64>>, usize), ScenarioError> {
     let radius = finite_key("sweep.random.radius", r.radius)?;
     let min_radius = finite_key("sweep.random.min_radius", r.min_radius)?;
     if radius <= 0.0 {
@@ -138,17 +147,52 @@ pub(super) fn random_starts(r: &RandomFile, goal: Pose2<f64>) -> Result<Vec<Pose
     let mut rng = fastrand::Rng::with_seed(r.seed);
     let tau = std::f64::consts::TAU;
     let (a2, b2) = (min_radius * min_radius, radius * radius);
-    Ok((0..r.n)
-        .map(|_| {
-            // Uniform over the annulus: r^2 uniform between the radii squared.
-            let rho = (a2 + (b2 - a2) * rng.f64()).sqrt();
-            let phi = tau * rng.f64();
-            let theta = tau * rng.f64() - std::f64::consts::PI;
-            let theta = heading_scale.map_or(theta, |k| theta * k);
-            Pose2::new(goal.x + rho * phi.cos(), goal.y + rho * phi.sin(), theta)
-        })
-        .collect())
+    let mut draw = || {
+        // Uniform over the annulus: r^2 uniform between the radii squared.
+        let rho = (a2 + (b2 - a2) * rng.f64()).sqrt();
+        let phi = tau * rng.f64();
+        let theta = tau * rng.f64() - std::f64::consts::PI;
+        let theta = heading_scale.map_or(theta, |k| theta * k);
+        Pose2::new(goal.x + rho * phi.cos(), goal.y + rho * phi.sin(), theta)
+    };
+    if obstacles.is_empty() {
+        return Ok(((0..r.n).map(|_| draw()).collect(), 0));
+    }
+    // A start whose footprint touches an obstacle (clearance <= 0, where a run would end
+    // `collided` at t = 0) is drawn again from the same generator: the same file gives
+    // the same starts, and the free ones stay uniform over the free part of the annulus.
+    let n = r.n as usize;
+    let limit = n.saturating_mul(MAX_REDRAWS_PER_START);
+    let mut starts = Vec::with_capacity(n);
+    let mut redrawn = 0usize;
+    while starts.len() < n {
+        let p = draw();
+        if obstacles.clearance(p.x, p.y) > 0.0 {
+            starts.push(p);
+            continue;
+        }
+        redrawn += 1;
+        if redrawn > limit {
+            return Err(ScenarioError::new(
+                "sweep.random",
+                format!(
+                    "{redrawn} draws put the robot's footprint (radius {} m) on an obstacle before {n} free starts \
+                     were found ({} found): the free part of the annulus {} m <= |C - goal| <= {} m is too small \
+                     (under 1 %); widen radius or min_radius, or move the obstacles",
+                    num(obstacles.footprint_radius()),
+                    starts.len(),
+                    num(min_radius),
+                    num(radius)
+                ),
+            ));
+        }
+    }
+    Ok((starts, redrawn))
 }
+
+/// Draws a random sweep may take again per start before it gives up
+/// ([`random_starts`]): 100, a free area of 1 % of the annulus.
+const MAX_REDRAWS_PER_START: usize = 100;
 
 /// The start of a run of a sweep over references: `offset` (x along the heading of the
 /// reference's pose at t = 0, y to its left, m; heading added, rad) from `origin`, that pose.
@@ -180,8 +224,9 @@ mod tests {
     fn max_heading_bounds_the_draw_and_none_keeps_the_old_draw() {
         let r = RandomFile { n: 500, seed: 3, radius: 1.0, min_radius: 0.0, max_heading_deg: Some(30.0) };
         let all = RandomFile { max_heading_deg: None, ..r.clone() };
-        let bounded = random_starts(&r, Pose2::default()).unwrap();
-        let free = random_starts(&all, Pose2::default()).unwrap();
+        let none = Obstacles::default();
+        let (bounded, _) = random_starts(&r, Pose2::default(), &none).unwrap();
+        let (free, _) = random_starts(&all, Pose2::default(), &none).unwrap();
         assert!(bounded.iter().all(|p| p.theta.abs() <= 30f64.to_radians() + 1e-12));
         assert!(free.iter().any(|p| p.theta.abs() > 90f64.to_radians()));
         // Same positions; the heading is the old draw scaled by 30/180.
@@ -190,6 +235,6 @@ mod tests {
             assert!((b.theta - f.theta / 6.0).abs() < 1e-15);
         }
         let bad = RandomFile { max_heading_deg: Some(200.0), ..r };
-        assert_eq!(random_starts(&bad, Pose2::default()).unwrap_err().key, "sweep.random.max_heading_deg");
+        assert_eq!(random_starts(&bad, Pose2::default(), &none).unwrap_err().key, "sweep.random.max_heading_deg");
     }
 }
