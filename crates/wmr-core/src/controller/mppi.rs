@@ -1186,58 +1186,6 @@ impl<L: Lane> Law<L> for MppiLaw<L> {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::drive::DcMotorParams;
-    use crate::obstacle::Obstacle;
-    use crate::reference::Circle;
-
-    /// The planner's AVX2 build gives the baseline build's bits, on both models, with
-    /// obstacles and on a path (skipped, and said so, on a processor without AVX2).
-    #[test]
-    fn the_avx2_build_plans_the_same_bits() {
-        extern crate std;
-        if !super::super::vector_unit::has_avx2() {
-            std::eprintln!("SKIP: no AVX2 on this processor");
-            return;
-        }
-        let robot = RobotParams::<f64>::paper();
-        let drive = DriveParams::DcMotor(DcMotorParams::default());
-        let obstacles = Obstacles::new(&[Obstacle::Circle { center: (0.6, 0.3), radius: 0.1 }], 0.1).unwrap();
-        let circle = Circle::new(0.0, 0.0, 1.0, 0.3, 0.0).unwrap();
-        for model in [MotionModel::Dynamic, MotionModel::Kinematic] {
-            for on_path in [false, true] {
-                let p = MppiParams::<f64> { motion_model: model, batch_size: 203, ..MppiParams::default() };
-                let law = MppiLaw::<f64>::for_lanes(p, &robot, &drive, 40.0, 1e-3).unwrap().with_obstacles(&obstacles);
-                let plan =
-                    on_path.then(|| LocalPlan::along::<f64>(&circle, 0, 0.2, 0.05, 2.0, &law.planner.obstacles_f64));
-                let pose = Pose2 { x: 0.9, y: 0.1, theta: 1.4 };
-                let c = Cycle {
-                    pose,
-                    goal: Pose2 { x: 1.0, y: 0.2, theta: 0.2 },
-                    path_length: plan.as_ref().map_or(0.8, |p| p.length()),
-                    path: plan.as_ref().map(|plan| PathTargets::new(&p, plan, 6, pose)),
-                    speed: Twist2 { v: 0.2, omega: 0.3 },
-                    measured: Twist2 { v: 0.19, omega: 0.31 },
-                    draw: 5,
-                };
-                let seq = |k: usize| (0.1 + 0.003 * k as f64, 0.2 - 0.004 * k as f64);
-                let (mut vx, mut wz): ([f64; 56], [f64; 56]) =
-                    (core::array::from_fn(|k| seq(k).0), core::array::from_fn(|k| seq(k).1));
-                let (mut vx2, mut wz2) = (vx, wz);
-                let a = law.planner.plan_baseline(&c, &mut vx, &mut wz);
-                #[allow(unsafe_code)]
-                // SAFETY: the processor has AVX2 (checked above).
-                let b = unsafe { law.planner.plan_avx2(&c, &mut vx2, &mut wz2) };
-                let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<std::vec::Vec<_>>();
-                assert_eq!((a.0.v.to_bits(), a.0.omega.to_bits(), a.1), (b.0.v.to_bits(), b.0.omega.to_bits(), b.1));
-                assert_eq!((bits(&vx), bits(&wz)), (bits(&vx2), bits(&wz2)), "{model:?}, on a path: {on_path}");
-            }
-        }
-    }
-}
-
 // What the MCAP shows of a plan (wmr-cli's `/runN/mppi/optimal` and `/runN/mppi/rollouts`,
 // issue 41): read-only views of the law, for one lane, into the caller's buffers. Nothing
 // here runs in `update`.
@@ -1344,5 +1292,57 @@ impl<L: Lane> MppiLaw<L> {
             *w = mean_w + f(p.wz_std) * b.lane(0);
         }
         self.roll(lane, m, held, &cvx, &cwz, out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::drive::DcMotorParams;
+    use crate::obstacle::Obstacle;
+    use crate::reference::Circle;
+
+    /// The planner's AVX2 build gives the baseline build's bits, on both models, with
+    /// obstacles and on a path (skipped, and said so, on a processor without AVX2).
+    #[test]
+    fn the_avx2_build_plans_the_same_bits() {
+        extern crate std;
+        if !super::super::vector_unit::has_avx2() {
+            std::eprintln!("SKIP: no AVX2 on this processor");
+            return;
+        }
+        let robot = RobotParams::<f64>::paper();
+        let drive = DriveParams::DcMotor(DcMotorParams::default());
+        let obstacles = Obstacles::new(&[Obstacle::Circle { center: (0.6, 0.3), radius: 0.1 }], 0.1).unwrap();
+        let circle = Circle::new(0.0, 0.0, 1.0, 0.3, 0.0).unwrap();
+        for model in [MotionModel::Dynamic, MotionModel::Kinematic] {
+            for on_path in [false, true] {
+                let p = MppiParams::<f64> { motion_model: model, batch_size: 203, ..MppiParams::default() };
+                let law = MppiLaw::<f64>::for_lanes(p, &robot, &drive, 40.0, 1e-3).unwrap().with_obstacles(&obstacles);
+                let plan =
+                    on_path.then(|| LocalPlan::along::<f64>(&circle, 0, 0.2, 0.05, 2.0, &law.planner.obstacles_f64));
+                let pose = Pose2 { x: 0.9, y: 0.1, theta: 1.4 };
+                let c = Cycle {
+                    pose,
+                    goal: Pose2 { x: 1.0, y: 0.2, theta: 0.2 },
+                    path_length: plan.as_ref().map_or(0.8, |p| p.length()),
+                    path: plan.as_ref().map(|plan| PathTargets::new(&p, plan, 6, pose)),
+                    speed: Twist2 { v: 0.2, omega: 0.3 },
+                    measured: Twist2 { v: 0.19, omega: 0.31 },
+                    draw: 5,
+                };
+                let seq = |k: usize| (0.1 + 0.003 * k as f64, 0.2 - 0.004 * k as f64);
+                let (mut vx, mut wz): ([f64; 56], [f64; 56]) =
+                    (core::array::from_fn(|k| seq(k).0), core::array::from_fn(|k| seq(k).1));
+                let (mut vx2, mut wz2) = (vx, wz);
+                let a = law.planner.plan_baseline(&c, &mut vx, &mut wz);
+                #[allow(unsafe_code)]
+                // SAFETY: the processor has AVX2 (checked above).
+                let b = unsafe { law.planner.plan_avx2(&c, &mut vx2, &mut wz2) };
+                let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<std::vec::Vec<_>>();
+                assert_eq!((a.0.v.to_bits(), a.0.omega.to_bits(), a.1), (b.0.v.to_bits(), b.0.omega.to_bits(), b.1));
+                assert_eq!((bits(&vx), bits(&wz)), (bits(&vx2), bits(&wz2)), "{model:?}, on a path: {on_path}");
+            }
+        }
     }
 }
