@@ -570,7 +570,7 @@ impl Setup {
 
     /// The controller of run `run`: [`Setup::built`] (run 0's), or for a law that samples
     /// noise (MPPI) the controller drawing run `run`'s stream
-    /// ([`wmr_core::LawContext::run`], as [`Setup::sensor_for`] selects the sensor's).
+    /// ([`wmr_core::controller::LawContext::run`], as [`Setup::sensor_for`] selects the sensor's).
     pub fn controller_for(&self, run: u64) -> Result<BuiltController, wmr_core::ParamError> {
         if run == 0 || !self.samples_noise() {
             return Ok(self.built);
