@@ -51,7 +51,10 @@ fn stubs_list_every_robot_and_controller_key_with_its_default() {
         // A key spelled as a Python keyword is a comment line (passed through **kwargs).
         let want: Vec<_> =
             class_keys(&keys, table, kind).into_iter().filter(|k| !PYTHON_KEYWORDS.contains(&k.key)).collect();
-        let mut got_names: Vec<&str> = got.iter().map(|(n, _)| *n).collect();
+        // MPPI's class also takes the world it plans around and the run whose noise it
+        // draws: arguments of the class, not keys of the law.
+        let mut got_names: Vec<&str> =
+            got.iter().map(|(n, _)| *n).filter(|n| !["obstacles", "footprint_radius", "run"].contains(n)).collect();
         let mut want_names: Vec<&str> = want.iter().map(|k| k.key).collect();
         got_names.sort_unstable();
         want_names.sort_unstable();
