@@ -119,19 +119,35 @@ impl LocalPlan {
             (s, px, py) = (next, x, y);
         }
         if !obstacles.is_empty() {
-            for k in 0..plan.len {
-                plan.valid[k] = obstacles.clearance(plan.x[k], plan.y[k]) > 0.0;
+            let points = plan.x.iter().zip(&plan.y).take(plan.len);
+            for (valid, (&x, &y)) in plan.valid.iter_mut().zip(points) {
+                *valid = obstacles.clearance(x, y) > 0.0;
             }
         }
         plan
     }
 
+    // Every index through `get`: no panic path (the firmware's C library is checked for them).
     fn push(&mut self, s: f64, x: f64, y: f64, yaw: f64, dist: f64) {
         let k = self.len;
-        if k < MAX_PLAN_POINTS {
-            (self.s[k], self.x[k], self.y[k], self.yaw[k], self.dist[k]) = (s, x, y, yaw, dist);
+        if let (Some(ps), Some(px), Some(py), Some(pyaw), Some(pd)) =
+            (self.s.get_mut(k), self.x.get_mut(k), self.y.get_mut(k), self.yaw.get_mut(k), self.dist.get_mut(k))
+        {
+            (*ps, *px, *py, *pyaw, *pd) = (s, x, y, yaw, dist);
             self.len += 1;
         }
+    }
+
+    /// Point `k` (x, y, yaw), the last one for `k` beyond.
+    fn point(&self, k: usize) -> (f64, f64, f64) {
+        let k = k.min(self.len.saturating_sub(1));
+        let at = |a: &[f64; MAX_PLAN_POINTS]| a.get(k).copied().unwrap_or(0.0);
+        (at(&self.x), at(&self.y), at(&self.yaw))
+    }
+
+    /// Whether point `k` is free of obstacles (false beyond the plan).
+    fn free(&self, k: usize) -> bool {
+        k < self.len && self.valid.get(k).copied().unwrap_or(false)
     }
 
     /// The number of points, K >= 1.
@@ -141,34 +157,40 @@ impl LocalPlan {
 
     /// L, m: nav2's `local_path_length`.
     pub(super) fn length(&self) -> f64 {
-        self.len.checked_sub(1).map_or(0.0, |k| self.dist[k])
+        self.len.checked_sub(1).and_then(|k| self.dist.get(k)).copied().unwrap_or(0.0)
     }
 
     /// The plan's last point (the goal of the goal critics on a path).
     pub(super) fn last(&self) -> Pose2<f64> {
-        let k = self.len.saturating_sub(1);
-        Pose2 { x: self.x[k], y: self.y[k], theta: self.yaw[k] }
+        let (x, y, theta) = self.point(self.len.saturating_sub(1));
+        Pose2 { x, y, theta }
     }
 
     /// The path parameter of point `k`.
     pub(super) fn s(&self, k: usize) -> f64 {
-        self.s[k.min(self.len.saturating_sub(1))]
+        self.s.get(k.min(self.len.saturating_sub(1))).copied().unwrap_or(0.0)
     }
 
     /// The index of the last point at or before the path parameter `s` (0 when none).
     pub(super) fn index_at(&self, s: f64) -> usize {
-        self.s[..self.len].iter().rposition(|&sk| sk <= s).unwrap_or(0)
+        // A loop, not `rposition`: no panic path.
+        let mut found = 0;
+        for (k, &sk) in self.s.iter().enumerate().take(self.len) {
+            if sk <= s {
+                found = k;
+            }
+        }
+        found
     }
 
     /// nav2 `findClosestPathPt`: among points 0 .. `count`, the one whose distance along the
     /// plan is nearest `along` (m), searching forward from `from`.
     fn closest_along(&self, count: usize, along: f64, from: usize) -> usize {
-        let dist = &self.dist[..count.min(self.len)];
-        let size = dist.len();
-        let mut before = if from != 0 { dist.get(from).copied().unwrap_or(0.0) } else { 0.0 };
-        for (i, &d) in dist.iter().enumerate().skip(from + 1) {
+        let size = count.min(self.len);
+        let mut before = if from != 0 { self.dist.get(from).copied().unwrap_or(0.0) } else { 0.0 };
+        for (i, &d) in self.dist.iter().enumerate().take(size).skip(from.saturating_add(1)) {
             if d > along {
-                return if along - before < d - along { i - 1 } else { i };
+                return if along - before < d - along { i.saturating_sub(1) } else { i };
             }
             before = d;
         }
@@ -179,10 +201,17 @@ impl LocalPlan {
     /// position (`x`, `y`) among those not farther along the plan than its length `along`.
     fn reached(&self, along: f64, x: f64, y: f64) -> usize {
         // std::lower_bound: the first point at least `along` along the plan.
-        let reachable = self.dist[..self.len].iter().position(|&d| d >= along).unwrap_or(self.len).min(self.len - 1);
+        let last = self.len.saturating_sub(1);
+        let mut reachable = last;
+        for (k, &d) in self.dist.iter().enumerate().take(self.len) {
+            if d >= along {
+                reachable = k;
+                break;
+            }
+        }
         let mut best = (0, f64::INFINITY);
-        for k in 0..=reachable {
-            let d2 = (self.x[k] - x) * (self.x[k] - x) + (self.y[k] - y) * (self.y[k] - y);
+        for (k, (&px, &py)) in self.x.iter().zip(&self.y).enumerate().take(reachable.saturating_add(1)) {
+            let d2 = (px - x) * (px - x) + (py - y) * (py - y);
             if d2 < best.1 {
                 best = (k, d2);
             }
@@ -213,7 +242,7 @@ impl<'a> PathTargets<'a> {
         let f = |x: T| x.to_f64_lossless();
         let length = plan.length();
         let k = plan.len();
-        let last = k - 1;
+        let last = k.saturating_sub(1);
         let align = p.path_align_cost_weight > T::zero()
             && length >= f(p.path_align_threshold_to_consider)
             && furthest >= p.path_align_offset_from_furthest as usize
@@ -222,7 +251,7 @@ impl<'a> PathTargets<'a> {
                 let ratio = f(p.path_align_max_path_occupancy_ratio);
                 let mut invalid = 0.0;
                 let mut blocked = false;
-                for &v in &plan.valid[..furthest.min(k)] {
+                for &v in plan.valid.iter().take(furthest.min(k)) {
                     if !v {
                         invalid += 1.0;
                     }
@@ -237,18 +266,16 @@ impl<'a> PathTargets<'a> {
             && k >= 2
             && length >= f(p.path_follow_threshold_to_consider))
         .then(|| {
-            let mut m = (furthest + p.path_follow_offset_from_furthest as usize).min(last);
+            let mut m = furthest.saturating_add(p.path_follow_offset_from_furthest as usize).min(last);
             // Past points an obstacle blocks (nav2: drive past it, not through it).
-            while !plan.valid[m] && m + 1 < last {
+            while !plan.free(m) && m + 1 < last {
                 m += 1;
             }
-            (plan.x[m], plan.y[m])
+            let (x, y, _) = plan.point(m);
+            (x, y)
         });
         let angle = (p.path_angle_cost_weight > T::zero() && length >= f(p.path_angle_threshold_to_consider))
-            .then(|| {
-                let m = (furthest + p.path_angle_offset_from_furthest as usize).min(last);
-                (plan.x[m], plan.y[m], plan.yaw[m])
-            })
+            .then(|| plan.point(furthest.saturating_add(p.path_angle_offset_from_furthest as usize).min(last)))
             .and_then(|(gx, gy, gyaw)| {
                 // nav2: no directional preference needs reversing (vx_min < 0).
                 let mode = if p.path_angle_mode == 1 && p.vx_min >= T::zero() { 0 } else { p.path_angle_mode };
@@ -337,8 +364,9 @@ impl PathSums {
         for j in 0..ROLLOUT_LANES {
             let m = plan.closest_along(t.furthest, self.strided_length.lane(j), self.matched[j]);
             self.matched[j] = m;
-            if plan.valid[m] {
-                let (dx, dy) = (plan.x[m] - pose.x.lane(j), plan.y[m] - pose.y.lane(j));
+            if plan.free(m) {
+                let (px, py, _) = plan.point(m);
+                let (dx, dy) = (px - pose.x.lane(j), py - pose.y.lane(j));
                 self.sum[j] += Float::sqrt(dx * dx + dy * dy);
                 self.count[j] += 1;
             }
@@ -348,9 +376,15 @@ impl PathSums {
     /// Each rollout's raw costs and the plan point it reached.
     pub(super) fn finish(&self, t: &PathTargets<'_>) -> [PathCosts; ROLLOUT_LANES] {
         core::array::from_fn(|j| {
-            let (x, y, yaw) = (self.last.x.lane(j), self.last.y.lane(j), self.last.theta.lane(j));
+            // `get`, not `Lane::lane`: no panic path where the closure is not inlined.
+            let lane = |w: Wide| w.0.get(j).copied().unwrap_or(0.0);
+            let (x, y, yaw) = (lane(self.last.x), lane(self.last.y), lane(self.last.theta));
             PathCosts {
-                align: t.align.then(|| if self.count[j] > 0 { self.sum[j] / f64::from(self.count[j]) } else { 0.0 }),
+                align: t.align.then(|| {
+                    let (sum, count) =
+                        (self.sum.get(j).copied().unwrap_or(0.0), self.count.get(j).copied().unwrap_or(0));
+                    if count > 0 { sum / f64::from(count) } else { 0.0 }
+                }),
                 follow: t.follow.map(|(gx, gy)| Real::hypot_libm(x - gx, y - gy)),
                 angle: t.angle.map(|(gx, gy, gyaw, mode)| {
                     let between = Real::atan2_libm(gy - y, gx - x);
@@ -375,7 +409,7 @@ impl PathSums {
                         }
                     }
                 }),
-                reached: t.plan.reached(self.length.lane(j), x, y),
+                reached: t.plan.reached(lane(self.length), x, y),
             }
         })
     }
