@@ -114,13 +114,16 @@ fn law_class(law: &LawRow, keys: &[SchemaKey]) -> String {
     };
     let about = law.about.trim_end_matches('.');
     let keywords = keyword_block(&class_keys(keys, "controller", Some(law.kind)), "        ");
-    // MPPI's map and noise stream (the other classes refuse them).
+    // MPPI's map and noise stream: every class's constructor takes them (one signature),
+    // the other classes refuse them with a ParameterError.
     let world = if law.kind == "mppi" {
         "        obstacles: Optional[Sequence[Mapping[str, Any]]] = None,  # [[world.obstacle]] tables: {\"kind\": \"circle\", \"center\": {\"x\": m, \"y\": m}, \"radius\": m} or {\"kind\": \"polygon\", \"points\": [[x, y], ...]}\n        \
          footprint_radius: Optional[float] = None,  # [m] [robot] footprint_radius (default: half_track)\n        \
          run: int = 0,  # the run whose noise stream the law draws (lane i of a batch: run + i)\n"
     } else {
-        ""
+        "        obstacles: None = None,  # MppiController's (this law sees no obstacle): refused\n        \
+         footprint_radius: None = None,  # MppiController's: refused\n        \
+         run: Literal[0] = 0,  # MppiController's (this law draws no noise): another value is refused\n"
     };
     format!(
         "@final\n\
