@@ -1,6 +1,6 @@
 //! Early arrival: a shorter stop test than [`crate::settle`]'s 1 s window, for runs
 //! that ask for it (`[sim] early_arrival`, with `stop_when_settled`; the million-start
-//! region maps, issue 26).
+//! region maps).
 //!
 //! A run has arrived early at time t when, at every plant step of the last
 //! [`EARLY_WINDOW_S`]:

@@ -1,4 +1,4 @@
-//! The traction a rolling run asks of the ground (wmr issue 38, item 6): with rolling
+//! The traction a rolling run asks of the ground: with rolling
 //! wheels (the paper's model, the default) nothing stops a strong drive from pushing the
 //! robot harder than its tyres could; this measures by how much.
 //!

@@ -10,7 +10,7 @@
 //! 3. the robot is at rest: |v| < [`SETTLE_SPEED_M_S`] and |omega| < [`SETTLE_TURN_RAD_S`];
 //!
 //! and at t, the robot cannot still move far before t_end, at its present speeds or by
-//! what the wheel servos' integrators have yet to do (issue 24: with `servo_ki` > 0 on a
+//! what the wheel servos' integrators have yet to do (with `servo_ki` > 0 on a
 //! slope a held robot still turned slowly while its integrators built up the holding
 //! torque, and the stopped run's heading was off by up to 0.17 deg):
 //!

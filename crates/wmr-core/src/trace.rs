@@ -37,7 +37,7 @@ use crate::{
 
 /// The first 8 bytes of a trace file.
 pub const MAGIC: [u8; 8] = *b"WMRTRACE";
-/// Format version (5: the drives' `deadband`; 6: the robot's `static_friction`, issue 42).
+/// Format version (5: the drives' `deadband`; 6: the robot's `static_friction`).
 pub const VERSION: u32 = 6;
 /// Words of the header before the config: magic (2), version, config words, record words, ticks.
 pub const HEADER_WORDS: usize = 6;

@@ -1,5 +1,5 @@
 //! How a tracking or path-following run went, from the true state: the tracking error
-//! over time, judged by the rule of wmr issue 23.
+//! over time, and the rule that judges it.
 //!
 //! The error at each plant step is the true distance from C to C_ref at that time
 //! ([`TrackingError::Trajectory`]) or, for path following, to the reference's path

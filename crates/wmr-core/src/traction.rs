@@ -44,7 +44,7 @@
 //! The anchor's slide w = v_eps (|q| - 1)+ q / |q| is what dissipates: the power lost is
 //! mu N (|e'|^2 / v_eps + |w|) >= 0, the rest of the contact's power being the spring's
 //! energy 1/2 mu N |e|^2 / L ([`Contact::slip_power`], [`Contact::elastic_energy`]).
-//! (Before issue 38 the law was F = -mu N tanh(|s| / v_eps) s / |s|, which needs a
+//! (Before 2026-12-06 the law was F = -mu N tanh(|s| / v_eps) s / |s|, which needs a
 //! permanent slip v_eps atanh(|F| / mu N) to hold any force: parked robots crept.)
 //!
 //! With mu -> infinity the slip velocities vanish and the equations reduce to (15)
@@ -116,7 +116,7 @@ impl<T: Real> Default for TractionParams<T> {
 
 /// Default `slip_speed` v_eps, m/s: a slip of v_eps alone brings a contact's force to
 /// mu N, and a rubber tyre's force peaks near a 10 % slip ratio, 0.03 m/s at the 0.3 m/s
-/// these robots drive (before issue 38, item 7: 0.2 m/s, a 67 % slip ratio there, chosen
+/// these robots drive (before 2026-12-06: 0.2 m/s, a 67 % slip ratio there, chosen
 /// for one RK4 step per dt = 1 ms; the plant now takes the sub-steps the contact needs).
 pub const DEFAULT_SLIP_SPEED_M_S: f64 = 0.03;
 

@@ -13,7 +13,7 @@ use crate::{Real, Robot};
 
 /// `x` clamped to [-limit, limit], and NaN kept NaN: `x.max(-limit).min(limit)` alone
 /// turns NaN into -limit (`max` keeps the number), a full command in reverse that would
-/// drive the plant on as if commanded (issue 25, item 1); kept NaN, the next plant step
+/// drive the plant on as if commanded; kept NaN, the next plant step
 /// is non-finite and refused. Every other x gives the same bits as that expression.
 #[inline(always)]
 pub(crate) fn clamp_keep_nan<L: Lane>(x: L, limit: L) -> L {

@@ -50,7 +50,7 @@ pub trait Sensor<T: Real> {
     /// [`Sensor::measure`] of a plant whose wheels turn at `wheel_speeds` (rad/s, each
     /// wheel's own rotation rate, [`crate::Plant::wheel_speeds`]): what the closed loop
     /// calls. Wheels that slip turn at their own speed, not at the body's
-    /// (v +- R omega) / r, and an encoder measures the wheel (issue 38). The sensors of
+    /// (v +- R omega) / r, and an encoder measures the wheel. The sensors of
     /// this crate measure `wheel_speeds`; a sensor that does not override this method
     /// measures as [`Sensor::measure`] does, the body's speeds.
     fn measure_wheels(

@@ -33,7 +33,7 @@ use crate::error::ParamError;
 /// is 1e-9 or, in a precision coarser than that, 4 epsilons of `T`. In f32, 1 / 50 Hz
 /// (0.0199999995...) is 20 ticks of 1 ms (0.00100000005...) although the two differ by
 /// 2 parts in 1e8: each was rounded once to f32 where it was written, and the f64 check's
-/// 1e-9 would refuse what f64 accepts (issue 25, item 8). In f64 the tolerance is 1e-9,
+/// 1e-9 would refuse what f64 accepts. In f64 the tolerance is 1e-9,
 /// the same as `ClosedLoop`'s check of control_dt against dt.
 pub(crate) fn ticks_in<T: Real>(field: &'static str, period: f64, dt: f64) -> Result<u64, ParamError> {
     use num_traits::{Float, ToPrimitive as _};
