@@ -8,7 +8,9 @@
 //! run of length t_end:
 //!
 //! - **converged** when the error stays below the tolerance over the last 10 % of
-//!   t_end; **diverged** when the run did; **cannot_follow** when it is not converged
+//!   t_end and, for path following, the robot did not stop on the path short of its
+//!   end ([`TrackingOutcome::stalled`]: a robot held on the path by an obstacle is close
+//!   to the path, yet follows nothing); **diverged** when the run did; **cannot_follow** when it is not converged
 //!   and the reference asked more than the robot can give ([`TrackingOutcome::cannot_follow`]:
 //!   wheel speeds above the wheel stage's `wheel_speed_max`, or an error that grew);
 //!   **unsettled** otherwise;
@@ -17,6 +19,7 @@
 //!   at the end).
 
 use crate::Real;
+use crate::lane::Lane;
 use crate::math::Pose2;
 use crate::reference::{Path, PathCursor, Reference};
 
@@ -59,6 +62,16 @@ pub struct TrackingWatch<T: Real> {
     reference_wheel_speed: T,
     /// First time the reference asked more than the limit, s.
     over_limit_at: Option<T>,
+    /// The closest path point of the last step (x, y), m (path following).
+    last_closest: Option<(T, T)>,
+    /// How far the closest path point moved at the last step, m (0 for trajectories).
+    closest_step: T,
+    /// How far the closest path point moved over the last tenth of t_end, m.
+    progress_last_tenth: T,
+    /// The path's end point (x, y), m, for a path with an end (path following).
+    path_end: Option<(T, T)>,
+    /// The true position of C at the last step, m.
+    last_position: (T, T),
 }
 
 /// The tracking outcome of a run.
@@ -88,6 +101,12 @@ pub struct TrackingOutcome<T> {
     pub wheel_speed_limit: T,
     /// First time the reference asked wheel speeds above that limit, s (`None`: never).
     pub over_limit_at: Option<T>,
+    /// Path following: how far the closest point on the path moved forward over the last
+    /// 10 % of t_end, m (NaN for trajectory tracking).
+    pub progress_last_tenth: T,
+    /// Path following on a path with an end: the distance from C to that end at the last
+    /// step, m (NaN for an endless path and for trajectory tracking).
+    pub final_distance_to_path_end: T,
 }
 
 /// Factor by which the mean error of the last tenth of t_end must exceed that of the
@@ -100,6 +119,24 @@ impl<T: Real> TrackingOutcome<T> {
     /// True when the error stayed below the tolerance over the last 10 % of t_end.
     pub fn within_tolerance(&self) -> bool {
         self.max_last_tenth < self.tolerance
+    }
+
+    /// True for a path-following run that stopped on the path: its closest point moved
+    /// less than the tolerance over the last 10 % of t_end while C ended farther than
+    /// `xy_goal_tolerance` (m) from the path's end (an endless path has none). A robot held
+    /// in front of an obstacle, or one that gave up, stays close to the path without
+    /// following it; a path follower that reached the end and stopped there has done its
+    /// job. False for trajectory tracking, whose error already grows when the robot stops.
+    pub fn stalled(&self, xy_goal_tolerance: T) -> bool {
+        let at_end = self.final_distance_to_path_end <= xy_goal_tolerance;
+        self.progress_last_tenth < self.tolerance && !at_end
+    }
+
+    /// True when the run followed its reference: within the tolerance over the last 10 %
+    /// of t_end ([`Self::within_tolerance`]) and not [`Self::stalled`] short of the path's
+    /// end (`xy_goal_tolerance`, m: how close to the end counts as there).
+    pub fn followed(&self, xy_goal_tolerance: T) -> bool {
+        self.within_tolerance() && !self.stalled(xy_goal_tolerance)
     }
 
     /// True when the error grew: its mean over the last tenth of t_end above the
@@ -137,6 +174,11 @@ impl<T: Real> TrackingWatch<T> {
             wheel_limit: None,
             reference_wheel_speed: T::zero(),
             over_limit_at: None,
+            last_closest: None,
+            closest_step: T::zero(),
+            progress_last_tenth: T::zero(),
+            path_end: None,
+            last_position: (T::zero(), T::zero()),
         }
     }
 
@@ -163,6 +205,13 @@ impl<T: Real> TrackingWatch<T> {
     fn path_distance(&mut self, path: &dyn Path<T>, pose: &Pose2<T>) -> T {
         let s = self.cursor.advance(path, pose.x, pose.y, T::lit(PATH_WINDOW_M), T::lit(PATH_STEP_M));
         let p = path.pose_on_path(s);
+        if self.path_end.is_none()
+            && let Some(end) = path.end()
+        {
+            self.path_end = Some(path.point_on_path(<T as Lane>::splat(end)));
+        }
+        self.closest_step = self.last_closest.map_or(T::zero(), |(x, y)| (p.x - x).hypot_libm(p.y - y));
+        self.last_closest = Some((p.x, p.y));
         (p.x - pose.x).hypot_libm(p.y - pose.y)
     }
 
@@ -170,6 +219,7 @@ impl<T: Real> TrackingWatch<T> {
     pub fn observe<R: Reference<T>>(&mut self, reference: &R, t: T, pose: &Pose2<T>) {
         let e = self.error_of(reference, t, pose);
         self.last_error = e;
+        self.last_position = (pose.x, pose.y);
         // NaN counts as above the tolerance.
         if e >= self.tolerance || e.is_nan() {
             self.last_above = Some(t);
@@ -183,6 +233,7 @@ impl<T: Real> TrackingWatch<T> {
         if t >= self.t_end * T::lit(0.9) {
             self.tail_max = if e > self.tail_max || e.is_nan() { e } else { self.tail_max };
             self.last_tenth = (self.last_tenth.0 + e, self.last_tenth.1 + 1);
+            self.progress_last_tenth = self.progress_last_tenth + self.closest_step;
         }
         if t < self.t_end * T::lit(0.1) {
             self.first_tenth = (self.first_tenth.0 + e, self.first_tenth.1 + 1);
@@ -219,6 +270,11 @@ impl<T: Real> TrackingWatch<T> {
             reference_wheel_speed: if self.wheel_limit.is_some() { self.reference_wheel_speed } else { T::nan() },
             wheel_speed_limit: self.wheel_limit.map_or(T::infinity(), |(_, _, w)| w),
             over_limit_at: self.over_limit_at,
+            progress_last_tenth: if self.last_closest.is_some() { self.progress_last_tenth } else { T::nan() },
+            final_distance_to_path_end: match self.path_end {
+                Some((x, y)) => (x - self.last_position.0).hypot_libm(y - self.last_position.1),
+                None => T::nan(),
+            },
         }
     }
 }
@@ -245,6 +301,8 @@ mod tests {
             reference_wheel_speed: 30.0,
             wheel_speed_limit: 20.0,
             over_limit_at: over,
+            progress_last_tenth: f64::NAN,
+            final_distance_to_path_end: f64::NAN,
         }
     }
 

@@ -7,6 +7,7 @@ mod common;
 
 use common::assert_close;
 use wmr_core::reference::{Circle, FigureEight, Line, Path, Waypoints};
+use wmr_core::tracking::{TrackingError, TrackingOutcome, TrackingWatch};
 use wmr_core::{
     AnyReference, BacksteppingParams, ClosedLoop, ControllerParams, DriveParams, KanayamaParams, Law, LawParams,
     Measurement, Plant, Pose2, PurePursuitParams, Real, Reference, ReferenceState, Robot, Twist2, Wheels,
@@ -430,4 +431,49 @@ fn kanayamas_closed_loop_poles_stay_left_in_reverse() {
         assert_close(&format!("v_ref {vr}: s^1"), m2, kx * b + c, 0.0, 1e-5);
         assert_close(&format!("v_ref {vr}: s^0"), -det, kx * c, 0.0, 1e-5);
     }
+}
+
+/// The true poses of a robot driving along the x axis at 0.3 m/s from x = 0 and standing
+/// still from `stop_s` on, watched every 10 ms for 20 s against `reference`.
+fn watch_stop<R: Reference<f64>>(reference: &R, kind: TrackingError, stop_s: f64) -> TrackingOutcome<f64> {
+    let mut w = TrackingWatch::new(kind, 20.0, 0.01);
+    for k in 0..=2000 {
+        let t = f64::from(k) * 0.01;
+        w.observe(reference, t, &Pose2::new(0.3 * t.min(stop_s), 0.0, 0.0));
+    }
+    w.finish()
+}
+
+/// A path follower is judged on following: a robot that stops on its path (held in
+/// front of an obstacle, or given up) stays within the tolerance of it, yet has not
+/// followed it; one that stops at the path's end has.
+#[test]
+fn a_robot_that_stops_on_its_path_has_not_followed_it() {
+    let line = Line::new(Pose2::new(0.0, 0.0, 0.0), 0.3).unwrap();
+    // Stopped at x = 3 m on an endless line: close to the path, no progress over the last
+    // tenth (2 s), no end to have reached.
+    let stopped = watch_stop(&line, TrackingError::Path, 10.0);
+    assert!(stopped.within_tolerance());
+    assert_eq!(stopped.progress_last_tenth, 0.0);
+    assert!(stopped.final_distance_to_path_end.is_nan());
+    assert!(stopped.stalled(0.01) && !stopped.followed(0.01));
+    // Driving on: 0.3 m/s over the last 2 s is 0.6 m along the path.
+    let driving = watch_stop(&line, TrackingError::Path, f64::INFINITY);
+    assert_close("progress over the last tenth, m", driving.progress_last_tenth, 0.6, 0.0, 0.03);
+    assert!(driving.followed(0.01));
+    // A path with an end at x = 2 m: stopping there is arriving (the robot stops at 6.67
+    // s); stopping halfway (x = 1.2 m) is not, 0.8 m short of it.
+    let ends = Waypoints::new(&[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]], 0.3, 0.5).unwrap();
+    let arrived = watch_stop(&ends, TrackingError::Path, 2.0 / 0.3);
+    assert!(arrived.final_distance_to_path_end < 1e-9, "{}", arrived.final_distance_to_path_end);
+    assert!(!arrived.stalled(0.01) && arrived.followed(0.01));
+    let halfway = watch_stop(&ends, TrackingError::Path, 4.0);
+    assert_close("distance to the path's end, m", halfway.final_distance_to_path_end, 0.8, 0.0, 1e-9);
+    assert!(halfway.within_tolerance() && halfway.stalled(0.01) && !halfway.followed(0.01));
+    // ... within a goal tolerance of 1 m it counts as there.
+    assert!(halfway.followed(1.0));
+    // Trajectory tracking is judged on time: a robot that stops falls behind the reference,
+    // and is never "stalled" (no path progress is measured).
+    let behind = watch_stop(&line, TrackingError::Trajectory, 10.0);
+    assert!(!behind.within_tolerance() && behind.progress_last_tenth.is_nan() && !behind.stalled(0.01));
 }

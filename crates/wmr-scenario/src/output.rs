@@ -510,7 +510,11 @@ impl RunResult {
                 millimetres(tr.max_last_half),
                 millimetres(tr.final_error),
                 self.status().name(),
-                if self.status() == Status::CannotFollow { cannot_follow_reason(tr) } else { stop }
+                match self.status() {
+                    Status::CannotFollow => cannot_follow_reason(tr),
+                    Status::Unsettled if tr.within_tolerance() => stalled_reason(tr),
+                    _ => stop,
+                }
             );
         }
         let arrival = match o.time_to_arrival {
@@ -529,6 +533,17 @@ impl RunResult {
             stop
         )
     }
+}
+
+/// Why a path-following run close to its path is `unsettled`: it stopped on the path
+/// ([`TrackingOutcome::stalled`]), for its summary line.
+fn stalled_reason(tr: &TrackingOutcome<f64>) -> String {
+    let end = if tr.final_distance_to_path_end.is_nan() {
+        String::new()
+    } else {
+        format!(", {} m from the path's end", fixed(tr.final_distance_to_path_end, 3))
+    };
+    format!(" (stopped on the path: {} m along it over the last tenth of t_end{end})", fixed(tr.progress_last_tenth, 3))
 }
 
 /// Why a tracking run is `cannot_follow`, for its summary line: the wheel speeds the

@@ -56,14 +56,16 @@ pub(crate) fn run<B>(
 
 /// The status of a run: the core's for a run towards a goal; for a tracking run
 /// (`tracking` given) diverged or collided as the core says, else converged when the tracking error
-/// stayed below the tolerance over the last 10 % of t_end, else cannot_follow when the
+/// stayed below the tolerance over the last 10 % of t_end (and a path follower did not stop
+/// on the path farther than `sim.xy_goal_tolerance` from its end:
+/// [`TrackingOutcome::followed`]), else cannot_follow when the
 /// reference asked more than the robot can give ([`TrackingOutcome::cannot_follow`]),
 /// else unsettled. The one rule for a scenario's runs and a sweep's.
 pub(crate) fn status(outcome: &Outcome<f64>, tracking: Option<&TrackingOutcome<f64>>) -> Status {
     match (tracking, outcome.status()) {
         (_, Status::Diverged) => Status::Diverged,
         (_, Status::Collided) => Status::Collided,
-        (Some(t), _) if t.within_tolerance() => Status::Converged,
+        (Some(t), _) if t.followed(outcome.xy_goal_tolerance) => Status::Converged,
         (Some(t), _) if t.cannot_follow() => Status::CannotFollow,
         (Some(_), _) => Status::Unsettled,
         (None, s) => s,

@@ -2,6 +2,7 @@
 //! implementation of the circle, the figure-eight and Kanayama's errors; the tracking
 //! outcome against a replay of the rule; bad input named by key and line.
 
+use wmr_core::Status;
 use wmr_scenario::Scenario;
 
 const PI: f64 = std::f64::consts::PI;
@@ -281,4 +282,44 @@ fn mppi_follows_a_references_path_and_is_judged_on_the_distance_to_it() {
     assert!(max < 0.05 && result.converged(), "{max} m off the circle");
     let e = err_of(&CIRCLE.replace("kind = \"kanayama\"", "kind = \"polar\""));
     assert!(e.message.contains("mppi"), "{e}");
+}
+
+/// A path follower held on its path by a wall across it is close to the path all along,
+/// yet follows nothing: `unsettled`, with the reason, not `converged` (as it was judged
+/// before the rule asked for progress along the path or its end).
+#[test]
+fn mppi_held_on_its_path_by_a_wall_is_not_converged() {
+    let text = r#"
+[reference]
+kind = "line"
+start = { x = 0.0, y = 0.0, theta_deg = 0.0 }
+speed = 0.3
+
+[controller]
+kind = "mppi"
+batch_size = 200
+
+[robot]
+footprint_radius = 0.15
+
+[sim]
+t_end = 15.0
+tracking_tolerance = 0.05
+
+[[world.obstacle]]
+kind = "polygon"
+points = [[1.0, -1.0], [1.1, -1.0], [1.1, 1.0], [1.0, 1.0]]
+
+[[run]]
+start = { x = 0.0, y = 0.0, theta_deg = 0.0 }
+"#;
+    let sc = Scenario::from_toml_str(text, "wall").unwrap();
+    let mut x_max = f64::NEG_INFINITY;
+    let result = sc.run(0, |s| x_max = x_max.max(s.state.x)).unwrap();
+    let tr = result.tracking.unwrap();
+    assert!(x_max < 1.0 - 0.15, "it drove into the wall: x = {x_max} m");
+    assert!(tr.within_tolerance(), "{} m from the path over the last tenth", tr.max_last_tenth);
+    assert!(tr.progress_last_tenth < 0.05, "{} m along the path", tr.progress_last_tenth);
+    assert_eq!(result.status(), Status::Unsettled, "{}", result.summary_line());
+    assert!(result.summary_line().contains("(stopped on the path: "), "{}", result.summary_line());
 }

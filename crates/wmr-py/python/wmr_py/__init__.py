@@ -269,7 +269,8 @@ def simulate(
     ``theta_ref``, ``v_ref``, ``omega_ref``, as the CSV) and the tracking summary
     (``time_to_tolerance_s``, ``rms_error_m``, ``max_error_m``, ``final_error_m``); it
     converged when the tracking error stayed below ``sim.tracking_tolerance`` (1 cm)
-    over the last 10 % of t_end.
+    over the last 10 % of t_end (and a path follower did not stop on the path short of
+    its end, docs/scenario.md).
     robot, drive, controller: overrides with the scenario's ``[robot]``, ``[drive]`` and
     ``[controller]`` keys (docs/scenario.md); ``robot`` may also be a ``Robot``.
     t_end: simulated time, s. dt: RK4 step, s (default: the controller's control_dt,

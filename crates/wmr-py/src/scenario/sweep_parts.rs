@@ -35,7 +35,7 @@ pub fn sweep_plan(
 }
 
 /// Values per run in the rows of `_sweep_part` (see `outcome_row`).
-pub const SWEEP_ROW_LEN: usize = 38;
+pub const SWEEP_ROW_LEN: usize = 40;
 const ROW_LEN: usize = SWEEP_ROW_LEN;
 
 /// One sweep outcome as floats (exact: indices below 2^53, f64 values as they are):
@@ -48,7 +48,9 @@ const ROW_LEN: usize = SWEEP_ROW_LEN;
 /// distance alone); last the tracking outcome's mean error over the first and the last
 /// tenth, the reference's peak wheel speed, the wheel speed limit and the time it was
 /// first passed (NaN: never; all NaN without a tracking outcome); then the goal
-/// tolerances the outcome is judged docked with (m, rad).
+/// tolerances the outcome is judged docked with (m, rad); last the tracking outcome's
+/// progress along the path over the last tenth and final distance to the path's end
+/// (NaN: none).
 fn outcome_row(o: &SweepOutcome) -> [f64; ROW_LEN] {
     let u = &o.outcome;
     let termination = f64::from(u.termination.code());
@@ -93,6 +95,8 @@ fn outcome_row(o: &SweepOutcome) -> [f64; ROW_LEN] {
         tr(|t| t.over_limit_at.unwrap_or(f64::NAN)),
         u.xy_goal_tolerance,
         u.yaw_goal_tolerance,
+        tr(|t| t.progress_last_tenth),
+        tr(|t| t.final_distance_to_path_end),
     ]
 }
 
@@ -137,6 +141,8 @@ fn row_outcome(r: &[f64]) -> Option<SweepOutcome> {
                 reference_wheel_speed: r[33],
                 wheel_speed_limit: r[34],
                 over_limit_at: (!r[35].is_nan()).then_some(r[35]),
+                progress_last_tenth: r[38],
+                final_distance_to_path_end: r[39],
             }),
             _ => return None,
         },
