@@ -14,7 +14,8 @@ use wmr_scenario::{RunResult, Scenario, Sink, SinkError, executor};
 
 use crate::atomic::Output;
 use crate::errors::{StdoutClosed, bad_input, is_broken_pipe, note, say};
-use crate::{Format, csv_sink, mcap_sink};
+use crate::mcap_sink;
+use crate::sinks::{Format, SinkOptions};
 
 /// Memory for samples between the simulation and the sink, bytes: what keeps `run`'s
 /// memory flat whatever the run length (issue 15; `tests/memory.rs`). Short runs whose
@@ -48,17 +49,6 @@ const STEPS_PER_CORE_SECOND: f64 = 1e6;
 /// lanes of `--fast` (about 45 ns per run-step with AVX2).
 const SWEEP_STEPS_PER_CORE_SECOND: f64 = 5e6;
 const FAST_SWEEP_STEPS_PER_CORE_SECOND: f64 = 1.5e7;
-
-/// Output bytes per logged sample, by format: (below which no moving robot writes, typical).
-/// The free-space check refuses only work that surely cannot fit, on the first figure.
-/// CSV rows take 150 to 290 bytes (Fig. 7: 280); MCAP samples, zstd-compressed, 130 to
-/// 180 (Fig. 7: 180), fewer when the robot stands still.
-fn bytes_per_sample(format: Format) -> (u64, u64) {
-    match format {
-        Format::Csv => (100, 280),
-        Format::Mcap => (50, 180),
-    }
-}
 
 /// `bytes` for people: `281 GB`, `1.7 MB`.
 pub fn human_bytes(bytes: f64) -> String {
@@ -113,11 +103,11 @@ fn announce(steps: u128, what: &str, steps_per_core_second: f64, at_most: bool) 
 }
 
 /// Refuses output that cannot fit in the free space where it goes: `samples` logged
-/// samples of at least [`bytes_per_sample`] each. The message says which key to change
+/// samples of at least [`Format::bytes_per_sample`] each. The message says which key to change
 /// and to what.
 pub fn check_space(scenario: &Scenario, out: &Output, format: Format, samples: u128) -> Result<()> {
     let Some(free) = out.free_bytes() else { return Ok(()) };
-    let (least_each, typical_each) = bytes_per_sample(format);
+    let (least_each, typical_each) = format.bytes_per_sample();
     let least = samples.saturating_mul(u128::from(least_each));
     if least <= u128::from(free) {
         return Ok(());
@@ -171,14 +161,7 @@ pub fn run_command(
     check_space(scenario, &out, format, samples)?;
     announce_work(u128::from(scenario.sim().n_steps()) * n_runs as u128, &format!("{n_runs} run(s)"));
     let writer = out.writer()?;
-    let mut sink: Box<dyn Sink> = match format {
-        Format::Csv => {
-            csv_sink::CsvSink::new(writer, wmr_scenario::Columns::of(scenario)).map(|s| Box::new(s) as Box<dyn Sink>)
-        }
-        Format::Mcap => mcap_sink::McapSink::new(writer, scenario, profile).map(|s| Box::new(s) as Box<dyn Sink>),
-    }
-    .map_err(sink_err)
-    .map_err(|e| {
+    let mut sink = format.open(writer, scenario, &SinkOptions { profile }).map_err(sink_err).map_err(|e| {
         if out.is_stdout() && is_broken_pipe(&e) {
             anyhow::Error::new(StdoutClosed)
         } else {

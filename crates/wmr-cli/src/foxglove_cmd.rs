@@ -12,7 +12,8 @@ use wmr_scenario::{Scenario, shown};
 use crate::atomic::{AtomicOut, Target, target_of};
 use crate::errors::{bad_input, note, say};
 use crate::mcap_sink::Profile;
-use crate::{Format, format_of, layout, live};
+use crate::sinks::Format;
+use crate::{format_of, layout, live};
 
 /// `--live ADDR`: `IP:PORT` (port 0: any free port) of one host: a multicast or broadcast
 /// address is refused (a server cannot accept connections there).

@@ -14,6 +14,7 @@ mod live;
 mod mcap_sink;
 mod plot_cmd;
 mod ros2;
+mod sinks;
 mod sweep_cmd;
 mod trace_cmd;
 
@@ -22,9 +23,10 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Result;
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Parser, Subcommand};
 
 use crate::errors::{bad_input, note};
+use crate::sinks::Format;
 
 /// Simulate and control two-wheeled differential-drive robots from scenario files.
 #[derive(Parser, Debug)]
@@ -318,15 +320,6 @@ impl Files {
     }
 }
 
-/// Output format.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum Format {
-    /// MCAP with Foxglove's well-known schemas.
-    Mcap,
-    /// CSV, the columns of docs/scenario.md.
-    Csv,
-}
-
 fn main() -> ExitCode {
     let cli = Cli::try_parse().unwrap_or_else(|e| errors::clap_exit(&e));
     // In `run --live` the first signal stops the session (which cleans up and exits).
@@ -339,14 +332,13 @@ fn format_of(out: &Path, format: Option<Format>) -> Result<Format> {
     if let Some(f) = format {
         return Ok(f);
     }
-    match out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
-        Some("mcap") => Ok(Format::Mcap),
-        Some("csv") => Ok(Format::Csv),
-        _ => Err(bad_input(format!(
-            "cannot tell the format of {} from its extension: name it .mcap or .csv, or pass --format",
-            wmr_scenario::shown(out)
-        ))),
-    }
+    out.extension().and_then(|e| e.to_str()).and_then(Format::of_extension).ok_or_else(|| {
+        bad_input(format!(
+            "cannot tell the format of {} from its extension: name it {}, or pass --format",
+            wmr_scenario::shown(out),
+            Format::extensions()
+        ))
+    })
 }
 
 /// Loads a scenario file ([`exec::load`], which remembers it as an input) and remembers
