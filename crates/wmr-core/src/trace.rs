@@ -28,9 +28,8 @@
 //! t = 0, then `plant steps per tick` RK4 steps of `dt` between ticks).
 
 use crate::describe::Described;
-use crate::error::ParamError;
-use crate::reference::waypoints::MAX_POINTS;
-use crate::reference::{AnyReference, Circle, FigureEight, FixedGoal, Line, ReferenceState, Waypoints};
+pub use crate::reference::ReferenceConfig;
+use crate::reference::ReferenceState;
 use crate::{
     DcMotorParams, DriveParams, LawParams, Pose2, Real, RobotParams, TorqueDriveParams, WheelStageParams, WorldParams,
 };
@@ -119,151 +118,20 @@ const WORLD_AT: usize = START_AT + 3;
 const REFERENCE_AT: usize = WORLD_AT + WORLD;
 /// Words of the reference: its kind, then its arguments (at most a waypoints
 /// reference's: point count, speed, accel_max, then x and y of each point).
-const REFERENCE: usize = 1 + 3 + 2 * MAX_POINTS;
+const REFERENCE: usize = 1 + ReferenceConfig::<f32>::ARG_WORDS;
 
-/// The reference as the trace carries it: what builds it, not what it precomputes. A
-/// waypoints reference (`waypoints` or `file`) is its points and limits; its spline and
-/// speed profile are rebuilt from them, in f32, by the same code on the host and the
-/// target, so the replay checks that construction too.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ReferenceConfig<T> {
-    /// A goal at rest (point stabilization): x, y in m, theta in rad.
-    Goal(Pose2<T>),
-    /// A circle ([`Circle`]'s fields).
-    Circle(Circle<T>),
-    /// A figure-eight: center x, y (m), width, height (m), period (s), as [`FigureEight::new`] takes them.
-    FigureEight([T; 5]),
-    /// A line ([`Line`]'s fields).
-    Line(Line<T>),
-    /// A spline through the first `n` of `points` (x, y in m) with peak `speed` (m/s)
-    /// and `accel_max` (m/s^2), as [`Waypoints::new`] takes them.
-    Waypoints {
-        /// Points in use.
-        n: usize,
-        /// x, y in m; zeros past `n`.
-        points: [[T; 2]; MAX_POINTS],
-        /// Peak speed, m/s.
-        speed: T,
-        /// Acceleration bound, m/s^2.
-        accel_max: T,
-    },
+/// What builds the reference ([`ReferenceConfig`]), as the config's words: its kind
+/// code, then its arguments, every value rounded to f32.
+fn put_reference<T: Real>(r: &ReferenceConfig<T>, w: &mut [u32]) {
+    let (kind, args) = w.split_at_mut(1);
+    kind[0] = r.code();
+    r.encode_args(args, &mut f);
 }
 
-impl<T: Real> ReferenceConfig<T> {
-    /// What builds `r`. Errors name `points` for a waypoints path longer than the
-    /// trace (and the firmware's fixed storage) holds, [`MAX_POINTS`].
-    pub fn of<S: AsRef<[T]>>(r: &AnyReference<T, S>) -> Result<Self, ParamError> {
-        Ok(match r {
-            AnyReference::Goal(g) => ReferenceConfig::Goal(g.pose()),
-            AnyReference::Circle(c) => ReferenceConfig::Circle(*c),
-            AnyReference::FigureEight(f) => {
-                ReferenceConfig::FigureEight([f.center_x, f.center_y, f.width, f.height, f.period])
-            }
-            AnyReference::Line(l) => ReferenceConfig::Line(*l),
-            AnyReference::Waypoints(w) => {
-                if w.len() > MAX_POINTS {
-                    return Err(crate::error::check::out_of_range(
-                        "points",
-                        "a trace (and the firmware's fixed storage) holds at most 64 points: thin the path to 64",
-                        T::lit(w.len() as f64),
-                    ));
-                }
-                let mut points = [[T::zero(); 2]; MAX_POINTS];
-                for (i, p) in points.iter_mut().enumerate().take(w.len()) {
-                    *p = w.point(i);
-                }
-                let (speed, accel_max) = w.limits();
-                ReferenceConfig::Waypoints { n: w.len(), points, speed, accel_max }
-            }
-        })
-    }
-
-    /// Builds the reference (its constructor checks the values; errors name the key).
-    pub fn build(&self) -> Result<AnyReference<T>, ParamError> {
-        Ok(match *self {
-            ReferenceConfig::Goal(g) => AnyReference::Goal(FixedGoal::new(g)?),
-            ReferenceConfig::Circle(c) => {
-                AnyReference::Circle(Circle::new(c.center_x, c.center_y, c.radius, c.speed, c.phase)?)
-            }
-            ReferenceConfig::FigureEight([x, y, w, h, p]) => {
-                AnyReference::FigureEight(FigureEight::new(x, y, w, h, p)?)
-            }
-            ReferenceConfig::Line(l) => AnyReference::Line(Line::new(l.start, l.speed)?),
-            ReferenceConfig::Waypoints { n, ref points, speed, accel_max } => {
-                let points = points.get(..n).ok_or_else(|| {
-                    crate::error::check::out_of_range("points", "holds at most 64 points", T::lit(n as f64))
-                })?;
-                AnyReference::Waypoints(Waypoints::new(points, speed, accel_max)?)
-            }
-        })
-    }
-
-    /// The reference's words, every value rounded to f32.
-    fn encode(&self, w: &mut [u32]) {
-        let (kind, args) = w.split_at_mut(1);
-        let mut put = |i: usize, v: T| args[i] = f(v);
-        kind[0] = match *self {
-            ReferenceConfig::Goal(g) => {
-                [g.x, g.y, g.theta].into_iter().enumerate().for_each(|(i, v)| put(i, v));
-                0
-            }
-            ReferenceConfig::Circle(c) => {
-                let v = [c.center_x, c.center_y, c.radius, c.speed, c.phase];
-                v.into_iter().enumerate().for_each(|(i, v)| put(i, v));
-                1
-            }
-            ReferenceConfig::FigureEight(v) => {
-                v.into_iter().enumerate().for_each(|(i, v)| put(i, v));
-                2
-            }
-            ReferenceConfig::Line(l) => {
-                let v = [l.start.x, l.start.y, l.start.theta, l.speed];
-                v.into_iter().enumerate().for_each(|(i, v)| put(i, v));
-                3
-            }
-            ReferenceConfig::Waypoints { n, ref points, speed, accel_max } => {
-                put(1, speed);
-                put(2, accel_max);
-                for (i, p) in points.iter().enumerate().take(n) {
-                    put(3 + 2 * i, p[0]);
-                    put(4 + 2 * i, p[1]);
-                }
-                args[0] = n as u32;
-                4
-            }
-        };
-    }
-}
-
-impl ReferenceConfig<f32> {
-    /// Reads the reference's words.
-    fn decode(w: &[u32]) -> Result<Self, FormatError> {
-        let a = |i: usize| r(w[1 + i]);
-        Ok(match w[0] {
-            0 => ReferenceConfig::Goal(Pose2::new(a(0), a(1), a(2))),
-            1 => ReferenceConfig::Circle(Circle {
-                center_x: a(0),
-                center_y: a(1),
-                radius: a(2),
-                speed: a(3),
-                phase: a(4),
-            }),
-            2 => ReferenceConfig::FigureEight(core::array::from_fn(a)),
-            3 => ReferenceConfig::Line(Line { start: Pose2::new(a(0), a(1), a(2)), speed: a(3) }),
-            4 => {
-                let n = w[1] as usize;
-                if !(2..=MAX_POINTS).contains(&n) {
-                    return Err(FormatError("waypoints point count is not within 2..=64"));
-                }
-                let mut points = [[0.0; 2]; MAX_POINTS];
-                for (i, p) in points.iter_mut().enumerate().take(n) {
-                    *p = [a(3 + 2 * i), a(4 + 2 * i)];
-                }
-                ReferenceConfig::Waypoints { n, points, speed: a(1), accel_max: a(2) }
-            }
-            _ => return Err(FormatError("unknown reference kind")),
-        })
-    }
+/// The reference of the config's words ([`put_reference`]).
+fn read_reference(w: &[u32]) -> Result<ReferenceConfig<f32>, FormatError> {
+    let (kind, args) = w.split_at(1);
+    ReferenceConfig::decode(kind[0], &args[..ReferenceConfig::<f32>::ARG_WORDS], &mut r).map_err(FormatError)
 }
 
 /// The loop as the scenario gives it (f64) or as it ran ([`Config`], f32).
@@ -318,7 +186,7 @@ impl<T: Real> ConfigOf<T> {
             *d = f(v);
         }
         put_world(&self.world, &mut w[WORLD_AT..]);
-        self.reference.encode(&mut w[REFERENCE_AT..]);
+        put_reference(&self.reference, &mut w[REFERENCE_AT..]);
         w
     }
 }
@@ -351,7 +219,7 @@ impl Config {
             dt: r(w[TIMING_AT + 1]),
             steps_per_tick: w[TIMING_AT + 2],
             start: pose(START_AT),
-            reference: ReferenceConfig::decode(&w[REFERENCE_AT..])?,
+            reference: read_reference(&w[REFERENCE_AT..])?,
         })
     }
 }
@@ -483,6 +351,7 @@ pub fn words_le<const N: usize>(bytes: &[u8]) -> Option<[u32; N]> {
 mod tests {
     use super::*;
     use crate::reference::Reference as _;
+    use crate::reference::{AnyReference, Circle, FigureEight, FixedGoal, Line, Waypoints};
     use crate::{BacksteppingParams, KanayamaParams, PurePursuitParams};
 
     #[test]

@@ -101,6 +101,14 @@ pub const REFERENCE_KEYS: &[ReferenceKey] = &[
     },
 ];
 
+/// The values of `[reference] kind`: the core's moving kinds (its list,
+/// [`AnyReference::KINDS`], but the goal at rest, which is no `[reference]`), and `file`,
+/// a waypoints path read from a CSV.
+pub fn kinds() -> Vec<&'static str> {
+    let moving = RunReference::KINDS.iter().copied().filter(|&k| k != "goal");
+    moving.chain(["file"]).collect()
+}
+
 /// The keys `kind` reads (besides `kind`).
 fn keys_of(kind: &str) -> Vec<&'static str> {
     REFERENCE_KEYS
@@ -209,12 +217,12 @@ pub(crate) fn resolve_sharing(
     access: &FileAccess,
     files: &mut PointFiles,
 ) -> Result<ReferenceSpec, ScenarioError> {
+    let kinds = kinds();
     let kind = match table.get("kind") {
         Some(Value::String(s)) => s.as_str(),
         Some(v) => return Err(ScenarioError::new(key("kind"), format!("must be a string (got {})", v.type_str()))),
-        None => return Err(ScenarioError::new(key("kind"), "missing: circle, figure_eight, line, waypoints or file")),
+        None => return Err(ScenarioError::new(key("kind"), format!("missing: {}", one_of(&kinds)))),
     };
-    let kinds = ["circle", "figure_eight", "line", "waypoints", "file"];
     if !kinds.contains(&kind) {
         return Err(ScenarioError::new(
             key("kind"),
@@ -452,10 +460,7 @@ pub fn check_law(
     match (law.follows(), reference) {
         (f, None) if f.needs_reference() => Err(ScenarioError::new(
             k,
-            format!(
-                "{:?} follows a moving reference: add a [reference] table (circle, figure_eight, line, waypoints, file)",
-                law.kind()
-            ),
+            format!("{:?} follows a moving reference: add a [reference] table ({})", law.kind(), kinds().join(", ")),
         )),
         (f, Some(r)) if !f.accepts_reference() => Err(ScenarioError::new(
             k,
@@ -486,4 +491,30 @@ pub fn describe(r: &ReferenceSpec) -> String {
         fixed(p.y, 4),
         fixed(p.theta.to_degrees(), 2)
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{REFERENCE_KEYS, kinds};
+
+    /// The key table names the kinds of the core's list and no other: a kind added to
+    /// `wmr_core::reference::any` without its keys here (or a key for a kind that is
+    /// gone) fails.
+    #[test]
+    fn the_key_table_covers_the_registered_kinds() {
+        let kinds = kinds();
+        let kind_doc = REFERENCE_KEYS.iter().find(|k| k.name == "kind").map(|k| k.doc).unwrap_or_default();
+        assert_eq!(kind_doc, super::one_of(&kinds), "the doc of reference.kind lists the kinds");
+        for k in REFERENCE_KEYS.iter().filter(|k| k.name != "kind") {
+            for read_by in k.kinds.split(", ") {
+                assert!(kinds.contains(&read_by), "reference.{} is read by {read_by:?}, no kind", k.name);
+            }
+        }
+        for kind in &kinds {
+            assert!(
+                REFERENCE_KEYS.iter().any(|k| k.kinds.split(", ").any(|c| c == *kind)),
+                "kind {kind:?} reads no key of REFERENCE_KEYS"
+            );
+        }
+    }
 }

@@ -9,25 +9,41 @@
 //! theta_ref is not wrapped: it grows with t, as the robot's heading does. The path
 //! parameter ([`super::Path`]) is the arc length from the start, in m.
 
+use super::config::{Configured, config_by_words};
 use super::path::Path;
 use super::state::{Reference, ReferenceState};
 use crate::Real;
 use crate::error::{ParamError, check};
 use crate::math::{Pose2, Twist2};
 
-/// `[reference] kind = "circle"`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Circle<T> {
-    /// Center, world frame, m.
-    pub center_x: T,
-    /// Center, world frame, m.
-    pub center_y: T,
-    /// Radius, m.
-    pub radius: T,
-    /// Speed along the circle, m/s: > 0 counter-clockwise, < 0 clockwise.
-    pub speed: T,
-    /// Angle of (C_ref - center) at t = 0, rad.
-    pub phase: T,
+crate::params! {
+    words;
+    /// `[reference] kind = "circle"`: its fields are also what builds it
+    /// ([`Circle::new`], the trace's words).
+    #[repr(C)]
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct Circle<T> {
+        /// Center, world frame.
+        pub center_x: T [unit = "m", rule = "finite"],
+        /// Center, world frame.
+        pub center_y: T [unit = "m", rule = "finite"],
+        /// Radius.
+        pub radius: T [unit = "m", rule = "> 0"],
+        /// Speed along the circle: > 0 counter-clockwise, < 0 clockwise.
+        pub speed: T [unit = "m/s", rule = "finite, not 0"],
+        /// Angle of (C_ref - center) at t = 0.
+        pub phase: T [unit = "rad", rule = "finite"],
+    }
+}
+
+config_by_words!(Circle => Circle, |c| Circle::new(c.center_x, c.center_y, c.radius, c.speed, c.phase));
+
+impl<T: Real> Configured<T> for Circle<T> {
+    type Config = Circle<T>;
+
+    fn config(&self) -> Result<Self::Config, ParamError> {
+        Ok(*self)
+    }
 }
 
 impl<T: Real> Circle<T> {

@@ -12,11 +12,43 @@
 //! v never vanishes (where x' = 0, |y'| = height a), so theta_ref is defined everywhere;
 //! it is atan2's value, in (-pi, pi]. The path parameter ([`super::Path`]) is the time, s.
 
+use super::config::{Configured, config_by_words};
 use super::path::Path;
 use super::state::{Reference, ReferenceState};
 use crate::Real;
 use crate::error::{ParamError, check};
 use crate::math::{Pose2, Twist2};
+
+crate::params! {
+    words;
+    /// What builds a [`FigureEight`] ([`FigureEight::new`], the trace's words).
+    #[repr(C)]
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct FigureEightParams<T> {
+        /// Center, world frame.
+        pub center_x: T [unit = "m", rule = "finite"],
+        /// Center, world frame.
+        pub center_y: T [unit = "m", rule = "finite"],
+        /// Extent along x.
+        pub width: T [unit = "m", rule = "> 0"],
+        /// Extent along y.
+        pub height: T [unit = "m", rule = "> 0"],
+        /// Time for one figure.
+        pub period: T [unit = "s", rule = "> 0"],
+    }
+}
+
+config_by_words!(FigureEightParams => FigureEight, |c| FigureEight::new(c.center_x, c.center_y, c.width, c.height, c.period));
+
+impl<T: Real> Configured<T> for FigureEight<T> {
+    type Config = FigureEightParams<T>;
+
+    fn config(&self) -> Result<Self::Config, ParamError> {
+        let (center_x, center_y, width, height, period) =
+            (self.center_x, self.center_y, self.width, self.height, self.period);
+        Ok(FigureEightParams { center_x, center_y, width, height, period })
+    }
+}
 
 /// `[reference] kind = "figure_eight"`.
 #[derive(Clone, Copy, Debug, PartialEq)]

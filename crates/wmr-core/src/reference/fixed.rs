@@ -1,5 +1,6 @@
 //! Point stabilization: a goal pose that does not move, the reference at rest.
 
+use super::config::{Configured, KindConfig};
 use super::state::{Reference, ReferenceState};
 use crate::Real;
 use crate::error::{ParamError, check};
@@ -21,6 +22,37 @@ impl<T: Real> FixedGoal<T> {
     /// The goal pose.
     pub fn pose(&self) -> Pose2<T> {
         self.0
+    }
+}
+
+/// A goal is built from its pose: x, y (m), theta (rad), three words.
+impl<T: Real> KindConfig<T> for Pose2<T> {
+    type Built = FixedGoal<T>;
+    const WORDS: usize = 3;
+
+    fn build(&self) -> Result<Self::Built, ParamError> {
+        FixedGoal::new(*self)
+    }
+
+    fn encode(&self, args: &mut [u32], real: &mut dyn FnMut(T) -> u32) {
+        for (w, v) in args.iter_mut().zip([self.x, self.y, self.theta]) {
+            *w = real(v);
+        }
+    }
+
+    fn decode(args: &[u32], real: &mut dyn FnMut(u32) -> T) -> Result<Self, &'static str> {
+        match args {
+            [x, y, theta, ..] => Ok(Pose2::new(real(*x), real(*y), real(*theta))),
+            _ => Err("a goal takes three words"),
+        }
+    }
+}
+
+impl<T: Real> Configured<T> for FixedGoal<T> {
+    type Config = Pose2<T>;
+
+    fn config(&self) -> Result<Self::Config, ParamError> {
+        Ok(self.0)
     }
 }
 

@@ -3,11 +3,40 @@
 //! v_ref = speed (signed: < 0 drives backwards along the heading), omega_ref = 0, no
 //! acceleration. The path parameter ([`super::Path`]) is the distance travelled, m.
 
+use super::config::{Configured, config_by_words};
 use super::path::Path;
 use super::state::{Reference, ReferenceState};
 use crate::Real;
 use crate::error::{ParamError, check};
 use crate::math::{Pose2, Twist2};
+
+crate::params! {
+    words;
+    /// What builds a [`Line`] ([`Line::new`], the trace's words).
+    #[repr(C)]
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct LineParams<T> {
+        /// x at t = 0, world frame.
+        pub start_x: T [unit = "m", rule = "finite"],
+        /// y at t = 0, world frame.
+        pub start_y: T [unit = "m", rule = "finite"],
+        /// The heading, world frame.
+        pub start_theta: T [unit = "rad", rule = "finite"],
+        /// Speed along the heading (< 0 backwards).
+        pub speed: T [unit = "m/s", rule = "finite, not 0"],
+    }
+}
+
+config_by_words!(LineParams => Line, |c| Line::new(Pose2::new(c.start_x, c.start_y, c.start_theta), c.speed));
+
+impl<T: Real> Configured<T> for Line<T> {
+    type Config = LineParams<T>;
+
+    fn config(&self) -> Result<Self::Config, ParamError> {
+        let Pose2 { x: start_x, y: start_y, theta: start_theta } = self.start;
+        Ok(LineParams { start_x, start_y, start_theta, speed: self.speed })
+    }
+}
 
 /// `[reference] kind = "line"`.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -11,10 +11,12 @@
 //! - [`path`]: the geometric path and its searches ([`Path`], [`PathCursor`]).
 //! - [`fixed`]: the goal at rest. [`circle`], [`figure_eight`], [`line`](mod@line): analytic
 //!   trajectories. [`waypoints`]: a C2 spline through points with a speed profile.
-//! - [`any`]: every kind behind one enum ([`AnyReference`]).
+//! - [`config`]: what builds each kind, as a trace carries it ([`config::KindConfig`]).
+//! - [`any`]: every kind behind one enum ([`AnyReference`]) and what builds it ([`ReferenceConfig`]).
 
 pub mod any;
 pub mod circle;
+pub mod config;
 pub mod figure_eight;
 pub mod fixed;
 pub mod line;
@@ -22,11 +24,11 @@ pub mod path;
 pub mod state;
 pub mod waypoints;
 
-pub use any::AnyReference;
+pub use any::{AnyReference, ReferenceConfig};
 pub use circle::Circle;
-pub use figure_eight::FigureEight;
+pub use figure_eight::{FigureEight, FigureEightParams};
 pub use fixed::FixedGoal;
-pub use line::Line;
+pub use line::{Line, LineParams};
 pub use path::{Path, PathCursor};
 pub use state::{Reference, ReferenceState};
-pub use waypoints::Waypoints;
+pub use waypoints::{Waypoints, WaypointsConfig};

@@ -29,6 +29,7 @@
 // Index loops over the parallel sample arrays: the profile reads several at each index.
 #![allow(clippy::needless_range_loop)]
 
+use super::config::{Configured, KindConfig};
 use super::path::Path;
 use super::state::{Reference, ReferenceState};
 use crate::Real;
@@ -139,6 +140,84 @@ struct SplinePoint<T> {
     d1: (T, T),
     d2: (T, T),
     d3: (T, T),
+}
+
+/// What builds a waypoints path in its own fixed storage: the first `n` of `points` and
+/// the limits, as [`Waypoints::new`] takes them (the trace's words: n, speed, accel_max,
+/// then x and y of each point; its spline and speed profile are rebuilt from them).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WaypointsConfig<T> {
+    /// Points in use, 2 to [`MAX_POINTS`].
+    pub n: usize,
+    /// x, y in m (world frame); zeros past `n`.
+    pub points: [[T; 2]; MAX_POINTS],
+    /// Peak speed, m/s.
+    pub speed: T,
+    /// Acceleration bound, m/s^2.
+    pub accel_max: T,
+}
+
+impl<T: Real> KindConfig<T> for WaypointsConfig<T> {
+    type Built = Waypoints<T>;
+    const WORDS: usize = 3 + 2 * MAX_POINTS;
+
+    fn build(&self) -> Result<Self::Built, ParamError> {
+        let points = self
+            .points
+            .get(..self.n)
+            .ok_or_else(|| check::out_of_range("points", "holds at most 64 points", T::lit(self.n as f64)))?;
+        Waypoints::new(points, self.speed, self.accel_max)
+    }
+
+    fn encode(&self, args: &mut [u32], real: &mut dyn FnMut(T) -> u32) {
+        let mut words = args.iter_mut();
+        let mut put = |v: u32| {
+            if let Some(w) = words.next() {
+                *w = v;
+            }
+        };
+        put(self.n as u32);
+        put(real(self.speed));
+        put(real(self.accel_max));
+        for p in self.points.iter().take(self.n) {
+            put(real(p[0]));
+            put(real(p[1]));
+        }
+    }
+
+    fn decode(args: &[u32], real: &mut dyn FnMut(u32) -> T) -> Result<Self, &'static str> {
+        let n = args.first().map_or(0, |&n| n as usize);
+        if !(2..=MAX_POINTS).contains(&n) || args.len() < 3 + 2 * n {
+            return Err("waypoints point count is not within 2..=64");
+        }
+        let mut points = [[T::zero(); 2]; MAX_POINTS];
+        for (p, xy) in points.iter_mut().zip(args[3..].chunks_exact(2)).take(n) {
+            *p = [real(xy[0]), real(xy[1])];
+        }
+        Ok(Self { n, points, speed: real(args[1]), accel_max: real(args[2]) })
+    }
+}
+
+impl<T: Real, S: AsRef<[T]>> Configured<T> for Waypoints<T, S> {
+    type Config = WaypointsConfig<T>;
+
+    /// Errors name `points` for a path longer than the fixed storage (and a trace) holds,
+    /// [`MAX_POINTS`].
+    fn config(&self) -> Result<Self::Config, ParamError> {
+        if self.len() > MAX_POINTS {
+            return Err(check::out_of_range(
+                "points",
+                "a trace (and the firmware's fixed storage) holds at most 64 points: thin the path to 64",
+                T::lit(self.len() as f64),
+            ));
+        }
+        let mut points = [[T::zero(); 2]; MAX_POINTS];
+        for (i, p) in points.iter_mut().enumerate().take(self.len()) {
+            *p = self.point(i);
+        }
+        let (speed, accel_max) = self.limits();
+        Ok(WaypointsConfig { n: self.len(), points, speed, accel_max })
+    }
 }
 
 impl<T: Real> Waypoints<T> {
