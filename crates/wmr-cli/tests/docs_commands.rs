@@ -32,14 +32,14 @@
 //! `target/release` first on `PATH`): the long commands' sweeps and maps are timed in
 //! the docs with a release build and take several times as long with a debug one.
 //!
-//! Run: `cargo test -p wmr-cli --test docs_commands` (`-- --nocapture` lists every command
-//! with its time); all, long ones too: `WMR_LONG_TESTS=1 cargo test -p wmr-cli --test
-//! docs_commands -- --nocapture`. `WMR_DOCS_ONLY=examples/paper,firmware` runs the documents
+//! Run: `cargo test -p wmr-cli --test integration docs_commands::` (`-- --nocapture` lists
+//! every command with its time); all, long ones too: `WMR_LONG_TESTS=1 cargo test -p wmr-cli
+//! --test integration docs_commands:: -- --nocapture`. `WMR_DOCS_ONLY=examples/paper,firmware` runs the documents
 //! whose path starts with one of the given prefixes only (to finish a long run in parts),
 //! `WMR_DOCS_ONLY=README.md:233` the block that holds that line; the others are counted as
 //! skipped, never passed.
 
-mod skip;
+use crate::skip;
 
 use std::fs;
 use std::path::{Path, PathBuf};

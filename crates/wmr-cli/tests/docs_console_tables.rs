@@ -6,7 +6,7 @@
 //! sweep's output, one column per law. The console block itself is the command's output,
 //! compared by `docs_commands` (under `WMR_LONG_TESTS=1` for a long sweep), so every number
 //! of the table comes from the command. The test fails when a table differs from its
-//! block; `WMR_BLESS=1 cargo test -p wmr-cli --test docs_console_tables` rewrites them.
+//! block; `WMR_BLESS=1 cargo test -p wmr-cli --test integration docs_console_tables::` rewrites them.
 //!
 //! Likewise between `<!-- laws-table begin -->` and `<!-- laws-table end -->`: the per-law
 //! table of a sweep (converged, diverged, unsettled, time to 1 cm and heading error, median
@@ -260,7 +260,7 @@ fn shares_tables_are_generated_from_their_console_blocks() {
         assert!(
             fresh == now,
             "{doc}: a table differs from its console block; regenerate with \
-             `WMR_BLESS=1 cargo test -p wmr-cli --test docs_console_tables`"
+             `WMR_BLESS=1 cargo test -p wmr-cli --test integration docs_console_tables::`"
         );
     }
     assert!(found >= 4, "{found} tables between {BEGIN:?} or {LAWS_BEGIN:?} and their end markers");

@@ -7,8 +7,7 @@
 use std::collections::BTreeMap;
 use std::fs;
 
-mod identify_common;
-use identify_common::{ok, refused, run};
+use crate::identify_common::{ok, refused, run};
 
 /// The CSV's rows by run: (t, v_cmd, omega_cmd).
 fn csv_rows(text: &str) -> BTreeMap<usize, Vec<[f64; 3]>> {

@@ -17,7 +17,7 @@ use prost_types::FileDescriptorSet;
 use prost_types::field_descriptor_proto::Type;
 use wmr_scenario::{MEASURED_COLUMNS, SAMPLE_COLUMNS};
 
-mod skip;
+use crate::skip;
 
 fn run(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wmr-cli")).args(args).output().expect("spawn wmr-cli")

@@ -9,8 +9,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-mod skip;
-mod wait;
+use crate::skip;
+use crate::wait;
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_wmr-cli"))

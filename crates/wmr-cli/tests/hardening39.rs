@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::Duration;
 
-mod skip;
-mod wait;
+use crate::skip;
+use crate::wait;
 
 fn bin() -> Command {
     match std::env::var_os("WMR_CLI_UNDER_TEST") {

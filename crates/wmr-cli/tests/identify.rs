@@ -4,8 +4,7 @@
 
 use std::fs;
 
-mod identify_common;
-use identify_common::{ok, refused, run};
+use crate::identify_common::{ok, refused, run};
 
 /// The replay's table of the wheel-speed error RMS in each second (`run  from_s` then
 /// ten seconds a line): a row per run, `durations_s[run]` values (one per started second

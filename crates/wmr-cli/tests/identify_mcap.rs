@@ -7,8 +7,7 @@ use std::fs;
 use std::io::BufWriter;
 use std::path::Path;
 
-mod identify_common;
-use identify_common::{ok, refused, run};
+use crate::identify_common::{ok, refused, run};
 
 fn fig7() -> String {
     format!("{}/../../examples/paper/fig7.toml", env!("CARGO_MANIFEST_DIR"))

@@ -12,7 +12,7 @@ use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-mod wait;
+use crate::wait;
 
 use tungstenite::Message;
 use tungstenite::client::IntoClientRequest as _;

@@ -33,7 +33,7 @@ fn probe_peak_rss_of_one_child() {
 /// Peak resident memory of `wmr-cli run SCENARIO -o OUT`, kB.
 fn peak_rss_kb(scenario: &Path, out: &Path) -> u64 {
     let o = Command::new(std::env::current_exe().unwrap())
-        .args(["--exact", "probe_peak_rss_of_one_child", "--ignored", "--nocapture", "--test-threads=1"])
+        .args(["--exact", "memory::probe_peak_rss_of_one_child", "--ignored", "--nocapture", "--test-threads=1"])
         .env(PROBE, format!("{}\t{}", scenario.display(), out.display()))
         .output()
         .unwrap();

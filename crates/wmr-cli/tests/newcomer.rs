@@ -105,7 +105,7 @@ fn a_sweep_over_references_counts_them() {
     assert!(err.contains("4 runs (1 laws x 2 references x 1 variants x 1 trials x 2 starts"), "{err}");
 }
 
-mod skip;
+use crate::skip;
 
 /// The long reason of a skip (docs_commands lists the documented commands it did not
 /// run: about 4,000 characters on one line) is wrapped: one `SKIP` line, then indented
@@ -116,7 +116,7 @@ fn a_long_skip_reason_is_wrapped() {
     let dir = tempfile::tempdir().unwrap();
     let log = dir.path().join("skipped.txt");
     let o = Command::new(std::env::current_exe().unwrap())
-        .args(["--ignored", "--exact", "records_a_long_skip", "--test-threads=1"])
+        .args(["--ignored", "--exact", "newcomer::records_a_long_skip", "--test-threads=1"])
         .env("WMR_SKIP_LOG", &log)
         .env("WMR_SKIP_SELFTEST", "1")
         .env_remove("WMR_REQUIRE")

@@ -1,8 +1,6 @@
 //! The paper's closed loop: Fig. 7 figures, symmetry, invariants, precision and divergence.
 
-mod common;
-
-use common::{assert_close, fig7, paper_loop, paper_loop_with};
+use crate::common::{assert_close, fig7, paper_loop, paper_loop_with};
 use wmr_core::kinematics::constraint_residual;
 use wmr_core::{PaperLaw, PaperMode, PaperParams, Pose2, Robot, RobotParams, Sample, Status, Termination};
 

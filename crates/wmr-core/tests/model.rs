@@ -1,8 +1,6 @@
 //! The dynamic model against closed-form solutions, a conserved quantity and RK4's order.
 
-mod common;
-
-use common::assert_close;
+use crate::common::assert_close;
 use wmr_core::integrator::rk4_step;
 use wmr_core::kinematics::{constraint_residual, g_velocity_world, jacobian_s};
 use wmr_core::{DcMotorParams, DriveParams, Pose2, Robot, RobotParams, State, Wheels};

@@ -3,9 +3,7 @@
 //! Q-filter to a constant disturbance, sampled at the ticks, on the exact wheel dynamics
 //! and on the plant under a push; and the compensation rejecting the push.
 
-mod common;
-
-use common::assert_close;
+use crate::common::assert_close;
 use wmr_core::{
     ClosedLoop, ControllerParams, DisturbanceObserverParams, DriveParams, FixedGoal, Plant, Pose2, PushParams, Pushes,
     Real, RobotParams, Wheels,

@@ -4,9 +4,7 @@
 //! Issue: "Wheels that slip, motors from a datasheet, a robot that knows where it is
 //! only from odometry" (issue 24, `issues show 24`).
 
-mod common;
-
-use common::{fig7, paper_controller};
+use crate::common::{fig7, paper_controller};
 use wmr_core::reference::Circle;
 use wmr_core::sensor::ekf::is_symmetric_positive_definite;
 use wmr_core::{

@@ -3,9 +3,7 @@
 //! hand), Coulomb friction under RK4 (the stability limit, both sides) and the DC motor's
 //! current limit.
 
-mod common;
-
-use common::{assert_close, fig7, paper_controller};
+use crate::common::{assert_close, fig7, paper_controller};
 use wmr_core::integrator::RK4_REAL_STABILITY_LIMIT;
 use wmr_core::world::STANDARD_GRAVITY;
 use wmr_core::{

@@ -2,9 +2,7 @@
 //! its default hold; `wheel_speed_max` bounds the measured wheel speeds; the repaired
 //! paper law (`paper_bidirectional`) never drives away from the goal.
 
-mod common;
-
-use common::paper_loop_with;
+use crate::common::paper_loop_with;
 use wmr_core::{HoldMode, PaperMode, PaperParams, Pose2, RobotParams, Status};
 
 /// The distance to the goal (m) of a position-mode run from (0, 0, 0) to (1, 1) with

@@ -2,9 +2,9 @@
 //! closed form from the geometry, the energy balance of the motors' work, the rolling
 //! model as mu grows, and RK4's stability bound.
 
-mod common;
+use crate::common;
 
-use common::paper_controller;
+use crate::common::paper_controller;
 use wmr_core::{
     ClosedLoop, DriveParams, FixedGoal, PaperParams, Plant, Pose2, Real, Robot, RobotParams, TractionKind,
     TractionParams, World,

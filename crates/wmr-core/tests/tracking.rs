@@ -3,9 +3,7 @@
 //! against an independent re-implementation of its formulas, and each tracking law
 //! converging on the plant, in f32 and f64.
 
-mod common;
-
-use common::assert_close;
+use crate::common::assert_close;
 use wmr_core::reference::{Circle, FigureEight, Line, Path, Waypoints};
 use wmr_core::tracking::{TrackingError, TrackingOutcome, TrackingWatch};
 use wmr_core::{

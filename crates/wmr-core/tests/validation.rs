@@ -1,9 +1,7 @@
 //! Every invalid parameter is rejected with an error that names its field (the core's own
 //! name: `mass`, `servo_kp`, `goal.x`; a scenario reader adds its table's path).
 
-mod common;
-
-use common::paper_controller;
+use crate::common::paper_controller;
 use wmr_core::{
     ClosedLoop, ControllerParams, DcMotorParams, DriveParams, FixedGoal, LawParams, PaperLaw, PaperParams, Plant,
     Pose2, Reason, Robot, RobotParams, TorqueDriveParams, WheelStage, WheelStageParams,

@@ -6,8 +6,7 @@ use wmr_identify::excite::{ExciteSettings, Motion, Test};
 use wmr_identify::sim::{LogNoise, log_table};
 use wmr_identify::{ColumnNames, CommandKind, FitSettings, IdentifyError, Log, Param, fit};
 
-mod common;
-use common::{NOISE, robot, torque_log_of};
+use crate::common::{NOISE, robot, torque_log_of};
 
 fn torque_log(tests: &[Test], noise: LogNoise) -> Log {
     torque_log_of(robot(), tests, noise)

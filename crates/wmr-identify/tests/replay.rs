@@ -4,8 +4,7 @@ use wmr_core::{DriveParams, TorqueDriveParams};
 use wmr_identify::excite::Test;
 use wmr_identify::replay::replay;
 
-mod common;
-use common::{NOISE, robot, torque_log_of};
+use crate::common::{NOISE, robot, torque_log_of};
 
 /// Each run's per-second RMS pools back to its RMS (the mean square over the run is the
 /// sample-weighted mean of the seconds' mean squares), every second of the run has one,

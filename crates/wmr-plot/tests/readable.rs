@@ -3,9 +3,7 @@
 //! takes the width the legend freed; heading arrows are sized to the page, big enough to
 //! see with the figure scaled to a column; every axis names its unit.
 
-mod common;
-
-use common::{points, run};
+use crate::common::{points, run};
 use wmr_core::{Pose2, Sample, Status};
 use wmr_plot::{
     ReplayRun, SweepCell, Trace, errors_svg, paths_svg, region_svg, replay_svg, share_svg, wheel_speeds_svg,

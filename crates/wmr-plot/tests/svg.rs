@@ -2,9 +2,7 @@
 //! start, print at their intended size, keep sub-point coordinates, and keep the axes
 //! on what matters.
 
-mod common;
-
-use common::{points, run};
+use crate::common::{points, run};
 use wmr_core::{Pose2, Sample, Status};
 use wmr_plot::{SweepCell, Trace, errors_svg, paths_svg, region_svg, share_svg, status_color, wheel_speeds_svg};
 

@@ -1,6 +1,6 @@
 //! The fast path (`wmr-cli sweep --fast`, `SweepSpec::run_fast`) against the exact one on
 //! the starts of `examples/compare.toml` (by default the first 100 of its 1,000; all with
-//! `WMR_LONG_TESTS=1 cargo test --release -p wmr-scenario --test fast`).
+//! `WMR_LONG_TESTS=1 cargo test --release -p wmr-scenario --test integration fast::`).
 //!
 //! The repaired paper law, the polar law and the Lyapunov law: the same status and time
 //! to 1 cm on every start, final distance and heading within 1e-9 relative. The paper's
@@ -88,8 +88,7 @@ fn runs_with_a_real_sensor_take_the_exact_path() {
     assert_eq!(exact, fast);
 }
 
-#[path = "../../wmr-cli/tests/skip/mod.rs"]
-mod skip;
+use crate::skip;
 
 /// Each build of the lanes (baseline SSE2, AVX2, AVX-512: `Kernel`) gives the same
 /// outcomes to the last bit: the vector square root is correctly rounded like the scalar

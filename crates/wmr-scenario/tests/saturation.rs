@@ -4,7 +4,7 @@
 //! for the whole 240 s (69 of 150 with `wheel_speed_max = 10`).
 //!
 //! By default every 10th start of both entries (30 runs); all 300 with
-//! `WMR_LONG_TESTS=1 cargo test --release -p wmr-scenario --test saturation`.
+//! `WMR_LONG_TESTS=1 cargo test --release -p wmr-scenario --test integration saturation::`.
 
 use wmr_core::Status;
 use wmr_scenario::Scenario;

@@ -4,7 +4,7 @@
 //!
 //! By default a subset of its 1,000 starts that holds every outcome of the paper law
 //! (converged 0, 1; unsettled 15, 16; diverged 27, 29) plus every 100th; all of them with
-//! `WMR_LONG_TESTS=1 cargo test --release -p wmr-scenario --test settle` (about 2 min).
+//! `WMR_LONG_TESTS=1 cargo test --release -p wmr-scenario --test integration settle::` (about 2 min).
 
 use wmr_core::{Outcome, Status, Termination};
 use wmr_scenario::{Scenario, SimSpec};

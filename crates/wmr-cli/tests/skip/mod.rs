@@ -14,8 +14,14 @@ use std::io::Write as _;
 /// `capability`, then returns; panics instead when `WMR_REQUIRE` lists `capability`.
 #[track_caller]
 pub fn missing(capability: &str, reason: &str) {
-    // libtest runs each test on a thread named after it.
-    let test = format!("{}::{}", env!("CARGO_CRATE_NAME"), std::thread::current().name().unwrap_or("?"));
+    // libtest runs each test on a thread named after it: `file::test` in a crate's one
+    // integration binary (tests/integration.rs), `test` in a binary of its own (a file
+    // kept apart, tests/contributing.rs), named here after its file as well.
+    let name = std::thread::current().name().unwrap_or("?").to_owned();
+    let test = match env!("CARGO_CRATE_NAME") {
+        "integration" => name,
+        file => format!("{file}::{name}"),
+    };
     // One `SKIP` line per skip (scripts/test counts them), whatever the reason quotes (a
     // command's stderr may span several lines): its words, wrapped.
     let reason = reason.split_whitespace().collect::<Vec<_>>().join(" ");
