@@ -55,6 +55,8 @@ pub trait FirmwareLaw: Law<f32> + Copy + Sized {
     fn build() -> Option<Self>;
     /// Its reference.
     fn reference() -> Option<Self::Reference>;
+    /// Plant steps of its program: [`STEPS`] (60 s), MPPI's [`EMBEDDED_MPPI_RUN_STEPS`].
+    const STEPS: u32 = STEPS;
 }
 
 /// Fig. 7's goal, for a stabilization law.
@@ -68,6 +70,22 @@ fn figure_eight() -> Option<FigureEight<f32>> {
     FigureEight::new(0.0, 0.0, 2.0, 1.0, 30.0).ok()
 }
 
+/// MPPI sized for a microcontroller: 64 samples of 20 steps (a 1 s horizon at nav2's
+/// `model_dt` of 0.05 s), the dynamic model at its default 2 sub-steps: 2,560 model
+/// steps per plan, 1/44 of nav2's defaults (1,000 samples of 56 steps), which the
+/// cost of one plan scales with. Every other key its default.
+fn embedded_mppi() -> wmr_core::MppiParams<f32> {
+    wmr_core::MppiParams { batch_size: EMBEDDED_MPPI_BATCH, time_steps: EMBEDDED_MPPI_STEPS, ..Default::default() }
+}
+
+/// MPPI's samples per plan on the firmware ([`embedded_mppi`]).
+pub const EMBEDDED_MPPI_BATCH: u32 = 64;
+/// MPPI's steps per sample on the firmware ([`embedded_mppi`]).
+pub const EMBEDDED_MPPI_STEPS: u32 = 20;
+/// Plant steps of MPPI's cost program: 5 s at 1 ms, 100 plans (one per model_dt), the
+/// first 5 s of Fig. 7 (60 s under QEMU's instruction counting took 13 minutes).
+pub const EMBEDDED_MPPI_RUN_STEPS: u32 = 5_000;
+
 /// `impl FirmwareLaw` for each law of the registry (`wmr_core::for_each_law!`): a law
 /// that follows a goal runs Fig. 7, one that follows a trajectory or a path the
 /// figure-eight; each with its default keys for the paper's robot at [`DT`].
@@ -76,13 +94,18 @@ macro_rules! firmware_laws {
     (@reference $other:ident) => { FigureEight<f32> };
     (@make Goal) => { fig7_goal() };
     (@make $other:ident) => { figure_eight() };
+    (@params mppi, $krate:tt, $params:ident) => { embedded_mppi() };
+    (@params $other:ident, $krate:tt, $params:ident) => { $krate::$params::<f32>::default() };
+    (@steps mppi) => { EMBEDDED_MPPI_RUN_STEPS };
+    (@steps $other:ident) => { STEPS };
     ($krate:tt; $( $(#[doc = $doc:literal])* $variant:ident($params:ident, $law:ident) = $kind:ident, code $code:literal, follows $follows:ident; )+) => {
         $(
             impl FirmwareLaw for $krate::$law<f32> {
                 const KIND: &'static str = stringify!($kind);
+                const STEPS: u32 = firmware_laws!(@steps $kind);
                 type Reference = firmware_laws!(@reference $follows);
                 fn build() -> Option<Self> {
-                    $krate::$params::<f32>::default().build(Robot::<f32>::paper().params(), DT).ok()
+                    firmware_laws!(@params $kind, $krate, $params).build(Robot::<f32>::paper().params(), DT).ok()
                 }
                 fn reference() -> Option<Self::Reference> {
                     firmware_laws!(@make $follows)
@@ -140,7 +163,7 @@ pub fn run_with<L: FirmwareLaw, const OBSERVER: bool>(meter: &mut impl Meter) ->
             }
         });
         plant.apply(out.command);
-        if k == core::hint::black_box(STEPS) {
+        if k == core::hint::black_box(L::STEPS) {
             break;
         }
         if meter.step(&mut || plant.step(t, DT)).is_err() {
