@@ -9,8 +9,8 @@ use wmr_core::controller::Law;
 use wmr_core::reference::{FigureEight, Reference};
 use wmr_core::sensor::Sensor as _;
 use wmr_core::{
-    ControlOutput, Controller, DisturbanceObserverParams, DriveParams, FixedGoal, LawSpec as _, Measurement, PerfectSensor, Plant, Pose2, Robot,
-    Termination, WheelStage, WheelStageParams, Wheels,
+    ControlOutput, Controller, DisturbanceObserverParams, DriveParams, FixedGoal, LawSpec as _, Measurement,
+    PerfectSensor, Plant, Pose2, Robot, Termination, WheelStage, WheelStageParams, Wheels,
 };
 
 /// Plant steps: 60 s at 1 ms.
