@@ -19,23 +19,23 @@ use wmr_scenario::{MEASURED_COLUMNS, SAMPLE_COLUMNS};
 
 use crate::skip;
 
-fn run(args: &[&str]) -> Output {
+pub(crate) fn run(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wmr-cli")).args(args).output().expect("spawn wmr-cli")
 }
 
-fn ok(args: &[&str]) -> Output {
+pub(crate) fn ok(args: &[&str]) -> Output {
     let o = run(args);
     assert!(o.status.success(), "wmr-cli {args:?}: {}", String::from_utf8_lossy(&o.stderr));
     o
 }
 
-fn write(dir: &Path, name: &str, body: &str) -> PathBuf {
+pub(crate) fn write(dir: &Path, name: &str, body: &str) -> PathBuf {
     let p = dir.join(name);
     fs::write(&p, body).unwrap();
     p
 }
 
-fn s(p: &Path) -> &str {
+pub(crate) fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
 
@@ -72,14 +72,14 @@ fn fig7() -> PathBuf {
 }
 
 /// One message of a file.
-struct Msg {
-    topic: String,
-    schema: String,
-    log_time: u64,
-    data: Vec<u8>,
+pub(crate) struct Msg {
+    pub(crate) topic: String,
+    pub(crate) schema: String,
+    pub(crate) log_time: u64,
+    pub(crate) data: Vec<u8>,
 }
 
-fn messages(path: &Path) -> Vec<Msg> {
+pub(crate) fn messages(path: &Path) -> Vec<Msg> {
     let bytes = fs::read(path).unwrap();
     mcap::MessageStream::new(&bytes)
         .unwrap()

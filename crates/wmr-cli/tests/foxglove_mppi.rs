@@ -5,55 +5,13 @@
 //! there; the generated layout shows the topic.
 
 use std::fs;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
 use foxglove::messages::{SceneUpdate, line_primitive};
 use prost::Message as _;
 
-fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wmr-cli")).args(args).output().expect("spawn wmr-cli")
-}
-
-fn ok(args: &[&str]) -> Output {
-    let o = run(args);
-    assert!(o.status.success(), "wmr-cli {args:?}: {}", String::from_utf8_lossy(&o.stderr));
-    o
-}
-
-fn write(dir: &Path, name: &str, body: &str) -> PathBuf {
-    let p = dir.join(name);
-    fs::write(&p, body).unwrap();
-    p
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
-
-/// One message of a file.
-struct Msg {
-    topic: String,
-    schema: String,
-    log_time: u64,
-    data: Vec<u8>,
-}
-
-fn messages(path: &Path) -> Vec<Msg> {
-    let bytes = fs::read(path).unwrap();
-    mcap::MessageStream::new(&bytes)
-        .unwrap()
-        .map(|m| {
-            let m = m.unwrap();
-            Msg {
-                topic: m.channel.topic.clone(),
-                schema: m.channel.schema.as_ref().map(|s| s.name.clone()).unwrap_or_default(),
-                log_time: m.log_time,
-                data: m.data.into_owned(),
-            }
-        })
-        .collect()
-}
+// The helpers of the other Foxglove tests (one test binary: tests/integration.rs).
+use crate::foxglove::{Msg, messages, ok, s, write};
 
 /// The post and the wall, as the scenario below gives them.
 const POST: ((f64, f64), f64) = ((1.0, 0.0), 0.15);
