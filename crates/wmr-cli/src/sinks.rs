@@ -1,4 +1,4 @@
-//! The output formats of `run -o OUT`, one line each in the [`sinks!`] list below: a new
+//! The output formats of `run -o OUT`, one line each in the `sinks!` list below: a new
 //! format is its own file (a [`Sink`] with a [`FileSink`] impl: its name, which is also
 //! its file extension, its one-line help, its bytes per sample and how it opens) plus one
 //! line there. `--format`'s values and help, telling the format from OUT's extension, the

@@ -89,6 +89,15 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
         stop_when_settled: bool,
     ) -> Result<Self, ParamError> {
         let control_every = control_every(&plant, controller.control_dt(), dt)?;
+        // The lanes hand the laws the reference's state, not its path (Law::reads_path).
+        let law = controller.law();
+        if law.needs_path() || (law.reads_path() && reference.path().is_some()) {
+            return Err(check::out_of_range(
+                "kind",
+                "the lanes do not carry the reference's path, which this law follows (run it on the exact path)",
+                0.0,
+            ));
+        }
         // The lanes step the Coulomb model; stiction's stick/slip switch is per run.
         if plant.robot().has_stiction() {
             return Err(check::out_of_range(

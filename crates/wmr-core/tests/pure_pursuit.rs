@@ -351,3 +351,41 @@ fn the_approach_slow_down_uses_the_curvature_regulated_speed_and_the_straight_di
     eprintln!("old {old}, nav2 {want}, wmr {}", got.v);
     assert!((got.v - want).abs() < 1e-6, "wmr {} m/s, nav2 {want} m/s (the old rule: {old} m/s)", got.v);
 }
+
+/// Pure pursuit has nothing to follow without the reference's path, and its
+/// `Law::update` (no path) is a zero twist: the lanes, which carry no path, refuse it on
+/// any reference (before: they ran it, the robots stood still, and the runs were judged).
+#[test]
+fn pure_pursuit_in_lanes_is_refused() {
+    let robot = Robot::<f64>::paper();
+    let drive = DriveParams::default().validate(&robot).unwrap();
+    let plant = Plant::new(robot, drive, Pose2::default()).unwrap();
+    let params = wmr_core::ControllerParams::with_law(LawParams::PurePursuit(PurePursuitParams::default()));
+    let eight: AnyReference<f64> = AnyReference::FigureEight(FigureEight::new(0.0, 0.0, 2.0, 1.0, 30.0).unwrap());
+    let lanes = params.build_lanes::<wmr_core::lane::Lanes<4>>(robot.params(), &drive).unwrap();
+    let Err(e) = wmr_core::batch::LaneBatch::<4, _, _>::new(plant, lanes, eight, 1e-3, 100, false) else {
+        panic!("the lanes ran pure pursuit, which they carry no path for");
+    };
+    assert_eq!(e.field, "kind");
+    assert!(e.to_string().contains("path"), "{e}");
+}
+
+/// MPPI follows the reference's path when it has one: the lanes, which would hand it the
+/// reference's pose as a goal instead, refuse it there, and run it on a goal at rest.
+#[test]
+fn mppi_in_lanes_is_refused_on_a_reference_with_a_path() {
+    let robot = Robot::<f64>::paper();
+    let drive = DriveParams::default().validate(&robot).unwrap();
+    let plant = Plant::new(robot, drive, Pose2::default()).unwrap();
+    let mppi = wmr_core::MppiParams { batch_size: 8, time_steps: 4, ..Default::default() };
+    let params = wmr_core::ControllerParams::with_law(LawParams::Mppi(mppi));
+    let eight: AnyReference<f64> = AnyReference::FigureEight(FigureEight::new(0.0, 0.0, 2.0, 1.0, 30.0).unwrap());
+    let lanes = params.build_lanes::<wmr_core::lane::Lanes<4>>(robot.params(), &drive).unwrap();
+    let Err(e) = wmr_core::batch::LaneBatch::<4, _, _>::new(plant, lanes, eight, 1e-3, 100, false) else {
+        panic!("the lanes ran MPPI on a reference with a path, which they do not carry");
+    };
+    assert_eq!(e.field, "kind");
+    let goal: AnyReference<f64> = AnyReference::Goal(wmr_core::FixedGoal::new(Pose2::new(1.0, 1.0, 0.0)).unwrap());
+    let lanes = params.build_lanes::<wmr_core::lane::Lanes<4>>(robot.params(), &drive).unwrap();
+    assert!(wmr_core::batch::LaneBatch::<4, _, _>::new(plant, lanes, goal, 1e-3, 100, false).is_ok());
+}

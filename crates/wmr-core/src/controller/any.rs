@@ -151,6 +151,14 @@ macro_rules! laws {
                 match self { $( AnyLaw::$variant(l) => l.update_on_path(t, m, r, path), )+ }
             }
 
+            fn needs_path(&self) -> bool {
+                match self { $( AnyLaw::$variant(l) => l.needs_path(), )+ }
+            }
+
+            fn reads_path(&self) -> bool {
+                match self { $( AnyLaw::$variant(l) => l.reads_path(), )+ }
+            }
+
             fn reset_lanes(&mut self, lanes: T::Mask) {
                 match self { $( AnyLaw::$variant(l) => l.reset_lanes(lanes), )+ }
             }

@@ -172,6 +172,20 @@ pub trait Law<T: Lane> {
         self.update(t, m, r)
     }
 
+    /// True for a law that follows the reference's geometric path and has nothing to
+    /// follow without one (pure pursuit): the lanes ([`crate::batch`]), which carry no
+    /// path, refuse it, and a scenario refuses it on a goal at rest.
+    fn needs_path(&self) -> bool {
+        false
+    }
+
+    /// True for a law that reads the reference's geometric path when it has one
+    /// ([`Law::update_on_path`]: pure pursuit, MPPI): the lanes, which carry no path,
+    /// refuse it on a reference with one rather than run it without.
+    fn reads_path(&self) -> bool {
+        self.needs_path()
+    }
+
     /// Clears integrators and memories, as at t = 0.
     fn reset(&mut self) {
         self.reset_lanes(T::Mask::splat(true));

@@ -1162,6 +1162,10 @@ impl<L: Lane> Law<L> for MppiLaw<L> {
         self.control_tick(m, r, None)
     }
 
+    fn reads_path(&self) -> bool {
+        true
+    }
+
     /// Along the reference's path, its timing ignored (nav2's path critics,
     /// [`super::mppi_path`]): the cursor follows the point closest to C every tick.
     fn update_on_path(&mut self, _t: L, m: &Measurement<L>, r: &ReferenceState<L>, path: &dyn Path<L>) -> LawOutput<L> {

@@ -240,11 +240,17 @@ pub(crate) fn search_step<S: Real>(shortest_lookahead_m: S) -> S {
 }
 
 impl<T: Lane> Law<T> for PurePursuitLaw<T> {
-    /// Without a path there is nothing to follow: a zero twist. Every caller in wmr gives
-    /// the reference's path ([`Law::update_on_path`]: `ClosedLoop`, the lanes, Python), and
-    /// the C API refuses `_update` and `_update_reference` of a path-following law.
+    /// Without a path there is nothing to follow: a zero twist. `ClosedLoop` gives the
+    /// reference's path when it has one ([`Law::update_on_path`]), a scenario refuses
+    /// the law on a goal at rest, the lanes, which carry no path, refuse it
+    /// ([`Law::needs_path`]), Python passes each run's path, and the C API refuses
+    /// `_update` and `_update_reference` of a path-following law.
     fn update(&mut self, _t: T, _m: &Measurement<T>, _r: &ReferenceState<T>) -> LawOutput<T> {
         LawOutput { demand: WheelDemand::Twist(Twist2::default()), errors: ControlErrors::default() }
+    }
+
+    fn needs_path(&self) -> bool {
+        true
     }
 
     fn update_on_path(
