@@ -185,9 +185,18 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
         // Exact as an f64: `new` refuses more than 2^53 steps.
         let last_step = Lanes::splat(self.n_steps as f64);
         let (one, zero) = (Lanes::splat(1.0), Lanes::splat(0.0));
-        let mut more = self.load(&mut next);
-        self.control_tick();
+        // One call site of the control tick (it is most of the loop's code, inlined into
+        // each kernel: two sites built it twice, a third of `wmr-scenario`'s build time):
+        // the first tick, before the first step, and then every `control_every` steps.
+        let mut more = true;
+        let mut tick = true;
         loop {
+            if tick {
+                if more {
+                    more = self.load(&mut next);
+                }
+                self.control_tick();
+            }
             // Before the step: a run at t_end ends; the metrics of the present state; a
             // settled run ends.
             let ended = self.active & self.steps.eq(last_step);
@@ -260,12 +269,7 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
                 }
             }
             self.global_step += 1;
-            if self.global_step.is_multiple_of(u64::from(self.control_every)) {
-                if more {
-                    more = self.load(&mut next);
-                }
-                self.control_tick();
-            }
+            tick = self.global_step.is_multiple_of(u64::from(self.control_every));
         }
     }
 
