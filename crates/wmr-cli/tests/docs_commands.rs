@@ -410,64 +410,35 @@ fn every_documented_command_does_what_its_doc_says() {
     };
     let only: Option<Vec<String>> =
         std::env::var("WMR_DOCS_ONLY").ok().map(|v| v.split(',').map(|s| s.trim().to_string()).collect());
-    let (mut ran, mut skipped, mut failures) = (0, Vec::new(), Vec::new());
-    let mut not_selected = Vec::new();
-    for doc in documents(&root) {
-        let name = doc.to_string_lossy().into_owned();
-        if let Some(only) = &only
-            && !only.iter().any(|o| !o.is_empty() && name.starts_with(o.split(':').next().unwrap_or_default()))
-        {
-            not_selected.push(name);
-            continue;
-        }
-        let text = fs::read_to_string(root.join(&doc)).unwrap();
-        let mut cmds = commands(&name, &text, &root);
-        // `doc:line` entries select the blocks holding those lines (whole: a block's lines
-        // share their folder and variables).
-        let lines: Vec<&String> = only
-            .iter()
-            .flatten()
-            .filter(|o| o.contains(':') && name == o.split(':').next().unwrap_or_default())
+    // The documents' commands, each document in its own copy: several documents at once
+    // (one per core; the long commands, whole builds among them, one document at a time),
+    // reported in the documents' order.
+    let docs = documents(&root);
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let threads = if long { 1 } else { std::thread::available_parallelism().map_or(1, |n| n.get()) };
+    let mut results: Vec<(usize, DocResult)> = std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut done = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        let Some(doc) = docs.get(i) else { break done };
+                        done.push((i, run_document(&root, doc, only.as_deref(), long, &bin)));
+                    }
+                })
+            })
             .collect();
-        if !lines.is_empty() {
-            let blocks: Vec<usize> = cmds.iter().filter(|c| lines.contains(&&c.at)).map(|c| c.block).collect();
-            let (keep, drop): (Vec<_>, Vec<_>) = cmds.into_iter().partition(|c| blocks.contains(&c.block));
-            not_selected.extend(drop.iter().map(|c| c.at.clone()));
-            cmds = keep;
-        }
-        if cmds.is_empty() {
-            continue;
-        }
-        let copy = fresh_copy(&root);
-        // Outside the copy: a documented `git status` or `ls` must not see it.
-        let state_dir = tempfile::tempdir().unwrap();
-        let state = state_dir.path().join("carried");
-        // `cd` and exports last for the rest of their block ([`run`]).
-        let mut cwd = copy.path().to_path_buf();
-        let mut block = usize::MAX;
-        for c in &cmds {
-            if !c.long || long {
-                if c.block != block {
-                    (block, cwd) = (c.block, copy.path().to_path_buf());
-                    forget(&state);
-                }
-                let start = Instant::now();
-                let (code, output, end) = run(&c.text, &cwd, &bin, &state, if c.long { 3600 } else { 300 });
-                eprintln!("{:>7.2} s  {}  {}", start.elapsed().as_secs_f64(), c.at, c.text);
-                ran += 1;
-                if let Some(f) = check(c, code, &output) {
-                    // Said at once too: a long run stopped part-way still tells what failed.
-                    // The whole output is kept (the message shows its last 40 lines, and a
-                    // documented `./scripts/test` says what failed far above them).
-                    let log = keep_output(&root, &c.at, &output);
-                    eprintln!("FAILED  {}  {}  (all it printed: {})", c.at, c.text, log.display());
-                    failures.push(format!("{f}\n(all it printed: {})", log.display()));
-                }
-                cwd = end;
-            } else {
-                skipped.push(format!("{} `{}`", c.at, c.text));
-            }
-        }
+        workers.into_iter().flat_map(|w| w.join().expect("a document's commands ran")).collect()
+    });
+    results.sort_by_key(|(i, _)| *i);
+    let (mut ran, mut skipped, mut failures, mut not_selected) = (0, Vec::new(), Vec::new(), Vec::new());
+    for (_, r) in results {
+        eprint!("{}", r.log);
+        ran += r.ran;
+        skipped.extend(r.skipped);
+        failures.extend(r.failures);
+        not_selected.extend(r.not_selected);
     }
     eprintln!("docs_commands: ran {ran} documented command(s), {} long or hardware ones not run", skipped.len());
     if !not_selected.is_empty() {
@@ -491,6 +462,83 @@ fn every_documented_command_does_what_its_doc_says() {
         );
     }
     assert!(failures.is_empty(), "{} documented command(s) fail:\n\n{}", failures.len(), failures.join("\n\n"));
+}
+
+/// What one document's commands did.
+#[derive(Default)]
+struct DocResult {
+    /// Commands run.
+    ran: usize,
+    /// `doc:line `command`` of the long or hardware commands not run.
+    skipped: Vec<String>,
+    /// What each failed command's check said.
+    failures: Vec<String>,
+    /// Documents or commands `WMR_DOCS_ONLY` left out.
+    not_selected: Vec<String>,
+    /// The time and text of each command run, as printed.
+    log: String,
+}
+
+/// Runs the commands of `doc` (selected by `WMR_DOCS_ONLY`'s entries `only`) in a fresh
+/// copy of the repository, with the `wmr-cli` of `bin`.
+fn run_document(root: &Path, doc: &Path, only: Option<&[String]>, long: bool, bin: &Path) -> DocResult {
+    let mut r = DocResult::default();
+    let name = doc.to_string_lossy().into_owned();
+    if let Some(only) = only
+        && !only.iter().any(|o| !o.is_empty() && name.starts_with(o.split(':').next().unwrap_or_default()))
+    {
+        r.not_selected.push(name);
+        return r;
+    }
+    let text = fs::read_to_string(root.join(doc)).unwrap();
+    let mut cmds = commands(&name, &text, root);
+    // `doc:line` entries select the blocks holding those lines (whole: a block's lines
+    // share their folder and variables).
+    let lines: Vec<&String> = only
+        .iter()
+        .flat_map(|o| o.iter())
+        .filter(|o| o.contains(':') && name == o.split(':').next().unwrap_or_default())
+        .collect();
+    if !lines.is_empty() {
+        let blocks: Vec<usize> = cmds.iter().filter(|c| lines.contains(&&c.at)).map(|c| c.block).collect();
+        let (keep, drop): (Vec<_>, Vec<_>) = cmds.into_iter().partition(|c| blocks.contains(&c.block));
+        r.not_selected.extend(drop.iter().map(|c| c.at.clone()));
+        cmds = keep;
+    }
+    if cmds.is_empty() {
+        return r;
+    }
+    let copy = fresh_copy(root);
+    // Outside the copy: a documented `git status` or `ls` must not see it.
+    let state_dir = tempfile::tempdir().unwrap();
+    let state = state_dir.path().join("carried");
+    // `cd` and exports last for the rest of their block ([`run`]).
+    let mut cwd = copy.path().to_path_buf();
+    let mut block = usize::MAX;
+    for c in &cmds {
+        if !c.long || long {
+            if c.block != block {
+                (block, cwd) = (c.block, copy.path().to_path_buf());
+                forget(&state);
+            }
+            let start = Instant::now();
+            let (code, output, end) = run(&c.text, &cwd, bin, &state, if c.long { 3600 } else { 300 });
+            r.log += &format!("{:>7.2} s  {}  {}\n", start.elapsed().as_secs_f64(), c.at, c.text);
+            r.ran += 1;
+            if let Some(f) = check(c, code, &output) {
+                // Said at once too: a long run stopped part-way still tells what failed.
+                // The whole output is kept (the message shows its last 40 lines, and a
+                // documented `./scripts/test` says what failed far above them).
+                let log = keep_output(root, &c.at, &output);
+                eprintln!("FAILED  {}  {}  (all it printed: {})", c.at, c.text, log.display());
+                r.failures.push(format!("{f}\n(all it printed: {})", log.display()));
+            }
+            cwd = end;
+        } else {
+            r.skipped.push(format!("{} `{}`", c.at, c.text));
+        }
+    }
+    r
 }
 
 /// The matcher itself: wildcards match what they say and nothing more.
