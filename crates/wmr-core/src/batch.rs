@@ -185,9 +185,10 @@ impl<const N: usize, L: Law<Lanes<N>>, R: Reference<f64>> LaneBatch<N, L, R> {
         // Exact as an f64: `new` refuses more than 2^53 steps.
         let last_step = Lanes::splat(self.n_steps as f64);
         let (one, zero) = (Lanes::splat(1.0), Lanes::splat(0.0));
-        // One call site of the control tick (it is most of the loop's code, inlined into
-        // each kernel: two sites built it twice, a third of `wmr-scenario`'s build time):
-        // the first tick, before the first step, and then every `control_every` steps.
+        // One call site of the control tick (inlined into each kernel of `wmr-scenario`,
+        // it is half of the loop's code: two sites built it twice, a third of each
+        // kernel's unoptimized code): the first tick, before the first step, and then
+        // every `control_every` steps.
         let mut more = true;
         let mut tick = true;
         loop {
