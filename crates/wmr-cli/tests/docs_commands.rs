@@ -411,29 +411,14 @@ fn every_documented_command_does_what_its_doc_says() {
     let only: Option<Vec<String>> =
         std::env::var("WMR_DOCS_ONLY").ok().map(|v| v.split(',').map(|s| s.trim().to_string()).collect());
     // The documents' commands, each document in its own copy: several documents at once
-    // (one per core; the long commands, whole builds among them, one document at a time),
-    // reported in the documents' order.
+    // on the executor the sweeps use (the long commands, whole builds among them, one
+    // document at a time), reported in the documents' order.
     let docs = documents(&root);
-    let next = std::sync::atomic::AtomicUsize::new(0);
-    let threads = if long { 1 } else { std::thread::available_parallelism().map_or(1, |n| n.get()) };
-    let mut results: Vec<(usize, DocResult)> = std::thread::scope(|scope| {
-        let workers: Vec<_> = (0..threads)
-            .map(|_| {
-                scope.spawn(|| {
-                    let mut done = Vec::new();
-                    loop {
-                        let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                        let Some(doc) = docs.get(i) else { break done };
-                        done.push((i, run_document(&root, doc, only.as_deref(), long, &bin)));
-                    }
-                })
-            })
-            .collect();
-        workers.into_iter().flat_map(|w| w.join().expect("a document's commands ran")).collect()
-    });
-    results.sort_by_key(|(i, _)| *i);
+    let job = |i: usize| run_document(&root, &docs[i], only.as_deref(), long, &bin);
+    let results: Vec<DocResult> =
+        if long { (0..docs.len()).map(job).collect() } else { wmr_scenario::executor::map_ordered(docs.len(), job) };
     let (mut ran, mut skipped, mut failures, mut not_selected) = (0, Vec::new(), Vec::new(), Vec::new());
-    for (_, r) in results {
+    for r in results {
         eprint!("{}", r.log);
         ran += r.ran;
         skipped.extend(r.skipped);
