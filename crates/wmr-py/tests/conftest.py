@@ -19,7 +19,8 @@ _SKIPS: list = []
 
 def _skip_reason(report: pytest.TestReport) -> str:
     longrepr = report.longrepr
-    return str(longrepr[2]) if isinstance(longrepr, tuple) and len(longrepr) == 3 else str(longrepr)
+    # (path, line, reason); a list when the report came from a pytest-xdist worker.
+    return str(longrepr[2]) if isinstance(longrepr, (tuple, list)) and len(longrepr) == 3 else str(longrepr)
 
 
 def pytest_runtest_logreport(report: pytest.TestReport) -> None:
@@ -33,6 +34,10 @@ def _missing_package(reason: str) -> bool:
 
 
 def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
+    # Under pytest-xdist (`pytest -n 2`) the controller sees every worker's reports: it
+    # alone counts the skips, once.
+    if os.environ.get("PYTEST_XDIST_WORKER"):
+        return
     log = os.environ.get("WMR_SKIP_LOG")
     if log and _SKIPS:
         with open(log, "a", encoding="utf-8") as f:
